@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# README command 1: set up this machine, build, and run the default scene on 2 MPI ranks.
+# Ends with the path of the run directory.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ci/setup.sh
+. ci/env.sh
+cargo build --release --quiet
+mpirun -n 2 target/release/poroplast run "$@"

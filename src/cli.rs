@@ -1,0 +1,54 @@
+//! Command line: `poroplast run [SCENE] [--out DIR] [--force] [-- PETSC OPTIONS]`,
+//! `poroplast check SCENE`, `poroplast scenes`.
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+/// Parallel finite-strain biphasic solver for multicellular aggregates compressed between
+/// plates (PETSc + MPI). Run under `mpirun -n N`. Units: µm, kPa, s (forces in nN).
+#[derive(Debug, Parser)]
+#[command(name = "poroplast", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run a scene and write its results into a run directory.
+    ///
+    /// Writes DIR/history.csv (one row per step), DIR/fields.h5 + DIR/fields.xdmf (open the
+    /// .xdmf in ParaView), DIR/scene.toml (the resolved scene), DIR/petsc_options.txt and
+    /// DIR/timings.txt. PETSc options go after `--`, e.g.
+    /// `mpirun -n 2 poroplast run cryer -- -ksp_monitor -log_view`.
+    Run {
+        /// A scene file (.toml) or the name of a shipped scene (see `poroplast scenes`).
+        #[arg(default_value = "cryer")]
+        scene: String,
+        /// Run directory (default: runs/<scene>-<UTC timestamp>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Overwrite a non-empty run directory.
+        #[arg(long)]
+        force: bool,
+        /// No per-step progress lines.
+        #[arg(long, short)]
+        quiet: bool,
+        /// PETSc options, after `--`.
+        #[arg(last = true, allow_hyphen_values = true)]
+        petsc: Vec<String>,
+    },
+    /// Validate a scene and its mesh (groups, parameters) without solving.
+    Check {
+        /// A scene file (.toml) or the name of a shipped scene.
+        scene: String,
+    },
+    /// List the scenes shipped in the binary.
+    Scenes,
+    /// Print a shipped scene's TOML (a starting point for your own).
+    Show {
+        /// Name of a shipped scene.
+        name: String,
+    },
+}
+

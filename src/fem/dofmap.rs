@@ -1,0 +1,183 @@
+//! Degrees of freedom of Taylor–Hood P2–P1 on the distributed mesh.
+//!
+//! Global layout: rank r owns one contiguous block [u of its owned nodes (3 per node, xyz
+//! interleaved) | p of its owned vertices]. So the u and p index sets are contiguous per rank,
+//! the u block has block size 3 (for AMG with rigid-body modes), and a global node g owned by
+//! rank s has u dofs 3g + vertex_ranges[s] + c, a global vertex v owned by s has p dof
+//! 3 node_ranges[s+1] + v.
+//! Local layout (what elements read and write): u of local node n at 3n + c, then p of local
+//! vertex m at 3 n_nodes + m; owned entries come first in each part.
+
+use crate::mesh::dist::LocalMesh;
+use crate::petsc::Int;
+
+pub struct DofMap {
+    pub rank: usize,
+    /// Local nodes / vertices (owned + ghost).
+    pub n_nodes: usize,
+    pub n_vertices: usize,
+    pub n_owned_nodes: usize,
+    pub n_owned_vertices: usize,
+    /// Dofs owned here, first owned global dof, total.
+    pub n_owned: usize,
+    pub offset: usize,
+    pub n_global: usize,
+    /// Local dof → global dof.
+    pub l2g: Vec<Int>,
+    node_ranges: Vec<usize>,
+    vertex_ranges: Vec<usize>,
+}
+
+impl DofMap {
+    pub fn new(m: &LocalMesh) -> DofMap {
+        let (nr, vr) = (&m.node_ranges, &m.vertex_ranges);
+        let n_nodes = m.coords.len();
+        let n_vertices = m.vertex_node.len();
+        let mut d = DofMap {
+            rank: m.rank,
+            n_nodes,
+            n_vertices,
+            n_owned_nodes: m.n_owned_nodes,
+            n_owned_vertices: m.n_owned_vertices,
+            n_owned: 3 * m.n_owned_nodes + m.n_owned_vertices,
+            offset: 3 * nr[m.rank] + vr[m.rank],
+            n_global: 3 * nr[m.nranks] + vr[m.nranks],
+            l2g: Vec::with_capacity(3 * n_nodes + n_vertices),
+            node_ranges: nr.clone(),
+            vertex_ranges: vr.clone(),
+        };
+        for n in 0..n_nodes {
+            let g = m.node_global[n] as usize;
+            for c in 0..3 {
+                d.l2g.push(d.u_global(g, c) as Int);
+            }
+        }
+        for v in 0..n_vertices {
+            d.l2g.push(d.p_global(m.vertex_global[v] as usize) as Int);
+        }
+        d
+    }
+
+    fn owner(ranges: &[usize], g: usize) -> usize {
+        ranges.partition_point(|&s| s <= g) - 1
+    }
+
+    /// Global u dof of global node `g`, component `c`.
+    pub fn u_global(&self, g: usize, c: usize) -> usize {
+        3 * g + self.vertex_ranges[Self::owner(&self.node_ranges, g)] + c
+    }
+
+    /// Global p dof of global vertex `v`.
+    pub fn p_global(&self, v: usize) -> usize {
+        3 * self.node_ranges[Self::owner(&self.vertex_ranges, v) + 1] + v
+    }
+
+    /// Local u dof of local node n.
+    #[inline]
+    pub fn u_local(&self, n: usize, c: usize) -> usize {
+        3 * n + c
+    }
+    /// Local p dof of local vertex m.
+    #[inline]
+    pub fn p_local(&self, m: usize) -> usize {
+        3 * self.n_nodes + m
+    }
+    /// Size of the local (owned + ghost) vector.
+    pub fn n_local(&self) -> usize {
+        self.l2g.len()
+    }
+
+    /// The local dof of the i-th owned global dof (offset + i).
+    #[inline]
+    pub fn owned_to_local(&self, i: usize) -> usize {
+        let nu = 3 * self.n_owned_nodes;
+        if i < nu {
+            i
+        } else {
+            3 * self.n_nodes + (i - nu)
+        }
+    }
+    /// Whether a local dof is owned here.
+    #[inline]
+    pub fn is_owned(&self, l: usize) -> bool {
+        let nu = 3 * self.n_nodes;
+        if l < nu {
+            l < 3 * self.n_owned_nodes
+        } else {
+            l - nu < self.n_owned_vertices
+        }
+    }
+    /// Position of an owned local dof among the owned dofs (its global index minus offset).
+    #[inline]
+    pub fn local_to_owned(&self, l: usize) -> Option<usize> {
+        if !self.is_owned(l) {
+            return None;
+        }
+        let nu = 3 * self.n_nodes;
+        Some(if l < nu { l } else { 3 * self.n_owned_nodes + (l - nu) })
+    }
+
+    /// Global u range [start, end) owned here, and p range.
+    pub fn u_range(&self) -> (usize, usize) {
+        (self.offset, self.offset + 3 * self.n_owned_nodes)
+    }
+    pub fn p_range(&self) -> (usize, usize) {
+        let s = self.offset + 3 * self.n_owned_nodes;
+        (s, s + self.n_owned_vertices)
+    }
+    /// First global vertex owned here (row offset of the pressure-only Schur matrix).
+    pub fn vertex_offset(&self) -> usize {
+        self.vertex_ranges[self.rank]
+    }
+
+    /// Exact nonzeros per owned row, in the diagonal and off-diagonal blocks, of the full u–p
+    /// matrix and of the pressure-only Schur matrix, from the node neighbour graph.
+    pub fn preallocation(&self, m: &LocalMesh) -> Preallocation {
+        let (nlo, nhi) = (self.node_ranges[self.rank], self.node_ranges[self.rank + 1]);
+        let (vlo, vhi) = (self.vertex_ranges[self.rank], self.vertex_ranges[self.rank + 1]);
+        let mut node_counts = Vec::with_capacity(self.n_owned_nodes);
+        for n in 0..self.n_owned_nodes {
+            let (mut d, mut o, mut dv, mut ov) = (0, 0, 0, 0);
+            for k in m.node_nbr_offsets[n]..m.node_nbr_offsets[n + 1] {
+                let g = m.node_nbr[k] as usize;
+                if (nlo..nhi).contains(&g) {
+                    d += 3;
+                } else {
+                    o += 3;
+                }
+                let gv = m.node_nbr_vertex_global[k];
+                if gv >= 0 {
+                    if (vlo..vhi).contains(&(gv as usize)) {
+                        dv += 1;
+                    } else {
+                        ov += 1;
+                    }
+                }
+            }
+            node_counts.push((d + dv, o + ov, dv, ov));
+        }
+        let mut p = Preallocation { d_nnz: Vec::with_capacity(self.n_owned), o_nnz: Vec::with_capacity(self.n_owned), schur_d: vec![], schur_o: vec![] };
+        for &(d, o, _, _) in &node_counts {
+            for _ in 0..3 {
+                p.d_nnz.push(d as Int);
+                p.o_nnz.push(o as Int);
+            }
+        }
+        for v in 0..self.n_owned_vertices {
+            let n = m.vertex_node[v] as usize;
+            let (d, o, dv, ov) = node_counts[n];
+            p.d_nnz.push(d as Int);
+            p.o_nnz.push(o as Int);
+            p.schur_d.push(dv as Int);
+            p.schur_o.push(ov as Int);
+        }
+        p
+    }
+}
+
+pub struct Preallocation {
+    pub d_nnz: Vec<Int>,
+    pub o_nnz: Vec<Int>,
+    pub schur_d: Vec<Int>,
+    pub schur_o: Vec<Int>,
+}

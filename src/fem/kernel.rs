@@ -1,0 +1,215 @@
+//! Element residual and Jacobian of the u–p weak form on one Taylor–Hood P2–P1 tetrahedron:
+//!
+//! ```text
+//!   r_u[a,i] = ∫ (P_ij ∂N_a/∂X_j − b_i N_a) dV        (a: 10 P2 nodes, i: component)
+//!   r_p[m]   = ∫ (ṡ L_m + W · ∇L_m) dV                 (m: 4 P1 vertices)
+//! ```
+//!
+//! plus the element block of the fixed-stress Schur approximation
+//! Ŝ = ∫ ∇L_m · (∂W/∂Grad p) ∇L_n + (shift/K_dr) L_m L_n dV, which stays spectrally close to
+//! the true Schur complement as Δt → 0 and as the conductivity → 0.
+//! Element dof order: u of node a, component i at 3a + i (0..30), then p of vertex m at 30 + m.
+
+use super::element::{tet10_geometry, Tabulation, TET10_EDGES};
+use crate::error::Result;
+use crate::physics::model::{ij, PointModel, PointState, QpId};
+use nalgebra::{Matrix3, Vector3};
+
+pub const NU: usize = 30;
+pub const NDOF: usize = 34;
+
+/// Nodal values of one element.
+#[derive(Debug, Clone, Copy)]
+pub struct ElementValues {
+    pub u: [[f64; 3]; 10],
+    pub udot: [[f64; 3]; 10],
+    pub p: [f64; 4],
+}
+
+/// Physical gradients of the P1 (vertex) functions, exact on curved elements: the vertex
+/// function L_m equals N_m + ½ Σ N_mid over the mid-edge nodes of edges touching m, in
+/// reference coordinates, so its gradient follows from the P2 gradients.
+#[inline]
+pub fn p1_gradients(dn: &[[f64; 3]; 10]) -> [[f64; 3]; 4] {
+    let mut g = [[0.0; 3]; 4];
+    for (m, gm) in g.iter_mut().enumerate() {
+        *gm = dn[m];
+    }
+    for (e, &(a, b)) in TET10_EDGES.iter().enumerate() {
+        for d in 0..3 {
+            g[a][d] += 0.5 * dn[4 + e][d];
+            g[b][d] += 0.5 * dn[4 + e][d];
+        }
+    }
+    g
+}
+
+/// P1 values at a reference point: barycentric coordinates.
+#[inline]
+pub fn p1_values(xi: &[f64; 3]) -> [f64; 4] {
+    [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]]
+}
+
+/// Kinematics at one quadrature point.
+struct Point {
+    w: f64,
+    n2: [f64; 10],
+    dn: [[f64; 3]; 10],
+    n1: [f64; 4],
+    g1: [[f64; 3]; 4],
+    state: PointState,
+}
+
+fn point(coords: &[[f64; 3]; 10], tab: &Tabulation<10>, xi: &[f64; 3], q: usize, v: &ElementValues, dt: f64) -> Result<Point> {
+    let geo = tet10_geometry(coords, tab, q)?;
+    let dn = geo.dn_dx;
+    let g1 = p1_gradients(&dn);
+    let n1 = p1_values(xi);
+    let mut grad_u = Matrix3::zeros();
+    let mut grad_udot = Matrix3::zeros();
+    for a in 0..10 {
+        for i in 0..3 {
+            for j in 0..3 {
+                grad_u[(i, j)] += v.u[a][i] * dn[a][j];
+                grad_udot[(i, j)] += v.udot[a][i] * dn[a][j];
+            }
+        }
+    }
+    let mut p = 0.0;
+    let mut grad_p = Vector3::zeros();
+    for m in 0..4 {
+        p += n1[m] * v.p[m];
+        for j in 0..3 {
+            grad_p[j] += g1[m][j] * v.p[m];
+        }
+    }
+    Ok(Point { w: tab.weights[q] * geo.jac_det, n2: tab.n[q], dn, n1, g1, state: PointState { grad_u, grad_udot, p, grad_p, dt } })
+}
+
+/// Adds the element residual to `r`.
+pub fn residual(
+    model: &dyn PointModel,
+    elem: usize,
+    coords: &[[f64; 3]; 10],
+    tab: &Tabulation<10>,
+    xi: &[[f64; 3]],
+    v: &ElementValues,
+    dt: f64,
+    r: &mut [f64; NDOF],
+) -> Result<()> {
+    for q in 0..tab.weights.len() {
+        let pt = point(coords, tab, &xi[q], q, v, dt)?;
+        let f = model.eval(QpId { elem, point: q }, &pt.state)?;
+        add_residual(&pt, &f, r);
+    }
+    Ok(())
+}
+
+fn add_residual(pt: &Point, f: &crate::physics::model::PointFlux, r: &mut [f64; NDOF]) {
+    let w = pt.w;
+    for a in 0..10 {
+        for i in 0..3 {
+            let mut s = -f.body[i] * pt.n2[a];
+            for j in 0..3 {
+                s += f.stress[(i, j)] * pt.dn[a][j];
+            }
+            r[3 * a + i] += w * s;
+        }
+    }
+    for m in 0..4 {
+        let mut s = f.rate * pt.n1[m];
+        for j in 0..3 {
+            s += f.flux[j] * pt.g1[m][j];
+        }
+        r[NU + m] += w * s;
+    }
+}
+
+/// Adds the element residual, Jacobian (row-major NDOF × NDOF) and Schur block.
+#[allow(clippy::too_many_arguments)]
+pub fn jacobian(
+    model: &dyn PointModel,
+    elem: usize,
+    coords: &[[f64; 3]; 10],
+    tab: &Tabulation<10>,
+    xi: &[[f64; 3]],
+    v: &ElementValues,
+    dt: f64,
+    shift: f64,
+    r: &mut [f64; NDOF],
+    k: &mut [[f64; NDOF]; NDOF],
+    schur: &mut [[f64; 4]; 4],
+) -> Result<()> {
+    let inv_kdr = 1.0 / model.drained_bulk_modulus();
+    for q in 0..tab.weights.len() {
+        let pt = point(coords, tab, &xi[q], q, v, dt)?;
+        let (f, t) = model.eval_tangent(QpId { elem, point: q }, &pt.state, shift)?;
+        add_residual(&pt, &f, r);
+        let w = pt.w;
+        let dn = &pt.dn;
+        // T_b[(ij), k] = Σ_l A[(ij),(kl)] ∂N_b/∂X_l, then K_ab[i][k] = Σ_j ∂N_a/∂X_j T_b[(ij), k].
+        for b in 0..10 {
+            let mut tb = [[0.0; 3]; 9];
+            let mut bb = [[0.0; 3]; 3]; // Σ_l ∂b_i/∂F_kl ∂N_b/∂X_l
+            let mut rb = [0.0; 3]; // Σ_l ∂ṡ/∂F_kl ∂N_b/∂X_l
+            let mut wb = [[0.0; 3]; 3]; // Σ_l ∂W_j/∂F_kl ∂N_b/∂X_l
+            for kk in 0..3 {
+                for l in 0..3 {
+                    let d = dn[b][l];
+                    for row in 0..9 {
+                        tb[row][kk] += t.dstress_du[(row, ij(kk, l))] * d;
+                    }
+                    for i in 0..3 {
+                        bb[i][kk] += t.dbody_du[(i, ij(kk, l))] * d;
+                        wb[i][kk] += t.dflux_du[(i, ij(kk, l))] * d;
+                    }
+                    rb[kk] += t.drate_du[(kk, l)] * d;
+                }
+            }
+            for a in 0..10 {
+                for i in 0..3 {
+                    let row = &mut k[3 * a + i];
+                    for kk in 0..3 {
+                        let mut s = -pt.n2[a] * bb[i][kk];
+                        for j in 0..3 {
+                            s += dn[a][j] * tb[ij(i, j)][kk];
+                        }
+                        row[3 * b + kk] += w * s;
+                    }
+                }
+            }
+            for m in 0..4 {
+                for kk in 0..3 {
+                    let mut s = pt.n1[m] * rb[kk];
+                    for j in 0..3 {
+                        s += pt.g1[m][j] * wb[j][kk];
+                    }
+                    k[NU + m][3 * b + kk] += w * s;
+                }
+            }
+        }
+        for a in 0..10 {
+            for i in 0..3 {
+                let mut c = 0.0;
+                for j in 0..3 {
+                    c += dn[a][j] * t.dstress_dp[(i, j)];
+                }
+                for m in 0..4 {
+                    k[3 * a + i][NU + m] += w * c * pt.n1[m];
+                }
+            }
+        }
+        for m in 0..4 {
+            let km = t.dflux_dgradp.transpose() * Vector3::from(pt.g1[m]);
+            for n in 0..4 {
+                let mut s = 0.0;
+                for j in 0..3 {
+                    s += km[j] * pt.g1[n][j];
+                }
+                k[NU + m][NU + n] += w * s;
+                schur[m][n] += w * (s + shift * inv_kdr * pt.n1[m] * pt.n1[n]);
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,7 @@
+//! Finite elements: quadrature, reference shape functions and isoparametric maps, the
+//! Taylor–Hood dof map, and the element kernel of the u–p weak form.
+
+pub mod dofmap;
+pub mod element;
+pub mod kernel;
+pub mod quadrature;

@@ -1,0 +1,581 @@
+//! Field output for ParaView: one HDF5 file (`fields.h5`) and one XDMF index (`fields.xdmf`) per run,
+//! written collectively by all ranks of a communicator.
+//!
+//! # Layout of `fields.h5`
+//! * `/mesh/coordinates`: `f64`, N×3, global node coordinates (row = global node id).
+//! * `/mesh/topology`: `i64`, M×10, global node ids of each quadratic tetrahedron **in VTK/XDMF order**
+//!   (see below), row = global cell id.
+//! * `/time`: `f64`, 1-D, extendible; `time[k]` is the time of step `k`.
+//! * `/fields/<name>/<k as 6 digits>`: `f64`; N (node scalar), N×3 (node vector), M (cell scalar) or
+//!   M×3 (cell vector) values of field `<name>` at step `k`. A field may be absent from some steps.
+//!
+//! # Node order of the 10-node tetrahedron
+//! The mesh comes in GMSH `Tetrahedron10` order: vertices 0–3, then mid-edge nodes on edges
+//! (0,1),(1,2),(0,2),(0,3),(2,3),(1,3). XDMF's `Tetrahedron_10` is handed by ParaView's XDMF readers
+//! unchanged to VTK's `VTK_QUADRATIC_TETRA` (cell type 24), whose order is vertices, then edges
+//! (0,1),(1,2),(0,2),(0,3),(1,3),(2,3). So the last two mid-edge nodes are swapped when writing
+//! ([`GMSH_TO_XDMF_TET10`]); `/mesh/topology` is stored in the XDMF/VTK order.
+//!
+//! The topology name is `Tetrahedron_10`: ParaView 5.11's `Xdmf3ReaderS`/`Xdmf3ReaderT` (XDMF 3) reject
+//! `Tet_10` ("Invalid Type selected in XdmfTopologyType::New"), and its legacy `XDMFReader`
+//! (XDMF 2) accepts both. Both were checked to produce VTK cell type 24 with the connectivity as written.
+//!
+//! # The XDMF file
+//! A `Temporal` collection with one `Uniform` grid per step. Every grid points at the same
+//! `/mesh/coordinates` and `/mesh/topology` datasets (the mesh is stored once) and at that step's
+//! `/fields/...` datasets. Before the first step the XDMF holds a single `Uniform` grid with the
+//! bare mesh. Rank 0 rewrites it after every step, to `fields.xdmf.tmp` then renamed over
+//! `fields.xdmf`, and only after the step's data were flushed, so a run that is still going or has
+//! crashed can be opened and shows every completed step.
+//!
+//! # Parallel I/O and failures
+//! The file is opened once with HDF5's MPI-IO driver and stays open. Metadata operations
+//! (creating the file, groups and datasets, extending `/time`, flushing, closing) are collective, as
+//! parallel HDF5 requires: every rank makes the same calls with the same arguments. Raw data is
+//! written with hyperslab selections by each rank for the rows it owns, using **independent**
+//! transfers: hdf5-metno 0.9 always passes `H5P_DEFAULT` as the transfer property list and has no
+//! way to request `H5FD_MPIO_COLLECTIVE` (that would need raw `hdf5-sys` calls). A rank that owns
+//! no rows simply makes no data call, so zero-size pieces are fine.
+//!
+//! Error handling: arguments are checked locally and compared across ranks (counts, time, field
+//! names and kinds, via a hash) *before* any collective HDF5 call, and after each phase every rank's
+//! outcome is combined collectively (same semantics as `crate::parallel::agree`): if any rank
+//! failed, every rank returns `Err` (the failing rank its own error, the others
+//! `Error::Elsewhere` with the lowest failing rank's message) and no rank goes on to the next
+//! collective call, so nobody is left waiting. What this cannot cover is a failure *inside* one of
+//! HDF5's own collective calls on only some ranks; there we rely on HDF5's collective semantics (it
+//! normally fails on all ranks alike). After an error, drop the `FieldFile` on all ranks; steps
+//! completed before remain readable (a failed `write_step` is not listed in the XDMF).
+//!
+//! Drop (or [`FieldFile::close`]) the `FieldFile` on all ranks, before MPI is finalized (that is,
+//! before the `mpi::environment::Universe` is dropped).
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use hdf5_metno as hdf5;
+use mpi::collective::SystemOperation;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+
+use crate::parallel::agree;
+use crate::error::{Error, Result};
+use crate::io::fmt_real;
+
+/// Name of the HDF5 file inside the run directory.
+pub const H5_NAME: &str = "fields.h5";
+/// Name of the XDMF file inside the run directory.
+pub const XDMF_NAME: &str = "fields.xdmf";
+/// XDMF topology type written for 10-node tetrahedra (accepted by ParaView's XDMF 2 and XDMF 3 readers).
+pub const XDMF_TOPOLOGY_TYPE: &str = "Tetrahedron_10";
+/// `xdmf[i] = gmsh[GMSH_TO_XDMF_TET10[i]]`: GMSH `Tetrahedron10` order to XDMF/VTK quadratic-tet
+/// order (the mid-nodes of edges (2,3) and (1,3) swap places). The permutation is its own inverse.
+pub const GMSH_TO_XDMF_TET10: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8];
+
+/// The part of the mesh this rank writes.
+pub struct OutputMesh<'a> {
+    /// Number of nodes over all ranks.
+    pub n_global_nodes: usize,
+    /// This rank owns global nodes `[node_offset, node_offset + coords.len())`.
+    pub node_offset: usize,
+    /// Coordinates of the owned nodes only.
+    pub coords: &'a [[f64; 3]],
+    /// Number of cells over all ranks.
+    pub n_global_cells: usize,
+    /// This rank writes cells `[cell_offset, cell_offset + cells.len())`.
+    pub cell_offset: usize,
+    /// Global node ids of each cell, GMSH `Tetrahedron10` order: 4 vertices, then mid-edge nodes on
+    /// edges (0,1),(1,2),(0,2),(0,3),(2,3),(1,3).
+    pub cells: &'a [[u32; 10]],
+}
+
+/// Where a field lives and how many components it has.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FieldKind {
+    /// One value per node.
+    NodeScalar,
+    /// Three values per node, interleaved `x y z`.
+    NodeVector,
+    /// One value per cell.
+    CellScalar,
+    /// Three values per cell, interleaved `x y z`.
+    CellVector,
+}
+
+impl FieldKind {
+    fn on_nodes(self) -> bool {
+        matches!(self, FieldKind::NodeScalar | FieldKind::NodeVector)
+    }
+    fn components(self) -> usize {
+        match self {
+            FieldKind::NodeScalar | FieldKind::CellScalar => 1,
+            FieldKind::NodeVector | FieldKind::CellVector => 3,
+        }
+    }
+    fn code(self) -> u64 {
+        match self {
+            FieldKind::NodeScalar => 1,
+            FieldKind::NodeVector => 2,
+            FieldKind::CellScalar => 3,
+            FieldKind::CellVector => 4,
+        }
+    }
+}
+
+/// One field of one step: this rank's values, for its owned nodes (`coords.len()` values, ×3 for
+/// vectors, interleaved `x y z`) or its cells (`cells.len()` values, ×3 for vectors).
+pub struct Field<'a> {
+    /// Name in the file and in ParaView; ASCII letters, digits, `_`, `-`, `.`; not starting with `.`.
+    pub name: &'a str,
+    /// Node or cell, scalar or vector.
+    pub kind: FieldKind,
+    /// This rank's values.
+    pub data: &'a [f64],
+}
+
+struct StepRecord {
+    time: f64,
+    fields: Vec<(String, FieldKind)>,
+}
+
+/// An open `fields.h5` + `fields.xdmf` pair; see the module documentation.
+pub struct FieldFile {
+    // Field order matters for Drop: datasets are closed before the file, the communicator last.
+    time_ds: hdf5::Dataset,
+    file: hdf5::File,
+    comm: SimpleCommunicator,
+    h5_path: PathBuf,
+    xdmf_path: PathBuf,
+    n_global_nodes: usize,
+    node_offset: usize,
+    n_local_nodes: usize,
+    n_global_cells: usize,
+    cell_offset: usize,
+    n_local_cells: usize,
+    kinds: BTreeMap<String, FieldKind>,
+    steps: Vec<StepRecord>,
+    xdmf_grids: String,
+}
+
+fn h5err(path: &Path, what: &str, e: hdf5::Error) -> Error {
+    Error::io(path, format!("{what}: {e}"))
+}
+
+
+/// Collective: `Err` on every rank unless `sig` is the same on all ranks.
+fn same_everywhere(comm: &SimpleCommunicator, path: &Path, sig: u64, what: &str) -> Result<()> {
+    let send = [sig, !sig];
+    let mut recv = [0u64; 2];
+    comm.all_reduce_into(&send[..], &mut recv[..], SystemOperation::max());
+    if recv[0] != sig || !recv[1] != sig {
+        return Err(Error::io(path, format!("{what}: ranks passed different arguments to this collective call")));
+    }
+    Ok(())
+}
+
+/// FNV-1a, for cheap cross-rank comparison of arguments.
+struct Fnv(u64);
+impl Fnv {
+    fn new() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+    fn bytes(&mut self, b: &[u8]) -> &mut Self {
+        for &x in b {
+            self.0 ^= u64::from(x);
+            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+        }
+        self
+    }
+    fn u64(&mut self, v: u64) -> &mut Self {
+        self.bytes(&v.to_le_bytes())
+    }
+}
+
+fn check_name(name: &str) -> std::result::Result<(), String> {
+    let ok = !name.is_empty()
+        && !name.starts_with('.')
+        && name.bytes().all(|b| b.is_ascii_alphanumeric() || matches!(b, b'_' | b'-' | b'.'));
+    if ok {
+        Ok(())
+    } else {
+        Err(format!("invalid field name {name:?} (use ASCII letters, digits, '_', '-', '.')"))
+    }
+}
+
+fn xml_escape(s: &str) -> String {
+    let mut o = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => o.push_str("&amp;"),
+            '<' => o.push_str("&lt;"),
+            '>' => o.push_str("&gt;"),
+            '"' => o.push_str("&quot;"),
+            '\'' => o.push_str("&apos;"),
+            _ => o.push(c),
+        }
+    }
+    o
+}
+
+fn check_mesh(mesh: &OutputMesh, dir: &Path) -> std::result::Result<(), String> {
+    if mesh.n_global_nodes == 0 || mesh.n_global_cells == 0 {
+        return Err(format!("empty mesh ({} nodes, {} cells)", mesh.n_global_nodes, mesh.n_global_cells));
+    }
+    if mesh.node_offset + mesh.coords.len() > mesh.n_global_nodes {
+        return Err(format!(
+            "owned nodes [{}, {}) exceed the {} global nodes",
+            mesh.node_offset,
+            mesh.node_offset + mesh.coords.len(),
+            mesh.n_global_nodes
+        ));
+    }
+    if mesh.cell_offset + mesh.cells.len() > mesh.n_global_cells {
+        return Err(format!(
+            "cells [{}, {}) exceed the {} global cells",
+            mesh.cell_offset,
+            mesh.cell_offset + mesh.cells.len(),
+            mesh.n_global_cells
+        ));
+    }
+    for (i, c) in mesh.cells.iter().enumerate() {
+        if let Some(&id) = c.iter().find(|&&id| id as usize >= mesh.n_global_nodes) {
+            return Err(format!("cell {} refers to node {id} of {}", mesh.cell_offset + i, mesh.n_global_nodes));
+        }
+    }
+    if !dir.is_dir() {
+        return Err("directory does not exist".into());
+    }
+    Ok(())
+}
+
+impl FieldFile {
+    /// Creates (truncating) `dir/fields.h5` and `dir/fields.xdmf` and writes the mesh. Collective
+    /// over `comm`; `dir` must exist and be the same shared directory on every rank.
+    pub fn create(dir: &Path, comm: &SimpleCommunicator, mesh: &OutputMesh) -> Result<Self> {
+        let comm = comm.duplicate();
+        let h5_path = dir.join(H5_NAME);
+        let xdmf_path = dir.join(XDMF_NAME);
+
+        // Local checks, then global ones: counts agree on every rank and the pieces add up.
+        let local = check_mesh(mesh, dir).map_err(|m| Error::io(&h5_path, m));
+        let sig = Fnv::new().u64(mesh.n_global_nodes as u64).u64(mesh.n_global_cells as u64).0;
+        let same = same_everywhere(&comm, &h5_path, sig, "global node and cell counts");
+        agree(&comm, local.and(same))?;
+        // The pieces must tile [0, N) and [0, M) exactly (same verdict on every rank).
+        let mine =
+            [mesh.node_offset as u64, mesh.coords.len() as u64, mesh.cell_offset as u64, mesh.cells.len() as u64];
+        let mut all = vec![0u64; 4 * comm.size() as usize];
+        comm.all_gather_into(&mine[..], &mut all[..]);
+        let pieces: Vec<&[u64]> = all.chunks(4).collect();
+        for (what, col, total) in [("nodes", 0, mesh.n_global_nodes), ("cells", 2, mesh.n_global_cells)] {
+            let mut ranges: Vec<(u64, u64)> =
+                pieces.iter().filter(|p| p[col + 1] > 0).map(|p| (p[col], p[col] + p[col + 1])).collect();
+            ranges.sort_unstable();
+            let mut next = 0;
+            for &(lo, hi) in &ranges {
+                if lo != next {
+                    return Err(Error::io(
+                        &h5_path,
+                        format!("the ranks' {what} do not tile [0, {total}): gap or overlap at {}", lo.min(next)),
+                    ));
+                }
+                next = hi;
+            }
+            if next != total as u64 {
+                return Err(Error::io(&h5_path, format!("the ranks own {next} {what}, the mesh declares {total}")));
+            }
+        }
+
+        // Collective: open the file with the MPI-IO driver.
+        let file = hdf5::File::with_options()
+            .with_fapl(|p| p.mpio(comm.as_raw(), None))
+            .create(&h5_path)
+            .map_err(|e| h5err(&h5_path, "cannot create HDF5 file", e));
+        let file = agree(&comm, file)?;
+
+        // Collective: groups and datasets.
+        let made = (|| -> hdf5::Result<(hdf5::Dataset, hdf5::Dataset, hdf5::Dataset)> {
+            let g = file.create_group("mesh")?;
+            file.create_group("fields")?;
+            let xyz = g.new_dataset::<f64>().shape([mesh.n_global_nodes, 3]).create("coordinates")?;
+            let topo = g.new_dataset::<i64>().shape([mesh.n_global_cells, 10]).create("topology")?;
+            let time = file.new_dataset::<f64>().chunk(256).shape((0..,)).create("time")?;
+            Ok((xyz, topo, time))
+        })()
+        .map_err(|e| h5err(&h5_path, "cannot create mesh datasets", e));
+        let (xyz_ds, topo_ds, time_ds) = agree(&comm, made)?;
+
+        // Independent: each rank writes its rows.
+        let written = (|| -> hdf5::Result<()> {
+            if !mesh.coords.is_empty() {
+                let r = mesh.node_offset..mesh.node_offset + mesh.coords.len();
+                xyz_ds.write_slice::<_, f64, _, _>(mesh.coords, (r, ..))?;
+            }
+            if !mesh.cells.is_empty() {
+                let topo: Vec<[i64; 10]> =
+                    mesh.cells.iter().map(|c| std::array::from_fn(|i| i64::from(c[GMSH_TO_XDMF_TET10[i]]))).collect();
+                let r = mesh.cell_offset..mesh.cell_offset + mesh.cells.len();
+                topo_ds.write_slice::<_, i64, _, _>(topo.as_slice(), (r, ..))?;
+            }
+            Ok(())
+        })()
+        .map_err(|e| h5err(&h5_path, "cannot write mesh", e));
+        agree(&comm, written)?;
+        drop(xyz_ds);
+        drop(topo_ds);
+
+        let mut ff = FieldFile {
+            time_ds,
+            file,
+            comm,
+            h5_path,
+            xdmf_path,
+            n_global_nodes: mesh.n_global_nodes,
+            node_offset: mesh.node_offset,
+            n_local_nodes: mesh.coords.len(),
+            n_global_cells: mesh.n_global_cells,
+            cell_offset: mesh.cell_offset,
+            n_local_cells: mesh.cells.len(),
+            kinds: BTreeMap::new(),
+            steps: Vec::new(),
+            xdmf_grids: String::new(),
+        };
+        ff.flush_and_index()?;
+        Ok(ff)
+    }
+
+    /// Number of steps written so far.
+    pub fn n_steps(&self) -> usize {
+        self.steps.len()
+    }
+
+    /// Path of the HDF5 file.
+    pub fn h5_path(&self) -> &Path {
+        &self.h5_path
+    }
+
+    /// Path of the XDMF file.
+    pub fn xdmf_path(&self) -> &Path {
+        &self.xdmf_path
+    }
+
+    /// Appends one time step with the given fields. Collective: every rank passes the same `time`
+    /// and the same field names and kinds in the same order, each with its own values. `time` must
+    /// exceed the previous step's; a field keeps its kind across steps but may be left out of some.
+    /// The data are flushed and the XDMF rewritten before returning.
+    pub fn write_step(&mut self, time: f64, fields: &[Field]) -> Result<()> {
+        let k = self.steps.len();
+        let path = self.h5_path.clone();
+
+        // Local checks and the cross-rank signature of the call.
+        let mut sig = Fnv::new();
+        sig.u64(time.to_bits());
+        for f in fields {
+            sig.bytes(f.name.as_bytes()).u64(0xff).u64(f.kind.code());
+        }
+        let local = (|| -> std::result::Result<(), String> {
+            if !time.is_finite() {
+                return Err(format!("step {k}: time is {time}"));
+            }
+            if let Some(last) = self.steps.last() {
+                if time <= last.time {
+                    return Err(format!("step {k}: time {time} does not follow the previous step's {}", last.time));
+                }
+            }
+            for (i, f) in fields.iter().enumerate() {
+                check_name(f.name)?;
+                if fields[..i].iter().any(|g| g.name == f.name) {
+                    return Err(format!("field {:?} given twice", f.name));
+                }
+                if let Some(&old) = self.kinds.get(f.name) {
+                    if old != f.kind {
+                        return Err(format!("field {:?} was {old:?}, now {:?}", f.name, f.kind));
+                    }
+                }
+                let rows = if f.kind.on_nodes() { self.n_local_nodes } else { self.n_local_cells };
+                let want = rows * f.kind.components();
+                if f.data.len() != want {
+                    return Err(format!(
+                        "field {:?} ({:?}) has {} values on this rank, expected {want}",
+                        f.name,
+                        f.kind,
+                        f.data.len()
+                    ));
+                }
+            }
+            Ok(())
+        })()
+        .map_err(|m| Error::io(&path, m));
+        let same = same_everywhere(&self.comm, &path, sig.0, &format!("step {k}: time or field names and kinds"));
+        agree(&self.comm, local.and(same))?;
+
+        // Collective metadata: extend /time, create this step's datasets.
+        let created = (|| -> hdf5::Result<Vec<hdf5::Dataset>> {
+            self.time_ds.resize(k + 1)?;
+            let mut out = Vec::with_capacity(fields.len());
+            for f in fields {
+                let group = match self.kinds.contains_key(f.name) {
+                    true => self.file.group(&format!("fields/{}", f.name))?,
+                    false => self.file.create_group(&format!("fields/{}", f.name))?,
+                };
+                let rows = if f.kind.on_nodes() { self.n_global_nodes } else { self.n_global_cells };
+                let b = group.new_dataset::<f64>();
+                let ds = match f.kind.components() {
+                    1 => b.shape([rows]).create(format!("{k:06}").as_str())?,
+                    c => b.shape([rows, c]).create(format!("{k:06}").as_str())?,
+                };
+                out.push(ds);
+            }
+            Ok(out)
+        })()
+        .map_err(|e| h5err(&path, &format!("step {k}: cannot create datasets"), e));
+        let datasets = agree(&self.comm, created)?;
+        for f in fields {
+            self.kinds.insert(f.name.to_string(), f.kind);
+        }
+
+        // Independent raw data.
+        let written = (|| -> hdf5::Result<()> {
+            if self.comm.rank() == 0 {
+                self.time_ds.write_slice(&[time][..], k..k + 1)?;
+            }
+            for (f, ds) in fields.iter().zip(&datasets) {
+                let (off, n) = if f.kind.on_nodes() {
+                    (self.node_offset, self.n_local_nodes)
+                } else {
+                    (self.cell_offset, self.n_local_cells)
+                };
+                if n == 0 {
+                    continue;
+                }
+                if f.kind.components() == 1 {
+                    ds.write_slice(f.data, off..off + n)?;
+                } else {
+                    let (rows, _) = f.data.as_chunks::<3>();
+                    ds.write_slice::<_, f64, _, _>(rows, (off..off + n, ..))?;
+                }
+            }
+            Ok(())
+        })()
+        .map_err(|e| h5err(&path, &format!("step {k}: cannot write data"), e));
+        agree(&self.comm, written)?;
+        drop(datasets);
+
+        self.steps.push(StepRecord { time, fields: fields.iter().map(|f| (f.name.to_string(), f.kind)).collect() });
+        let grid = self.step_grid(k);
+        self.xdmf_grids.push_str(&grid);
+        self.flush_and_index()
+    }
+
+    /// Flushes and closes the file (collective), reporting errors that `Drop` would swallow.
+    pub fn close(self) -> Result<()> {
+        let FieldFile { time_ds, file, comm, h5_path, .. } = self;
+        drop(time_ds);
+        let r = file.close().map_err(|e| h5err(&h5_path, "cannot close", e));
+        agree(&comm, r)
+    }
+
+    /// Collective flush of the HDF5 file, then rank 0 rewrites the XDMF atomically.
+    fn flush_and_index(&mut self) -> Result<()> {
+        let r = self.file.flush().map_err(|e| h5err(&self.h5_path, "cannot flush", e));
+        agree(&self.comm, r)?;
+        let r = if self.comm.rank() == 0 { self.write_xdmf() } else { Ok(()) };
+        agree(&self.comm, r)
+    }
+
+    fn data_item(&self, dims: &str, number_type: &str, h5_object: &str) -> String {
+        let h5 = xml_escape(H5_NAME);
+        format!(
+            "<DataItem Dimensions=\"{dims}\" NumberType=\"{number_type}\" Precision=\"8\" Format=\"HDF\">{h5}:{h5_object}</DataItem>"
+        )
+    }
+
+    fn mesh_xml(&self, indent: &str) -> String {
+        let (n, m) = (self.n_global_nodes, self.n_global_cells);
+        format!(
+            "{indent}<Topology TopologyType=\"{XDMF_TOPOLOGY_TYPE}\" NumberOfElements=\"{m}\" NodesPerElement=\"10\">\n\
+             {indent}  {}\n\
+             {indent}</Topology>\n\
+             {indent}<Geometry GeometryType=\"XYZ\">\n\
+             {indent}  {}\n\
+             {indent}</Geometry>\n",
+            self.data_item(&format!("{m} 10"), "Int", "/mesh/topology"),
+            self.data_item(&format!("{n} 3"), "Float", "/mesh/coordinates"),
+        )
+    }
+
+    fn step_grid(&self, k: usize) -> String {
+        let step = &self.steps[k];
+        let mut s = String::new();
+        let _ = writeln!(s, "      <Grid Name=\"step_{k:06}\" GridType=\"Uniform\">");
+        let _ = writeln!(s, "        <Time Value=\"{}\"/>", fmt_real(step.time));
+        s.push_str(&self.mesh_xml("        "));
+        for (name, kind) in &step.fields {
+            let rows = if kind.on_nodes() { self.n_global_nodes } else { self.n_global_cells };
+            let (ty, dims) = match kind.components() {
+                1 => ("Scalar", format!("{rows}")),
+                c => ("Vector", format!("{rows} {c}")),
+            };
+            let center = if kind.on_nodes() { "Node" } else { "Cell" };
+            let name = xml_escape(name);
+            let _ = writeln!(s, "        <Attribute Name=\"{name}\" AttributeType=\"{ty}\" Center=\"{center}\">");
+            let _ = writeln!(s, "          {}", self.data_item(&dims, "Float", &format!("/fields/{name}/{k:06}")));
+            let _ = writeln!(s, "        </Attribute>");
+        }
+        s.push_str("      </Grid>\n");
+        s
+    }
+
+    fn xdmf_text(&self) -> String {
+        let mut s = String::from("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n");
+        if self.steps.is_empty() {
+            s.push_str("    <Grid Name=\"mesh\" GridType=\"Uniform\">\n");
+            s.push_str(&self.mesh_xml("      "));
+            s.push_str("    </Grid>\n");
+        } else {
+            s.push_str("    <Grid Name=\"fields\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+            s.push_str(&self.xdmf_grids);
+            s.push_str("    </Grid>\n");
+        }
+        s.push_str("  </Domain>\n</Xdmf>\n");
+        s
+    }
+
+    fn write_xdmf(&self) -> Result<()> {
+        let mut tmp = self.xdmf_path.clone().into_os_string();
+        tmp.push(".tmp");
+        let tmp = PathBuf::from(tmp);
+        std::fs::write(&tmp, self.xdmf_text()).map_err(|e| Error::io(&tmp, e))?;
+        std::fs::rename(&tmp, &self.xdmf_path).map_err(|e| Error::io(&self.xdmf_path, e))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tet10_permutation_maps_gmsh_edges_to_vtk_edges() {
+        let gmsh = [(0, 1), (1, 2), (0, 2), (0, 3), (2, 3), (1, 3)];
+        let vtk = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)];
+        assert_eq!(GMSH_TO_XDMF_TET10[..4], [0, 1, 2, 3]);
+        for (e, edge) in vtk.iter().enumerate() {
+            assert_eq!(gmsh[GMSH_TO_XDMF_TET10[4 + e] - 4], *edge);
+        }
+        for (i, &j) in GMSH_TO_XDMF_TET10.iter().enumerate() {
+            assert_eq!(GMSH_TO_XDMF_TET10[j], i, "an involution");
+        }
+    }
+
+    #[test]
+    fn names_and_escaping() {
+        for ok in ["u", "p", "phi_s", "sigma-vm", "J.e", "A1"] {
+            check_name(ok).unwrap();
+        }
+        for bad in ["", ".x", "a/b", "a b", "a:b", "é", "a<b"] {
+            assert!(check_name(bad).is_err(), "{bad:?}");
+        }
+        assert_eq!(xml_escape("a<&>\"'"), "a&lt;&amp;&gt;&quot;&apos;");
+    }
+}

@@ -1,0 +1,48 @@
+//! Run output: the run directory, per-step field files (HDF5 + XDMF for ParaView) and the `history.csv` log.
+pub mod fields;
+pub mod history;
+pub mod rundir;
+
+/// Formats a real number so that it parses back to the identical `f64` (shortest round-trip digits),
+/// in plain notation for moderate magnitudes and in exponent notation (`1.5e-7`) otherwise.
+/// Non-finite values print as `NaN`, `inf`, `-inf` (all accepted by Python's `float`).
+pub fn fmt_real(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 || !v.is_finite() || (1e-4..1e16).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fmt_real;
+
+    #[test]
+    fn fmt_real_round_trips() {
+        for v in [
+            0.0,
+            -0.0,
+            1.0,
+            0.1,
+            1.0 / 3.0,
+            1e-4,
+            9.99e-5,
+            1e-300,
+            123456789.125,
+            1e16,
+            -2.5e22,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+        ] {
+            let s = fmt_real(v);
+            assert_eq!(s.parse::<f64>().unwrap().to_bits(), v.to_bits(), "{v} -> {s}");
+        }
+        assert_eq!(fmt_real(1.0), "1");
+        assert_eq!(fmt_real(0.5), "0.5");
+        assert_eq!(fmt_real(1.5e-7), "1.5e-7");
+        assert_eq!(fmt_real(f64::NAN), "NaN");
+        assert_eq!(fmt_real(f64::NEG_INFINITY), "-inf");
+    }
+}

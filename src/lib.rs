@@ -1,0 +1,15 @@
+//! poroplast: parallel finite-element solver for large-deformation biphasic (poroelastic,
+//! visco-plastic) aggregates compressed between rigid plates, on PETSc.
+
+pub mod cli;
+pub mod driver;
+pub mod error;
+pub mod fem;
+pub mod io;
+pub mod material;
+pub mod mesh;
+pub mod parallel;
+pub mod petsc;
+pub mod physics;
+pub mod scene;
+pub mod solver;

@@ -1,0 +1,57 @@
+//! poroplast binary: CLI → MPI → PETSc → driver; any error becomes one message and a non-zero exit.
+
+use clap::Parser;
+use poroplast::cli::{Cli, Command};
+use poroplast::driver::{self, RunArgs};
+use poroplast::scene::BUILTIN;
+
+fn main() {
+    let cli = Cli::parse();
+    if let Command::Scenes = cli.command {
+        for (name, text) in BUILTIN {
+            let desc = text.lines().find_map(|l| l.strip_prefix("description = ")).unwrap_or("").trim_matches('"');
+            println!("{name:20} {desc}");
+        }
+        return;
+    }
+    if let Command::Show { name } = &cli.command {
+        match BUILTIN.iter().find(|(n, _)| n == name) {
+            Some((_, text)) => print!("{text}"),
+            None => {
+                eprintln!("poroplast: no shipped scene named \"{name}\" (see `poroplast scenes`)");
+                std::process::exit(2);
+            }
+        }
+        return;
+    }
+    let Some(universe) = mpi::initialize() else {
+        eprintln!("poroplast: MPI could not be initialised");
+        std::process::exit(1);
+    };
+    let world = universe.world();
+    let rank0 = mpi::traits::Communicator::rank(&world) == 0;
+    let result = match cli.command {
+        Command::Run { scene, out, force, quiet, petsc } => {
+            driver::run(&world, &RunArgs { scene, out, force, petsc, progress: !quiet }).map(|dir| dir.display().to_string())
+        }
+        Command::Check { scene } => driver::check(&world, &scene),
+        Command::Scenes | Command::Show { .. } => unreachable!(),
+    };
+    let code = match result {
+        Ok(msg) => {
+            if rank0 {
+                println!("{msg}");
+            }
+            0
+        }
+        Err(e) => {
+            if rank0 {
+                eprintln!("poroplast: error: {e}");
+            }
+            1
+        }
+    };
+    drop(world);
+    drop(universe);
+    std::process::exit(code);
+}

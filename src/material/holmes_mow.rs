@@ -1,0 +1,429 @@
+//! Holmes–Mow solid (36): Ψ = Φs α0 {exp[α1 (I1e − 3) + α2 (I2e − 3) − α3 ln I3e] − 1},
+//! I1e = tr(C B_p), I2e = ½[I1e² − tr((C B_p)²)], I3e = det C; S_sc = 2 ∂Ψ/∂C (39) without the
+//! penalty, P_sc = F S_sc, and the exact tangent ∂P_sc/∂F.
+
+use super::{
+    add_ik_lj, add_il_kj, add_outer, check_phi_s, domain_error, Kinematics, SolidResponse, Tangent,
+};
+use crate::error::{Error, Result};
+use nalgebra::Matrix3;
+
+/// Holmes–Mow parameters; energy per unit reference volume of mixture (hence the factor Φs).
+/// Every method takes the remodelling metric B_p, which the caller keeps symmetric positive
+/// definite with det 1 (not checked here: it is a history variable, checked where updated).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HolmesMow {
+    /// Referential solid fraction Φs.
+    pub phi_s: f64,
+    /// α0 (stress units).
+    pub alpha0: f64,
+    pub alpha1: f64,
+    pub alpha2: f64,
+    pub alpha3: f64,
+}
+
+/// What stress, energy and tangent share: the exponent f = α1 (I1e − 3) + α2 (I2e − 3) − α3 ln I3e,
+/// exp f, and G = ∂f/∂C = (α1 + α2 I1e) B_p − α2 B_p C B_p − α3 C⁻¹ (so S = 2 Φs α0 e^f G).
+struct Core {
+    exponent: f64,
+    exp_f: f64,
+    g: Matrix3<f64>,
+}
+
+impl HolmesMow {
+    /// Direct α's. Requires Φs ∈ (0, 1), α0 > 0, α3 = α1 + 2 α2 (stress-free reference, to a
+    /// relative 1e-6 so printed tables pass) and a positive-definite linearisation: µ/Φs =
+    /// 2 α0 (α3 − α2) > 0 and bulk modulus/Φs = 4 α0 (α3 + 2 α2)/3 > 0.
+    pub fn new(phi_s: f64, alpha0: f64, alpha1: f64, alpha2: f64, alpha3: f64) -> Result<Self> {
+        check_phi_s("Holmes–Mow", phi_s)?;
+        let all = [alpha0, alpha1, alpha2, alpha3];
+        if !all.iter().all(|a| a.is_finite()) {
+            return Err(Error::Material(format!(
+                "Holmes–Mow: non-finite alpha (alpha0..3 = {all:?})"
+            )));
+        }
+        if alpha0 <= 0.0 {
+            return Err(Error::Material(format!("Holmes–Mow: alpha0 = {alpha0} must be > 0")));
+        }
+        let mismatch = alpha1 + 2.0 * alpha2 - alpha3;
+        if mismatch.abs() > 1e-6 * (alpha1.abs() + 2.0 * alpha2.abs() + alpha3.abs()) {
+            return Err(Error::Material(format!(
+                "Holmes–Mow: alpha3 = {alpha3} must equal alpha1 + 2 alpha2 = {} \
+                 (stress-free reference)",
+                alpha1 + 2.0 * alpha2
+            )));
+        }
+        if alpha3 <= alpha2 {
+            return Err(Error::Material(format!(
+                "Holmes–Mow: alpha3 = {alpha3} must exceed alpha2 = {alpha2} (positive shear modulus)"
+            )));
+        }
+        if alpha3 + 2.0 * alpha2 <= 0.0 {
+            return Err(Error::Material(format!(
+                "Holmes–Mow: alpha3 + 2 alpha2 = {} must be > 0 (positive bulk modulus)",
+                alpha3 + 2.0 * alpha2
+            )));
+        }
+        Ok(HolmesMow { phi_s, alpha0, alpha1, alpha2, alpha3 })
+    }
+
+    /// α's from the shear modulus µ and Poisson ratio ν of the solid (56), α3 = 1:
+    /// α0 = (1−ν) µ / (2 (1−2ν)), α1 = (1−3ν)/(1−ν), α2 = ν/(1−ν). The linearisation of Ψ/Φs at
+    /// C = B_p = I then has Lamé constants µ and 2µν/(1−2ν).
+    pub fn from_mu_nu(mu: f64, nu: f64, phi_s: f64) -> Result<Self> {
+        if !(mu > 0.0 && mu.is_finite()) {
+            return Err(Error::Material(format!(
+                "Holmes–Mow: shear modulus mu = {mu} must be > 0"
+            )));
+        }
+        if !(nu > -1.0 && nu < 0.5) {
+            return Err(Error::Material(format!(
+                "Holmes–Mow: Poisson ratio nu = {nu} outside (-1, 0.5)"
+            )));
+        }
+        let alpha3 = 1.0;
+        Self::new(
+            phi_s,
+            (1.0 - nu) * mu / (2.0 * (1.0 - 2.0 * nu) * alpha3),
+            alpha3 * (1.0 - 3.0 * nu) / (1.0 - nu),
+            alpha3 * nu / (1.0 - nu),
+            alpha3,
+        )
+    }
+
+    /// Ψ(F, B_p). Domain error if J <= 0, F is not finite or exp overflows.
+    pub fn energy(&self, f: &Matrix3<f64>, bp: &Matrix3<f64>) -> Result<f64> {
+        let kin = Kinematics::new(f)?;
+        let core = self.core(&kin, bp)?;
+        // exp_m1 keeps Ψ = O(strain²) accurate near the reference state.
+        Ok(self.phi_s * self.alpha0 * core.exponent.exp_m1())
+    }
+
+    /// Second Piola–Kirchhoff stress S_sc = 2 ∂Ψ/∂C of the solid (no penalty).
+    pub fn stress(&self, f: &Matrix3<f64>, bp: &Matrix3<f64>) -> Result<Matrix3<f64>> {
+        let kin = Kinematics::new(f)?;
+        let core = self.core(&kin, bp)?;
+        Ok(core.g * (2.0 * self.phi_s * self.alpha0 * core.exp_f))
+    }
+
+    /// P = F S_sc and A = ∂P/∂F (index map of [`super::idx`]).
+    pub fn first_pk_and_tangent(
+        &self,
+        f: &Matrix3<f64>,
+        bp: &Matrix3<f64>,
+    ) -> Result<(Matrix3<f64>, Tangent)> {
+        let r = self.response(&Kinematics::new(f)?, bp)?;
+        Ok((r.p, r.a))
+    }
+
+    /// S, P and A at precomputed kinematics.
+    ///
+    /// With e = 2 Φs α0 e^f, S = e G and dS = e (2 FG:dF) G + e dG, where
+    /// dG = α2 (2 F B_p:dF) B_p − α2 B_p dC B_p + α3 C⁻¹ dC C⁻¹ and dC = dFᵀF + FᵀdF. Then
+    /// dP = dF S + F dS, i.e.
+    /// A = δ_ik (S + e α3 C⁻¹)_lj + 2e (FG)_ij (FG)_kl + 2e α2 (FB)_ij (FB)_kl
+    ///     − e α2 (FB)_il (FB)_kj − e α2 (F B Fᵀ)_ik B_lj + e α3 F⁻ᵀ_il F⁻ᵀ_kj,   B = B_p.
+    pub(crate) fn response(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<SolidResponse> {
+        let core = self.core(kin, bp)?;
+        let (a2, a3) = (self.alpha2, self.alpha3);
+        let e = 2.0 * self.phi_s * self.alpha0 * core.exp_f;
+        let s = core.g * e;
+        let f = &kin.f;
+        let fg = f * core.g;
+        let fb = f * bp;
+        let f_inv_t = kin.f_inv.transpose();
+
+        let mut a = Tangent::zeros();
+        add_ik_lj(&mut a, 1.0, &Matrix3::identity(), &(s + kin.c_inv * (e * a3)));
+        add_outer(&mut a, 2.0 * e, &fg, &fg);
+        add_outer(&mut a, 2.0 * e * a2, &fb, &fb);
+        add_il_kj(&mut a, -e * a2, &fb, &fb);
+        add_ik_lj(&mut a, -e * a2, &(fb * f.transpose()), bp);
+        add_il_kj(&mut a, e * a3, &f_inv_t, &f_inv_t);
+        Ok(SolidResponse { p: f * s, a, s })
+    }
+
+    fn core(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<Core> {
+        let (a1, a2, a3) = (self.alpha1, self.alpha2, self.alpha3);
+        let id = Matrix3::identity();
+        // N = C B_p − I from C − I and B_p − I, so f has no O(1) cancellation near C = B_p = I:
+        // I1e − 3 = tr N, I2e − 3 = 2 tr N + ½[(tr N)² − tr N²].
+        let n = kin.c_minus_i * bp + (bp - id);
+        let tr_n = n.trace();
+        let i1_m3 = tr_n;
+        let i2_m3 = 2.0 * tr_n + 0.5 * (tr_n * tr_n - (n * n).trace());
+        // ln I3e = 2 ln J.
+        let exponent = a1 * i1_m3 + a2 * i2_m3 - 2.0 * a3 * kin.ln_j;
+        let exp_f = exponent.exp();
+        if !exp_f.is_finite() {
+            return Err(domain_error(
+                kin.j,
+                format!("Holmes–Mow: exp of exponent {exponent} is not finite"),
+            ));
+        }
+        let g = bp * (a1 + a2 * (3.0 + i1_m3)) - bp * kin.c * bp * a2 - kin.c_inv * a3;
+        Ok(Core { exponent, exp_f, g })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_util::{fd_gradient, fd_tangent, rel_err, Rng};
+    use super::super::{idx, Tangent};
+    use super::*;
+
+    /// Table 1 (µ = 20 kPa, ν = 0.2) and the soft Forgacs case (µ = 3 kPa, ν = 0.45, α1 < 0).
+    fn laws() -> [HolmesMow; 2] {
+        [
+            HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap(),
+            HolmesMow::from_mu_nu(3.0, 0.45, 0.6).unwrap(),
+        ]
+    }
+
+    fn assert_close(x: f64, y: f64, tol: f64) {
+        assert!((x - y).abs() <= tol * y.abs().max(1e-300), "{x} vs {y}");
+    }
+
+    #[test]
+    fn alphas_from_mu_nu() {
+        let hm = HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap();
+        assert_close(hm.alpha0, 40.0 / 3.0, 1e-15);
+        assert_close(hm.alpha1, 0.5, 1e-15);
+        assert_close(hm.alpha2, 0.25, 1e-15);
+        assert_eq!(hm.alpha3, 1.0);
+    }
+
+    #[test]
+    fn rejects_bad_parameters() {
+        let msg = |r: Result<HolmesMow>| match r {
+            Err(Error::Material(m)) => m,
+            other => panic!("expected a material error, got {other:?}"),
+        };
+        assert!(msg(HolmesMow::from_mu_nu(20.0, 0.5, 0.6)).contains("nu = 0.5"));
+        assert!(msg(HolmesMow::from_mu_nu(20.0, -1.0, 0.6)).contains("nu = -1"));
+        assert!(msg(HolmesMow::from_mu_nu(0.0, 0.2, 0.6)).contains("mu = 0"));
+        assert!(msg(HolmesMow::from_mu_nu(20.0, 0.2, 1.0)).contains("phi_s = 1"));
+        assert!(msg(HolmesMow::from_mu_nu(20.0, f64::NAN, 0.6)).contains("nu = NaN"));
+        assert!(msg(HolmesMow::new(0.6, -1.0, 0.5, 0.25, 1.0)).contains("alpha0 = -1"));
+        assert!(msg(HolmesMow::new(0.6, 1.0, 0.5, 0.3, 1.0)).contains("alpha3 = 1"));
+        assert!(msg(HolmesMow::new(0.6, 1.0, -2.0, 1.0, 0.0)).contains("alpha2 = 1"));
+        assert!(msg(HolmesMow::new(0.6, 1.0, 3.0, -1.0, 1.0)).contains("alpha3 + 2 alpha2 = -1"));
+        // Table 1 of the paper: α0 = 0.125 kPa, α1 = 0.78, α2 = 0.11, α3 = 1.
+        assert!(HolmesMow::new(0.6, 0.125, 0.78, 0.11, 1.0).is_ok());
+    }
+
+    #[test]
+    fn domain_errors() {
+        let hm = laws()[0];
+        let bp = Matrix3::identity();
+        for f in [
+            Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0, 1.0, -0.5)),
+            Matrix3::zeros(),
+            Matrix3::from_element(f64::NAN),
+        ] {
+            assert!(matches!(hm.energy(&f, &bp), Err(Error::Domain { .. })));
+            assert!(matches!(hm.stress(&f, &bp), Err(Error::Domain { .. })));
+            assert!(matches!(hm.first_pk_and_tangent(&f, &bp), Err(Error::Domain { .. })));
+        }
+    }
+
+    #[test]
+    fn reference_state_is_stress_free_and_energy_accurate_at_small_strain() {
+        let hm = laws()[0];
+        let id = Matrix3::identity();
+        assert_eq!(hm.energy(&id, &id).unwrap(), 0.0);
+        assert!(hm.stress(&id, &id).unwrap().norm() < 1e-15);
+        // Ψ ≈ Φs [λ/2 (tr ε)² + µ ε:ε] at ε = 1e-7: tests the cancellation-free exponent.
+        let eps = Rng::new(3).matrix(1e-7);
+        let eps = 0.5 * (eps + eps.transpose());
+        let (mu, lambda) = (20.0, 2.0 * 20.0 * 0.2 / 0.6);
+        let psi_lin = 0.6 * (0.5 * lambda * eps.trace().powi(2) + mu * eps.norm_squared());
+        let psi = hm.energy(&(id + eps), &id).unwrap();
+        println!("small-strain energy: {psi:e} vs linear {psi_lin:e}");
+        assert!((psi - psi_lin).abs() < 1e-6 * psi_lin);
+    }
+
+    #[test]
+    fn first_pk_matches_energy_gradient() {
+        let mut rng = Rng::new(1);
+        let mut worst: f64 = 0.0;
+        for hm in laws() {
+            for j in [0.7, 0.85, 1.0, 1.2, 1.4] {
+                let (f, bp) = (rng.deformation(j), rng.remodelling_metric());
+                let (p, _) = hm.first_pk_and_tangent(&f, &bp).unwrap();
+                let p_fd = fd_gradient(|g| hm.energy(g, &bp).unwrap(), &f);
+                let err = rel_err(&p, &p_fd);
+                assert!(err < 1e-6, "J = {j}: rel. error {err:e}");
+                assert!(rel_err(&(f * hm.stress(&f, &bp).unwrap()), &p) < 1e-14);
+                worst = worst.max(err);
+            }
+        }
+        println!("P vs dPsi/dF: worst relative error {worst:e}");
+    }
+
+    #[test]
+    fn second_pk_matches_energy_derivative_in_c() {
+        // Ψ as a function of C: F = Lᵀ with C = L Lᵀ (Cholesky) has FᵀF = C.
+        let mut rng = Rng::new(2);
+        let mut worst: f64 = 0.0;
+        for hm in laws() {
+            for j in [0.7, 1.0, 1.4] {
+                let (f, bp) = (rng.deformation(j), rng.remodelling_metric());
+                let c = f.transpose() * f;
+                let psi = |c: &Matrix3<f64>| {
+                    let ft = c.cholesky().unwrap().l().transpose();
+                    hm.energy(&ft, &bp).unwrap()
+                };
+                let h = 1e-5 * c.norm();
+                let s_fd = Matrix3::from_fn(|a, b| {
+                    let mut dc = Matrix3::zeros();
+                    dc[(a, b)] += 0.5 * h;
+                    dc[(b, a)] += 0.5 * h;
+                    2.0 * (psi(&(c + dc)) - psi(&(c - dc))) / (2.0 * h)
+                });
+                let err = rel_err(&hm.stress(&f, &bp).unwrap(), &s_fd);
+                assert!(err < 1e-6, "J = {j}: rel. error {err:e}");
+                worst = worst.max(err);
+            }
+        }
+        println!("S vs 2 dPsi/dC: worst relative error {worst:e}");
+    }
+
+    #[test]
+    fn tangent_matches_finite_difference_of_p() {
+        let mut rng = Rng::new(4);
+        let mut worst: f64 = 0.0;
+        for hm in laws() {
+            for j in [0.7, 0.85, 1.0, 1.2, 1.4] {
+                let (f, bp) = (rng.deformation(j), rng.remodelling_metric());
+                let (_, a) = hm.first_pk_and_tangent(&f, &bp).unwrap();
+                let a_fd = fd_tangent(|g| hm.first_pk_and_tangent(g, &bp).unwrap().0, &f);
+                let err = rel_err(&a, &a_fd);
+                assert!(err < 1e-6, "J = {j}: rel. error {err:e}");
+                worst = worst.max(err);
+            }
+        }
+        println!("A vs dP/dF: worst relative error {worst:e}");
+    }
+
+    #[test]
+    fn linearisation_is_isotropic_elasticity() {
+        let id = Matrix3::identity();
+        for (mu, nu) in [(20.0, 0.2), (3.0, 0.45), (1.0, -0.5)] {
+            let phi_s = 0.6;
+            let hm = HolmesMow::from_mu_nu(mu, nu, phi_s).unwrap();
+            let (p, a) = hm.first_pk_and_tangent(&id, &id).unwrap();
+            assert!(p.norm() < 1e-14 * mu);
+            let lambda = 2.0 * mu * nu / (1.0 - 2.0 * nu);
+            let d = |i: usize, j: usize| if i == j { 1.0 } else { 0.0 };
+            let expect = Tangent::from_fn(|r, c| {
+                let (i, j, k, l) = (r / 3, r % 3, c / 3, c % 3);
+                phi_s * (lambda * d(i, j) * d(k, l) + mu * (d(i, k) * d(j, l) + d(i, l) * d(j, k)))
+            });
+            let err = rel_err(&a, &expect);
+            println!("linearisation mu = {mu}, nu = {nu}: rel. error {err:e}");
+            assert!(err < 1e-14);
+        }
+    }
+
+    #[test]
+    fn confined_compression_closed_form() {
+        // F = diag(1, 1, λ), B_p = I: C = diag(1, 1, λ²), I1 = 2 + λ², I2 = 1 + 2λ², I3 = λ²,
+        // f = (α1 + 2α2)(λ² − 1) − 2 α3 ln λ,
+        // S_zz = 2 Φs α0 e^f (α1 + 2α2 − α3/λ²), S_xx = S_yy = 2 Φs α0 e^f (α1 + α2 (1 + λ²) − α3),
+        // P_zz = λ S_zz, P_xx = S_xx, Ψ = Φs α0 (e^f − 1).
+        let bp = Matrix3::identity();
+        for hm in laws().into_iter().chain([HolmesMow::new(0.6, 0.125, 0.78, 0.11, 1.0).unwrap()]) {
+            let HolmesMow { phi_s, alpha0: a0, alpha1: a1, alpha2: a2, alpha3: a3 } = hm;
+            for lam in [0.75, 0.9, 1.1, 1.3] {
+                let f_exp = (a1 + 2.0 * a2) * (lam * lam - 1.0) - 2.0 * a3 * f64::ln(lam);
+                let pre = 2.0 * phi_s * a0 * f_exp.exp();
+                let s_zz = pre * (a1 + 2.0 * a2 - a3 / (lam * lam));
+                let s_xx = pre * (a1 + a2 * (1.0 + lam * lam) - a3);
+                let f = Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0, 1.0, lam));
+                let s = hm.stress(&f, &bp).unwrap();
+                let (p, _) = hm.first_pk_and_tangent(&f, &bp).unwrap();
+                println!(
+                    "lambda = {lam}: S_zz = {s_zz:.12e} (code {:.12e}), S_xx = {s_xx:.12e}",
+                    s[(2, 2)]
+                );
+                assert_close(s[(2, 2)], s_zz, 1e-12);
+                assert_close(s[(0, 0)], s_xx, 1e-12);
+                assert_close(s[(1, 1)], s_xx, 1e-12);
+                assert_close(p[(2, 2)], lam * s_zz, 1e-12);
+                assert_close(hm.energy(&f, &bp).unwrap(), phi_s * a0 * f_exp.exp_m1(), 1e-12);
+                let off_diagonal = s - Matrix3::from_diagonal(&s.diagonal());
+                assert!(off_diagonal.norm() <= 1e-14 * s.norm());
+            }
+        }
+    }
+
+    #[test]
+    fn frame_invariance() {
+        let mut rng = Rng::new(5);
+        let hm = laws()[1];
+        for j in [0.75, 1.3] {
+            let (f, bp, q) = (rng.deformation(j), rng.remodelling_metric(), rng.rotation());
+            let (p, a) = hm.first_pk_and_tangent(&f, &bp).unwrap();
+            let (pq, aq) = hm.first_pk_and_tangent(&(q * f), &bp).unwrap();
+            assert!(rel_err(&pq, &(q * p)) < 1e-13);
+            assert!(
+                rel_err(&hm.stress(&(q * f), &bp).unwrap(), &hm.stress(&f, &bp).unwrap()) < 1e-13
+            );
+            // A(QF)_ijkl = Q_ia Q_kb A(F)_ajbl.
+            let rotated = Tangent::from_fn(|r, c| {
+                let (i, j, k, l) = (r / 3, r % 3, c / 3, c % 3);
+                let mut sum = 0.0;
+                for a_ in 0..3 {
+                    for b in 0..3 {
+                        sum += q[(i, a_)] * q[(k, b)] * a[(idx(a_, j), idx(b, l))];
+                    }
+                }
+                sum
+            });
+            assert!(rel_err(&aq, &rotated) < 1e-13);
+        }
+    }
+
+    #[test]
+    fn newton_uniaxial_stress_converges_quadratically() {
+        // F = diag(λ, λ, λ_a), B_p = I: find the lateral stretch λ with P_xx = 0 (P_yy = 0 by
+        // symmetry); dP_xx/dλ = A[xx, xx] + A[xx, yy].
+        let bp = Matrix3::identity();
+        for hm in laws() {
+            for lam_a in [0.7, 1.3] {
+                let mut lam: f64 = 1.0;
+                let mut history = vec![];
+                for _ in 0..20 {
+                    let f = Matrix3::from_diagonal(&nalgebra::Vector3::new(lam, lam, lam_a));
+                    let (p, a) = hm.first_pk_and_tangent(&f, &bp).unwrap();
+                    history.push((lam, p[(0, 0)]));
+                    if p[(0, 0)].abs() < 1e-13 * hm.alpha0 {
+                        break;
+                    }
+                    lam -= p[(0, 0)] / (a[(idx(0, 0), idx(0, 0))] + a[(idx(0, 0), idx(1, 1))]);
+                }
+                let lam_star = history.last().unwrap().0;
+                println!(
+                    "nu = {:.3}, lambda_a = {lam_a}: lateral stretch {lam_star:.15}",
+                    hm.alpha2 / (1.0 + hm.alpha2)
+                );
+                let errs: Vec<f64> = history.iter().map(|(l, _)| (l - lam_star).abs()).collect();
+                for (k, ((l, r), e)) in history.iter().zip(&errs).enumerate() {
+                    println!(
+                        "  it {k}: lambda = {l:.15}, |P_xx| = {:.3e}, |error| = {e:.3e}",
+                        r.abs()
+                    );
+                }
+                assert!(history.len() <= 7, "too many iterations: {}", history.len());
+                for w in errs.windows(2) {
+                    if w[0] > 1e-7 {
+                        let ratio = w[1] / (w[0] * w[0]);
+                        println!("  e_(k+1)/e_k^2 = {ratio:.3}");
+                        assert!(ratio < 10.0, "not quadratic: {ratio}");
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,273 @@
+//! Constitutive laws of the aggregate, per unit reference volume of mixture: P_sc = F S_sc with
+//! S_sc = 2 ∂(Ψ + U)/∂C (Holmes–Mow solid Ψ plus compaction penalty U(J)), and the referential
+//! conductivity K of Darcy's law Q = −K (Grad p − ϱf Fᵀ a_g).
+//!
+//! Fourth-order tangents are `SMatrix<f64, 9, 9>` with the row-major index map (i, j) → 3 i + j
+//! on both sides: `A[(idx(i, j), idx(k, l))] = ∂P_ij/∂F_kl` (see [`idx`]). This is an index
+//! convention on (row, column), independent of nalgebra's column-major storage.
+
+pub mod holmes_mow;
+pub mod penalty;
+pub mod permeability;
+
+#[cfg(test)]
+mod test_util;
+
+use crate::error::{Error, Result};
+use nalgebra::{Matrix3, SMatrix};
+
+pub use holmes_mow::HolmesMow;
+pub use penalty::CompactionPenalty;
+pub use permeability::{Permeability, PermeabilityModel};
+
+/// A fourth-order tensor ∂P_ij/∂F_kl stored at `[(idx(i, j), idx(k, l))]`.
+pub type Tangent = SMatrix<f64, 9, 9>;
+
+/// Row-major position of the pair (i, j) in a 9-vector: 3 i + j.
+#[inline(always)]
+pub const fn idx(i: usize, j: usize) -> usize {
+    3 * i + j
+}
+
+/// A state outside a law's domain. The material code does not know where it is evaluated, so
+/// cell and point are 0; the caller fills them in with [`locate`] or [`AtPoint::at_point`].
+pub fn domain_error(j: f64, msg: impl Into<String>) -> Error {
+    Error::Domain { cell: 0, point: 0, j, msg: msg.into() }
+}
+
+/// Puts the element and quadrature point into a [`Error::Domain`]; other errors pass unchanged.
+pub fn locate(err: Error, cell: usize, point: usize) -> Error {
+    match err {
+        Error::Domain { j, msg, .. } => Error::Domain { cell, point, j, msg },
+        other => other,
+    }
+}
+
+/// `material_call(..).at_point(cell, q)?` fills in where a domain error happened.
+pub trait AtPoint {
+    fn at_point(self, cell: usize, point: usize) -> Self;
+}
+
+impl<T> AtPoint for Result<T> {
+    fn at_point(self, cell: usize, point: usize) -> Self {
+        self.map_err(|e| locate(e, cell, point))
+    }
+}
+
+/// Kinematic quantities shared by all laws at one point, computed once per F.
+#[derive(Clone, Debug)]
+pub struct Kinematics {
+    /// Deformation gradient F.
+    pub f: Matrix3<f64>,
+    /// J = det F.
+    pub j: f64,
+    /// ln J, from J − 1 without cancellation (J − 1 is summed from the invariants of F − I).
+    pub ln_j: f64,
+    /// F⁻¹.
+    pub f_inv: Matrix3<f64>,
+    /// C = FᵀF.
+    pub c: Matrix3<f64>,
+    /// C − I = H + Hᵀ + HᵀH with H = F − I (= 2E, no cancellation near F = I).
+    pub c_minus_i: Matrix3<f64>,
+    /// C⁻¹ = F⁻¹F⁻ᵀ.
+    pub c_inv: Matrix3<f64>,
+}
+
+impl Kinematics {
+    /// Domain error when F is not finite or J <= 0.
+    pub fn new(f: &Matrix3<f64>) -> Result<Self> {
+        let h = f - Matrix3::identity();
+        let tr = h.trace();
+        // det(I + H) − 1 = I1(H) + I2(H) + I3(H): exact expansion, small when H is small.
+        let j_minus_1 = tr + 0.5 * (tr * tr - (h * h).trace()) + h.determinant();
+        let j = 1.0 + j_minus_1;
+        if !j.is_finite() || !f.iter().all(|x| x.is_finite()) {
+            return Err(domain_error(j, "non-finite deformation gradient"));
+        }
+        if j <= 0.0 {
+            return Err(domain_error(j, "J <= 0 (inverted element)"));
+        }
+        // F⁻¹ = adj(F)/J; adj(F)_ij = cofactor(F)_ji.
+        let inv_j = 1.0 / j;
+        let mut f_inv = Matrix3::zeros();
+        for i in 0..3 {
+            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+            for k in 0..3 {
+                let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
+                f_inv[(k, i)] = (f[(i1, k1)] * f[(i2, k2)] - f[(i1, k2)] * f[(i2, k1)]) * inv_j;
+            }
+        }
+        Ok(Kinematics {
+            f: *f,
+            j,
+            ln_j: j_minus_1.ln_1p(),
+            f_inv,
+            c: f.transpose() * f,
+            c_minus_i: h + h.transpose() + h.transpose() * h,
+            c_inv: f_inv * f_inv.transpose(),
+        })
+    }
+}
+
+/// Solid response at one point: first and second Piola–Kirchhoff stresses and ∂P/∂F.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolidResponse {
+    /// First Piola–Kirchhoff stress P_sc = F S_sc.
+    pub p: Matrix3<f64>,
+    /// Tangent ∂P_sc/∂F, index map of [`idx`].
+    pub a: Tangent,
+    /// Second Piola–Kirchhoff stress S_sc.
+    pub s: Matrix3<f64>,
+}
+
+/// Holmes–Mow solid plus, if given, the compaction penalty: model.md (39) in full.
+pub fn solid_response(
+    hm: &HolmesMow,
+    pen: Option<&CompactionPenalty>,
+    f: &Matrix3<f64>,
+    bp: &Matrix3<f64>,
+) -> Result<SolidResponse> {
+    let kin = Kinematics::new(f)?;
+    let mut r = hm.response(&kin, bp)?;
+    if let Some(pen) = pen {
+        let u = pen.response(&kin)?;
+        r.p += u.p;
+        r.a += u.a;
+        r.s += u.s;
+    }
+    Ok(r)
+}
+
+/// Φs must lie in (0, 1); shared by all laws.
+pub(crate) fn check_phi_s(law: &str, phi_s: f64) -> Result<()> {
+    if phi_s > 0.0 && phi_s < 1.0 {
+        Ok(())
+    } else {
+        Err(Error::Material(format!("{law}: solid fraction phi_s = {phi_s} outside (0, 1)")))
+    }
+}
+
+/// A[ij, kl] += s X_ij Y_kl.
+#[inline]
+fn add_outer(a: &mut Tangent, s: f64, x: &Matrix3<f64>, y: &Matrix3<f64>) {
+    for i in 0..3 {
+        for j in 0..3 {
+            let sx = s * x[(i, j)];
+            for k in 0..3 {
+                for l in 0..3 {
+                    a[(idx(i, j), idx(k, l))] += sx * y[(k, l)];
+                }
+            }
+        }
+    }
+}
+
+/// A[ij, kl] += s X_ik Y_lj (the pattern of dF ↦ X dF Y).
+#[inline]
+fn add_ik_lj(a: &mut Tangent, s: f64, x: &Matrix3<f64>, y: &Matrix3<f64>) {
+    for i in 0..3 {
+        for j in 0..3 {
+            for k in 0..3 {
+                let sx = s * x[(i, k)];
+                for l in 0..3 {
+                    a[(idx(i, j), idx(k, l))] += sx * y[(l, j)];
+                }
+            }
+        }
+    }
+}
+
+/// A[ij, kl] += s X_il Y_kj (the pattern of dF ↦ X dFᵀ Y).
+#[inline]
+fn add_il_kj(a: &mut Tangent, s: f64, x: &Matrix3<f64>, y: &Matrix3<f64>) {
+    for i in 0..3 {
+        for j in 0..3 {
+            for k in 0..3 {
+                let sy = s * y[(k, j)];
+                for l in 0..3 {
+                    a[(idx(i, j), idx(k, l))] += sy * x[(i, l)];
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::test_util::{fd_gradient, fd_tangent, rel_err, Rng};
+    use super::*;
+
+    #[test]
+    fn index_map_is_row_major() {
+        assert_eq!((idx(0, 0), idx(0, 2), idx(1, 0), idx(2, 1), idx(2, 2)), (0, 2, 3, 7, 8));
+    }
+
+    #[test]
+    fn caller_fills_in_location() {
+        let r: Result<()> = Err(domain_error(-0.5, "J <= 0"));
+        match r.at_point(12, 3) {
+            Err(Error::Domain { cell: 12, point: 3, j, msg }) => {
+                assert!(j == -0.5 && msg == "J <= 0")
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(matches!(locate(Error::Material("x".into()), 1, 2), Error::Material(_)));
+    }
+
+    #[test]
+    fn kinematics() {
+        let mut rng = Rng::new(21);
+        let f = rng.deformation(1.2);
+        let kin = Kinematics::new(&f).unwrap();
+        assert!((kin.j - f.determinant()).abs() < 1e-14);
+        assert!((kin.f_inv * f - Matrix3::identity()).norm() < 1e-14);
+        assert!((kin.c_inv * kin.c - Matrix3::identity()).norm() < 1e-14);
+        assert!((kin.c_minus_i + Matrix3::identity() - kin.c).norm() < 1e-14);
+        // ln J without cancellation near F = I, against the series tr H − tr H²/2 + tr H³/3.
+        let f = Matrix3::identity() + rng.matrix(1e-9);
+        let h = f - Matrix3::identity(); // exact (Sterbenz)
+        let series = h.trace() - (h * h).trace() / 2.0 + (h * h * h).trace() / 3.0;
+        let ln_j = Kinematics::new(&f).unwrap().ln_j;
+        let naive = f.determinant().ln();
+        println!(
+            "ln J rel. err: {:e} (naive ln det F: {:e})",
+            (ln_j - series).abs() / series.abs(),
+            (naive - series).abs() / series.abs()
+        );
+        assert!((ln_j - series).abs() < 1e-14 * series.abs());
+    }
+
+    #[test]
+    fn combined_response_matches_energy_and_parts() {
+        let hm = HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap();
+        let pen = CompactionPenalty::new(0.6, 1000.0, 0.7, 2.0, 0.5).unwrap();
+        let mut rng = Rng::new(22);
+        for j in [0.63, 0.68, 0.9] {
+            let (f, bp) = (rng.deformation(j), rng.remodelling_metric());
+            let r = solid_response(&hm, Some(&pen), &f, &bp).unwrap();
+            let psi = |g: &Matrix3<f64>| hm.energy(g, &bp).unwrap() + pen.energy(g).unwrap();
+            let p_fd = fd_gradient(psi, &f);
+            let a_fd = fd_tangent(|g| solid_response(&hm, Some(&pen), g, &bp).unwrap().p, &f);
+            let (ep, ea) = (rel_err(&r.p, &p_fd), rel_err(&r.a, &a_fd));
+            println!("solid + penalty, J = {j}: P rel. err {ep:e}, A rel. err {ea:e}");
+            assert!(ep < 1e-6 && ea < 1e-6);
+            assert!(rel_err(&(f * r.s), &r.p) < 1e-14);
+            let s_parts = hm.stress(&f, &bp).unwrap() + pen.stress(&f).unwrap();
+            assert!(rel_err(&r.s, &s_parts) < 1e-14);
+            let alone = solid_response(&hm, None, &f, &bp).unwrap();
+            assert_eq!(alone.p, hm.first_pk_and_tangent(&f, &bp).unwrap().0);
+        }
+    }
+
+    #[test]
+    fn combined_response_is_frame_invariant() {
+        let hm = HolmesMow::from_mu_nu(3.0, 0.45, 0.6).unwrap();
+        let pen = CompactionPenalty::new(0.6, 1000.0, 0.7, 2.0, 0.5).unwrap();
+        let mut rng = Rng::new(23);
+        let (f, bp, q) = (rng.deformation(0.65), rng.remodelling_metric(), rng.rotation());
+        let r = solid_response(&hm, Some(&pen), &f, &bp).unwrap();
+        let rq = solid_response(&hm, Some(&pen), &(q * f), &bp).unwrap();
+        assert!(rel_err(&rq.p, &(q * r.p)) < 1e-13);
+        assert!(rel_err(&rq.s, &r.s) < 1e-13);
+    }
+}

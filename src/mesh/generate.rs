@@ -1,0 +1,182 @@
+//! Mesh generation by running the `gmsh` command-line tool on a `.geo` file, with a content-addressed cache.
+//!
+//! The executable is `gmsh` from `PATH`, or the one named by the environment variable `GMSH`.
+//! Output is always written to a temporary name in the target directory and renamed on success, so an
+//! interrupted or failed run never leaves a partial `.msh` behind (gmsh itself writes a file even on error).
+
+use std::ffi::{OsStr, OsString};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::OnceLock;
+
+use crate::error::{Error, Result};
+
+/// Full sphere (radius `R`, centre (0,0,R)): volume "aggregate", surface "surface", points "pole_bottom", "pole_top".
+pub const SPHERE_GEO: &str = include_str!("../../meshes/sphere.geo");
+/// Quarter sphere x, y >= 0: adds surfaces "symmetry_x", "symmetry_y".
+pub const SPHERE_QUARTER_GEO: &str = include_str!("../../meshes/sphere_quarter.geo");
+/// Terzaghi column `[0,W]^2 x [0,H]`: volume "column", surfaces "top", "bottom", "sides".
+pub const COLUMN_GEO: &str = include_str!("../../meshes/column.geo");
+
+fn gmsh_exe() -> OsString {
+    std::env::var_os("GMSH").unwrap_or_else(|| "gmsh".into())
+}
+
+/// Run the gmsh executable `exe` with `args`; a missing executable is reported as such.
+fn run_gmsh(exe: &OsStr, args: &[OsString], label: &Path) -> Result<Output> {
+    Command::new(exe).args(args).output().map_err(|e| {
+        if e.kind() == std::io::ErrorKind::NotFound {
+            Error::mesh(label, format!("cannot run gmsh: {exe:?} not found (install gmsh or set GMSH)"))
+        } else {
+            Error::mesh(label, format!("cannot run gmsh {exe:?}: {e}"))
+        }
+    })
+}
+
+/// The last `n` non-empty lines of gmsh's stderr (where its errors go), or of stdout if stderr is empty.
+fn tail(out: &Output, n: usize) -> String {
+    let pick = |b: &[u8]| {
+        let s = String::from_utf8_lossy(b).into_owned();
+        let lines: Vec<&str> = s.lines().filter(|l| !l.trim().is_empty()).collect();
+        lines[lines.len().saturating_sub(n)..].join("\n")
+    };
+    let err = pick(&out.stderr);
+    if err.is_empty() {
+        pick(&out.stdout)
+    } else {
+        err
+    }
+}
+
+/// A unique temporary file name next to `target` (same directory, so the final rename is atomic).
+fn temp_path(target: &Path, ext: &str) -> PathBuf {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let stem = target.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    target.with_file_name(format!(".{stem}.{}-{n}.tmp.{ext}", std::process::id()))
+}
+
+/// Mesh `geo` in 3-D at the given element `order`, with `-setnumber name value` for each parameter,
+/// into `out` (MSH 4.1 ASCII).
+pub fn generate(geo: &Path, params: &[(String, f64)], order: usize, out: &Path) -> Result<()> {
+    generate_with(&gmsh_exe(), geo, params, order, out)
+}
+
+/// [`generate`] with an explicit gmsh executable.
+pub(crate) fn generate_with(exe: &OsStr, geo: &Path, params: &[(String, f64)], order: usize, out: &Path) -> Result<()> {
+    if !geo.exists() {
+        return Err(Error::mesh(geo, "geometry file does not exist"));
+    }
+    if !(1..=4).contains(&order) {
+        return Err(Error::mesh(geo, format!("element order {order} out of range 1..=4")));
+    }
+    let mut args: Vec<OsString> =
+        vec!["-3".into(), "-order".into(), order.to_string().into(), "-format".into(), "msh41".into()];
+    for (name, value) in params {
+        if name.is_empty() || name.chars().any(|c| c.is_whitespace()) || !value.is_finite() {
+            return Err(Error::mesh(geo, format!("bad gmsh parameter {name:?} = {value}")));
+        }
+        args.extend(["-setnumber".into(), name.into(), value.to_string().into()]);
+    }
+    let tmp = temp_path(out, "msh");
+    args.extend([geo.as_os_str().to_owned(), "-o".into(), tmp.as_os_str().to_owned()]);
+    let res = run_gmsh(exe, &args, geo);
+    let output = match res {
+        Ok(o) => o,
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(e);
+        }
+    };
+    if !output.status.success() || !tmp.exists() {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(Error::mesh(geo, format!("gmsh failed ({}):\n{}", output.status, tail(&output, 10))));
+    }
+    std::fs::rename(&tmp, out).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        Error::mesh(out, format!("cannot rename {} to it: {e}", tmp.display()))
+    })
+}
+
+/// gmsh's version string (`gmsh --version` prints it on stderr), queried once per process.
+pub fn gmsh_version() -> Result<String> {
+    static VERSION: OnceLock<String> = OnceLock::new();
+    if let Some(v) = VERSION.get() {
+        return Ok(v.clone());
+    }
+    let out = run_gmsh(&gmsh_exe(), &["--version".into()], Path::new("gmsh"))?;
+    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let v = text.trim().to_string();
+    if !out.status.success() || v.is_empty() {
+        return Err(Error::mesh("gmsh", format!("`gmsh --version` failed: {}", tail(&out, 5))));
+    }
+    Ok(VERSION.get_or_init(|| v).clone())
+}
+
+/// 64-bit FNV-1a: stable across Rust versions and platforms (std's hashers are not guaranteed to be).
+struct Fnv(u64);
+
+impl Fnv {
+    fn new() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+    /// Length-prefixed so that field boundaries cannot be confused.
+    fn field(&mut self, bytes: &[u8]) {
+        for b in (bytes.len() as u64).to_le_bytes().iter().chain(bytes) {
+            self.0 ^= *b as u64;
+            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+}
+
+/// Hash of everything that determines the generated mesh.
+fn cache_key(geo_source: &str, params: &[(String, f64)], order: usize, version: &str) -> String {
+    let mut h = Fnv::new();
+    h.field(geo_source.as_bytes());
+    // Parameter order does not change the mesh (later duplicates win in gmsh, so keep their relative order).
+    let mut sorted: Vec<&(String, f64)> = params.iter().collect();
+    sorted.sort_by(|a, b| a.0.cmp(&b.0));
+    for (name, value) in sorted {
+        h.field(name.as_bytes());
+        h.field(&value.to_bits().to_le_bytes());
+    }
+    h.field(&(order as u64).to_le_bytes());
+    h.field(version.as_bytes());
+    format!("{:016x}", h.0)
+}
+
+/// Write `path` atomically (temporary file + rename).
+fn write_atomic(path: &Path, contents: &str) -> Result<()> {
+    let tmp = temp_path(path, "tmp");
+    std::fs::write(&tmp, contents).and_then(|_| std::fs::rename(&tmp, path)).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        Error::io(path, e)
+    })
+}
+
+/// Path of `<stem>-<hash>.msh` in `cache_dir`, generating it from `geo_source` (saved as `<stem>-<hash>.geo`)
+/// only if it does not exist yet. The hash covers the source, the parameters, the order and gmsh's version.
+pub fn cached(
+    geo_name: &str,
+    geo_source: &str,
+    params: &[(String, f64)],
+    order: usize,
+    cache_dir: &Path,
+) -> Result<PathBuf> {
+    let stem = Path::new(geo_name)
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .filter(|s| !s.is_empty())
+        .ok_or_else(|| Error::mesh(geo_name, "empty geometry name"))?;
+    let key = cache_key(geo_source, params, order, &gmsh_version()?);
+    let msh = cache_dir.join(format!("{stem}-{key}.msh"));
+    if msh.exists() {
+        return Ok(msh);
+    }
+    std::fs::create_dir_all(cache_dir).map_err(|e| Error::io(cache_dir, e))?;
+    let geo = cache_dir.join(format!("{stem}-{key}.geo"));
+    write_atomic(&geo, geo_source)?;
+    generate(&geo, params, order, &msh)?;
+    Ok(msh)
+}

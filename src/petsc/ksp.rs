@@ -1,0 +1,68 @@
+//! `KSP` and `PC` handles (borrowed from the SNES that owns them).
+
+use super::{check, cstr, ffi, IndexSet, Int, Mat};
+use crate::error::Result;
+
+/// A Krylov solver owned by a SNES.
+#[derive(Clone, Copy)]
+pub struct Ksp {
+    pub(crate) raw: ffi::KSP,
+}
+
+impl Ksp {
+    pub fn pc(&self) -> Result<Pc> {
+        let mut raw = std::ptr::null_mut();
+        check(unsafe { ffi::KSPGetPC(self.raw, &mut raw) })?;
+        Ok(Pc { raw })
+    }
+    pub fn set_type(&self, t: &str) -> Result<()> {
+        let c = cstr(t);
+        check(unsafe { ffi::KSPSetType(self.raw, c.as_ptr()) })
+    }
+    pub fn set_tolerances(&self, rtol: f64, atol: f64, max_it: Option<usize>) -> Result<()> {
+        let mi = max_it.map_or(ffi::PETSC_DEFAULT, |m| m as i32);
+        check(unsafe { ffi::KSPSetTolerances(self.raw, rtol, atol, ffi::PETSC_DEFAULT as f64, mi as Int) })
+    }
+    /// Iterations of the last solve.
+    pub fn iterations(&self) -> Result<usize> {
+        let mut n: Int = 0;
+        check(unsafe { ffi::KSPGetIterationNumber(self.raw, &mut n) })?;
+        Ok(n as usize)
+    }
+    pub fn set_operators(&self, a: &Mat, p: &Mat) -> Result<()> {
+        check(unsafe { ffi::KSPSetOperators(self.raw, a.raw, p.raw) })
+    }
+    pub fn set_up(&self) -> Result<()> {
+        check(unsafe { ffi::KSPSetUp(self.raw) })
+    }
+    pub fn set_from_options(&self) -> Result<()> {
+        check(unsafe { ffi::KSPSetFromOptions(self.raw) })
+    }
+}
+
+/// A preconditioner owned by a KSP.
+#[derive(Clone, Copy)]
+pub struct Pc {
+    pub(crate) raw: ffi::PC,
+}
+
+impl Pc {
+    pub fn raw_handle(&self) -> ffi::PC {
+        self.raw
+    }
+    pub fn set_type(&self, t: &str) -> Result<()> {
+        let c = cstr(t);
+        check(unsafe { ffi::PCSetType(self.raw, c.as_ptr()) })
+    }
+    /// Type name as PETSc reports it ("fieldsplit", "lu", ...).
+    pub fn type_name(&self) -> Result<String> {
+        let mut t: ffi::PCType = std::ptr::null();
+        check(unsafe { ffi::PCGetType(self.raw, &mut t) })?;
+        Ok(if t.is_null() { String::new() } else { unsafe { std::ffi::CStr::from_ptr(t) }.to_string_lossy().into_owned() })
+    }
+    /// Names a split by an index set (used when no DM provides the fields).
+    pub fn fieldsplit_set_is(&self, name: &str, is: &IndexSet) -> Result<()> {
+        let c = cstr(name);
+        check(unsafe { ffi::PCFieldSplitSetIS(self.raw, c.as_ptr(), is.raw) })
+    }
+}

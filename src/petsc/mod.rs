@@ -1,0 +1,282 @@
+//! Thin safe layer over PETSc 3.18: the init token, error capture, options database and log
+//! stages, with RAII wrappers for the objects in the submodules.
+//!
+//! Lifetimes: every wrapper destroys its PETSc object in `Drop`, but only while PETSc is
+//! initialised; the [`Petsc`] token finalises PETSc when dropped, so it must outlive (be declared
+//! before) every object — `main` and the driver keep that order. A wrapper dropped after
+//! finalisation leaks instead of crashing.
+
+#[allow(
+    non_camel_case_types,
+    non_snake_case,
+    non_upper_case_globals,
+    dead_code,
+    improper_ctypes,
+    clippy::all
+)]
+pub mod ffi {
+    include!(concat!(env!("OUT_DIR"), "/petsc_bindings.rs"));
+}
+
+mod dm;
+mod is;
+mod ksp;
+mod mat;
+mod snes;
+mod ts;
+mod vec;
+mod viewer;
+
+pub use dm::{DmShell, FieldDecomposition};
+pub use is::IndexSet;
+pub use ksp::{Ksp, Pc};
+pub use mat::{Mat, NullSpace};
+pub use snes::Snes;
+pub use ts::{Ts, TsProblem, TsRef};
+pub use vec::{Scatter, Vector};
+pub use viewer::Viewer;
+
+use crate::error::{Error, Result};
+use std::ffi::{c_char, c_int, CStr, CString};
+use std::sync::Mutex;
+
+/// PETSc's integer type (32-bit in the Debian build).
+pub type Int = ffi::PetscInt;
+
+/// Message of the most recent PETSc error, recorded by our error handler at the point where it
+/// was raised, with the call chain appended as the error propagates.
+static LAST_ERROR: Mutex<String> = Mutex::new(String::new());
+
+unsafe extern "C" fn record_error(
+    _comm: ffi::MPI_Comm,
+    line: c_int,
+    func: *const c_char,
+    file: *const c_char,
+    code: ffi::PetscErrorCode,
+    kind: ffi::PetscErrorType,
+    mess: *const c_char,
+    _ctx: *mut std::ffi::c_void,
+) -> ffi::PetscErrorCode {
+    let s = |p: *const c_char| {
+        if p.is_null() {
+            String::new()
+        } else {
+            CStr::from_ptr(p).to_string_lossy().into_owned()
+        }
+    };
+    if let Ok(mut buf) = LAST_ERROR.lock() {
+        if kind == ffi::PetscErrorType::PETSC_ERROR_INITIAL {
+            let mut generic: *const c_char = std::ptr::null();
+            ffi::PetscErrorMessage(code, &mut generic, std::ptr::null_mut());
+            let m = s(mess);
+            let g = s(generic);
+            *buf = if m.is_empty() { g } else if g.is_empty() { m } else { format!("{m} [{g}]") };
+            buf.push_str(&format!(" (in {} at {}:{})", s(func), s(file), line));
+        } else {
+            buf.push_str(&format!(" <- {}", s(func)));
+        }
+    }
+    code
+}
+
+/// Turns a PETSc return code into a `Result`, with PETSc's message for non-zero codes.
+pub fn check(code: ffi::PetscErrorCode) -> Result<()> {
+    if code == 0 {
+        return Ok(());
+    }
+    let msg = LAST_ERROR.lock().map(|mut b| std::mem::take(&mut *b)).unwrap_or_default();
+    Err(Error::Petsc { code, msg: if msg.is_empty() { format!("error code {code}") } else { msg } })
+}
+
+/// Raises a PETSc error from Rust (inside a callback), so PETSc unwinds its own stack and the
+/// message reaches the caller of the outermost PETSc function.
+pub(crate) fn raise(msg: &str) -> ffi::PetscErrorCode {
+    let c = CString::new(msg.replace('\0', " ")).unwrap_or_default();
+    unsafe {
+        ffi::PetscError(
+            mpi::ffi::RSMPI_COMM_SELF,
+            0,
+            c"poroplast callback".as_ptr(),
+            c"rust".as_ptr(),
+            ffi::PETSC_ERR_USER as ffi::PetscErrorCode,
+            ffi::PetscErrorType::PETSC_ERROR_INITIAL,
+            c"%s".as_ptr(),
+            c.as_ptr(),
+        )
+    }
+}
+
+/// True between PetscInitialize and PetscFinalize: wrappers only destroy objects then.
+pub(crate) fn alive() -> bool {
+    unsafe { ffi::PetscInitializeCalled == ffi::PetscBool::PETSC_TRUE && ffi::PetscFinalizeCalled != ffi::PetscBool::PETSC_TRUE }
+}
+
+/// The PETSc init token. Create it after MPI (rsmpi) is initialised; drop it before MPI.
+pub struct Petsc {
+    _private: (),
+}
+
+impl Petsc {
+    /// Initialises PETSc on `MPI_COMM_WORLD` with the given command-line style options
+    /// (e.g. `["-log_view", "-ksp_monitor"]`), so init-time options such as `-log_view` work.
+    pub fn init(options: &[String]) -> Result<Petsc> {
+        let mut args: Vec<CString> = std::iter::once("poroplast".to_string())
+            .chain(options.iter().cloned())
+            .map(|s| CString::new(s).map_err(|_| Error::Solver("PETSc option contains a NUL byte".into())))
+            .collect::<Result<_>>()?;
+        // PETSc keeps pointers into argv for the whole run: leak the strings deliberately.
+        let mut ptrs: Vec<*mut c_char> = args.iter_mut().map(|s| s.as_ptr() as *mut c_char).collect();
+        ptrs.push(std::ptr::null_mut());
+        let mut argc = (ptrs.len() - 1) as c_int;
+        let mut argv = ptrs.as_mut_ptr();
+        std::mem::forget(args);
+        std::mem::forget(ptrs);
+        unsafe {
+            ffi::PETSC_COMM_WORLD = mpi::ffi::RSMPI_COMM_WORLD;
+            check(ffi::PetscInitialize(&mut argc, &mut argv, std::ptr::null(), std::ptr::null()))?;
+            check(ffi::PetscPushErrorHandler(Some(record_error), std::ptr::null_mut()))?;
+        }
+        Ok(Petsc { _private: () })
+    }
+
+    /// The communicator all objects live on.
+    pub fn comm(&self) -> ffi::MPI_Comm {
+        unsafe { ffi::PETSC_COMM_WORLD }
+    }
+}
+
+impl Drop for Petsc {
+    fn drop(&mut self) {
+        if alive() {
+            unsafe {
+                ffi::PetscPopErrorHandler();
+                ffi::PetscFinalize();
+            }
+        }
+    }
+}
+
+/// The global options database.
+pub mod options {
+    use super::*;
+
+    /// Sets `-name value` (value `None` for a flag), overriding any earlier value.
+    pub fn set(name: &str, value: Option<&str>) -> Result<()> {
+        let n = CString::new(format!("-{}", name.trim_start_matches('-'))).unwrap_or_default();
+        let v = value.map(|v| CString::new(v).unwrap_or_default());
+        check(unsafe {
+            ffi::PetscOptionsSetValue(std::ptr::null_mut(), n.as_ptr(), v.as_ref().map_or(std::ptr::null(), |v| v.as_ptr()))
+        })
+    }
+
+    /// Sets `-name value` only if the user has not set `-name` already (our defaults).
+    pub fn set_default(name: &str, value: Option<&str>) -> Result<()> {
+        if !has(name)? {
+            set(name, value)?;
+        }
+        Ok(())
+    }
+
+    /// Whether `-name` is in the database (does not mark it used).
+    pub fn has(name: &str) -> Result<bool> {
+        let n = CString::new(format!("-{}", name.trim_start_matches('-'))).unwrap_or_default();
+        let mut set = ffi::PetscBool::PETSC_FALSE;
+        check(unsafe { ffi::PetscOptionsHasName(std::ptr::null_mut(), std::ptr::null(), n.as_ptr(), &mut set) })?;
+        Ok(set == ffi::PetscBool::PETSC_TRUE)
+    }
+
+    /// Reads a string option, if set.
+    pub fn get_string(name: &str) -> Result<Option<String>> {
+        let n = CString::new(format!("-{}", name.trim_start_matches('-'))).unwrap_or_default();
+        let mut buf = vec![0 as c_char; 1024];
+        let mut set = ffi::PetscBool::PETSC_FALSE;
+        check(unsafe {
+            ffi::PetscOptionsGetString(std::ptr::null_mut(), std::ptr::null(), n.as_ptr(), buf.as_mut_ptr(), buf.len(), &mut set)
+        })?;
+        Ok((set == ffi::PetscBool::PETSC_TRUE).then(|| unsafe { CStr::from_ptr(buf.as_ptr()) }.to_string_lossy().into_owned()))
+    }
+
+    /// Options set but never queried by any PETSc object so far, as `-name` strings.
+    pub fn unused() -> Result<Vec<String>> {
+        let mut n: Int = 0;
+        let mut names: *mut *mut c_char = std::ptr::null_mut();
+        let mut values: *mut *mut c_char = std::ptr::null_mut();
+        unsafe {
+            check(ffi::PetscOptionsLeftGet(std::ptr::null_mut(), &mut n, &mut names, &mut values))?;
+            let out = (0..n as usize).map(|i| format!("-{}", CStr::from_ptr(*names.add(i)).to_string_lossy())).collect();
+            check(ffi::PetscOptionsLeftRestore(std::ptr::null_mut(), &mut n, &mut names, &mut values))?;
+            Ok(out)
+        }
+    }
+
+    /// All options in the database, one `-name value` per line (for the run directory).
+    pub fn dump() -> Result<String> {
+        let mut s: *mut c_char = std::ptr::null_mut();
+        unsafe {
+            check(ffi::PetscOptionsGetAll(std::ptr::null_mut(), &mut s))?;
+            let out = CStr::from_ptr(s).to_string_lossy().replace(" -", "\n-");
+            petsc_free(s)?;
+            Ok(out.trim().to_string())
+        }
+    }
+}
+
+/// A `-log_view` stage, entered for the lifetime of the guard from [`Stage::push`].
+#[derive(Clone, Copy)]
+pub struct Stage(ffi::PetscLogStage);
+
+impl Stage {
+    /// Registers a named stage.
+    pub fn register(name: &str) -> Result<Stage> {
+        let n = CString::new(name).unwrap_or_default();
+        let mut s: ffi::PetscLogStage = 0;
+        check(unsafe { ffi::PetscLogStageRegister(n.as_ptr(), &mut s) })?;
+        Ok(Stage(s))
+    }
+    /// Enters the stage until the guard drops.
+    pub fn push(self) -> StageGuard {
+        unsafe { ffi::PetscLogStagePush(self.0) };
+        StageGuard
+    }
+}
+
+/// Leaves the log stage on drop.
+pub struct StageGuard;
+impl Drop for StageGuard {
+    fn drop(&mut self) {
+        unsafe { ffi::PetscLogStagePop() };
+    }
+}
+
+pub(crate) fn cstr(s: &str) -> CString {
+    CString::new(s).unwrap_or_default()
+}
+
+pub(crate) fn pbool(b: bool) -> ffi::PetscBool {
+    if b {
+        ffi::PetscBool::PETSC_TRUE
+    } else {
+        ffi::PetscBool::PETSC_FALSE
+    }
+}
+
+/// `PetscMalloc` for arrays PETSc will free itself (outputs of DM callbacks).
+pub(crate) unsafe fn petsc_malloc<T>(n: usize) -> Result<*mut T> {
+    let mut p: *mut T = std::ptr::null_mut();
+    check(ffi::PetscMallocA(
+        1,
+        ffi::PetscBool::PETSC_FALSE,
+        line!() as c_int,
+        c"petsc_malloc".as_ptr(),
+        c"rust".as_ptr(),
+        n.max(1) * std::mem::size_of::<T>(),
+        &mut p as *mut *mut T as *mut std::ffi::c_void,
+    ))?;
+    Ok(p)
+}
+
+/// `PetscFree`.
+pub(crate) unsafe fn petsc_free<T>(mut p: *mut T) -> Result<()> {
+    // Like PetscMallocA, PetscFreeA takes the address of the pointer (and nulls it).
+    check(ffi::PetscFreeA(1, line!() as c_int, c"petsc_free".as_ptr(), c"rust".as_ptr(), &mut p as *mut *mut T as *mut std::ffi::c_void))
+}

@@ -1,0 +1,265 @@
+//! `TS` wrapper: backward Euler with IFunction/IJacobian/pre-stage callbacks into a typed Rust
+//! problem. Trampolines never unwind into C: panics and errors become PETSc errors, and the
+//! original Rust error is kept and returned by [`Ts::step`]. A domain error (J ≤ Φs ...) is not
+//! an error: it marks the SNES solve as failed so TS cuts the step and retries.
+
+use super::{check, ffi, pbool, raise, DmShell, Int, Mat, Snes, Vector};
+use crate::error::{Error, Result};
+use std::ffi::c_void;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// Handle to the running TS, given to callbacks.
+#[derive(Clone, Copy)]
+pub struct TsRef {
+    raw: ffi::TS,
+}
+
+impl TsRef {
+    pub fn snes(&self) -> Result<Snes> {
+        let mut raw = std::ptr::null_mut();
+        check(unsafe { ffi::TSGetSNES(self.raw, &mut raw) })?;
+        Ok(Snes { raw })
+    }
+    /// Size of the step being attempted.
+    pub fn time_step(&self) -> Result<f64> {
+        let mut dt = 0.0;
+        check(unsafe { ffi::TSGetTimeStep(self.raw, &mut dt) })?;
+        Ok(dt)
+    }
+    /// Start time of the step being attempted.
+    pub fn time(&self) -> Result<f64> {
+        let mut t = 0.0;
+        check(unsafe { ffi::TSGetTime(self.raw, &mut t) })?;
+        Ok(t)
+    }
+}
+
+/// The physics a TS integrates: F(t, U, U̇) = 0.
+pub trait TsProblem {
+    /// Residual F(t, U, U̇).
+    fn residual(&mut self, ts: TsRef, t: f64, u: &Vector, udot: &Vector, f: &mut Vector) -> Result<()>;
+    /// dF/dU + shift dF/dU̇ into `jac` (and the preconditioning matrix `pre`, same object or not).
+    fn jacobian(&mut self, ts: TsRef, t: f64, u: &Vector, udot: &Vector, shift: f64, jac: &mut Mat, pre: &mut Mat) -> Result<()>;
+    /// Called before each stage solve, also on a retried step, with the stage time.
+    fn pre_stage(&mut self, _ts: TsRef, _t: f64) -> Result<()> {
+        Ok(())
+    }
+}
+
+struct Ctx<P> {
+    problem: P,
+    /// First hard error raised inside a callback during the current step.
+    error: Option<Error>,
+    /// Domain errors (step cuts) seen so far, and the last message.
+    domain_errors: usize,
+    last_domain: Option<String>,
+}
+
+/// An owned TS with its problem. Drops the TS before the problem and DM it points to.
+pub struct Ts<P: TsProblem> {
+    raw: ffi::TS,
+    ctx: Box<Ctx<P>>,
+    _dm: Option<DmShell>,
+    _keep: (Vector, Mat, Option<Mat>),
+}
+
+impl<P: TsProblem> Drop for Ts<P> {
+    fn drop(&mut self) {
+        if super::alive() && !self.raw.is_null() {
+            unsafe { ffi::TSDestroy(&mut self.raw) };
+        }
+    }
+}
+
+/// Runs a callback body, converting panics and errors into PETSc error codes.
+fn guard<P>(ctx: *mut c_void, ts: ffi::TS, f: impl FnOnce(&mut Ctx<P>) -> Result<()>) -> ffi::PetscErrorCode {
+    let ctx = unsafe { &mut *(ctx as *mut Ctx<P>) };
+    match catch_unwind(AssertUnwindSafe(|| f(&mut *ctx))) {
+        Ok(Ok(())) => 0,
+        Ok(Err(Error::Domain { cell, point, j, msg })) => {
+            // Soft failure: SNES reports a domain error and TS cuts the step.
+            ctx.domain_errors += 1;
+            ctx.last_domain = Some(format!("element {cell}, point {point}: {msg} (J = {j:.6})"));
+            match (TsRef { raw: ts }).snes().and_then(|s| s.set_function_domain_error()) {
+                Ok(()) => 0,
+                Err(e) => {
+                    let m = e.to_string();
+                    ctx.error.get_or_insert(e);
+                    raise(&m)
+                }
+            }
+        }
+        Ok(Err(e)) => {
+            let m = e.to_string();
+            ctx.error.get_or_insert(e);
+            raise(&m)
+        }
+        Err(p) => {
+            let m = p.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| p.downcast_ref::<String>().cloned()).unwrap_or_default();
+            let m = format!("internal error (panic) in a PETSc callback: {m}");
+            ctx.error.get_or_insert(Error::Solver(m.clone()));
+            raise(&m)
+        }
+    }
+}
+
+unsafe extern "C" fn ifunction_tramp<P: TsProblem>(ts: ffi::TS, t: f64, u: ffi::Vec, udot: ffi::Vec, f: ffi::Vec, ctx: *mut c_void) -> ffi::PetscErrorCode {
+    guard::<P>(ctx, ts, |c| {
+        let (u, udot, mut f) = (Vector::borrowed(u), Vector::borrowed(udot), Vector::borrowed(f));
+        c.problem.residual(TsRef { raw: ts }, t, &u, &udot, &mut f)
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+unsafe extern "C" fn ijacobian_tramp<P: TsProblem>(
+    ts: ffi::TS,
+    t: f64,
+    u: ffi::Vec,
+    udot: ffi::Vec,
+    shift: f64,
+    a: ffi::Mat,
+    p: ffi::Mat,
+    ctx: *mut c_void,
+) -> ffi::PetscErrorCode {
+    guard::<P>(ctx, ts, |c| {
+        let (u, udot) = (Vector::borrowed(u), Vector::borrowed(udot));
+        let (mut a, mut p) = (Mat::borrowed(a), Mat::borrowed(p));
+        c.problem.jacobian(TsRef { raw: ts }, t, &u, &udot, shift, &mut a, &mut p)
+    })
+}
+
+unsafe extern "C" fn prestage_tramp<P: TsProblem>(ts: ffi::TS, t: f64) -> ffi::PetscErrorCode {
+    let mut ctx: *mut c_void = std::ptr::null_mut();
+    if ffi::TSGetApplicationContext(ts, &mut ctx as *mut *mut c_void as *mut c_void) != 0 || ctx.is_null() {
+        return raise("TS has no application context");
+    }
+    guard::<P>(ctx, ts, |c| c.problem.pre_stage(TsRef { raw: ts }, t))
+}
+
+impl<P: TsProblem> Ts<P> {
+    /// A backward-Euler TS on `comm` integrating `problem`, with residual vector `f`, Jacobian
+    /// `jac` and an optional separate preconditioning matrix. If `dm` is given it provides the
+    /// field decomposition for PCFIELDSPLIT (and must hold the solution layout).
+    pub fn new(comm: ffi::MPI_Comm, problem: P, f: Vector, jac: Mat, pre: Option<Mat>, mut dm: Option<DmShell>) -> Result<Ts<P>> {
+        let mut raw = std::ptr::null_mut();
+        check(unsafe { ffi::TSCreate(comm, &mut raw) })?;
+        let mut ts = Ts {
+            raw,
+            ctx: Box::new(Ctx { problem, error: None, domain_errors: 0, last_domain: None }),
+            _dm: None,
+            _keep: (f, jac, pre),
+        };
+        let ctxp = &mut *ts.ctx as *mut Ctx<P> as *mut c_void;
+        unsafe {
+            if let Some(dm) = &mut dm {
+                check(ffi::TSSetDM(raw, dm.raw))?;
+                dm.set_snes(TsRef { raw }.snes()?);
+            }
+            check(ffi::TSSetType(raw, c"beuler".as_ptr()))?;
+            check(ffi::TSSetProblemType(raw, ffi::TSProblemType::TS_NONLINEAR))?;
+            check(ffi::TSSetApplicationContext(raw, ctxp))?;
+            check(ffi::TSSetIFunction(raw, ts._keep.0.raw, Some(ifunction_tramp::<P>), ctxp))?;
+            let pmat = ts._keep.2.as_ref().map_or(ts._keep.1.raw, |m| m.raw);
+            check(ffi::TSSetIJacobian(raw, ts._keep.1.raw, pmat, Some(ijacobian_tramp::<P>), ctxp))?;
+            check(ffi::TSSetPreStage(raw, Some(prestage_tramp::<P>)))?;
+            check(ffi::TSSetExactFinalTime(raw, ffi::TSExactFinalTimeOption::TS_EXACTFINALTIME_MATCHSTEP))?;
+            check(ffi::TSSetMaxSNESFailures(raw, -1))?;
+            check(ffi::TSSetErrorIfStepFails(raw, pbool(false)))?;
+        }
+        ts._dm = dm;
+        Ok(ts)
+    }
+
+    pub fn as_ref(&self) -> TsRef {
+        TsRef { raw: self.raw }
+    }
+    pub fn problem(&self) -> &P {
+        &self.ctx.problem
+    }
+    pub fn problem_mut(&mut self) -> &mut P {
+        &mut self.ctx.problem
+    }
+    pub fn snes(&self) -> Result<Snes> {
+        self.as_ref().snes()
+    }
+    /// The vector TS advances in place.
+    pub fn set_solution(&mut self, u: &Vector) -> Result<()> {
+        check(unsafe { ffi::TSSetSolution(self.raw, u.raw) })
+    }
+    pub fn set_time(&mut self, t: f64) -> Result<()> {
+        check(unsafe { ffi::TSSetTime(self.raw, t) })
+    }
+    pub fn time(&self) -> Result<f64> {
+        self.as_ref().time()
+    }
+    pub fn set_time_step(&mut self, dt: f64) -> Result<()> {
+        check(unsafe { ffi::TSSetTimeStep(self.raw, dt) })
+    }
+    pub fn time_step(&self) -> Result<f64> {
+        self.as_ref().time_step()
+    }
+    pub fn set_max_time(&mut self, t: f64) -> Result<()> {
+        check(unsafe { ffi::TSSetMaxTime(self.raw, t) })
+    }
+    /// How many times a failed step may be halved and retried.
+    pub fn set_max_rejections(&mut self, n: usize) -> Result<()> {
+        check(unsafe { ffi::TSSetMaxStepRejections(self.raw, n as Int) })
+    }
+    /// Total rejected (cut) steps so far.
+    pub fn rejections(&self) -> Result<usize> {
+        let mut n: Int = 0;
+        check(unsafe { ffi::TSGetStepRejections(self.raw, &mut n) })?;
+        Ok(n as usize)
+    }
+    pub fn domain_errors(&self) -> (usize, Option<&str>) {
+        (self.ctx.domain_errors, self.ctx.last_domain.as_deref())
+    }
+    pub fn set_from_options(&mut self) -> Result<()> {
+        check(unsafe { ffi::TSSetFromOptions(self.raw) })
+    }
+    pub fn set_up(&mut self) -> Result<()> {
+        check(unsafe { ffi::TSSetUp(self.raw) })
+    }
+    /// Takes one step (with internal cut-and-retry). Errors from callbacks come back unchanged;
+    /// a step that still fails after all retries is `Error::Solver`.
+    pub fn step(&mut self) -> Result<()> {
+        self.ctx.error = None;
+        let code = unsafe { ffi::TSStep(self.raw) };
+        if let Some(e) = self.ctx.error.take() {
+            let _ = check(code); // clear the recorded PETSc message
+            return Err(e);
+        }
+        check(code)?;
+        let mut reason = ffi::TSConvergedReason(0);
+        check(unsafe { ffi::TSGetConvergedReason(self.raw, &mut reason) })?;
+        if reason.0 < 0 {
+            let snes_reason = self.snes().and_then(|s| s.converged_reason()).unwrap_or(0);
+            let dom = self.ctx.last_domain.as_deref().map(|d| format!("; last inadmissible state: {d}")).unwrap_or_default();
+            return Err(Error::Solver(format!(
+                "time step from t = {} failed after all retries (TS reason {}, last SNES reason {}{})",
+                self.time()?,
+                ts_reason_name(reason.0),
+                snes_reason,
+                dom
+            )));
+        }
+        Ok(())
+    }
+    /// Resets a failed TS so the caller may continue after handling the failure.
+    pub fn clear_reason(&mut self) -> Result<()> {
+        check(unsafe { ffi::TSSetConvergedReason(self.raw, ffi::TSConvergedReason(0)) })
+    }
+    pub fn as_object(&self) -> ffi::PetscObject {
+        self.raw as ffi::PetscObject
+    }
+}
+
+fn ts_reason_name(r: i32) -> &'static str {
+    match r {
+        -1 => "DIVERGED_NONLINEAR_SOLVE",
+        -2 => "DIVERGED_STEP_REJECTED",
+        -3 => "FORWARD_DIVERGED_LINEAR_SOLVE",
+        -4 => "ADJOINT_DIVERGED_LINEAR_SOLVE",
+        _ => "unknown",
+    }
+}

@@ -1,0 +1,9 @@
+#include <petscsys.h>
+#include <petscvec.h>
+#include <petscmat.h>
+#include <petscis.h>
+#include <petscksp.h>
+#include <petscsnes.h>
+#include <petscts.h>
+#include <petscdmshell.h>
+#include <petscviewer.h>

@@ -1,0 +1,9 @@
+//! Physics: pointwise models, boundary conditions, the discrete problem, observables and exact
+//! solutions for verification.
+
+pub mod analytic;
+pub mod bc;
+pub mod linear;
+pub mod model;
+pub mod probe;
+pub mod problem;

@@ -1,0 +1,86 @@
+//! The pointwise interface between assembly and constitutive physics.
+//!
+//! The weak forms (reference configuration, test functions w, q) are
+//!
+//! ```text
+//!   R_u(w) = ∫ P : Grad w dV − ∫ b · w dV − ∫_Γt t̄ · w dA
+//!   R_p(q) = ∫ ṡ q dV + ∫ W · Grad q dV + ∫_Γq q̄ q dA
+//! ```
+//!
+//! with P the total first Piola stress (solid minus pore pressure), b the body force, ṡ the
+//! rate of fluid content per reference volume (J̇, or div u̇ at small strain) and W = −Q the
+//! negative Darcy flux. A [`PointModel`] computes (P, b, ṡ, W) at one quadrature point from
+//! Grad u, Grad u̇, p and Grad p, and on request their derivatives; the assembler does the rest.
+//! A point is named by [`QpId`] so models with history (remodelling) can find their state.
+
+use crate::error::Result;
+use nalgebra::{Matrix3, SMatrix, Vector3};
+
+/// Row-major flattening of a second-order tensor index pair: (i, j) → 3 i + j.
+#[inline]
+pub const fn ij(i: usize, j: usize) -> usize {
+    3 * i + j
+}
+
+/// Which quadrature point is being evaluated (local element, point within it).
+#[derive(Debug, Clone, Copy)]
+pub struct QpId {
+    pub elem: usize,
+    pub point: usize,
+}
+
+/// Kinematic input at one point. `grad_u[(i, j)] = ∂u_i/∂X_j`.
+#[derive(Debug, Clone, Copy)]
+pub struct PointState {
+    pub grad_u: Matrix3<f64>,
+    pub grad_udot: Matrix3<f64>,
+    pub p: f64,
+    pub grad_p: Vector3<f64>,
+    /// Size of the current time step (backward Euler): the rate uses the end-of-step values.
+    pub dt: f64,
+}
+
+/// The four pointwise terms of the residual.
+#[derive(Debug, Clone, Copy)]
+pub struct PointFlux {
+    /// P: total first Piola–Kirchhoff stress (tested against Grad w).
+    pub stress: Matrix3<f64>,
+    /// b: body force per reference volume (tested against w, enters with a minus sign).
+    pub body: Vector3<f64>,
+    /// ṡ: rate of fluid content per reference volume (tested against q).
+    pub rate: f64,
+    /// W = −Q: negative referential Darcy flux (tested against Grad q).
+    pub flux: Vector3<f64>,
+}
+
+/// Derivatives of [`PointFlux`] with respect to the unknowns. Indices of Grad u are flattened
+/// with [`ij`]; `drate` already includes the time-derivative shift.
+#[derive(Debug, Clone, Copy)]
+pub struct PointTangent {
+    /// ∂P_ij/∂(Grad u)_kl
+    pub dstress_du: SMatrix<f64, 9, 9>,
+    /// ∂P_ij/∂p
+    pub dstress_dp: Matrix3<f64>,
+    /// ∂b_i/∂(Grad u)_kl
+    pub dbody_du: SMatrix<f64, 3, 9>,
+    /// d ṡ/d(Grad u)_kl, total (∂/∂Grad u + shift ∂/∂Grad u̇)
+    pub drate_du: Matrix3<f64>,
+    /// ∂W_i/∂(Grad u)_kl
+    pub dflux_du: SMatrix<f64, 3, 9>,
+    /// ∂W_i/∂(Grad p)_j
+    pub dflux_dgradp: Matrix3<f64>,
+}
+
+/// Constitutive physics at a quadrature point.
+pub trait PointModel {
+    /// The residual terms.
+    fn eval(&self, at: QpId, s: &PointState) -> Result<PointFlux>;
+    /// The residual terms and their derivatives; `shift` = ∂U̇/∂U of the time integrator.
+    fn eval_tangent(&self, at: QpId, s: &PointState, shift: f64) -> Result<(PointFlux, PointTangent)>;
+    /// Drained bulk modulus of the skeleton (kPa), for the fixed-stress Schur approximation.
+    fn drained_bulk_modulus(&self) -> f64;
+    /// Drained P-wave modulus λ + 2µ (kPa): sets the scale of constraint rows.
+    fn p_wave_modulus(&self) -> f64;
+    /// Reference conductivity (µm⁴/(nN s)): sets the scale of pressure constraint rows.
+    fn conductivity(&self) -> f64;
+}

@@ -1,0 +1,374 @@
+//! The discrete u–p problem F(t, U, U̇) = 0 that TS integrates: element loops over the local
+//! tetrahedra (kernel in `fem::kernel`), surface loads, and constraint rows, assembled into
+//! PETSc vectors and matrices.
+//!
+//! Constraints (prescribed u components or p) replace their rows by s (U_i − g_i) with a scale s
+//! comparable to the neighbouring diagonal; their columns are dropped from the Jacobian so the
+//! u block stays symmetric for AMG. That is exact Newton whenever U already satisfies the
+//! constraints, which holds from the first iterate on (the initial state satisfies them and
+//! the identity rows enforce them in one step otherwise).
+//!
+//! Failures inside the element loop are made collective (one all-reduce per assembly), so a
+//! rank never leaves the others waiting in a collective call: an inadmissible state anywhere
+//! becomes a domain error on every rank, which TS answers by cutting the step.
+
+use super::bc::Constraint;
+use super::model::PointModel;
+use crate::error::{Error, Result};
+use crate::fem::dofmap::DofMap;
+use crate::fem::element::Tabulation;
+use crate::fem::kernel::{self, ElementValues, NDOF, NU};
+use crate::mesh::dist::LocalMesh;
+use crate::petsc::{IndexSet, Int, Mat, Scatter, TsProblem, TsRef, Vector};
+use mpi::collective::SystemOperation;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+use std::time::Instant;
+
+/// Wall-clock totals of the expensive callbacks.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Timers {
+    pub residual_s: f64,
+    pub residual_n: usize,
+    pub jacobian_s: f64,
+    pub jacobian_n: usize,
+}
+
+/// What the element loops read: mesh, dofs, model, quadrature, constraint flags.
+pub struct Discretization {
+    pub mesh: LocalMesh,
+    pub dofs: DofMap,
+    pub model: Box<dyn PointModel>,
+    pub tab: Tabulation<10>,
+    pub xi: Vec<[f64; 3]>,
+    /// Per local dof: fixed by a constraint.
+    pub constrained: Vec<bool>,
+}
+
+pub struct PoroProblem {
+    pub world: SimpleCommunicator,
+    pub disc: Discretization,
+    /// Owned constrained dofs with their values.
+    constraints: Vec<Constraint>,
+    /// External loads (traction, prescribed flux) in the local layout, already integrated.
+    external: Vec<f64>,
+    scatter: Scatter,
+    u_loc: Vector,
+    udot_loc: Vector,
+    f_loc: Vector,
+    /// Fixed-stress Schur approximation on the pressure space.
+    pub schur: Mat,
+    /// Mean element size, for constraint-row scaling.
+    h: f64,
+    pub timers: Timers,
+}
+
+impl PoroProblem {
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        world: SimpleCommunicator,
+        mesh: LocalMesh,
+        dofs: DofMap,
+        model: Box<dyn PointModel>,
+        tab: Tabulation<10>,
+        xi: Vec<[f64; 3]>,
+        constraints: Vec<Constraint>,
+        external: Vec<f64>,
+        global_template: &Vector,
+        schur: Mat,
+    ) -> Result<PoroProblem> {
+        let n_local = dofs.n_local();
+        let comm = world.as_raw();
+        let from = IndexSet::general(comm, &dofs.l2g)?;
+        let u_loc = Vector::seq(n_local)?;
+        let scatter = Scatter::new(global_template, &from, &u_loc)?;
+        let (udot_loc, f_loc) = (Vector::seq(n_local)?, Vector::seq(n_local)?);
+        let constraints = sync_constraints(&scatter, global_template, n_local, &constraints)?;
+        let mut constrained = vec![false; n_local];
+        for c in &constraints {
+            constrained[c.local] = true;
+        }
+        let owned: Vec<Constraint> = constraints.into_iter().filter(|c| dofs.is_owned(c.local)).collect();
+        let h = mean_element_size(&world, &mesh);
+        Ok(PoroProblem {
+            world,
+            disc: Discretization { mesh, dofs, model, tab, xi, constrained },
+            constraints: owned,
+            external,
+            scatter,
+            u_loc,
+            udot_loc,
+            f_loc,
+            schur,
+            h,
+            timers: Timers::default(),
+        })
+    }
+
+    /// Scale of the u and p constraint rows at time-derivative shift `shift`.
+    fn scales(&self, shift: f64) -> (f64, f64) {
+        let m = &self.disc.model;
+        let su = m.p_wave_modulus() * self.h;
+        let sp = m.conductivity() * self.h + shift * self.h.powi(3) / m.drained_bulk_modulus();
+        (su, sp)
+    }
+
+    fn scale_of(&self, local: usize, scales: (f64, f64)) -> f64 {
+        if local < 3 * self.disc.dofs.n_nodes {
+            scales.0
+        } else {
+            scales.1
+        }
+    }
+
+    /// Makes a per-rank outcome collective: if any rank failed, every rank returns an error
+    /// (a domain error if the failure anywhere was one, so TS can cut the step).
+    fn collective(&self, local: Result<()>) -> Result<()> {
+        let code: i32 = match &local {
+            Ok(()) => 0,
+            Err(Error::Domain { .. }) => 1,
+            Err(_) => 2,
+        };
+        let mut worst = 0i32;
+        self.world.all_reduce_into(&code, &mut worst, SystemOperation::max());
+        match (worst, local) {
+            (0, _) => Ok(()),
+            (_, Err(e)) => Err(e),
+            (1, Ok(())) => Err(Error::Domain { cell: 0, point: 0, j: f64::NAN, msg: "inadmissible state on another rank".into() }),
+            (_, Ok(())) => Err(Error::Solver("assembly failed on another rank".into())),
+        }
+    }
+
+    /// Scatters U and U̇ to the local (owned + ghost) work vectors.
+    fn load_state(&mut self, u: &Vector, udot: &Vector) -> Result<()> {
+        self.scatter.forward(u, &mut self.u_loc)?;
+        self.scatter.forward(udot, &mut self.udot_loc)
+    }
+
+    /// Residual of the current step at (t, U, U̇) with step size dt.
+    pub fn assemble_residual(&mut self, dt: f64, u: &Vector, udot: &Vector, f: &mut Vector) -> Result<()> {
+        let t0 = Instant::now();
+        self.load_state(u, udot)?;
+        let outcome = {
+            let ul = self.u_loc.read()?;
+            let udl = self.udot_loc.read()?;
+            let mut fl = self.f_loc.write()?;
+            fl.iter_mut().for_each(|x| *x = 0.0);
+            let disc = &self.disc;
+            let mut run = || -> Result<()> {
+                for e in 0..disc.mesh.tets.len() {
+                    let d = disc.element_dofs(e);
+                    let (coords, v) = disc.gather(e, &d, &ul, &udl);
+                    let mut r = [0.0; NDOF];
+                    kernel::residual(disc.model.as_ref(), e, &coords, &disc.tab, &disc.xi, &v, dt, &mut r).map_err(|err| locate(err, e, &disc.mesh))?;
+                    for k in 0..NDOF {
+                        fl[d[k]] += r[k];
+                    }
+                }
+                Ok(())
+            };
+            let res = run();
+            for (l, x) in fl.iter_mut().enumerate() {
+                if disc.constrained[l] {
+                    *x = 0.0;
+                } else {
+                    *x -= self.external[l];
+                }
+            }
+            res
+        };
+        self.collective(outcome)?;
+        f.zero()?;
+        self.scatter.reverse_add(&self.f_loc, f)?;
+        let scales = self.scales(1.0 / dt);
+        {
+            let ul = self.u_loc.read()?;
+            let mut fw = f.write()?;
+            for c in &self.constraints {
+                let i = self.disc.dofs.local_to_owned(c.local).expect("owned constraint");
+                fw[i] = self.scale_of(c.local, scales) * (ul[c.local] - c.value);
+            }
+        }
+        self.timers.residual_s += t0.elapsed().as_secs_f64();
+        self.timers.residual_n += 1;
+        Ok(())
+    }
+
+    /// Jacobian dF/dU + shift dF/dU̇ into `jac`, and the Schur approximation into `self.schur`.
+    pub fn assemble_jacobian(&mut self, dt: f64, shift: f64, u: &Vector, udot: &Vector, jac: &mut Mat) -> Result<()> {
+        let t0 = Instant::now();
+        self.load_state(u, udot)?;
+        jac.zero_entries()?;
+        self.schur.zero_entries()?;
+        let outcome = {
+            let ul = self.u_loc.read()?;
+            let udl = self.udot_loc.read()?;
+            let disc = &self.disc;
+            let schur = &mut self.schur;
+            let mut run = || -> Result<()> {
+                let mut k = Box::new([[0.0; NDOF]; NDOF]);
+                let mut rows = [0 as Int; NDOF];
+                let mut prows = [0 as Int; 4];
+                for e in 0..disc.mesh.tets.len() {
+                    let d = disc.element_dofs(e);
+                    let (coords, v) = disc.gather(e, &d, &ul, &udl);
+                    let mut r = [0.0; NDOF];
+                    *k = [[0.0; NDOF]; NDOF];
+                    let mut s = [[0.0; 4]; 4];
+                    kernel::jacobian(disc.model.as_ref(), e, &coords, &disc.tab, &disc.xi, &v, dt, shift, &mut r, &mut k, &mut s)
+                        .map_err(|err| locate(err, e, &disc.mesh))?;
+                    // Constrained rows and columns are zero; the pattern stays fixed.
+                    for a in 0..NDOF {
+                        rows[a] = disc.dofs.l2g[d[a]];
+                        if disc.constrained[d[a]] {
+                            k[a] = [0.0; NDOF];
+                            for row in k.iter_mut() {
+                                row[a] = 0.0;
+                            }
+                        }
+                    }
+                    jac.add_values(&rows, &rows, k.as_flattened())?;
+                    for m in 0..4 {
+                        let lv = disc.mesh.vertex_of_node[disc.mesh.tets[e][m] as usize] as usize;
+                        prows[m] = disc.mesh.vertex_global[lv] as Int;
+                        if disc.constrained[d[NU + m]] {
+                            s[m] = [0.0; 4];
+                            for row in s.iter_mut() {
+                                row[m] = 0.0;
+                            }
+                        }
+                    }
+                    schur.add_values(&prows, &prows, s.as_flattened())?;
+                }
+                Ok(())
+            };
+            run()
+        };
+        self.collective(outcome)?;
+        let scales = self.scales(shift);
+        for c in &self.constraints {
+            let g = self.disc.dofs.l2g[c.local];
+            let s = self.scale_of(c.local, scales);
+            jac.add_values(&[g], &[g], &[s])?;
+            if c.local >= 3 * self.disc.dofs.n_nodes {
+                let lv = c.local - 3 * self.disc.dofs.n_nodes;
+                let gv = self.disc.mesh.vertex_global[lv] as Int;
+                self.schur.add_values(&[gv], &[gv], &[s])?;
+            }
+        }
+        jac.assemble()?;
+        self.schur.assemble()?;
+        self.timers.jacobian_s += t0.elapsed().as_secs_f64();
+        self.timers.jacobian_n += 1;
+        Ok(())
+    }
+
+    /// Local copy (owned + ghost) of a global vector, for post-processing.
+    pub fn localize(&mut self, u: &Vector) -> Result<Vec<f64>> {
+        self.scatter.forward(u, &mut self.u_loc)?;
+        Ok(self.u_loc.read()?.to_vec())
+    }
+}
+
+impl Discretization {
+    /// Local dof indices of element e in kernel order.
+    #[inline]
+    fn element_dofs(&self, e: usize) -> [usize; NDOF] {
+        let t = &self.mesh.tets[e];
+        let mut d = [0usize; NDOF];
+        for a in 0..10 {
+            for c in 0..3 {
+                d[3 * a + c] = self.dofs.u_local(t[a] as usize, c);
+            }
+        }
+        for m in 0..4 {
+            d[NU + m] = self.dofs.p_local(self.mesh.vertex_of_node[t[m] as usize] as usize);
+        }
+        d
+    }
+
+    fn gather(&self, e: usize, dofs: &[usize; NDOF], u: &[f64], udot: &[f64]) -> ([[f64; 3]; 10], ElementValues) {
+        let t = &self.mesh.tets[e];
+        let mut coords = [[0.0; 3]; 10];
+        let mut v = ElementValues { u: [[0.0; 3]; 10], udot: [[0.0; 3]; 10], p: [0.0; 4] };
+        for a in 0..10 {
+            coords[a] = self.mesh.coords[t[a] as usize];
+            for c in 0..3 {
+                v.u[a][c] = u[dofs[3 * a + c]];
+                v.udot[a][c] = udot[dofs[3 * a + c]];
+            }
+        }
+        for m in 0..4 {
+            v.p[m] = u[dofs[NU + m]];
+        }
+        (coords, v)
+    }
+
+}
+
+/// Constraints are found from this rank's boundary faces, but every rank holding a copy of a
+/// constrained dof must know (its elements drop that row and column): sum flags and values
+/// over the copies through the global vector and read them back.
+fn sync_constraints(scatter: &Scatter, template: &Vector, n_local: usize, raw: &[Constraint]) -> Result<Vec<Constraint>> {
+    let (mut flag_l, mut val_l) = (Vector::seq(n_local)?, Vector::seq(n_local)?);
+    {
+        let (mut f, mut v) = (flag_l.write()?, val_l.write()?);
+        f.iter_mut().for_each(|x| *x = 0.0);
+        v.iter_mut().for_each(|x| *x = 0.0);
+        for c in raw {
+            f[c.local] += 1.0;
+            v[c.local] += c.value;
+        }
+    }
+    let (mut flag_g, mut val_g) = (template.duplicate()?, template.duplicate()?);
+    flag_g.zero()?;
+    val_g.zero()?;
+    scatter.reverse_add(&flag_l, &mut flag_g)?;
+    scatter.reverse_add(&val_l, &mut val_g)?;
+    scatter.forward(&flag_g, &mut flag_l)?;
+    scatter.forward(&val_g, &mut val_l)?;
+    let (f, v) = (flag_l.read()?, val_l.read()?);
+    Ok((0..n_local).filter(|&l| f[l] > 0.0).map(|l| Constraint { local: l, value: v[l] / f[l] }).collect())
+}
+
+/// Fills in the element of a material domain error.
+fn locate(err: Error, e: usize, mesh: &LocalMesh) -> Error {
+    match err {
+        Error::Domain { point, j, msg, .. } => Error::Domain { cell: mesh.tet_original[e] as usize, point, j, msg },
+        other => other,
+    }
+}
+
+/// Mean edge-length scale (volume^(1/3) of the vertex tetrahedra), over all ranks.
+fn mean_element_size(world: &SimpleCommunicator, mesh: &LocalMesh) -> f64 {
+    let mut sum = 0.0;
+    for t in &mesh.tets {
+        let x = |i: usize| mesh.coords[t[i] as usize];
+        let (a, b, c, d) = (x(0), x(1), x(2), x(3));
+        let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let e3 = [d[0] - a[0], d[1] - a[1], d[2] - a[2]];
+        let det = e1[0] * (e2[1] * e3[2] - e2[2] * e3[1]) - e1[1] * (e2[0] * e3[2] - e2[2] * e3[0]) + e1[2] * (e2[0] * e3[1] - e2[1] * e3[0]);
+        sum += (det.abs() / 6.0).cbrt();
+    }
+    let local = [sum, mesh.tets.len() as f64];
+    let mut global = [0.0; 2];
+    world.all_reduce_into(&local[..], &mut global[..], SystemOperation::sum());
+    if global[1] > 0.0 {
+        global[0] / global[1]
+    } else {
+        1.0
+    }
+}
+
+impl TsProblem for PoroProblem {
+    fn residual(&mut self, ts: TsRef, _t: f64, u: &Vector, udot: &Vector, f: &mut Vector) -> Result<()> {
+        let dt = ts.time_step()?;
+        self.assemble_residual(dt, u, udot, f)
+    }
+
+    fn jacobian(&mut self, ts: TsRef, _t: f64, u: &Vector, udot: &Vector, shift: f64, jac: &mut Mat, _pre: &mut Mat) -> Result<()> {
+        let dt = ts.time_step()?;
+        self.assemble_jacobian(dt, shift, u, udot, jac)
+    }
+}

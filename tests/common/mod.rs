@@ -1,0 +1,73 @@
+//! Shared helpers for the integration tests: run the binary under mpirun, read history.csv.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs `poroplast <args>` on `np` MPI ranks.
+pub fn poroplast(np: usize, args: &[&str]) -> Output {
+    let mut cmd = Command::new("mpirun");
+    cmd.args(["-n", &np.to_string(), "--oversubscribe"]).arg(env!("CARGO_BIN_EXE_poroplast")).args(args);
+    cmd.env("OMPI_ALLOW_RUN_AS_ROOT", "1").env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
+    cmd.env("OMPI_MCA_btl", "self,vader").env("OMPI_MCA_pml", "ob1");
+    cmd.env("POROPLAST_CACHE", cache_dir());
+    cmd.output().expect("mpirun could not be started")
+}
+
+/// Runs and panics with both output streams if the run failed.
+pub fn run_ok(np: usize, args: &[&str]) -> String {
+    let out = poroplast(np, args);
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "poroplast {args:?} on {np} rank(s) failed\nstdout:\n{stdout}\nstderr:\n{}", String::from_utf8_lossy(&out.stderr));
+    stdout
+}
+
+/// Mesh cache shared by all tests (meshes are generated once).
+pub fn cache_dir() -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("mesh-cache")
+}
+
+/// A fresh, empty directory for one test's outputs.
+pub fn scratch(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Path of a shipped scene file.
+pub fn scene(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/scenes").join(format!("{name}.toml")).display().to_string()
+}
+
+/// Writes a variant of a shipped scene with some lines replaced (`from` → `to`), into `dir`.
+pub fn scene_variant(name: &str, dir: &Path, edits: &[(&str, &str)]) -> String {
+    let mut text = std::fs::read_to_string(scene(name)).unwrap();
+    for (from, to) in edits {
+        assert!(text.contains(from), "scene {name} has no `{from}`");
+        text = text.replacen(from, to, 1);
+    }
+    let p = dir.join(format!("{name}-variant.toml"));
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+/// history.csv as named columns.
+pub struct History {
+    pub names: Vec<String>,
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl History {
+    pub fn read(dir: &Path) -> History {
+        let text = std::fs::read_to_string(dir.join("history.csv")).expect("history.csv");
+        let mut lines = text.lines();
+        let names: Vec<String> = lines.next().unwrap().split(',').map(|s| s.trim().to_string()).collect();
+        let rows = lines.filter(|l| !l.trim().is_empty()).map(|l| l.split(',').map(|v| v.trim().parse::<f64>().unwrap()).collect()).collect();
+        History { names, rows }
+    }
+    pub fn col(&self, name: &str) -> Vec<f64> {
+        let i = self.names.iter().position(|n| n == name).unwrap_or_else(|| panic!("no column {name} in {:?}", self.names));
+        self.rows.iter().map(|r| r[i]).collect()
+    }
+}

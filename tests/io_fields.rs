@@ -1,0 +1,255 @@
+//! Runs `tests/support/io_fields.rs` (the `io_fields` example target) under `mpirun` (1, 2 and 3 ranks, with empty pieces, a crash and
+//! argument errors) and checks the output with `scripts/check_fields.py` (h5py + numpy), and, where
+//! `pvpython` is installed, with ParaView's own XDMF readers (`scripts/check_paraview.py`).
+//!
+//! Environment: `POROPLAST_PYTHON` picks the Python (else the first of `python3`, `/usr/bin/python3`
+//! that imports h5py and numpy); `POROPLAST_SKIP_MPI_TESTS=1` skips these tests (for machines without
+//! `mpirun`); `POROPLAST_NO_PARAVIEW=1` skips the ParaView check.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
+
+const MANIFEST: &str = env!("CARGO_MANIFEST_DIR");
+
+fn skip() -> bool {
+    std::env::var("POROPLAST_SKIP_MPI_TESTS").is_ok_and(|v| v == "1")
+}
+
+/// The example binary, built next to this test (cargo test builds examples; if only this test
+/// target was built, build the example now).
+fn example() -> &'static Path {
+    static EXE: OnceLock<PathBuf> = OnceLock::new();
+    EXE.get_or_init(|| {
+        let deps = std::env::current_exe().unwrap().parent().unwrap().to_path_buf();
+        let exe = deps.parent().unwrap().join("examples").join("io_fields");
+        if !exe.exists() {
+            let profile_release = deps.parent().unwrap().file_name().is_some_and(|n| n == "release");
+            let mut c = Command::new(env!("CARGO"));
+            c.args(["build", "--example", "io_fields", "--manifest-path", &format!("{MANIFEST}/Cargo.toml")]);
+            if profile_release {
+                c.arg("--release");
+            }
+            let st = c.status().expect("run cargo build --example io_fields");
+            assert!(st.success() && exe.exists(), "could not build {}", exe.display());
+        }
+        exe
+    })
+}
+
+/// A Python that imports h5py and numpy.
+fn python() -> &'static str {
+    static PY: OnceLock<String> = OnceLock::new();
+    PY.get_or_init(|| {
+        let candidates: Vec<String> = match std::env::var("POROPLAST_PYTHON") {
+            Ok(p) => vec![p],
+            Err(_) => vec!["python3".into(), "/usr/bin/python3".into()],
+        };
+        for p in &candidates {
+            let ok = Command::new(p)
+                .args(["-c", "import h5py, numpy"])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .status()
+                .is_ok_and(|s| s.success());
+            if ok {
+                return p.clone();
+            }
+        }
+        panic!("no Python with h5py and numpy among {candidates:?}; install them or set POROPLAST_PYTHON");
+    })
+}
+
+/// Runs `cmd` with a time limit, so that a hang fails the test instead of blocking it.
+fn run_limited(mut cmd: Command, limit: Duration) -> Output {
+    let mut child = cmd.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("spawn");
+    let t0 = Instant::now();
+    loop {
+        if child.try_wait().expect("wait").is_some() {
+            return child.wait_with_output().expect("output");
+        }
+        if t0.elapsed() > limit {
+            let _ = child.kill();
+            let out = child.wait_with_output().expect("output");
+            panic!(
+                "{cmd:?} did not finish in {limit:?} (hang?)\nstdout:\n{}\nstderr:\n{}",
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("mpi_fields").join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn mpirun(ranks: usize, dir: &Path, args: &[&str]) -> Output {
+    let mut c = Command::new("mpirun");
+    c.args(["--oversubscribe", "-n", &ranks.to_string()])
+        .arg(example())
+        .arg(dir)
+        .args(args)
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
+    run_limited(c, Duration::from_secs(120))
+}
+
+fn text(o: &Output) -> String {
+    format!("stdout:\n{}\nstderr:\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+fn check(dir: &Path, steps: usize) {
+    let mut c = Command::new(python());
+    c.arg(format!("{MANIFEST}/scripts/check_fields.py"))
+        .arg(dir)
+        .args(["--steps", &steps.to_string(), "--straight-edges", "--expect"])
+        .arg(dir.join("expect.json"));
+    let o = run_limited(c, Duration::from_secs(120));
+    assert!(o.status.success(), "check_fields.py failed on {}\n{}", dir.display(), text(&o));
+}
+
+fn run_case(name: &str, ranks: usize, case: &str) -> PathBuf {
+    let dir = out_dir(name);
+    let o = mpirun(ranks, &dir, &[case]);
+    assert!(o.status.success(), "mpirun -n {ranks} io_fields {case} failed\n{}", text(&o));
+    check(&dir, 3);
+    dir
+}
+
+#[test]
+fn two_ranks_split_and_paraview() {
+    if skip() {
+        return;
+    }
+    let dir = run_case("split2", 2, "split");
+    let no_pv = std::env::var("POROPLAST_NO_PARAVIEW").is_ok_and(|v| v == "1");
+    let has_pv = Command::new("pvpython").arg("--version").output().is_ok_and(|o| o.status.success());
+    if no_pv || !has_pv {
+        eprintln!("pvpython not found (or POROPLAST_NO_PARAVIEW=1): ParaView reader check skipped");
+        return;
+    }
+    for reader in ["XDMFReader", "Xdmf3ReaderS", "Xdmf3ReaderT"] {
+        let mut c = Command::new("pvpython");
+        c.arg(format!("{MANIFEST}/scripts/check_paraview.py")).arg(&dir).arg(reader);
+        let o = run_limited(c, Duration::from_secs(300));
+        assert!(
+            o.status.success() && String::from_utf8_lossy(&o.stdout).contains("check_paraview: OK"),
+            "ParaView {reader} check failed\n{}",
+            text(&o)
+        );
+    }
+}
+
+#[test]
+fn two_ranks_last_rank_owns_no_cells() {
+    if !skip() {
+        run_case("nocells2", 2, "nocells-last");
+    }
+}
+
+#[test]
+fn two_ranks_last_rank_owns_nothing() {
+    if !skip() {
+        run_case("empty2", 2, "empty-last");
+    }
+}
+
+#[test]
+fn three_ranks_first_rank_owns_no_cells() {
+    if !skip() {
+        run_case("split3", 3, "split");
+    }
+}
+
+#[test]
+fn single_rank() {
+    if !skip() {
+        run_case("single", 1, "split");
+    }
+}
+
+#[test]
+fn errors_on_one_rank_reach_all_ranks() {
+    if skip() {
+        return;
+    }
+    for case in ["bad-len", "bad-names"] {
+        let dir = out_dir(case);
+        let o = mpirun(2, &dir, &[case]);
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(o.status.code(), Some(3), "{case}: expected exit code 3\n{}", text(&o));
+        for r in 0..2 {
+            assert!(
+                out.contains(&format!("EXPECTED_ERROR rank {r}: ")),
+                "{case}: rank {r} did not report\n{}",
+                text(&o)
+            );
+        }
+        // The failed step wrote nothing; the step before it is intact.
+        check(&dir, 1);
+    }
+    let o = mpirun(2, &out_dir("bad-mesh"), &["bad-mesh"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(2), "bad-mesh: expected exit code 2\n{}", text(&o));
+    for r in 0..2 {
+        assert!(out.contains(&format!("ERROR rank {r}: ")) && out.contains("do not tile"), "bad-mesh\n{}", text(&o));
+    }
+    let out = String::from_utf8_lossy(&mpirun(2, &out_dir("bad-len-msg"), &["bad-len"]).stdout).to_string();
+    assert!(out.contains("has 8 values on this rank, expected 7"), "{out}");
+    assert!(out.contains("EXPECTED_ERROR rank 0: ") && out.contains("(reported by rank 1)"), "{out}");
+}
+
+#[test]
+fn crashed_run_keeps_completed_steps() {
+    if skip() {
+        return;
+    }
+    for k in [0, 2] {
+        let dir = out_dir(&format!("abort{k}"));
+        let o = mpirun(2, &dir, &["split", "--abort-after", &k.to_string()]);
+        assert!(!o.status.success(), "MPI_Abort should make mpirun fail\n{}", text(&o));
+        check(&dir, k);
+    }
+}
+
+#[test]
+fn running_run_is_readable() {
+    if skip() {
+        return;
+    }
+    let dir = out_dir("running");
+    let mut c = Command::new("mpirun");
+    c.args(["--oversubscribe", "-n", "2"])
+        .arg(example())
+        .arg(&dir)
+        .args(["split", "--pause-after", "2"])
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null());
+    let mut child = c.spawn().expect("spawn mpirun");
+    let t0 = Instant::now();
+    while !dir.join("paused").exists() {
+        if t0.elapsed() > Duration::from_secs(120) || child.try_wait().unwrap().is_some() {
+            let _ = child.kill();
+            panic!("the run did not pause");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    // The file is still open for writing by both ranks: two complete steps must be visible.
+    let result = std::panic::catch_unwind(|| check(&dir, 2));
+    std::fs::write(dir.join("resume"), "").unwrap();
+    let st = child.wait().unwrap();
+    if let Err(e) = result {
+        std::panic::resume_unwind(e);
+    }
+    assert!(st.success());
+    std::fs::remove_file(dir.join("paused")).unwrap();
+    std::fs::remove_file(dir.join("resume")).unwrap();
+    check(&dir, 3);
+}
