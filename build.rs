@@ -16,15 +16,9 @@ fn main() {
     let mut includes = vec![dir.join("include"), arch_dir.join("include")];
     includes.extend(mpi_include_dirs());
     let libdir = arch_dir.join("lib");
-    let lib = ["petsc_real", "petsc"]
-        .into_iter()
-        .find(|l| has_lib(&libdir, l))
-        .unwrap_or_else(|| {
-            panic!(
-                "no libpetsc in {} — set PETSC_DIR (and PETSC_ARCH) to a PETSc 3.18 installation",
-                libdir.display()
-            )
-        });
+    let lib = ["petsc_real", "petsc"].into_iter().find(|l| has_lib(&libdir, l)).unwrap_or_else(|| {
+        panic!("no libpetsc in {} — set PETSC_DIR (and PETSC_ARCH) to a PETSc 3.18 installation", libdir.display())
+    });
     println!("cargo:rustc-link-search=native={}", libdir.display());
     println!("cargo:rustc-link-lib=dylib={lib}");
     // Let the binary find a non-system PETSc at run time without LD_LIBRARY_PATH.
@@ -47,10 +41,7 @@ fn main() {
         b = b.clang_arg(format!("-I{}", inc.display()));
     }
     let out = PathBuf::from(env::var("OUT_DIR").unwrap()).join("petsc_bindings.rs");
-    b.generate()
-        .expect("bindgen failed on the PETSc headers (is libclang-dev installed?)")
-        .write_to_file(out)
-        .unwrap();
+    b.generate().expect("bindgen failed on the PETSc headers (is libclang-dev installed?)").write_to_file(out).unwrap();
 }
 
 fn has_lib(dir: &Path, name: &str) -> bool {

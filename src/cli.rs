@@ -51,4 +51,3 @@ pub enum Command {
         name: String,
     },
 }
-

@@ -12,7 +12,7 @@ use crate::io::history::History;
 use crate::io::rundir;
 use crate::mesh::{dist, gmsh, partition};
 use crate::parallel::{agree, broadcast_u32};
-use crate::petsc::{self, options, DmShell, Mat, Petsc, Stage, Ts, Vector};
+use crate::petsc::{options, DmShell, Mat, Petsc, Stage, Ts, Vector};
 use crate::physics::analytic;
 use crate::physics::bc;
 use crate::physics::linear::LinearPoroelastic;
@@ -55,10 +55,15 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str) -> Result<String> {
     let mesh = agree(world, gmsh::read(&path))?;
     let ctx = scene.source.clone();
     for bcnd in &scene.scene.bc {
-        let known = mesh.face_groups.iter().any(|(n, _)| *n == bcnd.group) || mesh.point_groups.iter().any(|(n, _)| *n == bcnd.group);
+        let known = mesh.face_groups.iter().any(|(n, _)| *n == bcnd.group)
+            || mesh.point_groups.iter().any(|(n, _)| *n == bcnd.group);
         if !known {
-            let names: Vec<&str> = mesh.face_groups.iter().chain(mesh.point_groups.iter()).map(|(n, _)| n.as_str()).collect();
-            return Err(Error::Mesh { path: path.display().to_string(), msg: format!("{ctx}: physical group \"{}\" not found (the mesh has: {})", bcnd.group, names.join(", ")) });
+            let names: Vec<&str> =
+                mesh.face_groups.iter().chain(mesh.point_groups.iter()).map(|(n, _)| n.as_str()).collect();
+            return Err(Error::Mesh {
+                path: path.display().to_string(),
+                msg: format!("{ctx}: physical group \"{}\" not found (the mesh has: {})", bcnd.group, names.join(", ")),
+            });
         }
     }
     model_of(&scene)?;
@@ -105,7 +110,8 @@ fn mesh_file(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<PathBuf>
     let params: Vec<(String, f64)> = spec.params.iter().map(|(k, v)| (k.clone(), *v)).collect();
     let mut path = Vec::new();
     let r = if world.rank() == 0 {
-        crate::mesh::generate::cached(&name, &source, &params, 2, &cache_dir()).map(|p| path = p.to_string_lossy().into_owned().into_bytes())
+        crate::mesh::generate::cached(&name, &source, &params, 2, &cache_dir())
+            .map(|p| path = p.to_string_lossy().into_owned().into_bytes())
     } else {
         Ok(())
     };
@@ -202,7 +208,8 @@ impl<'w> Run<'w> {
         drop(mesh);
         let dofs = DofMap::new(&local);
         let model = model_of(scene)?;
-        let q = quadrature::tet(s.fem.quadrature_degree.unwrap_or(3));
+        // Degree 2 integrates the linear model exactly on straight elements.
+        let q = quadrature::tet(s.fem.quadrature_degree.unwrap_or(2));
         let tab = tabulate_tet10(&q);
         let (cons, ext) = agree(world, bc::build(&s.bc, &local, &dofs, &scene.source))?;
         let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
@@ -218,11 +225,30 @@ impl<'w> Run<'w> {
         let n_global_dofs = dofs.n_global;
         let mid_edges = mid_edge_nodes(&local);
         let fields = solver::Fields::new(comm, &dofs, &local)?;
-        let problem = PoroProblem::new(world.duplicate(), local, dofs, model, tab, q.points.clone(), cons, ext, &u, schur)?;
+        let alpha = s.fem.stabilisation.unwrap_or(DEFAULT_STABILISATION);
+        let problem = PoroProblem::new(
+            world.duplicate(),
+            local,
+            dofs,
+            model,
+            tab,
+            q.points.clone(),
+            cons,
+            ext,
+            &u,
+            schur,
+            alpha,
+        )?;
         let dm = DmShell::new(comm, &u, Box::new(fields))?;
         let mut ts = Ts::new(comm, problem, f, jac, None, Some(dm))?;
         let t = &s.time;
-        let schedule = Schedule { t_end: t.t_end, dt0: t.dt, dt_max: t.dt_max.unwrap_or(t.t_end), growth: t.growth, land_on: t.land_on.clone() };
+        let schedule = Schedule {
+            t_end: t.t_end,
+            dt0: t.dt,
+            dt_max: t.dt_max.unwrap_or(t.t_end),
+            growth: t.growth,
+            land_on: t.land_on.clone(),
+        };
         ts.set_solution(&u)?;
         ts.set_time(0.0)?;
         ts.set_time_step(schedule.step(0.0, schedule.dt0))?;
@@ -231,19 +257,25 @@ impl<'w> Run<'w> {
         ts.set_from_options()?;
         let snes = ts.snes()?;
         solver::use_schur_matrix(&snes, &ts.problem().schur)?;
-        // Set the linear solver up once on the first Jacobian, so every PETSc option (also
-        // those of the fieldsplit sub-solvers) has been read and unknown ones can be reported
-        // before anything is written.
+        // One trial linear solve on the first Jacobian: fieldsplit and AMG create their
+        // sub-solvers lazily, so only then has every PETSc option been read, and unknown ones
+        // can be reported before anything is written.
         let dt = schedule.step(0.0, schedule.dt0);
-        let zero = u.duplicate()?;
+        let mut zero = u.duplicate()?;
+        zero.zero()?;
         ts.problem_mut().assemble_jacobian(dt, 1.0 / dt, &u, &zero, &mut jac_ref.clone_ref()?)?;
         let ksp = snes.ksp()?;
         ksp.set_operators(&jac_ref, &jac_ref)?;
-        ksp.set_up()?;
+        let mut b = u.duplicate()?;
+        b.set(1.0)?;
+        ksp.solve(&b, &mut zero)?;
         let unused = options::unused()?;
         let unused: Vec<String> = unused.into_iter().filter(|o| !IGNORED_OPTIONS.contains(&o.as_str())).collect();
         if !unused.is_empty() {
-            return Err(Error::Solver(format!("unknown or unused PETSc option(s): {} (check the spelling, or the solver they belong to)", unused.join(" "))));
+            return Err(Error::Solver(format!(
+                "unknown or unused PETSc option(s): {} (check the spelling, or the solver they belong to)",
+                unused.join(" ")
+            )));
         }
         Ok(Run {
             world,
@@ -283,7 +315,11 @@ impl<'w> Run<'w> {
         agree(self.world, rundir::prepare(&out, self.args.force, self.rank0()))?;
         self.world.barrier();
         if self.rank0() {
-            rundir::write_text(&out, "scene.toml", &format!("# resolved from {}\n{}", self.scene.source, self.scene.to_toml()))?;
+            rundir::write_text(
+                &out,
+                "scene.toml",
+                &format!("# resolved from {}\n{}", self.scene.source, self.scene.to_toml()),
+            )?;
             rundir::write_text(&out, "petsc_options.txt", &(options::dump()? + "\n"))?;
         }
         let n_ranks = self.world.size();
@@ -301,7 +337,8 @@ impl<'w> Run<'w> {
             out.display()
         ));
         // Output files.
-        let cells: Vec<[u32; 10]> = mesh.tets.iter().map(|t| std::array::from_fn(|a| mesh.node_global[t[a] as usize])).collect();
+        let cells: Vec<[u32; 10]> =
+            mesh.tets.iter().map(|t| std::array::from_fn(|a| mesh.node_global[t[a] as usize])).collect();
         let coords: Vec<[f64; 3]> = mesh.coords[..mesh.n_owned_nodes].to_vec();
         let omesh = OutputMesh {
             n_global_nodes: mesh.n_global_nodes,
@@ -318,7 +355,8 @@ impl<'w> Run<'w> {
         cols.extend(exact.iter().map(|(n, _)| n.clone()));
         cols.extend(["newton_its", "ksp_its", "wall_s"].map(String::from));
         let colrefs: Vec<&str> = cols.iter().map(|c| c.as_str()).collect();
-        let mut history = History::create(&out.join("history.csv"), &colrefs, &["step", "newton_its", "ksp_its"], self.rank0())?;
+        let mut history =
+            History::create(&out.join("history.csv"), &colrefs, &["step", "newton_its", "ksp_its"], self.rank0())?;
 
         let stage_solve = Stage::register("Solve")?;
         let stage_out = Stage::register("Output")?;
@@ -355,7 +393,7 @@ impl<'w> Run<'w> {
             tot_ksp += its.1;
             nominal = self.schedule.grow(nominal, taken);
             let last = self.schedule.done(t);
-            let write_fields = last || (s.output.fields_every > 0 && step % s.output.fields_every == 0);
+            let write_fields = last || (s.output.fields_every > 0 && step.is_multiple_of(s.output.fields_every));
             {
                 let _g = stage_out.push();
                 let o = Instant::now();
@@ -465,8 +503,21 @@ impl<'w> Run<'w> {
     }
 }
 
+/// Default c of the pressure stabilisation: 4 lumps the P1 mass of the undrained constraint
+/// exactly (see `fem::kernel::ElementKernel::stab`).
+pub const DEFAULT_STABILISATION: f64 = 4.0;
+
 /// Options PETSc reads outside object set-up (at init/finalize) that `options_left` may list.
-const IGNORED_OPTIONS: &[&str] = &["-log_view", "-options_left", "-malloc_dump", "-malloc_debug", "-info", "-log_trace", "-on_error_abort", "-no_signal_handler"];
+const IGNORED_OPTIONS: &[&str] = &[
+    "-log_view",
+    "-options_left",
+    "-malloc_dump",
+    "-malloc_debug",
+    "-info",
+    "-log_trace",
+    "-on_error_abort",
+    "-no_signal_handler",
+];
 
 type ExactFn = Box<dyn Fn(f64) -> f64>;
 
@@ -474,16 +525,28 @@ type ExactFn = Box<dyn Fn(f64) -> f64>;
 fn exact_columns(scene: &LoadedScene) -> Result<Vec<(String, ExactFn)>> {
     let Some(v) = &scene.scene.verification else { return Ok(vec![]) };
     let Material::Linear { mu, nu, permeability } = scene.scene.material.clone();
-    let m = LinearPoroelastic::new(mu, nu, permeability)?;
-    let c = m.consolidation_coefficient();
-    let pw = m.p_wave_modulus();
+    let m = analytic::Drained::new(mu, nu, permeability)?;
     Ok(match v.clone() {
         Verification::Terzaghi { height, load } => vec![
-            ("p_bottom_exact".into(), Box::new(move |t| if t > 0.0 { analytic::terzaghi_pressure(0.0, t, height, load, c) / load } else { 0.0 }) as ExactFn),
-            ("settlement_exact".into(), Box::new(move |t| if t > 0.0 { analytic::terzaghi_settlement(t, height, load, c, pw) } else { 0.0 })),
+            (
+                "p_bottom_exact".into(),
+                Box::new(
+                    move |t| if t > 0.0 { analytic::terzaghi_pressure(0.0, t, height, load, &m) / load } else { 0.0 },
+                ) as ExactFn,
+            ),
+            (
+                "settlement_exact".into(),
+                Box::new(move |t| if t > 0.0 { analytic::terzaghi_settlement(t, height, load, &m) } else { 0.0 }),
+            ),
         ],
-        Verification::Cryer { radius, load } => {
-            vec![("p_center_exact".into(), Box::new(move |t| if t > 0.0 { analytic::cryer_center_pressure(t, radius, nu, c) } else { 0.0 }) as ExactFn)]
+        Verification::Cryer { radius, load: _ } => {
+            let series = analytic::CryerSeries::new(nu, 1e-6)?;
+            let c = m.consolidation_coefficient();
+            vec![(
+                "p_center_exact".into(),
+                Box::new(move |t| if t > 0.0 { series.center_pressure(c * t / (radius * radius)) } else { 0.0 })
+                    as ExactFn,
+            )]
         }
     })
 }

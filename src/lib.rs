@@ -1,6 +1,9 @@
 //! poroplast: parallel finite-element solver for large-deformation biphasic (poroelastic,
 //! visco-plastic) aggregates compressed between rigid plates, on PETSc.
 
+// Element kernels index small fixed-size arrays by their tensor/node indices on purpose.
+#![allow(clippy::needless_range_loop)]
+
 pub mod cli;
 pub mod driver;
 pub mod error;

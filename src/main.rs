@@ -32,7 +32,8 @@ fn main() {
     let rank0 = mpi::traits::Communicator::rank(&world) == 0;
     let result = match cli.command {
         Command::Run { scene, out, force, quiet, petsc } => {
-            driver::run(&world, &RunArgs { scene, out, force, petsc, progress: !quiet }).map(|dir| dir.display().to_string())
+            driver::run(&world, &RunArgs { scene, out, force, petsc, progress: !quiet })
+                .map(|dir| dir.display().to_string())
         }
         Command::Check { scene } => driver::check(&world, &scene),
         Command::Scenes | Command::Show { .. } => unreachable!(),

@@ -188,9 +188,14 @@ pub struct SolverSpec {
 #[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FemSpec {
-    /// Degree of the tetrahedral quadrature rule (default 3 for the linear model).
+    /// Degree of the tetrahedral quadrature rule (default 2 for the linear model: exact on
+    /// straight elements).
     #[serde(default)]
     pub quadrature_degree: Option<usize>,
+    /// c of the pressure stabilisation (c / (λ + 2µ)) ∫ (ṗ − Πṗ)(q − Πq) that keeps the
+    /// undrained limit monotone next to drained boundaries (default 4: exact lumping; 0 off).
+    #[serde(default)]
+    pub stabilisation: Option<f64>,
 }
 
 /// A scene together with where it came from.
@@ -222,7 +227,8 @@ impl LoadedScene {
         let path = Path::new(arg);
         let (text, source, dir, stem) = if path.exists() {
             let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-            let dir = path.parent().map(|p| if p.as_os_str().is_empty() { PathBuf::from(".") } else { p.to_path_buf() });
+            let dir =
+                path.parent().map(|p| if p.as_os_str().is_empty() { PathBuf::from(".") } else { p.to_path_buf() });
             let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
             (text, path.display().to_string(), dir, stem)
         } else if let Some((name, text)) = BUILTIN.iter().find(|(n, _)| *n == arg) {
@@ -234,7 +240,8 @@ impl LoadedScene {
                 msg: format!("no such file, and not a builtin scene (builtin: {})", names.join(", ")),
             });
         };
-        let mut scene: Scene = toml::from_str(&text).map_err(|e| Error::Scene { path: source.clone(), msg: e.to_string() })?;
+        let mut scene: Scene =
+            toml::from_str(&text).map_err(|e| Error::Scene { path: source.clone(), msg: toml_message(&text, &e) })?;
         if scene.name.is_empty() {
             scene.name = stem;
         }
@@ -273,7 +280,13 @@ impl LoadedScene {
             }
         }
         for (i, bc) in s.bc.iter().enumerate() {
-            let kinds = [bc.displacement.is_some(), bc.roller.is_some(), bc.traction.is_some(), bc.pressure.is_some(), bc.flux.is_some()];
+            let kinds = [
+                bc.displacement.is_some(),
+                bc.roller.is_some(),
+                bc.traction.is_some(),
+                bc.pressure.is_some(),
+                bc.flux.is_some(),
+            ];
             if kinds.iter().filter(|k| **k).count() != 1 {
                 return Err(self.err(format!(
                     "bc #{} (group \"{}\"): give exactly one of displacement, roller, traction, pressure, flux",
@@ -284,14 +297,22 @@ impl LoadedScene {
             if let Some(d) = &bc.displacement {
                 for (k, v) in d {
                     if !["x", "y", "z"].contains(&k.as_str()) {
-                        return Err(self.err(format!("bc #{} (group \"{}\"): displacement component `{k}` (use x, y, z)", i + 1, bc.group)));
+                        return Err(self.err(format!(
+                            "bc #{} (group \"{}\"): displacement component `{k}` (use x, y, z)",
+                            i + 1,
+                            bc.group
+                        )));
                     }
                     finite(self, "displacement", *v)?;
                 }
             }
             if let Some(t) = &bc.traction {
                 if t.normal.is_some() == t.vector.is_some() {
-                    return Err(self.err(format!("bc #{} (group \"{}\"): traction needs exactly one of `normal` or `vector`", i + 1, bc.group)));
+                    return Err(self.err(format!(
+                        "bc #{} (group \"{}\"): traction needs exactly one of `normal` or `vector`",
+                        i + 1,
+                        bc.group
+                    )));
                 }
             }
         }
@@ -326,6 +347,11 @@ impl LoadedScene {
         if let Some(p) = &s.solver.preset {
             if !["fieldsplit", "lu"].contains(&p.as_str()) {
                 return Err(self.err(format!("solver.preset = \"{p}\" (use \"fieldsplit\" or \"lu\")")));
+            }
+        }
+        if let Some(a) = s.fem.stabilisation {
+            if !(a.is_finite() && a >= 0.0) {
+                return Err(self.err(format!("fem.stabilisation = {a}: must be >= 0")));
             }
         }
         if let Some(q) = s.fem.quadrature_degree {
@@ -373,6 +399,19 @@ impl LoadedScene {
     /// The scene as TOML (for the run directory).
     pub fn to_toml(&self) -> String {
         toml::to_string_pretty(&self.scene).unwrap_or_default()
+    }
+}
+
+/// A TOML error on one line: "line N (`text`): message" (the parser's own text spans lines).
+fn toml_message(text: &str, e: &toml::de::Error) -> String {
+    let msg = e.message().replace('\n', " ");
+    match e.span() {
+        Some(span) => {
+            let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
+            let what = text.lines().nth(line - 1).unwrap_or("").trim();
+            format!("line {line} (`{what}`): {msg}")
+        }
+        None => msg,
     }
 }
 

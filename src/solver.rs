@@ -77,7 +77,7 @@ impl FieldDecomposition for Fields {
     fn fields(&mut self, _snes: Option<Snes>) -> Result<Vec<(String, IndexSet)>> {
         let mut u = IndexSet::stride_like(&self.u)?;
         u.set_block_size(3)?;
-        u.compose("nearnullspace", self.near_null.as_object())?;
+        u.compose("nearnullspace", &self.near_null)?;
         let p = IndexSet::stride_like(&self.p)?;
         Ok(vec![("u".into(), u), ("p".into(), p)])
     }
@@ -88,7 +88,13 @@ impl FieldDecomposition for Fields {
 pub fn use_schur_matrix(snes: &Snes, schur: &Mat) -> Result<()> {
     let pc = snes.ksp()?.pc()?;
     if pc.type_name()? == "fieldsplit" && !options::has("pc_fieldsplit_schur_precondition")? {
-        check(unsafe { ffi::PCFieldSplitSetSchurPre(pc.raw_handle(), ffi::PCFieldSplitSchurPreType::PC_FIELDSPLIT_SCHUR_PRE_USER, schur.as_raw()) })?;
+        check(unsafe {
+            ffi::PCFieldSplitSetSchurPre(
+                pc.raw_handle(),
+                ffi::PCFieldSplitSchurPreType::PC_FIELDSPLIT_SCHUR_PRE_USER,
+                schur.as_raw(),
+            )
+        })?;
     }
     Ok(())
 }

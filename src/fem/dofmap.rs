@@ -156,7 +156,12 @@ impl DofMap {
             }
             node_counts.push((d + dv, o + ov, dv, ov));
         }
-        let mut p = Preallocation { d_nnz: Vec::with_capacity(self.n_owned), o_nnz: Vec::with_capacity(self.n_owned), schur_d: vec![], schur_o: vec![] };
+        let mut p = Preallocation {
+            d_nnz: Vec::with_capacity(self.n_owned),
+            o_nnz: Vec::with_capacity(self.n_owned),
+            schur_d: vec![],
+            schur_o: vec![],
+        };
         for &(d, o, _, _) in &node_counts {
             for _ in 0..3 {
                 p.d_nnz.push(d as Int);

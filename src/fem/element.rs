@@ -111,10 +111,14 @@ pub fn tet10_geometry(coords: &[[f64; 3]; 10], tab: &Tabulation<10>, q: usize) -
     let c01 = j[1][2] * j[2][0] - j[1][0] * j[2][2];
     let c02 = j[1][0] * j[2][1] - j[1][1] * j[2][0];
     let det = j[0][0] * c00 + j[0][1] * c01 + j[0][2] * c02;
-    if !(det > 0.0) {
+    // Also catches NaN.
+    if det.is_nan() || det <= 0.0 {
         return Err(Error::Mesh {
             path: "element geometry".into(),
-            msg: format!("inverted or degenerate element near ({:.4e}, {:.4e}, {:.4e}): Jacobian determinant {det:.3e}", x[0], x[1], x[2]),
+            msg: format!(
+                "inverted or degenerate element near ({:.4e}, {:.4e}, {:.4e}): Jacobian determinant {det:.3e}",
+                x[0], x[1], x[2]
+            ),
         });
     }
     // inv[k][d] = ∂ξ_k/∂x_d (adjugate / det).
@@ -213,8 +217,14 @@ mod tests {
     fn p2_reproduces_quadratics_on_distorted_tet() {
         let v = [[0.1, -0.2, 0.05], [1.3, 0.1, -0.1], [0.2, 0.9, 0.3], [-0.1, 0.3, 1.2]];
         let c = nodes_of(v);
-        let f = |x: [f64; 3]| 1.0 + 2.0 * x[0] - x[1] + 0.5 * x[2] + x[0] * x[0] - 3.0 * x[0] * x[1] + 0.7 * x[1] * x[2] + 1.1 * x[2] * x[2];
-        let g = |x: [f64; 3]| [2.0 + 2.0 * x[0] - 3.0 * x[1], -1.0 - 3.0 * x[0] + 0.7 * x[2], 0.5 + 0.7 * x[1] + 2.2 * x[2]];
+        let f = |x: [f64; 3]| {
+            1.0 + 2.0 * x[0] - x[1] + 0.5 * x[2] + x[0] * x[0] - 3.0 * x[0] * x[1]
+                + 0.7 * x[1] * x[2]
+                + 1.1 * x[2] * x[2]
+        };
+        let g = |x: [f64; 3]| {
+            [2.0 + 2.0 * x[0] - 3.0 * x[1], -1.0 - 3.0 * x[0] + 0.7 * x[2], 0.5 + 0.7 * x[1] + 2.2 * x[2]]
+        };
         let q = quadrature::tet(5);
         let tab = tabulate_tet10(&q);
         let mut vol = 0.0;
@@ -241,14 +251,18 @@ mod tests {
         let e1: [f64; 3] = std::array::from_fn(|d| v[1][d] - v[0][d]);
         let e2: [f64; 3] = std::array::from_fn(|d| v[2][d] - v[0][d]);
         let e3: [f64; 3] = std::array::from_fn(|d| v[3][d] - v[0][d]);
-        let det = e1[0] * (e2[1] * e3[2] - e2[2] * e3[1]) - e1[1] * (e2[0] * e3[2] - e2[2] * e3[0]) + e1[2] * (e2[0] * e3[1] - e2[1] * e3[0]);
+        let det = e1[0] * (e2[1] * e3[2] - e2[2] * e3[1]) - e1[1] * (e2[0] * e3[2] - e2[2] * e3[0])
+            + e1[2] * (e2[0] * e3[1] - e2[1] * e3[0]);
         assert!((vol - det / 6.0).abs() < 1e-14);
     }
 
     #[test]
     fn inverted_element_is_an_error() {
+        // Mirror image of the reference element: negative orientation everywhere.
         let mut c = nodes_of(REF);
-        c.swap(1, 2);
+        for x in c.iter_mut() {
+            x[0] = -x[0];
+        }
         let tab = tabulate_tet10(&quadrature::tet(1));
         let e = tet10_geometry(&c, &tab, 0).unwrap_err().to_string();
         assert!(e.contains("inverted"), "{e}");

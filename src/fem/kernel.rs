@@ -5,7 +5,8 @@
 //!   r_p[m]   = ∫ (ṡ L_m + W · ∇L_m) dV                 (m: 4 P1 vertices)
 //! ```
 //!
-//! plus the element block of the fixed-stress Schur approximation
+//! plus the pressure stabilisation c_s ∫ (ṗ − Πṗ)(q − Πq) dV (Π: element mean; see
+//! [`ElementKernel::stab`]) and the element block of the fixed-stress Schur approximation
 //! Ŝ = ∫ ∇L_m · (∂W/∂Grad p) ∇L_n + (shift/K_dr) L_m L_n dV, which stays spectrally close to
 //! the true Schur complement as Δt → 0 and as the conductivity → 0.
 //! Element dof order: u of node a, component i at 3a + i (0..30), then p of vertex m at 30 + m.
@@ -24,6 +25,7 @@ pub struct ElementValues {
     pub u: [[f64; 3]; 10],
     pub udot: [[f64; 3]; 10],
     pub p: [f64; 4],
+    pub pdot: [f64; 4],
 }
 
 /// Physical gradients of the P1 (vertex) functions, exact on curved elements: the vertex
@@ -60,7 +62,14 @@ struct Point {
     state: PointState,
 }
 
-fn point(coords: &[[f64; 3]; 10], tab: &Tabulation<10>, xi: &[f64; 3], q: usize, v: &ElementValues, dt: f64) -> Result<Point> {
+fn point(
+    coords: &[[f64; 3]; 10],
+    tab: &Tabulation<10>,
+    xi: &[f64; 3],
+    q: usize,
+    v: &ElementValues,
+    dt: f64,
+) -> Result<Point> {
     let geo = tet10_geometry(coords, tab, q)?;
     let dn = geo.dn_dx;
     let g1 = p1_gradients(&dn);
@@ -83,28 +92,196 @@ fn point(coords: &[[f64; 3]; 10], tab: &Tabulation<10>, xi: &[f64; 3], q: usize,
             grad_p[j] += g1[m][j] * v.p[m];
         }
     }
-    Ok(Point { w: tab.weights[q] * geo.jac_det, n2: tab.n[q], dn, n1, g1, state: PointState { grad_u, grad_udot, p, grad_p, dt } })
+    Ok(Point {
+        w: tab.weights[q] * geo.jac_det,
+        n2: tab.n[q],
+        dn,
+        n1,
+        g1,
+        state: PointState { grad_u, grad_udot, p, grad_p, dt },
+    })
 }
 
-/// Adds the element residual to `r`.
-pub fn residual(
-    model: &dyn PointModel,
-    elem: usize,
-    coords: &[[f64; 3]; 10],
-    tab: &Tabulation<10>,
-    xi: &[[f64; 3]],
-    v: &ElementValues,
-    dt: f64,
-    r: &mut [f64; NDOF],
-) -> Result<()> {
-    for q in 0..tab.weights.len() {
-        let pt = point(coords, tab, &xi[q], q, v, dt)?;
-        let f = model.eval(QpId { elem, point: q }, &pt.state)?;
-        add_residual(&pt, &f, r);
+/// What the element loops need besides the element itself.
+pub struct ElementKernel<'a> {
+    pub model: &'a dyn PointModel,
+    pub tab: &'a Tabulation<10>,
+    /// Reference coordinates of the quadrature points of `tab`.
+    pub xi: &'a [[f64; 3]],
+    /// c_s of the pressure stabilisation c_s ∫ (ṗ − Πṗ)(q − Πq) dV, Π the element mean.
+    ///
+    /// Why: in the undrained limit (Δt → 0) next to a drained boundary, Taylor–Hood is stable
+    /// but not monotone. Tested with interior P1 functions, the mass balance then reduces to a
+    /// P1 mass-matrix projection of a step, (1/E) M p = (P/E) M 1 with p = 0 on drained nodes
+    /// (E = λ + 2µ), and the inverse mass matrix alternates in sign: the pressure overshoots
+    /// next to the boundary (≈ 27% in 1-D, 69% measured on the 3-D column). With the term the
+    /// matrix becomes (1 + c) M − c M_Π, and c = 4 makes it exactly the lumped (diagonal) P1
+    /// mass on every tetrahedron: the undrained response is then monotone (p = 1 to 1e-13 at all
+    /// interior vertices). The term is O(h²) since ṗ − Πṗ = O(h ∇ṗ), vanishes on constants
+    /// (so it conserves fluid mass exactly element by element), and needs no mesh size. This is
+    /// the local pressure projection of Dohrmann & Bochev (2004) used by White & Borja (2008)
+    /// for poroelasticity, applied here to Taylor–Hood for monotonicity.
+    pub stab: f64,
+}
+
+/// Element integrals of the projection stabilisation: volume, ∫ L_m, ∫ L_m L_n, ∫ ṗ, ∫ ṗ L_m.
+#[derive(Default)]
+struct Projection {
+    vol: f64,
+    m: [f64; 4],
+    mm: [[f64; 4]; 4],
+    ip: f64,
+    ipl: [f64; 4],
+}
+
+impl Projection {
+    fn add(&mut self, pt: &Point, pdot: &[f64; 4]) {
+        let pd: f64 = (0..4).map(|i| pt.n1[i] * pdot[i]).sum();
+        self.vol += pt.w;
+        self.ip += pt.w * pd;
+        for i in 0..4 {
+            self.m[i] += pt.w * pt.n1[i];
+            self.ipl[i] += pt.w * pd * pt.n1[i];
+            for j in 0..4 {
+                self.mm[i][j] += pt.w * pt.n1[i] * pt.n1[j];
+            }
+        }
     }
-    Ok(())
+    /// c ∫ (ṗ − Πṗ) L_m = c (∫ ṗ L_m − ∫ ṗ ∫ L_m / V)
+    fn residual(&self, c: f64, r: &mut [f64; NDOF]) {
+        for i in 0..4 {
+            r[NU + i] += c * (self.ipl[i] - self.ip * self.m[i] / self.vol);
+        }
+    }
+    /// c shift (∫ L_m L_n − ∫ L_m ∫ L_n / V), into the Jacobian and the Schur block.
+    fn jacobian(&self, c: f64, shift: f64, k: &mut [[f64; NDOF]; NDOF], schur: &mut [[f64; 4]; 4]) {
+        for i in 0..4 {
+            for j in 0..4 {
+                let s = c * shift * (self.mm[i][j] - self.m[i] * self.m[j] / self.vol);
+                k[NU + i][NU + j] += s;
+                schur[i][j] += s;
+            }
+        }
+    }
 }
 
+impl ElementKernel<'_> {
+    /// Adds the element residual to `r`.
+    pub fn residual(
+        &self,
+        elem: usize,
+        coords: &[[f64; 3]; 10],
+        v: &ElementValues,
+        dt: f64,
+        r: &mut [f64; NDOF],
+    ) -> Result<()> {
+        let mut proj = Projection::default();
+        for q in 0..self.tab.weights.len() {
+            let pt = point(coords, self.tab, &self.xi[q], q, v, dt)?;
+            let f = self.model.eval(QpId { elem, point: q }, &pt.state)?;
+            add_residual(&pt, &f, r);
+            proj.add(&pt, &v.pdot);
+        }
+        if self.stab > 0.0 {
+            proj.residual(self.stab, r);
+        }
+        Ok(())
+    }
+
+    /// Adds the element residual, Jacobian (row-major NDOF × NDOF) and Schur block.
+    #[allow(clippy::too_many_arguments)]
+    pub fn jacobian(
+        &self,
+        elem: usize,
+        coords: &[[f64; 3]; 10],
+        v: &ElementValues,
+        dt: f64,
+        shift: f64,
+        r: &mut [f64; NDOF],
+        k: &mut [[f64; NDOF]; NDOF],
+        schur: &mut [[f64; 4]; 4],
+    ) -> Result<()> {
+        let mut proj = Projection::default();
+        let inv_kdr = 1.0 / self.model.drained_bulk_modulus();
+        for q in 0..self.tab.weights.len() {
+            let pt = point(coords, self.tab, &self.xi[q], q, v, dt)?;
+            let (f, t) = self.model.eval_tangent(QpId { elem, point: q }, &pt.state, shift)?;
+            add_residual(&pt, &f, r);
+            proj.add(&pt, &v.pdot);
+            let w = pt.w;
+            let dn = &pt.dn;
+            // T_b[(ij), k] = Σ_l A[(ij),(kl)] ∂N_b/∂X_l, then K_ab[i][k] = Σ_j ∂N_a/∂X_j T_b[(ij), k].
+            for b in 0..10 {
+                let mut tb = [[0.0; 3]; 9];
+                let mut bb = [[0.0; 3]; 3]; // Σ_l ∂b_i/∂F_kl ∂N_b/∂X_l
+                let mut rb = [0.0; 3]; // Σ_l ∂ṡ/∂F_kl ∂N_b/∂X_l
+                let mut wb = [[0.0; 3]; 3]; // Σ_l ∂W_j/∂F_kl ∂N_b/∂X_l
+                for kk in 0..3 {
+                    for l in 0..3 {
+                        let d = dn[b][l];
+                        for row in 0..9 {
+                            tb[row][kk] += t.dstress_du[(row, ij(kk, l))] * d;
+                        }
+                        for i in 0..3 {
+                            bb[i][kk] += t.dbody_du[(i, ij(kk, l))] * d;
+                            wb[i][kk] += t.dflux_du[(i, ij(kk, l))] * d;
+                        }
+                        rb[kk] += t.drate_du[(kk, l)] * d;
+                    }
+                }
+                for a in 0..10 {
+                    for i in 0..3 {
+                        let row = &mut k[3 * a + i];
+                        for kk in 0..3 {
+                            let mut s = -pt.n2[a] * bb[i][kk];
+                            for j in 0..3 {
+                                s += dn[a][j] * tb[ij(i, j)][kk];
+                            }
+                            row[3 * b + kk] += w * s;
+                        }
+                    }
+                }
+                for m in 0..4 {
+                    for kk in 0..3 {
+                        let mut s = pt.n1[m] * rb[kk];
+                        for j in 0..3 {
+                            s += pt.g1[m][j] * wb[j][kk];
+                        }
+                        k[NU + m][3 * b + kk] += w * s;
+                    }
+                }
+            }
+            for a in 0..10 {
+                for i in 0..3 {
+                    let mut c = 0.0;
+                    for j in 0..3 {
+                        c += dn[a][j] * t.dstress_dp[(i, j)];
+                    }
+                    for m in 0..4 {
+                        k[3 * a + i][NU + m] += w * c * pt.n1[m];
+                    }
+                }
+            }
+            for m in 0..4 {
+                let km = t.dflux_dgradp.transpose() * Vector3::from(pt.g1[m]);
+                for n in 0..4 {
+                    let mut s = 0.0;
+                    for j in 0..3 {
+                        s += km[j] * pt.g1[n][j];
+                    }
+                    k[NU + m][NU + n] += w * s;
+                    schur[m][n] += w * (s + shift * inv_kdr * pt.n1[m] * pt.n1[n]);
+                }
+            }
+        }
+        if self.stab > 0.0 {
+            proj.jacobian(self.stab, shift, k, schur);
+        }
+        Ok(())
+    }
+}
+
+/// Adds the pointwise terms of one quadrature point to the element residual.
 fn add_residual(pt: &Point, f: &crate::physics::model::PointFlux, r: &mut [f64; NDOF]) {
     let w = pt.w;
     for a in 0..10 {
@@ -123,93 +300,4 @@ fn add_residual(pt: &Point, f: &crate::physics::model::PointFlux, r: &mut [f64; 
         }
         r[NU + m] += w * s;
     }
-}
-
-/// Adds the element residual, Jacobian (row-major NDOF × NDOF) and Schur block.
-#[allow(clippy::too_many_arguments)]
-pub fn jacobian(
-    model: &dyn PointModel,
-    elem: usize,
-    coords: &[[f64; 3]; 10],
-    tab: &Tabulation<10>,
-    xi: &[[f64; 3]],
-    v: &ElementValues,
-    dt: f64,
-    shift: f64,
-    r: &mut [f64; NDOF],
-    k: &mut [[f64; NDOF]; NDOF],
-    schur: &mut [[f64; 4]; 4],
-) -> Result<()> {
-    let inv_kdr = 1.0 / model.drained_bulk_modulus();
-    for q in 0..tab.weights.len() {
-        let pt = point(coords, tab, &xi[q], q, v, dt)?;
-        let (f, t) = model.eval_tangent(QpId { elem, point: q }, &pt.state, shift)?;
-        add_residual(&pt, &f, r);
-        let w = pt.w;
-        let dn = &pt.dn;
-        // T_b[(ij), k] = Σ_l A[(ij),(kl)] ∂N_b/∂X_l, then K_ab[i][k] = Σ_j ∂N_a/∂X_j T_b[(ij), k].
-        for b in 0..10 {
-            let mut tb = [[0.0; 3]; 9];
-            let mut bb = [[0.0; 3]; 3]; // Σ_l ∂b_i/∂F_kl ∂N_b/∂X_l
-            let mut rb = [0.0; 3]; // Σ_l ∂ṡ/∂F_kl ∂N_b/∂X_l
-            let mut wb = [[0.0; 3]; 3]; // Σ_l ∂W_j/∂F_kl ∂N_b/∂X_l
-            for kk in 0..3 {
-                for l in 0..3 {
-                    let d = dn[b][l];
-                    for row in 0..9 {
-                        tb[row][kk] += t.dstress_du[(row, ij(kk, l))] * d;
-                    }
-                    for i in 0..3 {
-                        bb[i][kk] += t.dbody_du[(i, ij(kk, l))] * d;
-                        wb[i][kk] += t.dflux_du[(i, ij(kk, l))] * d;
-                    }
-                    rb[kk] += t.drate_du[(kk, l)] * d;
-                }
-            }
-            for a in 0..10 {
-                for i in 0..3 {
-                    let row = &mut k[3 * a + i];
-                    for kk in 0..3 {
-                        let mut s = -pt.n2[a] * bb[i][kk];
-                        for j in 0..3 {
-                            s += dn[a][j] * tb[ij(i, j)][kk];
-                        }
-                        row[3 * b + kk] += w * s;
-                    }
-                }
-            }
-            for m in 0..4 {
-                for kk in 0..3 {
-                    let mut s = pt.n1[m] * rb[kk];
-                    for j in 0..3 {
-                        s += pt.g1[m][j] * wb[j][kk];
-                    }
-                    k[NU + m][3 * b + kk] += w * s;
-                }
-            }
-        }
-        for a in 0..10 {
-            for i in 0..3 {
-                let mut c = 0.0;
-                for j in 0..3 {
-                    c += dn[a][j] * t.dstress_dp[(i, j)];
-                }
-                for m in 0..4 {
-                    k[3 * a + i][NU + m] += w * c * pt.n1[m];
-                }
-            }
-        }
-        for m in 0..4 {
-            let km = t.dflux_dgradp.transpose() * Vector3::from(pt.g1[m]);
-            for n in 0..4 {
-                let mut s = 0.0;
-                for j in 0..3 {
-                    s += km[j] * pt.g1[n][j];
-                }
-                k[NU + m][NU + n] += w * s;
-                schur[m][n] += w * (s + shift * inv_kdr * pt.n1[m] * pt.n1[n]);
-            }
-        }
-    }
-    Ok(())
 }

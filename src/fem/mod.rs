@@ -3,5 +3,6 @@
 
 pub mod dofmap;
 pub mod element;
+pub mod insert;
 pub mod kernel;
 pub mod quadrature;

@@ -59,9 +59,9 @@ use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 
-use crate::parallel::agree;
 use crate::error::{Error, Result};
 use crate::io::fmt_real;
+use crate::parallel::agree;
 
 /// Name of the HDF5 file inside the run directory.
 pub const H5_NAME: &str = "fields.h5";
@@ -161,7 +161,6 @@ pub struct FieldFile {
 fn h5err(path: &Path, what: &str, e: hdf5::Error) -> Error {
     Error::io(path, format!("{what}: {e}"))
 }
-
 
 /// Collective: `Err` on every rank unless `sig` is the same on all ranks.
 fn same_everywhere(comm: &SimpleCommunicator, path: &Path, sig: u64, what: &str) -> Result<()> {

@@ -2,9 +2,7 @@
 //! I1e = tr(C B_p), I2e = ½[I1e² − tr((C B_p)²)], I3e = det C; S_sc = 2 ∂Ψ/∂C (39) without the
 //! penalty, P_sc = F S_sc, and the exact tangent ∂P_sc/∂F.
 
-use super::{
-    add_ik_lj, add_il_kj, add_outer, check_phi_s, domain_error, Kinematics, SolidResponse, Tangent,
-};
+use super::{add_ik_lj, add_il_kj, add_outer, check_phi_s, domain_error, Kinematics, SolidResponse, Tangent};
 use crate::error::{Error, Result};
 use nalgebra::Matrix3;
 
@@ -38,9 +36,7 @@ impl HolmesMow {
         check_phi_s("Holmes–Mow", phi_s)?;
         let all = [alpha0, alpha1, alpha2, alpha3];
         if !all.iter().all(|a| a.is_finite()) {
-            return Err(Error::Material(format!(
-                "Holmes–Mow: non-finite alpha (alpha0..3 = {all:?})"
-            )));
+            return Err(Error::Material(format!("Holmes–Mow: non-finite alpha (alpha0..3 = {all:?})")));
         }
         if alpha0 <= 0.0 {
             return Err(Error::Material(format!("Holmes–Mow: alpha0 = {alpha0} must be > 0")));
@@ -72,14 +68,10 @@ impl HolmesMow {
     /// C = B_p = I then has Lamé constants µ and 2µν/(1−2ν).
     pub fn from_mu_nu(mu: f64, nu: f64, phi_s: f64) -> Result<Self> {
         if !(mu > 0.0 && mu.is_finite()) {
-            return Err(Error::Material(format!(
-                "Holmes–Mow: shear modulus mu = {mu} must be > 0"
-            )));
+            return Err(Error::Material(format!("Holmes–Mow: shear modulus mu = {mu} must be > 0")));
         }
         if !(nu > -1.0 && nu < 0.5) {
-            return Err(Error::Material(format!(
-                "Holmes–Mow: Poisson ratio nu = {nu} outside (-1, 0.5)"
-            )));
+            return Err(Error::Material(format!("Holmes–Mow: Poisson ratio nu = {nu} outside (-1, 0.5)")));
         }
         let alpha3 = 1.0;
         Self::new(
@@ -107,11 +99,7 @@ impl HolmesMow {
     }
 
     /// P = F S_sc and A = ∂P/∂F (index map of [`super::idx`]).
-    pub fn first_pk_and_tangent(
-        &self,
-        f: &Matrix3<f64>,
-        bp: &Matrix3<f64>,
-    ) -> Result<(Matrix3<f64>, Tangent)> {
+    pub fn first_pk_and_tangent(&self, f: &Matrix3<f64>, bp: &Matrix3<f64>) -> Result<(Matrix3<f64>, Tangent)> {
         let r = self.response(&Kinematics::new(f)?, bp)?;
         Ok((r.p, r.a))
     }
@@ -156,10 +144,7 @@ impl HolmesMow {
         let exponent = a1 * i1_m3 + a2 * i2_m3 - 2.0 * a3 * kin.ln_j;
         let exp_f = exponent.exp();
         if !exp_f.is_finite() {
-            return Err(domain_error(
-                kin.j,
-                format!("Holmes–Mow: exp of exponent {exponent} is not finite"),
-            ));
+            return Err(domain_error(kin.j, format!("Holmes–Mow: exp of exponent {exponent} is not finite")));
         }
         let g = bp * (a1 + a2 * (3.0 + i1_m3)) - bp * kin.c * bp * a2 - kin.c_inv * a3;
         Ok(Core { exponent, exp_f, g })
@@ -174,10 +159,7 @@ mod tests {
 
     /// Table 1 (µ = 20 kPa, ν = 0.2) and the soft Forgacs case (µ = 3 kPa, ν = 0.45, α1 < 0).
     fn laws() -> [HolmesMow; 2] {
-        [
-            HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap(),
-            HolmesMow::from_mu_nu(3.0, 0.45, 0.6).unwrap(),
-        ]
+        [HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap(), HolmesMow::from_mu_nu(3.0, 0.45, 0.6).unwrap()]
     }
 
     fn assert_close(x: f64, y: f64, tol: f64) {
@@ -343,10 +325,7 @@ mod tests {
                 let f = Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0, 1.0, lam));
                 let s = hm.stress(&f, &bp).unwrap();
                 let (p, _) = hm.first_pk_and_tangent(&f, &bp).unwrap();
-                println!(
-                    "lambda = {lam}: S_zz = {s_zz:.12e} (code {:.12e}), S_xx = {s_xx:.12e}",
-                    s[(2, 2)]
-                );
+                println!("lambda = {lam}: S_zz = {s_zz:.12e} (code {:.12e}), S_xx = {s_xx:.12e}", s[(2, 2)]);
                 assert_close(s[(2, 2)], s_zz, 1e-12);
                 assert_close(s[(0, 0)], s_xx, 1e-12);
                 assert_close(s[(1, 1)], s_xx, 1e-12);
@@ -367,9 +346,7 @@ mod tests {
             let (p, a) = hm.first_pk_and_tangent(&f, &bp).unwrap();
             let (pq, aq) = hm.first_pk_and_tangent(&(q * f), &bp).unwrap();
             assert!(rel_err(&pq, &(q * p)) < 1e-13);
-            assert!(
-                rel_err(&hm.stress(&(q * f), &bp).unwrap(), &hm.stress(&f, &bp).unwrap()) < 1e-13
-            );
+            assert!(rel_err(&hm.stress(&(q * f), &bp).unwrap(), &hm.stress(&f, &bp).unwrap()) < 1e-13);
             // A(QF)_ijkl = Q_ia Q_kb A(F)_ajbl.
             let rotated = Tangent::from_fn(|r, c| {
                 let (i, j, k, l) = (r / 3, r % 3, c / 3, c % 3);
@@ -410,10 +387,7 @@ mod tests {
                 );
                 let errs: Vec<f64> = history.iter().map(|(l, _)| (l - lam_star).abs()).collect();
                 for (k, ((l, r), e)) in history.iter().zip(&errs).enumerate() {
-                    println!(
-                        "  it {k}: lambda = {l:.15}, |P_xx| = {:.3e}, |error| = {e:.3e}",
-                        r.abs()
-                    );
+                    println!("  it {k}: lambda = {l:.15}, |P_xx| = {:.3e}, |error| = {e:.3e}", r.abs());
                 }
                 assert!(history.len() <= 7, "too many iterations: {}", history.len());
                 for w in errs.windows(2) {

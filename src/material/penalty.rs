@@ -63,10 +63,7 @@ impl CompactionPenalty {
         let (d_q2m1, d_q2) = (d_q2m2 * d, d_q2m2 * d * d);
         let u = c * d_q2;
         let du = -c * (q2 * d_q2m1 + r * d_q2 / s);
-        let ddu = c
-            * (q2 * (q2 - 1.0) * d_q2m2
-                + 2.0 * q2 * r * d_q2m1 / s
-                + r * (r + 1.0) * d_q2 / (s * s));
+        let ddu = c * (q2 * (q2 - 1.0) * d_q2m2 + 2.0 * q2 * r * d_q2m1 / s + r * (r + 1.0) * d_q2 / (s * s));
         Ok((u, du, ddu))
     }
 

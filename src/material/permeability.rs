@@ -32,9 +32,8 @@ impl Permeability {
     /// Validates k0 > 0, Φs ∈ (0, 1), κ >= 0, m0 finite, c > 0.
     pub fn new(k0: f64, phi_s: f64, kappa: f64, m0: f64, model: PermeabilityModel) -> Result<Self> {
         check_phi_s("permeability", phi_s)?;
-        let bad = |name: &str, v: f64, need: &str| {
-            Err(Error::Material(format!("permeability: {name} = {v} must be {need}")))
-        };
+        let bad =
+            |name: &str, v: f64, need: &str| Err(Error::Material(format!("permeability: {name} = {v} must be {need}")));
         if !(k0 > 0.0 && k0.is_finite()) {
             return bad("k0", k0, "> 0");
         }
@@ -55,10 +54,7 @@ impl Permeability {
     /// k(J) and dk/dJ = k [κ/(J − Φs) + m0 J]. Domain error for J <= Φs or non-finite J.
     pub fn k(&self, j: f64) -> Result<(f64, f64)> {
         if !(j > self.phi_s && j.is_finite()) {
-            return Err(super::domain_error(
-                j,
-                format!("J <= phi_s = {}: permeability vanishes", self.phi_s),
-            ));
+            return Err(super::domain_error(j, format!("J <= phi_s = {}: permeability vanishes", self.phi_s)));
         }
         let s = j - self.phi_s;
         let ln_ratio = (s / (1.0 - self.phi_s)).ln();
@@ -94,8 +90,7 @@ impl Permeability {
         for k in 0..3 {
             for l in 0..3 {
                 dk[super::idx(k, l)] = Matrix3::from_fn(|i, j| {
-                    dk_dj[(i, j)] * fi[(l, k)]
-                        - g0 * (ci[(i, l)] * fi[(j, k)] + fi[(i, k)] * ci[(l, j)])
+                    dk_dj[(i, j)] * fi[(l, k)] - g0 * (ci[(i, l)] * fi[(j, k)] + fi[(i, k)] * ci[(l, j)])
                         + g2 * (bp[(i, l)] * fb[(k, j)] + fb[(k, i)] * bp[(l, j)])
                 });
             }
@@ -142,11 +137,7 @@ mod tests {
         let lam = 0.8;
         let f = Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0, 1.0, lam));
         let k = perm.tensor(&f, &Matrix3::identity()).unwrap();
-        let want = Matrix3::from_diagonal(&nalgebra::Vector3::new(
-            lam * expect,
-            lam * expect,
-            expect / lam,
-        ));
+        let want = Matrix3::from_diagonal(&nalgebra::Vector3::new(lam * expect, lam * expect, expect / lam));
         assert!(rel_err(&k, &want) < 1e-14);
     }
 
@@ -181,8 +172,7 @@ mod tests {
                         let (mut fp, mut fm) = (f, f);
                         fp[(kk, l)] += h;
                         fm[(kk, l)] -= h;
-                        let fd = (perm.tensor(&fp, &bp).unwrap() - perm.tensor(&fm, &bp).unwrap())
-                            / (2.0 * h);
+                        let fd = (perm.tensor(&fp, &bp).unwrap() - perm.tensor(&fm, &bp).unwrap()) / (2.0 * h);
                         diff += (dk[idx(kk, l)] - fd).norm_squared();
                         size += fd.norm_squared();
                     }
@@ -210,10 +200,7 @@ mod tests {
         for model in MODELS {
             let (f, bp, q) = (rng.deformation(0.9), rng.remodelling_metric(), rng.rotation());
             let perm = law(model);
-            assert!(
-                rel_err(&perm.tensor(&(q * f), &bp).unwrap(), &perm.tensor(&f, &bp).unwrap())
-                    < 1e-13
-            );
+            assert!(rel_err(&perm.tensor(&(q * f), &bp).unwrap(), &perm.tensor(&f, &bp).unwrap()) < 1e-13);
         }
     }
 
@@ -224,10 +211,7 @@ mod tests {
             assert!(matches!(perm.k(j), Err(Error::Domain { .. })), "J = {j}");
         }
         let f = Rng::new(13).deformation(0.59);
-        assert!(matches!(
-            perm.tensor_and_derivative(&f, &Matrix3::identity()),
-            Err(Error::Domain { .. })
-        ));
+        assert!(matches!(perm.tensor_and_derivative(&f, &Matrix3::identity()), Err(Error::Domain { .. })));
     }
 
     #[test]
@@ -238,16 +222,7 @@ mod tests {
             (Permeability::new(1.0, 1.2, 4.6, 0.08, iso), "phi_s = 1.2"),
             (Permeability::new(1.0, 0.6, -1.0, 0.08, iso), "kappa = -1"),
             (Permeability::new(1.0, 0.6, 4.6, f64::NAN, iso), "m0 = NaN"),
-            (
-                Permeability::new(
-                    1.0,
-                    0.6,
-                    4.6,
-                    0.08,
-                    PermeabilityModel::RemodellingDependent { c: 0.0 },
-                ),
-                "c = 0",
-            ),
+            (Permeability::new(1.0, 0.6, 4.6, 0.08, PermeabilityModel::RemodellingDependent { c: 0.0 }), "c = 0"),
         ] {
             match r {
                 Err(Error::Material(m)) => assert!(m.contains(name), "{m}"),

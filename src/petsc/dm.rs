@@ -35,7 +35,13 @@ impl Drop for DmShell {
     }
 }
 
-unsafe extern "C" fn decomposition_tramp(dm: ffi::DM, n: *mut Int, names: *mut *mut *mut c_char, is: *mut *mut ffi::IS, dms: *mut *mut ffi::DM) -> ffi::PetscErrorCode {
+unsafe extern "C" fn decomposition_tramp(
+    dm: ffi::DM,
+    n: *mut Int,
+    names: *mut *mut *mut c_char,
+    is: *mut *mut ffi::IS,
+    dms: *mut *mut ffi::DM,
+) -> ffi::PetscErrorCode {
     let mut ctx: *mut c_void = std::ptr::null_mut();
     if ffi::DMShellGetContext(dm, &mut ctx as *mut *mut c_void as *mut c_void) != 0 || ctx.is_null() {
         return super::raise("DMShell without context");

@@ -20,7 +20,9 @@ impl IndexSet {
     /// An index set holding a copy of `idx`.
     pub fn general(comm: ffi::MPI_Comm, idx: &[Int]) -> Result<IndexSet> {
         let mut raw = std::ptr::null_mut();
-        check(unsafe { ffi::ISCreateGeneral(comm, idx.len() as Int, idx.as_ptr(), ffi::PetscCopyMode::PETSC_COPY_VALUES, &mut raw) })?;
+        check(unsafe {
+            ffi::ISCreateGeneral(comm, idx.len() as Int, idx.as_ptr(), ffi::PetscCopyMode::PETSC_COPY_VALUES, &mut raw)
+        })?;
         Ok(IndexSet { raw })
     }
 
@@ -76,8 +78,8 @@ impl IndexSet {
     }
 
     /// Attaches `obj` under `key` (fieldsplit looks up "nearnullspace" and "pmat" on its ISes).
-    pub fn compose(&mut self, key: &str, obj: ffi::PetscObject) -> Result<()> {
+    pub fn compose(&mut self, key: &str, obj: &impl super::Object) -> Result<()> {
         let k = super::cstr(key);
-        check(unsafe { ffi::PetscObjectCompose(self.raw as ffi::PetscObject, k.as_ptr(), obj) })
+        check(unsafe { ffi::PetscObjectCompose(self.raw as ffi::PetscObject, k.as_ptr(), obj.object()) })
     }
 }

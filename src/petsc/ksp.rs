@@ -32,6 +32,17 @@ impl Ksp {
     pub fn set_operators(&self, a: &Mat, p: &Mat) -> Result<()> {
         check(unsafe { ffi::KSPSetOperators(self.raw, a.raw, p.raw) })
     }
+    /// Solves A x = b with the current operators (divergence is not an error here: see
+    /// [`Ksp::converged_reason`]).
+    pub fn solve(&self, b: &super::Vector, x: &mut super::Vector) -> Result<()> {
+        check(unsafe { ffi::KSPSolve(self.raw, b.raw, x.raw) })
+    }
+    /// Converged reason code (> 0 converged, < 0 diverged).
+    pub fn converged_reason(&self) -> Result<i32> {
+        let mut r = ffi::KSPConvergedReason(0);
+        check(unsafe { ffi::KSPGetConvergedReason(self.raw, &mut r) })?;
+        Ok(r.0)
+    }
     pub fn set_up(&self) -> Result<()> {
         check(unsafe { ffi::KSPSetUp(self.raw) })
     }
@@ -58,7 +69,11 @@ impl Pc {
     pub fn type_name(&self) -> Result<String> {
         let mut t: ffi::PCType = std::ptr::null();
         check(unsafe { ffi::PCGetType(self.raw, &mut t) })?;
-        Ok(if t.is_null() { String::new() } else { unsafe { std::ffi::CStr::from_ptr(t) }.to_string_lossy().into_owned() })
+        Ok(if t.is_null() {
+            String::new()
+        } else {
+            unsafe { std::ffi::CStr::from_ptr(t) }.to_string_lossy().into_owned()
+        })
     }
     /// Names a split by an index set (used when no DM provides the fields).
     pub fn fieldsplit_set_is(&self, name: &str, is: &IndexSet) -> Result<()> {

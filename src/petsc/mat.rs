@@ -57,7 +57,15 @@ impl Mat {
     pub fn add_values(&mut self, rows: &[Int], cols: &[Int], vals: &[f64]) -> Result<()> {
         debug_assert_eq!(vals.len(), rows.len() * cols.len());
         check(unsafe {
-            ffi::MatSetValues(self.raw, rows.len() as Int, rows.as_ptr(), cols.len() as Int, cols.as_ptr(), vals.as_ptr(), ffi::InsertMode::ADD_VALUES)
+            ffi::MatSetValues(
+                self.raw,
+                rows.len() as Int,
+                rows.as_ptr(),
+                cols.len() as Int,
+                cols.as_ptr(),
+                vals.as_ptr(),
+                ffi::InsertMode::ADD_VALUES,
+            )
         })
     }
 
@@ -123,8 +131,121 @@ impl NullSpace {
         check(unsafe { ffi::MatNullSpaceCreateRigidBody(coords.raw, &mut raw) })?;
         Ok(NullSpace { raw })
     }
+}
 
-    pub fn as_object(&self) -> ffi::PetscObject {
+impl super::Object for NullSpace {
+    fn object(&self) -> ffi::PetscObject {
         self.raw as ffi::PetscObject
+    }
+}
+
+impl super::Object for Mat {
+    fn object(&self) -> ffi::PetscObject {
+        self.raw as ffi::PetscObject
+    }
+}
+
+/// A sequential CSR block of this rank's rows (row pointers, column indices, values).
+pub struct CsrBlock<'a> {
+    pub ia: &'a [Int],
+    pub ja: &'a [Int],
+    pub vals: &'a mut [f64],
+}
+
+/// Direct access to the locally owned rows of an assembled AIJ matrix: the diagonal block
+/// (columns local to [col_start, col_end)) and, in parallel, the off-diagonal block whose
+/// compressed column j is global column `garray[j]`.
+pub struct LocalCsr<'a> {
+    pub row_start: usize,
+    pub col_start: usize,
+    pub col_end: usize,
+    pub diag: CsrBlock<'a>,
+    pub off: Option<CsrBlock<'a>>,
+    pub garray: &'a [Int],
+}
+
+struct RawBlock {
+    m: ffi::Mat,
+    n: Int,
+    ia: *const Int,
+    ja: *const Int,
+    vals: *mut f64,
+}
+
+impl RawBlock {
+    unsafe fn get(m: ffi::Mat) -> Result<RawBlock> {
+        let mut b = RawBlock { m, n: 0, ia: std::ptr::null(), ja: std::ptr::null(), vals: std::ptr::null_mut() };
+        let mut done = ffi::PetscBool::PETSC_FALSE;
+        check(ffi::MatGetRowIJ(m, 0, pbool(false), pbool(false), &mut b.n, &mut b.ia, &mut b.ja, &mut done))?;
+        if done != ffi::PetscBool::PETSC_TRUE {
+            return Err(crate::error::Error::Solver("MatGetRowIJ is not supported by this matrix type".into()));
+        }
+        check(ffi::MatSeqAIJGetArray(m, &mut b.vals))?;
+        Ok(b)
+    }
+    unsafe fn block<'a>(&self) -> CsrBlock<'a> {
+        let ia = std::slice::from_raw_parts(self.ia, self.n as usize + 1);
+        let nnz = ia[self.n as usize] as usize;
+        CsrBlock {
+            ia,
+            ja: std::slice::from_raw_parts(self.ja, nnz),
+            vals: std::slice::from_raw_parts_mut(self.vals, nnz),
+        }
+    }
+    unsafe fn restore(mut self) -> Result<()> {
+        let mut done = ffi::PetscBool::PETSC_FALSE;
+        check(ffi::MatSeqAIJRestoreArray(self.m, &mut self.vals))?;
+        check(ffi::MatRestoreRowIJ(
+            self.m,
+            0,
+            pbool(false),
+            pbool(false),
+            &mut self.n,
+            &mut self.ia,
+            &mut self.ja,
+            &mut done,
+        ))
+    }
+}
+
+impl Mat {
+    /// Runs `f` with direct access to the local CSR blocks of an assembled AIJ matrix. Values
+    /// written there bypass `MatSetValues` (and its per-entry search); call [`Mat::assemble`]
+    /// afterwards as usual.
+    pub fn with_local_csr<R>(&mut self, f: impl FnOnce(&mut LocalCsr) -> Result<R>) -> Result<R> {
+        unsafe {
+            let mut t: ffi::MatType = std::ptr::null();
+            check(ffi::MatGetType(self.raw, &mut t))?;
+            let is_mpi = !t.is_null() && std::ffi::CStr::from_ptr(t).to_bytes() == b"mpiaij";
+            let (mut r0, mut r1, mut c0, mut c1): (Int, Int, Int, Int) = (0, 0, 0, 0);
+            check(ffi::MatGetOwnershipRange(self.raw, &mut r0, &mut r1))?;
+            check(ffi::MatGetOwnershipRangeColumn(self.raw, &mut c0, &mut c1))?;
+            let (ad, ao, garray): (ffi::Mat, ffi::Mat, &[Int]) = if is_mpi {
+                let (mut ad, mut ao, mut g): (ffi::Mat, ffi::Mat, *const Int) =
+                    (std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null());
+                check(ffi::MatMPIAIJGetSeqAIJ(self.raw, &mut ad, &mut ao, &mut g))?;
+                let (mut m, mut n): (Int, Int) = (0, 0);
+                check(ffi::MatGetSize(ao, &mut m, &mut n))?;
+                (ad, ao, if g.is_null() || n == 0 { &[] } else { std::slice::from_raw_parts(g, n as usize) })
+            } else {
+                (self.raw, std::ptr::null_mut(), &[])
+            };
+            let d = RawBlock::get(ad)?;
+            let o = if ao.is_null() { None } else { Some(RawBlock::get(ao)?) };
+            let mut csr = LocalCsr {
+                row_start: r0 as usize,
+                col_start: c0 as usize,
+                col_end: c1 as usize,
+                diag: d.block(),
+                off: o.as_ref().map(|o| o.block()),
+                garray,
+            };
+            let r = f(&mut csr);
+            d.restore()?;
+            if let Some(o) = o {
+                o.restore()?;
+            }
+            r
+        }
     }
 }

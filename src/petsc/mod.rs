@@ -6,14 +6,7 @@
 //! before) every object — `main` and the driver keep that order. A wrapper dropped after
 //! finalisation leaks instead of crashing.
 
-#[allow(
-    non_camel_case_types,
-    non_snake_case,
-    non_upper_case_globals,
-    dead_code,
-    improper_ctypes,
-    clippy::all
-)]
+#[allow(non_camel_case_types, non_snake_case, non_upper_case_globals, dead_code, improper_ctypes, clippy::all)]
 pub mod ffi {
     include!(concat!(env!("OUT_DIR"), "/petsc_bindings.rs"));
 }
@@ -30,7 +23,7 @@ mod viewer;
 pub use dm::{DmShell, FieldDecomposition};
 pub use is::IndexSet;
 pub use ksp::{Ksp, Pc};
-pub use mat::{Mat, NullSpace};
+pub use mat::{CsrBlock, LocalCsr, Mat, NullSpace};
 pub use snes::Snes;
 pub use ts::{Ts, TsProblem, TsRef};
 pub use vec::{Scatter, Vector};
@@ -42,6 +35,17 @@ use std::sync::Mutex;
 
 /// PETSc's integer type (32-bit in the Debian build).
 pub type Int = ffi::PetscInt;
+
+/// A live PETSc object owned by one of the wrappers (for compose and view).
+pub trait Object {
+    fn object(&self) -> ffi::PetscObject;
+}
+
+impl Object for Vector {
+    fn object(&self) -> ffi::PetscObject {
+        self.raw as ffi::PetscObject
+    }
+}
 
 /// Message of the most recent PETSc error, recorded by our error handler at the point where it
 /// was raised, with the call chain appended as the error propagates.
@@ -70,7 +74,13 @@ unsafe extern "C" fn record_error(
             ffi::PetscErrorMessage(code, &mut generic, std::ptr::null_mut());
             let m = s(mess);
             let g = s(generic);
-            *buf = if m.is_empty() { g } else if g.is_empty() { m } else { format!("{m} [{g}]") };
+            *buf = if m.is_empty() {
+                g
+            } else if g.is_empty() {
+                m
+            } else {
+                format!("{m} [{g}]")
+            };
             buf.push_str(&format!(" (in {} at {}:{})", s(func), s(file), line));
         } else {
             buf.push_str(&format!(" <- {}", s(func)));
@@ -108,7 +118,10 @@ pub(crate) fn raise(msg: &str) -> ffi::PetscErrorCode {
 
 /// True between PetscInitialize and PetscFinalize: wrappers only destroy objects then.
 pub(crate) fn alive() -> bool {
-    unsafe { ffi::PetscInitializeCalled == ffi::PetscBool::PETSC_TRUE && ffi::PetscFinalizeCalled != ffi::PetscBool::PETSC_TRUE }
+    unsafe {
+        ffi::PetscInitializeCalled == ffi::PetscBool::PETSC_TRUE
+            && ffi::PetscFinalizeCalled != ffi::PetscBool::PETSC_TRUE
+    }
 }
 
 /// The PETSc init token. Create it after MPI (rsmpi) is initialised; drop it before MPI.
@@ -165,7 +178,11 @@ pub mod options {
         let n = CString::new(format!("-{}", name.trim_start_matches('-'))).unwrap_or_default();
         let v = value.map(|v| CString::new(v).unwrap_or_default());
         check(unsafe {
-            ffi::PetscOptionsSetValue(std::ptr::null_mut(), n.as_ptr(), v.as_ref().map_or(std::ptr::null(), |v| v.as_ptr()))
+            ffi::PetscOptionsSetValue(
+                std::ptr::null_mut(),
+                n.as_ptr(),
+                v.as_ref().map_or(std::ptr::null(), |v| v.as_ptr()),
+            )
         })
     }
 
@@ -191,9 +208,17 @@ pub mod options {
         let mut buf = vec![0 as c_char; 1024];
         let mut set = ffi::PetscBool::PETSC_FALSE;
         check(unsafe {
-            ffi::PetscOptionsGetString(std::ptr::null_mut(), std::ptr::null(), n.as_ptr(), buf.as_mut_ptr(), buf.len(), &mut set)
+            ffi::PetscOptionsGetString(
+                std::ptr::null_mut(),
+                std::ptr::null(),
+                n.as_ptr(),
+                buf.as_mut_ptr(),
+                buf.len(),
+                &mut set,
+            )
         })?;
-        Ok((set == ffi::PetscBool::PETSC_TRUE).then(|| unsafe { CStr::from_ptr(buf.as_ptr()) }.to_string_lossy().into_owned()))
+        Ok((set == ffi::PetscBool::PETSC_TRUE)
+            .then(|| unsafe { CStr::from_ptr(buf.as_ptr()) }.to_string_lossy().into_owned()))
     }
 
     /// Options set but never queried by any PETSc object so far, as `-name` strings.
@@ -203,7 +228,8 @@ pub mod options {
         let mut values: *mut *mut c_char = std::ptr::null_mut();
         unsafe {
             check(ffi::PetscOptionsLeftGet(std::ptr::null_mut(), &mut n, &mut names, &mut values))?;
-            let out = (0..n as usize).map(|i| format!("-{}", CStr::from_ptr(*names.add(i)).to_string_lossy())).collect();
+            let out =
+                (0..n as usize).map(|i| format!("-{}", CStr::from_ptr(*names.add(i)).to_string_lossy())).collect();
             check(ffi::PetscOptionsLeftRestore(std::ptr::null_mut(), &mut n, &mut names, &mut values))?;
             Ok(out)
         }
@@ -278,5 +304,11 @@ pub(crate) unsafe fn petsc_malloc<T>(n: usize) -> Result<*mut T> {
 /// `PetscFree`.
 pub(crate) unsafe fn petsc_free<T>(mut p: *mut T) -> Result<()> {
     // Like PetscMallocA, PetscFreeA takes the address of the pointer (and nulls it).
-    check(ffi::PetscFreeA(1, line!() as c_int, c"petsc_free".as_ptr(), c"rust".as_ptr(), &mut p as *mut *mut T as *mut std::ffi::c_void))
+    check(ffi::PetscFreeA(
+        1,
+        line!() as c_int,
+        c"petsc_free".as_ptr(),
+        c"rust".as_ptr(),
+        &mut p as *mut *mut T as *mut std::ffi::c_void,
+    ))
 }

@@ -67,7 +67,4 @@ impl Snes {
     pub fn set_from_options(&self) -> Result<()> {
         check(unsafe { ffi::SNESSetFromOptions(self.raw) })
     }
-    pub fn set_dm(&self, dm: ffi::DM) -> Result<()> {
-        check(unsafe { ffi::SNESSetDM(self.raw, dm) })
-    }
 }

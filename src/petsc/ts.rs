@@ -39,7 +39,17 @@ pub trait TsProblem {
     /// Residual F(t, U, U̇).
     fn residual(&mut self, ts: TsRef, t: f64, u: &Vector, udot: &Vector, f: &mut Vector) -> Result<()>;
     /// dF/dU + shift dF/dU̇ into `jac` (and the preconditioning matrix `pre`, same object or not).
-    fn jacobian(&mut self, ts: TsRef, t: f64, u: &Vector, udot: &Vector, shift: f64, jac: &mut Mat, pre: &mut Mat) -> Result<()>;
+    #[allow(clippy::too_many_arguments)]
+    fn jacobian(
+        &mut self,
+        ts: TsRef,
+        t: f64,
+        u: &Vector,
+        udot: &Vector,
+        shift: f64,
+        jac: &mut Mat,
+        pre: &mut Mat,
+    ) -> Result<()>;
     /// Called before each stage solve, also on a retried step, with the stage time.
     fn pre_stage(&mut self, _ts: TsRef, _t: f64) -> Result<()> {
         Ok(())
@@ -95,7 +105,11 @@ fn guard<P>(ctx: *mut c_void, ts: ffi::TS, f: impl FnOnce(&mut Ctx<P>) -> Result
             raise(&m)
         }
         Err(p) => {
-            let m = p.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| p.downcast_ref::<String>().cloned()).unwrap_or_default();
+            let m = p
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| p.downcast_ref::<String>().cloned())
+                .unwrap_or_default();
             let m = format!("internal error (panic) in a PETSc callback: {m}");
             ctx.error.get_or_insert(Error::Solver(m.clone()));
             raise(&m)
@@ -103,7 +117,14 @@ fn guard<P>(ctx: *mut c_void, ts: ffi::TS, f: impl FnOnce(&mut Ctx<P>) -> Result
     }
 }
 
-unsafe extern "C" fn ifunction_tramp<P: TsProblem>(ts: ffi::TS, t: f64, u: ffi::Vec, udot: ffi::Vec, f: ffi::Vec, ctx: *mut c_void) -> ffi::PetscErrorCode {
+unsafe extern "C" fn ifunction_tramp<P: TsProblem>(
+    ts: ffi::TS,
+    t: f64,
+    u: ffi::Vec,
+    udot: ffi::Vec,
+    f: ffi::Vec,
+    ctx: *mut c_void,
+) -> ffi::PetscErrorCode {
     guard::<P>(ctx, ts, |c| {
         let (u, udot, mut f) = (Vector::borrowed(u), Vector::borrowed(udot), Vector::borrowed(f));
         c.problem.residual(TsRef { raw: ts }, t, &u, &udot, &mut f)
@@ -140,7 +161,14 @@ impl<P: TsProblem> Ts<P> {
     /// A backward-Euler TS on `comm` integrating `problem`, with residual vector `f`, Jacobian
     /// `jac` and an optional separate preconditioning matrix. If `dm` is given it provides the
     /// field decomposition for PCFIELDSPLIT (and must hold the solution layout).
-    pub fn new(comm: ffi::MPI_Comm, problem: P, f: Vector, jac: Mat, pre: Option<Mat>, mut dm: Option<DmShell>) -> Result<Ts<P>> {
+    pub fn new(
+        comm: ffi::MPI_Comm,
+        problem: P,
+        f: Vector,
+        jac: Mat,
+        pre: Option<Mat>,
+        mut dm: Option<DmShell>,
+    ) -> Result<Ts<P>> {
         let mut raw = std::ptr::null_mut();
         check(unsafe { ffi::TSCreate(comm, &mut raw) })?;
         let mut ts = Ts {
@@ -234,7 +262,8 @@ impl<P: TsProblem> Ts<P> {
         check(unsafe { ffi::TSGetConvergedReason(self.raw, &mut reason) })?;
         if reason.0 < 0 {
             let snes_reason = self.snes().and_then(|s| s.converged_reason()).unwrap_or(0);
-            let dom = self.ctx.last_domain.as_deref().map(|d| format!("; last inadmissible state: {d}")).unwrap_or_default();
+            let dom =
+                self.ctx.last_domain.as_deref().map(|d| format!("; last inadmissible state: {d}")).unwrap_or_default();
             return Err(Error::Solver(format!(
                 "time step from t = {} failed after all retries (TS reason {}, last SNES reason {}{})",
                 self.time()?,
@@ -249,7 +278,10 @@ impl<P: TsProblem> Ts<P> {
     pub fn clear_reason(&mut self) -> Result<()> {
         check(unsafe { ffi::TSSetConvergedReason(self.raw, ffi::TSConvergedReason(0)) })
     }
-    pub fn as_object(&self) -> ffi::PetscObject {
+}
+
+impl<P: TsProblem> super::Object for Ts<P> {
+    fn object(&self) -> ffi::PetscObject {
         self.raw as ffi::PetscObject
     }
 }

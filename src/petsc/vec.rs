@@ -127,7 +127,11 @@ impl Vector {
         let mut p: *mut f64 = std::ptr::null_mut();
         check(unsafe { ffi::VecGetArray(self.raw, &mut p) })?;
         let n = self.local_size();
-        Ok(VecWrite { raw: self.raw, slice: unsafe { std::slice::from_raw_parts_mut(p, n) }, _v: std::marker::PhantomData })
+        Ok(VecWrite {
+            raw: self.raw,
+            slice: unsafe { std::slice::from_raw_parts_mut(p, n) },
+            _v: std::marker::PhantomData,
+        })
     }
 
     /// Sets the block size (before the layout is used).
@@ -208,16 +212,40 @@ impl Scatter {
     /// local <- global (gather owned and ghost values).
     pub fn forward(&self, global: &Vector, local: &mut Vector) -> Result<()> {
         unsafe {
-            check(ffi::VecScatterBegin(self.raw, global.raw, local.raw, ffi::InsertMode::INSERT_VALUES, ffi::ScatterMode::SCATTER_FORWARD))?;
-            check(ffi::VecScatterEnd(self.raw, global.raw, local.raw, ffi::InsertMode::INSERT_VALUES, ffi::ScatterMode::SCATTER_FORWARD))
+            check(ffi::VecScatterBegin(
+                self.raw,
+                global.raw,
+                local.raw,
+                ffi::InsertMode::INSERT_VALUES,
+                ffi::ScatterMode::SCATTER_FORWARD,
+            ))?;
+            check(ffi::VecScatterEnd(
+                self.raw,
+                global.raw,
+                local.raw,
+                ffi::InsertMode::INSERT_VALUES,
+                ffi::ScatterMode::SCATTER_FORWARD,
+            ))
         }
     }
 
     /// global += local (accumulate element contributions, ghosts included).
     pub fn reverse_add(&self, local: &Vector, global: &mut Vector) -> Result<()> {
         unsafe {
-            check(ffi::VecScatterBegin(self.raw, local.raw, global.raw, ffi::InsertMode::ADD_VALUES, ffi::ScatterMode::SCATTER_REVERSE))?;
-            check(ffi::VecScatterEnd(self.raw, local.raw, global.raw, ffi::InsertMode::ADD_VALUES, ffi::ScatterMode::SCATTER_REVERSE))
+            check(ffi::VecScatterBegin(
+                self.raw,
+                local.raw,
+                global.raw,
+                ffi::InsertMode::ADD_VALUES,
+                ffi::ScatterMode::SCATTER_REVERSE,
+            ))?;
+            check(ffi::VecScatterEnd(
+                self.raw,
+                local.raw,
+                global.raw,
+                ffi::InsertMode::ADD_VALUES,
+                ffi::ScatterMode::SCATTER_REVERSE,
+            ))
         }
     }
 }

@@ -32,7 +32,7 @@ impl Viewer {
         Ok(Viewer { raw, owned: false })
     }
     /// Views any PETSc object (KSP, SNES, TS, Mat, Vec ...).
-    pub fn view(&self, obj: ffi::PetscObject) -> Result<()> {
-        check(unsafe { ffi::PetscObjectView(obj, self.raw) })
+    pub fn view(&self, obj: &impl super::Object) -> Result<()> {
+        check(unsafe { ffi::PetscObjectView(obj.object(), self.raw) })
     }
 }

@@ -19,19 +19,27 @@ pub struct Constraint {
 
 /// Local faces of a surface group, or an error naming the group and the available ones.
 pub fn face_group<'m>(mesh: &'m LocalMesh, name: &str, context: &str) -> Result<&'m [u32]> {
-    mesh.face_groups.iter().find(|(n, _)| n == name).map(|(_, f)| f.as_slice()).ok_or_else(|| missing(mesh, name, context))
+    mesh.face_groups
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, f)| f.as_slice())
+        .ok_or_else(|| missing(mesh, name, context))
 }
 
 fn missing(mesh: &LocalMesh, name: &str, context: &str) -> Error {
     let mut names: Vec<&str> = mesh.face_groups.iter().map(|(n, _)| n.as_str()).collect();
     names.extend(mesh.point_groups.iter().map(|(n, _)| n.as_str()));
-    Error::Mesh { path: context.into(), msg: format!("physical group \"{name}\" not found (the mesh has: {})", names.join(", ")) }
+    Error::Mesh {
+        path: context.into(),
+        msg: format!("physical group \"{name}\" not found (the mesh has: {})", names.join(", ")),
+    }
 }
 
 /// Local nodes touched by a group: all nodes of its faces, or the nodes of a point group.
 fn group_nodes(mesh: &LocalMesh, name: &str, context: &str) -> Result<Vec<usize>> {
     if let Some((_, faces)) = mesh.face_groups.iter().find(|(n, _)| n == name) {
-        let mut nodes: Vec<usize> = faces.iter().flat_map(|&f| mesh.faces[f as usize].iter().map(|&n| n as usize)).collect();
+        let mut nodes: Vec<usize> =
+            faces.iter().flat_map(|&f| mesh.faces[f as usize].iter().map(|&n| n as usize)).collect();
         nodes.sort_unstable();
         nodes.dedup();
         return Ok(nodes);
@@ -56,7 +64,12 @@ fn facet_normal(mesh: &LocalMesh, f: usize) -> [f64; 3] {
 
 /// Constraints and external loads of this rank's part. Constraints on nodes of this rank's
 /// faces only: the caller makes the flags consistent across ranks.
-pub fn build(bcs: &[BoundaryCondition], mesh: &LocalMesh, dofs: &DofMap, context: &str) -> Result<(Vec<Constraint>, Vec<f64>)> {
+pub fn build(
+    bcs: &[BoundaryCondition],
+    mesh: &LocalMesh,
+    dofs: &DofMap,
+    context: &str,
+) -> Result<(Vec<Constraint>, Vec<f64>)> {
     let mut cons = Vec::new();
     let mut ext = vec![0.0; dofs.n_local()];
     let q = quadrature::tri(5);
@@ -79,9 +92,16 @@ pub fn build(bcs: &[BoundaryCondition], mesh: &LocalMesh, dofs: &DofMap, context
                 let n = facet_normal(mesh, f as usize);
                 let c = (0..3).find(|&c| n[c].abs() > 0.999).ok_or_else(|| Error::Scene {
                     path: ctx.clone(),
-                    msg: format!("roller needs faces normal to x, y or z; face with normal ({:.3}, {:.3}, {:.3}) is not", n[0], n[1], n[2]),
+                    msg: format!(
+                        "roller needs faces normal to x, y or z; face with normal ({:.3}, {:.3}, {:.3}) is not",
+                        n[0], n[1], n[2]
+                    ),
                 })?;
-                cons.extend(mesh.faces[f as usize].iter().map(|&n| Constraint { local: dofs.u_local(n as usize, c), value: 0.0 }));
+                cons.extend(
+                    mesh.faces[f as usize]
+                        .iter()
+                        .map(|&n| Constraint { local: dofs.u_local(n as usize, c), value: 0.0 }),
+                );
             }
         }
         if let Some(p) = bc.pressure {

@@ -23,7 +23,9 @@ impl LinearPoroelastic {
     /// From shear modulus, Poisson ratio and conductivity.
     pub fn new(mu: f64, nu: f64, k: f64) -> Result<Self> {
         if !(mu > 0.0 && nu > -1.0 && nu < 0.5 && k > 0.0) {
-            return Err(Error::Material(format!("linear poroelastic: need mu > 0, -1 < nu < 0.5, k > 0 (got mu = {mu}, nu = {nu}, k = {k})")));
+            return Err(Error::Material(format!(
+                "linear poroelastic: need mu > 0, -1 < nu < 0.5, k > 0 (got mu = {mu}, nu = {nu}, k = {k})"
+            )));
         }
         Ok(LinearPoroelastic { lambda: 2.0 * mu * nu / (1.0 - 2.0 * nu), mu, k })
     }
@@ -52,7 +54,8 @@ impl PointModel for LinearPoroelastic {
             for j in 0..3 {
                 for k in 0..3 {
                     for l in 0..3 {
-                        c[(ij(i, j), ij(k, l))] = self.lambda * d(i, j) * d(k, l) + self.mu * (d(i, k) * d(j, l) + d(i, l) * d(j, k));
+                        c[(ij(i, j), ij(k, l))] =
+                            self.lambda * d(i, j) * d(k, l) + self.mu * (d(i, k) * d(j, l) + d(i, l) * d(j, k));
                     }
                 }
             }
@@ -76,5 +79,8 @@ impl PointModel for LinearPoroelastic {
     }
     fn conductivity(&self) -> f64 {
         self.k
+    }
+    fn is_linear(&self) -> bool {
+        true
     }
 }

@@ -83,4 +83,9 @@ pub trait PointModel {
     fn p_wave_modulus(&self) -> f64;
     /// Reference conductivity (µm⁴/(nN s)): sets the scale of pressure constraint rows.
     fn conductivity(&self) -> f64;
+    /// True if the terms are linear in the unknowns: then the Jacobian depends only on the
+    /// time-step shift, and an unchanged shift means an unchanged matrix (and preconditioner).
+    fn is_linear(&self) -> bool {
+        false
+    }
 }

@@ -90,14 +90,20 @@ pub fn locate_in_element(mesh: &LocalMesh, e: usize, x: [f64; 3]) -> Option<[f64
 impl Probe {
     /// Sets up a probe (collective).
     pub fn new(spec: &ProbeSpec, mesh: &LocalMesh, world: &SimpleCommunicator, context: &str) -> Result<Probe> {
-        let quantity = Quantity::parse(&spec.field).ok_or_else(|| Error::Scene { path: context.into(), msg: format!("probe \"{}\": unknown field {}", spec.name, spec.field) })?;
+        let quantity = Quantity::parse(&spec.field).ok_or_else(|| Error::Scene {
+            path: context.into(),
+            msg: format!("probe \"{}\": unknown field {}", spec.name, spec.field),
+        })?;
         let at = if let Some(x) = spec.point {
             let found = (0..mesh.tets.len()).find_map(|e| locate_in_element(mesh, e, x).map(|xi| (e, xi)));
             let mine = if found.is_some() { world.rank() } else { world.size() };
             let mut owner = 0;
             world.all_reduce_into(&mine, &mut owner, SystemOperation::min());
             if owner == world.size() {
-                return Err(Error::Scene { path: context.into(), msg: format!("probe \"{}\": point {:?} is outside the mesh", spec.name, x) });
+                return Err(Error::Scene {
+                    path: context.into(),
+                    msg: format!("probe \"{}\": point {:?} is outside the mesh", spec.name, x),
+                });
             }
             Where::Point(if owner == world.rank() { found } else { None })
         } else {
@@ -115,7 +121,11 @@ impl Probe {
             Where::Point(Some((e, xi))) => {
                 let t = &mesh.tets[*e];
                 match self.quantity {
-                    Quantity::Pressure => p1_values(xi).iter().enumerate().map(|(m, l)| l * local[dofs.p_local(mesh.vertex_of_node[t[m] as usize] as usize)]).sum(),
+                    Quantity::Pressure => p1_values(xi)
+                        .iter()
+                        .enumerate()
+                        .map(|(m, l)| l * local[dofs.p_local(mesh.vertex_of_node[t[m] as usize] as usize)])
+                        .sum(),
                     Quantity::Displacement(c) => {
                         let (n, _) = tet10(xi);
                         (0..10).map(|a| n[a] * local[dofs.u_local(t[a] as usize, c)]).sum()
@@ -126,7 +136,9 @@ impl Probe {
             Where::Group(faces, area) => {
                 let q = self.quantity;
                 integrate(mesh, faces, |(nodes, n, l)| match q {
-                    Quantity::Pressure => (0..3).map(|m| l[m] * local[dofs.p_local(mesh.vertex_of_node[nodes[m] as usize] as usize)]).sum(),
+                    Quantity::Pressure => (0..3)
+                        .map(|m| l[m] * local[dofs.p_local(mesh.vertex_of_node[nodes[m] as usize] as usize)])
+                        .sum(),
                     Quantity::Displacement(c) => (0..6).map(|a| n[a] * local[dofs.u_local(nodes[a] as usize, c)]).sum(),
                 }) / area
             }

@@ -17,7 +17,8 @@ use super::model::PointModel;
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::Tabulation;
-use crate::fem::kernel::{self, ElementValues, NDOF, NU};
+use crate::fem::insert::{ElementInserter, GhostRows};
+use crate::fem::kernel::{ElementKernel, ElementValues, NDOF, NU};
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::{IndexSet, Int, Mat, Scatter, TsProblem, TsRef, Vector};
 use mpi::collective::SystemOperation;
@@ -43,6 +44,8 @@ pub struct Discretization {
     pub xi: Vec<[f64; 3]>,
     /// Per local dof: fixed by a constraint.
     pub constrained: Vec<bool>,
+    /// c_s of the pressure stabilisation (see `fem::kernel::ElementKernel::stab`).
+    pub stab: f64,
 }
 
 pub struct PoroProblem {
@@ -58,6 +61,11 @@ pub struct PoroProblem {
     f_loc: Vector,
     /// Fixed-stress Schur approximation on the pressure space.
     pub schur: Mat,
+    /// Offsets for direct CSR insertion, built after the first assembly.
+    inserter: Option<ElementInserter>,
+    ghosts: GhostRows,
+    /// Shift of the last assembled Jacobian (reused as is for linear models).
+    assembled_shift: Option<f64>,
     /// Mean element size, for constraint-row scaling.
     h: f64,
     pub timers: Timers,
@@ -76,6 +84,7 @@ impl PoroProblem {
         external: Vec<f64>,
         global_template: &Vector,
         schur: Mat,
+        stabilisation: f64,
     ) -> Result<PoroProblem> {
         let n_local = dofs.n_local();
         let comm = world.as_raw();
@@ -92,7 +101,15 @@ impl PoroProblem {
         let h = mean_element_size(&world, &mesh);
         Ok(PoroProblem {
             world,
-            disc: Discretization { mesh, dofs, model, tab, xi, constrained },
+            disc: Discretization {
+                stab: stabilisation / model.p_wave_modulus(),
+                mesh,
+                dofs,
+                model,
+                tab,
+                xi,
+                constrained,
+            },
             constraints: owned,
             external,
             scatter,
@@ -100,6 +117,9 @@ impl PoroProblem {
             udot_loc,
             f_loc,
             schur,
+            inserter: None,
+            ghosts: GhostRows::default(),
+            assembled_shift: None,
             h,
             timers: Timers::default(),
         })
@@ -134,7 +154,9 @@ impl PoroProblem {
         match (worst, local) {
             (0, _) => Ok(()),
             (_, Err(e)) => Err(e),
-            (1, Ok(())) => Err(Error::Domain { cell: 0, point: 0, j: f64::NAN, msg: "inadmissible state on another rank".into() }),
+            (1, Ok(())) => {
+                Err(Error::Domain { cell: 0, point: 0, j: f64::NAN, msg: "inadmissible state on another rank".into() })
+            }
             (_, Ok(())) => Err(Error::Solver("assembly failed on another rank".into())),
         }
     }
@@ -155,12 +177,13 @@ impl PoroProblem {
             let mut fl = self.f_loc.write()?;
             fl.iter_mut().for_each(|x| *x = 0.0);
             let disc = &self.disc;
+            let kernel = disc.kernel();
             let mut run = || -> Result<()> {
                 for e in 0..disc.mesh.tets.len() {
                     let d = disc.element_dofs(e);
                     let (coords, v) = disc.gather(e, &d, &ul, &udl);
                     let mut r = [0.0; NDOF];
-                    kernel::residual(disc.model.as_ref(), e, &coords, &disc.tab, &disc.xi, &v, dt, &mut r).map_err(|err| locate(err, e, &disc.mesh))?;
+                    kernel.residual(e, &coords, &v, dt, &mut r).map_err(|err| locate(err, e, &disc.mesh))?;
                     for k in 0..NDOF {
                         fl[d[k]] += r[k];
                     }
@@ -195,7 +218,14 @@ impl PoroProblem {
     }
 
     /// Jacobian dF/dU + shift dF/dU̇ into `jac`, and the Schur approximation into `self.schur`.
+    /// The first assembly inserts through `MatSetValues` and fixes the pattern; later ones
+    /// write into the CSR arrays directly (see `fem::insert`).
     pub fn assemble_jacobian(&mut self, dt: f64, shift: f64, u: &Vector, udot: &Vector, jac: &mut Mat) -> Result<()> {
+        // A linear model's Jacobian depends only on the shift: leaving the matrix untouched
+        // also lets PETSc keep the preconditioner (no AMG setup).
+        if self.disc.model.is_linear() && self.assembled_shift == Some(shift) {
+            return Ok(());
+        }
         let t0 = Instant::now();
         self.load_state(u, udot)?;
         jac.zero_entries()?;
@@ -203,48 +233,34 @@ impl PoroProblem {
         let outcome = {
             let ul = self.u_loc.read()?;
             let udl = self.udot_loc.read()?;
-            let disc = &self.disc;
-            let schur = &mut self.schur;
-            let mut run = || -> Result<()> {
-                let mut k = Box::new([[0.0; NDOF]; NDOF]);
-                let mut rows = [0 as Int; NDOF];
-                let mut prows = [0 as Int; 4];
-                for e in 0..disc.mesh.tets.len() {
-                    let d = disc.element_dofs(e);
-                    let (coords, v) = disc.gather(e, &d, &ul, &udl);
-                    let mut r = [0.0; NDOF];
-                    *k = [[0.0; NDOF]; NDOF];
-                    let mut s = [[0.0; 4]; 4];
-                    kernel::jacobian(disc.model.as_ref(), e, &coords, &disc.tab, &disc.xi, &v, dt, shift, &mut r, &mut k, &mut s)
-                        .map_err(|err| locate(err, e, &disc.mesh))?;
-                    // Constrained rows and columns are zero; the pattern stays fixed.
-                    for a in 0..NDOF {
-                        rows[a] = disc.dofs.l2g[d[a]];
-                        if disc.constrained[d[a]] {
-                            k[a] = [0.0; NDOF];
-                            for row in k.iter_mut() {
-                                row[a] = 0.0;
+            let (disc, schur, ghosts) = (&self.disc, &mut self.schur, &mut self.ghosts);
+            match &self.inserter {
+                Some(ins) => jac.with_local_csr(|csr| {
+                    disc.jacobian_loop(&ul, &udl, dt, shift, schur, |e, d, k| {
+                        ins.add(csr, e, d, &disc.dofs.l2g, k, ghosts);
+                        Ok(())
+                    })
+                }),
+                None => {
+                    let mut rows = [0 as Int; NDOF];
+                    let mut sorted = vec![0.0; NDOF * NDOF];
+                    disc.jacobian_loop(&ul, &udl, dt, shift, schur, |_, d, k| {
+                        // Increasing global indices let PETSc merge each row in one pass.
+                        let mut order: [usize; NDOF] = std::array::from_fn(|a| a);
+                        order.sort_unstable_by_key(|&a| disc.dofs.l2g[d[a]]);
+                        for (a, &o) in order.iter().enumerate() {
+                            rows[a] = disc.dofs.l2g[d[o]];
+                            for (b, &c) in order.iter().enumerate() {
+                                sorted[a * NDOF + b] = k[o][c];
                             }
                         }
-                    }
-                    jac.add_values(&rows, &rows, k.as_flattened())?;
-                    for m in 0..4 {
-                        let lv = disc.mesh.vertex_of_node[disc.mesh.tets[e][m] as usize] as usize;
-                        prows[m] = disc.mesh.vertex_global[lv] as Int;
-                        if disc.constrained[d[NU + m]] {
-                            s[m] = [0.0; 4];
-                            for row in s.iter_mut() {
-                                row[m] = 0.0;
-                            }
-                        }
-                    }
-                    schur.add_values(&prows, &prows, s.as_flattened())?;
+                        jac.add_values(&rows, &rows, &sorted)
+                    })
                 }
-                Ok(())
-            };
-            run()
+            }
         };
         self.collective(outcome)?;
+        self.ghosts.flush(jac)?;
         let scales = self.scales(shift);
         for c in &self.constraints {
             let g = self.disc.dofs.l2g[c.local];
@@ -258,6 +274,12 @@ impl PoroProblem {
         }
         jac.assemble()?;
         self.schur.assemble()?;
+        if self.inserter.is_none() {
+            let disc = &self.disc;
+            self.inserter =
+                Some(ElementInserter::build(jac, &disc.dofs, disc.mesh.tets.len(), |e| disc.element_dofs(e))?);
+        }
+        self.assembled_shift = Some(shift);
         self.timers.jacobian_s += t0.elapsed().as_secs_f64();
         self.timers.jacobian_n += 1;
         Ok(())
@@ -271,6 +293,57 @@ impl PoroProblem {
 }
 
 impl Discretization {
+    fn kernel(&self) -> ElementKernel<'_> {
+        ElementKernel { model: self.model.as_ref(), tab: &self.tab, xi: &self.xi, stab: self.stab }
+    }
+
+    /// Element loop of the Jacobian: element matrices (constrained rows and columns zeroed,
+    /// so the pattern stays fixed) go to `sink`, Schur blocks into `schur`.
+    fn jacobian_loop(
+        &self,
+        ul: &[f64],
+        udl: &[f64],
+        dt: f64,
+        shift: f64,
+        schur: &mut Mat,
+        mut sink: impl FnMut(usize, &[usize; NDOF], &[[f64; NDOF]; NDOF]) -> Result<()>,
+    ) -> Result<()> {
+        let kernel = self.kernel();
+        let mut k = Box::new([[0.0; NDOF]; NDOF]);
+        let mut prows = [0 as Int; 4];
+        for e in 0..self.mesh.tets.len() {
+            let d = self.element_dofs(e);
+            let (coords, v) = self.gather(e, &d, ul, udl);
+            let mut r = [0.0; NDOF];
+            *k = [[0.0; NDOF]; NDOF];
+            let mut s = [[0.0; 4]; 4];
+            kernel
+                .jacobian(e, &coords, &v, dt, shift, &mut r, &mut k, &mut s)
+                .map_err(|err| locate(err, e, &self.mesh))?;
+            for a in 0..NDOF {
+                if self.constrained[d[a]] {
+                    k[a] = [0.0; NDOF];
+                    for row in k.iter_mut() {
+                        row[a] = 0.0;
+                    }
+                }
+            }
+            sink(e, &d, &k)?;
+            for m in 0..4 {
+                let lv = self.mesh.vertex_of_node[self.mesh.tets[e][m] as usize] as usize;
+                prows[m] = self.mesh.vertex_global[lv] as Int;
+                if self.constrained[d[NU + m]] {
+                    s[m] = [0.0; 4];
+                    for row in s.iter_mut() {
+                        row[m] = 0.0;
+                    }
+                }
+            }
+            schur.add_values(&prows, &prows, s.as_flattened())?;
+        }
+        Ok(())
+    }
+
     /// Local dof indices of element e in kernel order.
     #[inline]
     fn element_dofs(&self, e: usize) -> [usize; NDOF] {
@@ -290,7 +363,7 @@ impl Discretization {
     fn gather(&self, e: usize, dofs: &[usize; NDOF], u: &[f64], udot: &[f64]) -> ([[f64; 3]; 10], ElementValues) {
         let t = &self.mesh.tets[e];
         let mut coords = [[0.0; 3]; 10];
-        let mut v = ElementValues { u: [[0.0; 3]; 10], udot: [[0.0; 3]; 10], p: [0.0; 4] };
+        let mut v = ElementValues { u: [[0.0; 3]; 10], udot: [[0.0; 3]; 10], p: [0.0; 4], pdot: [0.0; 4] };
         for a in 0..10 {
             coords[a] = self.mesh.coords[t[a] as usize];
             for c in 0..3 {
@@ -300,16 +373,21 @@ impl Discretization {
         }
         for m in 0..4 {
             v.p[m] = u[dofs[NU + m]];
+            v.pdot[m] = udot[dofs[NU + m]];
         }
         (coords, v)
     }
-
 }
 
 /// Constraints are found from this rank's boundary faces, but every rank holding a copy of a
 /// constrained dof must know (its elements drop that row and column): sum flags and values
 /// over the copies through the global vector and read them back.
-fn sync_constraints(scatter: &Scatter, template: &Vector, n_local: usize, raw: &[Constraint]) -> Result<Vec<Constraint>> {
+fn sync_constraints(
+    scatter: &Scatter,
+    template: &Vector,
+    n_local: usize,
+    raw: &[Constraint],
+) -> Result<Vec<Constraint>> {
     let (mut flag_l, mut val_l) = (Vector::seq(n_local)?, Vector::seq(n_local)?);
     {
         let (mut f, mut v) = (flag_l.write()?, val_l.write()?);
@@ -348,7 +426,8 @@ fn mean_element_size(world: &SimpleCommunicator, mesh: &LocalMesh) -> f64 {
         let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
         let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
         let e3 = [d[0] - a[0], d[1] - a[1], d[2] - a[2]];
-        let det = e1[0] * (e2[1] * e3[2] - e2[2] * e3[1]) - e1[1] * (e2[0] * e3[2] - e2[2] * e3[0]) + e1[2] * (e2[0] * e3[1] - e2[1] * e3[0]);
+        let det = e1[0] * (e2[1] * e3[2] - e2[2] * e3[1]) - e1[1] * (e2[0] * e3[2] - e2[2] * e3[0])
+            + e1[2] * (e2[0] * e3[1] - e2[1] * e3[0]);
         sum += (det.abs() / 6.0).cbrt();
     }
     let local = [sum, mesh.tets.len() as f64];
@@ -367,7 +446,16 @@ impl TsProblem for PoroProblem {
         self.assemble_residual(dt, u, udot, f)
     }
 
-    fn jacobian(&mut self, ts: TsRef, _t: f64, u: &Vector, udot: &Vector, shift: f64, jac: &mut Mat, _pre: &mut Mat) -> Result<()> {
+    fn jacobian(
+        &mut self,
+        ts: TsRef,
+        _t: f64,
+        u: &Vector,
+        udot: &Vector,
+        shift: f64,
+        jac: &mut Mat,
+        _pre: &mut Mat,
+    ) -> Result<()> {
         let dt = ts.time_step()?;
         self.assemble_jacobian(dt, shift, u, udot, jac)
     }

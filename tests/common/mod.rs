@@ -18,7 +18,11 @@ pub fn poroplast(np: usize, args: &[&str]) -> Output {
 pub fn run_ok(np: usize, args: &[&str]) -> String {
     let out = poroplast(np, args);
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(out.status.success(), "poroplast {args:?} on {np} rank(s) failed\nstdout:\n{stdout}\nstderr:\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "poroplast {args:?} on {np} rank(s) failed\nstdout:\n{stdout}\nstderr:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     stdout
 }
 
@@ -63,11 +67,15 @@ impl History {
         let text = std::fs::read_to_string(dir.join("history.csv")).expect("history.csv");
         let mut lines = text.lines();
         let names: Vec<String> = lines.next().unwrap().split(',').map(|s| s.trim().to_string()).collect();
-        let rows = lines.filter(|l| !l.trim().is_empty()).map(|l| l.split(',').map(|v| v.trim().parse::<f64>().unwrap()).collect()).collect();
+        let rows = lines
+            .filter(|l| !l.trim().is_empty())
+            .map(|l| l.split(',').map(|v| v.trim().parse::<f64>().unwrap()).collect())
+            .collect();
         History { names, rows }
     }
     pub fn col(&self, name: &str) -> Vec<f64> {
-        let i = self.names.iter().position(|n| n == name).unwrap_or_else(|| panic!("no column {name} in {:?}", self.names));
+        let i =
+            self.names.iter().position(|n| n == name).unwrap_or_else(|| panic!("no column {name} in {:?}", self.names));
         self.rows.iter().map(|r| r[i]).collect()
     }
 }
