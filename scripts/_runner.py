@@ -1,0 +1,67 @@
+"""Shared helpers for the study scripts: write scene variants, run poroplast under mpirun,
+read history.csv. Run the scripts from the repository root after `cargo build --release`."""
+import csv
+import os
+import re
+import subprocess
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+BIN = ROOT / "target" / "release" / "poroplast"
+
+
+def env():
+    e = dict(os.environ)
+    if os.geteuid() == 0:
+        e.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    e.update(OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_btl="self,vader", OMPI_MCA_pml="ob1")
+    return e
+
+
+def scene_text(name):
+    return (ROOT / "meshes" / "scenes" / f"{name}.toml").read_text()
+
+
+def edit(text, **subs):
+    """Replace `key = value` lines (first occurrence) and `{ ... }` mesh params by key."""
+    for key, value in subs.items():
+        if key == "params":
+            text = re.sub(r"params = \{[^}]*\}", "params = { " + ", ".join(f"{k} = {v}" for k, v in value.items()) + " }", text, count=1)
+        else:
+            text, n = re.subn(rf"^{key} = .*$", f"{key} = {value}", text, count=1, flags=re.M)
+            if n == 0:
+                raise KeyError(f"scene has no `{key} = ...` line")
+    return text
+
+
+def run(text, ranks=2, petsc=(), workdir=None):
+    """Runs a scene given as TOML text; returns (history rows as dicts, timings dict)."""
+    workdir = Path(workdir or tempfile.mkdtemp(prefix="poroplast-study-"))
+    workdir.mkdir(parents=True, exist_ok=True)
+    scene = workdir / "scene.toml"
+    scene.write_text(text)
+    out = workdir / "run"
+    cmd = ["mpirun", "-n", str(ranks), str(BIN), "run", str(scene), "--out", str(out), "--force", "-q"]
+    if petsc:
+        cmd += ["--", *petsc]
+    subprocess.run(cmd, check=True, env=env(), stdout=subprocess.DEVNULL)
+    rows = list(csv.DictReader(open(out / "history.csv")))
+    timings = {}
+    for line in open(out / "timings.txt"):
+        if " = " in line:
+            k, v = line.split(" = ")
+            timings[k.strip()] = float(v)
+    return rows, timings
+
+
+def at_time(rows, t, col):
+    r = min(rows, key=lambda r: abs(float(r["time"]) - t))
+    if abs(float(r["time"]) - t) > 1e-9 * max(1.0, t):
+        raise ValueError(f"no row at t = {t}")
+    return float(r[col])
+
+
+def order(e_coarse, e_fine, ratio):
+    import math
+    return math.log(e_coarse / e_fine) / math.log(ratio) if e_coarse > 0 and e_fine > 0 else float("nan")
