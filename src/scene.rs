@@ -216,9 +216,9 @@ pub const BUILTIN: &[(&str, &str)] = &[
 
 /// The `.geo` sources shipped inside the binary.
 pub const BUILTIN_GEO: &[(&str, &str)] = &[
-    ("sphere.geo", include_str!("../meshes/sphere.geo")),
-    ("sphere_quarter.geo", include_str!("../meshes/sphere_quarter.geo")),
-    ("column.geo", include_str!("../meshes/column.geo")),
+    ("sphere.geo", crate::mesh::generate::SPHERE_GEO),
+    ("sphere_quarter.geo", crate::mesh::generate::SPHERE_QUARTER_GEO),
+    ("column.geo", crate::mesh::generate::COLUMN_GEO),
 ];
 
 impl LoadedScene {

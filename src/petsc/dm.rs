@@ -5,7 +5,7 @@
 //! field decomposition is asked again after every reset, so the callback can return the sets
 //! restricted to the current inactive set (see `../shared/petsc-notes.md`, workaround A).
 
-use super::{alive, check, ffi, petsc_malloc, IndexSet, Int, Snes, Vector};
+use super::{check, ffi, petsc_malloc, IndexSet, Int, Snes, Vector};
 use crate::error::Result;
 use std::ffi::{c_char, c_void};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -27,13 +27,7 @@ pub struct DmShell {
     ctx: Box<Ctx>,
 }
 
-impl Drop for DmShell {
-    fn drop(&mut self) {
-        if alive() && !self.raw.is_null() {
-            unsafe { ffi::DMDestroy(&mut self.raw) };
-        }
-    }
-}
+destroy_on_drop!(DmShell, DMDestroy);
 
 unsafe extern "C" fn decomposition_tramp(
     dm: ffi::DM,

@@ -1,6 +1,6 @@
 //! `IS` (index set) wrapper: the u and p field index sets for PCFIELDSPLIT.
 
-use super::{alive, check, ffi, Int};
+use super::{check, ffi, Int};
 use crate::error::Result;
 
 /// An owned index set.
@@ -8,13 +8,7 @@ pub struct IndexSet {
     pub(crate) raw: ffi::IS,
 }
 
-impl Drop for IndexSet {
-    fn drop(&mut self) {
-        if alive() && !self.raw.is_null() {
-            unsafe { ffi::ISDestroy(&mut self.raw) };
-        }
-    }
-}
+destroy_on_drop!(IndexSet, ISDestroy);
 
 impl IndexSet {
     /// An index set holding a copy of `idx`.

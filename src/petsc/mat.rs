@@ -1,6 +1,6 @@
 //! `Mat` (parallel AIJ with exact preallocation) and `MatNullSpace` (rigid-body modes) wrappers.
 
-use super::{alive, check, ffi, pbool, Int, Vector};
+use super::{check, ffi, pbool, Int, Vector};
 use crate::error::Result;
 
 /// An owned PETSc matrix.
@@ -8,13 +8,7 @@ pub struct Mat {
     pub(crate) raw: ffi::Mat,
 }
 
-impl Drop for Mat {
-    fn drop(&mut self) {
-        if alive() && !self.raw.is_null() {
-            unsafe { ffi::MatDestroy(&mut self.raw) };
-        }
-    }
-}
+destroy_on_drop!(Mat, MatDestroy);
 
 impl Mat {
     /// A square AIJ matrix with `n_local` rows/columns on this rank and exact preallocation:
@@ -116,13 +110,7 @@ pub struct NullSpace {
     pub(crate) raw: ffi::MatNullSpace,
 }
 
-impl Drop for NullSpace {
-    fn drop(&mut self) {
-        if alive() && !self.raw.is_null() {
-            unsafe { ffi::MatNullSpaceDestroy(&mut self.raw) };
-        }
-    }
-}
+destroy_on_drop!(NullSpace, MatNullSpaceDestroy);
 
 impl NullSpace {
     /// Rigid-body modes from nodal coordinates (`coords` has block size 3, one block per node).

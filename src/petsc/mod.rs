@@ -6,6 +6,19 @@
 //! before) every object — `main` and the driver keep that order. A wrapper dropped after
 //! finalisation leaks instead of crashing.
 
+/// Destroys the wrapped PETSc object on drop, while PETSc is alive (see the module docs).
+macro_rules! destroy_on_drop {
+    ($ty:ty, $destroy:ident) => {
+        impl Drop for $ty {
+            fn drop(&mut self) {
+                if super::alive() && !self.raw.is_null() {
+                    unsafe { super::ffi::$destroy(&mut self.raw) };
+                }
+            }
+        }
+    };
+}
+
 #[allow(non_camel_case_types, non_snake_case, non_upper_case_globals, dead_code, improper_ctypes, clippy::all)]
 pub mod ffi {
     include!(concat!(env!("OUT_DIR"), "/petsc_bindings.rs"));

@@ -1,6 +1,6 @@
 //! `Vec` (distributed vectors) and `VecScatter` (ghost exchange) wrappers.
 
-use super::{alive, check, ffi, IndexSet, Int};
+use super::{check, ffi, IndexSet, Int};
 use crate::error::Result;
 use std::mem::ManuallyDrop;
 
@@ -9,13 +9,7 @@ pub struct Vector {
     pub(crate) raw: ffi::Vec,
 }
 
-impl Drop for Vector {
-    fn drop(&mut self) {
-        if alive() && !self.raw.is_null() {
-            unsafe { ffi::VecDestroy(&mut self.raw) };
-        }
-    }
-}
+destroy_on_drop!(Vector, VecDestroy);
 
 impl Vector {
     /// A distributed vector with `n_local` entries on this rank.
@@ -193,13 +187,7 @@ pub struct Scatter {
     raw: ffi::VecScatter,
 }
 
-impl Drop for Scatter {
-    fn drop(&mut self) {
-        if alive() && !self.raw.is_null() {
-            unsafe { ffi::VecScatterDestroy(&mut self.raw) };
-        }
-    }
-}
+destroy_on_drop!(Scatter, VecScatterDestroy);
 
 impl Scatter {
     /// Gathers `global[from[i]]` into `local[i]`.
