@@ -112,7 +112,7 @@ pub struct TimeSpec {
     pub growth: f64,
     #[serde(default)]
     pub land_on: Vec<f64>,
-    /// Halvings allowed per step when a solve fails.
+    /// Retries (each cutting the step, by 0.25 by default) allowed when a solve fails.
     #[serde(default = "default_retries")]
     pub max_retries: usize,
 }

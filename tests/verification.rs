@@ -90,3 +90,28 @@ fn undrained_first_step_has_no_pressure_oscillation() {
     assert!(lo >= -1e-9, "pressure undershoot: min p = {lo}");
     assert!(interior_dev < 1e-5, "p deviates from the undrained value 1 by {interior_dev}");
 }
+
+/// The MUMPS direct solve (`solver.preset = "lu"`) and the default Schur-fieldsplit iteration
+/// give the same answer to the iterative tolerance, on 2 ranks.
+#[test]
+fn mumps_reference_agrees_with_fieldsplit() {
+    let dir = scratch("mumps");
+    let fs = scene_variant("terzaghi", &dir, &[("t_end = 100.0", "t_end = 10.0")]);
+    let d = dir.join("lu");
+    std::fs::create_dir_all(&d).unwrap();
+    let lu = scene_variant(
+        "terzaghi",
+        &d,
+        &[("t_end = 100.0", "t_end = 10.0"), ("[time]", "[solver]\npreset = \"lu\"\n\n[time]")],
+    );
+    run_ok(2, &["run", &fs, "--out", dir.join("fs").to_str().unwrap(), "-q"]);
+    run_ok(2, &["run", &lu, "--out", dir.join("lu/run").to_str().unwrap(), "-q"]);
+    let (a, b) = (History::read(&dir.join("fs")), History::read(&dir.join("lu/run")));
+    for col in ["p_bottom", "settlement"] {
+        let d = a.col(col).iter().zip(b.col(col)).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+        assert!(d < 1e-6, "{col}: fieldsplit vs MUMPS differ by {d:e}");
+    }
+    assert!(b.col("ksp_its")[1..].iter().all(|&k| k == 1.0), "preonly LU takes one iteration");
+    let opts = std::fs::read_to_string(dir.join("lu/run/petsc_options.txt")).unwrap();
+    assert!(opts.contains("-pc_factor_mat_solver_type mumps"), "{opts}");
+}

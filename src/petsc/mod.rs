@@ -207,7 +207,7 @@ pub mod options {
         Ok(())
     }
 
-    /// Whether `-name` is in the database (does not mark it used).
+    /// Whether `-name` is in the database (PETSc then counts it as used).
     pub fn has(name: &str) -> Result<bool> {
         let n = CString::new(format!("-{}", name.trim_start_matches('-'))).unwrap_or_default();
         let mut set = ffi::PetscBool::PETSC_FALSE;

@@ -54,6 +54,15 @@ pub trait TsProblem {
     fn pre_stage(&mut self, _ts: TsRef, _t: f64) -> Result<()> {
         Ok(())
     }
+    /// Called after each accepted step by `TSSolve` (a driver calling [`Ts::step`] itself does
+    /// its own post-step work).
+    fn post_step(&mut self, _ts: TsRef) -> Result<()> {
+        Ok(())
+    }
+    /// TS monitor: called by `TSSolve` with the step number, time and solution.
+    fn monitor(&mut self, _ts: TsRef, _step: usize, _t: f64, _u: &Vector) -> Result<()> {
+        Ok(())
+    }
 }
 
 struct Ctx<P> {
@@ -149,12 +158,38 @@ unsafe extern "C" fn ijacobian_tramp<P: TsProblem>(
     })
 }
 
-unsafe extern "C" fn prestage_tramp<P: TsProblem>(ts: ffi::TS, t: f64) -> ffi::PetscErrorCode {
+/// The problem context stored as the TS application context (for callbacks without a ctx).
+unsafe fn app_ctx(ts: ffi::TS) -> Option<*mut c_void> {
     let mut ctx: *mut c_void = std::ptr::null_mut();
-    if ffi::TSGetApplicationContext(ts, &mut ctx as *mut *mut c_void as *mut c_void) != 0 || ctx.is_null() {
-        return raise("TS has no application context");
+    (ffi::TSGetApplicationContext(ts, &mut ctx as *mut *mut c_void as *mut c_void) == 0 && !ctx.is_null())
+        .then_some(ctx)
+}
+
+unsafe extern "C" fn prestage_tramp<P: TsProblem>(ts: ffi::TS, t: f64) -> ffi::PetscErrorCode {
+    match app_ctx(ts) {
+        Some(ctx) => guard::<P>(ctx, ts, |c| c.problem.pre_stage(TsRef { raw: ts }, t)),
+        None => raise("TS has no application context"),
     }
-    guard::<P>(ctx, ts, |c| c.problem.pre_stage(TsRef { raw: ts }, t))
+}
+
+unsafe extern "C" fn poststep_tramp<P: TsProblem>(ts: ffi::TS) -> ffi::PetscErrorCode {
+    match app_ctx(ts) {
+        Some(ctx) => guard::<P>(ctx, ts, |c| c.problem.post_step(TsRef { raw: ts })),
+        None => raise("TS has no application context"),
+    }
+}
+
+unsafe extern "C" fn monitor_tramp<P: TsProblem>(
+    ts: ffi::TS,
+    step: Int,
+    t: f64,
+    u: ffi::Vec,
+    ctx: *mut c_void,
+) -> ffi::PetscErrorCode {
+    guard::<P>(ctx, ts, |c| {
+        let u = Vector::borrowed(u);
+        c.problem.monitor(TsRef { raw: ts }, step.max(0) as usize, t, &u)
+    })
 }
 
 impl<P: TsProblem> Ts<P> {
@@ -190,6 +225,8 @@ impl<P: TsProblem> Ts<P> {
             let pmat = ts._keep.2.as_ref().map_or(ts._keep.1.raw, |m| m.raw);
             check(ffi::TSSetIJacobian(raw, ts._keep.1.raw, pmat, Some(ijacobian_tramp::<P>), ctxp))?;
             check(ffi::TSSetPreStage(raw, Some(prestage_tramp::<P>)))?;
+            check(ffi::TSSetPostStep(raw, Some(poststep_tramp::<P>)))?;
+            check(ffi::TSMonitorSet(raw, Some(monitor_tramp::<P>), ctxp, None))?;
             check(ffi::TSSetExactFinalTime(raw, ffi::TSExactFinalTimeOption::TS_EXACTFINALTIME_MATCHSTEP))?;
             check(ffi::TSSetMaxSNESFailures(raw, -1))?;
             check(ffi::TSSetErrorIfStepFails(raw, pbool(false)))?;
@@ -247,6 +284,22 @@ impl<P: TsProblem> Ts<P> {
     }
     pub fn set_up(&mut self) -> Result<()> {
         check(unsafe { ffi::TSSetUp(self.raw) })
+    }
+    /// Integrates to the max time with `TSSolve` (calls the post-step and monitor hooks).
+    pub fn solve(&mut self, u: &mut Vector) -> Result<()> {
+        self.ctx.error = None;
+        let code = unsafe { ffi::TSSolve(self.raw, u.raw) };
+        if let Some(e) = self.ctx.error.take() {
+            let _ = check(code);
+            return Err(e);
+        }
+        check(code)
+    }
+    /// Number of steps taken.
+    pub fn step_number(&self) -> Result<usize> {
+        let mut n: Int = 0;
+        check(unsafe { ffi::TSGetStepNumber(self.raw, &mut n) })?;
+        Ok(n as usize)
     }
     /// Takes one step (with internal cut-and-retry). Errors from callbacks come back unchanged;
     /// a step that still fails after all retries is `Error::Solver`.

@@ -1,0 +1,154 @@
+//! The safe PETSc layer on its own (one process; MPI and PETSc initialised once): PETSc errors
+//! come back as Rust errors with PETSc's message; TS trampolines integrate an ODE with the
+//! exact backward-Euler recurrence, call the post-step and monitor hooks; an error raised in a
+//! callback comes back unchanged; a domain error makes TS cut the step instead of failing.
+
+use poroplast::error::{Error, Result};
+use poroplast::petsc::{options, Int, Mat, Petsc, Ts, TsProblem, TsRef, Vector};
+
+/// u̇ = −λ u on one dof, as F(t, u, u̇) = u̇ + λ u. Fails on demand to test error paths.
+struct Decay {
+    lambda: f64,
+    post_steps: usize,
+    monitored: usize,
+    /// Residual returns a domain error when the step is larger than this.
+    max_dt: f64,
+    /// Residual fails hard at this time or later.
+    fail_after: f64,
+}
+
+impl TsProblem for Decay {
+    fn residual(&mut self, ts: TsRef, t: f64, u: &Vector, udot: &Vector, f: &mut Vector) -> Result<()> {
+        if ts.time_step()? > self.max_dt {
+            return Err(Error::Domain { cell: 7, point: 1, j: 0.5, msg: "test domain error".into() });
+        }
+        if t >= self.fail_after {
+            return Err(Error::Material("deliberate failure inside the residual".into()));
+        }
+        let (u, ud) = (u.read()?, udot.read()?);
+        let mut fw = f.write()?;
+        for i in 0..fw.len() {
+            fw[i] = ud[i] + self.lambda * u[i];
+        }
+        Ok(())
+    }
+    fn jacobian(
+        &mut self,
+        _ts: TsRef,
+        _t: f64,
+        _u: &Vector,
+        _ud: &Vector,
+        shift: f64,
+        jac: &mut Mat,
+        _pre: &mut Mat,
+    ) -> Result<()> {
+        jac.zero_entries()?;
+        jac.add_values(&[0], &[0], &[shift + self.lambda])?;
+        jac.assemble()
+    }
+    fn post_step(&mut self, _ts: TsRef) -> Result<()> {
+        self.post_steps += 1;
+        Ok(())
+    }
+    fn monitor(&mut self, _ts: TsRef, _step: usize, _t: f64, _u: &Vector) -> Result<()> {
+        self.monitored += 1;
+        Ok(())
+    }
+}
+
+fn decay_ts(comm: poroplast::petsc::ffi::MPI_Comm, p: Decay) -> Result<(Ts<Decay>, Vector)> {
+    let mut u = Vector::mpi(comm, 1)?;
+    u.set(1.0)?;
+    let f = u.duplicate()?;
+    let jac = Mat::aij(comm, 1, &[1 as Int], &[0 as Int])?;
+    let mut ts = Ts::new(comm, p, f, jac, None, None)?;
+    ts.set_solution(&u)?;
+    ts.set_time(0.0)?;
+    ts.set_from_options()?;
+    let snes = ts.snes()?;
+    snes.ksp()?.set_type("preonly")?;
+    snes.ksp()?.pc()?.set_type("lu")?;
+    Ok((ts, u))
+}
+
+#[test]
+fn petsc_layer() {
+    let universe = mpi::initialize().expect("MPI");
+    let petsc = Petsc::init(&[]).expect("PetscInitialize");
+    let comm = petsc.comm();
+
+    // 1. A PETSc error carries PETSc's own message.
+    let mut v = Vector::mpi(comm, 4).unwrap();
+    match v.set_block_size(3) {
+        Err(Error::Petsc { code, msg }) => {
+            assert!(code != 0);
+            assert!(msg.contains("block size") || msg.contains("blocksize"), "message: {msg}");
+            assert!(
+                msg.contains("VecSetBlockSize") || msg.contains("PetscLayoutSetBlockSize"),
+                "no function name in: {msg}"
+            );
+        }
+        other => panic!("expected a PETSc error, got {other:?}"),
+    }
+
+    // 2. Options: set, query, unused detection.
+    options::set("poroplast_test_option", Some("3")).unwrap();
+    assert!(options::unused().unwrap().iter().any(|o| o == "-poroplast_test_option"));
+    assert!(options::has("poroplast_test_option").unwrap());
+    assert!(
+        !options::unused().unwrap().iter().any(|o| o == "-poroplast_test_option"),
+        "a queried option counts as used"
+    );
+
+    // 3. Backward Euler through the trampolines: u_n = (1 + λΔt)^-n exactly (linear, LU).
+    let (lambda, dt, n) = (2.0, 0.1, 10);
+    let p = Decay { lambda, post_steps: 0, monitored: 0, max_dt: f64::MAX, fail_after: f64::MAX };
+    let (mut ts, mut u) = decay_ts(comm, p).unwrap();
+    ts.set_time_step(dt).unwrap();
+    ts.set_max_time(n as f64 * dt).unwrap();
+    ts.solve(&mut u).unwrap();
+    let exact = (1.0 + lambda * dt).powi(-(n as i32));
+    let got = u.read().unwrap()[0];
+    assert!((got - exact).abs() < 1e-12 * exact, "BE: {got} vs {exact}");
+    assert_eq!(ts.step_number().unwrap(), n);
+    assert_eq!(ts.problem().post_steps, n, "post-step hook calls");
+    assert!(ts.problem().monitored >= n, "monitor calls: {}", ts.problem().monitored);
+    drop(ts);
+
+    // 4. An error in a callback comes back as that error.
+    let p = Decay { lambda, post_steps: 0, monitored: 0, max_dt: f64::MAX, fail_after: 0.25 };
+    let (mut ts, _u) = decay_ts(comm, p).unwrap();
+    ts.set_time_step(0.1).unwrap();
+    ts.set_max_time(1.0).unwrap();
+    let mut failed = None;
+    for _ in 0..10 {
+        if let Err(e) = ts.step() {
+            failed = Some(e);
+            break;
+        }
+    }
+    match failed {
+        Some(Error::Material(m)) => assert!(m.contains("deliberate")),
+        other => panic!("expected the callback's material error, got {other:?}"),
+    }
+    drop(ts);
+
+    // 5. A domain error is a step cut: a step of 0.4 is cut by TSAdapt's factor (0.25, its
+    //    default -ts_adapt_scale_solve_failed) to 0.1 and then accepted.
+    let p = Decay { lambda, post_steps: 0, monitored: 0, max_dt: 0.1, fail_after: f64::MAX };
+    let (mut ts, _u) = decay_ts(comm, p).unwrap();
+    ts.set_time_step(0.4).unwrap();
+    ts.set_max_time(1.0).unwrap();
+    ts.set_max_rejections(5).unwrap();
+    ts.step().unwrap();
+    let t = ts.time().unwrap();
+    assert!((t - 0.1).abs() < 1e-14, "accepted step ends at {t}, expected 0.1 after one cut");
+    assert_eq!(ts.rejections().unwrap(), 1);
+    assert_eq!(ts.domain_errors().0, 1);
+    assert!(ts.domain_errors().1.unwrap().contains("element 7"));
+    drop(ts);
+
+    drop(v);
+    drop(petsc);
+    drop(universe);
+}
