@@ -15,10 +15,13 @@ use crate::parallel::{agree, broadcast_u32};
 use crate::petsc::{options, DmShell, Mat, Petsc, Stage, Ts, Vector};
 use crate::physics::analytic;
 use crate::physics::bc;
+use crate::physics::biphasic::Biphasic;
+use crate::physics::contact::{PlateHistory, Plates};
+use crate::physics::experiment::{self, Experiment};
 use crate::physics::linear::LinearPoroelastic;
 use crate::physics::model::PointModel;
 use crate::physics::probe::Probe;
-use crate::physics::problem::PoroProblem;
+use crate::physics::problem::{mean_element_size, PoroProblem};
 use crate::scene::{LoadedScene, Material, Verification};
 use crate::solver;
 use mpi::topology::SimpleCommunicator;
@@ -121,8 +124,29 @@ fn mesh_file(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<PathBuf>
 }
 
 fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
+    use crate::material::{CompactionPenalty, HolmesMow, Permeability, PermeabilityModel};
+    let ctx = |e: Error| Error::Scene { path: scene.source.clone(), msg: format!("[material]: {e}") };
     match &scene.scene.material {
         Material::Linear { mu, nu, permeability } => Ok(Box::new(LinearPoroelastic::new(*mu, *nu, *permeability)?)),
+        Material::HolmesMow { mu, nu, alpha, phi_s, k0, kappa, m0, permeability_c, penalty, rho_s, rho_f, gravity } => {
+            let solid = match (mu, nu, alpha) {
+                (Some(mu), Some(nu), _) => HolmesMow::from_mu_nu(*mu, *nu, *phi_s),
+                (_, _, Some(a)) => HolmesMow::new(*phi_s, a[0], a[1], a[2], 1.0),
+                _ => unreachable!("validated"),
+            }
+            .map_err(ctx)?;
+            let pen = penalty
+                .as_ref()
+                .map(|p| CompactionPenalty::new(*phi_s, p.u0, p.j_cr, p.q, p.r))
+                .transpose()
+                .map_err(ctx)?;
+            let model = match permeability_c {
+                Some(c) => PermeabilityModel::RemodellingDependent { c: *c },
+                None => PermeabilityModel::Isotropic,
+            };
+            let perm = Permeability::new(*k0, *phi_s, *kappa, *m0, model).map_err(ctx)?;
+            Ok(Box::new(Biphasic::new(solid, pen, perm, *rho_s, *rho_f, *gravity).map_err(ctx)?))
+        }
     }
 }
 
@@ -157,8 +181,13 @@ impl Schedule {
             nominal
         }
     }
-    /// Nominal size after a step of nominal size `nominal` that actually took `taken`.
-    pub fn grow(&self, nominal: f64, taken: f64) -> f64 {
+    /// Nominal size after a step of nominal size `nominal` that actually took `taken` and ended
+    /// at `t`. After landing on a kink of the loading the rate of change jumps: restart from
+    /// the first step size and grow again.
+    pub fn grow(&self, nominal: f64, taken: f64, t: f64) -> f64 {
+        if self.land_on.iter().any(|&l| (t - l).abs() <= self.eps()) {
+            return self.dt0;
+        }
         (nominal * self.growth).min(self.dt_max).min(2.0 * taken.max(nominal * 1e-3))
     }
     pub fn done(&self, t: f64) -> bool {
@@ -170,7 +199,7 @@ impl Schedule {
         while !self.done(t) && n < 1_000_000 {
             let dt = self.step(t, nominal);
             t += dt;
-            nominal = self.grow(nominal, dt);
+            nominal = self.grow(nominal, dt, t);
             n += 1;
         }
         n
@@ -188,6 +217,30 @@ struct Run<'w> {
     mid_edges: Vec<(usize, usize, usize)>,
     n_global_dofs: usize,
     setup_s: f64,
+    /// Observables of the plates experiment, if the scene has plates.
+    experiment: Option<Experiment>,
+    /// Settle under gravity before t = 0.
+    settle: bool,
+}
+
+/// The open outputs of a run.
+struct Output {
+    dir: PathBuf,
+    fields: Option<FieldFile>,
+    history: History,
+}
+
+/// Where the time loop stands.
+#[derive(Default)]
+struct Progress {
+    step: usize,
+    t: f64,
+    nominal: f64,
+    newton: usize,
+    ksp: usize,
+    solve_s: f64,
+    output_s: f64,
+    recent: std::collections::VecDeque<f64>,
 }
 
 impl<'w> Run<'w> {
@@ -196,6 +249,16 @@ impl<'w> Run<'w> {
         let _stage = Stage::register("Setup")?.push();
         let comm = world.as_raw();
         let s = &scene.scene;
+        if s.plates.is_some() {
+            // Contact: Newton for variational inequalities (reduced-space active set).
+            options::set_default("snes_type", Some("vinewtonrsls"))?;
+            // Full Newton steps: with the active set and drainage switching, the residual is
+            // only piecewise smooth and backtracking stalls; a failed step is cut by TS instead.
+            options::set_default("snes_linesearch_type", Some("basic"))?;
+            // Room for drained-set updates after convergence (each costs a few iterations).
+            options::set_default("snes_max_it", Some("50"))?;
+        }
+        // Scene-specific defaults above win over the preset's (set_default keeps the first).
         solver::set_default_options(s.solver.preset.as_deref().unwrap_or("fieldsplit"))?;
         let path = mesh_file(world, scene)?;
         let mesh = agree(world, gmsh::read(&path))?;
@@ -208,25 +271,40 @@ impl<'w> Run<'w> {
         drop(mesh);
         let dofs = DofMap::new(&local);
         let model = model_of(scene)?;
-        // Degree 2 integrates the linear model exactly on straight elements.
-        let q = quadrature::tet(s.fem.quadrature_degree.unwrap_or(2));
+        // Degree 2 integrates the linear model exactly on straight elements; the finite-strain
+        // model (exponential energy, curved elements) gets the 8-point degree-3 rule.
+        let default_degree = if model.is_linear() { 2 } else { 3 };
+        let q = quadrature::tet(s.fem.quadrature_degree.unwrap_or(default_degree));
         let tab = tabulate_tet10(&q);
         let (cons, ext) = agree(world, bc::build(&s.bc, &local, &dofs, &scene.source))?;
+        let plates = match &s.plates {
+            Some(ps) => {
+                let ctx = format!("{}: [plates]", scene.source);
+                let faces = agree(world, bc::face_group(&local, &ps.group, &ctx))?.to_vec();
+                let anchor = agree(world, bc::point_group(&local, &ps.anchor, &ctx))?.first().map(|&n| n as usize);
+                let history =
+                    PlateHistory { u_max: ps.compression * 2.0 * ps.radius, t_ramp: ps.t_ramp, t_end: ps.t_end };
+                // Free-surface drainage conductance: γ k0 / h (a stiff Robin condition, p ≈ 0).
+                let beta_max = ps.drainage_penalty * model.conductivity() / mean_element_size(world, &local);
+                let seal_gap = ps.seal_gap.unwrap_or(1e-3 * ps.radius);
+                Some(Plates::new(history, ps.radius, &local, &faces, anchor, ps.drainage, beta_max, seal_gap))
+            }
+            None => None,
+        };
         let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
         let pre = dofs.preallocation(&local);
         let mut jac = Mat::aij(comm, dofs.n_owned, &pre.d_nnz, &pre.o_nnz)?;
         jac.set_name("Jacobian")?;
         let schur = Mat::aij(comm, dofs.n_owned_vertices, &pre.schur_d, &pre.schur_o)?;
-        let jac_ref = jac.clone_ref()?;
         let mut u = Vector::mpi(comm, dofs.n_owned)?;
         u.set_name("solution")?;
         u.zero()?;
         let f = u.duplicate()?;
         let n_global_dofs = dofs.n_global;
         let mid_edges = mid_edge_nodes(&local);
-        let fields = solver::Fields::new(comm, &dofs, &local)?;
+        let fields = solver::Fields::new(world, &dofs, &local)?;
         let alpha = s.fem.stabilisation.unwrap_or(DEFAULT_STABILISATION);
-        let problem = PoroProblem::new(
+        let mut problem = PoroProblem::new(
             world.duplicate(),
             local,
             dofs,
@@ -239,6 +317,9 @@ impl<'w> Run<'w> {
             schur,
             alpha,
         )?;
+        if let Some(pl) = plates {
+            problem.attach_plates(pl, &u)?;
+        }
         let dm = DmShell::new(comm, &u, Box::new(fields))?;
         let mut ts = Ts::new(comm, problem, f, jac, None, Some(dm))?;
         let t = &s.time;
@@ -247,7 +328,12 @@ impl<'w> Run<'w> {
             dt0: t.dt,
             dt_max: t.dt_max.unwrap_or(t.t_end),
             growth: t.growth,
-            land_on: t.land_on.clone(),
+            land_on: t
+                .land_on
+                .iter()
+                .copied()
+                .chain(ts.problem().plates.iter().flat_map(|p| p.history.kinks()))
+                .collect(),
         };
         ts.set_solution(&u)?;
         ts.set_time(0.0)?;
@@ -257,26 +343,21 @@ impl<'w> Run<'w> {
         ts.set_from_options()?;
         let snes = ts.snes()?;
         solver::use_schur_matrix(&snes, &ts.problem().schur)?;
-        // One trial linear solve on the first Jacobian: fieldsplit and AMG create their
-        // sub-solvers lazily, so only then has every PETSc option been read, and unknown ones
-        // can be reported before anything is written.
-        let dt = schedule.step(0.0, schedule.dt0);
-        let mut zero = u.duplicate()?;
-        zero.zero()?;
-        ts.problem_mut().assemble_jacobian(dt, 1.0 / dt, &u, &zero, &mut jac_ref.clone_ref()?)?;
-        let ksp = snes.ksp()?;
-        ksp.set_operators(&jac_ref, &jac_ref)?;
-        let mut b = u.duplicate()?;
-        b.set(1.0)?;
-        ksp.solve(&b, &mut zero)?;
-        let unused = options::unused()?;
-        let unused: Vec<String> = unused.into_iter().filter(|o| !IGNORED_OPTIONS.contains(&o.as_str())).collect();
-        if !unused.is_empty() {
-            return Err(Error::Solver(format!(
-                "unknown or unused PETSc option(s): {} (check the spelling, or the solver they belong to)",
-                unused.join(" ")
-            )));
+        if let Some((lo, hi)) = &ts.problem().bounds {
+            snes.set_vi_bounds(lo, hi)?;
         }
+        let experiment = match (&s.plates, &ts.problem().plates) {
+            (Some(ps), Some(_)) => {
+                let mesh = &ts.problem().disc.mesh;
+                let faces = bc::face_group(mesh, &ps.group, &scene.source)?.to_vec();
+                let volume = crate::parallel::sum(world, straight_volume(mesh));
+                let phi = ts.problem().disc.model.solid_fraction();
+                Some(Experiment::new(mesh, faces, ps.radius, volume, phi, world, &scene.source)?)
+            }
+            _ => None,
+        };
+        let settle = s.plates.is_some()
+            && matches!(&s.material, Material::HolmesMow { gravity, .. } if gravity.iter().any(|g| *g != 0.0));
         Ok(Run {
             world,
             scene: scene.clone(),
@@ -288,6 +369,8 @@ impl<'w> Run<'w> {
             mid_edges,
             n_global_dofs,
             setup_s: t0.elapsed().as_secs_f64(),
+            experiment,
+            settle,
         })
     }
 
@@ -301,42 +384,55 @@ impl<'w> Run<'w> {
         }
     }
 
-    fn execute(&mut self) -> Result<PathBuf> {
-        let s = self.scene.scene.clone();
-        let out = match &self.args.out {
+    /// The run directory: --out, or runs/<scene>-<UTC time> chosen by rank 0's clock.
+    fn out_dir(&self) -> PathBuf {
+        match &self.args.out {
             Some(o) => o.clone(),
             None => {
-                // One clock decides the name.
-                let mut name = rundir::default_run_dir(&s.name).to_string_lossy().into_owned().into_bytes();
+                let mut name =
+                    rundir::default_run_dir(&self.scene.scene.name).to_string_lossy().into_owned().into_bytes();
                 crate::parallel::broadcast_bytes(self.world, 0, &mut name);
                 PathBuf::from(String::from_utf8_lossy(&name).into_owned())
             }
-        };
-        agree(self.world, rundir::prepare(&out, self.args.force, self.rank0()))?;
+        }
+    }
+
+    /// Gravity settling: one drained step from t = −T to 0 with T huge (so J̇ ≈ 0 and the fluid
+    /// is at rest): the equilibrium resting on the lower plate, the state at t = 0.
+    fn settle(&mut self) -> Result<()> {
+        const T: f64 = 1e6;
+        self.ts.set_time(-T)?;
+        self.ts.set_time_step(T)?;
+        self.ts.step()?;
+        self.ts.set_time(0.0)
+    }
+
+    /// Every PETSc option must have been read once a step has run; report the others.
+    fn check_options(&self) -> Result<()> {
+        let unused: Vec<String> =
+            options::unused()?.into_iter().filter(|o| !IGNORED_OPTIONS.contains(&o.as_str())).collect();
+        if unused.is_empty() {
+            return Ok(());
+        }
+        Err(Error::Solver(format!(
+            "unknown or unused PETSc option(s): {} (check the spelling, or the solver they belong to)",
+            unused.join(" ")
+        )))
+    }
+
+    /// Creates the run directory and its files (nothing is written before this point).
+    fn open_output(&self, dir: &Path) -> Result<Output> {
+        agree(self.world, rundir::prepare(dir, self.args.force, self.rank0()))?;
         self.world.barrier();
         if self.rank0() {
             rundir::write_text(
-                &out,
+                dir,
                 "scene.toml",
                 &format!("# resolved from {}\n{}", self.scene.source, self.scene.to_toml()),
             )?;
-            rundir::write_text(&out, "petsc_options.txt", &(options::dump()? + "\n"))?;
+            rundir::write_text(dir, "petsc_options.txt", &(options::dump()? + "\n"))?;
         }
-        let n_ranks = self.world.size();
-        let pb = self.ts.problem();
-        let mesh = &pb.disc.mesh;
-        self.say(&format!(
-            "poroplast: scene {} on {} rank(s): {} tets, {} nodes, {} dofs ({} u + {} p), output {}",
-            s.name,
-            n_ranks,
-            mesh.n_global_elems,
-            mesh.n_global_nodes,
-            self.n_global_dofs,
-            3 * mesh.n_global_nodes,
-            mesh.n_global_vertices,
-            out.display()
-        ));
-        // Output files.
+        let mesh = &self.ts.problem().disc.mesh;
         let cells: Vec<[u32; 10]> =
             mesh.tets.iter().map(|t| std::array::from_fn(|a| mesh.node_global[t[a] as usize])).collect();
         let coords: Vec<[f64; 3]> = mesh.coords[..mesh.n_owned_nodes].to_vec();
@@ -348,115 +444,181 @@ impl<'w> Run<'w> {
             cell_offset: mesh.elem_offset,
             cells: &cells,
         };
-        let mut fields = if s.output.fields { Some(FieldFile::create(&out, self.world, &omesh)?) } else { None };
+        let fields =
+            if self.scene.scene.output.fields { Some(FieldFile::create(dir, self.world, &omesh)?) } else { None };
         let mut cols: Vec<String> = vec!["step".into(), "time".into(), "dt".into()];
+        if self.experiment.is_some() {
+            cols.extend(experiment::COLUMNS.iter().map(|c| c.to_string()));
+        }
         cols.extend(self.probes.iter().map(|p| p.name.clone()));
-        let exact = exact_columns(&self.scene)?;
-        cols.extend(exact.iter().map(|(n, _)| n.clone()));
+        cols.extend(exact_columns(&self.scene)?.into_iter().map(|(n, _)| n));
         cols.extend(["newton_its", "ksp_its", "wall_s"].map(String::from));
         let colrefs: Vec<&str> = cols.iter().map(|c| c.as_str()).collect();
-        let mut history =
-            History::create(&out.join("history.csv"), &colrefs, &["step", "newton_its", "ksp_its"], self.rank0())?;
+        let ints: Vec<&str> = ["step", "newton_its", "ksp_its", "contact_nodes_upper", "contact_nodes_lower"]
+            .into_iter()
+            .filter(|c| colrefs.contains(c))
+            .collect();
+        let history = History::create(&dir.join("history.csv"), &colrefs, &ints, self.rank0())?;
+        Ok(Output { dir: dir.to_path_buf(), fields, history })
+    }
 
-        let stage_solve = Stage::register("Solve")?;
-        let stage_out = Stage::register("Output")?;
-        let (mut t_solve, mut t_out) = (0.0, 0.0);
+    /// One time step from the current state; `prev` receives the state before it.
+    fn advance(&mut self, pg: &mut Progress, prev: &mut Vector, stage: Stage) -> Result<(f64, (usize, usize))> {
+        let dt = self.schedule.step(pg.t, pg.nominal);
+        prev.copy_from(&self.u)?;
+        self.ts.set_time_step(dt)?;
+        let ws = Instant::now();
+        {
+            let _g = stage.push();
+            self.ts.step()?;
+        }
+        let wall = ws.elapsed().as_secs_f64();
+        pg.solve_s += wall;
+        let t_new = self.ts.time()?;
+        let taken = t_new - pg.t;
+        pg.t = t_new;
+        pg.step += 1;
+        let snes = self.ts.snes()?;
+        let its = (snes.iterations()?, snes.linear_iterations()?);
+        pg.newton += its.0;
+        pg.ksp += its.1;
+        pg.nominal = self.schedule.grow(pg.nominal, taken, pg.t);
+        pg.recent.push_back(wall);
+        if pg.recent.len() > 5 {
+            pg.recent.pop_front();
+        }
+        Ok((taken, its))
+    }
+
+    fn execute(&mut self) -> Result<PathBuf> {
+        let out = self.out_dir();
         let t_start = Instant::now();
-        let mut step = 0usize;
-        let mut nominal = self.schedule.dt0;
-        let mut t = 0.0;
-        let (mut tot_newton, mut tot_ksp) = (0usize, 0usize);
-        let mut recent = std::collections::VecDeque::new();
+        let (stage_solve, stage_out) = (Stage::register("Solve")?, Stage::register("Output")?);
+        let mut pg = Progress { nominal: self.schedule.dt0, ..Default::default() };
+        if self.settle {
+            let _g = stage_solve.push();
+            self.settle()?;
+        }
+        let initial = self.u.duplicate()?;
+        let mut initial = initial;
+        initial.copy_from(&self.u)?;
+        let mut prev = self.u.duplicate()?;
+        // The first step runs before anything is written: then every PETSc option has been
+        // read, and an unknown one is an error that leaves no half-made run directory.
+        let first = self.advance(&mut pg, &mut prev, stage_solve)?;
+        self.check_options()?;
+        let mut io = self.open_output(&out)?;
+        let mesh = &self.ts.problem().disc.mesh;
+        self.say(&format!(
+            "poroplast: scene {} on {} rank(s): {} tets, {} nodes, {} dofs ({} u + {} p), output {}",
+            self.scene.scene.name,
+            self.world.size(),
+            mesh.n_global_elems,
+            mesh.n_global_nodes,
+            self.n_global_dofs,
+            3 * mesh.n_global_nodes,
+            mesh.n_global_vertices,
+            out.display()
+        ));
+        let exact = exact_columns(&self.scene)?;
+        let o = Instant::now();
         {
             let _g = stage_out.push();
-            let o = Instant::now();
-            self.record(&mut history, fields.as_mut(), step, t, 0.0, (0, 0), t_start, true, &exact)?;
-            t_out += o.elapsed().as_secs_f64();
+            self.record(&mut io, &initial, &initial, 0, 0.0, 0.0, (0, 0), t_start, true, &exact)?;
+            self.progress(&pg, first.0, first.1, t_start);
+            let last = self.schedule.done(pg.t);
+            let every = self.scene.scene.output.fields_every;
+            let wf = last || (every > 0 && 1 % every == 0);
+            let u = self.u.duplicate()?;
+            let mut u = u;
+            u.copy_from(&self.u)?;
+            self.record(&mut io, &u, &prev, 1, pg.t, first.0, first.1, t_start, wf, &exact)?;
         }
-        while !self.schedule.done(t) {
-            let dt = self.schedule.step(t, nominal);
-            self.ts.set_time_step(dt)?;
-            let ws = Instant::now();
-            {
-                let _g = stage_solve.push();
-                self.ts.step()?;
-            }
-            let wall = ws.elapsed().as_secs_f64();
-            t_solve += wall;
-            let t_new = self.ts.time()?;
-            let taken = t_new - t;
-            t = t_new;
-            step += 1;
-            let snes = self.ts.snes()?;
-            let its = (snes.iterations()?, snes.linear_iterations()?);
-            tot_newton += its.0;
-            tot_ksp += its.1;
-            nominal = self.schedule.grow(nominal, taken);
-            let last = self.schedule.done(t);
-            let write_fields = last || (s.output.fields_every > 0 && step.is_multiple_of(s.output.fields_every));
+        pg.output_s += o.elapsed().as_secs_f64();
+        let mut cur = self.u.duplicate()?;
+        while !self.schedule.done(pg.t) {
+            let (taken, its) = self.advance(&mut pg, &mut prev, stage_solve)?;
+            let o = Instant::now();
             {
                 let _g = stage_out.push();
-                let o = Instant::now();
-                self.record(&mut history, fields.as_mut(), step, t, taken, its, t_start, write_fields, &exact)?;
-                t_out += o.elapsed().as_secs_f64();
+                let every = self.scene.scene.output.fields_every;
+                let wf = self.schedule.done(pg.t) || (every > 0 && pg.step.is_multiple_of(every));
+                cur.copy_from(&self.u)?;
+                self.record(&mut io, &cur, &prev, pg.step, pg.t, taken, its, t_start, wf, &exact)?;
             }
-            recent.push_back(wall);
-            if recent.len() > 5 {
-                recent.pop_front();
-            }
-            let per_step = recent.iter().sum::<f64>() / recent.len() as f64;
-            let eta = per_step * self.schedule.remaining(t, nominal) as f64;
-            self.say(&format!(
-                "step {step:5}  t = {t:.5e}  dt = {taken:.3e}  newton {:2}  ksp {:4} ({:5.1}/newton)  [{:.1} s, eta {}]",
-                its.0,
-                its.1,
-                its.1 as f64 / its.0.max(1) as f64,
-                t_start.elapsed().as_secs_f64(),
-                human(eta)
-            ));
+            pg.output_s += o.elapsed().as_secs_f64();
+            self.progress(&pg, taken, its, t_start);
         }
+        self.finish(&io, &pg, t_start)?;
+        Ok(io.dir)
+    }
+
+    /// The progress line of a step (rank 0).
+    fn progress(&self, pg: &Progress, taken: f64, its: (usize, usize), t_start: Instant) {
+        let per_step = pg.recent.iter().sum::<f64>() / pg.recent.len().max(1) as f64;
+        let eta = per_step * self.schedule.remaining(pg.t, pg.nominal) as f64;
+        self.say(&format!(
+            "step {:5}  t = {:.5e}  dt = {:.3e}  newton {:2}  ksp {:4} ({:5.1}/newton)  [{:.1} s, eta {}]",
+            pg.step,
+            pg.t,
+            taken,
+            its.0,
+            its.1,
+            its.1 as f64 / its.0.max(1) as f64,
+            t_start.elapsed().as_secs_f64(),
+            human(eta)
+        ));
+    }
+
+    /// timings.txt and the closing line.
+    fn finish(&self, io: &Output, pg: &Progress, t_start: Instant) -> Result<()> {
         let timers = self.ts.problem().timers;
         let cuts = self.ts.rejections()?;
-        let total = t_start.elapsed().as_secs_f64();
+        let total = t_start.elapsed().as_secs_f64() + self.setup_s;
+        let assembly = timers.residual_s + timers.jacobian_s;
         let summary = format!(
             "# poroplast timings (seconds, rank 0; wall clock)\nranks = {}\ndofs = {}\nsteps = {}\nstep_cuts = {}\nnewton_its = {}\nksp_its = {}\nsetup = {:.3}\nresidual_assembly = {:.3}\nresidual_evaluations = {}\njacobian_assembly = {:.3}\njacobian_evaluations = {}\nsolve_total = {:.3}\nlinear_solve_and_other = {:.3}\noutput = {:.3}\ntotal = {:.3}\n",
-            n_ranks,
+            self.world.size(),
             self.n_global_dofs,
-            step,
+            pg.step,
             cuts,
-            tot_newton,
-            tot_ksp,
+            pg.newton,
+            pg.ksp,
             self.setup_s,
             timers.residual_s,
             timers.residual_n,
             timers.jacobian_s,
             timers.jacobian_n,
-            t_solve,
-            t_solve - timers.residual_s - timers.jacobian_s,
-            t_out,
-            total + self.setup_s
+            pg.solve_s,
+            pg.solve_s - assembly,
+            pg.output_s,
+            total
         );
         if self.rank0() {
-            rundir::write_text(&out, "timings.txt", &summary)?;
+            rundir::write_text(&io.dir, "timings.txt", &summary)?;
         }
         self.say(&format!(
-            "done: {step} steps, {tot_newton} Newton, {tot_ksp} Krylov iterations, {} step cuts, {:.1} s (setup {:.1}, assembly {:.1}, solve {:.1}, output {:.1})",
+            "done: {} steps, {} Newton, {} Krylov iterations, {} step cuts, {:.1} s (setup {:.1}, assembly {:.1}, solve {:.1}, output {:.1})",
+            pg.step,
+            pg.newton,
+            pg.ksp,
             cuts,
-            total + self.setup_s,
+            total,
             self.setup_s,
-            timers.residual_s + timers.jacobian_s,
-            t_solve - timers.residual_s - timers.jacobian_s,
-            t_out
+            assembly,
+            pg.solve_s - assembly,
+            pg.output_s
         ));
-        Ok(out)
+        Ok(())
     }
 
-    /// One history row (and fields if asked) for the current state.
+    /// One history row (and fields if asked) for state `u` reached from `prev` in a step dt.
     #[allow(clippy::too_many_arguments)]
     fn record(
         &mut self,
-        history: &mut History,
-        fields: Option<&mut FieldFile>,
+        io: &mut Output,
+        u: &Vector,
+        prev: &Vector,
         step: usize,
         t: f64,
         dt: f64,
@@ -466,17 +628,30 @@ impl<'w> Run<'w> {
         exact: &[(String, ExactFn)],
     ) -> Result<()> {
         let world = self.world;
-        let local = self.ts.problem_mut().localize(&self.u)?;
+        let mut udot = u.duplicate()?;
+        udot.copy_from(u)?;
+        udot.axpy(-1.0, prev)?;
+        let dt_eff = if dt > 0.0 { dt } else { 1.0 };
+        udot.scale(1.0 / dt_eff)?;
+        let post = self.ts.problem_mut().post_process(dt_eff, u, &udot)?;
         let pb = self.ts.problem();
         let (mesh, dofs) = (&pb.disc.mesh, &pb.disc.dofs);
         let mut row = vec![step as f64, t, dt];
-        row.extend(self.probes.iter().map(|p| p.value(mesh, dofs, &local, world)));
+        let obs = match (&mut self.experiment, &pb.plates) {
+            (Some(ex), Some(pl)) => Some(ex.observe(t, dt, pl, mesh, dofs, &post, world)),
+            _ => None,
+        };
+        if let Some(o) = &obs {
+            row.extend(o.values);
+        }
+        row.extend(self.probes.iter().map(|p| p.value(mesh, dofs, &post.local, world)));
         row.extend(exact.iter().map(|(_, f)| f(t)));
         row.extend([its.0 as f64, its.1 as f64, t_start.elapsed().as_secs_f64()]);
-        history.row(&row)?;
-        if let (Some(ff), true) = (fields, write_fields) {
+        io.history.row(&row)?;
+        if let (Some(ff), true) = (io.fields.as_mut(), write_fields) {
+            let local = &post.local;
             let n = mesh.n_owned_nodes;
-            let u: Vec<f64> = local[..3 * n].to_vec();
+            let uo: Vec<f64> = local[..3 * n].to_vec();
             let mut p = vec![0.0; n];
             for (node, pv) in p.iter_mut().enumerate() {
                 let v = mesh.vertex_of_node[node];
@@ -490,14 +665,21 @@ impl<'w> Run<'w> {
                 p[m] = 0.5 * (pa + pb_);
             }
             let rank = vec![world.rank() as f64; mesh.tets.len()];
-            ff.write_step(
-                t,
-                &[
-                    Field { name: "u", kind: FieldKind::NodeVector, data: &u },
-                    Field { name: "p", kind: FieldKind::NodeScalar, data: &p },
-                    Field { name: "rank", kind: FieldKind::CellScalar, data: &rank },
-                ],
-            )?;
+            let mut fields = vec![
+                Field { name: "u", kind: FieldKind::NodeVector, data: &uo },
+                Field { name: "p", kind: FieldKind::NodeScalar, data: &p },
+                Field { name: "J", kind: FieldKind::CellScalar, data: &post.cell_j },
+                Field { name: "von_mises", kind: FieldKind::CellScalar, data: &post.cell_von_mises },
+                Field { name: "darcy_flux", kind: FieldKind::CellVector, data: &post.cell_darcy },
+                Field { name: "rank", kind: FieldKind::CellScalar, data: &rank },
+            ];
+            if pb.disc.model.solid_fraction().is_some() {
+                fields.push(Field { name: "porosity", kind: FieldKind::CellScalar, data: &post.cell_porosity });
+            }
+            if let Some(o) = &obs {
+                fields.push(Field { name: "contact", kind: FieldKind::NodeScalar, data: &o.node_contact });
+            }
+            ff.write_step(t, &fields)?;
         }
         Ok(())
     }
@@ -524,7 +706,12 @@ type ExactFn = Box<dyn Fn(f64) -> f64>;
 /// Exact-solution columns of a verification scene.
 fn exact_columns(scene: &LoadedScene) -> Result<Vec<(String, ExactFn)>> {
     let Some(v) = &scene.scene.verification else { return Ok(vec![]) };
-    let Material::Linear { mu, nu, permeability } = scene.scene.material.clone();
+    let Material::Linear { mu, nu, permeability } = scene.scene.material.clone() else {
+        return Err(Error::Scene {
+            path: scene.source.clone(),
+            msg: "[verification] needs material.model = \"linear\"".into(),
+        });
+    };
     let m = analytic::Drained::new(mu, nu, permeability)?;
     Ok(match v.clone() {
         Verification::Terzaghi { height, load } => vec![
@@ -549,6 +736,22 @@ fn exact_columns(scene: &LoadedScene) -> Result<Vec<(String, ExactFn)>> {
             )]
         }
     })
+}
+
+/// Σ of the straight (vertex) tetrahedra volumes of the local elements.
+fn straight_volume(mesh: &dist::LocalMesh) -> f64 {
+    mesh.tets
+        .iter()
+        .map(|t| {
+            let x = |i: usize| mesh.coords[t[i] as usize];
+            let e = |i: usize| [x(i)[0] - x(0)[0], x(i)[1] - x(0)[1], x(i)[2] - x(0)[2]];
+            let (a, b, c) = (e(1), e(2), e(3));
+            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                .abs()
+                / 6.0
+        })
+        .sum()
 }
 
 /// (mid-edge node, end a, end b) for owned mid-edge nodes, to show P1 pressure on P2 nodes.
@@ -590,10 +793,13 @@ mod tests {
             let dt = s.step(t, nom);
             assert!(dt > 0.0);
             t += dt;
-            nom = s.grow(nom, dt);
+            nom = s.grow(nom, dt, t);
             times.push(t);
         }
         assert!(times.iter().any(|&x| (x - 5.0).abs() < 1e-12), "{times:?}");
+        // After the kink the steps restart from dt0.
+        let i = times.iter().position(|&x| (x - 5.0).abs() < 1e-12).unwrap();
+        assert!((times[i + 1] - times[i] - 0.3).abs() < 1e-12, "{times:?}");
         assert!((t - 10.0).abs() < 1e-12);
         assert!(times.windows(2).all(|w| w[1] - w[0] <= 2.0 * 1.1 + 1e-12));
         assert_eq!(s.remaining(0.0, s.dt0), times.len());

@@ -27,6 +27,9 @@ pub struct Scene {
     pub probe: Vec<Probe>,
     #[serde(default)]
     pub verification: Option<Verification>,
+    /// Rigid plates squeezing the aggregate (contact, drainage, loading history).
+    #[serde(default)]
+    pub plates: Option<PlatesSpec>,
     #[serde(default)]
     pub solver: SolverSpec,
     #[serde(default)]
@@ -64,6 +67,54 @@ pub enum Material {
         /// Darcy conductivity k (µm⁴/(nN s)): Q = −k ∇p.
         permeability: f64,
     },
+    /// Finite-strain biphasic mixture (model.md §2–§3): Holmes–Mow solid, compaction penalty,
+    /// Holmes–Mow permeability, gravity.
+    HolmesMow {
+        /// Shear modulus µ (kPa) and Poisson ratio ν of Ψ/Φs; the α's follow from eq. (56) ...
+        #[serde(default)]
+        mu: Option<f64>,
+        #[serde(default)]
+        nu: Option<f64>,
+        /// ... or are given directly: [α0 (kPa), α1, α2] (α3 = 1).
+        #[serde(default)]
+        alpha: Option<[f64; 3]>,
+        /// Referential solid fraction Φs.
+        phi_s: f64,
+        /// Referential conductivity k0 (µm⁴/(nN s); 1 mm⁴/(N s) = 1000).
+        k0: f64,
+        /// Permeability exponents: k = k0 [(J − Φs)/(1 − Φs)]^κ exp(m0 (J² − 1)/2).
+        kappa: f64,
+        m0: f64,
+        /// Remodelling-dependent permeability (model.md (45)–(48)) with this c; isotropic if absent.
+        #[serde(default)]
+        permeability_c: Option<f64>,
+        /// Compaction penalty U(J) (model.md (33)); none if absent.
+        #[serde(default)]
+        penalty: Option<PenaltySpec>,
+        /// Densities (kg/m³).
+        #[serde(default = "water")]
+        rho_s: f64,
+        #[serde(default = "water")]
+        rho_f: f64,
+        /// Gravity acceleration (m/s²).
+        #[serde(default)]
+        gravity: [f64; 3],
+    },
+}
+
+/// Compaction penalty U(J) = Φs U0 H(J_cr − J) (J − J_cr)^{2q} / (J − Φs)^r.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PenaltySpec {
+    pub j_cr: f64,
+    /// U0 (kPa).
+    pub u0: f64,
+    pub q: f64,
+    pub r: f64,
+}
+
+fn water() -> f64 {
+    1000.0
 }
 
 /// A boundary condition on a named physical surface group. Exactly one kind per entry.
@@ -163,6 +214,49 @@ pub struct Probe {
     /// The column holds value / scale (e.g. the applied load, to normalise).
     #[serde(default = "one")]
     pub scale: f64,
+}
+
+/// The compression–release experiment (model.md §1, §5): rigid, flat, impermeable,
+/// frictionless plates; the reference sphere (radius R, centre (0, 0, R)) touches the lower plate
+/// (top face z = 0, moving up by u(t), eq. (53)) and the fixed upper plate (bottom face z = 2R).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlatesSpec {
+    /// Radius R of the reference sphere (must match the mesh).
+    pub radius: f64,
+    /// Surface group that can touch the plates (and drains where it does not).
+    #[serde(default = "default_surface")]
+    pub group: String,
+    /// ũ_max = u_max / (2R): the lower plate rises by u_max.
+    pub compression: f64,
+    /// Duration of each ramp (s).
+    pub t_ramp: f64,
+    /// End of the release ramp (s); the rest lasts until time.t_end.
+    pub t_end: f64,
+    /// p = 0 on the surface out of contact (false: sealed aggregate).
+    #[serde(default = "yes")]
+    pub drainage: bool,
+    /// Point group of the bottom pole, kept on the lower plate (bilateral contact).
+    #[serde(default = "default_anchor")]
+    pub anchor: String,
+    /// γ of the free-surface drainage conductance β_max = γ k0 / h (stiff Robin, p ≈ 0).
+    #[serde(default = "default_penalty")]
+    pub drainage_penalty: f64,
+    /// Gap (µm) over which drainage opens as a contact separates (default 1e-3 R).
+    #[serde(default)]
+    pub seal_gap: Option<f64>,
+}
+
+fn default_penalty() -> f64 {
+    100.0
+}
+
+fn default_anchor() -> String {
+    "pole_bottom".into()
+}
+
+fn default_surface() -> String {
+    "surface".into()
 }
 
 /// Adds exact-solution columns next to the probes, for verification scenes.
@@ -273,10 +367,35 @@ impl LoadedScene {
         match &s.material {
             Material::Linear { mu, nu, permeability } => {
                 positive(self, "material.mu", *mu)?;
-                if !(nu.is_finite() && *nu > -1.0 && *nu < 0.5) {
-                    return Err(self.err(format!("material.nu = {nu}: Poisson ratio must lie in (-1, 0.5)")));
-                }
+                poisson(self, *nu)?;
                 positive(self, "material.permeability", *permeability)?;
+            }
+            Material::HolmesMow {
+                mu, nu, alpha, phi_s, k0, kappa, m0, permeability_c, rho_s, rho_f, gravity, ..
+            } => {
+                match (mu, nu, alpha) {
+                    (Some(mu), Some(nu), None) => {
+                        positive(self, "material.mu", *mu)?;
+                        poisson(self, *nu)?;
+                    }
+                    (None, None, Some(a)) => positive(self, "material.alpha[0]", a[0])?,
+                    _ => return Err(self.err("[material] holmes_mow: give `mu` and `nu`, or `alpha` (not both)")),
+                }
+                if !(*phi_s > 0.0 && *phi_s < 1.0) {
+                    return Err(self.err(format!("material.phi_s = {phi_s}: solid fraction must lie in (0, 1)")));
+                }
+                positive(self, "material.k0", *k0)?;
+                finite(self, "material.kappa", *kappa)?;
+                finite(self, "material.m0", *m0)?;
+                if let Some(c) = permeability_c {
+                    positive(self, "material.permeability_c", *c)?;
+                }
+                if !(*rho_s >= 0.0 && *rho_f >= 0.0) {
+                    return Err(self.err("material.rho_s and rho_f must be >= 0".to_string()));
+                }
+                for g in gravity {
+                    finite(self, "material.gravity", *g)?;
+                }
             }
         }
         for (i, bc) in s.bc.iter().enumerate() {
@@ -334,6 +453,30 @@ impl LoadedScene {
             }
             if p.scale == 0.0 || !p.scale.is_finite() {
                 return Err(self.err(format!("probe \"{}\": scale must be finite and non-zero", p.name)));
+            }
+        }
+        if let Some(p) = &s.plates {
+            positive(self, "plates.radius", p.radius)?;
+            if !(p.compression.is_finite() && p.compression >= 0.0 && p.compression < 1.0) {
+                return Err(self.err(format!("plates.compression = {}: must lie in [0, 1)", p.compression)));
+            }
+            positive(self, "plates.t_ramp", p.t_ramp)?;
+            if !(p.t_end.is_finite() && p.t_end >= 2.0 * p.t_ramp) {
+                return Err(self.err(format!(
+                    "plates.t_end = {}: must be at least 2 t_ramp = {}",
+                    p.t_end,
+                    2.0 * p.t_ramp
+                )));
+            }
+            positive(self, "plates.drainage_penalty", p.drainage_penalty)?;
+            if let Some(g) = p.seal_gap {
+                positive(self, "plates.seal_gap", g)?;
+            }
+            if s.time.t_end < p.t_end {
+                return Err(self.err(format!(
+                    "time.t_end = {} ends before the release (plates.t_end = {})",
+                    s.time.t_end, p.t_end
+                )));
             }
         }
         if let Some(v) = &s.verification {
@@ -412,6 +555,14 @@ fn toml_message(text: &str, e: &toml::de::Error) -> String {
             format!("line {line} (`{what}`): {msg}")
         }
         None => msg,
+    }
+}
+
+fn poisson(s: &LoadedScene, nu: f64) -> Result<()> {
+    if nu.is_finite() && nu > -1.0 && nu < 0.5 {
+        Ok(())
+    } else {
+        Err(s.err(format!("material.nu = {nu}: Poisson ratio must lie in (-1, 0.5)")))
     }
 }
 

@@ -12,7 +12,10 @@
 use crate::error::Result;
 use crate::fem::dofmap::DofMap;
 use crate::mesh::dist::LocalMesh;
-use crate::petsc::{check, ffi, options, FieldDecomposition, IndexSet, Mat, NullSpace, Snes, Vector};
+use crate::petsc::{check, ffi, options, FieldDecomposition, IndexSet, Int, Mat, NullSpace, Snes, Vector};
+use mpi::collective::SystemOperation;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
 
 /// Sets the defaults of a preset (only options the user has not set).
 pub fn set_default_options(preset: &str) -> Result<()> {
@@ -45,36 +48,131 @@ pub fn set_default_options(preset: &str) -> Result<()> {
     Ok(())
 }
 
-/// The u and p fields of the full system, for PCFIELDSPLIT via a DMShell.
+/// The u and p fields for PCFIELDSPLIT via a DMShell: the full u/p sets, or — once SNESVI
+/// (vinewtonrsls) has an inactive set — the sets of the reduced system it actually solves.
+///
+/// Why: rsls solves for the inactive (free) dofs only, with the submatrix A(I, I) numbered
+/// 0..|I| across ranks. PETSc 3.18 frees index sets given with `PCFieldSplitSetIS` when the
+/// active set changes, but asks the DM for a new decomposition after every reset; so here the
+/// full sets are restricted to I (a rank's reduced indices start at the prefix sum of the
+/// inactive sizes of lower ranks). The reduced u set is no longer a multiple of 3 (contact u_z
+/// dofs are removed), so instead of `MatNullSpaceCreateRigidBody` the six rigid-body modes are
+/// restricted to the free u dofs, orthonormalised, and attached as "nearnullspace".
 pub struct Fields {
+    world: SimpleCommunicator,
+    u_range: (usize, usize),
+    p_range: (usize, usize),
+    /// Owned node coordinates, centred on the global centroid (better conditioned modes).
+    coords: Vec<[f64; 3]>,
     u: IndexSet,
     p: IndexSet,
     near_null: NullSpace,
 }
 
 impl Fields {
-    pub fn new(comm: ffi::MPI_Comm, dofs: &DofMap, mesh: &LocalMesh) -> Result<Fields> {
+    pub fn new(world: &SimpleCommunicator, dofs: &DofMap, mesh: &LocalMesh) -> Result<Fields> {
+        let comm = world.as_raw();
         let (u0, u1) = dofs.u_range();
         let (p0, p1) = dofs.p_range();
         let mut u = IndexSet::stride(comm, u1 - u0, u0, 1)?;
         u.set_block_size(3)?;
         let p = IndexSet::stride(comm, p1 - p0, p0, 1)?;
-        // Rigid-body modes of the u block from the owned nodes' coordinates.
-        let mut coords = Vector::mpi(comm, 3 * dofs.n_owned_nodes)?;
-        coords.set_block_size(3)?;
-        {
-            let mut w = coords.write()?;
-            for n in 0..dofs.n_owned_nodes {
-                w[3 * n..3 * n + 3].copy_from_slice(&mesh.coords[n]);
+        let n = dofs.n_owned_nodes;
+        let mut sum = [0.0f64; 4];
+        for x in &mesh.coords[..n] {
+            sum[0] += x[0];
+            sum[1] += x[1];
+            sum[2] += x[2];
+        }
+        sum[3] = n as f64;
+        let mut tot = [0.0f64; 4];
+        world.all_reduce_into(&sum[..], &mut tot[..], SystemOperation::sum());
+        let c: [f64; 3] = std::array::from_fn(|d| tot[d] / tot[3].max(1.0));
+        let coords: Vec<[f64; 3]> = mesh.coords[..n].iter().map(|x| [x[0] - c[0], x[1] - c[1], x[2] - c[2]]).collect();
+        // Rigid-body modes of the full u block.
+        let mut cv = Vector::mpi(comm, 3 * n)?;
+        cv.set_block_size(3)?;
+        cv.write()?.copy_from_slice(coords.as_flattened());
+        let near_null = NullSpace::rigid_body(&cv)?;
+        Ok(Fields { world: world.duplicate(), u_range: (u0, u1), p_range: (p0, p1), coords, u, p, near_null })
+    }
+
+    /// The fields of the reduced system solving for the dofs in `inactive`.
+    fn restricted(&self, inactive: &IndexSet) -> Result<Vec<(String, IndexSet)>> {
+        let comm = self.world.as_raw();
+        let idx = inactive.indices()?;
+        let n = idx.len() as i64;
+        let mut offset = 0i64;
+        self.world.exclusive_scan_into(&n, &mut offset, SystemOperation::sum());
+        if self.world.rank() == 0 {
+            offset = 0; // MPI_Exscan leaves rank 0's result undefined.
+        }
+        let (mut u_red, mut p_red, mut u_full) = (Vec::new(), Vec::new(), Vec::new());
+        for (k, &g) in idx.iter().enumerate() {
+            let g = g as usize;
+            let r = (offset + k as i64) as Int;
+            if (self.u_range.0..self.u_range.1).contains(&g) {
+                u_red.push(r);
+                u_full.push(g - self.u_range.0);
+            } else if (self.p_range.0..self.p_range.1).contains(&g) {
+                p_red.push(r);
             }
         }
-        let near_null = NullSpace::rigid_body(&coords)?;
-        Ok(Fields { u, p, near_null })
+        // Six rigid-body modes on the free u dofs: translations e_c, rotations e_k × x.
+        let mut modes = Vec::with_capacity(6);
+        for m in 0..6 {
+            let mut v = Vector::mpi(comm, u_full.len())?;
+            {
+                let mut w = v.write()?;
+                for (i, &l) in u_full.iter().enumerate() {
+                    let (node, c) = (l / 3, l % 3);
+                    let x = self.coords[node];
+                    w[i] = match m {
+                        0..=2 => f64::from(c == m),
+                        3 => [0.0, -x[2], x[1]][c],
+                        4 => [x[2], 0.0, -x[0]][c],
+                        _ => [-x[1], x[0], 0.0][c],
+                    };
+                }
+            }
+            modes.push(v);
+        }
+        orthonormalise(&mut modes)?;
+        let mut u = IndexSet::general(comm, &u_red)?;
+        u.compose("nearnullspace", &NullSpace::from_vectors(comm, &modes)?)?;
+        let p = IndexSet::general(comm, &p_red)?;
+        Ok(vec![("u".into(), u), ("p".into(), p)])
     }
 }
 
+/// Modified Gram–Schmidt with global dot products.
+fn orthonormalise(vs: &mut [Vector]) -> Result<()> {
+    for i in 0..vs.len() {
+        let (done, rest) = vs.split_at_mut(i);
+        let v = &mut rest[0];
+        for q in done.iter() {
+            let d = v.dot(q)?;
+            v.axpy(-d, q)?;
+        }
+        let n = v.norm2()?;
+        if n > 0.0 {
+            v.scale(1.0 / n)?;
+        }
+    }
+    Ok(())
+}
+
 impl FieldDecomposition for Fields {
-    fn fields(&mut self, _snes: Option<Snes>) -> Result<Vec<(String, IndexSet)>> {
+    fn fields(&mut self, snes: Option<Snes>) -> Result<Vec<(String, IndexSet)>> {
+        // Before the first VI iteration there is no inactive set: the full sets.
+        let inactive = match snes {
+            Some(s) if s.is_vi()? => s.vi_inactive_set()?,
+            _ => None,
+        };
+        if let Some(raw) = inactive {
+            let is = unsafe { IndexSet::from_raw_ref(raw)? };
+            return self.restricted(&is);
+        }
         let mut u = IndexSet::stride_like(&self.u)?;
         u.set_block_size(3)?;
         u.compose("nearnullspace", &self.near_null)?;

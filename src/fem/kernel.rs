@@ -165,7 +165,70 @@ impl Projection {
     }
 }
 
+/// Post-processing of one element: nodal forces of the total stress and of its pressure part,
+/// the raw mass residual, and element averages of the output fields.
+pub struct ElementPost {
+    /// The element residual (u rows: internal minus body force; p rows: mass balance).
+    pub r: [f64; NDOF],
+    /// u rows of the pressure part alone, ∫ P_p : Grad w (P_p = −p J F⁻ᵀ).
+    pub r_pressure: [f64; NU],
+    /// ∫ dV and ∫ J dV over the element (reference volume, current volume).
+    pub volume: f64,
+    pub volume_j: f64,
+    /// Element averages: J, porosity, von Mises, spatial Darcy flux.
+    pub j: f64,
+    pub porosity: f64,
+    pub von_mises: f64,
+    pub darcy: [f64; 3],
+}
+
 impl ElementKernel<'_> {
+    /// Residual, its pressure part and averaged fields of one element.
+    pub fn post(&self, elem: usize, coords: &[[f64; 3]; 10], v: &ElementValues, dt: f64) -> Result<ElementPost> {
+        let mut out = ElementPost {
+            r: [0.0; NDOF],
+            r_pressure: [0.0; NU],
+            volume: 0.0,
+            volume_j: 0.0,
+            j: 0.0,
+            porosity: 0.0,
+            von_mises: 0.0,
+            darcy: [0.0; 3],
+        };
+        let mut proj = Projection::default();
+        for q in 0..self.tab.weights.len() {
+            let pt = point(coords, self.tab, &self.xi[q], q, v, dt)?;
+            let at = QpId { elem, point: q };
+            let f = self.model.eval(at, &pt.state)?;
+            add_residual(&pt, &f, &mut out.r);
+            proj.add(&pt, &v.pdot);
+            let pf = self.model.fields(at, &pt.state)?;
+            for a in 0..10 {
+                for i in 0..3 {
+                    out.r_pressure[3 * a + i] +=
+                        pt.w * (0..3).map(|j| pf.pressure_stress[(i, j)] * pt.dn[a][j]).sum::<f64>();
+                }
+            }
+            out.volume += pt.w;
+            out.volume_j += pt.w * pf.j;
+            out.j += pt.w * pf.j;
+            out.porosity += pt.w * pf.porosity;
+            out.von_mises += pt.w * pf.von_mises;
+            for d in 0..3 {
+                out.darcy[d] += pt.w * pf.darcy[d];
+            }
+        }
+        if self.stab > 0.0 {
+            proj.residual(self.stab, &mut out.r);
+        }
+        let v = out.volume;
+        out.j /= v;
+        out.porosity /= v;
+        out.von_mises /= v;
+        out.darcy.iter_mut().for_each(|x| *x /= v);
+        Ok(out)
+    }
+
     /// Adds the element residual to `r`.
     pub fn residual(
         &self,

@@ -113,6 +113,14 @@ pub struct NullSpace {
 destroy_on_drop!(NullSpace, MatNullSpaceDestroy);
 
 impl NullSpace {
+    /// A near-null space spanned by `vecs` (orthonormal, see `MatNullSpaceCreate`).
+    pub fn from_vectors(comm: ffi::MPI_Comm, vecs: &[Vector]) -> Result<NullSpace> {
+        let raws: Vec<ffi::Vec> = vecs.iter().map(|v| v.raw).collect();
+        let mut raw = std::ptr::null_mut();
+        check(unsafe { ffi::MatNullSpaceCreate(comm, pbool(false), raws.len() as Int, raws.as_ptr(), &mut raw) })?;
+        Ok(NullSpace { raw })
+    }
+
     /// Rigid-body modes from nodal coordinates (`coords` has block size 3, one block per node).
     pub fn rigid_body(coords: &Vector) -> Result<NullSpace> {
         let mut raw = std::ptr::null_mut();

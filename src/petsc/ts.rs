@@ -54,6 +54,10 @@ pub trait TsProblem {
     fn pre_stage(&mut self, _ts: TsRef, _t: f64) -> Result<()> {
         Ok(())
     }
+    /// Improves the initial guess `x` of each nonlinear solve (the previous solution by default).
+    fn initial_guess(&mut self, _ts: TsRef, _x: &mut Vector) -> Result<()> {
+        Ok(())
+    }
     /// Called after each accepted step by `TSSolve` (a driver calling [`Ts::step`] itself does
     /// its own post-step work).
     fn post_step(&mut self, _ts: TsRef) -> Result<()> {
@@ -67,6 +71,8 @@ pub trait TsProblem {
 
 struct Ctx<P> {
     problem: P,
+    /// The TS itself (for callbacks that only get the SNES).
+    ts: ffi::TS,
     /// First hard error raised inside a callback during the current step.
     error: Option<Error>,
     /// Domain errors (step cuts) seen so far, and the last message.
@@ -179,6 +185,14 @@ unsafe extern "C" fn poststep_tramp<P: TsProblem>(ts: ffi::TS) -> ffi::PetscErro
     }
 }
 
+unsafe extern "C" fn guess_tramp<P: TsProblem>(_snes: ffi::SNES, x: ffi::Vec, ctx: *mut c_void) -> ffi::PetscErrorCode {
+    let ts = (*(ctx as *mut Ctx<P>)).ts;
+    guard::<P>(ctx, ts, |c| {
+        let mut x = Vector::borrowed(x);
+        c.problem.initial_guess(TsRef { raw: ts }, &mut x)
+    })
+}
+
 unsafe extern "C" fn monitor_tramp<P: TsProblem>(
     ts: ffi::TS,
     step: Int,
@@ -208,7 +222,7 @@ impl<P: TsProblem> Ts<P> {
         check(unsafe { ffi::TSCreate(comm, &mut raw) })?;
         let mut ts = Ts {
             raw,
-            ctx: Box::new(Ctx { problem, error: None, domain_errors: 0, last_domain: None }),
+            ctx: Box::new(Ctx { problem, ts: raw, error: None, domain_errors: 0, last_domain: None }),
             _dm: None,
             _keep: (f, jac, pre),
         };
@@ -227,6 +241,9 @@ impl<P: TsProblem> Ts<P> {
             check(ffi::TSSetPreStage(raw, Some(prestage_tramp::<P>)))?;
             check(ffi::TSSetPostStep(raw, Some(poststep_tramp::<P>)))?;
             check(ffi::TSMonitorSet(raw, Some(monitor_tramp::<P>), ctxp, None))?;
+            let mut snes = std::ptr::null_mut();
+            check(ffi::TSGetSNES(raw, &mut snes))?;
+            check(ffi::SNESSetComputeInitialGuess(snes, Some(guess_tramp::<P>), ctxp))?;
             check(ffi::TSSetExactFinalTime(raw, ffi::TSExactFinalTimeOption::TS_EXACTFINALTIME_MATCHSTEP))?;
             check(ffi::TSSetMaxSNESFailures(raw, -1))?;
             check(ffi::TSSetErrorIfStepFails(raw, pbool(false)))?;

@@ -35,8 +35,17 @@ fn missing(mesh: &LocalMesh, name: &str, context: &str) -> Error {
     }
 }
 
+/// Local nodes of a point group, or an error naming it and the available groups.
+pub fn point_group<'m>(mesh: &'m LocalMesh, name: &str, context: &str) -> Result<&'m [u32]> {
+    mesh.point_groups
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, v)| v.as_slice())
+        .ok_or_else(|| missing(mesh, name, context))
+}
+
 /// Local nodes touched by a group: all nodes of its faces, or the nodes of a point group.
-fn group_nodes(mesh: &LocalMesh, name: &str, context: &str) -> Result<Vec<usize>> {
+pub fn group_nodes(mesh: &LocalMesh, name: &str, context: &str) -> Result<Vec<usize>> {
     if let Some((_, faces)) = mesh.face_groups.iter().find(|(n, _)| n == name) {
         let mut nodes: Vec<usize> =
             faces.iter().flat_map(|&f| mesh.faces[f as usize].iter().map(|&n| n as usize)).collect();

@@ -7,7 +7,7 @@
 //!
 //! The reference model for the Terzaghi and Cryer verification problems.
 
-use super::model::{ij, PointFlux, PointModel, PointState, PointTangent, QpId};
+use super::model::{ij, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId};
 use crate::error::{Error, Result};
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
@@ -82,5 +82,18 @@ impl PointModel for LinearPoroelastic {
     }
     fn is_linear(&self) -> bool {
         true
+    }
+    fn fields(&self, _at: QpId, s: &PointState) -> Result<PointFields> {
+        let eps = 0.5 * (s.grad_u + s.grad_u.transpose());
+        let sig = Matrix3::identity() * (self.lambda * eps.trace()) + eps * (2.0 * self.mu);
+        let dev = sig - Matrix3::identity() * (sig.trace() / 3.0);
+        Ok(PointFields {
+            j: 1.0 + eps.trace(),
+            porosity: f64::NAN,
+            cauchy_sc: sig,
+            von_mises: 1.5f64.sqrt() * dev.norm(),
+            darcy: -s.grad_p * self.k,
+            pressure_stress: -Matrix3::identity() * s.p,
+        })
     }
 }

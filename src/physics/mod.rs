@@ -3,6 +3,9 @@
 
 pub mod analytic;
 pub mod bc;
+pub mod biphasic;
+pub mod contact;
+pub mod experiment;
 pub mod linear;
 pub mod model;
 pub mod probe;

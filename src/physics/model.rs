@@ -71,6 +71,24 @@ pub struct PointTangent {
     pub dflux_dgradp: Matrix3<f64>,
 }
 
+/// Post-processing quantities at a point: output fields and experiment observables.
+#[derive(Debug, Clone, Copy)]
+pub struct PointFields {
+    /// J = det F (1 + div u at small strain).
+    pub j: f64,
+    /// Porosity φf = 1 − Φs/J (NaN for models without a solid fraction).
+    pub porosity: f64,
+    /// Constitutive (effective) Cauchy stress of the solid σ_sc = J⁻¹ P_sc Fᵀ (kPa).
+    pub cauchy_sc: Matrix3<f64>,
+    /// Von Mises stress √(3/2)‖dev σ_sc‖ (kPa).
+    pub von_mises: f64,
+    /// Spatial Darcy flux q (µm/s).
+    pub darcy: Vector3<f64>,
+    /// Pore-pressure part of the total first Piola stress (−p J F⁻ᵀ; −p I at small strain):
+    /// splits contact forces exactly into pressure and constitutive parts.
+    pub pressure_stress: Matrix3<f64>,
+}
+
 /// Constitutive physics at a quadrature point.
 pub trait PointModel {
     /// The residual terms.
@@ -83,6 +101,12 @@ pub trait PointModel {
     fn p_wave_modulus(&self) -> f64;
     /// Reference conductivity (µm⁴/(nN s)): sets the scale of pressure constraint rows.
     fn conductivity(&self) -> f64;
+    /// Output quantities at a point.
+    fn fields(&self, at: QpId, s: &PointState) -> Result<PointFields>;
+    /// Referential solid fraction Φs, if the model has one (for porosity).
+    fn solid_fraction(&self) -> Option<f64> {
+        None
+    }
     /// True if the terms are linear in the unknowns: then the Jacobian depends only on the
     /// time-step shift, and an unchanged shift means an unchanged matrix (and preconditioner).
     fn is_linear(&self) -> bool {

@@ -18,6 +18,8 @@ use mpi::traits::*;
 pub enum Quantity {
     Pressure,
     Displacement(usize),
+    /// Porosity 1 − Φs/J at the point, with this Φs.
+    Porosity(f64),
 }
 
 impl Quantity {
@@ -88,6 +90,21 @@ pub fn locate_in_element(mesh: &LocalMesh, e: usize, x: [f64; 3]) -> Option<[f64
 }
 
 impl Probe {
+    /// A point probe of `quantity` at reference point `x` (collective), named `name`.
+    pub fn at_point(
+        name: &str,
+        quantity: Quantity,
+        x: [f64; 3],
+        mesh: &LocalMesh,
+        world: &SimpleCommunicator,
+        context: &str,
+    ) -> Result<Probe> {
+        let spec = ProbeSpec { name: name.into(), field: "p".into(), point: Some(x), group: None, scale: 1.0 };
+        let mut p = Probe::new(&spec, mesh, world, context)?;
+        p.quantity = quantity;
+        Ok(p)
+    }
+
     /// Sets up a probe (collective).
     pub fn new(spec: &ProbeSpec, mesh: &LocalMesh, world: &SimpleCommunicator, context: &str) -> Result<Probe> {
         let quantity = Quantity::parse(&spec.field).ok_or_else(|| Error::Scene {
@@ -130,6 +147,9 @@ impl Probe {
                         let (n, _) = tet10(xi);
                         (0..10).map(|a| n[a] * local[dofs.u_local(t[a] as usize, c)]).sum()
                     }
+                    Quantity::Porosity(phi_s) => {
+                        1.0 - phi_s / deformation_gradient(mesh, dofs, *e, xi, local).determinant()
+                    }
                 }
             }
             Where::Point(None) => 0.0,
@@ -139,6 +159,7 @@ impl Probe {
                     Quantity::Pressure => (0..3)
                         .map(|m| l[m] * local[dofs.p_local(mesh.vertex_of_node[nodes[m] as usize] as usize)])
                         .sum(),
+                    Quantity::Porosity(_) => f64::NAN,
                     Quantity::Displacement(c) => (0..6).map(|a| n[a] * local[dofs.u_local(nodes[a] as usize, c)]).sum(),
                 }) / area
             }
@@ -149,6 +170,40 @@ impl Probe {
         };
         total / self.scale
     }
+}
+
+/// F = I + Grad u at reference coordinates ξ of local element e (isoparametric map).
+pub fn deformation_gradient(
+    mesh: &LocalMesh,
+    dofs: &DofMap,
+    e: usize,
+    xi: &[f64; 3],
+    local: &[f64],
+) -> nalgebra::Matrix3<f64> {
+    let t = &mesh.tets[e];
+    let (_, dn) = tet10(xi);
+    let mut jm = nalgebra::Matrix3::<f64>::zeros();
+    for a in 0..10 {
+        let x = mesh.coords[t[a] as usize];
+        for d in 0..3 {
+            for k in 0..3 {
+                jm[(d, k)] += x[d] * dn[a][k];
+            }
+        }
+    }
+    let jinv = jm.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros);
+    let mut f = nalgebra::Matrix3::<f64>::identity();
+    for a in 0..10 {
+        // ∇_X N_a = J⁻ᵀ ∇_ξ N_a
+        let g = jinv.transpose() * nalgebra::Vector3::from(dn[a]);
+        for i in 0..3 {
+            let ui = local[dofs.u_local(t[a] as usize, i)];
+            for j in 0..3 {
+                f[(i, j)] += ui * g[j];
+            }
+        }
+    }
+    f
 }
 
 /// ∫ over local faces of f(face nodes, P2 face shape values, P1 face shape values).

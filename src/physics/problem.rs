@@ -13,6 +13,7 @@
 //! becomes a domain error on every rank, which TS answers by cutting the step.
 
 use super::bc::Constraint;
+use super::contact::Plates;
 use super::model::PointModel;
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
@@ -68,7 +69,35 @@ pub struct PoroProblem {
     assembled_shift: Option<f64>,
     /// Mean element size, for constraint-row scaling.
     h: f64,
+    /// Rigid plates (contact bounds, drainage out of contact), if the scene has them.
+    pub plates: Option<Plates>,
+    /// SNESVI lower/upper bounds (SNES keeps references; refreshed at every stage time).
+    pub bounds: Option<(Vector, Vector)>,
+    /// (start, stage) time of the step being solved, for the contact predictor.
+    stage: (f64, f64),
     pub timers: Timers,
+}
+
+/// "No bound" for SNESVI (PETSc's PETSC_INFINITY).
+pub const INFINITY: f64 = f64::MAX / 4.0;
+
+/// Post-processing of a converged state.
+pub struct Post {
+    /// The state, owned + ghost entries (local layout).
+    pub local: Vec<f64>,
+    /// Raw residual — internal minus external forces on u rows, mass balance on p rows — with
+    /// no constraint rows: the reactions of constrained and contact dofs. Owned entries.
+    pub reaction: Vec<f64>,
+    /// The pressure part of the u-row reactions (p entries zero). Owned entries.
+    pub reaction_pressure: Vec<f64>,
+    /// Per local element: J, porosity, von Mises, Darcy flux (3 per element).
+    pub cell_j: Vec<f64>,
+    pub cell_porosity: Vec<f64>,
+    pub cell_von_mises: Vec<f64>,
+    pub cell_darcy: Vec<f64>,
+    /// Σ over local elements of ∫ dV and ∫ J dV.
+    pub volume: f64,
+    pub volume_j: f64,
 }
 
 impl PoroProblem {
@@ -121,6 +150,9 @@ impl PoroProblem {
             ghosts: GhostRows::default(),
             assembled_shift: None,
             h,
+            plates: None,
+            bounds: None,
+            stage: (0.0, 0.0),
             timers: Timers::default(),
         })
     }
@@ -139,6 +171,22 @@ impl PoroProblem {
         } else {
             scales.1
         }
+    }
+
+    /// Adds rigid plates: contact bounds on the surface u_z dofs (vectors like `template`,
+    /// ±∞ elsewhere) and drainage out of contact. Returns the bounds for `SNESVISetVariableBounds`.
+    pub fn attach_plates(&mut self, plates: Plates, template: &Vector) -> Result<(&Vector, &Vector)> {
+        let (mut lo, mut hi) = (template.duplicate()?, template.duplicate()?);
+        lo.set(-INFINITY)?;
+        hi.set(INFINITY)?;
+        {
+            let (mut l, mut h) = (lo.write()?, hi.write()?);
+            plates.fill_bounds(0.0, &self.disc.dofs, &mut l, &mut h);
+        }
+        self.plates = Some(plates);
+        self.bounds = Some((lo, hi));
+        let (lo, hi) = self.bounds.as_ref().expect("just set");
+        Ok((lo, hi))
     }
 
     /// Makes a per-rank outcome collective: if any rank failed, every rank returns an error
@@ -168,9 +216,16 @@ impl PoroProblem {
     }
 
     /// Residual of the current step at (t, U, U̇) with step size dt.
-    pub fn assemble_residual(&mut self, dt: f64, u: &Vector, udot: &Vector, f: &mut Vector) -> Result<()> {
+    pub fn assemble_residual(&mut self, t: f64, dt: f64, u: &Vector, udot: &Vector, f: &mut Vector) -> Result<()> {
         let t0 = Instant::now();
         self.load_state(u, udot)?;
+        let r = self.residual_with(t, dt, f);
+        self.timers.residual_s += t0.elapsed().as_secs_f64();
+        self.timers.residual_n += 1;
+        r
+    }
+
+    fn residual_with(&mut self, t: f64, dt: f64, f: &mut Vector) -> Result<()> {
         let outcome = {
             let ul = self.u_loc.read()?;
             let udl = self.udot_loc.read()?;
@@ -191,6 +246,12 @@ impl PoroProblem {
                 Ok(())
             };
             let res = run();
+            // Drainage through the surface off the plates: outflow c(g) p (contact module).
+            if let Some(pl) = &self.plates {
+                for d in pl.drainage(&disc.mesh, &disc.dofs, &ul, t) {
+                    fl[d.p] += d.conductance * ul[d.p];
+                }
+            }
             for (l, x) in fl.iter_mut().enumerate() {
                 if disc.constrained[l] {
                     *x = 0.0;
@@ -212,22 +273,35 @@ impl PoroProblem {
                 fw[i] = self.scale_of(c.local, scales) * (ul[c.local] - c.value);
             }
         }
-        self.timers.residual_s += t0.elapsed().as_secs_f64();
-        self.timers.residual_n += 1;
         Ok(())
     }
 
     /// Jacobian dF/dU + shift dF/dU̇ into `jac`, and the Schur approximation into `self.schur`.
     /// The first assembly inserts through `MatSetValues` and fixes the pattern; later ones
     /// write into the CSR arrays directly (see `fem::insert`).
-    pub fn assemble_jacobian(&mut self, dt: f64, shift: f64, u: &Vector, udot: &Vector, jac: &mut Mat) -> Result<()> {
-        // A linear model's Jacobian depends only on the shift: leaving the matrix untouched
-        // also lets PETSc keep the preconditioner (no AMG setup).
-        if self.disc.model.is_linear() && self.assembled_shift == Some(shift) {
+    pub fn assemble_jacobian(
+        &mut self,
+        t: f64,
+        dt: f64,
+        shift: f64,
+        u: &Vector,
+        udot: &Vector,
+        jac: &mut Mat,
+    ) -> Result<()> {
+        // A linear model's Jacobian depends only on the shift (unless contact changes the
+        // drained set): leaving the matrix untouched lets PETSc keep the preconditioner too.
+        if self.disc.model.is_linear() && self.plates.is_none() && self.assembled_shift == Some(shift) {
             return Ok(());
         }
         let t0 = Instant::now();
         self.load_state(u, udot)?;
+        let r = self.jacobian_with(t, dt, shift, jac);
+        self.timers.jacobian_s += t0.elapsed().as_secs_f64();
+        self.timers.jacobian_n += 1;
+        r
+    }
+
+    fn jacobian_with(&mut self, t: f64, dt: f64, shift: f64, jac: &mut Mat) -> Result<()> {
         jac.zero_entries()?;
         self.schur.zero_entries()?;
         let outcome = {
@@ -262,12 +336,26 @@ impl PoroProblem {
         self.collective(outcome)?;
         self.ghosts.flush(jac)?;
         let scales = self.scales(shift);
-        for c in &self.constraints {
-            let g = self.disc.dofs.l2g[c.local];
-            let s = self.scale_of(c.local, scales);
+        // Drainage: d(c p)/dp = c on the diagonal, d(c p)/du_z = c' p; and c in the Schur block.
+        if let Some(pl) = &self.plates {
+            let ul = self.u_loc.read()?;
+            let l2g = &self.disc.dofs.l2g;
+            for d in pl.drainage(&self.disc.mesh, &self.disc.dofs, &ul, t) {
+                if self.disc.constrained[d.p] {
+                    continue;
+                }
+                jac.add_values(&[l2g[d.p]], &[l2g[d.p], l2g[d.uz]], &[d.conductance, d.d_conductance * ul[d.p]])?;
+                let gv = self.disc.mesh.vertex_global[d.p - 3 * self.disc.dofs.n_nodes] as Int;
+                self.schur.add_values(&[gv], &[gv], &[d.conductance])?;
+            }
+        }
+        let rows: Vec<usize> = self.constraints.iter().map(|c| c.local).collect();
+        for l in rows {
+            let g = self.disc.dofs.l2g[l];
+            let s = self.scale_of(l, scales);
             jac.add_values(&[g], &[g], &[s])?;
-            if c.local >= 3 * self.disc.dofs.n_nodes {
-                let lv = c.local - 3 * self.disc.dofs.n_nodes;
+            if l >= 3 * self.disc.dofs.n_nodes {
+                let lv = l - 3 * self.disc.dofs.n_nodes;
                 let gv = self.disc.mesh.vertex_global[lv] as Int;
                 self.schur.add_values(&[gv], &[gv], &[s])?;
             }
@@ -280,9 +368,69 @@ impl PoroProblem {
                 Some(ElementInserter::build(jac, &disc.dofs, disc.mesh.tets.len(), |e| disc.element_dofs(e))?);
         }
         self.assembled_shift = Some(shift);
-        self.timers.jacobian_s += t0.elapsed().as_secs_f64();
-        self.timers.jacobian_n += 1;
         Ok(())
+    }
+
+    /// Reactions, their pressure part and cell fields at the state (U, U̇) of a step of size dt.
+    pub fn post_process(&mut self, dt: f64, u: &Vector, udot: &Vector) -> Result<Post> {
+        self.load_state(u, udot)?;
+        let n_el = self.disc.mesh.tets.len();
+        let mut post = Post {
+            local: self.u_loc.read()?.to_vec(),
+            reaction: Vec::new(),
+            reaction_pressure: Vec::new(),
+            cell_j: Vec::with_capacity(n_el),
+            cell_porosity: Vec::with_capacity(n_el),
+            cell_von_mises: Vec::with_capacity(n_el),
+            cell_darcy: Vec::with_capacity(3 * n_el),
+            volume: 0.0,
+            volume_j: 0.0,
+        };
+        let n_local = self.disc.dofs.n_local();
+        let mut pres_loc = Vector::seq(n_local)?;
+        let outcome = {
+            let udl = self.udot_loc.read()?;
+            let mut fl = self.f_loc.write()?;
+            let mut pl = pres_loc.write()?;
+            fl.iter_mut().for_each(|x| *x = 0.0);
+            pl.iter_mut().for_each(|x| *x = 0.0);
+            let disc = &self.disc;
+            let kernel = disc.kernel();
+            let mut run = || -> Result<()> {
+                for e in 0..n_el {
+                    let d = disc.element_dofs(e);
+                    let (coords, v) = disc.gather(e, &d, &post.local, &udl);
+                    let ep = kernel.post(e, &coords, &v, dt).map_err(|err| locate(err, e, &disc.mesh))?;
+                    for k in 0..NDOF {
+                        fl[d[k]] += ep.r[k];
+                    }
+                    for k in 0..NU {
+                        pl[d[k]] += ep.r_pressure[k];
+                    }
+                    post.cell_j.push(ep.j);
+                    post.cell_porosity.push(ep.porosity);
+                    post.cell_von_mises.push(ep.von_mises);
+                    post.cell_darcy.extend(ep.darcy);
+                    post.volume += ep.volume;
+                    post.volume_j += ep.volume_j;
+                }
+                Ok(())
+            };
+            let r = run();
+            for (x, ext) in fl.iter_mut().zip(&self.external) {
+                *x -= ext;
+            }
+            r
+        };
+        self.collective(outcome)?;
+        let mut g = u.duplicate()?;
+        g.zero()?;
+        self.scatter.reverse_add(&self.f_loc, &mut g)?;
+        post.reaction = g.read()?.to_vec();
+        g.zero()?;
+        self.scatter.reverse_add(&pres_loc, &mut g)?;
+        post.reaction_pressure = g.read()?.to_vec();
+        Ok(post)
     }
 
     /// Local copy (owned + ghost) of a global vector, for post-processing.
@@ -418,7 +566,7 @@ fn locate(err: Error, e: usize, mesh: &LocalMesh) -> Error {
 }
 
 /// Mean edge-length scale (volume^(1/3) of the vertex tetrahedra), over all ranks.
-fn mean_element_size(world: &SimpleCommunicator, mesh: &LocalMesh) -> f64 {
+pub fn mean_element_size(world: &SimpleCommunicator, mesh: &LocalMesh) -> f64 {
     let mut sum = 0.0;
     for t in &mesh.tets {
         let x = |i: usize| mesh.coords[t[i] as usize];
@@ -441,15 +589,15 @@ fn mean_element_size(world: &SimpleCommunicator, mesh: &LocalMesh) -> f64 {
 }
 
 impl TsProblem for PoroProblem {
-    fn residual(&mut self, ts: TsRef, _t: f64, u: &Vector, udot: &Vector, f: &mut Vector) -> Result<()> {
+    fn residual(&mut self, ts: TsRef, t: f64, u: &Vector, udot: &Vector, f: &mut Vector) -> Result<()> {
         let dt = ts.time_step()?;
-        self.assemble_residual(dt, u, udot, f)
+        self.assemble_residual(t, dt, u, udot, f)
     }
 
     fn jacobian(
         &mut self,
         ts: TsRef,
-        _t: f64,
+        t: f64,
         u: &Vector,
         udot: &Vector,
         shift: f64,
@@ -457,6 +605,24 @@ impl TsProblem for PoroProblem {
         _pre: &mut Mat,
     ) -> Result<()> {
         let dt = ts.time_step()?;
-        self.assemble_jacobian(dt, shift, u, udot, jac)
+        self.assemble_jacobian(t, dt, shift, u, udot, jac)
+    }
+
+    /// Moves the lower plate's bound to the stage time (also on a retried step).
+    fn pre_stage(&mut self, ts: TsRef, t: f64) -> Result<()> {
+        if let (Some(pl), Some((lo, hi))) = (&self.plates, &mut self.bounds) {
+            let (mut l, mut h) = (lo.write()?, hi.write()?);
+            pl.fill_bounds(t, &self.disc.dofs, &mut l, &mut h);
+            self.stage = (ts.time()?, t);
+        }
+        Ok(())
+    }
+
+    /// Contact predictor: nodes on the lower plate move with it (see `Plates::predict`).
+    fn initial_guess(&mut self, _ts: TsRef, x: &mut Vector) -> Result<()> {
+        if let Some(pl) = &self.plates {
+            pl.predict(self.stage.0, self.stage.1, &self.disc.dofs, &mut x.write()?);
+        }
+        Ok(())
     }
 }

@@ -1,0 +1,790 @@
+//! Finite-strain biphasic mixture (incompressible solid and fluid), total-Lagrangian u–p form
+//! (model.md §2–§3). Per unit reference volume, with F = I + Grad u, J = det F, cof F = J F⁻ᵀ:
+//!
+//! ```text
+//!   P = P_sc(F, B_p) − p cof F                      total first Piola stress
+//!   b = [ϱs Φs + ϱf (J − Φs)] a_g                   body force (mixture weight)
+//!   ṡ = (J(F) − J(F_n)) / dt,   F_n = F − dt Grad u̇  fluid-content rate (backward Euler J̇)
+//!   W = −Q = K(F, B_p) (Grad p − ϱf Fᵀ a_g)         negative referential Darcy flux
+//! ```
+//!
+//! P_sc is the Holmes–Mow solid plus the optional compaction penalty
+//! ([`crate::material::solid_response`]), K the Holmes–Mow referential conductivity
+//! ([`crate::material::Permeability`]). With D = dt Grad u̇ the rate is evaluated without
+//! cancellation from the exact expansion det(F − D) = J − cof F : D + F : cof D − det D:
+//!
+//! ```text
+//!   ṡ = cof F : Grad u̇ − dt F : cof Grad u̇ + dt² det Grad u̇
+//! ```
+//!
+//! so ∫ ṡ dt is exactly the change of ∫ J over a backward-Euler step (discrete fluid mass is
+//! conserved to round-off), and dt → 0 gives J̇ = cof F : Grad u̇. Tangent blocks (index map
+//! (i, j) → 3 i + j, derivatives with respect to Grad u = F − I):
+//!
+//! ```text
+//!   ∂P_ij/∂F_kl  = A_sc,ijkl − p ∂(cof F)_ij/∂F_kl,  ∂(cof F)_ij/∂F_kl = J (F⁻ᵀ_ij F⁻ᵀ_kl − F⁻ᵀ_il F⁻ᵀ_kj)
+//!   ∂P/∂p        = −cof F
+//!   ∂b_i/∂F_kl   = ϱf a_g,i (cof F)_kl
+//!   dṡ/dF        = (cof F − cof F_n)/dt + shift cof F_n
+//!   ∂W_i/∂F_kl   = (∂K/∂F_kl g)_i − K_il ϱf a_g,k,   g = Grad p − ϱf Fᵀ a_g
+//!   ∂W/∂Grad p   = K
+//! ```
+//!
+//! Post-processing ([`Biphasic::point_fields`]): porosity 1 − Φs/J, σ_sc = J⁻¹ P_sc Fᵀ,
+//! σ_VM = √(3/2) ‖dev σ_sc‖, spatial Darcy flux q = J⁻¹ F Q.
+
+use super::model::{ij, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId};
+use crate::error::{Error, Result};
+use crate::material::{
+    domain_error, idx, locate, solid_response, AtPoint, CompactionPenalty, HolmesMow, Kinematics, Permeability, Tangent,
+};
+use nalgebra::{Matrix3, SMatrix, Vector3};
+
+/// (kg/m³)·(m/s²) → kPa/µm: 1 N/m³ = 1 Pa/m = 1e-3 kPa / 1e6 µm.
+pub const KG_M3_M_S2_TO_KPA_PER_UM: f64 = 1e-9;
+
+/// The biphasic point model: solid, optional compaction penalty, permeability, and the weights
+/// ϱs a_g, ϱf a_g in solver units (kPa/µm).
+#[derive(Debug, Clone)]
+pub struct Biphasic {
+    /// Holmes–Mow solid (energy per reference volume of mixture).
+    solid: HolmesMow,
+    /// Compaction penalty U(J), if any.
+    penalty: Option<CompactionPenalty>,
+    /// Referential conductivity law.
+    perm: Permeability,
+    /// Referential solid fraction Φs (common to the three laws).
+    phi_s: f64,
+    /// ϱs a_g in kPa/µm.
+    rho_s_g: Vector3<f64>,
+    /// ϱf a_g in kPa/µm.
+    rho_f_g: Vector3<f64>,
+    /// Drained bulk modulus of the mixture at the reference state (kPa).
+    k_drained: f64,
+    /// Drained P-wave modulus of the mixture at the reference state (kPa).
+    m_drained: f64,
+}
+
+/// What eval and eval_tangent share at one point, after the domain checks.
+struct Kin {
+    /// F = I + Grad u.
+    f: Matrix3<f64>,
+    /// J = det F (cancellation-free near F = I).
+    j: f64,
+    /// cof F = J F⁻ᵀ, from the entries of F.
+    cof_f: Matrix3<f64>,
+    /// B_p at this point.
+    bp: Matrix3<f64>,
+}
+
+impl Biphasic {
+    /// Builds the model from the three laws, the densities (kg/m³) and the gravity acceleration
+    /// (m/s², e.g. [0, 0, −9.81]); ϱ a_g is converted to kPa/µm with
+    /// [`KG_M3_M_S2_TO_KPA_PER_UM`]. The laws must agree on Φs (relative 1e-12); densities must be
+    /// finite and >= 0, gravity finite. The drained moduli are computed here, once, from the
+    /// exact tangent at F = B_p = I (see [`PointModel::drained_bulk_modulus`]).
+    pub fn new(
+        solid: HolmesMow,
+        penalty: Option<CompactionPenalty>,
+        perm: Permeability,
+        rho_s_kg_m3: f64,
+        rho_f_kg_m3: f64,
+        g_vec_m_s2: [f64; 3],
+    ) -> Result<Self> {
+        let phi_s = solid.phi_s;
+        let same = |x: f64| (x - phi_s).abs() <= 1e-12 * phi_s;
+        if !same(perm.phi_s) || !penalty.as_ref().is_none_or(|u| same(u.phi_s)) {
+            return Err(Error::Material(format!(
+                "biphasic: the laws disagree on the solid fraction (solid {phi_s}, permeability {}, penalty {})",
+                perm.phi_s,
+                penalty.map_or("none".to_string(), |u| u.phi_s.to_string())
+            )));
+        }
+        for (name, rho) in [("solid", rho_s_kg_m3), ("fluid", rho_f_kg_m3)] {
+            if !(rho >= 0.0 && rho.is_finite()) {
+                return Err(Error::Material(format!("biphasic: {name} density = {rho} must be finite and >= 0")));
+            }
+        }
+        if !g_vec_m_s2.iter().all(|g| g.is_finite()) {
+            return Err(Error::Material(format!("biphasic: gravity {g_vec_m_s2:?} must be finite")));
+        }
+        let a_g = Vector3::from(g_vec_m_s2) * KG_M3_M_S2_TO_KPA_PER_UM;
+        let id = Matrix3::identity();
+        let a0 = solid_response(&solid, penalty.as_ref(), &id, &id)?.a;
+        // K_dr = (1/9) δ_ij A_ijkl δ_kl = Φs (λ + 2µ/3) and M = A_zzzz = Φs (λ + 2µ) for the
+        // isotropic linearisation A = Φs [λ δ_ij δ_kl + µ (δ_ik δ_jl + δ_il δ_jk)].
+        let k_drained = (0..3).map(|i| (0..3).map(|k| a0[(idx(i, i), idx(k, k))]).sum::<f64>()).sum::<f64>() / 9.0;
+        let m_drained = a0[(idx(2, 2), idx(2, 2))];
+        if !(k_drained > 0.0 && m_drained > 0.0 && k_drained.is_finite() && m_drained.is_finite()) {
+            return Err(Error::Material(format!(
+                "biphasic: drained moduli at the reference state not positive (K = {k_drained}, M = {m_drained})"
+            )));
+        }
+        Ok(Biphasic {
+            solid,
+            penalty,
+            perm,
+            phi_s,
+            rho_s_g: a_g * rho_s_kg_m3,
+            rho_f_g: a_g * rho_f_kg_m3,
+            k_drained,
+            m_drained,
+        })
+    }
+
+    /// Referential solid fraction Φs.
+    pub fn phi_s(&self) -> f64 {
+        self.phi_s
+    }
+
+    /// ϱs a_g in kPa/µm.
+    pub fn solid_weight(&self) -> Vector3<f64> {
+        self.rho_s_g
+    }
+
+    /// ϱf a_g in kPa/µm.
+    pub fn fluid_weight(&self) -> Vector3<f64> {
+        self.rho_f_g
+    }
+
+    /// The remodelling metric B_p at a point: the identity for now. Remodelling will keep
+    /// per-point state here (a flat array indexed by `at`, committed or rolled back by the
+    /// driver with the time step); everything else already takes B_p from this method.
+    pub fn bp(&self, _at: QpId) -> Matrix3<f64> {
+        Matrix3::identity()
+    }
+
+    /// Output fields at a point (uses Grad u, p, Grad p). Domain error as in `eval`.
+    pub fn point_fields(&self, at: QpId, s: &PointState) -> Result<PointFields> {
+        let k = self.kinematics(at, s)?;
+        let r = solid_response(&self.solid, self.penalty.as_ref(), &k.f, &k.bp).at_point(at.elem, at.point)?;
+        let cauchy = k.f * r.s * k.f.transpose() / k.j;
+        let cauchy_sc = 0.5 * (cauchy + cauchy.transpose());
+        let dev = cauchy_sc - Matrix3::identity() * (cauchy_sc.trace() / 3.0);
+        let kt = self.perm.tensor(&k.f, &k.bp).at_point(at.elem, at.point)?;
+        let w = kt * self.driving_gradient(&k, s);
+        Ok(PointFields {
+            j: k.j,
+            porosity: 1.0 - self.phi_s / k.j,
+            cauchy_sc,
+            von_mises: (1.5f64).sqrt() * dev.norm(),
+            darcy: -(k.f * w) / k.j,
+            pressure_stress: -k.cof_f * s.p,
+        })
+    }
+
+    /// F, J, cof F and B_p, with every domain check: non-finite input, J <= 0, J <= Φs.
+    fn kinematics(&self, at: QpId, s: &PointState) -> Result<Kin> {
+        let finite = s.p.is_finite()
+            && s.dt.is_finite()
+            && s.grad_p.iter().all(|x| x.is_finite())
+            && s.grad_udot.iter().all(|x| x.is_finite());
+        if !finite {
+            let msg = "non-finite pressure, pressure gradient, velocity gradient or time step";
+            return Err(locate(domain_error(f64::NAN, msg), at.elem, at.point));
+        }
+        let f = Matrix3::identity() + s.grad_u;
+        let j = Kinematics::new(&f).at_point(at.elem, at.point)?.j;
+        if j <= self.phi_s {
+            let msg = format!("J <= phi_s = {} (mixture compacted to its solid fraction)", self.phi_s);
+            return Err(locate(domain_error(j, msg), at.elem, at.point));
+        }
+        Ok(Kin { f, j, cof_f: cof(&f), bp: self.bp(at) })
+    }
+
+    /// ṡ = cof F : L − dt F : cof L + dt² det L (L = Grad u̇), cof L, and J(F_n) checked > 0.
+    fn rate(&self, at: QpId, k: &Kin, s: &PointState) -> Result<(f64, Matrix3<f64>)> {
+        let (l, dt) = (&s.grad_udot, s.dt);
+        let cof_l = cof(l);
+        let rate = k.cof_f.dot(l) - dt * k.f.dot(&cof_l) + dt * dt * l.determinant();
+        let j_n = (k.f - l * dt).determinant();
+        if !(j_n > 0.0 && rate.is_finite()) {
+            let msg = format!("J(F_n) = {j_n} <= 0 for F_n = F - dt Grad u_dot (dt = {dt})");
+            return Err(locate(domain_error(k.j, msg), at.elem, at.point));
+        }
+        Ok((rate, cof_l))
+    }
+
+    /// b = Φs ϱs a_g + (J − Φs) ϱf a_g.
+    fn body(&self, k: &Kin) -> Vector3<f64> {
+        self.rho_s_g * self.phi_s + self.rho_f_g * (k.j - self.phi_s)
+    }
+
+    /// g = Grad p − ϱf Fᵀ a_g.
+    fn driving_gradient(&self, k: &Kin, s: &PointState) -> Vector3<f64> {
+        s.grad_p - k.f.transpose() * self.rho_f_g
+    }
+}
+
+impl PointModel for Biphasic {
+    fn fields(&self, at: QpId, s: &PointState) -> Result<PointFields> {
+        self.point_fields(at, s)
+    }
+    fn solid_fraction(&self) -> Option<f64> {
+        Some(self.phi_s)
+    }
+    /// (P, b, ṡ, W) at the point; domain error outside J > Φs, J(F_n) > 0, finite input.
+    fn eval(&self, at: QpId, s: &PointState) -> Result<PointFlux> {
+        let k = self.kinematics(at, s)?;
+        let (rate, _) = self.rate(at, &k, s)?;
+        let sc = solid_response(&self.solid, self.penalty.as_ref(), &k.f, &k.bp).at_point(at.elem, at.point)?;
+        let kt = self.perm.tensor(&k.f, &k.bp).at_point(at.elem, at.point)?;
+        Ok(PointFlux {
+            stress: sc.p - k.cof_f * s.p,
+            body: self.body(&k),
+            rate,
+            flux: kt * self.driving_gradient(&k, s),
+        })
+    }
+
+    /// (P, b, ṡ, W) and the exact tangent blocks listed in the module documentation.
+    fn eval_tangent(&self, at: QpId, s: &PointState, shift: f64) -> Result<(PointFlux, PointTangent)> {
+        let k = self.kinematics(at, s)?;
+        let (rate, cof_l) = self.rate(at, &k, s)?;
+        let sc = solid_response(&self.solid, self.penalty.as_ref(), &k.f, &k.bp).at_point(at.elem, at.point)?;
+        let (kt, dk) = self.perm.tensor_and_derivative(&k.f, &k.bp).at_point(at.elem, at.point)?;
+        let g = self.driving_gradient(&k, s);
+        let flux = PointFlux { stress: sc.p - k.cof_f * s.p, body: self.body(&k), rate, flux: kt * g };
+
+        // (cof F − cof F_n)/dt = X(F, L) − dt cof L and cof F_n = cof F − dt X(F, L) + dt² cof L,
+        // both free of cancellation (X: the bilinear part of cof, cof(A + B) = cof A + X + cof B).
+        let (l, dt) = (&s.grad_udot, s.dt);
+        let x = cof_cross(&k.f, l);
+        let cof_fn = k.cof_f - x * dt + cof_l * (dt * dt);
+        let drate_du = x - cof_l * dt + cof_fn * shift;
+
+        let mut dbody_du = SMatrix::<f64, 3, 9>::zeros();
+        let mut dflux_du = SMatrix::<f64, 3, 9>::zeros();
+        for kk in 0..3 {
+            for l in 0..3 {
+                let c = ij(kk, l);
+                let dkg = dk[c] * g;
+                for i in 0..3 {
+                    dbody_du[(i, c)] = self.rho_f_g[i] * k.cof_f[(kk, l)];
+                    dflux_du[(i, c)] = dkg[i] - kt[(i, l)] * self.rho_f_g[kk];
+                }
+            }
+        }
+        let t = PointTangent {
+            dstress_du: sc.a - dcof(&k.f) * s.p,
+            dstress_dp: -k.cof_f,
+            dbody_du,
+            drate_du,
+            dflux_du,
+            dflux_dgradp: kt,
+        };
+        Ok((flux, t))
+    }
+
+    /// Φs (λ + 2µ/3) = (1/9) δ_ij A_ijkl δ_kl with A = ∂P_sc/∂F at F = B_p = I, computed at
+    /// construction from the material's own tangent (penalty included if active at J = 1).
+    fn drained_bulk_modulus(&self) -> f64 {
+        self.k_drained
+    }
+
+    /// Φs (λ + 2µ) = A_zzzz at F = B_p = I, computed at construction.
+    fn p_wave_modulus(&self) -> f64 {
+        self.m_drained
+    }
+
+    /// k0 of the permeability law.
+    fn conductivity(&self) -> f64 {
+        self.perm.k0
+    }
+
+    /// Nonlinear: the Jacobian changes with the state.
+    fn is_linear(&self) -> bool {
+        false
+    }
+}
+
+/// Cofactor matrix cof A = det(A) A⁻ᵀ from the entries: cof_ij = A_{i1 j1} A_{i2 j2} − A_{i1 j2} A_{i2 j1},
+/// with i1 = i + 1, i2 = i + 2 (mod 3), likewise for j.
+fn cof(a: &Matrix3<f64>) -> Matrix3<f64> {
+    Matrix3::from_fn(|i, j| {
+        let (i1, i2, j1, j2) = ((i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3);
+        a[(i1, j1)] * a[(i2, j2)] - a[(i1, j2)] * a[(i2, j1)]
+    })
+}
+
+/// The bilinear part X(A, B) of the cofactor, cof(A + B) = cof A + X(A, B) + cof B; X(A, ·) is
+/// the derivative of cof at A, and X(A, L)_kl = ∂(cof A : L)/∂A_kl.
+fn cof_cross(a: &Matrix3<f64>, b: &Matrix3<f64>) -> Matrix3<f64> {
+    Matrix3::from_fn(|i, j| {
+        let (i1, i2, j1, j2) = ((i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3);
+        a[(i1, j1)] * b[(i2, j2)] + b[(i1, j1)] * a[(i2, j2)] - a[(i1, j2)] * b[(i2, j1)] - b[(i1, j2)] * a[(i2, j1)]
+    })
+}
+
+/// Levi-Civita symbol ε_ijk for indices in 0..3.
+fn levi(i: usize, j: usize, k: usize) -> f64 {
+    let (i, j, k) = (i as i32, j as i32, k as i32);
+    ((i - j) * (j - k) * (k - i) / 2) as f64
+}
+
+/// ∂(cof F)_ij/∂F_kl = ε_ikm ε_jln F_mn (= J (F⁻ᵀ_ij F⁻ᵀ_kl − F⁻ᵀ_il F⁻ᵀ_kj)), polynomial in F.
+fn dcof(f: &Matrix3<f64>) -> Tangent {
+    let mut a = Tangent::zeros();
+    for i in 0..3 {
+        for j in 0..3 {
+            for k in (0..3).filter(|&k| k != i) {
+                for l in (0..3).filter(|&l| l != j) {
+                    let (m, n) = (3 - i - k, 3 - j - l);
+                    a[(idx(i, j), idx(k, l))] = levi(i, k, m) * levi(j, l, n) * f[(m, n)];
+                }
+            }
+        }
+    }
+    a
+}
+
+/// Tests 1–6 of the brief plus closed forms for the output fields and the cofactor helpers.
+#[cfg(test)]
+mod tests {
+    use super::super::linear::LinearPoroelastic;
+    use super::*;
+    use crate::material::PermeabilityModel;
+    use nalgebra::Rotation3;
+
+    /// Reproducible random numbers (xorshift), no rand dependency.
+    struct Rng(u64);
+
+    impl Rng {
+        /// Seeded generator.
+        fn new(seed: u64) -> Self {
+            Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+        }
+        /// Uniform in [lo, hi).
+        fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
+        }
+        /// Entries uniform in [−amp, amp).
+        fn matrix(&mut self, amp: f64) -> Matrix3<f64> {
+            Matrix3::from_fn(|_, _| self.uniform(-amp, amp))
+        }
+        /// Entries uniform in [−amp, amp).
+        fn vector(&mut self, amp: f64) -> Vector3<f64> {
+            Vector3::from_fn(|_, _| self.uniform(-amp, amp))
+        }
+        /// A rotation by a random angle about a random axis.
+        fn rotation(&mut self) -> Matrix3<f64> {
+            let axis = Vector3::new(self.uniform(-1.0, 1.0), self.uniform(-1.0, 1.0), 1.0);
+            Rotation3::from_scaled_axis(axis.normalize() * self.uniform(-3.0, 3.0)).into_inner()
+        }
+        /// A rotated, sheared F with det F = j.
+        fn deformation(&mut self, j: f64) -> Matrix3<f64> {
+            let f = self.rotation() * (Matrix3::identity() + self.matrix(0.3));
+            let det = f.determinant();
+            assert!(det > 0.0);
+            f * (j / det).cbrt()
+        }
+    }
+
+    /// Table 1: µ = 20 kPa, ν = 0.2, Φs = 0.6; penalty J_cr = 0.7, U0 = 1000 kPa, q = 2, r = 0.5;
+    /// k0 = 3.7729 µm⁴/(nN s), κ = 4.638, m0 = 0.0848.
+    fn table1(model: PermeabilityModel, rho: [f64; 2], g: [f64; 3]) -> Biphasic {
+        let solid = HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap();
+        let pen = CompactionPenalty::new(0.6, 1000.0, 0.7, 2.0, 0.5).unwrap();
+        let perm = Permeability::new(3.7729, 0.6, 4.638, 0.0848, model).unwrap();
+        Biphasic::new(solid, Some(pen), perm, rho[0], rho[1], g).unwrap()
+    }
+
+    /// Both permeability laws (the remodelling-dependent one with c = 2, as in Fig 11).
+    const MODELS: [PermeabilityModel; 2] =
+        [PermeabilityModel::Isotropic, PermeabilityModel::RemodellingDependent { c: 2.0 }];
+    /// An arbitrary point: domain errors must come back naming it.
+    const AT: QpId = QpId { elem: 7, point: 3 };
+
+    /// ‖x − y‖ / ‖y‖ (Frobenius over the whole block).
+    fn rel<const R: usize, const C: usize>(x: &SMatrix<f64, R, C>, y: &SMatrix<f64, R, C>) -> f64 {
+        (x - y).norm() / y.norm()
+    }
+
+    /// State with F given (Grad u = F − I).
+    fn state(f: Matrix3<f64>, l: Matrix3<f64>, p: f64, gp: Vector3<f64>, dt: f64) -> PointState {
+        PointState { grad_u: f - Matrix3::identity(), grad_udot: l, p, grad_p: gp, dt }
+    }
+
+    /// Central differences of every block of `eval`, the Grad u columns perturbing Grad u̇ by
+    /// shift times the same amount (what the assembler's U̇ = shift U + … does).
+    fn fd_tangent(m: &Biphasic, s: &PointState, shift: f64) -> PointTangent {
+        let ev = |s: &PointState| m.eval(AT, s).unwrap();
+        let mut t = PointTangent {
+            dstress_du: SMatrix::zeros(),
+            dstress_dp: Matrix3::zeros(),
+            dbody_du: SMatrix::zeros(),
+            drate_du: Matrix3::zeros(),
+            dflux_du: SMatrix::zeros(),
+            dflux_dgradp: Matrix3::zeros(),
+        };
+        let h = 1e-6 * (Matrix3::identity() + s.grad_u).norm();
+        for k in 0..3 {
+            for l in 0..3 {
+                let (mut sp, mut sm) = (*s, *s);
+                sp.grad_u[(k, l)] += h;
+                sm.grad_u[(k, l)] -= h;
+                sp.grad_udot[(k, l)] += shift * h;
+                sm.grad_udot[(k, l)] -= shift * h;
+                let (fp, fm) = (ev(&sp), ev(&sm));
+                let c = ij(k, l);
+                let ds = (fp.stress - fm.stress) / (2.0 * h);
+                for i in 0..3 {
+                    for j in 0..3 {
+                        t.dstress_du[(ij(i, j), c)] = ds[(i, j)];
+                    }
+                    t.dbody_du[(i, c)] = (fp.body[i] - fm.body[i]) / (2.0 * h);
+                    t.dflux_du[(i, c)] = (fp.flux[i] - fm.flux[i]) / (2.0 * h);
+                }
+                t.drate_du[(k, l)] = (fp.rate - fm.rate) / (2.0 * h);
+            }
+        }
+        let hp = 1e-6 * s.p.abs().max(1.0);
+        let (mut sp, mut sm) = (*s, *s);
+        sp.p += hp;
+        sm.p -= hp;
+        t.dstress_dp = (ev(&sp).stress - ev(&sm).stress) / (2.0 * hp);
+        let hg = 1e-6 * s.grad_p.norm().max(1.0);
+        for j in 0..3 {
+            let (mut sp, mut sm) = (*s, *s);
+            sp.grad_p[j] += hg;
+            sm.grad_p[j] -= hg;
+            let d = (ev(&sp).flux - ev(&sm).flux) / (2.0 * hg);
+            for i in 0..3 {
+                t.dflux_dgradp[(i, j)] = d[i];
+            }
+        }
+        t
+    }
+
+    /// Test 1: every tangent block against central differences of `eval`.
+    #[test]
+    fn tangent_matches_central_differences() {
+        let mut rng = Rng::new(31);
+        let mut worst = [0.0f64; 6];
+        // Realistic gravity (ϱ g ≈ 1e-5 kPa/µm) and an exaggerated one (ϱf g = 0.2 kPa/µm) that
+        // makes the gravity parts of the body and flux blocks visible next to Grad p.
+        for g in [[0.0, 0.0, -9.81], [3e4, -1e5, -2e5]] {
+            for model in MODELS {
+                let m = table1(model, [1100.0, 1000.0], g);
+                // det F in [0.75, 1.3], plus two states where the compaction penalty is active.
+                for j in [0.75, 0.9, 1.0, 1.15, 1.3, 0.68, 0.65] {
+                    let f = rng.deformation(j);
+                    let (l, dt) = (rng.matrix(0.3), rng.uniform(0.1, 1.0));
+                    let (p, gp) = (rng.uniform(-5.0, 5.0), rng.vector(0.5));
+                    let s = state(f, l, p, gp, dt);
+                    assert!((f - l * dt).determinant() > 0.0);
+                    for shift in [1.0 / dt, 1.5 / dt, 0.0] {
+                        let (flux, t) = m.eval_tangent(AT, &s, shift).unwrap();
+                        let e = m.eval(AT, &s).unwrap();
+                        assert!(flux.stress == e.stress && flux.body == e.body);
+                        assert!(flux.rate == e.rate && flux.flux == e.flux);
+                        let fd = fd_tangent(&m, &s, shift);
+                        let errs = [
+                            rel(&t.dstress_du, &fd.dstress_du),
+                            rel(&t.dstress_dp, &fd.dstress_dp),
+                            rel(&t.dbody_du, &fd.dbody_du),
+                            rel(&t.drate_du, &fd.drate_du),
+                            rel(&t.dflux_du, &fd.dflux_du),
+                            rel(&t.dflux_dgradp, &fd.dflux_dgradp),
+                        ];
+                        for (w, e) in worst.iter_mut().zip(errs) {
+                            assert!(e < 1e-6, "{model:?}, g = {g:?}, J = {j}, shift = {shift}: errors {errs:?}");
+                            *w = w.max(e);
+                        }
+                    }
+                }
+            }
+        }
+        println!(
+            "worst rel. errors: dstress_du {:.2e}, dstress_dp {:.2e}, dbody_du {:.2e}, drate_du {:.2e}, \
+             dflux_du {:.2e}, dflux_dgradp {:.2e}",
+            worst[0], worst[1], worst[2], worst[3], worst[4], worst[5]
+        );
+    }
+
+    /// Test 2: at Grad u = O(1e-7) the model is linear poroelasticity with drained Lamé constants
+    /// Φs (λ, µ); the drained moduli match the linear model and the α closed form.
+    #[test]
+    fn small_strain_limit_is_linear_poroelasticity() {
+        let eps = 1e-7;
+        let m = table1(PermeabilityModel::Isotropic, [1000.0, 1000.0], [0.0; 3]);
+        let lin = LinearPoroelastic::new(0.6 * 20.0, 0.2, 3.7729).unwrap();
+        let mut rng = Rng::new(32);
+        let mut worst = [0.0f64; 4];
+        for _ in 0..5 {
+            let gu = rng.matrix(1.0) * eps;
+            let gud = rng.matrix(1.0) * eps;
+            for p in [0.0, rng.uniform(-1.0, 1.0) * 10.0 * eps] {
+                let s = PointState { grad_u: gu, grad_udot: gud, p, grad_p: rng.vector(1.0), dt: 0.5 };
+                let (a, b) = (m.eval(AT, &s).unwrap(), lin.eval(AT, &s).unwrap());
+                let errs = [
+                    rel(&a.stress, &b.stress),
+                    (a.rate - b.rate).abs() / b.rate.abs(),
+                    rel(&a.flux, &b.flux),
+                    a.body.norm(),
+                ];
+                for (w, e) in worst.iter_mut().zip(errs) {
+                    *w = w.max(e);
+                }
+            }
+        }
+        println!(
+            "small strain (eps = {eps:e}): stress {:.2e}, rate {:.2e}, flux {:.2e}, |body| {:.1e}",
+            worst[0], worst[1], worst[2], worst[3]
+        );
+        assert!(worst[0] < 1e-5 && worst[1] < 1e-5 && worst[2] < 1e-5 && worst[3] == 0.0);
+        // The drained moduli are those of the linear model, and the closed form of the α's:
+        // µ/Φs = 2 α0 (α3 − α2), K/Φs = 4 α0 (α3 + 2 α2)/3.
+        let (kl, ml) = (lin.lambda + 2.0 * lin.mu / 3.0, lin.lambda + 2.0 * lin.mu);
+        println!("K_dr = {} (linear {kl}), M = {} (linear {ml})", m.drained_bulk_modulus(), m.p_wave_modulus());
+        assert!((m.drained_bulk_modulus() - kl).abs() < 1e-14 * kl);
+        assert!((m.p_wave_modulus() - ml).abs() < 1e-14 * ml);
+        assert_eq!(m.conductivity(), 3.7729);
+        assert!(!m.is_linear());
+        let hm = HolmesMow::new(0.6, 0.125, 0.78, 0.11, 1.0).unwrap();
+        let perm = Permeability::new(1.0, 0.6, 4.638, 0.0848, PermeabilityModel::Isotropic).unwrap();
+        let m = Biphasic::new(hm, None, perm, 0.0, 0.0, [0.0; 3]).unwrap();
+        let mu = 0.6 * 2.0 * 0.125 * (1.0 - 0.11);
+        let kb = 0.6 * 4.0 * 0.125 * (1.0 + 2.0 * 0.11) / 3.0;
+        assert!((m.drained_bulk_modulus() - kb).abs() < 1e-14 * kb);
+        assert!((m.p_wave_modulus() - (kb + 4.0 * mu / 3.0)).abs() < 1e-14 * kb);
+    }
+
+    /// Test 3: ṡ dt is exactly det F − det F_n; ṡ → cof F : Grad u̇ as dt → 0.
+    #[test]
+    fn rate_is_exact_change_of_j() {
+        // Entries on a 2^-14 grid and dt a power of 2: det F, det F_n and F − dt L = F_n are then
+        // exact in f64 (triple products on a 2^-42 grid, below 2^5), so the reference is exact.
+        let m = table1(PermeabilityModel::Isotropic, [1000.0, 1000.0], [0.0, 0.0, -9.81]);
+        let mut rng = Rng::new(33);
+        let grid = |a: Matrix3<f64>| a.map(|x| (x * 16384.0).round() / 16384.0);
+        let mut worst: f64 = 0.0;
+        for (j, j_n, near) in
+            [(1.0, 0.8, false), (0.75, 1.3, false), (1.3, 0.7, false), (0.9, 0.0, true), (1.2, 0.0, true)]
+        {
+            let f = grid(rng.deformation(j));
+            let f_n = if near { grid(f + rng.matrix(0.01)) } else { grid(rng.deformation(j_n)) };
+            let exact = f.determinant() - f_n.determinant();
+            assert_eq!(f.determinant(), f.transpose().determinant());
+            assert_eq!(f_n.determinant(), f_n.transpose().determinant());
+            for dt in [0.25, 2.0, 1.0 / 64.0] {
+                let l = (f - f_n) / dt;
+                assert_eq!(f - l * dt, f_n);
+                let s = state(f, l, 1.0, Vector3::zeros(), dt);
+                let rate = m.eval(AT, &s).unwrap().rate;
+                let err = (rate * dt - exact).abs() / exact.abs();
+                assert!(err < 1e-14, "J = {j}, near = {near}, dt = {dt}: rel. error {err:e}");
+                worst = worst.max(err);
+            }
+        }
+        // dt → 0: the cancellation-free form tends to J̇ = cof F : L (exactly at dt = 0; the
+        // difference is −dt F : cof L + dt² det L).
+        let f = rng.deformation(0.8);
+        let l = rng.matrix(1.0);
+        let cof_f = f.try_inverse().unwrap().transpose() * f.determinant();
+        let jdot = cof_f.dot(&l);
+        let mut errs = [0.0; 2];
+        for (e, dt) in errs.iter_mut().zip([0.0, 1e-12]) {
+            let rate = m.eval(AT, &state(f, l, 0.0, Vector3::zeros(), dt)).unwrap().rate;
+            *e = (rate - jdot).abs() / (cof_f.norm() * l.norm());
+        }
+        println!(
+            "mass rate: worst rel. error {worst:e}; vs cof F : L at dt = 0: {:e}, dt = 1e-12: {:e}",
+            errs[0], errs[1]
+        );
+        assert!(errs[0] < 1e-15 && errs[1] < 1e-11);
+    }
+
+    /// Test 4: F = Q gives P = −p0 Q, zero solid Cauchy stress and consistently rotated fluxes;
+    /// superposed rotations on a general state are objective.
+    #[test]
+    fn rigid_rotation() {
+        let mut rng = Rng::new(34);
+        let p0 = 2.5;
+        for model in MODELS {
+            for g in [[0.0; 3], [0.0, 0.0, -9.81e5]] {
+                let m = table1(model, [1000.0, 1000.0], g);
+                let q = rng.rotation();
+                let gp = rng.vector(1.0);
+                let s = state(q, Matrix3::zeros(), p0, gp, 0.5);
+                let r = m.eval(AT, &s).unwrap();
+                let e = rel(&r.stress, &(-q * p0));
+                let fields = m.point_fields(AT, &s).unwrap();
+                println!("{model:?}: P vs -p0 Q rel. err {e:e}, |sigma_sc| = {:e}", fields.cauchy_sc.norm());
+                assert!(e < 1e-14);
+                assert!(fields.cauchy_sc.norm() < 1e-13 && fields.von_mises < 1e-13);
+                assert!((fields.j - 1.0).abs() < 1e-15 && (fields.porosity - 0.4).abs() < 1e-15);
+                // K(Q) = K(I); W = K(I) (Grad p − ϱf Qᵀ a_g), q = Q Q_ref = −Q W.
+                let k_ref = Permeability::new(3.7729, 0.6, 4.638, 0.0848, model)
+                    .unwrap()
+                    .tensor(&Matrix3::identity(), &Matrix3::identity())
+                    .unwrap();
+                let w = k_ref * (gp - q.transpose() * m.fluid_weight());
+                assert!(rel(&r.flux, &w) < 1e-14);
+                assert!(rel(&fields.darcy, &(-q * w)) < 1e-14);
+                // Superposed rotation on a general state: P(QF) = Q P(F); without gravity the
+                // referential flux is unchanged and the spatial flux rotates.
+                let f = rng.deformation(0.85);
+                let (sf, sq) = (state(f, Matrix3::zeros(), p0, gp, 0.5), state(q * f, Matrix3::zeros(), p0, gp, 0.5));
+                let (rf, rq) = (m.eval(AT, &sf).unwrap(), m.eval(AT, &sq).unwrap());
+                assert!(rel(&rq.stress, &(q * rf.stress)) < 1e-13);
+                if g == [0.0; 3] {
+                    assert!(rel(&rq.flux, &rf.flux) < 1e-13);
+                    let (ff, fq) = (m.point_fields(AT, &sf).unwrap(), m.point_fields(AT, &sq).unwrap());
+                    assert!(rel(&fq.darcy, &(q * ff.darcy)) < 1e-13);
+                    assert!(rel(&fq.cauchy_sc, &(q * ff.cauchy_sc * q.transpose())) < 1e-13);
+                    assert!((fq.von_mises - ff.von_mises).abs() < 1e-13 * ff.von_mises);
+                }
+            }
+        }
+    }
+
+    /// Test 5: inadmissible states (J <= Φs, J <= 0, J(F_n) <= 0, NaN/inf input) are domain
+    /// errors at the evaluated point, with and without the penalty.
+    #[test]
+    fn domain_errors_carry_the_point() {
+        let mut rng = Rng::new(35);
+        let solid = HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap();
+        let perm = Permeability::new(3.7729, 0.6, 4.638, 0.0848, PermeabilityModel::Isotropic).unwrap();
+        let pen = CompactionPenalty::new(0.6, 1000.0, 0.7, 2.0, 0.5).unwrap();
+        let nan = f64::NAN;
+        for penalty in [Some(pen), None] {
+            let m = Biphasic::new(solid, penalty, perm, 1000.0, 1000.0, [0.0, 0.0, -9.81]).unwrap();
+            let ok = state(rng.deformation(0.9), rng.matrix(0.1), 1.0, rng.vector(1.0), 0.5);
+            let f = ok.grad_u + Matrix3::identity();
+            let cases = [
+                ("J = 0.55", state(rng.deformation(0.55), Matrix3::zeros(), 1.0, Vector3::zeros(), 0.5), 0.55),
+                (
+                    "J = phi_s",
+                    state(
+                        Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, 0.6)),
+                        Matrix3::zeros(),
+                        0.0,
+                        Vector3::zeros(),
+                        0.5,
+                    ),
+                    0.6,
+                ),
+                ("J < 0", state(-rng.deformation(0.9), Matrix3::zeros(), 0.0, Vector3::zeros(), 0.5), -0.9),
+                ("J(F_n) < 0", state(f, f * 3.0, 0.0, Vector3::zeros(), 0.5), 0.9),
+                ("NaN F", PointState { grad_u: Matrix3::from_element(nan), ..ok }, nan),
+                ("NaN p", PointState { p: nan, ..ok }, nan),
+                ("inf Grad p", PointState { grad_p: Vector3::new(0.0, f64::INFINITY, 0.0), ..ok }, nan),
+                ("NaN Grad u_dot", PointState { grad_udot: Matrix3::from_element(nan), ..ok }, nan),
+            ];
+            for (name, s, j_want) in cases {
+                let check = |r: Result<()>, what: &str| match r {
+                    Err(Error::Domain { cell: 7, point: 3, j, msg }) => {
+                        assert!(
+                            (j_want.is_nan() && j.is_nan()) || (j - j_want).abs() < 1e-12,
+                            "{name} ({what}): J = {j}"
+                        );
+                        msg
+                    }
+                    other => panic!("{name} ({what}): expected a domain error at (7, 3), got {other:?}"),
+                };
+                let msg = check(m.eval(AT, &s).map(|_| ()), "eval");
+                check(m.eval_tangent(AT, &s, 2.0).map(|_| ()), "eval_tangent");
+                if name != "J(F_n) < 0" {
+                    check(m.point_fields(AT, &s).map(|_| ()), "point_fields");
+                } else {
+                    assert!(msg.contains("F_n"), "{msg}");
+                }
+            }
+            assert!(m.eval(AT, &ok).is_ok());
+        }
+    }
+
+    /// Test 6: at F = I, p = 0 the body force is the mixture weight and W = −ϱf k0 a_g.
+    #[test]
+    fn gravity_at_reference() {
+        let (rho_s, rho_f) = (1100.0, 1000.0);
+        let m = table1(PermeabilityModel::Isotropic, [rho_s, rho_f], [0.0, 0.0, -9.81]);
+        let a_g = Vector3::new(0.0, 0.0, -9.81e-9);
+        let s = state(Matrix3::identity(), Matrix3::zeros(), 0.0, Vector3::zeros(), 0.5);
+        let r = m.eval(AT, &s).unwrap();
+        let body = a_g * (rho_s * 0.6 + rho_f * 0.4);
+        let w = -a_g * (rho_f * 3.7729);
+        println!("body {:e} (expect {:e}), W {:e} (expect {:e})", r.body[2], body[2], r.flux[2], w[2]);
+        assert!(rel(&r.body, &body) < 1e-15);
+        assert!(rel(&r.flux, &w) < 1e-15);
+        assert!((m.fluid_weight()[2] + 9.81e-6).abs() < 1e-15 * 9.81e-6);
+        assert!(r.stress.norm() < 1e-15 && r.rate == 0.0);
+        // Hydrostatic fluid (Grad p = ϱf a_g at F = I) does not flow.
+        let s = PointState { grad_p: m.fluid_weight(), ..s };
+        assert_eq!(m.eval(AT, &s).unwrap().flux, Vector3::zeros());
+    }
+
+    /// Output fields against closed forms (isotropic Darcy flux, confined compression).
+    #[test]
+    fn point_fields_closed_form() {
+        // Isotropic K = J k C⁻¹ gives q = −k(J) (F⁻ᵀ Grad p − ϱf a_g) for any F.
+        let m = table1(PermeabilityModel::Isotropic, [1000.0, 1000.0], [1e4, 0.0, -9.81e4]);
+        let perm = Permeability::new(3.7729, 0.6, 4.638, 0.0848, PermeabilityModel::Isotropic).unwrap();
+        let mut rng = Rng::new(36);
+        for j in [0.66, 0.8, 1.2] {
+            let f = rng.deformation(j);
+            let s = state(f, Matrix3::zeros(), 1.0, rng.vector(1.0), 0.5);
+            let pf = m.point_fields(AT, &s).unwrap();
+            let k = perm.k(j).unwrap().0;
+            let q = -(f.try_inverse().unwrap().transpose() * s.grad_p - m.fluid_weight()) * k;
+            assert!((pf.j - j).abs() < 1e-14 && (pf.porosity - (1.0 - 0.6 / j)).abs() < 1e-14);
+            assert!(rel(&pf.darcy, &q) < 1e-13, "{:e}", rel(&pf.darcy, &q));
+            assert!(rel(&pf.cauchy_sc, &pf.cauchy_sc.transpose()) < 1e-15);
+        }
+        // Confined compression F = diag(1, 1, λ), no penalty above J_cr: S_zz = e (α1 + 2α2 − α3/λ²),
+        // S_xx = e (α1 + α2 (1 + λ²) − α3), e = 2 Φs α0 exp[(α1 + 2α2)(λ² − 1) − 2 α3 ln λ];
+        // σ_zz = λ S_zz, σ_xx = S_xx/λ, σ_VM = |σ_zz − σ_xx|.
+        let HolmesMow { phi_s, alpha0: a0, alpha1: a1, alpha2: a2, alpha3: a3 } = m.solid;
+        for lam in [0.75, 0.9, 1.2] {
+            let e = 2.0 * phi_s * a0 * ((a1 + 2.0 * a2) * (lam * lam - 1.0) - 2.0 * a3 * f64::ln(lam)).exp();
+            let (szz, sxx) =
+                (lam * e * (a1 + 2.0 * a2 - a3 / (lam * lam)), e * (a1 + a2 * (1.0 + lam * lam) - a3) / lam);
+            let f = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, lam));
+            let pf = m.point_fields(AT, &state(f, Matrix3::zeros(), 0.0, Vector3::zeros(), 0.5)).unwrap();
+            let want = Matrix3::from_diagonal(&Vector3::new(sxx, sxx, szz));
+            println!("lambda = {lam}: sigma_zz = {szz:.10e}, sigma_VM = {:.10e}", pf.von_mises);
+            assert!(rel(&pf.cauchy_sc, &want) < 1e-13);
+            assert!((pf.von_mises - (szz - sxx).abs()).abs() < 1e-13 * (szz - sxx).abs());
+        }
+    }
+
+    /// Inconsistent Φs, negative or non-finite densities and non-finite gravity are rejected.
+    #[test]
+    fn rejects_bad_construction() {
+        let solid = HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap();
+        let perm = Permeability::new(3.7729, 0.6, 4.638, 0.0848, PermeabilityModel::Isotropic).unwrap();
+        let perm_other = Permeability::new(3.7729, 0.5, 4.638, 0.0848, PermeabilityModel::Isotropic).unwrap();
+        let pen_other = CompactionPenalty::new(0.65, 1000.0, 0.7, 2.0, 0.5).unwrap();
+        let g = [0.0, 0.0, -9.81];
+        let msg = |r: Result<Biphasic>| match r {
+            Err(Error::Material(m)) => m,
+            other => panic!("expected a material error, got {other:?}"),
+        };
+        assert!(msg(Biphasic::new(solid, None, perm_other, 1000.0, 1000.0, g)).contains("permeability 0.5"));
+        assert!(msg(Biphasic::new(solid, Some(pen_other), perm, 1000.0, 1000.0, g)).contains("penalty 0.65"));
+        assert!(msg(Biphasic::new(solid, None, perm, -1.0, 1000.0, g)).contains("solid density = -1"));
+        assert!(msg(Biphasic::new(solid, None, perm, 1000.0, f64::NAN, g)).contains("fluid density = NaN"));
+        assert!(msg(Biphasic::new(solid, None, perm, 1000.0, 1000.0, [0.0, f64::INFINITY, 0.0])).contains("gravity"));
+        assert!(Biphasic::new(solid, None, perm, 0.0, 0.0, [0.0; 3]).is_ok());
+    }
+
+    /// cof, its bilinear part and its derivative against the inverse-based formulas.
+    #[test]
+    fn cofactor_helpers() {
+        let mut rng = Rng::new(37);
+        let (a, b) = (rng.matrix(1.0), rng.matrix(1.0));
+        let inv_t = a.try_inverse().unwrap().transpose();
+        assert!(rel(&cof(&a), &(inv_t * a.determinant())) < 1e-14);
+        assert!(rel(&(cof(&a) + cof_cross(&a, &b) + cof(&b)), &cof(&(a + b))) < 1e-14);
+        let j = a.determinant();
+        let want = Tangent::from_fn(|r, c| {
+            let (i, jj, k, l) = (r / 3, r % 3, c / 3, c % 3);
+            j * (inv_t[(i, jj)] * inv_t[(k, l)] - inv_t[(i, l)] * inv_t[(k, jj)])
+        });
+        assert!(rel(&dcof(&a), &want) < 1e-13);
+    }
+}

@@ -1,0 +1,281 @@
+//! Rigid, flat, impermeable, frictionless plates (model.md §1, §5) as variable bounds on the
+//! vertical displacement of the aggregate's surface nodes, and the drainage that follows
+//! contact.
+//!
+//! A surface node at reference height Z has current height Z + u_z, and must satisfy
+//! u(t) ≤ Z + u_z ≤ 2R: lower bound u(t) − Z from the moving lower plate (its top face is at
+//! z = u(t), the loading history (53)), upper bound 2R − Z from the fixed upper plate. These
+//! are SNESVI bounds (vinewtonrsls), refreshed at every stage time.
+//!
+//! Fluid: the surface drains into the bath where it is off the plates and is sealed where it
+//! touches them. The outward flux through a surface vertex m is Q·N = β(g_m) p_m (lumped on
+//! its share A_m of the surface), with g_m the vertex's gap to the nearer plate and
+//! β(g) = β_max S(g / g_s), S the smoothstep from 0 (g ≤ 0, sealed) to 1 (g ≥ g_s, free).
+//! β_max = γ k0 / h (γ = 100 by default) makes the free surface a stiff Robin condition,
+//! p ≈ 0 (51a); g_s is the seal distance (default 1e-3 R = 0.1 µm, the contact distance the
+//! paper used in COMSOL). Why not switch p = 0 on and off: opening a Dirichlet condition on a
+//! pressurised vertex is a jump in the boundary data; its discrete response (undrained
+//! compaction of the adjacent element) grows as Δt shrinks, so step cuts cannot resolve it,
+//! and at the contact edge a vertex can be bistable (drained it is drawn onto the plate,
+//! sealed it lifts off). A conductance that opens continuously with the gap keeps the residual
+//! differentiable, so Newton converges while the split follows the contact state within the
+//! step; the film's finite conductance is also the physics of a gap opening.
+
+use crate::fem::dofmap::DofMap;
+use crate::fem::element::{tabulate_tri6, tri6_surface};
+use crate::fem::quadrature;
+use crate::mesh::dist::LocalMesh;
+
+/// Lower-plate displacement u(t) of the compression–release test (53): linear ramp to u_max
+/// over ]0, t_ramp[, hold until t_end − t_ramp, ramp back to 0 at t_end, then rest.
+#[derive(Debug, Clone, Copy)]
+pub struct PlateHistory {
+    pub u_max: f64,
+    pub t_ramp: f64,
+    pub t_end: f64,
+}
+
+impl PlateHistory {
+    pub fn displacement(&self, t: f64) -> f64 {
+        let (a, b, c) = (self.t_ramp, self.t_end - self.t_ramp, self.t_end);
+        if t <= 0.0 {
+            0.0
+        } else if t < a {
+            self.u_max * t / a
+        } else if t < b {
+            self.u_max
+        } else if t < c {
+            self.u_max * (c - t) / a
+        } else {
+            0.0
+        }
+    }
+    /// The kinks of u(t): steps must land on them.
+    pub fn kinks(&self) -> [f64; 3] {
+        [self.t_ramp, self.t_end - self.t_ramp, self.t_end]
+    }
+}
+
+/// Which plate a surface node touches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Touch {
+    Free,
+    Lower,
+    Upper,
+}
+
+/// Tolerance (relative to R) for "at the bound": iterates of vinewtonrsls satisfy the bounds
+/// exactly, so a node in contact sits on it to round-off.
+const AT_BOUND: f64 = 1e-9;
+
+/// The plates and the aggregate surface that can touch them.
+pub struct Plates {
+    pub history: PlateHistory,
+    /// Height of the upper plate's bottom face (2R).
+    pub z_upper: f64,
+    /// Local nodes of the contact surface and their reference heights.
+    pub nodes: Vec<usize>,
+    z_ref: Vec<f64>,
+    /// Drain the surface out of contact — off for a sealed aggregate.
+    pub drainage: bool,
+    /// Local contact-surface vertices with their share ∫ L_m dA of this rank's faces.
+    vertices: Vec<(usize, f64)>,
+    /// β_max (µm³/(nN s) per µm² of surface, i.e. conductance per area).
+    pub beta_max: f64,
+    /// Local node (if here) of the bottom pole, which stays on the lower plate (see `new`).
+    anchor: Option<usize>,
+    /// Seal distance g_s: drainage opens fully over this gap (see the module docs).
+    pub seal_gap: f64,
+    tol: f64,
+}
+
+impl Plates {
+    /// `faces`: local faces of the contact surface; `anchor`: the local node of the bottom
+    /// pole, if on this rank; `beta_max` and `seal_gap` of the drainage (module docs).
+    ///
+    /// The anchor's contact is bilateral (bounds lo = hi = u(t)): gravity keeps the aggregate on
+    /// the lower plate throughout, but when the upper contact opens on release, the vertical
+    /// rigid motion is held only by the unilateral lower contact against the weight (≈ 40 nN);
+    /// any Newton iterate that frees it makes the Jacobian singular. Pinning the pole removes
+    /// that mode without changing the converged solution as long as its reaction stays
+    /// compressive (reported as `force_lower_mg`).
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        history: PlateHistory,
+        radius: f64,
+        mesh: &LocalMesh,
+        faces: &[u32],
+        anchor: Option<usize>,
+        drainage: bool,
+        beta_max: f64,
+        seal_gap: f64,
+    ) -> Plates {
+        let mut nodes: Vec<usize> =
+            faces.iter().flat_map(|&f| mesh.faces[f as usize].iter().map(|&n| n as usize)).collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        let z_ref = nodes.iter().map(|&n| mesh.coords[n][2]).collect();
+        // ∫ L_m dA of every vertex over this rank's faces (P1 on the curved tri6 faces).
+        let q = quadrature::tri(2);
+        let tab = tabulate_tri6(&q);
+        let mut area = std::collections::BTreeMap::<usize, f64>::new();
+        for &f in faces {
+            let fnodes = &mesh.faces[f as usize];
+            let coords: [[f64; 3]; 6] = std::array::from_fn(|a| mesh.coords[fnodes[a] as usize]);
+            for k in 0..q.weights.len() {
+                let da = tri6_surface(&coords, &tab, k).da * q.weights[k];
+                let xi = q.points[k];
+                let l = [1.0 - xi[0] - xi[1], xi[0], xi[1]];
+                for m in 0..3 {
+                    *area.entry(fnodes[m] as usize).or_default() += l[m] * da;
+                }
+            }
+        }
+        Plates {
+            history,
+            z_upper: 2.0 * radius,
+            nodes,
+            z_ref,
+            drainage,
+            vertices: area.into_iter().collect(),
+            beta_max,
+            seal_gap,
+            anchor,
+            tol: AT_BOUND * radius,
+        }
+    }
+
+    /// Height of the lower plate's top face at time t.
+    pub fn z_lower(&self, t: f64) -> f64 {
+        self.history.displacement(t)
+    }
+
+    /// Writes the bounds of the owned surface u_z dofs at time t (others stay ±∞).
+    pub fn fill_bounds(&self, t: f64, dofs: &DofMap, lo: &mut [f64], hi: &mut [f64]) {
+        let zl = self.z_lower(t);
+        for (k, &n) in self.nodes.iter().enumerate() {
+            if let Some(i) = dofs.local_to_owned(dofs.u_local(n, 2)) {
+                lo[i] = zl - self.z_ref[k];
+                hi[i] = if Some(n) == self.anchor { lo[i] } else { self.z_upper - self.z_ref[k] };
+            }
+        }
+    }
+
+    /// Contact predictor for a step from t0 to t1: the owned nodes touching the lower plate at
+    /// t0 (or within the seal distance of it) move with it to t1 in the initial guess `x`.
+    ///
+    /// Why: when the plate retreats (release), those nodes are off their bound at the start of
+    /// the step, so vinewtonrsls treats them as free and its first Newton step applies the whole
+    /// former contact force to a free surface; the elements next to it collapse (J < Φs) however
+    /// small the step. Moved with the plate they stay active while the reaction is compressive,
+    /// and leave the plate only when it turns tensile.
+    pub fn predict(&self, t0: f64, t1: f64, dofs: &DofMap, x: &mut [f64]) {
+        let (z0, z1) = (self.z_lower(t0), self.z_lower(t1));
+        for (k, &n) in self.nodes.iter().enumerate() {
+            if let Some(i) = dofs.local_to_owned(dofs.u_local(n, 2)) {
+                // Nodes on the plate or within the seal distance keep their gap.
+                if self.z_ref[k] + x[i] <= z0 + self.seal_gap.max(self.tol) {
+                    x[i] += z1 - z0;
+                }
+            }
+        }
+    }
+
+    /// Contact state of local node n (must be a surface node) from its displacement.
+    pub fn touch(&self, n: usize, z_ref: f64, uz: f64, t: f64) -> Touch {
+        let z = z_ref + uz;
+        if z <= self.z_lower(t) + self.tol {
+            Touch::Lower
+        } else if z >= self.z_upper - self.tol {
+            Touch::Upper
+        } else {
+            let _ = n;
+            Touch::Free
+        }
+    }
+
+    /// Contact state of every contact-surface node (same order as `nodes`).
+    pub fn states(&self, dofs: &DofMap, u_local: &[f64], t: f64) -> Vec<Touch> {
+        self.nodes.iter().zip(&self.z_ref).map(|(&n, &z)| self.touch(n, z, u_local[dofs.u_local(n, 2)], t)).collect()
+    }
+
+    /// Drainage of every local contact-surface vertex at this state: its p dof, u_z dof,
+    /// conductance c = β(g) A (outflow c p) and dc/du_z. Empty without drainage.
+    pub fn drainage(&self, mesh: &LocalMesh, dofs: &DofMap, u_local: &[f64], t: f64) -> Vec<Drain> {
+        if !self.drainage {
+            return Vec::new();
+        }
+        let zl = self.z_lower(t);
+        self.vertices
+            .iter()
+            .map(|&(n, a)| {
+                let uz = dofs.u_local(n, 2);
+                let z = mesh.coords[n][2] + u_local[uz];
+                // Gap to the nearer plate and its derivative with respect to u_z.
+                let (g, dg) = if z - zl <= self.z_upper - z { (z - zl, 1.0) } else { (self.z_upper - z, -1.0) };
+                let (s, ds) = smoothstep(g / self.seal_gap);
+                Drain {
+                    p: dofs.p_local(mesh.vertex_of_node[n] as usize),
+                    uz,
+                    conductance: self.beta_max * a * s,
+                    d_conductance: self.beta_max * a * ds * dg / self.seal_gap,
+                }
+            })
+            .collect()
+    }
+}
+
+/// The drainage term of one surface vertex (see [`Plates::drainage`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Drain {
+    pub p: usize,
+    pub uz: usize,
+    pub conductance: f64,
+    pub d_conductance: f64,
+}
+
+/// S(x) = 3x² − 2x³ on [0, 1], 0 below, 1 above, and S'(x).
+fn smoothstep(x: f64) -> (f64, f64) {
+    if x <= 0.0 {
+        (0.0, 0.0)
+    } else if x >= 1.0 {
+        (1.0, 0.0)
+    } else {
+        (x * x * (3.0 - 2.0 * x), 6.0 * x * (1.0 - x))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smoothstep_is_c1() {
+        assert_eq!(smoothstep(-0.5), (0.0, 0.0));
+        assert_eq!(smoothstep(1.5), (1.0, 0.0));
+        assert!((smoothstep(0.5).0 - 0.5).abs() < 1e-15);
+        for x in [0.1, 0.3, 0.7, 0.9] {
+            let h = 1e-6;
+            let fd = (smoothstep(x + h).0 - smoothstep(x - h).0) / (2.0 * h);
+            assert!((fd - smoothstep(x).1).abs() < 1e-8);
+        }
+        assert!(smoothstep(1e-9).1 < 1e-8 && smoothstep(1.0 - 1e-9).1 < 1e-8);
+    }
+
+    #[test]
+    fn loading_history_is_eq_53() {
+        let h = PlateHistory { u_max: 60.0, t_ramp: 5.0, t_end: 40.0 };
+        assert_eq!(h.displacement(0.0), 0.0);
+        assert!((h.displacement(2.5) - 30.0).abs() < 1e-12);
+        assert_eq!(h.displacement(5.0), 60.0);
+        assert_eq!(h.displacement(20.0), 60.0);
+        assert!((h.displacement(37.5) - 30.0).abs() < 1e-12);
+        assert_eq!(h.displacement(40.0), 0.0);
+        assert_eq!(h.displacement(100.0), 0.0);
+        assert_eq!(h.kinks(), [5.0, 35.0, 40.0]);
+        // Continuous at the kinks.
+        for k in h.kinks() {
+            assert!((h.displacement(k - 1e-9) - h.displacement(k + 1e-9)).abs() < 1e-6);
+        }
+    }
+}

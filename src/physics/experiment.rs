@@ -1,0 +1,195 @@
+//! Observables of the compression–release experiment (model.md §7), one row per step:
+//!
+//! * forces on the plates: the sum of the contact reactions R_z of the nodes touching each
+//!   plate (reactions of the VI-active dofs: the raw residual there), split exactly into the
+//!   pressure part (nodal forces of −p J F⁻ᵀ) and the constitutive rest; upper plate positive
+//!   in compression, full-sphere equivalent, normalised by 9.81 m/s² in mg (1 nN = 1.0194e-4 mg);
+//! * contact radii, height and width of the current shape;
+//! * pressure and porosity at the material point X_U = (0.4 R, 0, 1.9 R);
+//! * fluid (mixture) volume ∫ J dV and the outflow through the drained surface, Σ c(g) p
+//!   (the drainage term of the mass balance, so the volume change equals the integrated outflow
+//!   exactly at convergence);
+//! * the largest penetration of the quadratic surface into a plate, sampled between nodes.
+
+use super::contact::{Plates, Touch};
+use super::probe::{Probe, Quantity};
+use super::problem::Post;
+use crate::error::Result;
+use crate::fem::dofmap::DofMap;
+use crate::fem::element::{tabulate_tri6, tri6};
+use crate::fem::quadrature;
+use crate::mesh::dist::LocalMesh;
+use crate::parallel::{max, sum};
+use mpi::topology::SimpleCommunicator;
+
+/// nN → mg under standard gravity: 1e-9 N / 9.81 m/s² = 1.0194e-10 kg = 1.0194e-4 mg.
+pub const NN_TO_MG: f64 = 1e-3 / 9.81;
+
+/// History columns written by [`Experiment::row`], in order.
+pub const COLUMNS: [&str; 17] = [
+    "plate_disp",
+    "force_total_mg",
+    "force_constitutive_mg",
+    "force_pressure_mg",
+    "force_lower_mg",
+    "contact_radius_upper",
+    "contact_radius_lower",
+    "height",
+    "width",
+    "probe_p",
+    "probe_porosity",
+    "fluid_volume",
+    "outflow",
+    "outflow_total",
+    "max_penetration",
+    "contact_nodes_upper",
+    "contact_nodes_lower",
+];
+
+pub struct Experiment {
+    /// Full-sphere equivalent factor: 4π R³/3 over the meshed volume (4 for a quarter).
+    pub symmetry: f64,
+    probe_p: Probe,
+    probe_porosity: Option<Probe>,
+    /// Local faces of the contact surface (for penetration between nodes).
+    faces: Vec<u32>,
+    /// Time-integrated outflow so far (µm³, full sphere).
+    outflow_total: f64,
+}
+
+/// One step's observables (full-sphere equivalents) and the per-node contact state.
+pub struct Observation {
+    pub values: [f64; 17],
+    /// Contact state of every owned node: 0 free, 1 lower plate, 2 upper plate.
+    pub node_contact: Vec<f64>,
+}
+
+impl Experiment {
+    /// Sets up probes (collective). `volume` is the meshed reference volume (all ranks).
+    pub fn new(
+        mesh: &LocalMesh,
+        faces: Vec<u32>,
+        radius: f64,
+        volume: f64,
+        solid_fraction: Option<f64>,
+        world: &SimpleCommunicator,
+        context: &str,
+    ) -> Result<Experiment> {
+        let sphere = 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
+        let symmetry = (sphere / volume).round().max(1.0);
+        let x_u = [0.4 * radius, 0.0, 1.9 * radius];
+        let probe_p = Probe::at_point("probe_p", Quantity::Pressure, x_u, mesh, world, context)?;
+        let probe_porosity = match solid_fraction {
+            Some(phi) => Some(Probe::at_point("probe_porosity", Quantity::Porosity(phi), x_u, mesh, world, context)?),
+            None => None,
+        };
+        Ok(Experiment { symmetry, probe_p, probe_porosity, faces, outflow_total: 0.0 })
+    }
+
+    /// Observables at time t after a step of size dt (collective).
+    #[allow(clippy::too_many_arguments)]
+    pub fn observe(
+        &mut self,
+        t: f64,
+        dt: f64,
+        plates: &Plates,
+        mesh: &LocalMesh,
+        dofs: &DofMap,
+        post: &Post,
+        world: &SimpleCommunicator,
+    ) -> Observation {
+        let local = &post.local;
+        let states = plates.states(dofs, local, t);
+        let pos = |n: usize| -> [f64; 3] { std::array::from_fn(|d| mesh.coords[n][d] + local[dofs.u_local(n, d)]) };
+        let (mut f_up, mut fp_up, mut f_lo) = (0.0, 0.0, 0.0);
+        let (mut r_up, mut r_lo, mut n_up, mut n_lo) = (0.0f64, 0.0f64, 0.0, 0.0);
+        let mut node_contact = vec![0.0; mesh.n_owned_nodes];
+        for (k, &n) in plates.nodes.iter().enumerate() {
+            let x = pos(n);
+            let r = (x[0] * x[0] + x[1] * x[1]).sqrt();
+            let owned = dofs.local_to_owned(dofs.u_local(n, 2));
+            match states[k] {
+                Touch::Upper => {
+                    r_up = r_up.max(r);
+                    if let Some(i) = owned {
+                        f_up -= post.reaction[i];
+                        fp_up -= post.reaction_pressure[i];
+                        n_up += 1.0;
+                        node_contact[n] = 2.0;
+                    }
+                }
+                Touch::Lower => {
+                    r_lo = r_lo.max(r);
+                    if let Some(i) = owned {
+                        f_lo += post.reaction[i];
+                        n_lo += 1.0;
+                        node_contact[n] = 1.0;
+                    }
+                }
+                Touch::Free => {}
+            }
+        }
+        let (mut zmin, mut zmax, mut rmax) = (f64::MAX, f64::MIN, 0.0f64);
+        for n in 0..mesh.n_owned_nodes {
+            let x = pos(n);
+            zmin = zmin.min(x[2]);
+            zmax = zmax.max(x[2]);
+            rmax = rmax.max((x[0] * x[0] + x[1] * x[1]).sqrt());
+        }
+        // Outflow through the drained surface: Σ c(g) p over this rank's face shares.
+        let outflow_local: f64 = plates.drainage(mesh, dofs, local, t).iter().map(|d| d.conductance * local[d.p]).sum();
+        let sym = self.symmetry;
+        let outflow = sym * sum(world, outflow_local);
+        self.outflow_total += dt * outflow;
+        let pen = self.max_penetration(plates, mesh, dofs, local, t);
+        let probe_p = self.probe_p.value(mesh, dofs, local, world);
+        let probe_por = self.probe_porosity.as_ref().map_or(f64::NAN, |p| p.value(mesh, dofs, local, world));
+        let (f_up, fp_up) = (sum(world, f_up), sum(world, fp_up));
+        let values = [
+            plates.z_lower(t),
+            sym * f_up * NN_TO_MG,
+            sym * (f_up - fp_up) * NN_TO_MG,
+            sym * fp_up * NN_TO_MG,
+            sym * sum(world, f_lo) * NN_TO_MG,
+            max(world, r_up),
+            max(world, r_lo),
+            max(world, zmax) + max(world, -zmin),
+            2.0 * max(world, rmax),
+            probe_p,
+            probe_por,
+            sym * sum(world, post.volume_j),
+            outflow,
+            self.outflow_total,
+            max(world, pen),
+            sum(world, n_up),
+            sum(world, n_lo),
+        ];
+        Observation { values, node_contact }
+    }
+
+    /// Largest distance by which the quadratic contact surface enters a plate, sampled at the
+    /// nodes and at the 7 interior points of a degree-5 rule on every face.
+    fn max_penetration(&self, plates: &Plates, mesh: &LocalMesh, dofs: &DofMap, local: &[f64], t: f64) -> f64 {
+        let q = quadrature::tri(5);
+        let tab = tabulate_tri6(&q);
+        let mut pts: Vec<[f64; 6]> = tab.n.clone();
+        for a in 0..6 {
+            let xi = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5]][a];
+            pts.push(tri6(&xi).0);
+        }
+        let (zl, zu) = (plates.z_lower(t), plates.z_upper);
+        let mut pen = 0.0f64;
+        for &f in &self.faces {
+            let nodes = &mesh.faces[f as usize];
+            let z: [f64; 6] = std::array::from_fn(|a| {
+                let n = nodes[a] as usize;
+                mesh.coords[n][2] + local[dofs.u_local(n, 2)]
+            });
+            for w in &pts {
+                let zq: f64 = (0..6).map(|a| w[a] * z[a]).sum();
+                pen = pen.max(zl - zq).max(zq - zu);
+            }
+        }
+        pen
+    }
+}
