@@ -483,6 +483,8 @@ impl<'w> Run<'w> {
         pg.newton += its.0;
         pg.ksp += its.1;
         pg.nominal = self.schedule.grow(pg.nominal, taken, pg.t);
+        let kink = self.schedule.land_on.iter().any(|&l| (pg.t - l).abs() <= 1e-10 * self.schedule.t_end);
+        self.ts.problem_mut().end_step(prev, &self.u, taken, !kink)?;
         pg.recent.push_back(wall);
         if pg.recent.len() > 5 {
             pg.recent.pop_front();

@@ -169,13 +169,14 @@ impl Plates {
     /// former contact force to a free surface; the elements next to it collapse (J < Φs) however
     /// small the step. Moved with the plate they stay active while the reaction is compressive,
     /// and leave the plate only when it turns tensile.
-    pub fn predict(&self, t0: f64, t1: f64, dofs: &DofMap, x: &mut [f64]) {
+    /// `x0` is the state at t0 (owned entries), `x` the guess being built.
+    pub fn predict(&self, t0: f64, t1: f64, dofs: &DofMap, x0: &[f64], x: &mut [f64]) {
         let (z0, z1) = (self.z_lower(t0), self.z_lower(t1));
         for (k, &n) in self.nodes.iter().enumerate() {
             if let Some(i) = dofs.local_to_owned(dofs.u_local(n, 2)) {
                 // Nodes on the plate or within the seal distance keep their gap.
-                if self.z_ref[k] + x[i] <= z0 + self.seal_gap.max(self.tol) {
-                    x[i] += z1 - z0;
+                if self.z_ref[k] + x0[i] <= z0 + self.seal_gap.max(self.tol) {
+                    x[i] = x0[i] + z1 - z0;
                 }
             }
         }

@@ -75,6 +75,8 @@ pub struct PoroProblem {
     pub bounds: Option<(Vector, Vector)>,
     /// (start, stage) time of the step being solved, for the contact predictor.
     stage: (f64, f64),
+    /// Velocity of the last accepted step, for the predictor (None after a loading kink).
+    velocity: Option<Vector>,
     pub timers: Timers,
 }
 
@@ -153,6 +155,7 @@ impl PoroProblem {
             plates: None,
             bounds: None,
             stage: (0.0, 0.0),
+            velocity: None,
             timers: Timers::default(),
         })
     }
@@ -368,6 +371,25 @@ impl PoroProblem {
                 Some(ElementInserter::build(jac, &disc.dofs, disc.mesh.tets.len(), |e| disc.element_dofs(e))?);
         }
         self.assembled_shift = Some(shift);
+        Ok(())
+    }
+
+    /// Records the last accepted step (from `prev` to `u` in dt) for the predictor of the next;
+    /// `extrapolate = false` after a kink of the loading, where the velocity jumps.
+    pub fn end_step(&mut self, prev: &Vector, u: &Vector, dt: f64, extrapolate: bool) -> Result<()> {
+        if !extrapolate || dt <= 0.0 {
+            self.velocity = None;
+            return Ok(());
+        }
+        let v = match self.velocity.take() {
+            Some(v) => v,
+            None => u.duplicate()?,
+        };
+        let mut v = v;
+        v.copy_from(u)?;
+        v.axpy(-1.0, prev)?;
+        v.scale(1.0 / dt)?;
+        self.velocity = Some(v);
         Ok(())
     }
 
@@ -618,11 +640,19 @@ impl TsProblem for PoroProblem {
         Ok(())
     }
 
-    /// Contact predictor: nodes on the lower plate move with it (see `Plates::predict`).
+    /// Predictor: the previous state extrapolated with the last step's velocity (unless the
+    /// loading has a kink at the step start), and the nodes on the lower plate moved with it
+    /// (see `Plates::predict`). Why: moving only the contact nodes compacts their (already
+    /// compacted) elements below J = Φs in the initial guess; the extrapolated field moves the
+    /// bulk consistently with the plate.
     fn initial_guess(&mut self, _ts: TsRef, x: &mut Vector) -> Result<()> {
-        if let Some(pl) = &self.plates {
-            pl.predict(self.stage.0, self.stage.1, &self.disc.dofs, &mut x.write()?);
+        let (t0, t1) = self.stage;
+        let Some(pl) = &self.plates else { return Ok(()) };
+        let x0 = x.read()?.to_vec();
+        if let Some(v) = &self.velocity {
+            x.axpy(t1 - t0, v)?;
         }
+        pl.predict(t0, t1, &self.disc.dofs, &x0, &mut x.write()?);
         Ok(())
     }
 }
