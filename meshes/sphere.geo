@@ -1,6 +1,8 @@
 // Full sphere of radius R centred at (0,0,R), resting on the plane z = 0.
 // Usage: gmsh -3 -order 2 -format msh41 -setnumber R 100 -setnumber h 25 sphere.geo -o sphere.msh
-// Groups: volume "aggregate", surface "surface", points "pole_bottom" (0,0,0), "pole_top" (0,0,2R).
+// Groups: volume "aggregate", surface "surface", points "pole_bottom" (0,0,0), "pole_top" (0,0,2R),
+// "equator_y" (0,R,R) (a surface node off the axis: with the poles it removes the rigid modes
+// frictionless plates cannot stop, see meshes/scenes/reference_full.toml).
 SetFactory("OpenCASCADE");
 
 DefineConstant[ R = 100 ];         // sphere radius
@@ -14,6 +16,9 @@ Sphere(1) = {0, 0, R, R};
 eps = 1e-6 * R;
 pb() = Point In BoundingBox{-eps, -eps, -eps, eps, eps, eps};
 pt() = Point In BoundingBox{-eps, -eps, 2 * R - eps, eps, eps, 2 * R + eps};
+pe = newp;
+Point(pe) = {0, R, R}; // not on the OCC seam (y = 0, x > 0), where it would not join the volume mesh
+Point{pe} In Surface{1};
 
 // Refine near the poles: size h_pole within distance 0, growing linearly to h at r_pole.
 Field[1] = Distance;
@@ -38,3 +43,4 @@ Physical Volume("aggregate") = {1};
 Physical Surface("surface") = Surface{:};
 Physical Point("pole_bottom") = {pb()};
 Physical Point("pole_top") = {pt()};
+Physical Point("equator_y") = {pe};

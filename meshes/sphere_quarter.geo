@@ -1,7 +1,8 @@
 // Quarter x >= 0, y >= 0 of the sphere of radius R centred at (0,0,R) (symmetric loading).
 // Usage: gmsh -3 -order 2 -format msh41 -setnumber R 100 -setnumber h 25 sphere_quarter.geo -o q.msh
 // Groups: volume "aggregate"; surfaces "surface" (curved), "symmetry_x" (x = 0), "symmetry_y" (y = 0);
-// points "pole_bottom" (0,0,0), "pole_top" (0,0,2R).
+// points "pole_bottom" (0,0,0), "pole_top" (0,0,2R), "equator_y" (0,R,R) (off the axis, on the arc
+// in x = 0: it locks the rotation about z of a full sphere mirrored from this quarter).
 SetFactory("OpenCASCADE");
 
 DefineConstant[ R = 100 ];          // sphere radius
@@ -12,8 +13,13 @@ DefineConstant[ r_pole = 0.5 * R ]; // distance over which the size blends from 
 Sphere(1) = {0, 0, R, R};
 Box(2) = {0, 0, -R, 2 * R, 2 * R, 4 * R};
 v() = BooleanIntersection{ Volume{1}; Delete; }{ Volume{2}; Delete; };
+// Split the arc in x = 0 at (0, R, R) so that the point becomes a mesh node.
+pe = newp;
+Point(pe) = {0, R, R};
+v() = BooleanFragments{ Volume{v()}; Delete; }{ Point{pe}; Delete; };
 
 eps = 1e-6 * R;
+pe() = Point In BoundingBox{-eps, R - eps, R - eps, eps, R + eps, R + eps};
 pb() = Point In BoundingBox{-eps, -eps, -eps, eps, eps, eps};
 pt() = Point In BoundingBox{-eps, -eps, 2 * R - eps, eps, eps, 2 * R + eps};
 sx() = Surface In BoundingBox{-eps, -eps, -eps, eps, R + eps, 2 * R + eps};
@@ -21,8 +27,8 @@ sy() = Surface In BoundingBox{-eps, -eps, -eps, R + eps, eps, 2 * R + eps};
 all() = Surface{:};
 curved() = all();
 curved() -= {sx(), sy()};
-If (#pb() != 1 || #pt() != 1 || #sx() != 1 || #sy() != 1 || #curved() != 1)
-  Error("sphere_quarter.geo: unexpected topology (%g %g %g %g %g)", #pb(), #pt(), #sx(), #sy(), #curved());
+If (#pb() != 1 || #pt() != 1 || #sx() != 1 || #sy() != 1 || #curved() != 1 || #pe() != 1)
+  Error("sphere_quarter.geo: unexpected topology (%g %g %g %g %g %g)", #pb(), #pt(), #sx(), #sy(), #curved(), #pe());
 EndIf
 
 Field[1] = Distance;
@@ -48,3 +54,4 @@ Physical Surface("symmetry_x") = {sx()};
 Physical Surface("symmetry_y") = {sy()};
 Physical Point("pole_bottom") = {pb()};
 Physical Point("pole_top") = {pt()};
+Physical Point("equator_y") = {pe()};

@@ -23,7 +23,7 @@ pub enum Command {
     /// `mpirun -n 2 poroplast run cryer -- -ksp_monitor -log_view`.
     Run {
         /// A scene file (.toml) or the name of a shipped scene (see `poroplast scenes`).
-        #[arg(default_value = "cryer")]
+        #[arg(default_value = "reference")]
         scene: String,
         /// Run directory (default: runs/<scene>-<UTC timestamp>).
         #[arg(long)]

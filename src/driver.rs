@@ -16,7 +16,7 @@ use crate::petsc::{options, DmShell, Mat, Petsc, Stage, Ts, Vector};
 use crate::physics::analytic;
 use crate::physics::bc;
 use crate::physics::biphasic::Biphasic;
-use crate::physics::contact::{PlateHistory, Plates};
+use crate::physics::contact::{PlateHistory, Plates, DEFAULT_SEAL_GAP};
 use crate::physics::experiment::{self, Experiment};
 use crate::physics::linear::LinearPoroelastic;
 use crate::physics::model::PointModel;
@@ -55,7 +55,7 @@ pub fn run(world: &SimpleCommunicator, args: &RunArgs) -> Result<PathBuf> {
 pub fn check(world: &SimpleCommunicator, scene_arg: &str) -> Result<String> {
     let scene = LoadedScene::load(scene_arg)?;
     let path = mesh_file(world, &scene)?;
-    let mesh = agree(world, gmsh::read(&path))?;
+    let mesh = agree(world, read_mesh(&path, &scene))?;
     let ctx = scene.source.clone();
     for bcnd in &scene.scene.bc {
         let known = mesh.face_groups.iter().any(|(n, _)| *n == bcnd.group)
@@ -121,6 +121,15 @@ fn mesh_file(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<PathBuf>
     agree(world, r)?;
     crate::parallel::broadcast_bytes(world, 0, &mut path);
     Ok(PathBuf::from(String::from_utf8_lossy(&path).into_owned()))
+}
+
+/// Reads the mesh file and applies the scene's reflections.
+fn read_mesh(path: &Path, scene: &LoadedScene) -> Result<crate::mesh::Mesh> {
+    let mut mesh = gmsh::read(path)?;
+    for plane in &scene.scene.mesh.mirror {
+        mesh = crate::mesh::mirror::mirror(&mesh, plane)?;
+    }
+    Ok(mesh)
 }
 
 fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
@@ -261,7 +270,7 @@ impl<'w> Run<'w> {
         // Scene-specific defaults above win over the preset's (set_default keeps the first).
         solver::set_default_options(s.solver.preset.as_deref().unwrap_or("fieldsplit"))?;
         let path = mesh_file(world, scene)?;
-        let mesh = agree(world, gmsh::read(&path))?;
+        let mesh = agree(world, read_mesh(&path, scene))?;
         let size = world.size() as usize;
         let mut part = Vec::new();
         let r = if world.rank() == 0 { partition::partition(&mesh, size).map(|p| part = p) } else { Ok(()) };
@@ -286,7 +295,7 @@ impl<'w> Run<'w> {
                     PlateHistory { u_max: ps.compression * 2.0 * ps.radius, t_ramp: ps.t_ramp, t_end: ps.t_end };
                 // Free-surface drainage conductance: γ k0 / h (a stiff Robin condition, p ≈ 0).
                 let beta_max = ps.drainage_penalty * model.conductivity() / mean_element_size(world, &local);
-                let seal_gap = ps.seal_gap.unwrap_or(1e-3 * ps.radius);
+                let seal_gap = ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * ps.radius);
                 Some(Plates::new(history, ps.radius, &local, &faces, anchor, ps.drainage, beta_max, seal_gap))
             }
             None => None,

@@ -9,6 +9,7 @@
 pub mod dist;
 pub mod generate;
 pub mod gmsh;
+pub mod mirror;
 pub mod partition;
 
 #[cfg(test)]

@@ -203,9 +203,15 @@ pub mod options {
     pub fn set_default(name: &str, value: Option<&str>) -> Result<()> {
         if !has(name)? {
             set(name, value)?;
+            DEFAULTS.lock().unwrap_or_else(|e| e.into_inner()).insert(format!("-{}", name.trim_start_matches('-')));
         }
         Ok(())
     }
+
+    /// Options set by [`set_default`]: a default a user's choice made irrelevant (e.g. the
+    /// fieldsplit settings under `-pc_type lu`) is not an error, so [`unused`] skips them.
+    static DEFAULTS: std::sync::Mutex<std::collections::BTreeSet<String>> =
+        std::sync::Mutex::new(std::collections::BTreeSet::new());
 
     /// Whether `-name` is in the database (PETSc then counts it as used).
     pub fn has(name: &str) -> Result<bool> {
@@ -241,8 +247,11 @@ pub mod options {
         let mut values: *mut *mut c_char = std::ptr::null_mut();
         unsafe {
             check(ffi::PetscOptionsLeftGet(std::ptr::null_mut(), &mut n, &mut names, &mut values))?;
-            let out =
-                (0..n as usize).map(|i| format!("-{}", CStr::from_ptr(*names.add(i)).to_string_lossy())).collect();
+            let defaults = DEFAULTS.lock().unwrap_or_else(|e| e.into_inner());
+            let out = (0..n as usize)
+                .map(|i| format!("-{}", CStr::from_ptr(*names.add(i)).to_string_lossy()))
+                .filter(|o| !defaults.contains(o))
+                .collect();
             check(ffi::PetscOptionsLeftRestore(std::ptr::null_mut(), &mut n, &mut names, &mut values))?;
             Ok(out)
         }
