@@ -137,7 +137,21 @@ fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
     let ctx = |e: Error| Error::Scene { path: scene.source.clone(), msg: format!("[material]: {e}") };
     match &scene.scene.material {
         Material::Linear { mu, nu, permeability } => Ok(Box::new(LinearPoroelastic::new(*mu, *nu, *permeability)?)),
-        Material::HolmesMow { mu, nu, alpha, phi_s, k0, kappa, m0, permeability_c, penalty, rho_s, rho_f, gravity } => {
+        Material::HolmesMow {
+            mu,
+            nu,
+            alpha,
+            phi_s,
+            k0,
+            kappa,
+            m0,
+            permeability_c,
+            penalty,
+            rho_s,
+            rho_f,
+            gravity,
+            ..
+        } => {
             let solid = match (mu, nu, alpha) {
                 (Some(mu), Some(nu), _) => HolmesMow::from_mu_nu(*mu, *nu, *phi_s),
                 (_, _, Some(a)) => HolmesMow::new(*phi_s, a[0], a[1], a[2], 1.0),
@@ -230,6 +244,10 @@ struct Run<'w> {
     experiment: Option<Experiment>,
     /// Settle under gravity before t = 0.
     settle: bool,
+    /// `-poroplast_check_jacobian [eps]`: after each step, compare the assembled Jacobian with
+    /// central differences of the residual (`PoroProblem::jacobian_error`, relative step eps,
+    /// default 1e-7) and print the errors.
+    check_jacobian: Option<f64>,
 }
 
 /// The open outputs of a run.
@@ -285,7 +303,10 @@ impl<'w> Run<'w> {
         let default_degree = if model.is_linear() { 2 } else { 3 };
         let q = quadrature::tet(s.fem.quadrature_degree.unwrap_or(default_degree));
         let tab = tabulate_tet10(&q);
-        let (cons, ext) = agree(world, bc::build(&s.bc, &local, &dofs, &scene.source))?;
+        let (mut cons, ext) = agree(world, bc::build(&s.bc, &local, &dofs, &scene.source))?;
+        if matches!(s.material, Material::HolmesMow { drained: true, .. }) {
+            cons.extend((0..local.n_vertices()).map(|v| bc::Constraint { local: dofs.p_local(v), value: 0.0 }));
+        }
         let plates = match &s.plates {
             Some(ps) => {
                 let ctx = format!("{}: [plates]", scene.source);
@@ -380,6 +401,13 @@ impl<'w> Run<'w> {
             setup_s: t0.elapsed().as_secs_f64(),
             experiment,
             settle,
+            check_jacobian: match options::get_string("poroplast_check_jacobian")? {
+                Some(v) if v.is_empty() => Some(1e-7),
+                Some(v) => Some(v.parse().map_err(|_| {
+                    Error::Solver(format!("-poroplast_check_jacobian {v}: expected a relative step like 1e-7"))
+                })?),
+                None => None,
+            },
         })
     }
 
@@ -559,6 +587,16 @@ impl<'w> Run<'w> {
             }
             pg.output_s += o.elapsed().as_secs_f64();
             self.progress(&pg, taken, its, t_start);
+            if let Some(eps) = self.check_jacobian {
+                let (problem, jac) = self.ts.problem_and_jacobian();
+                let (eu, ep) = problem.jacobian_error(pg.t, taken, &cur, &prev, jac, eps)?;
+                if self.rank0() {
+                    println!(
+                        "jacobian check: step {} t = {:.6e}: rel. error u rows {eu:.3e}, p rows {ep:.3e}",
+                        pg.step, pg.t
+                    );
+                }
+            }
         }
         self.finish(&io, &pg, t_start)?;
         Ok(io.dir)

@@ -103,6 +103,10 @@ pub enum Material {
         /// Gravity acceleration (m/s²).
         #[serde(default)]
         gravity: [f64; 3],
+        /// No fluid: p ≡ 0 everywhere, the drained skeleton alone (each step a static solve,
+        /// the limit a long hold relaxes to).
+        #[serde(default)]
+        drained: bool,
     },
 }
 

@@ -261,6 +261,11 @@ impl<P: TsProblem> Ts<P> {
     pub fn problem_mut(&mut self) -> &mut P {
         &mut self.ctx.problem
     }
+    /// The problem together with the Jacobian matrix TS assembles into (for diagnostics that
+    /// assemble outside a solve).
+    pub fn problem_and_jacobian(&mut self) -> (&mut P, &mut Mat) {
+        (&mut self.ctx.problem, &mut self._keep.1)
+    }
     pub fn snes(&self) -> Result<Snes> {
         self.as_ref().snes()
     }
