@@ -81,6 +81,13 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     fails(&earlier, &["run", &ok, "--", "-ksp_rtoll", "1e-5"], "-ksp_rtoll");
     let s = variant("petsc", &[("[time]", "[petsc]\nsnes_monitorr = true\n\n[time]")]);
     fails(&earlier, &["run", &s], "-snes_monitorr");
+    // Overriding the solver preset from the command line is not an unknown option (the
+    // fieldsplit defaults it leaves unread were set by us, not the user).
+    let d = dir.join("lu-override");
+    run_ok(1, &["run", &ok, "--out", d.to_str().unwrap(), "-q", "--", "-ksp_type", "preonly", "-pc_type", "lu"]);
+    // Mirroring across a group that is not a coordinate plane through the origin.
+    let s = variant("mirror", &[("[material]", "mirror = [\"top\"]\n\n[material]")]);
+    fails(&earlier, &["run", &s], "not in a plane x = 0, y = 0 or z = 0");
     // A scene that does not exist.
     fails(&earlier, &["run", "no-such-scene"], "not a builtin scene");
     // Without --force an existing run directory is refused, untouched.
