@@ -298,7 +298,12 @@ fn sphere_default() {
     check_invariants(&mesh);
     assert_eq!(group_names(&mesh.volume_groups), ["aggregate"]);
     assert_eq!(group_names(&mesh.face_groups), ["surface"]);
-    assert_eq!(group_names(&mesh.point_groups), ["pole_bottom", "pole_top"]);
+    assert_eq!(group_names(&mesh.point_groups), ["pole_bottom", "pole_top", "equator_y"]);
+    // The rigid-mode lock of a full sphere: one node at (0, R, R), on the curved surface.
+    let eq = mesh.point_group("equator_y").unwrap();
+    assert_eq!(eq.len(), 1);
+    let x = mesh.coords[eq[0] as usize];
+    assert!(x[0].abs() < 1e-9 * r && (x[1] - r).abs() < 1e-9 * r && (x[2] - r).abs() < 1e-9 * r, "{x:?}");
     assert_eq!(mesh.volume_groups[0].1.len(), mesh.tets.len());
     let c = [0.0, 0.0, r];
     let surf = mesh.face_group("surface").unwrap();
@@ -377,7 +382,12 @@ fn sphere_quarter_default() {
     check_invariants(&mesh);
     assert_eq!(group_names(&mesh.volume_groups), ["aggregate"]);
     assert_eq!(group_names(&mesh.face_groups), ["surface", "symmetry_x", "symmetry_y"]);
-    assert_eq!(group_names(&mesh.point_groups), ["pole_bottom", "pole_top"]);
+    assert_eq!(group_names(&mesh.point_groups), ["pole_bottom", "pole_top", "equator_y"]);
+    // The rigid-mode lock of a full sphere: one node at (0, R, R), on the curved surface.
+    let eq = mesh.point_group("equator_y").unwrap();
+    assert_eq!(eq.len(), 1);
+    let x = mesh.coords[eq[0] as usize];
+    assert!(x[0].abs() < 1e-9 * r && (x[1] - r).abs() < 1e-9 * r && (x[2] - r).abs() < 1e-9 * r, "{x:?}");
     let c = [0.0, 0.0, r];
     let surf = mesh.face_group("surface").unwrap();
     let sx = mesh.face_group("symmetry_x").unwrap();
