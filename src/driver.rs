@@ -282,7 +282,8 @@ impl<'w> Run<'w> {
             // Full Newton steps: with the active set and drainage switching, the residual is
             // only piecewise smooth and backtracking stalls; a failed step is cut by TS instead.
             options::set_default("snes_linesearch_type", Some("basic"))?;
-            // Room for drained-set updates after convergence (each costs a few iterations).
+            // Each change of the active set costs an iteration; a step still cycling after 50
+            // is cut by TS.
             options::set_default("snes_max_it", Some("50"))?;
         }
         // Scene-specific defaults above win over the preset's (set_default keeps the first).
@@ -307,6 +308,7 @@ impl<'w> Run<'w> {
         if matches!(s.material, Material::HolmesMow { drained: true, .. }) {
             cons.extend((0..local.n_vertices()).map(|v| bc::Constraint { local: dofs.p_local(v), value: 0.0 }));
         }
+        // The plates and the surface faces that can touch them (also the experiment's).
         let plates = match &s.plates {
             Some(ps) => {
                 let ctx = format!("{}: [plates]", scene.source);
@@ -317,7 +319,7 @@ impl<'w> Run<'w> {
                 // Free-surface drainage conductance: γ k0 / h (a stiff Robin condition, p ≈ 0).
                 let beta_max = ps.drainage_penalty * model.conductivity() / mean_element_size(world, &local);
                 let seal_gap = ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * ps.radius);
-                Some(Plates::new(history, ps.radius, &local, &faces, anchor, ps.drainage, beta_max, seal_gap))
+                Some((Plates::new(history, ps.radius, &local, &faces, anchor, ps.drainage, beta_max, seal_gap), faces))
             }
             None => None,
         };
@@ -347,9 +349,13 @@ impl<'w> Run<'w> {
             schur,
             alpha,
         )?;
-        if let Some(pl) = plates {
-            problem.attach_plates(pl, &u)?;
-        }
+        let plate_faces = match plates {
+            Some((pl, faces)) => {
+                problem.attach_plates(pl, &u)?;
+                Some(faces)
+            }
+            None => None,
+        };
         let dm = DmShell::new(comm, &u, Box::new(fields))?;
         let mut ts = Ts::new(comm, problem, f, jac, None, Some(dm))?;
         let t = &s.time;
@@ -376,10 +382,9 @@ impl<'w> Run<'w> {
         if let Some((lo, hi)) = &ts.problem().bounds {
             snes.set_vi_bounds(lo, hi)?;
         }
-        let experiment = match (&s.plates, &ts.problem().plates) {
-            (Some(ps), Some(_)) => {
+        let experiment = match (&s.plates, plate_faces) {
+            (Some(ps), Some(faces)) => {
                 let mesh = &ts.problem().disc.mesh;
-                let faces = bc::face_group(mesh, &ps.group, &scene.source)?.to_vec();
                 let volume = crate::parallel::sum(world, straight_volume(mesh));
                 let phi = ts.problem().disc.model.solid_fraction();
                 Some(Experiment::new(mesh, faces, ps.radius, volume, phi, world, &scene.source)?)
@@ -538,9 +543,7 @@ impl<'w> Run<'w> {
             let _g = stage_solve.push();
             self.settle()?;
         }
-        let initial = self.u.duplicate()?;
-        let mut initial = initial;
-        initial.copy_from(&self.u)?;
+        let initial = self.u.copy()?;
         let mut prev = self.u.duplicate()?;
         // The first step runs before anything is written: then every PETSc option has been
         // read, and an unknown one is an error that leaves no half-made run directory.
@@ -568,10 +571,8 @@ impl<'w> Run<'w> {
             let last = self.schedule.done(pg.t);
             let every = self.scene.scene.output.fields_every;
             let wf = last || (every > 0 && 1 % every == 0);
-            let u = self.u.duplicate()?;
-            let mut u = u;
-            u.copy_from(&self.u)?;
-            self.record(&mut io, &u, &prev, 1, pg.t, first.0, first.1, t_start, wf, &exact)?;
+            let cur = self.u.copy()?;
+            self.record(&mut io, &cur, &prev, 1, pg.t, first.0, first.1, t_start, wf, &exact)?;
         }
         pg.output_s += o.elapsed().as_secs_f64();
         let mut cur = self.u.duplicate()?;
@@ -677,28 +678,39 @@ impl<'w> Run<'w> {
         exact: &[(String, ExactFn)],
     ) -> Result<()> {
         let world = self.world;
-        let mut udot = u.duplicate()?;
-        udot.copy_from(u)?;
-        udot.axpy(-1.0, prev)?;
-        let dt_eff = if dt > 0.0 { dt } else { 1.0 };
-        udot.scale(1.0 / dt_eff)?;
-        let post = self.ts.problem_mut().post_process(dt_eff, u, &udot)?;
+        let write_fields = write_fields && io.fields.is_some();
+        // The post-processing element loop (reactions, cell fields) only when something reads
+        // it; probes and history alone need just the local state.
+        let post = if self.experiment.is_some() || write_fields {
+            let dt_eff = if dt > 0.0 { dt } else { 1.0 };
+            let udot = crate::physics::problem::rate(u, prev, dt_eff)?;
+            Some(self.ts.problem_mut().post_process(dt_eff, u, &udot)?)
+        } else {
+            None
+        };
+        let localized;
+        let local: &[f64] = match &post {
+            Some(p) => &p.local,
+            None => {
+                localized = self.ts.problem_mut().localize(u)?;
+                &localized
+            }
+        };
         let pb = self.ts.problem();
         let (mesh, dofs) = (&pb.disc.mesh, &pb.disc.dofs);
         let mut row = vec![step as f64, t, dt];
-        let obs = match (&mut self.experiment, &pb.plates) {
-            (Some(ex), Some(pl)) => Some(ex.observe(t, dt, pl, mesh, dofs, &post, world)),
+        let obs = match (&mut self.experiment, &pb.plates, &post) {
+            (Some(ex), Some(pl), Some(post)) => Some(ex.observe(t, dt, pl, mesh, dofs, post, world)),
             _ => None,
         };
         if let Some(o) = &obs {
             row.extend(o.values);
         }
-        row.extend(self.probes.iter().map(|p| p.value(mesh, dofs, &post.local, world)));
+        row.extend(self.probes.iter().map(|p| p.value(mesh, dofs, local, world)));
         row.extend(exact.iter().map(|(_, f)| f(t)));
         row.extend([its.0 as f64, its.1 as f64, t_start.elapsed().as_secs_f64()]);
         io.history.row(&row)?;
-        if let (Some(ff), true) = (io.fields.as_mut(), write_fields) {
-            let local = &post.local;
+        if let (Some(ff), Some(post), true) = (io.fields.as_mut(), &post, write_fields) {
             let n = mesh.n_owned_nodes;
             let uo: Vec<f64> = local[..3 * n].to_vec();
             let mut p = vec![0.0; n];

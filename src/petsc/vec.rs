@@ -46,6 +46,13 @@ impl Vector {
         Ok(Vector { raw })
     }
 
+    /// A new vector with the same layout and values.
+    pub fn copy(&self) -> Result<Vector> {
+        let mut v = self.duplicate()?;
+        v.copy_from(self)?;
+        Ok(v)
+    }
+
     pub fn local_size(&self) -> usize {
         let mut n: Int = 0;
         unsafe { ffi::VecGetLocalSize(self.raw, &mut n) };

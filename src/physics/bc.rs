@@ -19,11 +19,17 @@ pub struct Constraint {
 
 /// Local faces of a surface group, or an error naming the group and the available ones.
 pub fn face_group<'m>(mesh: &'m LocalMesh, name: &str, context: &str) -> Result<&'m [u32]> {
-    mesh.face_groups
-        .iter()
-        .find(|(n, _)| n == name)
-        .map(|(_, f)| f.as_slice())
-        .ok_or_else(|| missing(mesh, name, context))
+    lookup(&mesh.face_groups, mesh, name, context)
+}
+
+/// Local nodes of a point group, or an error naming it and the available groups.
+pub fn point_group<'m>(mesh: &'m LocalMesh, name: &str, context: &str) -> Result<&'m [u32]> {
+    lookup(&mesh.point_groups, mesh, name, context)
+}
+
+/// The entry `name` of `groups` (a group list of `mesh`); the error lists all of the mesh's groups.
+fn lookup<'m>(groups: &'m [(String, Vec<u32>)], mesh: &LocalMesh, name: &str, context: &str) -> Result<&'m [u32]> {
+    groups.iter().find(|(n, _)| n == name).map(|(_, v)| v.as_slice()).ok_or_else(|| missing(mesh, name, context))
 }
 
 fn missing(mesh: &LocalMesh, name: &str, context: &str) -> Error {
@@ -33,15 +39,6 @@ fn missing(mesh: &LocalMesh, name: &str, context: &str) -> Error {
         path: context.into(),
         msg: format!("physical group \"{name}\" not found (the mesh has: {})", names.join(", ")),
     }
-}
-
-/// Local nodes of a point group, or an error naming it and the available groups.
-pub fn point_group<'m>(mesh: &'m LocalMesh, name: &str, context: &str) -> Result<&'m [u32]> {
-    mesh.point_groups
-        .iter()
-        .find(|(n, _)| n == name)
-        .map(|(_, v)| v.as_slice())
-        .ok_or_else(|| missing(mesh, name, context))
 }
 
 /// Local nodes touched by a group: all nodes of its faces, or the nodes of a point group.

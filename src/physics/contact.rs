@@ -188,22 +188,21 @@ impl Plates {
         }
     }
 
-    /// Contact state of local node n (must be a surface node) from its displacement.
-    pub fn touch(&self, n: usize, z_ref: f64, uz: f64, t: f64) -> Touch {
+    /// Contact state of a surface node at reference height `z_ref` from its u_z.
+    fn touch(&self, z_ref: f64, uz: f64, t: f64) -> Touch {
         let z = z_ref + uz;
         if z <= self.z_lower(t) + self.tol {
             Touch::Lower
         } else if z >= self.z_upper - self.tol {
             Touch::Upper
         } else {
-            let _ = n;
             Touch::Free
         }
     }
 
     /// Contact state of every contact-surface node (same order as `nodes`).
     pub fn states(&self, dofs: &DofMap, u_local: &[f64], t: f64) -> Vec<Touch> {
-        self.nodes.iter().zip(&self.z_ref).map(|(&n, &z)| self.touch(n, z, u_local[dofs.u_local(n, 2)], t)).collect()
+        self.nodes.iter().zip(&self.z_ref).map(|(&n, &z)| self.touch(z, u_local[dofs.u_local(n, 2)], t)).collect()
     }
 
     /// Drainage of every local contact-surface vertex at this state: its p dof, u_z dof,

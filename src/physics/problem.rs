@@ -97,8 +97,7 @@ pub struct Post {
     pub cell_porosity: Vec<f64>,
     pub cell_von_mises: Vec<f64>,
     pub cell_darcy: Vec<f64>,
-    /// Σ over local elements of ∫ dV and ∫ J dV.
-    pub volume: f64,
+    /// Σ over local elements of ∫ J dV.
     pub volume_j: f64,
 }
 
@@ -375,21 +374,14 @@ impl PoroProblem {
     }
 
     /// Records the last accepted step (from `prev` to `u` in dt) for the predictor of the next;
-    /// `extrapolate = false` after a kink of the loading, where the velocity jumps.
+    /// `extrapolate = false` after a kink of the loading, where the velocity jumps. Only the
+    /// contact predictor uses it: nothing is kept without plates.
     pub fn end_step(&mut self, prev: &Vector, u: &Vector, dt: f64, extrapolate: bool) -> Result<()> {
-        if !extrapolate || dt <= 0.0 {
+        if !extrapolate || dt <= 0.0 || self.plates.is_none() {
             self.velocity = None;
             return Ok(());
         }
-        let v = match self.velocity.take() {
-            Some(v) => v,
-            None => u.duplicate()?,
-        };
-        let mut v = v;
-        v.copy_from(u)?;
-        v.axpy(-1.0, prev)?;
-        v.scale(1.0 / dt)?;
-        self.velocity = Some(v);
+        self.velocity = Some(rate(u, prev, dt)?);
         Ok(())
     }
 
@@ -405,7 +397,6 @@ impl PoroProblem {
             cell_porosity: Vec::with_capacity(n_el),
             cell_von_mises: Vec::with_capacity(n_el),
             cell_darcy: Vec::with_capacity(3 * n_el),
-            volume: 0.0,
             volume_j: 0.0,
         };
         let n_local = self.disc.dofs.n_local();
@@ -433,7 +424,6 @@ impl PoroProblem {
                     post.cell_porosity.push(ep.porosity);
                     post.cell_von_mises.push(ep.von_mises);
                     post.cell_darcy.extend(ep.darcy);
-                    post.volume += ep.volume;
                     post.volume_j += ep.volume_j;
                 }
                 Ok(())
@@ -587,6 +577,14 @@ fn locate(err: Error, e: usize, mesh: &LocalMesh) -> Error {
     }
 }
 
+/// The backward-Euler rate (u − prev) / dt of a step.
+pub fn rate(u: &Vector, prev: &Vector, dt: f64) -> Result<Vector> {
+    let mut r = u.copy()?;
+    r.axpy(-1.0, prev)?;
+    r.scale(1.0 / dt)?;
+    Ok(r)
+}
+
 /// Mean edge-length scale (volume^(1/3) of the vertex tetrahedra), over all ranks.
 pub fn mean_element_size(world: &SimpleCommunicator, mesh: &LocalMesh) -> f64 {
     let mut sum = 0.0;
@@ -646,26 +644,16 @@ impl PoroProblem {
             }
         }
         let eps = rel_eps * u.norm_inf()?.max(1.0);
-        let shift = 1.0 / dt;
         // F at u + s v, with udot = (u + s v − prev) / dt.
         let mut eval = |s: f64, out: &mut Vector| -> Result<()> {
-            let mut x = u.duplicate()?;
-            x.copy_from(u)?;
+            let mut x = u.copy()?;
             x.axpy(s, &v)?;
-            let mut xdot = x.duplicate()?;
-            xdot.copy_from(&x)?;
-            xdot.axpy(-1.0, prev)?;
-            xdot.scale(shift)?;
-            self.assemble_residual(t, dt, &x, &xdot, out)
+            self.assemble_residual(t, dt, &x, &rate(&x, prev, dt)?, out)
         };
         let (mut fp, mut fm) = (u.duplicate()?, u.duplicate()?);
         eval(eps, &mut fp)?;
         eval(-eps, &mut fm)?;
-        let mut udot = u.duplicate()?;
-        udot.copy_from(u)?;
-        udot.axpy(-1.0, prev)?;
-        udot.scale(shift)?;
-        self.assemble_jacobian(t, dt, shift, u, &udot, jac)?;
+        self.assemble_jacobian(t, dt, 1.0 / dt, u, &rate(u, prev, dt)?, jac)?;
         let mut jv = u.duplicate()?;
         jac.mult(&v, &mut jv)?;
         let mut sums = [0.0f64; 4]; // |Jv − fd|² and |Jv|² on u rows, then on p rows
