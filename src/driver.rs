@@ -19,7 +19,7 @@ use crate::physics::biphasic::Biphasic;
 use crate::physics::contact::{PlateHistory, Plates, DEFAULT_SEAL_GAP};
 use crate::physics::experiment::{self, Experiment};
 use crate::physics::linear::LinearPoroelastic;
-use crate::physics::model::PointModel;
+use crate::fem::point::PointModel;
 use crate::physics::probe::Probe;
 use crate::physics::problem::{mean_element_size, PoroProblem};
 use crate::scene::{LoadedScene, Material, Verification};

@@ -13,7 +13,7 @@
 
 use super::element::{tet10_geometry, Tabulation, TET10_EDGES};
 use crate::error::Result;
-use crate::physics::model::{ij, PointModel, PointState, QpId};
+use super::point::{ij, History, PointFlux, PointModel, PointState, QpId};
 use nalgebra::{Matrix3, Vector3};
 
 pub const NU: usize = 30;
@@ -175,16 +175,37 @@ pub struct ElementPost {
     /// ∫ dV and ∫ J dV over the element (reference volume, current volume).
     pub volume: f64,
     pub volume_j: f64,
-    /// Element averages: J, porosity, von Mises, spatial Darcy flux.
+    /// Element averages: J, porosity, von Mises, spatial Darcy flux, ‖E_p‖.
     pub j: f64,
     pub porosity: f64,
     pub von_mises: f64,
     pub darcy: [f64; 3],
+    pub norm_ep: f64,
+    /// ∫ σ_sc dV over the element (solid Cauchy stress, reference volume).
+    pub int_cauchy: [[f64; 3]; 3],
+    /// Largest von Mises stress, ‖E_p‖ and |det B_p − 1| at the element's points.
+    pub max_von_mises: f64,
+    pub max_norm_ep: f64,
+    pub max_det_bp_dev: f64,
 }
 
 impl ElementKernel<'_> {
+    /// The history of point q out of the element's slice.
+    #[inline]
+    fn at_point<'h>(&self, h: History<'h>, q: usize) -> History<'h> {
+        let n = self.model.history_len();
+        History { committed: &h.committed[q * n..(q + 1) * n], evolve: h.evolve }
+    }
+
     /// Residual, its pressure part and averaged fields of one element.
-    pub fn post(&self, elem: usize, coords: &[[f64; 3]; 10], v: &ElementValues, dt: f64) -> Result<ElementPost> {
+    pub fn post(
+        &self,
+        elem: usize,
+        coords: &[[f64; 3]; 10],
+        v: &ElementValues,
+        dt: f64,
+        h: History,
+    ) -> Result<ElementPost> {
         let mut out = ElementPost {
             r: [0.0; NDOF],
             r_pressure: [0.0; NU],
@@ -194,15 +215,21 @@ impl ElementKernel<'_> {
             porosity: 0.0,
             von_mises: 0.0,
             darcy: [0.0; 3],
+            norm_ep: 0.0,
+            int_cauchy: [[0.0; 3]; 3],
+            max_von_mises: 0.0,
+            max_norm_ep: 0.0,
+            max_det_bp_dev: 0.0,
         };
         let mut proj = Projection::default();
         for q in 0..self.tab.weights.len() {
             let pt = point(coords, self.tab, &self.xi[q], q, v, dt)?;
             let at = QpId { elem, point: q };
-            let f = self.model.eval(at, &pt.state)?;
+            let hq = self.at_point(h, q);
+            let f = self.model.eval(at, &pt.state, hq)?;
             add_residual(&pt, &f, &mut out.r);
             proj.add(&pt, &v.pdot);
-            let pf = self.model.fields(at, &pt.state)?;
+            let pf = self.model.fields(at, &pt.state, hq)?;
             for a in 0..10 {
                 for i in 0..3 {
                     out.r_pressure[3 * a + i] +=
@@ -214,9 +241,16 @@ impl ElementKernel<'_> {
             out.j += pt.w * pf.j;
             out.porosity += pt.w * pf.porosity;
             out.von_mises += pt.w * pf.von_mises;
+            out.norm_ep += pt.w * pf.norm_ep;
             for d in 0..3 {
                 out.darcy[d] += pt.w * pf.darcy[d];
+                for e in 0..3 {
+                    out.int_cauchy[d][e] += pt.w * pf.cauchy_sc[(d, e)];
+                }
             }
+            out.max_von_mises = out.max_von_mises.max(pf.von_mises);
+            out.max_norm_ep = out.max_norm_ep.max(pf.norm_ep);
+            out.max_det_bp_dev = out.max_det_bp_dev.max(pf.det_bp_dev);
         }
         if self.stab > 0.0 {
             proj.residual(self.stab, &mut out.r);
@@ -225,8 +259,29 @@ impl ElementKernel<'_> {
         out.j /= v;
         out.porosity /= v;
         out.von_mises /= v;
+        out.norm_ep /= v;
         out.darcy.iter_mut().for_each(|x| *x /= v);
         Ok(out)
+    }
+
+    /// The end-of-step history of every point of the element (the model's update at the
+    /// converged state), into `out` (the element's slice of the store).
+    pub fn advance_history(
+        &self,
+        elem: usize,
+        coords: &[[f64; 3]; 10],
+        v: &ElementValues,
+        dt: f64,
+        h: History,
+        out: &mut [f64],
+    ) -> Result<()> {
+        let n = self.model.history_len();
+        for q in 0..self.tab.weights.len() {
+            let pt = point(coords, self.tab, &self.xi[q], q, v, dt)?;
+            let at = QpId { elem, point: q };
+            self.model.advance_history(at, &pt.state, self.at_point(h, q), &mut out[q * n..(q + 1) * n])?;
+        }
+        Ok(())
     }
 
     /// Adds the element residual to `r`.
@@ -236,12 +291,13 @@ impl ElementKernel<'_> {
         coords: &[[f64; 3]; 10],
         v: &ElementValues,
         dt: f64,
+        h: History,
         r: &mut [f64; NDOF],
     ) -> Result<()> {
         let mut proj = Projection::default();
         for q in 0..self.tab.weights.len() {
             let pt = point(coords, self.tab, &self.xi[q], q, v, dt)?;
-            let f = self.model.eval(QpId { elem, point: q }, &pt.state)?;
+            let f = self.model.eval(QpId { elem, point: q }, &pt.state, self.at_point(h, q))?;
             add_residual(&pt, &f, r);
             proj.add(&pt, &v.pdot);
         }
@@ -259,6 +315,7 @@ impl ElementKernel<'_> {
         coords: &[[f64; 3]; 10],
         v: &ElementValues,
         dt: f64,
+        h: History,
         shift: f64,
         r: &mut [f64; NDOF],
         k: &mut [[f64; NDOF]; NDOF],
@@ -268,7 +325,7 @@ impl ElementKernel<'_> {
         let inv_kdr = 1.0 / self.model.drained_bulk_modulus();
         for q in 0..self.tab.weights.len() {
             let pt = point(coords, self.tab, &self.xi[q], q, v, dt)?;
-            let (f, t) = self.model.eval_tangent(QpId { elem, point: q }, &pt.state, shift)?;
+            let (f, t) = self.model.eval_tangent(QpId { elem, point: q }, &pt.state, self.at_point(h, q), shift)?;
             add_residual(&pt, &f, r);
             proj.add(&pt, &v.pdot);
             let w = pt.w;
@@ -345,7 +402,7 @@ impl ElementKernel<'_> {
 }
 
 /// Adds the pointwise terms of one quadrature point to the element residual.
-fn add_residual(pt: &Point, f: &crate::physics::model::PointFlux, r: &mut [f64; NDOF]) {
+fn add_residual(pt: &Point, f: &PointFlux, r: &mut [f64; NDOF]) {
     let w = pt.w;
     for a in 0..10 {
         for i in 0..3 {

@@ -5,4 +5,6 @@ pub mod dofmap;
 pub mod element;
 pub mod insert;
 pub mod kernel;
+pub mod point;
+pub mod qp_store;
 pub mod quadrature;

@@ -2,6 +2,7 @@
 //! I1e = tr(C B_p), I2e = ½[I1e² − tr((C B_p)²)], I3e = det C; S_sc = 2 ∂Ψ/∂C (39) without the
 //! penalty, P_sc = F S_sc, and the exact tangent ∂P_sc/∂F.
 
+use super::dual::{m_add, m_dev, m_mul, m_scale, m_trace, m_trace_mul, Scalar, M3};
 use super::{add_ik_lj, add_il_kj, add_outer, check_phi_s, domain_error, Kinematics, SolidResponse, Tangent};
 use crate::error::{Error, Result};
 use nalgebra::Matrix3;
@@ -129,6 +130,43 @@ impl HolmesMow {
         add_ik_lj(&mut a, -e * a2, &(fb * f.transpose()), bp);
         add_il_kj(&mut a, e * a3, &f_inv_t, &f_inv_t);
         Ok(SolidResponse { p: f * s, a, s })
+    }
+
+    /// Deviatoric Mandel stress dev Σ, Σ = C S_sc, as a function of M = C B_p and ln J (generic,
+    /// for the remodelling update and its derivatives). With S = e G:
+    /// Σ = e [(α1 + α2 tr M) M − α2 M² − α3 I], so dev Σ = e dev[(α1 + α2 tr M) M − α2 M²],
+    /// e = 2 Φs α0 exp[α1 (tr M − 3) + α2 (I2(M) − 3) − 2 α3 ln J]. (The compaction penalty adds
+    /// J U'(J) I to Σ: no deviator.)
+    pub fn mandel_dev<T: Scalar>(&self, m: &M3<T>, ln_j: T) -> M3<T> {
+        let (a1, a2, a3) = (self.alpha1, self.alpha2, self.alpha3);
+        let tr = m_trace(m);
+        let tr2 = m_trace_mul(m, m);
+        let i2 = (tr * tr - tr2).scale(0.5);
+        let f = (tr - T::cst(3.0)).scale(a1) + (i2 - T::cst(3.0)).scale(a2) - ln_j.scale(2.0 * a3);
+        let e = f.exp().scale(2.0 * self.phi_s * self.alpha0);
+        let m2 = m_mul(m, m);
+        let inner = m_add(&m_scale(m, T::cst(a1) + tr.scale(a2)), &m_scale(&m2, T::cst(-a2)));
+        m_scale(&m_dev(&inner), e)
+    }
+
+    /// ∂S_sc/∂B_p [H] for the six symmetric unit directions H of [`super::remodelling::sym_basis`]:
+    /// with S = e G, ∂f[H] = (α1 + α2 I1e) tr(C H) − α2 tr(C B C H) and
+    /// ∂G[H] = α2 tr(C H) B + (α1 + α2 I1e) H − α2 (H C B + B C H), ∂S[H] = e (∂f[H] G + ∂G[H]).
+    pub fn stress_derivative_bp(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
+        let core = self.core(kin, bp)?;
+        let (a1, a2) = (self.alpha1, self.alpha2);
+        let e = 2.0 * self.phi_s * self.alpha0 * core.exp_f;
+        let c = &kin.c;
+        let i1 = (c * bp).trace();
+        let cbc = c * bp * c;
+        let cb = c * bp;
+        Ok(super::remodelling::sym_basis().map(|h| {
+            let tr_ch = (c * h).trace();
+            let df = (a1 + a2 * i1) * tr_ch - a2 * (cbc * h).trace();
+            let hcb = h * cb;
+            let dg = bp * (a2 * tr_ch) + h * (a1 + a2 * i1) - (hcb + hcb.transpose()) * a2;
+            (core.g * df + dg) * e
+        }))
     }
 
     fn core(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<Core> {

@@ -6,12 +6,14 @@
 //! on both sides: `A[(idx(i, j), idx(k, l))] = ∂P_ij/∂F_kl` (see [`idx`]). This is an index
 //! convention on (row, column), independent of nalgebra's column-major storage.
 
+pub mod dual;
 pub mod holmes_mow;
 pub mod penalty;
 pub mod permeability;
+pub mod remodelling;
 
 #[cfg(test)]
-mod test_util;
+pub(crate) mod test_util;
 
 use crate::error::{Error, Result};
 use nalgebra::{Matrix3, SMatrix};
@@ -19,6 +21,7 @@ use nalgebra::{Matrix3, SMatrix};
 pub use holmes_mow::HolmesMow;
 pub use penalty::CompactionPenalty;
 pub use permeability::{Permeability, PermeabilityModel};
+pub use remodelling::Remodelling;
 
 /// A fourth-order tensor ∂P_ij/∂F_kl stored at `[(idx(i, j), idx(k, l))]`.
 pub type Tangent = SMatrix<f64, 9, 9>;

@@ -98,6 +98,21 @@ impl Permeability {
         Ok((k_tensor, dk))
     }
 
+    /// ∂K/∂B_p [H] = g1 H + g2 (H C B_p + B_p C H) for the six symmetric unit directions H of
+    /// [`super::remodelling::sym_basis`] (zero for the isotropic model).
+    pub fn derivative_bp(&self, f: &Matrix3<f64>, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
+        if self.model == PermeabilityModel::Isotropic {
+            return Ok([Matrix3::zeros(); 6]);
+        }
+        let kin = Kinematics::new(f)?;
+        let [_, (g1, _), (g2, _)] = self.coefficients(kin.j)?;
+        let cb = kin.c * bp;
+        Ok(super::remodelling::sym_basis().map(|h| {
+            let hcb = h * cb;
+            h * g1 + (hcb + hcb.transpose()) * g2
+        }))
+    }
+
     /// (g_m, dg_m/dJ) for the coefficients of C⁻¹, B_p and B_p C B_p:
     /// g0 = J k, g1 = k/(c J), g2 = k/(c² J³) (g1 = g2 = 0 for the isotropic model).
     fn coefficients(&self, j: f64) -> Result<[(f64, f64); 3]> {

@@ -20,6 +20,10 @@ impl Rng {
     pub fn matrix(&mut self, amp: f64) -> Matrix3<f64> {
         Matrix3::from_fn(|_, _| self.uniform(-amp, amp))
     }
+    /// Entries uniform in [−amp, amp).
+    pub fn vector(&mut self, amp: f64) -> Vector3<f64> {
+        Vector3::from_fn(|_, _| self.uniform(-amp, amp))
+    }
     /// A rotation by a random angle about a random axis.
     pub fn rotation(&mut self) -> Matrix3<f64> {
         let axis = Vector3::new(self.uniform(-1.0, 1.0), self.uniform(-1.0, 1.0), 1.0);

@@ -33,10 +33,12 @@
 //! Post-processing ([`Biphasic::point_fields`]): porosity 1 − Φs/J, σ_sc = J⁻¹ P_sc Fᵀ,
 //! σ_VM = √(3/2) ‖dev σ_sc‖, spatial Darcy flux q = J⁻¹ F Q.
 
-use super::model::{ij, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId};
+use crate::fem::point::{ij, History, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId};
 use crate::error::{Error, Result};
+use crate::material::remodelling::{from_sym6, to_sym6};
 use crate::material::{
-    domain_error, idx, locate, solid_response, AtPoint, CompactionPenalty, HolmesMow, Kinematics, Permeability, Tangent,
+    domain_error, idx, locate, solid_response, AtPoint, CompactionPenalty, HolmesMow, Kinematics, Permeability,
+    Remodelling, Tangent,
 };
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
@@ -63,6 +65,8 @@ pub struct Biphasic {
     k_drained: f64,
     /// Drained P-wave modulus of the mixture at the reference state (kPa).
     m_drained: f64,
+    /// Visco-plastic remodelling of B_p (none: B_p = I, no history is stored).
+    remodel: Option<Remodelling>,
 }
 
 /// What eval and eval_tangent share at one point, after the domain checks.
@@ -73,8 +77,11 @@ struct Kin {
     j: f64,
     /// cof F = J F⁻ᵀ, from the entries of F.
     cof_f: Matrix3<f64>,
-    /// B_p at this point.
+    /// B_p at the end of the step at this point.
     bp: Matrix3<f64>,
+    /// ∂x_s/∂c_r of the remodelling update (x, c: the symmetric components of B_p and C), when
+    /// asked for and plastic.
+    dbp_dc: Option<[[f64; 6]; 6]>,
 }
 
 impl Biphasic {
@@ -129,7 +136,13 @@ impl Biphasic {
             rho_f_g: a_g * rho_f_kg_m3,
             k_drained,
             m_drained,
+            remodel: None,
         })
+    }
+
+    /// The same mixture with visco-plastic remodelling of B_p (model.md §4).
+    pub fn with_remodelling(self, remodel: Remodelling) -> Self {
+        Biphasic { remodel: Some(remodel), ..self }
     }
 
     /// Referential solid fraction Φs.
@@ -147,16 +160,9 @@ impl Biphasic {
         self.rho_f_g
     }
 
-    /// The remodelling metric B_p at a point: the identity for now. Remodelling will keep
-    /// per-point state here (a flat array indexed by `at`, committed or rolled back by the
-    /// driver with the time step); everything else already takes B_p from this method.
-    pub fn bp(&self, _at: QpId) -> Matrix3<f64> {
-        Matrix3::identity()
-    }
-
     /// Output fields at a point (uses Grad u, p, Grad p). Domain error as in `eval`.
-    pub fn point_fields(&self, at: QpId, s: &PointState) -> Result<PointFields> {
-        let k = self.kinematics(at, s)?;
+    pub fn point_fields(&self, at: QpId, s: &PointState, h: History) -> Result<PointFields> {
+        let k = self.kinematics(at, s, h, false)?;
         let r = solid_response(&self.solid, self.penalty.as_ref(), &k.f, &k.bp).at_point(at.elem, at.point)?;
         let cauchy = k.f * r.s * k.f.transpose() / k.j;
         let cauchy_sc = 0.5 * (cauchy + cauchy.transpose());
@@ -170,11 +176,18 @@ impl Biphasic {
             von_mises: (1.5f64).sqrt() * dev.norm(),
             darcy: -(k.f * w) / k.j,
             pressure_stress: -k.cof_f * s.p,
+            norm_ep: match self.remodel {
+                // E_p = ½(B_p⁻¹ − I); B_p is symmetric positive definite.
+                Some(_) => (k.bp.try_inverse().unwrap_or(Matrix3::from_element(f64::NAN)) - Matrix3::identity()).norm() * 0.5,
+                None => 0.0,
+            },
+            det_bp_dev: (k.bp.determinant() - 1.0).abs(),
         })
     }
 
-    /// F, J, cof F and B_p, with every domain check: non-finite input, J <= 0, J <= Φs.
-    fn kinematics(&self, at: QpId, s: &PointState) -> Result<Kin> {
+    /// F, J, cof F and the end-of-step B_p (with its tangent if `tangent`), with every domain
+    /// check: non-finite input, J <= 0, J <= Φs, a failed remodelling update.
+    fn kinematics(&self, at: QpId, s: &PointState, h: History, tangent: bool) -> Result<Kin> {
         let finite = s.p.is_finite()
             && s.dt.is_finite()
             && s.grad_p.iter().all(|x| x.is_finite())
@@ -189,7 +202,61 @@ impl Biphasic {
             let msg = format!("J <= phi_s = {} (mixture compacted to its solid fraction)", self.phi_s);
             return Err(locate(domain_error(j, msg), at.elem, at.point));
         }
-        Ok(Kin { f, j, cof_f: cof(&f), bp: self.bp(at) })
+        let bp_n = if h.committed.is_empty() { Matrix3::identity() } else { from_sym6(h.committed) };
+        let (bp, dbp_dc) = match (&self.remodel, h.evolve) {
+            (Some(rm), true) => {
+                let c = f.transpose() * f;
+                if tangent {
+                    let (up, t) = rm.update_and_tangent(&self.solid, &c, &bp_n, s.dt).at_point(at.elem, at.point)?;
+                    (up.bp, t)
+                } else {
+                    (rm.update(&self.solid, &c, &bp_n, s.dt).at_point(at.elem, at.point)?.bp, None)
+                }
+            }
+            _ => (bp_n, None),
+        };
+        Ok(Kin { f, j, cof_f: cof(&f), bp, dbp_dc })
+    }
+
+    /// Adds the remodelling chain terms to the tangent: with y_s = dx_s/dF_kl = Σ_r T_sr
+    /// ∂c_r/∂F_kl (∂C_ab/∂F_kl = F_kb δ_la + F_ka δ_lb), ∂P/∂F_kl += Σ_s y_s F ∂S/∂B_p[H_s] and
+    /// ∂W/∂F_kl += Σ_s y_s ∂K/∂B_p[H_s] g.
+    fn add_remodelling_tangent(
+        &self,
+        k: &Kin,
+        t6: &[[f64; 6]; 6],
+        g: &Vector3<f64>,
+        dstress: &mut Tangent,
+        dflux: &mut SMatrix<f64, 3, 9>,
+    ) -> Result<()> {
+        let kin = Kinematics::new(&k.f)?;
+        let ds = self.solid.stress_derivative_bp(&kin, &k.bp)?;
+        let dk = self.perm.derivative_bp(&k.f, &k.bp)?;
+        let dp: [Matrix3<f64>; 6] = ds.map(|d| k.f * d);
+        let dw: [Vector3<f64>; 6] = dk.map(|d| d * g);
+        let pairs = crate::material::remodelling::SYM_PAIRS;
+        for kk in 0..3 {
+            for l in 0..3 {
+                // ∂c_r/∂F_kl for the six components of C.
+                let dc: [f64; 6] = pairs.map(|(a, b)| {
+                    (if l == a { k.f[(kk, b)] } else { 0.0 }) + (if l == b { k.f[(kk, a)] } else { 0.0 })
+                });
+                let y: [f64; 6] = std::array::from_fn(|s| (0..6).map(|r| t6[s][r] * dc[r]).sum());
+                let col = ij(kk, l);
+                for s in 0..6 {
+                    if y[s] == 0.0 {
+                        continue;
+                    }
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            dstress[(ij(i, j), col)] += dp[s][(i, j)] * y[s];
+                        }
+                        dflux[(i, col)] += dw[s][i] * y[s];
+                    }
+                }
+            }
+        }
+        Ok(())
     }
 
     /// ṡ = cof F : L − dt F : cof L + dt² det L (L = Grad u̇), cof L, and J(F_n) checked > 0.
@@ -217,15 +284,30 @@ impl Biphasic {
 }
 
 impl PointModel for Biphasic {
-    fn fields(&self, at: QpId, s: &PointState) -> Result<PointFields> {
-        self.point_fields(at, s)
+    fn fields(&self, at: QpId, s: &PointState, h: History) -> Result<PointFields> {
+        self.point_fields(at, s, h)
+    }
+    /// B_p (six symmetric components) with remodelling; nothing without.
+    fn history_len(&self) -> usize {
+        if self.remodel.is_some() {
+            6
+        } else {
+            0
+        }
+    }
+    fn initial_history(&self, out: &mut [f64]) {
+        out.copy_from_slice(&to_sym6(&Matrix3::identity()));
+    }
+    fn advance_history(&self, at: QpId, s: &PointState, h: History, out: &mut [f64]) -> Result<()> {
+        out.copy_from_slice(&to_sym6(&self.kinematics(at, s, h, false)?.bp));
+        Ok(())
     }
     fn solid_fraction(&self) -> Option<f64> {
         Some(self.phi_s)
     }
     /// (P, b, ṡ, W) at the point; domain error outside J > Φs, J(F_n) > 0, finite input.
-    fn eval(&self, at: QpId, s: &PointState) -> Result<PointFlux> {
-        let k = self.kinematics(at, s)?;
+    fn eval(&self, at: QpId, s: &PointState, h: History) -> Result<PointFlux> {
+        let k = self.kinematics(at, s, h, false)?;
         let (rate, _) = self.rate(at, &k, s)?;
         let sc = solid_response(&self.solid, self.penalty.as_ref(), &k.f, &k.bp).at_point(at.elem, at.point)?;
         let kt = self.perm.tensor(&k.f, &k.bp).at_point(at.elem, at.point)?;
@@ -238,8 +320,8 @@ impl PointModel for Biphasic {
     }
 
     /// (P, b, ṡ, W) and the exact tangent blocks listed in the module documentation.
-    fn eval_tangent(&self, at: QpId, s: &PointState, shift: f64) -> Result<(PointFlux, PointTangent)> {
-        let k = self.kinematics(at, s)?;
+    fn eval_tangent(&self, at: QpId, s: &PointState, h: History, shift: f64) -> Result<(PointFlux, PointTangent)> {
+        let k = self.kinematics(at, s, h, true)?;
         let (rate, cof_l) = self.rate(at, &k, s)?;
         let sc = solid_response(&self.solid, self.penalty.as_ref(), &k.f, &k.bp).at_point(at.elem, at.point)?;
         let (kt, dk) = self.perm.tensor_and_derivative(&k.f, &k.bp).at_point(at.elem, at.point)?;
@@ -265,8 +347,12 @@ impl PointModel for Biphasic {
                 }
             }
         }
+        let mut dstress_du = sc.a - dcof(&k.f) * s.p;
+        if let Some(t6) = &k.dbp_dc {
+            self.add_remodelling_tangent(&k, t6, &g, &mut dstress_du, &mut dflux_du).at_point(at.elem, at.point)?;
+        }
         let t = PointTangent {
-            dstress_du: sc.a - dcof(&k.f) * s.p,
+            dstress_du,
             dstress_dp: -k.cof_f,
             dbody_du,
             drate_du,
@@ -343,45 +429,8 @@ fn dcof(f: &Matrix3<f64>) -> Tangent {
 mod tests {
     use super::super::linear::LinearPoroelastic;
     use super::*;
+    use crate::material::test_util::Rng;
     use crate::material::PermeabilityModel;
-    use nalgebra::Rotation3;
-
-    /// Reproducible random numbers (xorshift), no rand dependency.
-    struct Rng(u64);
-
-    impl Rng {
-        /// Seeded generator.
-        fn new(seed: u64) -> Self {
-            Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
-        }
-        /// Uniform in [lo, hi).
-        fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-        }
-        /// Entries uniform in [−amp, amp).
-        fn matrix(&mut self, amp: f64) -> Matrix3<f64> {
-            Matrix3::from_fn(|_, _| self.uniform(-amp, amp))
-        }
-        /// Entries uniform in [−amp, amp).
-        fn vector(&mut self, amp: f64) -> Vector3<f64> {
-            Vector3::from_fn(|_, _| self.uniform(-amp, amp))
-        }
-        /// A rotation by a random angle about a random axis.
-        fn rotation(&mut self) -> Matrix3<f64> {
-            let axis = Vector3::new(self.uniform(-1.0, 1.0), self.uniform(-1.0, 1.0), 1.0);
-            Rotation3::from_scaled_axis(axis.normalize() * self.uniform(-3.0, 3.0)).into_inner()
-        }
-        /// A rotated, sheared F with det F = j.
-        fn deformation(&mut self, j: f64) -> Matrix3<f64> {
-            let f = self.rotation() * (Matrix3::identity() + self.matrix(0.3));
-            let det = f.determinant();
-            assert!(det > 0.0);
-            f * (j / det).cbrt()
-        }
-    }
 
     /// Table 1: µ = 20 kPa, ν = 0.2, Φs = 0.6; penalty J_cr = 0.7, U0 = 1000 kPa, q = 2, r = 0.5;
     /// k0 = 3.7729 µm⁴/(nN s), κ = 4.638, m0 = 0.0848.
@@ -410,8 +459,8 @@ mod tests {
 
     /// Central differences of every block of `eval`, the Grad u columns perturbing Grad u̇ by
     /// shift times the same amount (what the assembler's U̇ = shift U + … does).
-    fn fd_tangent(m: &Biphasic, s: &PointState, shift: f64) -> PointTangent {
-        let ev = |s: &PointState| m.eval(AT, s).unwrap();
+    fn fd_tangent(m: &Biphasic, s: &PointState, h: History, shift: f64) -> PointTangent {
+        let ev = |s: &PointState| m.eval(AT, s, h).unwrap();
         let mut t = PointTangent {
             dstress_du: SMatrix::zeros(),
             dstress_dp: Matrix3::zeros(),
@@ -477,11 +526,11 @@ mod tests {
                     let s = state(f, l, p, gp, dt);
                     assert!((f - l * dt).determinant() > 0.0);
                     for shift in [1.0 / dt, 1.5 / dt, 0.0] {
-                        let (flux, t) = m.eval_tangent(AT, &s, shift).unwrap();
-                        let e = m.eval(AT, &s).unwrap();
+                        let (flux, t) = m.eval_tangent(AT, &s, History::NONE, shift).unwrap();
+                        let e = m.eval(AT, &s, History::NONE).unwrap();
                         assert!(flux.stress == e.stress && flux.body == e.body);
                         assert!(flux.rate == e.rate && flux.flux == e.flux);
-                        let fd = fd_tangent(&m, &s, shift);
+                        let fd = fd_tangent(&m, &s, History::NONE, shift);
                         let errs = [
                             rel(&t.dstress_du, &fd.dstress_du),
                             rel(&t.dstress_dp, &fd.dstress_dp),
@@ -505,6 +554,44 @@ mod tests {
         );
     }
 
+    /// The tangent with remodelling active (the consistent tangent of the local update chained
+    /// through stress and permeability) against central differences, both permeability models;
+    /// with the history held (evolve = false) the committed B_p^n is used as is.
+    #[test]
+    fn remodelling_tangent_matches_central_differences() {
+        let mut rng = Rng::new(38);
+        let mut worst: f64 = 0.0;
+        for model in MODELS {
+            let m = table1(model, [1000.0, 1000.0], [0.0, 0.0, -9.81]).with_remodelling(Remodelling::new(0.001, 2.0).unwrap());
+            assert_eq!(m.history_len(), 6);
+            for (j, dt) in [(0.75, 0.5f64), (0.9, 4.0), (1.0, 40.0), (1.15, 1e3), (0.68, 2.0)] {
+                let committed = to_sym6(&rng.remodelling_metric());
+                let h = History { committed: &committed, evolve: true };
+                let s = state(rng.deformation(j), rng.matrix(0.1) / dt.max(1.0), rng.uniform(-5.0, 5.0), rng.vector(0.5), dt);
+                let shift = 1.0 / dt;
+                let (flux, t) = m.eval_tangent(AT, &s, h, shift).unwrap();
+                assert_eq!(flux.stress, m.eval(AT, &s, h).unwrap().stress);
+                let fd = fd_tangent(&m, &s, h, shift);
+                let (es, ef) = (rel(&t.dstress_du, &fd.dstress_du), rel(&t.dflux_du, &fd.dflux_du));
+                // The same state without the chain terms is visibly wrong: the check can fail.
+                let frozen = fd_tangent(&m, &s, History { committed: &committed, evolve: false }, shift);
+                let held = rel(&frozen.dstress_du, &fd.dstress_du);
+                println!("{model:?} J = {j} dt = {dt}: dP/dF {es:.2e}, dW/dF {ef:.2e} (frozen-B_p tangent off by {held:.2e})");
+                assert!(es < 1e-6 && ef < 1e-6);
+                assert!(held > 1e-4);
+                worst = worst.max(es).max(ef);
+                // The committed update is the one the residual used.
+                let mut out = [0.0; 6];
+                m.advance_history(AT, &s, h, &mut out).unwrap();
+                let later = History { committed: &out, evolve: false };
+                assert_eq!(m.eval(AT, &s, later).unwrap().stress, flux.stress);
+                let pf = m.point_fields(AT, &s, later).unwrap();
+                assert!(pf.det_bp_dev < 1e-13 && pf.norm_ep > 0.0);
+            }
+        }
+        println!("worst rel. error with remodelling {worst:.2e}");
+    }
+
     /// Test 2: at Grad u = O(1e-7) the model is linear poroelasticity with drained Lamé constants
     /// Φs (λ, µ); the drained moduli match the linear model and the α closed form.
     #[test]
@@ -519,7 +606,7 @@ mod tests {
             let gud = rng.matrix(1.0) * eps;
             for p in [0.0, rng.uniform(-1.0, 1.0) * 10.0 * eps] {
                 let s = PointState { grad_u: gu, grad_udot: gud, p, grad_p: rng.vector(1.0), dt: 0.5 };
-                let (a, b) = (m.eval(AT, &s).unwrap(), lin.eval(AT, &s).unwrap());
+                let (a, b) = (m.eval(AT, &s, History::NONE).unwrap(), lin.eval(AT, &s, History::NONE).unwrap());
                 let errs = [
                     rel(&a.stress, &b.stress),
                     (a.rate - b.rate).abs() / b.rate.abs(),
@@ -574,7 +661,7 @@ mod tests {
                 let l = (f - f_n) / dt;
                 assert_eq!(f - l * dt, f_n);
                 let s = state(f, l, 1.0, Vector3::zeros(), dt);
-                let rate = m.eval(AT, &s).unwrap().rate;
+                let rate = m.eval(AT, &s, History::NONE).unwrap().rate;
                 let err = (rate * dt - exact).abs() / exact.abs();
                 assert!(err < 1e-14, "J = {j}, near = {near}, dt = {dt}: rel. error {err:e}");
                 worst = worst.max(err);
@@ -588,7 +675,7 @@ mod tests {
         let jdot = cof_f.dot(&l);
         let mut errs = [0.0; 2];
         for (e, dt) in errs.iter_mut().zip([0.0, 1e-12]) {
-            let rate = m.eval(AT, &state(f, l, 0.0, Vector3::zeros(), dt)).unwrap().rate;
+            let rate = m.eval(AT, &state(f, l, 0.0, Vector3::zeros(), dt), History::NONE).unwrap().rate;
             *e = (rate - jdot).abs() / (cof_f.norm() * l.norm());
         }
         println!(
@@ -610,9 +697,9 @@ mod tests {
                 let q = rng.rotation();
                 let gp = rng.vector(1.0);
                 let s = state(q, Matrix3::zeros(), p0, gp, 0.5);
-                let r = m.eval(AT, &s).unwrap();
+                let r = m.eval(AT, &s, History::NONE).unwrap();
                 let e = rel(&r.stress, &(-q * p0));
-                let fields = m.point_fields(AT, &s).unwrap();
+                let fields = m.point_fields(AT, &s, History::NONE).unwrap();
                 println!("{model:?}: P vs -p0 Q rel. err {e:e}, |sigma_sc| = {:e}", fields.cauchy_sc.norm());
                 assert!(e < 1e-14);
                 assert!(fields.cauchy_sc.norm() < 1e-13 && fields.von_mises < 1e-13);
@@ -629,11 +716,11 @@ mod tests {
                 // referential flux is unchanged and the spatial flux rotates.
                 let f = rng.deformation(0.85);
                 let (sf, sq) = (state(f, Matrix3::zeros(), p0, gp, 0.5), state(q * f, Matrix3::zeros(), p0, gp, 0.5));
-                let (rf, rq) = (m.eval(AT, &sf).unwrap(), m.eval(AT, &sq).unwrap());
+                let (rf, rq) = (m.eval(AT, &sf, History::NONE).unwrap(), m.eval(AT, &sq, History::NONE).unwrap());
                 assert!(rel(&rq.stress, &(q * rf.stress)) < 1e-13);
                 if g == [0.0; 3] {
                     assert!(rel(&rq.flux, &rf.flux) < 1e-13);
-                    let (ff, fq) = (m.point_fields(AT, &sf).unwrap(), m.point_fields(AT, &sq).unwrap());
+                    let (ff, fq) = (m.point_fields(AT, &sf, History::NONE).unwrap(), m.point_fields(AT, &sq, History::NONE).unwrap());
                     assert!(rel(&fq.darcy, &(q * ff.darcy)) < 1e-13);
                     assert!(rel(&fq.cauchy_sc, &(q * ff.cauchy_sc * q.transpose())) < 1e-13);
                     assert!((fq.von_mises - ff.von_mises).abs() < 1e-13 * ff.von_mises);
@@ -686,15 +773,15 @@ mod tests {
                     }
                     other => panic!("{name} ({what}): expected a domain error at (7, 3), got {other:?}"),
                 };
-                let msg = check(m.eval(AT, &s).map(|_| ()), "eval");
-                check(m.eval_tangent(AT, &s, 2.0).map(|_| ()), "eval_tangent");
+                let msg = check(m.eval(AT, &s, History::NONE).map(|_| ()), "eval");
+                check(m.eval_tangent(AT, &s, History::NONE, 2.0).map(|_| ()), "eval_tangent");
                 if name != "J(F_n) < 0" {
-                    check(m.point_fields(AT, &s).map(|_| ()), "point_fields");
+                    check(m.point_fields(AT, &s, History::NONE).map(|_| ()), "point_fields");
                 } else {
                     assert!(msg.contains("F_n"), "{msg}");
                 }
             }
-            assert!(m.eval(AT, &ok).is_ok());
+            assert!(m.eval(AT, &ok, History::NONE).is_ok());
         }
     }
 
@@ -705,7 +792,7 @@ mod tests {
         let m = table1(PermeabilityModel::Isotropic, [rho_s, rho_f], [0.0, 0.0, -9.81]);
         let a_g = Vector3::new(0.0, 0.0, -9.81e-9);
         let s = state(Matrix3::identity(), Matrix3::zeros(), 0.0, Vector3::zeros(), 0.5);
-        let r = m.eval(AT, &s).unwrap();
+        let r = m.eval(AT, &s, History::NONE).unwrap();
         let body = a_g * (rho_s * 0.6 + rho_f * 0.4);
         let w = -a_g * (rho_f * 3.7729);
         println!("body {:e} (expect {:e}), W {:e} (expect {:e})", r.body[2], body[2], r.flux[2], w[2]);
@@ -715,7 +802,7 @@ mod tests {
         assert!(r.stress.norm() < 1e-15 && r.rate == 0.0);
         // Hydrostatic fluid (Grad p = ϱf a_g at F = I) does not flow.
         let s = PointState { grad_p: m.fluid_weight(), ..s };
-        assert_eq!(m.eval(AT, &s).unwrap().flux, Vector3::zeros());
+        assert_eq!(m.eval(AT, &s, History::NONE).unwrap().flux, Vector3::zeros());
     }
 
     /// Output fields against closed forms (isotropic Darcy flux, confined compression).
@@ -728,7 +815,7 @@ mod tests {
         for j in [0.66, 0.8, 1.2] {
             let f = rng.deformation(j);
             let s = state(f, Matrix3::zeros(), 1.0, rng.vector(1.0), 0.5);
-            let pf = m.point_fields(AT, &s).unwrap();
+            let pf = m.point_fields(AT, &s, History::NONE).unwrap();
             let k = perm.k(j).unwrap().0;
             let q = -(f.try_inverse().unwrap().transpose() * s.grad_p - m.fluid_weight()) * k;
             assert!((pf.j - j).abs() < 1e-14 && (pf.porosity - (1.0 - 0.6 / j)).abs() < 1e-14);
@@ -744,7 +831,7 @@ mod tests {
             let (szz, sxx) =
                 (lam * e * (a1 + 2.0 * a2 - a3 / (lam * lam)), e * (a1 + a2 * (1.0 + lam * lam) - a3) / lam);
             let f = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, lam));
-            let pf = m.point_fields(AT, &state(f, Matrix3::zeros(), 0.0, Vector3::zeros(), 0.5)).unwrap();
+            let pf = m.point_fields(AT, &state(f, Matrix3::zeros(), 0.0, Vector3::zeros(), 0.5), History::NONE).unwrap();
             let want = Matrix3::from_diagonal(&Vector3::new(sxx, sxx, szz));
             println!("lambda = {lam}: sigma_zz = {szz:.10e}, sigma_VM = {:.10e}", pf.von_mises);
             assert!(rel(&pf.cauchy_sc, &want) < 1e-13);

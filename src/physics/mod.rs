@@ -7,6 +7,5 @@ pub mod biphasic;
 pub mod contact;
 pub mod experiment;
 pub mod linear;
-pub mod model;
 pub mod probe;
 pub mod problem;

@@ -14,12 +14,13 @@
 
 use super::bc::Constraint;
 use super::contact::Plates;
-use super::model::PointModel;
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::Tabulation;
 use crate::fem::insert::{ElementInserter, GhostRows};
 use crate::fem::kernel::{ElementKernel, ElementValues, NDOF, NU};
+use crate::fem::point::{History, PointModel};
+use crate::fem::qp_store::QpStore;
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::{IndexSet, Int, Mat, Scatter, TsProblem, TsRef, Vector};
 use mpi::collective::SystemOperation;
@@ -34,6 +35,8 @@ pub struct Timers {
     pub residual_n: usize,
     pub jacobian_s: f64,
     pub jacobian_n: usize,
+    /// Committing the per-point history of accepted steps.
+    pub history_s: f64,
 }
 
 /// What the element loops read: mesh, dofs, model, quadrature, constraint flags.
@@ -47,6 +50,11 @@ pub struct Discretization {
     pub constrained: Vec<bool>,
     /// c_s of the pressure stabilisation (see `fem::kernel::ElementKernel::stab`).
     pub stab: f64,
+    /// Committed per-point history of the model (empty when it has none).
+    pub history: QpStore,
+    /// Whether the history evolves in the steps being solved (false while settling before t = 0,
+    /// where B_p(X, 0⁻) = I holds by definition).
+    pub evolve: bool,
 }
 
 pub struct PoroProblem {
@@ -97,8 +105,18 @@ pub struct Post {
     pub cell_porosity: Vec<f64>,
     pub cell_von_mises: Vec<f64>,
     pub cell_darcy: Vec<f64>,
+    /// Per local element: mean ‖E_p‖ (empty without history).
+    pub cell_norm_ep: Vec<f64>,
     /// Σ over local elements of ∫ J dV.
     pub volume_j: f64,
+    /// Σ over local elements of ∫ dV, ∫ σ_sc dV and ∫ ‖E_p‖ dV.
+    pub volume: f64,
+    pub int_cauchy: [[f64; 3]; 3],
+    pub int_norm_ep: f64,
+    /// Largest von Mises stress, ‖E_p‖ and |det B_p − 1| at the local quadrature points.
+    pub max_von_mises: f64,
+    pub max_norm_ep: f64,
+    pub max_det_bp_dev: f64,
 }
 
 impl PoroProblem {
@@ -129,10 +147,13 @@ impl PoroProblem {
         }
         let owned: Vec<Constraint> = constraints.into_iter().filter(|c| dofs.is_owned(c.local)).collect();
         let h = mean_element_size(&world, &mesh);
+        let history = QpStore::new(mesh.tets.len(), xi.len(), model.history_len(), |v| model.initial_history(v));
         Ok(PoroProblem {
             world,
             disc: Discretization {
                 stab: stabilisation / model.p_wave_modulus(),
+                history,
+                evolve: true,
                 mesh,
                 dofs,
                 model,
@@ -240,7 +261,7 @@ impl PoroProblem {
                     let d = disc.element_dofs(e);
                     let (coords, v) = disc.gather(e, &d, &ul, &udl);
                     let mut r = [0.0; NDOF];
-                    kernel.residual(e, &coords, &v, dt, &mut r).map_err(|err| locate(err, e, &disc.mesh))?;
+                    kernel.residual(e, &coords, &v, dt, disc.step_history(e), &mut r).map_err(|err| locate(err, e, &disc.mesh))?;
                     for k in 0..NDOF {
                         fl[d[k]] += r[k];
                     }
@@ -377,12 +398,43 @@ impl PoroProblem {
     /// `extrapolate = false` after a kink of the loading, where the velocity jumps. Only the
     /// contact predictor uses it: nothing is kept without plates.
     pub fn end_step(&mut self, prev: &Vector, u: &Vector, dt: f64, extrapolate: bool) -> Result<()> {
+        self.commit_history(prev, u, dt)?;
         if !extrapolate || dt <= 0.0 || self.plates.is_none() {
             self.velocity = None;
             return Ok(());
         }
         self.velocity = Some(rate(u, prev, dt)?);
         Ok(())
+    }
+
+    /// Commits the end-of-step history of the accepted step from `prev` to `u` (size dt): the
+    /// update every evaluation of that step computed, now stored. Nothing without history.
+    fn commit_history(&mut self, prev: &Vector, u: &Vector, dt: f64) -> Result<()> {
+        if self.disc.history.is_empty() || !self.disc.evolve {
+            return Ok(());
+        }
+        let t0 = Instant::now();
+        self.load_state(u, &rate(u, prev, dt)?)?;
+        let outcome = {
+            let ul = self.u_loc.read()?;
+            let udl = self.udot_loc.read()?;
+            let disc = &mut self.disc;
+            let mut next = vec![0.0; disc.history.len() * disc.xi.len()];
+            let mut run = || -> Result<()> {
+                for e in 0..disc.mesh.tets.len() {
+                    let d = disc.element_dofs(e);
+                    let (coords, v) = disc.gather(e, &d, &ul, &udl);
+                    disc.kernel()
+                        .advance_history(e, &coords, &v, dt, disc.step_history(e), &mut next)
+                        .map_err(|err| locate(err, e, &disc.mesh))?;
+                    disc.history.element_mut(e).copy_from_slice(&next);
+                }
+                Ok(())
+            };
+            run()
+        };
+        self.timers.history_s += t0.elapsed().as_secs_f64();
+        self.collective(outcome)
     }
 
     /// Reactions, their pressure part and cell fields at the state (U, U̇) of a step of size dt.
@@ -397,8 +449,16 @@ impl PoroProblem {
             cell_porosity: Vec::with_capacity(n_el),
             cell_von_mises: Vec::with_capacity(n_el),
             cell_darcy: Vec::with_capacity(3 * n_el),
+            cell_norm_ep: Vec::new(),
             volume_j: 0.0,
+            volume: 0.0,
+            int_cauchy: [[0.0; 3]; 3],
+            int_norm_ep: 0.0,
+            max_von_mises: 0.0,
+            max_norm_ep: 0.0,
+            max_det_bp_dev: 0.0,
         };
+        let with_history = !self.disc.history.is_empty();
         let n_local = self.disc.dofs.n_local();
         let mut pres_loc = Vector::seq(n_local)?;
         let outcome = {
@@ -413,7 +473,9 @@ impl PoroProblem {
                 for e in 0..n_el {
                     let d = disc.element_dofs(e);
                     let (coords, v) = disc.gather(e, &d, &post.local, &udl);
-                    let ep = kernel.post(e, &coords, &v, dt).map_err(|err| locate(err, e, &disc.mesh))?;
+                    // The end-of-step history is already committed: hold it.
+                    let h = History { committed: disc.history.element(e), evolve: false };
+                    let ep = kernel.post(e, &coords, &v, dt, h).map_err(|err| locate(err, e, &disc.mesh))?;
                     for k in 0..NDOF {
                         fl[d[k]] += ep.r[k];
                     }
@@ -425,6 +487,17 @@ impl PoroProblem {
                     post.cell_von_mises.push(ep.von_mises);
                     post.cell_darcy.extend(ep.darcy);
                     post.volume_j += ep.volume_j;
+                    post.volume += ep.volume;
+                    for (a, b) in post.int_cauchy.iter_mut().flatten().zip(ep.int_cauchy.iter().flatten()) {
+                        *a += b;
+                    }
+                    post.int_norm_ep += ep.norm_ep * ep.volume;
+                    post.max_von_mises = post.max_von_mises.max(ep.max_von_mises);
+                    post.max_norm_ep = post.max_norm_ep.max(ep.max_norm_ep);
+                    post.max_det_bp_dev = post.max_det_bp_dev.max(ep.max_det_bp_dev);
+                    if with_history {
+                        post.cell_norm_ep.push(ep.norm_ep);
+                    }
                 }
                 Ok(())
             };
@@ -457,6 +530,12 @@ impl Discretization {
         ElementKernel { model: self.model.as_ref(), tab: &self.tab, xi: &self.xi, stab: self.stab }
     }
 
+    /// The committed history of element e as the step being solved sees it.
+    #[inline]
+    fn step_history(&self, e: usize) -> History<'_> {
+        History { committed: self.history.element(e), evolve: self.evolve }
+    }
+
     /// Element loop of the Jacobian: element matrices (constrained rows and columns zeroed,
     /// so the pattern stays fixed) go to `sink`, Schur blocks into `schur`.
     fn jacobian_loop(
@@ -478,7 +557,7 @@ impl Discretization {
             *k = [[0.0; NDOF]; NDOF];
             let mut s = [[0.0; 4]; 4];
             kernel
-                .jacobian(e, &coords, &v, dt, shift, &mut r, &mut k, &mut s)
+                .jacobian(e, &coords, &v, dt, self.step_history(e), shift, &mut r, &mut k, &mut s)
                 .map_err(|err| locate(err, e, &self.mesh))?;
             for a in 0..NDOF {
                 if self.constrained[d[a]] {

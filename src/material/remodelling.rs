@@ -1,0 +1,349 @@
+//! Visco-plastic remodelling (54c), (41): dB_p/dt = −2 γp B_p dev Σ with the Mandel stress
+//! Σ = C S_sc and the Perzyna rate γp = λp [‖dev σ_sc‖ − √(2/3) σy]₊ / ‖dev σ_sc‖, integrated
+//! over a step by the implicit, symmetric exponential map
+//!
+//! ```text
+//!   B_p^{n+1} = exp(−Δγ dev Σᵀ) B_p^n exp(−Δγ dev Σ),   Σ = Σ(C^{n+1}, B_p^{n+1}),
+//!   Δγ ‖dev σ‖ = Δt λp (‖dev σ‖ − √(2/3) σy)              (plastic step; Δγ = Δt γp)
+//! ```
+//!
+//! Why this form: B_p dev Σ is symmetric (B_p Σ = B_p C S), so B_p exp(−2Δγ dev Σ) is the exact
+//! flow for a frozen rate; splitting the exponential symmetrically keeps the update symmetric
+//! positive definite for any iterate, and det B_p^{n+1} = det B_p^n exp(−2Δγ tr dev Σ) = det B_p^n
+//! to round-off (tr dev Σ = 0 by construction). Being backward Euler in Δγ it is unconditionally
+//! stable: as Δt λp µ → ∞ the consistency condition becomes ‖dev σ‖ = √(2/3) σy (rate-independent
+//! return). ‖dev σ‖ = J⁻¹ √(tr (dev Σ)²), since dev τ = F⁻ᵀ dev Σ Fᵀ is similar to dev Σ.
+//!
+//! The local problem (B_p^{n+1}: six symmetric components, and Δγ) is solved by Newton with a
+//! backtracking line search; its Jacobian comes from forward-mode duals ([`super::dual`]). The
+//! consistent tangent ∂B_p^{n+1}/∂C follows from the implicit-function theorem on the converged
+//! residual, R(x, C) = 0 ⇒ dx/dC = −(∂R/∂x)⁻¹ ∂R/∂C. The elastic branch (trial ‖dev σ‖ ≤
+//! √(2/3) σy at B_p^n) keeps B_p^n and has a zero tangent.
+
+use super::dual::{m_det, m_exp, m_mul, m_re, m_scale, m_trace_mul, m_transpose, Dual, Scalar, M3};
+use super::{domain_error, HolmesMow};
+use crate::error::{Error, Result};
+use nalgebra::{Matrix3, SMatrix, SVector};
+
+/// The symmetric unit directions of the six components (00, 11, 22, 01, 02, 12): a symmetric
+/// matrix is Σ_s x_s sym_basis()[s].
+pub fn sym_basis() -> [Matrix3<f64>; 6] {
+    std::array::from_fn(|s| {
+        let mut x = [0.0; 6];
+        x[s] = 1.0;
+        from_sym6(&x)
+    })
+}
+
+/// (row, column) of the six symmetric components.
+pub const SYM_PAIRS: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
+
+/// The six components of a symmetric matrix (upper triangle).
+pub fn to_sym6(m: &Matrix3<f64>) -> [f64; 6] {
+    SYM_PAIRS.map(|(a, b)| 0.5 * (m[(a, b)] + m[(b, a)]))
+}
+
+/// The symmetric matrix of six components.
+pub fn from_sym6(x: &[f64]) -> Matrix3<f64> {
+    Matrix3::new(x[0], x[3], x[4], x[3], x[1], x[5], x[4], x[5], x[2])
+}
+
+fn sym_generic<T: Scalar>(x: &[T]) -> M3<T> {
+    [[x[0], x[3], x[4]], [x[3], x[1], x[5]], [x[4], x[5], x[2]]]
+}
+
+/// Perzyna flow-rule parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Remodelling {
+    /// λp ((kPa s)⁻¹; Table 1: 0.001 = 1 (MPa s)⁻¹).
+    pub lambda_p: f64,
+    /// Yield stress σy (kPa).
+    pub sigma_y: f64,
+}
+
+/// The end-of-step remodelling metric at one point.
+#[derive(Clone, Copy, Debug)]
+pub struct Update {
+    pub bp: Matrix3<f64>,
+    /// Δγ = Δt γp (0 on the elastic branch).
+    pub dgamma: f64,
+    /// Local Newton iterations (0 on the elastic branch).
+    pub iterations: usize,
+}
+
+/// Unknowns of the local problem: six components of B_p^{n+1}, then Δγ.
+const NX: usize = 7;
+/// Local Newton: iteration limit and tolerance on the scaled residual (all entries are O(1)).
+const MAX_ITERATIONS: usize = 50;
+const TOLERANCE: f64 = 1e-14;
+
+impl Remodelling {
+    /// Requires λp >= 0 and σy >= 0, both finite.
+    pub fn new(lambda_p: f64, sigma_y: f64) -> Result<Self> {
+        if !(lambda_p >= 0.0 && lambda_p.is_finite()) {
+            return Err(Error::Material(format!("remodelling: lambda_p = {lambda_p} must be finite and >= 0")));
+        }
+        if !(sigma_y >= 0.0 && sigma_y.is_finite()) {
+            return Err(Error::Material(format!("remodelling: sigma_y = {sigma_y} must be finite and >= 0")));
+        }
+        Ok(Remodelling { lambda_p, sigma_y })
+    }
+
+    /// √(2/3) σy: the yield radius of ‖dev σ‖.
+    pub fn yield_radius(&self) -> f64 {
+        (2.0f64 / 3.0).sqrt() * self.sigma_y
+    }
+
+    /// ‖dev σ_sc‖ at (C, B_p).
+    pub fn dev_stress_norm(hm: &HolmesMow, c: &Matrix3<f64>, bp: &Matrix3<f64>) -> f64 {
+        let cm = to_m3(c);
+        let ln_j = 0.5 * m_det(&cm).ln();
+        let d = hm.mandel_dev(&m_mul(&cm, &to_m3(bp)), ln_j);
+        m_trace_mul(&d, &d).max(0.0).sqrt() / ln_j.exp()
+    }
+
+    /// B_p^{n+1} from B_p^n over a step dt at the end-of-step C (domain error if the local
+    /// Newton fails, so the caller can cut the step).
+    pub fn update(&self, hm: &HolmesMow, c: &Matrix3<f64>, bp_n: &Matrix3<f64>, dt: f64) -> Result<Update> {
+        Ok(self.solve(hm, c, bp_n, dt)?.0)
+    }
+
+    /// The update and ∂x_s/∂c_r (x: the six components of B_p^{n+1}, c: those of C; None on the
+    /// elastic branch, where it is zero).
+    #[allow(clippy::type_complexity)]
+    pub fn update_and_tangent(
+        &self,
+        hm: &HolmesMow,
+        c: &Matrix3<f64>,
+        bp_n: &Matrix3<f64>,
+        dt: f64,
+    ) -> Result<(Update, Option<[[f64; 6]; 6]>)> {
+        let (up, x) = self.solve(hm, c, bp_n, dt)?;
+        let Some(x) = x else { return Ok((up, None)) };
+        // R(x, c) with both seeded: 7 + 6 directions.
+        let xd: [Dual<13>; NX] = std::array::from_fn(|i| Dual::var(x[i], i));
+        let c6 = to_sym6(c);
+        let cd: [Dual<13>; 6] = std::array::from_fn(|r| Dual::var(c6[r], NX + r));
+        let (r, _) = self.residual(hm, &cd, bp_n, &xd, dt);
+        let jx = SMatrix::<f64, NX, NX>::from_fn(|i, j| r[i].d[j]);
+        let jc = SMatrix::<f64, NX, 6>::from_fn(|i, j| r[i].d[NX + j]);
+        let lu = jx.lu();
+        let dx = lu.solve(&(-jc)).ok_or_else(|| domain_error(f64::NAN, "remodelling: singular local tangent"))?;
+        Ok((up, Some(std::array::from_fn(|s| std::array::from_fn(|r| dx[(s, r)])))))
+    }
+
+    /// Local Newton. Returns the update and, on the plastic branch, the converged unknowns.
+    fn solve(&self, hm: &HolmesMow, c: &Matrix3<f64>, bp_n: &Matrix3<f64>, dt: f64) -> Result<(Update, Option<[f64; NX]>)> {
+        let elastic = Update { bp: *bp_n, dgamma: 0.0, iterations: 0 };
+        if !(self.lambda_p > 0.0 && dt > 0.0) {
+            return Ok((elastic, None));
+        }
+        let s_trial = Self::dev_stress_norm(hm, c, bp_n);
+        if !(s_trial.is_finite()) {
+            return Err(domain_error(f64::NAN, format!("remodelling: non-finite trial stress ({s_trial})")));
+        }
+        if s_trial <= self.yield_radius() {
+            return Ok((elastic, None));
+        }
+        let c6 = to_sym6(c).map(f64::cst);
+        let norm = |r: &[f64; NX]| r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let mut x = [0.0; NX];
+        x[..6].copy_from_slice(&to_sym6(bp_n));
+        let mut it = 0;
+        loop {
+            let xd: [Dual<NX>; NX] = std::array::from_fn(|i| Dual::var(x[i], i));
+            let (r, _) = self.residual(hm, &c6.map(Dual::cst), bp_n, &xd, dt);
+            let r0: [f64; NX] = r.map(|v| v.re);
+            let n0 = norm(&r0);
+            if n0 <= TOLERANCE {
+                break;
+            }
+            if it == MAX_ITERATIONS || !n0.is_finite() {
+                return Err(domain_error(
+                    f64::NAN,
+                    format!("remodelling: local Newton failed (residual {n0:e} after {it} iterations, dt = {dt})"),
+                ));
+            }
+            it += 1;
+            let jx = SMatrix::<f64, NX, NX>::from_fn(|i, j| r[i].d[j]);
+            let step = jx
+                .lu()
+                .solve(&-SVector::<f64, NX>::from(r0))
+                .ok_or_else(|| domain_error(f64::NAN, "remodelling: singular local Jacobian"))?;
+            // Backtracking on the residual norm, keeping Δγ >= 0.
+            let mut alpha = 1.0;
+            loop {
+                let mut trial: [f64; NX] = std::array::from_fn(|i| x[i] + alpha * step[i]);
+                trial[6] = trial[6].max(0.0);
+                let (rt, _) = self.residual(hm, &c6, bp_n, &trial, dt);
+                let nt = norm(&rt);
+                if (nt.is_finite() && nt < (1.0 - 1e-4 * alpha) * n0) || alpha < 1e-6 {
+                    x = trial;
+                    break;
+                }
+                alpha *= 0.5;
+            }
+        }
+        // B_p^{n+1} from the converged Δγ and dev Σ through the map itself: symmetric, and det
+        // preserved to round-off (x[..6] agrees with it to the tolerance).
+        let (_, bp) = self.map(hm, &c6, bp_n, &x);
+        let bp = Matrix3::from_fn(|i, j| 0.5 * (bp[i][j] + bp[j][i]));
+        Ok((Update { bp, dgamma: x[6], iterations: it }, Some(x)))
+    }
+
+    /// dev Σ at (C, B) and the mapped exp(−Δγ dev Σᵀ) B_p^n exp(−Δγ dev Σ).
+    fn map<T: Scalar>(&self, hm: &HolmesMow, c6: &[T; 6], bp_n: &Matrix3<f64>, x: &[T; NX]) -> (M3<T>, M3<T>) {
+        let cm = sym_generic(c6);
+        let ln_j = m_det(&cm).ln().scale(0.5);
+        let d = hm.mandel_dev(&m_mul(&cm, &sym_generic(&x[..6])), ln_j);
+        let g = m_exp(&m_scale(&m_transpose(&d), -x[6]));
+        let bn: M3<T> = std::array::from_fn(|i| std::array::from_fn(|j| T::cst(bp_n[(i, j)])));
+        (d, m_mul(&m_mul(&g, &bn), &m_transpose(&g)))
+    }
+
+    /// R_B = x_B − sym6(map), R_γ = [(s − k) − Δγ s/(λp Δt)] / σ_ref with s = ‖dev σ‖,
+    /// k = √(2/3) σy and σ_ref the mixture shear modulus (R is O(1) and finite as Δt → ∞).
+    fn residual<T: Scalar>(
+        &self,
+        hm: &HolmesMow,
+        c6: &[T; 6],
+        bp_n: &Matrix3<f64>,
+        x: &[T; NX],
+        dt: f64,
+    ) -> ([T; NX], T) {
+        let (d, mapped) = self.map(hm, c6, bp_n, x);
+        let cm = sym_generic(c6);
+        let j = m_det(&cm).sqrt();
+        let s = m_trace_mul(&d, &d).sqrt() / j;
+        let sref = hm.phi_s * 2.0 * hm.alpha0 * (hm.alpha3 - hm.alpha2);
+        let mut r = [T::cst(0.0); NX];
+        for (k, &(a, b)) in SYM_PAIRS.iter().enumerate() {
+            r[k] = x[k] - mapped[a][b];
+        }
+        r[6] = ((s - T::cst(self.yield_radius())) - x[6] * s.scale(1.0 / (self.lambda_p * dt))).scale(1.0 / sref);
+        (r, s)
+    }
+}
+
+fn to_m3(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
+    std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))
+}
+
+#[allow(dead_code)]
+fn re3<T: Scalar>(m: &M3<T>) -> Matrix3<f64> {
+    let r = m_re(m);
+    Matrix3::from_fn(|i, j| r[i][j])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_util::Rng;
+    use super::*;
+
+    fn table1() -> (HolmesMow, Remodelling) {
+        (HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap(), Remodelling::new(0.001, 2.0).unwrap())
+    }
+
+    #[test]
+    fn sym_components_round_trip() {
+        let m = Matrix3::new(1.0, 2.0, 3.0, 2.0, 4.0, 5.0, 3.0, 5.0, 6.0);
+        assert_eq!(to_sym6(&m), [1.0, 4.0, 6.0, 2.0, 3.0, 5.0]);
+        assert_eq!(from_sym6(&to_sym6(&m)), m);
+        let sum: Matrix3<f64> = (0..6).map(|s| sym_basis()[s] * to_sym6(&m)[s]).sum();
+        assert_eq!(sum, m);
+    }
+
+    /// dev Σ of the generic Holmes–Mow code equals dev(C S) from the stress code, and
+    /// ‖dev σ‖ = ‖dev (J⁻¹ F S Fᵀ)‖.
+    #[test]
+    fn mandel_stress_matches_second_piola() {
+        let (hm, _) = table1();
+        let mut rng = Rng::new(71);
+        for j in [0.7, 1.0, 1.2] {
+            let f = rng.deformation(j);
+            let bp = rng.remodelling_metric();
+            let c = f.transpose() * f;
+            let s = hm.stress(&f, &bp).unwrap();
+            let sigma_m = c * s;
+            let dev = sigma_m - Matrix3::identity() * (sigma_m.trace() / 3.0);
+            let d = re3(&hm.mandel_dev(&to_m3(&(c * bp)), f.determinant().ln()));
+            assert!((d - dev).norm() < 1e-12 * dev.norm(), "{d} vs {dev}");
+            let tau = f * s * f.transpose() / f.determinant();
+            let dtau = tau - Matrix3::identity() * (tau.trace() / 3.0);
+            let n = Remodelling::dev_stress_norm(&hm, &c, &bp);
+            assert!((n - dtau.norm()).abs() < 1e-12 * n);
+        }
+    }
+
+    /// Plastic updates: symmetric, det 1 to round-off, and the residual of the implicit update
+    /// holds with the returned B_p; elastic updates keep B_p^n.
+    #[test]
+    fn update_is_symmetric_isochoric_and_implicit() {
+        let (hm, rm) = table1();
+        let mut rng = Rng::new(72);
+        for (j, dt) in [(0.8, 0.1), (1.0, 5.0), (0.9, 200.0), (1.1, 1e6)] {
+            let f = rng.deformation(j) * 1.0;
+            let c = f.transpose() * f;
+            let bp_n = rng.remodelling_metric();
+            let up = rm.update(&hm, &c, &bp_n, dt).unwrap();
+            let b = up.bp;
+            println!("J = {j}, dt = {dt}: dgamma = {:.3e}, {} its, det - 1 = {:e}", up.dgamma, up.iterations, b.determinant() - 1.0);
+            assert!(up.iterations > 0 && up.dgamma > 0.0);
+            assert!((b - b.transpose()).norm() == 0.0);
+            assert!((b.determinant() - bp_n.determinant()).abs() < 1e-14);
+            assert!(b.cholesky().is_some());
+            // The implicit consistency condition.
+            let s = Remodelling::dev_stress_norm(&hm, &c, &b);
+            let want = rm.lambda_p * dt * (s - rm.yield_radius());
+            assert!((up.dgamma * s - want).abs() < 1e-10 * (1.0 + want.abs()), "{} vs {want}", up.dgamma * s);
+            assert!(s > rm.yield_radius());
+        }
+        // Elastic branch: a small strain stays below yield.
+        let f = Matrix3::identity() + rng.matrix(1e-3);
+        let up = rm.update(&hm, &(f.transpose() * f), &Matrix3::identity(), 1.0).unwrap();
+        assert_eq!(up.iterations, 0);
+        assert_eq!(up.bp, Matrix3::identity());
+    }
+
+    /// Large Δt: the rate-independent limit ‖dev σ‖ → √(2/3) σy.
+    #[test]
+    fn large_steps_return_to_the_yield_surface() {
+        let (hm, rm) = table1();
+        let f = Matrix3::from_diagonal(&nalgebra::Vector3::new(0.8f64.powf(-0.5), 0.8f64.powf(-0.5), 0.8));
+        let c = f.transpose() * f;
+        for dt in [1e3, 1e6, 1e12] {
+            let up = rm.update(&hm, &c, &Matrix3::identity(), dt).unwrap();
+            let s = Remodelling::dev_stress_norm(&hm, &c, &up.bp);
+            let rel = (s - rm.yield_radius()) / rm.yield_radius();
+            println!("dt = {dt:e}: (s - k)/k = {rel:e}, {} iterations", up.iterations);
+            assert!(rel >= 0.0 && rel < 50.0 / (rm.lambda_p * dt * 24.0));
+        }
+    }
+
+    /// The consistent tangent against central differences of the update in C.
+    #[test]
+    fn tangent_matches_finite_differences() {
+        let (hm, rm) = table1();
+        let mut rng = Rng::new(73);
+        for (j, dt) in [(0.8, 0.5), (1.05, 20.0), (0.9, 1e4)] {
+            let f = rng.deformation(j);
+            let c = f.transpose() * f;
+            let bp_n = rng.remodelling_metric();
+            let t = rm.update_and_tangent(&hm, &c, &bp_n, dt).unwrap().1.unwrap();
+            let mut worst: f64 = 0.0;
+            let scale = t.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+            for r in 0..6 {
+                let h = 1e-6;
+                let dc = sym_basis()[r] * h;
+                let bp = rm.update(&hm, &(c + dc), &bp_n, dt).unwrap().bp;
+                let bm = rm.update(&hm, &(c - dc), &bp_n, dt).unwrap().bp;
+                let fd = to_sym6(&((bp - bm) / (2.0 * h)));
+                for s in 0..6 {
+                    worst = worst.max((t[s][r] - fd[s]).abs());
+                }
+            }
+            println!("J = {j}, dt = {dt}: tangent max error {worst:e} (scale {scale:e})");
+            assert!(scale > 1e-4 && worst < 1e-7 * scale);
+        }
+    }
+}
