@@ -133,7 +133,7 @@ fn read_mesh(path: &Path, scene: &LoadedScene) -> Result<crate::mesh::Mesh> {
 }
 
 fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
-    use crate::material::{CompactionPenalty, HolmesMow, Permeability, PermeabilityModel};
+    use crate::material::{CompactionPenalty, HolmesMow, Permeability, PermeabilityModel, Remodelling};
     let ctx = |e: Error| Error::Scene { path: scene.source.clone(), msg: format!("[material]: {e}") };
     match &scene.scene.material {
         Material::Linear { mu, nu, permeability } => Ok(Box::new(LinearPoroelastic::new(*mu, *nu, *permeability)?)),
@@ -150,6 +150,7 @@ fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
             rho_s,
             rho_f,
             gravity,
+            remodelling,
             ..
         } => {
             let solid = match (mu, nu, alpha) {
@@ -168,7 +169,11 @@ fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
                 None => PermeabilityModel::Isotropic,
             };
             let perm = Permeability::new(*k0, *phi_s, *kappa, *m0, model).map_err(ctx)?;
-            Ok(Box::new(Biphasic::new(solid, pen, perm, *rho_s, *rho_f, *gravity).map_err(ctx)?))
+            let mut model = Biphasic::new(solid, pen, perm, *rho_s, *rho_f, *gravity).map_err(ctx)?;
+            if let Some(r) = remodelling {
+                model = model.with_remodelling(Remodelling::new(r.lambda_p, r.sigma_y).map_err(ctx)?);
+            }
+            Ok(Box::new(model))
         }
     }
 }
@@ -331,6 +336,18 @@ impl<'w> Run<'w> {
         let mut u = Vector::mpi(comm, dofs.n_owned)?;
         u.set_name("solution")?;
         u.zero()?;
+        if let Some(init) = &s.initial {
+            let g = &init.displacement_gradient;
+            let mut w = u.write()?;
+            for n in 0..local.n_nodes() {
+                let x = local.coords[n];
+                for (c, row) in g.iter().enumerate() {
+                    if let Some(i) = dofs.local_to_owned(dofs.u_local(n, c)) {
+                        w[i] = row[0] * x[0] + row[1] * x[1] + row[2] * x[2];
+                    }
+                }
+            }
+        }
         let f = u.duplicate()?;
         let n_global_dofs = dofs.n_global;
         let mid_edges = mid_edge_nodes(&local);
@@ -420,6 +437,11 @@ impl<'w> Run<'w> {
         self.world.rank() == 0
     }
 
+    /// The model keeps per-point history (remodelling): its observables and fields are written.
+    fn remodelling(&self) -> bool {
+        !self.ts.problem().disc.history.is_empty()
+    }
+
     fn say(&self, s: &str) {
         if self.rank0() && self.args.progress {
             println!("{s}");
@@ -445,7 +467,10 @@ impl<'w> Run<'w> {
         const T: f64 = 1e6;
         self.ts.set_time(-T)?;
         self.ts.set_time_step(T)?;
+        // B_p(X, 0⁻) = I: no remodelling while settling.
+        self.ts.problem_mut().disc.evolve = false;
         self.ts.step()?;
+        self.ts.problem_mut().disc.evolve = true;
         self.ts.set_time(0.0)
     }
 
@@ -491,6 +516,9 @@ impl<'w> Run<'w> {
         let mut cols: Vec<String> = vec!["step".into(), "time".into(), "dt".into()];
         if self.experiment.is_some() {
             cols.extend(experiment::COLUMNS.iter().map(|c| c.to_string()));
+        }
+        if self.remodelling() {
+            cols.extend(crate::physics::remodelling::COLUMNS.iter().map(|c| c.to_string()));
         }
         cols.extend(self.probes.iter().map(|p| p.name.clone()));
         cols.extend(exact_columns(&self.scene)?.into_iter().map(|(n, _)| n));
@@ -547,6 +575,8 @@ impl<'w> Run<'w> {
         let mut prev = self.u.duplicate()?;
         // The first step runs before anything is written: then every PETSc option has been
         // read, and an unknown one is an error that leaves no half-made run directory.
+        // (The history at t = 0, for the first row: the first step commits its own.)
+        let mut history0 = self.ts.problem().disc.history.clone();
         let first = self.advance(&mut pg, &mut prev, stage_solve)?;
         self.check_options()?;
         let mut io = self.open_output(&out)?;
@@ -566,7 +596,9 @@ impl<'w> Run<'w> {
         let o = Instant::now();
         {
             let _g = stage_out.push();
+            std::mem::swap(&mut self.ts.problem_mut().disc.history, &mut history0);
             self.record(&mut io, &initial, &initial, 0, 0.0, 0.0, (0, 0), t_start, true, &exact)?;
+            std::mem::swap(&mut self.ts.problem_mut().disc.history, &mut history0);
             self.progress(&pg, first.0, first.1, t_start);
             let last = self.schedule.done(pg.t);
             let every = self.scene.scene.output.fields_every;
@@ -681,7 +713,7 @@ impl<'w> Run<'w> {
         let write_fields = write_fields && io.fields.is_some();
         // The post-processing element loop (reactions, cell fields) only when something reads
         // it; probes and history alone need just the local state.
-        let post = if self.experiment.is_some() || write_fields {
+        let post = if self.experiment.is_some() || write_fields || self.remodelling() {
             let dt_eff = if dt > 0.0 { dt } else { 1.0 };
             let udot = crate::physics::problem::rate(u, prev, dt_eff)?;
             Some(self.ts.problem_mut().post_process(dt_eff, u, &udot)?)
@@ -705,6 +737,9 @@ impl<'w> Run<'w> {
         };
         if let Some(o) = &obs {
             row.extend(o.values);
+        }
+        if let (Some(post), true) = (&post, !pb.disc.history.is_empty()) {
+            row.extend(crate::physics::remodelling::observe(post, world));
         }
         row.extend(self.probes.iter().map(|p| p.value(mesh, dofs, local, world)));
         row.extend(exact.iter().map(|(_, f)| f(t)));
@@ -739,6 +774,9 @@ impl<'w> Run<'w> {
             }
             if let Some(o) = &obs {
                 fields.push(Field { name: "contact", kind: FieldKind::NodeScalar, data: &o.node_contact });
+            }
+            if !pb.disc.history.is_empty() {
+                fields.push(Field { name: "norm_ep", kind: FieldKind::CellScalar, data: &post.cell_norm_ep });
             }
             ff.write_step(t, &fields)?;
         }

@@ -34,6 +34,9 @@ pub struct Scene {
     pub solver: SolverSpec,
     #[serde(default)]
     pub fem: FemSpec,
+    /// The state at t = 0 (default: undeformed, p = 0).
+    #[serde(default)]
+    pub initial: Option<InitialSpec>,
     /// PETSc options without the leading dash: `ksp_rtol = 1e-10`, `ksp_monitor = true`.
     #[serde(default)]
     pub petsc: BTreeMap<String, toml::Value>,
@@ -95,6 +98,9 @@ pub enum Material {
         /// Compaction penalty U(J) (model.md (33)); none if absent.
         #[serde(default)]
         penalty: Option<PenaltySpec>,
+        /// Visco-plastic remodelling of B_p (model.md §4); none if absent (B_p = I, no history).
+        #[serde(default)]
+        remodelling: Option<RemodellingSpec>,
         /// Densities (kg/m³).
         #[serde(default = "water")]
         rho_s: f64,
@@ -119,6 +125,16 @@ pub struct PenaltySpec {
     pub u0: f64,
     pub q: f64,
     pub r: f64,
+}
+
+/// Perzyna remodelling dB_p/dt = −2 γp B_p dev Σ, γp = λp [‖dev σ‖ − √(2/3) σy]₊ / ‖dev σ‖.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RemodellingSpec {
+    /// λp in (kPa s)⁻¹ (Table 1: 0.001 = 1 (MPa s)⁻¹).
+    pub lambda_p: f64,
+    /// Yield stress σy (kPa).
+    pub sigma_y: f64,
 }
 
 fn water() -> f64 {
@@ -203,6 +219,15 @@ fn default_every() -> usize {
 }
 fn yes() -> bool {
     true
+}
+
+/// An affine initial displacement u(X, 0) = G X (a homogeneous deformation F = I + G), e.g. a
+/// stretch applied at t = 0 and then held by the boundary conditions.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSpec {
+    /// G = Grad u, rows i: G[i][j] = ∂u_i/∂X_j.
+    pub displacement_gradient: [[f64; 3]; 3],
 }
 
 /// A scalar observable written to `history.csv` each step.
@@ -317,6 +342,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("reference", include_str!("../meshes/scenes/reference.toml")),
     ("reference_405", include_str!("../meshes/scenes/reference_405.toml")),
     ("reference_full", include_str!("../meshes/scenes/reference_full.toml")),
+    ("relaxation", include_str!("../meshes/scenes/relaxation.toml")),
 ];
 
 /// The `.geo` sources shipped inside the binary.
@@ -324,6 +350,7 @@ pub const BUILTIN_GEO: &[(&str, &str)] = &[
     ("sphere.geo", crate::mesh::generate::SPHERE_GEO),
     ("sphere_quarter.geo", crate::mesh::generate::SPHERE_QUARTER_GEO),
     ("column.geo", crate::mesh::generate::COLUMN_GEO),
+    ("block.geo", crate::mesh::generate::BLOCK_GEO),
 ];
 
 impl LoadedScene {
@@ -382,7 +409,7 @@ impl LoadedScene {
                 positive(self, "material.permeability", *permeability)?;
             }
             Material::HolmesMow {
-                mu, nu, alpha, phi_s, k0, kappa, m0, permeability_c, rho_s, rho_f, gravity, ..
+                mu, nu, alpha, phi_s, k0, kappa, m0, permeability_c, rho_s, rho_f, gravity, remodelling, ..
             } => {
                 match (mu, nu, alpha) {
                     (Some(mu), Some(nu), None) => {
@@ -400,6 +427,10 @@ impl LoadedScene {
                 finite(self, "material.m0", *m0)?;
                 if let Some(c) = permeability_c {
                     positive(self, "material.permeability_c", *c)?;
+                }
+                if let Some(r) = remodelling {
+                    non_negative(self, "material.remodelling.lambda_p", r.lambda_p)?;
+                    non_negative(self, "material.remodelling.sigma_y", r.sigma_y)?;
                 }
                 if !(*rho_s >= 0.0 && *rho_f >= 0.0) {
                     return Err(self.err("material.rho_s and rho_f must be >= 0".to_string()));
@@ -444,6 +475,18 @@ impl LoadedScene {
                         bc.group
                     )));
                 }
+            }
+        }
+        if let Some(init) = &s.initial {
+            for g in init.displacement_gradient.iter().flatten() {
+                finite(self, "initial.displacement_gradient", *g)?;
+            }
+            let f = nalgebra::Matrix3::from_fn(|i, j| init.displacement_gradient[i][j] + if i == j { 1.0 } else { 0.0 });
+            if f.determinant() <= 0.0 {
+                return Err(self.err(format!(
+                    "initial.displacement_gradient: det(I + G) = {} must be > 0",
+                    f.determinant()
+                )));
             }
         }
         let t = &s.time;
@@ -576,6 +619,14 @@ fn positive(s: &LoadedScene, key: &str, v: f64) -> Result<()> {
         Ok(())
     } else {
         Err(s.err(format!("{key} = {v}: must be positive")))
+    }
+}
+
+fn non_negative(s: &LoadedScene, key: &str, v: f64) -> Result<()> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(s.err(format!("{key} = {v}: must be finite and >= 0")))
     }
 }
 

@@ -18,6 +18,8 @@ pub const SPHERE_GEO: &str = include_str!("../../meshes/sphere.geo");
 pub const SPHERE_QUARTER_GEO: &str = include_str!("../../meshes/sphere_quarter.geo");
 /// Terzaghi column `[0,W]^2 x [0,H]`: volume "column", surfaces "top", "bottom", "sides".
 pub const COLUMN_GEO: &str = include_str!("../../meshes/column.geo");
+/// The block [0, L]³ with its six faces as groups (0-D verification).
+pub const BLOCK_GEO: &str = include_str!("../../meshes/block.geo");
 
 fn gmsh_exe() -> OsString {
     std::env::var_os("GMSH").unwrap_or_else(|| "gmsh".into())

@@ -9,3 +9,4 @@ pub mod experiment;
 pub mod linear;
 pub mod probe;
 pub mod problem;
+pub mod remodelling;
