@@ -178,7 +178,8 @@ fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
     }
 }
 
-/// Time steps: geometric growth to dt_max, landing exactly on t_end and the `land_on` times.
+/// Time steps: geometric growth to dt_max, landing exactly on t_end and the `land_on` times,
+/// and restarting from dt0 after each of the `kinks` (times where the loading rate jumps).
 #[derive(Debug, Clone)]
 pub struct Schedule {
     pub t_end: f64,
@@ -186,6 +187,7 @@ pub struct Schedule {
     pub dt_max: f64,
     pub growth: f64,
     pub land_on: Vec<f64>,
+    pub kinks: Vec<f64>,
 }
 
 impl Schedule {
@@ -194,7 +196,15 @@ impl Schedule {
     }
     /// The next landing time after t.
     fn next_landing(&self, t: f64) -> f64 {
-        self.land_on.iter().copied().filter(|&l| l > t + self.eps()).fold(self.t_end, f64::min)
+        self.land_on.iter().chain(&self.kinks).copied().filter(|&l| l > t + self.eps()).fold(self.t_end, f64::min)
+    }
+    /// True if t is one of the kinks.
+    pub fn at_kink(&self, t: f64) -> bool {
+        self.kinks.iter().any(|&l| (t - l).abs() <= self.eps())
+    }
+    /// True if t is one of the landing times (kinks excluded).
+    pub fn at_landing(&self, t: f64) -> bool {
+        self.land_on.iter().any(|&l| (t - l).abs() <= self.eps())
     }
     /// The step from t with nominal size `nominal`: cut to land on the next landing time, and
     /// stretched by up to 10% instead of leaving a sliver before it.
@@ -213,7 +223,7 @@ impl Schedule {
     /// at `t`. After landing on a kink of the loading the rate of change jumps: restart from
     /// the first step size and grow again.
     pub fn grow(&self, nominal: f64, taken: f64, t: f64) -> f64 {
-        if self.land_on.iter().any(|&l| (t - l).abs() <= self.eps()) {
+        if self.at_kink(t) {
             return self.dt0;
         }
         (nominal * self.growth).min(self.dt_max).min(2.0 * taken.max(nominal * 1e-3))
@@ -381,12 +391,8 @@ impl<'w> Run<'w> {
             dt0: t.dt,
             dt_max: t.dt_max.unwrap_or(t.t_end),
             growth: t.growth,
-            land_on: t
-                .land_on
-                .iter()
-                .copied()
-                .chain(ts.problem().plates.iter().flat_map(|p| p.history.kinks()))
-                .collect(),
+            land_on: t.land_on.iter().chain(&s.output.fields_at).copied().collect(),
+            kinks: ts.problem().plates.iter().flat_map(|p| p.history.kinks()).collect(),
         };
         ts.set_solution(&u)?;
         ts.set_time(0.0)?;
@@ -435,6 +441,11 @@ impl<'w> Run<'w> {
 
     fn rank0(&self) -> bool {
         self.world.rank() == 0
+    }
+
+    /// t is one of the scene's `output.fields_at` times.
+    fn output_time(&self, t: f64) -> bool {
+        self.scene.scene.output.fields_at.iter().any(|&a| (t - a).abs() <= 1e-10 * self.schedule.t_end)
     }
 
     /// The model keeps per-point history (remodelling): its observables and fields are written.
@@ -553,7 +564,7 @@ impl<'w> Run<'w> {
         pg.newton += its.0;
         pg.ksp += its.1;
         pg.nominal = self.schedule.grow(pg.nominal, taken, pg.t);
-        let kink = self.schedule.land_on.iter().any(|&l| (pg.t - l).abs() <= 1e-10 * self.schedule.t_end);
+        let kink = self.schedule.at_kink(pg.t);
         self.ts.problem_mut().end_step(prev, &self.u, taken, !kink)?;
         pg.recent.push_back(wall);
         if pg.recent.len() > 5 {
@@ -602,7 +613,7 @@ impl<'w> Run<'w> {
             self.progress(&pg, first.0, first.1, t_start);
             let last = self.schedule.done(pg.t);
             let every = self.scene.scene.output.fields_every;
-            let wf = last || (every > 0 && 1 % every == 0);
+            let wf = last || (every > 0 && 1 % every == 0) || self.output_time(pg.t);
             let cur = self.u.copy()?;
             self.record(&mut io, &cur, &prev, 1, pg.t, first.0, first.1, t_start, wf, &exact)?;
         }
@@ -614,7 +625,9 @@ impl<'w> Run<'w> {
             {
                 let _g = stage_out.push();
                 let every = self.scene.scene.output.fields_every;
-                let wf = self.schedule.done(pg.t) || (every > 0 && pg.step.is_multiple_of(every));
+                let wf = self.schedule.done(pg.t)
+                    || (every > 0 && pg.step.is_multiple_of(every))
+                    || self.output_time(pg.t);
                 cur.copy_from(&self.u)?;
                 self.record(&mut io, &cur, &prev, pg.step, pg.t, taken, its, t_start, wf, &exact)?;
             }
@@ -885,7 +898,7 @@ mod tests {
 
     #[test]
     fn schedule_lands_on_kinks_and_end() {
-        let s = Schedule { t_end: 10.0, dt0: 0.3, dt_max: 2.0, growth: 1.5, land_on: vec![5.0] };
+        let s = Schedule { t_end: 10.0, dt0: 0.3, dt_max: 2.0, growth: 1.5, land_on: vec![7.7], kinks: vec![5.0] };
         let (mut t, mut nom) = (0.0, s.dt0);
         let mut times = vec![];
         while !s.done(t) {
@@ -896,6 +909,9 @@ mod tests {
             times.push(t);
         }
         assert!(times.iter().any(|&x| (x - 5.0).abs() < 1e-12), "{times:?}");
+        // A plain landing time is hit without restarting the growth.
+        let j = times.iter().position(|&x| (x - 7.7).abs() < 1e-12).expect("lands on 7.7");
+        assert!(times[j + 1] - times[j] > 0.3 + 1e-9, "{times:?}");
         // After the kink the steps restart from dt0.
         let i = times.iter().position(|&x| (x - 5.0).abs() < 1e-12).unwrap();
         assert!((times[i + 1] - times[i] - 0.3).abs() < 1e-12, "{times:?}");

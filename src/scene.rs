@@ -208,10 +208,13 @@ pub struct OutputSpec {
     /// Write fields at all (large runs in studies may only want history.csv).
     #[serde(default = "yes")]
     pub fields: bool,
+    /// Also write fields at these times (the time steps land on them).
+    #[serde(default)]
+    pub fields_at: Vec<f64>,
 }
 impl Default for OutputSpec {
     fn default() -> Self {
-        OutputSpec { fields_every: 1, fields: true }
+        OutputSpec { fields_every: 1, fields: true, fields_at: vec![] }
     }
 }
 fn default_every() -> usize {
@@ -343,6 +346,11 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("reference_405", include_str!("../meshes/scenes/reference_405.toml")),
     ("reference_full", include_str!("../meshes/scenes/reference_full.toml")),
     ("relaxation", include_str!("../meshes/scenes/relaxation.toml")),
+    ("remodel_40", include_str!("../meshes/scenes/remodel_40.toml")),
+    ("remodel_155", include_str!("../meshes/scenes/remodel_155.toml")),
+    ("remodel_405", include_str!("../meshes/scenes/remodel_405.toml")),
+    ("remodel_155_c2", include_str!("../meshes/scenes/remodel_155_c2.toml")),
+    ("elastic_155", include_str!("../meshes/scenes/elastic_155.toml")),
 ];
 
 /// The `.geo` sources shipped inside the binary.
@@ -490,6 +498,11 @@ impl LoadedScene {
             }
         }
         let t = &s.time;
+        for &a in t.land_on.iter().chain(&s.output.fields_at) {
+            if !(a > 0.0 && a < t.t_end) {
+                return Err(self.err(format!("time.land_on / output.fields_at: {a} must lie in (0, time.t_end = {})", t.t_end)));
+            }
+        }
         positive(self, "time.t_end", t.t_end)?;
         positive(self, "time.dt", t.dt)?;
         if let Some(m) = t.dt_max {

@@ -1,0 +1,364 @@
+#!/usr/bin/env python3
+"""Reproduce the figures of Di Stefano et al. (ZAMP 2022) with remodelling: runs the builtin
+scenes remodel_40, remodel_155, remodel_155_c2, elastic_155, remodel_405, reference_405 and four
+variants of remodel_405 (lambda_p = 0.1, 0.5 (MPa s)^-1; sigma_y = 1, 4 kPa) on 2 MPI ranks,
+then draws the probe curves (Figs 4, 11), the force sweeps (Figs 7-9) and mid-plane sections
+(Figs 3, 5-6, 11c) into <out>/figures/, and writes <out>/summary.csv (also printed).
+A case whose <out>/<case>/timings.txt exists is not run again, so an interrupted study resumes.
+
+    python3 scripts/reproduce.py [--out runs/reproduce] [--only NAME ...] [--plots-only] [--docs]
+"""
+import argparse
+import csv
+import re
+import shutil
+import subprocess
+import time
+from pathlib import Path
+
+import h5py
+import numpy as np
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import matplotlib.tri as mtri
+from matplotlib.colors import TwoSlopeNorm
+
+from _runner import ROOT, BIN, env, scene_text, edit
+
+# case -> (builtin scene, or remodelling overrides of remodel_405; t_end of the loading in s)
+CASES = {
+    "remodel_40": ("remodel_40", 40.0),
+    "remodel_155": ("remodel_155", 155.0),
+    "remodel_155_c2": ("remodel_155_c2", 155.0),
+    "elastic_155": ("elastic_155", 155.0),
+    "remodel_405": ("remodel_405", 405.0),
+    "reference_405": ("reference_405", 405.0),
+    "lambda_0.1": (dict(lambda_p=0.0001, sigma_y=2.0), 405.0),   # (kPa s)^-1 = 0.1 (MPa s)^-1
+    "lambda_0.5": (dict(lambda_p=0.0005, sigma_y=2.0), 405.0),
+    "sigma_1": (dict(lambda_p=0.001, sigma_y=1.0), 405.0),       # kPa
+    "sigma_4": (dict(lambda_p=0.001, sigma_y=4.0), 405.0),
+}
+T_RAMP = 5.0
+PROBE = (40.0, 0.0, 190.0)       # X_U, um
+VTK_EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]   # mid-edge nodes 4..9 of a tet10
+
+
+def fmt_s(s):
+    return f"{int(s // 3600)}h{int(s % 3600 // 60):02d}m{int(s % 60):02d}s"
+
+
+def variant_scene(case, rem, out):
+    """Writes remodel_405 with other remodelling parameters; fields rarely (disk) but fields_at kept."""
+    text = scene_text("remodel_405")
+    table = "remodelling = { " + ", ".join(f"{k} = {v}" for k, v in rem.items()) + " }   # (kPa s)^-1; kPa"
+    text, n = re.subn(r"^remodelling = \{[^}]*\}.*$", table, text, count=1, flags=re.M)
+    assert n == 1, "remodel_405 has no `remodelling = { ... }` line"
+    what = ", ".join(f"{k} = {v}" for k, v in rem.items())
+    text = edit(text, name=f'"{case}"', description=f'"remodel_405 with {what} (scripts/reproduce.py)"',
+                fields_every=1000)
+    path = out / "scenes" / f"{case}.toml"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text)
+    return str(path)
+
+
+def read_timings(d):
+    t = {}
+    if (d / "timings.txt").exists():
+        for line in open(d / "timings.txt"):
+            if " = " in line:
+                k, v = line.split(" = ")
+                t[k.strip()] = float(v)
+    return t
+
+
+def read_history(d):
+    """Columns of history.csv as arrays; rows that don't parse (a run still writing) are dropped."""
+    with open(d / "history.csv") as f:
+        r = csv.reader(f)
+        head = next(r)
+        rows = []
+        for row in r:
+            try:
+                if len(row) == len(head):
+                    rows.append([float(x) for x in row])
+            except ValueError:
+                pass
+    a = np.array(rows).reshape(-1, len(head))
+    return {k: a[:, i] for i, k in enumerate(head)}
+
+
+def run_cases(out, names):
+    t0, done_wall = time.time(), []
+    failed = []
+    for i, case in enumerate(names, 1):
+        d = out / case
+        if (d / "timings.txt").exists():
+            print(f"[{i}/{len(names)}] {case}: already done (total = {read_timings(d).get('total', 0):.1f} s)")
+            continue
+        src, _ = CASES[case]
+        scene = variant_scene(case, src, out) if isinstance(src, dict) else src
+        left = len(names) - i + 1
+        eta = fmt_s(np.mean(done_wall) * left) if done_wall else "?"
+        print(f"[{i}/{len(names)}] {case}: running (elapsed {fmt_s(time.time() - t0)}, ETA {eta})", flush=True)
+        (out / "logs").mkdir(parents=True, exist_ok=True)
+        start = time.time()
+        with open(out / "logs" / f"{case}.log", "w") as log:   # --force: resume into a partial dir
+            rc = subprocess.run(["mpirun", "-n", "2", str(BIN), "run", scene, "--out", str(d), "--force", "-q"],
+                                env=env(), stdout=log, stderr=subprocess.STDOUT).returncode
+        done_wall.append(time.time() - start)
+        if rc != 0:
+            failed.append(case)
+            print(f"    FAILED (exit {rc}); see {out / 'logs' / (case + '.log')}", flush=True)
+        else:
+            print(f"    done: total = {read_timings(d).get('total', float('nan')):.1f} s", flush=True)
+    print(f"runs finished in {fmt_s(time.time() - t0)}" + (f"; failed: {', '.join(failed)}" if failed else ""))
+
+
+# ---------------------------------------------------------------- summary
+
+def summarise(case, d):
+    h, tim, t_end = read_history(d), read_timings(d), CASES.get(case, (None, 405.0))[1]
+    t, th = h["time"], t_end - 5.0                   # th: end of the hold
+    at = lambda col, x: float(np.interp(x, t, h[col])) if col in h and t[-1] >= x else None
+    s = {k: tim.get(v) for k, v in [("wall_s", "total"), ("steps", "steps"), ("newton", "newton_its"),
+                                     ("krylov", "ksp_its"), ("step_cuts", "step_cuts")]}
+    f = h["force_total_mg"]
+    s["peak_F_mg"], s["t_peak_s"] = f.max(), t[f.argmax()]
+    s["F_hold_mg"], s["Fc_hold_mg"], s["Fp_hold_mg"] = (at(c, th) for c in
+                                                        ("force_total_mg", "force_constitutive_mg", "force_pressure_mg"))
+    s["peak_Fc_mg"] = h["force_constitutive_mg"].max()
+    p = h["probe_p"]
+    s["p_XU_5"], s["p_XU_30"] = at("probe_p", 5.0), at("probe_p", 30.0)
+    # first zero crossing of p(X_U) after the ramp, interpolated between the two rows around it
+    neg = np.nonzero((t > T_RAMP) & (p < 0))[0]
+    s["t_p_neg_s"] = None
+    if len(neg):
+        j = neg[0]
+        s["t_p_neg_s"] = t[j] if p[j - 1] < 0 else t[j - 1] + (t[j] - t[j - 1]) * p[j - 1] / (p[j - 1] - p[j])
+    hold = (t >= T_RAMP) & (t <= th)
+    s["p_nonneg_hold"] = bool(np.all(p[hold] >= 0)) if t[-1] >= th else None
+    s["vm_hold_kPa"] = at("max_von_mises", th)
+    s["vm_max_kPa"] = h["max_von_mises"].max() if "max_von_mises" in h else None
+    s["norm_ep_final"] = h["max_norm_ep"][-1] if "max_norm_ep" in h else None
+    s["det_bp_dev_max"] = h["det_bp_max_dev"].max() if "det_bp_max_dev" in h else None
+    s["height_um"], s["width_um"], s["t_last_s"] = h["height"][-1], h["width"][-1], t[-1]
+    return s
+
+
+def write_summary(dirs, out):
+    rows = {c: summarise(c, d) for c, d in dirs.items() if (d / "history.csv").exists()}
+    if not rows:
+        return print("no runs to summarise")
+    keys = list(next(iter(rows.values())))
+    cell = lambda v: "" if v is None else (str(v) if isinstance(v, bool) else f"{v:.6g}")
+    with open(out / "summary.csv", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["case"] + keys)
+        for c, s in rows.items():
+            w.writerow([c] + [cell(s[k]) for k in keys])
+    # transposed so that ten cases fit on a terminal
+    print(f"\n{'':>15}" + "".join(f"{c:>15}" for c in rows))
+    for k in keys:
+        print(f"{k:>15}" + "".join(f"{cell(s[k]):>15}" for s in rows.values()))
+    print(f"wrote {out / 'summary.csv'}")
+
+
+# ---------------------------------------------------------------- figures
+
+def have(dirs, names, what="history.csv"):
+    missing = [n for n in names if n not in dirs or not (dirs[n] / what).exists()]
+    if missing:
+        print(f"  skipped: no {what} for {', '.join(missing)}")
+    return not missing
+
+
+def save(fig, out, name):
+    if not fig.get_constrained_layout():             # section figures lay out their colour bars
+        fig.tight_layout()
+    fig.savefig(out / "figures" / name, dpi=130)
+    plt.close(fig)
+    print(f"  wrote {out / 'figures' / name}")
+
+
+def fig_probe(dirs, out, a, b, name, title):
+    """p(X_U) and porosity vs time for two cases (Figs 4, 11)."""
+    if not have(dirs, [a, b]):
+        return
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
+    for case, style in ((a, "-"), (b, "--")):
+        h = read_history(dirs[case])
+        ax[0].plot(h["time"], h["probe_p"], style, label=case)
+        ax[1].plot(h["time"], h["probe_porosity"], style, label=case)
+    t_end = CASES[a][1]
+    ax[0].axhline(0, color="k", lw=0.7)
+    for x, lab, unit in ((ax[0], "pressure p(X_U)", " [kPa]"), (ax[1], "porosity at X_U", " [-]")):
+        x.axvline(t_end, color="grey", ls=":", label=f"t_end = {t_end:g} s")
+        x.set(xlabel="time t [s]", ylabel=lab + unit)
+        x.legend()
+    fig.suptitle(f"{title}: probe X_U = {PROBE} µm")
+    save(fig, out, name)
+
+
+def fig_forces(dirs, out):
+    """Total, constitutive and pressure force for the lambda_p and sigma_y sweeps (Figs 7-9)."""
+    sweeps = [("λp sweep (σy = 2 kPa)", [("lambda_0.1", "λp = 0.1 (MPa s)⁻¹"), ("lambda_0.5", "λp = 0.5 (MPa s)⁻¹"),
+                                         ("remodel_405", "λp = 1 (MPa s)⁻¹")]),
+              ("σy sweep (λp = 1 (MPa s)⁻¹)", [("sigma_1", "σy = 1 kPa"), ("remodel_405", "σy = 2 kPa"),
+                                              ("sigma_4", "σy = 4 kPa")])]
+    cases = {c for _, s in sweeps for c, _ in s} | {"reference_405"}
+    if not have(dirs, sorted(cases)):
+        return
+    hist = {c: read_history(dirs[c]) for c in cases}
+    cols = [("force_total_mg", "total force"), ("force_constitutive_mg", "constitutive force"),
+            ("force_pressure_mg", "pressure force")]
+    fig, ax = plt.subplots(2, 3, figsize=(16, 8.5), sharex=True)
+    for r, (sweep, members) in enumerate(sweeps):
+        for c, (col, lab) in enumerate(cols):
+            x = ax[r, c]
+            for case, label in members:
+                x.plot(hist[case]["time"], hist[case][col], label=label)
+            x.plot(hist["reference_405"]["time"], hist["reference_405"][col], "--", color="grey",
+                   label="no remodelling")
+            x.set(xlim=(0, 420), xlabel="time t [s]", ylabel=f"{lab} [mg]", title=f"{sweep}: {lab}")
+            x.legend(fontsize=8)
+    fig.suptitle("Figs 7-9: plate forces of remodel_405 variants (t_end = 405 s)")
+    save(fig, out, "fig7_9_forces.png")
+
+
+class Section:
+    """The mid-plane y = 0 of a run's fields.h5: the faces there of cells with 3 vertices on it,
+    each split in 4 triangles through its mid-edge nodes so that deformed boundaries curve."""
+
+    def __init__(self, case, d):
+        self.case = case
+        self.f = h5py.File(d / "fields.h5", "r")
+        self.X = self.f["/mesh/coordinates"][:]
+        top = self.f["/mesh/topology"][:]
+        self.times = self.f["/time"][:]
+        on = np.abs(self.X[top[:, :4], 1]) < 1e-9
+        tris, owner = [], []
+        for c in np.nonzero(on.sum(1) == 3)[0]:
+            a, b, e = np.nonzero(on[c])[0]
+            mid = {frozenset(pair): top[c, 4 + k] for k, pair in enumerate(VTK_EDGES)}
+            ab, be, ea = mid[frozenset((a, b))], mid[frozenset((b, e))], mid[frozenset((e, a))]
+            A, B, E = top[c, [a, b, e]]
+            tris += [(A, ab, ea), (ab, B, be), (ea, be, E), (ab, be, ea)]
+            owner += [c] * 4
+        self.tris, self.owner = np.array(tris), np.array(owner)
+
+    def index(self, t):
+        k = int(np.argmin(np.abs(self.times - t)))
+        if abs(self.times[k] - t) > 0.05:            # e.g. a run older than its scene's fields_at
+            print(f"  warning: {self.case} has no output at t = {t:g} s; nearest is {self.times[k]:.4g} s")
+        return k, self.times[k]
+
+    def field(self, name, k):
+        return self.f[f"/fields/{name}/{k:06d}"][:]
+
+    def draw(self, ax, name, k, **kw):
+        """Deformed section, mirrored to x < 0 to show the whole cross-section."""
+        u, n = self.field("u", k), len(self.X)
+        x, z = self.X[:, 0] + u[:, 0], self.X[:, 2] + u[:, 2]
+        tri = mtri.Triangulation(np.r_[x, -x], np.r_[z, z], np.r_[self.tris, self.tris + n])
+        v = self.field(name, k)
+        if len(v) == n:                              # node field: linear over each sub-triangle
+            m = ax.tripcolor(tri, np.r_[v, v], shading="gouraud", **kw)
+        else:                                        # cell field: constant per cell
+            m = ax.tripcolor(tri, facecolors=np.r_[v[self.owner], v[self.owner]], **kw)
+        ax.set(aspect="equal", xlabel="x [µm]", ylabel="z [µm]")
+        return m
+
+    def probe(self, k):
+        """Deformed position (x, z) of X_U, u interpolated linearly on the reference section."""
+        tri = mtri.Triangulation(self.X[:, 0], self.X[:, 2], self.tris)
+        u = self.field("u", k)
+        ux, uz = (float(mtri.LinearTriInterpolator(tri, u[:, i])(PROBE[0], PROBE[2])) for i in (0, 2))
+        return PROBE[0] + ux, PROBE[2] + uz
+
+
+def fig_midplane(dirs, out):
+    """|E_p| and von Mises stress on the mid-plane of remodel_40 (Figs 5-6)."""
+    if not have(dirs, ["remodel_40"], "fields.h5"):
+        return
+    s, ts = Section("remodel_40", dirs["remodel_40"]), [5.0, 15.0, 35.0, 40.0, 60.0]
+    ks = [s.index(t) for t in ts]
+    print("  remodel_40 times used: " + ", ".join(f"{tt:.4g}" for _, tt in ks))
+    fig, ax = plt.subplots(2, 5, figsize=(20, 7), sharex=True, sharey=True, layout="constrained")
+    for r, (name, lab, cmap) in enumerate([("norm_ep", "‖E_p‖ [-]", "viridis"), ("von_mises", "σ_VM [kPa]", "magma")]):
+        vmax = max(s.field(name, k).max() for k, _ in ks)
+        for c, (k, tt) in enumerate(ks):
+            m = s.draw(ax[r, c], name, k, cmap=cmap, vmin=0, vmax=vmax)
+            ax[r, c].set_title(f"{lab.split(' ')[0]}, t = {tt:.4g} s")
+        fig.colorbar(m, ax=ax[r, :].tolist(), label=lab)
+    fig.suptitle("Figs 5-6: remodel_40, mid-plane y = 0 (deformed)")
+    save(fig, out, "fig5_6_midplane.png")
+
+
+def fig_pressure(dirs, out, cases, ts, name, title):
+    """Pressure on the mid-plane, colour map centred on p = 0 (Figs 3, 11c)."""
+    if not have(dirs, cases, "fields.h5"):
+        return
+    secs = {c: Section(c, dirs[c]) for c in cases}
+    idx = {c: [secs[c].index(t) for t in ts] for c in cases}
+    for c in cases:
+        print(f"  {c} times used: " + ", ".join(f"{tt:.4g}" for _, tt in idx[c]))
+    ps = [secs[c].field("p", k) for c in cases for k, _ in idx[c]]
+    lo, hi = min(p.min() for p in ps), max(p.max() for p in ps)
+    norm = TwoSlopeNorm(0.0, min(lo, -1e-3 * abs(hi)), max(hi, 1e-3 * abs(lo)))   # needs lo < 0 < hi
+    rows, cols = (len(cases), len(ts)) if len(ts) > 1 else (1, len(cases))   # one time: side by side
+    fig, ax = plt.subplots(rows, cols, figsize=(4.2 * cols + 1.5, 3.6 * rows), squeeze=False,
+                           sharex=True, sharey=True, layout="constrained")
+    panels = [(c, k, tt) for c in cases for k, tt in idx[c]]
+    for x, (c, k, tt) in zip(ax.flat, panels):
+        m = secs[c].draw(x, "p", k, cmap="RdBu_r", norm=norm)
+        x.plot(*secs[c].probe(k), "ko", ms=4, label="X_U (deformed)")
+        x.set_title(f"{c}, t = {tt:.4g} s")
+    ax.flat[0].legend(loc="lower left", fontsize=8)
+    ticks = np.r_[np.linspace(norm.vmin, 0, 3)[:-1], np.linspace(0, norm.vmax, 4)]   # both halves labelled
+    fig.colorbar(m, ax=ax.ravel().tolist(), label="pressure p [kPa]", ticks=ticks, format="%.3g")
+    fig.suptitle(f"{title}: pressure on the mid-plane y = 0 (deformed)")
+    save(fig, out, name)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", default="runs/reproduce")
+    ap.add_argument("--only", nargs="+", choices=list(CASES), help="run only these cases")
+    ap.add_argument("--plots-only", action="store_true", help="no runs: figures and summary from existing runs")
+    ap.add_argument("--docs", action="store_true", help="also copy the figures to docs/figures/")
+    ap.add_argument("--dirs", nargs="+", default=[], metavar="CASE=DIR", help=argparse.SUPPRESS)  # for testing
+    a = ap.parse_args()
+    out = Path(a.out) if Path(a.out).is_absolute() else ROOT / a.out
+    out.mkdir(parents=True, exist_ok=True)
+    if not a.plots_only:
+        run_cases(out, a.only or list(CASES))
+    dirs = {c: out / c for c in CASES}
+    dirs.update({k: Path(v) for k, v in (x.split("=", 1) for x in a.dirs)})
+    write_summary(dirs, out)
+    (out / "figures").mkdir(exist_ok=True)
+    print("\nfigures:")
+    steps = [("fig4_probe", lambda: fig_probe(dirs, out, "remodel_155", "elastic_155", "fig4_probe.png",
+                                              "Fig 4: remodelling vs elastic (t_end = 155 s)")),
+             ("fig11_probe", lambda: fig_probe(dirs, out, "remodel_155_c2", "remodel_155", "fig11_probe.png",
+                                               "Fig 11: remodelling-dependent permeability c = 2 vs c = 0")),
+             ("fig7_9_forces", lambda: fig_forces(dirs, out)),
+             ("fig5_6_midplane", lambda: fig_midplane(dirs, out)),
+             ("fig3_pressure", lambda: fig_pressure(dirs, out, ["remodel_405", "reference_405"], [5, 25, 30, 45],
+                                                    "fig3_pressure.png", "Fig 3: remodelling vs none")),
+             ("fig11c_pressure", lambda: fig_pressure(dirs, out, ["remodel_155", "remodel_155_c2"], [30],
+                                                      "fig11c_pressure.png", "Fig 11c: c = 0 vs c = 2, t = 30 s"))]
+    for name, make in steps:
+        print(f" {name}:")
+        make()
+    if a.docs:
+        dst = ROOT / "docs" / "figures"
+        dst.mkdir(parents=True, exist_ok=True)
+        for png in sorted((out / "figures").glob("*.png")):
+            shutil.copy(png, dst / png.name)
+        print(f"copied figures to {dst}")
+
+
+if __name__ == "__main__":
+    main()
