@@ -672,7 +672,7 @@ impl<'w> Run<'w> {
         let total = t_start.elapsed().as_secs_f64() + self.setup_s;
         let assembly = timers.residual_s + timers.jacobian_s;
         let summary = format!(
-            "# poroplast timings (seconds, rank 0; wall clock)\nranks = {}\ndofs = {}\nsteps = {}\nstep_cuts = {}\nnewton_its = {}\nksp_its = {}\nsetup = {:.3}\nresidual_assembly = {:.3}\nresidual_evaluations = {}\njacobian_assembly = {:.3}\njacobian_evaluations = {}\nsolve_total = {:.3}\nlinear_solve_and_other = {:.3}\noutput = {:.3}\ntotal = {:.3}\n",
+            "# poroplast timings (seconds, rank 0; wall clock)\nranks = {}\ndofs = {}\nsteps = {}\nstep_cuts = {}\nnewton_its = {}\nksp_its = {}\nsetup = {:.3}\nresidual_assembly = {:.3}\nresidual_evaluations = {}\njacobian_assembly = {:.3}\njacobian_evaluations = {}\nhistory_commit = {:.3}\nsolve_total = {:.3}\nlinear_solve_and_other = {:.3}\noutput = {:.3}\ntotal = {:.3}\n",
             self.world.size(),
             self.n_global_dofs,
             pg.step,
@@ -684,6 +684,7 @@ impl<'w> Run<'w> {
             timers.residual_n,
             timers.jacobian_s,
             timers.jacobian_n,
+            timers.history_s,
             pg.solve_s,
             pg.solve_s - assembly,
             pg.output_s,

@@ -88,6 +88,22 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     // Mirroring across a group that is not a coordinate plane through the origin.
     let s = variant("mirror", &[("[material]", "mirror = [\"top\"]\n\n[material]")]);
     fails(&earlier, &["run", &s], "not in a plane x = 0, y = 0 or z = 0");
+    // Remodelling, initial state and output times (on the relaxation scene's material).
+    let rvariant = |name: &str, edits: &[(&str, &str)]| {
+        let d = dir.join(name);
+        std::fs::create_dir_all(&d).unwrap();
+        scene_variant("relaxation", &d, edits)
+    };
+    let s = rvariant("lambda_p", &[("lambda_p = 0.001", "lambda_p = -0.001")]);
+    fails(&earlier, &["run", &s], "material.remodelling.lambda_p = -0.001");
+    let s = rvariant("sigma_y", &[("sigma_y = 2.0", "sigma_y = nan")]);
+    fails(&earlier, &["run", &s], "material.remodelling.sigma_y = NaN");
+    let s = rvariant("remodelling_key", &[("sigma_y = 2.0", "sigma_y = 2.0, eta = 1.0")]);
+    fails(&earlier, &["run", &s], "unknown field `eta`");
+    let s = rvariant("initial", &[("[[0.1180339887498949, 0.0, 0.0]", "[[-1.5, 0.0, 0.0]")]);
+    fails(&earlier, &["run", &s], "det(I + G)");
+    let s = rvariant("fields_at", &[("fields_every = 10", "fields_every = 10\nfields_at = [2000.0]")]);
+    fails(&earlier, &["run", &s], "output.fields_at: 2000");
     // A scene that does not exist.
     fails(&earlier, &["run", "no-such-scene"], "not a builtin scene");
     // Without --force an existing run directory is refused, untouched.
