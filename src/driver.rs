@@ -6,6 +6,7 @@
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::tabulate_tet10;
+use crate::fem::point::PointModel;
 use crate::fem::quadrature;
 use crate::io::fields::{Field, FieldFile, FieldKind, OutputMesh};
 use crate::io::history::History;
@@ -19,7 +20,6 @@ use crate::physics::biphasic::Biphasic;
 use crate::physics::contact::{PlateHistory, Plates, DEFAULT_SEAL_GAP};
 use crate::physics::experiment::{self, Experiment};
 use crate::physics::linear::LinearPoroelastic;
-use crate::fem::point::PointModel;
 use crate::physics::probe::Probe;
 use crate::physics::problem::{mean_element_size, PoroProblem};
 use crate::scene::{LoadedScene, Material, Verification};
@@ -625,9 +625,8 @@ impl<'w> Run<'w> {
             {
                 let _g = stage_out.push();
                 let every = self.scene.scene.output.fields_every;
-                let wf = self.schedule.done(pg.t)
-                    || (every > 0 && pg.step.is_multiple_of(every))
-                    || self.output_time(pg.t);
+                let wf =
+                    self.schedule.done(pg.t) || (every > 0 && pg.step.is_multiple_of(every)) || self.output_time(pg.t);
                 cur.copy_from(&self.u)?;
                 self.record(&mut io, &cur, &prev, pg.step, pg.t, taken, its, t_start, wf, &exact)?;
             }

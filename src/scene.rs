@@ -417,7 +417,19 @@ impl LoadedScene {
                 positive(self, "material.permeability", *permeability)?;
             }
             Material::HolmesMow {
-                mu, nu, alpha, phi_s, k0, kappa, m0, permeability_c, rho_s, rho_f, gravity, remodelling, ..
+                mu,
+                nu,
+                alpha,
+                phi_s,
+                k0,
+                kappa,
+                m0,
+                permeability_c,
+                rho_s,
+                rho_f,
+                gravity,
+                remodelling,
+                ..
             } => {
                 match (mu, nu, alpha) {
                     (Some(mu), Some(nu), None) => {
@@ -489,18 +501,20 @@ impl LoadedScene {
             for g in init.displacement_gradient.iter().flatten() {
                 finite(self, "initial.displacement_gradient", *g)?;
             }
-            let f = nalgebra::Matrix3::from_fn(|i, j| init.displacement_gradient[i][j] + if i == j { 1.0 } else { 0.0 });
+            let f =
+                nalgebra::Matrix3::from_fn(|i, j| init.displacement_gradient[i][j] + if i == j { 1.0 } else { 0.0 });
             if f.determinant() <= 0.0 {
-                return Err(self.err(format!(
-                    "initial.displacement_gradient: det(I + G) = {} must be > 0",
-                    f.determinant()
-                )));
+                return Err(
+                    self.err(format!("initial.displacement_gradient: det(I + G) = {} must be > 0", f.determinant()))
+                );
             }
         }
         let t = &s.time;
         for &a in t.land_on.iter().chain(&s.output.fields_at) {
-            if !(a > 0.0 && a < t.t_end) {
-                return Err(self.err(format!("time.land_on / output.fields_at: {a} must lie in (0, time.t_end = {})", t.t_end)));
+            if !(a > 0.0 && a <= t.t_end) {
+                return Err(
+                    self.err(format!("time.land_on / output.fields_at: {a} must lie in (0, time.t_end = {})", t.t_end))
+                );
             }
         }
         positive(self, "time.t_end", t.t_end)?;

@@ -304,7 +304,12 @@ fn newton_converges_quadratically() {
 fn newton_converges_quadratically_with_remodelling() {
     let (orders, history) = newton_orders("plates-newton-remodelling", &[REMODELLING]);
     let hist: Vec<String> = history.iter().map(|r| format!("{r:.2e}")).collect();
-    println!("with remodelling: {} solves, median order {:.2}; a residual history: {}", orders.len(), orders[orders.len() / 2], hist.join(", "));
+    println!(
+        "with remodelling: {} solves, median order {:.2}; a residual history: {}",
+        orders.len(),
+        orders[orders.len() / 2],
+        hist.join(", ")
+    );
     assert!(orders.len() >= 5, "too few converged solves to judge: {orders:?}");
     let median = orders[orders.len() / 2];
     assert!(median > 1.6, "median convergence order {median} (orders {orders:?})");

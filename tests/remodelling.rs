@@ -87,6 +87,12 @@ fn run_relaxation(np: usize, dir: &Path, edits: &[(&str, &str)]) -> History {
     History::read(&dir.join("run"))
 }
 
+/// The relaxation scene with constant steps dt (2 ranks) and one more edit.
+fn run_constant_steps(dir: &Path, dt: &str, extra: (&str, &str)) -> History {
+    let (first, max) = (format!("dt = {dt}"), format!("dt_max = {dt}"));
+    run_relaxation(2, dir, &[("dt = 0.05", &first), ("dt_max = 0.5", &max), ("growth = 1.1", "growth = 1.0"), extra])
+}
+
 /// √(2/3) σy: the relaxed ‖dev σ‖; for the diagonal state ‖dev σ‖ = √(2/3) |σ_zz − σ_xx|.
 fn relaxed_error(h: &History) -> f64 {
     let (zz, xx) = (h.col("stress_zz"), h.col("stress_xx"));
@@ -133,7 +139,8 @@ fn relaxation_matches_the_ode() {
         runs.push(h);
     }
     assert_eq!(runs[0].col("time"), runs[1].col("time"));
-    let d = runs[0].col("stress_zz").iter().zip(runs[1].col("stress_zz")).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    let d =
+        runs[0].col("stress_zz").iter().zip(runs[1].col("stress_zz")).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     println!("1 vs 2 ranks: max |stress_zz difference| {d:.2e} kPa");
     assert!(d < 1e-12);
 }
@@ -148,17 +155,9 @@ fn relaxation_converges_first_order_in_dt() {
     let mut errs = vec![];
     for dt in ["2.0", "1.0", "0.5"] {
         let dir = scratch(&format!("relaxation-dt{dt}"));
-        let h = run_relaxation(
-            2,
-            &dir,
-            &[
-                ("dt = 0.05", &format!("dt = {dt}")),
-                ("dt_max = 0.5", &format!("dt_max = {dt}")),
-                ("growth = 1.1", "growth = 1.0"),
-                ("t_end = 1000.0", "t_end = 100.0"),
-            ],
-        );
-        let e = times.iter().zip(&want).map(|(&t, w)| ((value_at(&h, "stress_zz", t) - w) / w).abs()).fold(0.0, f64::max);
+        let h = run_constant_steps(&dir, dt, ("t_end = 1000.0", "t_end = 100.0"));
+        let e =
+            times.iter().zip(&want).map(|(&t, w)| ((value_at(&h, "stress_zz", t) - w) / w).abs()).fold(0.0, f64::max);
         println!("dt = {dt} s: max rel. error of stress_zz at t = 10, 50, 100 s: {e:.3e}");
         errs.push(e);
     }
@@ -180,16 +179,7 @@ fn relaxation_large_steps_stay_bounded() {
     let (_, szz0, _, _) = ode.state(1.0);
     for (dt, end_tol) in [("50.0", 1e-6), ("200.0", 1e-3)] {
         let dir = scratch(&format!("relaxation-big-dt{dt}"));
-        let h = run_relaxation(
-            2,
-            &dir,
-            &[
-                ("dt = 0.05", &format!("dt = {dt}")),
-                ("dt_max = 0.5", &format!("dt_max = {dt}")),
-                ("growth = 1.1", "growth = 1.0"),
-                ("land_on = [10.0, 50.0, 100.0]", "land_on = []"),
-            ],
-        );
+        let h = run_constant_steps(&dir, dt, ("land_on = [10.0, 50.0, 100.0]", "land_on = []"));
         let (zz, xx) = (h.col("stress_zz"), h.col("stress_xx"));
         let n = zz.len() - 1;
         let det = h.col("det_bp_max_dev").iter().cloned().fold(0.0, f64::max);
@@ -203,7 +193,10 @@ fn relaxation_large_steps_stay_bounded() {
         let k = (2.0f64 / 3.0).sqrt() * SIGMA_Y;
         let dist: Vec<f64> = zz.iter().zip(&xx).map(|(z, x)| (2.0f64 / 3.0).sqrt() * (z - x).abs() - k).collect();
         let ratios: Vec<f64> = dist.windows(2).map(|w| w[1] / w[0]).collect();
-        println!("  distance to the yield surface shrinks by {:?} per step", ratios.iter().take(5).map(|r| format!("{r:.3}")).collect::<Vec<_>>());
+        println!(
+            "  distance to the yield surface shrinks by {:?} per step",
+            ratios.iter().take(5).map(|r| format!("{r:.3}")).collect::<Vec<_>>()
+        );
         assert!(ratios.iter().all(|&r| r > 0.0 && r < 1.0));
         assert!(det < 1e-10 && rel < end_tol);
     }

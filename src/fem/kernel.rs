@@ -12,8 +12,8 @@
 //! Element dof order: u of node a, component i at 3a + i (0..30), then p of vertex m at 30 + m.
 
 use super::element::{tet10_geometry, Tabulation, TET10_EDGES};
-use crate::error::Result;
 use super::point::{ij, History, PointFlux, PointModel, PointState, QpId};
+use crate::error::Result;
 use nalgebra::{Matrix3, Vector3};
 
 pub const NU: usize = 30;

@@ -82,6 +82,8 @@ impl<const N: usize> Sub for Dual<N> {
 }
 impl<const N: usize> Mul for Dual<N> {
     type Output = Self;
+    // The product rule adds.
+    #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline]
     fn mul(self, o: Self) -> Self {
         Dual { re: self.re * o.re, d: std::array::from_fn(|i| self.d[i] * o.re + self.re * o.d[i]) }
@@ -89,6 +91,8 @@ impl<const N: usize> Mul for Dual<N> {
 }
 impl<const N: usize> Div for Dual<N> {
     type Output = Self;
+    // The quotient rule subtracts and multiplies.
+    #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline]
     fn div(self, o: Self) -> Self {
         let inv = 1.0 / o.re;

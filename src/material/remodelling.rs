@@ -20,7 +20,7 @@
 //! residual, R(x, C) = 0 ⇒ dx/dC = −(∂R/∂x)⁻¹ ∂R/∂C. The elastic branch (trial ‖dev σ‖ ≤
 //! √(2/3) σy at B_p^n) keeps B_p^n and has a zero tangent.
 
-use super::dual::{m_det, m_exp, m_mul, m_re, m_scale, m_trace_mul, m_transpose, Dual, Scalar, M3};
+use super::dual::{m_det, m_exp, m_mul, m_scale, m_trace_mul, m_transpose, Dual, Scalar, M3};
 use super::{domain_error, HolmesMow};
 use crate::error::{Error, Result};
 use nalgebra::{Matrix3, SMatrix, SVector};
@@ -133,7 +133,13 @@ impl Remodelling {
     }
 
     /// Local Newton. Returns the update and, on the plastic branch, the converged unknowns.
-    fn solve(&self, hm: &HolmesMow, c: &Matrix3<f64>, bp_n: &Matrix3<f64>, dt: f64) -> Result<(Update, Option<[f64; NX]>)> {
+    fn solve(
+        &self,
+        hm: &HolmesMow,
+        c: &Matrix3<f64>,
+        bp_n: &Matrix3<f64>,
+        dt: f64,
+    ) -> Result<(Update, Option<[f64; NX]>)> {
         let elastic = Update { bp: *bp_n, dgamma: 0.0, iterations: 0 };
         if !(self.lambda_p > 0.0 && dt > 0.0) {
             return Ok((elastic, None));
@@ -229,9 +235,9 @@ fn to_m3(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
     std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))
 }
 
-#[allow(dead_code)]
+#[cfg(test)]
 fn re3<T: Scalar>(m: &M3<T>) -> Matrix3<f64> {
-    let r = m_re(m);
+    let r = super::dual::m_re(m);
     Matrix3::from_fn(|i, j| r[i][j])
 }
 
@@ -287,7 +293,12 @@ mod tests {
             let bp_n = rng.remodelling_metric();
             let up = rm.update(&hm, &c, &bp_n, dt).unwrap();
             let b = up.bp;
-            println!("J = {j}, dt = {dt}: dgamma = {:.3e}, {} its, det - 1 = {:e}", up.dgamma, up.iterations, b.determinant() - 1.0);
+            println!(
+                "J = {j}, dt = {dt}: dgamma = {:.3e}, {} its, det - 1 = {:e}",
+                up.dgamma,
+                up.iterations,
+                b.determinant() - 1.0
+            );
             assert!(up.iterations > 0 && up.dgamma > 0.0);
             assert!((b - b.transpose()).norm() == 0.0);
             assert!((b.determinant() - bp_n.determinant()).abs() < 1e-14);

@@ -33,8 +33,8 @@
 //! Post-processing ([`Biphasic::point_fields`]): porosity 1 − Φs/J, σ_sc = J⁻¹ P_sc Fᵀ,
 //! σ_VM = √(3/2) ‖dev σ_sc‖, spatial Darcy flux q = J⁻¹ F Q.
 
-use crate::fem::point::{ij, History, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId};
 use crate::error::{Error, Result};
+use crate::fem::point::{ij, History, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId};
 use crate::material::remodelling::{from_sym6, to_sym6};
 use crate::material::{
     domain_error, idx, locate, solid_response, AtPoint, CompactionPenalty, HolmesMow, Kinematics, Permeability,
@@ -178,7 +178,9 @@ impl Biphasic {
             pressure_stress: -k.cof_f * s.p,
             norm_ep: match self.remodel {
                 // E_p = ½(B_p⁻¹ − I); B_p is symmetric positive definite.
-                Some(_) => (k.bp.try_inverse().unwrap_or(Matrix3::from_element(f64::NAN)) - Matrix3::identity()).norm() * 0.5,
+                Some(_) => {
+                    (k.bp.try_inverse().unwrap_or(Matrix3::from_element(f64::NAN)) - Matrix3::identity()).norm() * 0.5
+                }
                 None => 0.0,
             },
             det_bp_dev: (k.bp.determinant() - 1.0).abs(),
@@ -351,14 +353,7 @@ impl PointModel for Biphasic {
         if let Some(t6) = &k.dbp_dc {
             self.add_remodelling_tangent(&k, t6, &g, &mut dstress_du, &mut dflux_du).at_point(at.elem, at.point)?;
         }
-        let t = PointTangent {
-            dstress_du,
-            dstress_dp: -k.cof_f,
-            dbody_du,
-            drate_du,
-            dflux_du,
-            dflux_dgradp: kt,
-        };
+        let t = PointTangent { dstress_du, dstress_dp: -k.cof_f, dbody_du, drate_du, dflux_du, dflux_dgradp: kt };
         Ok((flux, t))
     }
 
@@ -562,12 +557,19 @@ mod tests {
         let mut rng = Rng::new(38);
         let mut worst: f64 = 0.0;
         for model in MODELS {
-            let m = table1(model, [1000.0, 1000.0], [0.0, 0.0, -9.81]).with_remodelling(Remodelling::new(0.001, 2.0).unwrap());
+            let m = table1(model, [1000.0, 1000.0], [0.0, 0.0, -9.81])
+                .with_remodelling(Remodelling::new(0.001, 2.0).unwrap());
             assert_eq!(m.history_len(), 6);
             for (j, dt) in [(0.75, 0.5f64), (0.9, 4.0), (1.0, 40.0), (1.15, 1e3), (0.68, 2.0)] {
                 let committed = to_sym6(&rng.remodelling_metric());
                 let h = History { committed: &committed, evolve: true };
-                let s = state(rng.deformation(j), rng.matrix(0.1) / dt.max(1.0), rng.uniform(-5.0, 5.0), rng.vector(0.5), dt);
+                let s = state(
+                    rng.deformation(j),
+                    rng.matrix(0.1) / dt.max(1.0),
+                    rng.uniform(-5.0, 5.0),
+                    rng.vector(0.5),
+                    dt,
+                );
                 let shift = 1.0 / dt;
                 let (flux, t) = m.eval_tangent(AT, &s, h, shift).unwrap();
                 assert_eq!(flux.stress, m.eval(AT, &s, h).unwrap().stress);
@@ -720,7 +722,10 @@ mod tests {
                 assert!(rel(&rq.stress, &(q * rf.stress)) < 1e-13);
                 if g == [0.0; 3] {
                     assert!(rel(&rq.flux, &rf.flux) < 1e-13);
-                    let (ff, fq) = (m.point_fields(AT, &sf, History::NONE).unwrap(), m.point_fields(AT, &sq, History::NONE).unwrap());
+                    let (ff, fq) = (
+                        m.point_fields(AT, &sf, History::NONE).unwrap(),
+                        m.point_fields(AT, &sq, History::NONE).unwrap(),
+                    );
                     assert!(rel(&fq.darcy, &(q * ff.darcy)) < 1e-13);
                     assert!(rel(&fq.cauchy_sc, &(q * ff.cauchy_sc * q.transpose())) < 1e-13);
                     assert!((fq.von_mises - ff.von_mises).abs() < 1e-13 * ff.von_mises);
@@ -831,7 +836,8 @@ mod tests {
             let (szz, sxx) =
                 (lam * e * (a1 + 2.0 * a2 - a3 / (lam * lam)), e * (a1 + a2 * (1.0 + lam * lam) - a3) / lam);
             let f = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, lam));
-            let pf = m.point_fields(AT, &state(f, Matrix3::zeros(), 0.0, Vector3::zeros(), 0.5), History::NONE).unwrap();
+            let pf =
+                m.point_fields(AT, &state(f, Matrix3::zeros(), 0.0, Vector3::zeros(), 0.5), History::NONE).unwrap();
             let want = Matrix3::from_diagonal(&Vector3::new(sxx, sxx, szz));
             println!("lambda = {lam}: sigma_zz = {szz:.10e}, sigma_VM = {:.10e}", pf.von_mises);
             assert!(rel(&pf.cauchy_sc, &want) < 1e-13);

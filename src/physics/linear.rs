@@ -7,8 +7,8 @@
 //!
 //! The reference model for the Terzaghi and Cryer verification problems.
 
-use crate::fem::point::{ij, History, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId};
 use crate::error::{Error, Result};
+use crate::fem::point::{ij, History, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId};
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// Drained Lamé constants and isotropic conductivity.

@@ -261,7 +261,9 @@ impl PoroProblem {
                     let d = disc.element_dofs(e);
                     let (coords, v) = disc.gather(e, &d, &ul, &udl);
                     let mut r = [0.0; NDOF];
-                    kernel.residual(e, &coords, &v, dt, disc.step_history(e), &mut r).map_err(|err| locate(err, e, &disc.mesh))?;
+                    kernel
+                        .residual(e, &coords, &v, dt, disc.step_history(e), &mut r)
+                        .map_err(|err| locate(err, e, &disc.mesh))?;
                     for k in 0..NDOF {
                         fl[d[k]] += r[k];
                     }

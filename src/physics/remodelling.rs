@@ -8,9 +8,9 @@
 
 use super::problem::Post;
 use crate::parallel::max;
+use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
-use mpi::collective::SystemOperation;
 
 /// History columns of [`observe`], in order.
 pub const COLUMNS: [&str; 7] =
