@@ -513,7 +513,7 @@ impl LoadedScene {
         for &a in t.land_on.iter().chain(&s.output.fields_at) {
             if !(a > 0.0 && a <= t.t_end) {
                 return Err(
-                    self.err(format!("time.land_on / output.fields_at: {a} must lie in (0, time.t_end = {})", t.t_end))
+                    self.err(format!("time.land_on / output.fields_at: {a} must lie in (0, time.t_end = {}]", t.t_end))
                 );
             }
         }

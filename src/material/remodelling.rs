@@ -155,11 +155,11 @@ impl Remodelling {
         let norm = |r: &[f64; NX]| r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let mut x = [0.0; NX];
         x[..6].copy_from_slice(&to_sym6(bp_n));
+        // Residuals in f64 (the convergence test and the line search); the dual Jacobian only
+        // where a Newton step is taken.
+        let mut r0 = self.residual(hm, &c6, bp_n, &x, dt).0;
         let mut it = 0;
         loop {
-            let xd: [Dual<NX>; NX] = std::array::from_fn(|i| Dual::var(x[i], i));
-            let (r, _) = self.residual(hm, &c6.map(Dual::cst), bp_n, &xd, dt);
-            let r0: [f64; NX] = r.map(|v| v.re);
             let n0 = norm(&r0);
             if n0 <= TOLERANCE {
                 break;
@@ -171,6 +171,8 @@ impl Remodelling {
                 ));
             }
             it += 1;
+            let xd: [Dual<NX>; NX] = std::array::from_fn(|i| Dual::var(x[i], i));
+            let (r, _) = self.residual(hm, &c6.map(Dual::cst), bp_n, &xd, dt);
             let jx = SMatrix::<f64, NX, NX>::from_fn(|i, j| r[i].d[j]);
             let step = jx
                 .lu()
@@ -185,6 +187,7 @@ impl Remodelling {
                 let nt = norm(&rt);
                 if (nt.is_finite() && nt < (1.0 - 1e-4 * alpha) * n0) || alpha < 1e-6 {
                     x = trial;
+                    r0 = rt;
                     break;
                 }
                 alpha *= 0.5;
