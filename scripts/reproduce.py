@@ -328,7 +328,7 @@ def fig_pressure(dirs, out, cases, ts, name, title):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", default="runs/reproduce")
-    ap.add_argument("--only", nargs="+", choices=list(CASES), help="run only these cases")
+    ap.add_argument("--only", nargs="+", choices=list(CASES), metavar="NAME", help="run only these cases: %(choices)s")
     ap.add_argument("--plots-only", action="store_true", help="no runs: figures and summary from existing runs")
     ap.add_argument("--docs", action="store_true", help="also copy the figures to docs/figures/")
     ap.add_argument("--dirs", nargs="+", default=[], metavar="CASE=DIR", help=argparse.SUPPRESS)  # for testing
