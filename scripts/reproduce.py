@@ -34,10 +34,13 @@ CASES = {
     "elastic_155": ("elastic_155", 155.0),
     "remodel_405": ("remodel_405", 405.0),
     "reference_405": ("reference_405", 405.0),
-    "lambda_0.1": (dict(lambda_p=0.0001, sigma_y=2.0), 405.0),   # (kPa s)^-1 = 0.1 (MPa s)^-1
-    "lambda_0.5": (dict(lambda_p=0.0005, sigma_y=2.0), 405.0),
-    "sigma_1": (dict(lambda_p=0.001, sigma_y=1.0), 405.0),       # kPa
-    "sigma_4": (dict(lambda_p=0.001, sigma_y=4.0), 405.0),
+    "lambda_0.1": (("remodel_405", dict(remodelling=dict(lambda_p=0.0001, sigma_y=2.0))), 405.0),  # 0.1 (MPa s)^-1
+    "lambda_0.5": (("remodel_405", dict(remodelling=dict(lambda_p=0.0005, sigma_y=2.0))), 405.0),
+    "sigma_1": (("remodel_405", dict(remodelling=dict(lambda_p=0.001, sigma_y=1.0))), 405.0),       # kPa
+    "sigma_4": (("remodel_405", dict(remodelling=dict(lambda_p=0.001, sigma_y=4.0))), 405.0),
+    # soft solid: no pressure bubble (paper, mu = 3 kPa, nu = 0.2); Forgacs' aggregates (nu = 0.45)
+    "mu3_nu0.2": (("remodel_155", dict(mu=3.0)), 155.0),
+    "mu3_nu0.45": (("remodel_155", dict(mu=3.0, nu=0.45)), 155.0),
 }
 T_RAMP = 5.0
 PROBE = (40.0, 0.0, 190.0)       # X_U, um
@@ -48,15 +51,22 @@ def fmt_s(s):
     return f"{int(s // 3600)}h{int(s % 3600 // 60):02d}m{int(s % 60):02d}s"
 
 
-def variant_scene(case, rem, out):
-    """Writes remodel_405 with other remodelling parameters; fields rarely (disk) but fields_at kept."""
-    text = scene_text("remodel_405")
-    table = "remodelling = { " + ", ".join(f"{k} = {v}" for k, v in rem.items()) + " }   # (kPa s)^-1; kPa"
-    text, n = re.subn(r"^remodelling = \{[^}]*\}.*$", table, text, count=1, flags=re.M)
-    assert n == 1, "remodel_405 has no `remodelling = { ... }` line"
-    what = ", ".join(f"{k} = {v}" for k, v in rem.items())
-    text = edit(text, name=f'"{case}"', description=f'"remodel_405 with {what} (scripts/reproduce.py)"',
-                fields_every=1000)
+def variant_scene(case, spec, out):
+    """Writes a builtin scene with edited material lines (the remodelling table, or `key = value`
+    lines such as mu, nu); fields rarely (disk) but at the figure times (fields_at) as before."""
+    base, edits = spec
+    text = scene_text(base)
+    for key, value in edits.items():
+        if key == "remodelling":
+            table = "remodelling = { " + ", ".join(f"{k} = {v}" for k, v in value.items()) + " }   # (kPa s)^-1; kPa"
+            text, n = re.subn(r"^remodelling = \{[^}]*\}.*$", table, text, count=1, flags=re.M)
+            assert n == 1, f"{base} has no `remodelling = {{ ... }}` line"
+        else:
+            text = edit(text, **{key: value})
+    what = ", ".join(f"{k} = {v}" for k, v in edits.items())
+    every = re.search(r"^fields_every = .*$", text, flags=re.M).group(0)
+    text = edit(text, name=f'"{case}"', description=f'"{base} with {what} (scripts/reproduce.py)"')
+    text = text.replace(every, "fields_every = 1000")
     path = out / "scenes" / f"{case}.toml"
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(text)
@@ -98,7 +108,7 @@ def run_cases(out, names):
             print(f"[{i}/{len(names)}] {case}: already done (total = {read_timings(d).get('total', 0):.1f} s)")
             continue
         src, _ = CASES[case]
-        scene = variant_scene(case, src, out) if isinstance(src, dict) else src
+        scene = variant_scene(case, src, out) if isinstance(src, tuple) else src
         # cost scales roughly with the simulated time, so weight the ETA by each case's t_end
         left = sum(CASES[c][1] for c in names[i - 1:])
         eta = fmt_s(sum(done_wall) / sum(done_tend) * left) if done_wall else "?"
@@ -230,6 +240,28 @@ def fig_forces(dirs, out):
     save(fig, out, "fig7_9_forces.png")
 
 
+def fig_soft(dirs, out):
+    """A soft solid (µ = 3 kPa): Forgacs' aggregates (ν = 0.45) force, and p(X_U) without a bubble (ν = 0.2)."""
+    if not have(dirs, ["mu3_nu0.45", "mu3_nu0.2", "remodel_155"]):
+        return
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
+    h = read_history(dirs["mu3_nu0.45"])
+    for col, lab in (("force_total_mg", "total"), ("force_constitutive_mg", "constitutive"),
+                     ("force_pressure_mg", "pressure")):
+        ax[0].plot(h["time"], h[col], label=lab)
+    ax[0].set(xlim=(0, 160), xlabel="time t [s]", ylabel="force on the upper plate [mg]",
+              title="µ = 3 kPa, ν = 0.45, λp = 1 (MPa s)⁻¹ (Forgacs)")
+    for case, style in (("remodel_155", "-"), ("mu3_nu0.2", "--")):
+        hh = read_history(dirs[case])
+        ax[1].plot(hh["time"], hh["probe_p"], style, label=case)
+    ax[1].axhline(0, color="k", lw=0.7)
+    ax[1].set(xlabel="time t [s]", ylabel="pressure p(X_U) [kPa]", title="µ = 20 vs 3 kPa (ν = 0.2)")
+    for x in ax:
+        x.legend()
+    fig.suptitle("Soft aggregates (t_end = 155 s)")
+    save(fig, out, "fig_soft.png")
+
+
 class Section:
     """The mid-plane y = 0 of a run's fields.h5: the faces there of cells with 3 vertices on it,
     each split in 4 triangles through its mid-edge nodes so that deformed boundaries curve."""
@@ -350,6 +382,9 @@ def main():
              ("fig5_6_midplane", lambda: fig_midplane(dirs, out)),
              ("fig3_pressure", lambda: fig_pressure(dirs, out, ["remodel_405", "reference_405"], [5, 25, 30, 45],
                                                     "fig3_pressure.png", "Fig 3: remodelling vs none")),
+             ("fig_soft", lambda: fig_soft(dirs, out)),
+             ("fig_soft_pressure", lambda: fig_pressure(dirs, out, ["remodel_155", "mu3_nu0.2"], [30, 45],
+                                                        "fig_soft_pressure.png", "µ = 20 vs 3 kPa")),
              ("fig11c_pressure", lambda: fig_pressure(dirs, out, ["remodel_155", "remodel_155_c2"], [30],
                                                       "fig11c_pressure.png", "Fig 11c: c = 0 vs c = 2, t = 30 s"))]
     for name, make in steps:
