@@ -262,6 +262,24 @@ def fig_soft(dirs, out):
     save(fig, out, "fig_soft.png")
 
 
+def zone_stats(dirs):
+    """remodel_40: σ_VM and ‖E_p‖ in the centre vs next to the contact zones (Figs 5-6 text):
+    cells with centroid r < 30, |z - R| < 30 µm vs r < 40, z < 30 or z > 170 µm (reference)."""
+    if not have(dirs, ["remodel_40"], "fields.h5"):
+        return
+    with h5py.File(dirs["remodel_40"] / "fields.h5", "r") as f:
+        X, top, T = f["/mesh/coordinates"][:], f["/mesh/topology"][:], f["/time"][:]
+        c = X[top[:, :4]].mean(1)
+        r, z = np.hypot(c[:, 0], c[:, 1]), c[:, 2]
+        centre, contact = (r < 30) & (abs(z - 100) < 30), (r < 40) & ((z > 170) | (z < 30))
+        for want in (5, 15, 35, 40, 60):
+            k = int(np.argmin(abs(T - want)))
+            vm, ep = f[f"/fields/von_mises/{k:06d}"][:], f[f"/fields/norm_ep/{k:06d}"][:]
+            print(f"  t = {T[k]:6.2f} s: σ_VM max {vm.max():5.2f} kPa at (r, z) = ({r[vm.argmax()]:.0f}, "
+                  f"{z[vm.argmax()]:.0f}) µm; mean centre {vm[centre].mean():5.2f}, contact zones "
+                  f"{vm[contact].mean():5.2f} kPa; ‖E_p‖ centre {ep[centre].mean():.3f}, contact {ep[contact].mean():.3f}")
+
+
 class Section:
     """The mid-plane y = 0 of a run's fields.h5: the faces there of cells with 3 vertices on it,
     each split in 4 triangles through its mid-edge nodes so that deformed boundaries curve."""
@@ -382,6 +400,10 @@ def main():
              ("fig5_6_midplane", lambda: fig_midplane(dirs, out)),
              ("fig3_pressure", lambda: fig_pressure(dirs, out, ["remodel_405", "reference_405"], [5, 25, 30, 45],
                                                     "fig3_pressure.png", "Fig 3: remodelling vs none")),
+             ("fig3_later_pressure", lambda: fig_pressure(dirs, out, ["remodel_405", "reference_405"],
+                                                          [60, 100, 200, 400], "fig3_later_pressure.png",
+                                                          "Fig 3 continued: later in the hold")),
+             ("zone_stats", lambda: zone_stats(dirs)),
              ("fig_soft", lambda: fig_soft(dirs, out)),
              ("fig_soft_pressure", lambda: fig_pressure(dirs, out, ["remodel_155", "mu3_nu0.2"], [30, 45],
                                                         "fig_soft_pressure.png", "µ = 20 vs 3 kPa")),

@@ -133,7 +133,7 @@ fn read_mesh(path: &Path, scene: &LoadedScene) -> Result<crate::mesh::Mesh> {
 }
 
 fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
-    use crate::material::{CompactionPenalty, HolmesMow, Permeability, PermeabilityModel, Remodelling};
+    use crate::material::{CompactionPenalty, FlowForm, HolmesMow, Permeability, PermeabilityModel, Remodelling};
     let ctx = |e: Error| Error::Scene { path: scene.source.clone(), msg: format!("[material]: {e}") };
     match &scene.scene.material {
         Material::Linear { mu, nu, permeability } => Ok(Box::new(LinearPoroelastic::new(*mu, *nu, *permeability)?)),
@@ -171,7 +171,8 @@ fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
             let perm = Permeability::new(*k0, *phi_s, *kappa, *m0, model).map_err(ctx)?;
             let mut model = Biphasic::new(solid, pen, perm, *rho_s, *rho_f, *gravity).map_err(ctx)?;
             if let Some(r) = remodelling {
-                model = model.with_remodelling(Remodelling::new(r.lambda_p, r.sigma_y).map_err(ctx)?);
+                let form = if r.form == "40a" { FlowForm::Spatial } else { FlowForm::Referential };
+                model = model.with_remodelling(Remodelling::new(r.lambda_p, r.sigma_y).map_err(ctx)?.with_form(form));
             }
             Ok(Box::new(model))
         }

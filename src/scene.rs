@@ -135,6 +135,14 @@ pub struct RemodellingSpec {
     pub lambda_p: f64,
     /// Yield stress σy (kPa).
     pub sigma_y: f64,
+    /// Which form of the paper's flow rule (40): "40b" (default, dB_p/dt = −2 γp B_p dev Σ,
+    /// what the paper says it solved) or "40a" (L b_e = −2 γp b_e dev σ: a rate 1/J faster).
+    #[serde(default = "form_40b")]
+    pub form: String,
+}
+
+fn form_40b() -> String {
+    "40b".into()
 }
 
 fn water() -> f64 {
@@ -451,6 +459,12 @@ impl LoadedScene {
                 if let Some(r) = remodelling {
                     non_negative(self, "material.remodelling.lambda_p", r.lambda_p)?;
                     non_negative(self, "material.remodelling.sigma_y", r.sigma_y)?;
+                    if !["40a", "40b"].contains(&r.form.as_str()) {
+                        return Err(self.err(format!(
+                            "material.remodelling.form = \"{}\": use \"40b\" (default) or \"40a\"",
+                            r.form
+                        )));
+                    }
                 }
                 if !(*rho_s >= 0.0 && *rho_f >= 0.0) {
                     return Err(self.err("material.rho_s and rho_f must be >= 0".to_string()));

@@ -52,6 +52,16 @@ fn sym_generic<T: Scalar>(x: &[T]) -> M3<T> {
     [[x[0], x[3], x[4]], [x[3], x[1], x[5]], [x[4], x[5], x[2]]]
 }
 
+/// Which of the paper's two "equivalent" flow rules (40): they differ by the factor J
+/// (model.md §6). (40b) is what the paper says it solved and our default.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FlowForm {
+    /// (40b)/(54c): dB_p/dt = −2 γp B_p dev Σ (pushed forward: L b_e = −2 γp b_e dev τ).
+    Referential,
+    /// (40a): L b_e = −2 γp b_e dev σ, i.e. dB_p/dt = −2 (γp/J) B_p dev Σ.
+    Spatial,
+}
+
 /// Perzyna flow-rule parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Remodelling {
@@ -59,6 +69,7 @@ pub struct Remodelling {
     pub lambda_p: f64,
     /// Yield stress σy (kPa).
     pub sigma_y: f64,
+    pub form: FlowForm,
 }
 
 /// The end-of-step remodelling metric at one point.
@@ -86,7 +97,12 @@ impl Remodelling {
         if !(sigma_y >= 0.0 && sigma_y.is_finite()) {
             return Err(Error::Material(format!("remodelling: sigma_y = {sigma_y} must be finite and >= 0")));
         }
-        Ok(Remodelling { lambda_p, sigma_y })
+        Ok(Remodelling { lambda_p, sigma_y, form: FlowForm::Referential })
+    }
+
+    /// The same law in the other form of (40).
+    pub fn with_form(self, form: FlowForm) -> Self {
+        Remodelling { form, ..self }
     }
 
     /// √(2/3) σy: the yield radius of ‖dev σ‖.
@@ -211,7 +227,8 @@ impl Remodelling {
     }
 
     /// R_B = x_B − sym6(map), R_γ = [(s − k) − Δγ s/(λp Δt)] / σ_ref with s = ‖dev σ‖,
-    /// k = √(2/3) σy and σ_ref the mixture shear modulus (R is O(1) and finite as Δt → ∞).
+    /// k = √(2/3) σy and σ_ref the mixture shear modulus (R is O(1) and finite as Δt → ∞);
+    /// the spatial form (40a) has λp/J in place of λp.
     fn residual<T: Scalar>(
         &self,
         hm: &HolmesMow,
@@ -229,7 +246,11 @@ impl Remodelling {
         for (k, &(a, b)) in SYM_PAIRS.iter().enumerate() {
             r[k] = x[k] - mapped[a][b];
         }
-        r[6] = ((s - T::cst(self.yield_radius())) - x[6] * s.scale(1.0 / (self.lambda_p * dt))).scale(1.0 / sref);
+        let flow = match self.form {
+            FlowForm::Referential => s.scale(1.0 / (self.lambda_p * dt)),
+            FlowForm::Spatial => s * j.scale(1.0 / (self.lambda_p * dt)),
+        };
+        r[6] = ((s - T::cst(self.yield_radius())) - x[6] * flow).scale(1.0 / sref);
         (r, s)
     }
 }
@@ -317,6 +338,35 @@ mod tests {
         let up = rm.update(&hm, &(f.transpose() * f), &Matrix3::identity(), 1.0).unwrap();
         assert_eq!(up.iterations, 0);
         assert_eq!(up.bp, Matrix3::identity());
+    }
+
+    /// The spatial form (40a): the consistency condition with λp/J, and its tangent.
+    #[test]
+    fn spatial_form_scales_the_rate_by_one_over_j() {
+        let (hm, rm) = table1();
+        let rs = rm.with_form(FlowForm::Spatial);
+        let mut rng = Rng::new(74);
+        let f = rng.deformation(0.8);
+        let c = f.transpose() * f;
+        let bp_n = rng.remodelling_metric();
+        let (a, b) = (rm.update(&hm, &c, &bp_n, 2.0).unwrap(), rs.update(&hm, &c, &bp_n, 2.0).unwrap());
+        let s = Remodelling::dev_stress_norm(&hm, &c, &b.bp);
+        let want = rm.lambda_p / 0.8 * 2.0 * (s - rm.yield_radius());
+        assert!((b.dgamma * s - want).abs() < 1e-10 * want);
+        assert!(b.dgamma > a.dgamma);
+        let t = rs.update_and_tangent(&hm, &c, &bp_n, 2.0).unwrap().1.unwrap();
+        let h = 1e-6;
+        for r in 0..6 {
+            let dc = sym_basis()[r] * h;
+            let fd = to_sym6(
+                &((rs.update(&hm, &(c + dc), &bp_n, 2.0).unwrap().bp
+                    - rs.update(&hm, &(c - dc), &bp_n, 2.0).unwrap().bp)
+                    / (2.0 * h)),
+            );
+            for s in 0..6 {
+                assert!((t[s][r] - fd[s]).abs() < 1e-7, "{} vs {}", t[s][r], fd[s]);
+            }
+        }
     }
 
     /// Large Δt: the rate-independent limit ‖dev σ‖ → √(2/3) σy.

@@ -30,6 +30,11 @@
 //!   ∂W/∂Grad p   = K
 //! ```
 //!
+//! With remodelling, B_p = B_p^{n+1}(B_p^n, C, Δt) is the end-of-step value of the local update
+//! ([`crate::material::remodelling`]) from the committed B_p^n of the point's [`History`], and
+//! the blocks above gain the chain terms through it (`add_remodelling_tangent`):
+//! ∂P/∂F += F ∂S/∂B_p[dB_p/dF], ∂W/∂F += ∂K/∂B_p[dB_p/dF] g. Without it B_p = I.
+//!
 //! Post-processing ([`Biphasic::point_fields`]): porosity 1 − Φs/J, σ_sc = J⁻¹ P_sc Fᵀ,
 //! σ_VM = √(3/2) ‖dev σ_sc‖, spatial Darcy flux q = J⁻¹ F Q.
 
