@@ -42,6 +42,9 @@ CASES = {
     # (without gravity: the settling step fails for this soft solid, docs/reproduction.md)
     "mu3_nu0.2": (("remodel_155", dict(mu=3.0, gravity="[0.0, 0.0, 0.0]")), 155.0),
     "mu3_nu0.45": (("remodel_155", dict(mu=3.0, nu=0.45)), 155.0),
+    # why the syringe effect comes later than in the paper: the (40a) rate form, a coarser mesh
+    "remodel_155_40a": (("remodel_155", dict(remodelling=dict(lambda_p=0.001, sigma_y=2.0, form="40a"))), 155.0),
+    "remodel_155_h25": (("remodel_155", dict(params=dict(R=100.0, h=25.0, h_pole=8.0, r_pole=50.0))), 155.0),
 }
 T_RAMP = 5.0
 PROBE = (40.0, 0.0, 190.0)       # X_U, um
@@ -52,6 +55,10 @@ def fmt_s(s):
     return f"{int(s // 3600)}h{int(s % 3600 // 60):02d}m{int(s % 60):02d}s"
 
 
+def toml(v):
+    return f'"{v}"' if isinstance(v, str) else str(v)
+
+
 def variant_scene(case, spec, out):
     """Writes a builtin scene with edited material lines (the remodelling table, or `key = value`
     lines such as mu, nu); fields rarely (disk) but at the figure times (fields_at) as before."""
@@ -59,12 +66,12 @@ def variant_scene(case, spec, out):
     text = scene_text(base)
     for key, value in edits.items():
         if key == "remodelling":
-            table = "remodelling = { " + ", ".join(f"{k} = {v}" for k, v in value.items()) + " }   # (kPa s)^-1; kPa"
+            table = "remodelling = { " + ", ".join(f"{k} = {toml(v)}" for k, v in value.items()) + " }   # (kPa s)^-1; kPa"
             text, n = re.subn(r"^remodelling = \{[^}]*\}.*$", table, text, count=1, flags=re.M)
             assert n == 1, f"{base} has no `remodelling = {{ ... }}` line"
         else:
             text = edit(text, **{key: value})
-    what = ", ".join(f"{k} = {v}" for k, v in edits.items())
+    what = ", ".join(f"{k} = {v}" for k, v in edits.items()).replace('"', "'")
     every = re.search(r"^fields_every = .*$", text, flags=re.M).group(0)
     text = edit(text, name=f'"{case}"', description=f'"{base} with {what} (scripts/reproduce.py)"')
     text = text.replace(every, "fields_every = 1000")

@@ -61,7 +61,9 @@ pub struct MeshSpec {
     pub mirror: Vec<String>,
 }
 
-/// Constitutive model of the solid skeleton and the fluid flow.
+/// Constitutive model of the solid skeleton and the fluid flow. (Parsed once per run, so the
+/// size difference between the variants does not matter.)
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, tag = "model", rename_all = "snake_case")]
 pub enum Material {

@@ -19,6 +19,17 @@ use nalgebra::{Matrix3, Vector3};
 pub const NU: usize = 30;
 pub const NDOF: usize = 34;
 
+/// What the kernel needs of one element: its number (for messages), node coordinates, nodal
+/// values, the step size and the committed history of its points.
+#[derive(Debug, Clone, Copy)]
+pub struct ElementInput<'a> {
+    pub elem: usize,
+    pub coords: [[f64; 3]; 10],
+    pub values: ElementValues,
+    pub dt: f64,
+    pub history: History<'a>,
+}
+
 /// Nodal values of one element.
 #[derive(Debug, Clone, Copy)]
 pub struct ElementValues {
@@ -197,15 +208,39 @@ impl ElementKernel<'_> {
         History { committed: &h.committed[q * n..(q + 1) * n], evolve: h.evolve }
     }
 
-    /// Residual, its pressure part and averaged fields of one element.
-    pub fn post(
+    /// Runs `body` at every quadrature point of the element with its kinematics and history.
+    #[inline]
+    fn for_points<'h>(
         &self,
-        elem: usize,
-        coords: &[[f64; 3]; 10],
-        v: &ElementValues,
-        dt: f64,
+        e: &ElementInput<'h>,
+        mut body: impl FnMut(QpId, &Point, History<'h>) -> Result<()>,
+    ) -> Result<()> {
+        for q in 0..self.tab.weights.len() {
+            let pt = point(&e.coords, self.tab, &self.xi[q], q, &e.values, e.dt)?;
+            body(QpId { elem: e.elem, point: q }, &pt, self.at_point(e.history, q))?;
+        }
+        Ok(())
+    }
+
+    /// The residual terms of one point into `r`, and its share of the projection integrals.
+    #[inline]
+    fn add_point_residual(
+        &self,
+        at: QpId,
+        pt: &Point,
         h: History,
-    ) -> Result<ElementPost> {
+        pdot: &[f64; 4],
+        r: &mut [f64; NDOF],
+        proj: &mut Projection,
+    ) -> Result<()> {
+        let f = self.model.eval(at, &pt.state, h)?;
+        add_residual(pt, &f, r);
+        proj.add(pt, pdot);
+        Ok(())
+    }
+
+    /// Residual, its pressure part and averaged fields of one element.
+    pub fn post(&self, e: &ElementInput) -> Result<ElementPost> {
         let mut out = ElementPost {
             r: [0.0; NDOF],
             r_pressure: [0.0; NU],
@@ -222,13 +257,8 @@ impl ElementKernel<'_> {
             max_det_bp_dev: 0.0,
         };
         let mut proj = Projection::default();
-        for q in 0..self.tab.weights.len() {
-            let pt = point(coords, self.tab, &self.xi[q], q, v, dt)?;
-            let at = QpId { elem, point: q };
-            let hq = self.at_point(h, q);
-            let f = self.model.eval(at, &pt.state, hq)?;
-            add_residual(&pt, &f, &mut out.r);
-            proj.add(&pt, &v.pdot);
+        self.for_points(e, |at, pt, hq| {
+            self.add_point_residual(at, pt, hq, &e.values.pdot, &mut out.r, &mut proj)?;
             let pf = self.model.fields(at, &pt.state, hq)?;
             for a in 0..10 {
                 for i in 0..3 {
@@ -251,7 +281,8 @@ impl ElementKernel<'_> {
             out.max_von_mises = out.max_von_mises.max(pf.von_mises);
             out.max_norm_ep = out.max_norm_ep.max(pf.norm_ep);
             out.max_det_bp_dev = out.max_det_bp_dev.max(pf.det_bp_dev);
-        }
+            Ok(())
+        })?;
         if self.stab > 0.0 {
             proj.residual(self.stab, &mut out.r);
         }
@@ -266,41 +297,17 @@ impl ElementKernel<'_> {
 
     /// The end-of-step history of every point of the element (the model's update at the
     /// converged state), into `out` (the element's slice of the store).
-    pub fn advance_history(
-        &self,
-        elem: usize,
-        coords: &[[f64; 3]; 10],
-        v: &ElementValues,
-        dt: f64,
-        h: History,
-        out: &mut [f64],
-    ) -> Result<()> {
+    pub fn advance_history(&self, e: &ElementInput, out: &mut [f64]) -> Result<()> {
         let n = self.model.history_len();
-        for q in 0..self.tab.weights.len() {
-            let pt = point(coords, self.tab, &self.xi[q], q, v, dt)?;
-            let at = QpId { elem, point: q };
-            self.model.advance_history(at, &pt.state, self.at_point(h, q), &mut out[q * n..(q + 1) * n])?;
-        }
-        Ok(())
+        self.for_points(e, |at, pt, hq| {
+            self.model.advance_history(at, &pt.state, hq, &mut out[at.point * n..(at.point + 1) * n])
+        })
     }
 
     /// Adds the element residual to `r`.
-    pub fn residual(
-        &self,
-        elem: usize,
-        coords: &[[f64; 3]; 10],
-        v: &ElementValues,
-        dt: f64,
-        h: History,
-        r: &mut [f64; NDOF],
-    ) -> Result<()> {
+    pub fn residual(&self, e: &ElementInput, r: &mut [f64; NDOF]) -> Result<()> {
         let mut proj = Projection::default();
-        for q in 0..self.tab.weights.len() {
-            let pt = point(coords, self.tab, &self.xi[q], q, v, dt)?;
-            let f = self.model.eval(QpId { elem, point: q }, &pt.state, self.at_point(h, q))?;
-            add_residual(&pt, &f, r);
-            proj.add(&pt, &v.pdot);
-        }
+        self.for_points(e, |at, pt, hq| self.add_point_residual(at, pt, hq, &e.values.pdot, r, &mut proj))?;
         if self.stab > 0.0 {
             proj.residual(self.stab, r);
         }
@@ -308,14 +315,9 @@ impl ElementKernel<'_> {
     }
 
     /// Adds the element residual, Jacobian (row-major NDOF × NDOF) and Schur block.
-    #[allow(clippy::too_many_arguments)]
     pub fn jacobian(
         &self,
-        elem: usize,
-        coords: &[[f64; 3]; 10],
-        v: &ElementValues,
-        dt: f64,
-        h: History,
+        e: &ElementInput,
         shift: f64,
         r: &mut [f64; NDOF],
         k: &mut [[f64; NDOF]; NDOF],
@@ -323,11 +325,10 @@ impl ElementKernel<'_> {
     ) -> Result<()> {
         let mut proj = Projection::default();
         let inv_kdr = 1.0 / self.model.drained_bulk_modulus();
-        for q in 0..self.tab.weights.len() {
-            let pt = point(coords, self.tab, &self.xi[q], q, v, dt)?;
-            let (f, t) = self.model.eval_tangent(QpId { elem, point: q }, &pt.state, self.at_point(h, q), shift)?;
-            add_residual(&pt, &f, r);
-            proj.add(&pt, &v.pdot);
+        self.for_points(e, |at, pt, hq| {
+            let (f, t) = self.model.eval_tangent(at, &pt.state, hq, shift)?;
+            add_residual(pt, &f, r);
+            proj.add(pt, &e.values.pdot);
             let w = pt.w;
             let dn = &pt.dn;
             // T_b[(ij), k] = Σ_l A[(ij),(kl)] ∂N_b/∂X_l, then K_ab[i][k] = Σ_j ∂N_a/∂X_j T_b[(ij), k].
@@ -393,7 +394,8 @@ impl ElementKernel<'_> {
                     schur[m][n] += w * (s + shift * inv_kdr * pt.n1[m] * pt.n1[n]);
                 }
             }
-        }
+            Ok(())
+        })?;
         if self.stab > 0.0 {
             proj.jacobian(self.stab, shift, k, schur);
         }

@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::Tabulation;
 use crate::fem::insert::{ElementInserter, GhostRows};
-use crate::fem::kernel::{ElementKernel, ElementValues, NDOF, NU};
+use crate::fem::kernel::{ElementInput, ElementKernel, ElementValues, NDOF, NU};
 use crate::fem::point::{History, PointModel};
 use crate::fem::qp_store::QpStore;
 use crate::mesh::dist::LocalMesh;
@@ -259,11 +259,9 @@ impl PoroProblem {
             let mut run = || -> Result<()> {
                 for e in 0..disc.mesh.tets.len() {
                     let d = disc.element_dofs(e);
-                    let (coords, v) = disc.gather(e, &d, &ul, &udl);
+                    let input = disc.gather(e, &d, &ul, &udl, dt, disc.step_history(e));
                     let mut r = [0.0; NDOF];
-                    kernel
-                        .residual(e, &coords, &v, dt, disc.step_history(e), &mut r)
-                        .map_err(|err| locate(err, e, &disc.mesh))?;
+                    kernel.residual(&input, &mut r).map_err(|err| locate(err, e, &disc.mesh))?;
                     for k in 0..NDOF {
                         fl[d[k]] += r[k];
                     }
@@ -425,10 +423,8 @@ impl PoroProblem {
             let mut run = || -> Result<()> {
                 for e in 0..disc.mesh.tets.len() {
                     let d = disc.element_dofs(e);
-                    let (coords, v) = disc.gather(e, &d, &ul, &udl);
-                    disc.kernel()
-                        .advance_history(e, &coords, &v, dt, disc.step_history(e), &mut next)
-                        .map_err(|err| locate(err, e, &disc.mesh))?;
+                    let input = disc.gather(e, &d, &ul, &udl, dt, disc.step_history(e));
+                    disc.kernel().advance_history(&input, &mut next).map_err(|err| locate(err, e, &disc.mesh))?;
                     disc.history.element_mut(e).copy_from_slice(&next);
                 }
                 Ok(())
@@ -474,10 +470,10 @@ impl PoroProblem {
             let mut run = || -> Result<()> {
                 for e in 0..n_el {
                     let d = disc.element_dofs(e);
-                    let (coords, v) = disc.gather(e, &d, &post.local, &udl);
                     // The end-of-step history is already committed: hold it.
                     let h = History { committed: disc.history.element(e), evolve: false };
-                    let ep = kernel.post(e, &coords, &v, dt, h).map_err(|err| locate(err, e, &disc.mesh))?;
+                    let input = disc.gather(e, &d, &post.local, &udl, dt, h);
+                    let ep = kernel.post(&input).map_err(|err| locate(err, e, &disc.mesh))?;
                     for k in 0..NDOF {
                         fl[d[k]] += ep.r[k];
                     }
@@ -554,13 +550,11 @@ impl Discretization {
         let mut prows = [0 as Int; 4];
         for e in 0..self.mesh.tets.len() {
             let d = self.element_dofs(e);
-            let (coords, v) = self.gather(e, &d, ul, udl);
+            let input = self.gather(e, &d, ul, udl, dt, self.step_history(e));
             let mut r = [0.0; NDOF];
             *k = [[0.0; NDOF]; NDOF];
             let mut s = [[0.0; 4]; 4];
-            kernel
-                .jacobian(e, &coords, &v, dt, self.step_history(e), shift, &mut r, &mut k, &mut s)
-                .map_err(|err| locate(err, e, &self.mesh))?;
+            kernel.jacobian(&input, shift, &mut r, &mut k, &mut s).map_err(|err| locate(err, e, &self.mesh))?;
             for a in 0..NDOF {
                 if self.constrained[d[a]] {
                     k[a] = [0.0; NDOF];
@@ -601,7 +595,16 @@ impl Discretization {
         d
     }
 
-    fn gather(&self, e: usize, dofs: &[usize; NDOF], u: &[f64], udot: &[f64]) -> ([[f64; 3]; 10], ElementValues) {
+    /// The kernel's input for element e: coordinates, values of U and U̇, step size, history.
+    fn gather<'h>(
+        &self,
+        e: usize,
+        dofs: &[usize; NDOF],
+        u: &[f64],
+        udot: &[f64],
+        dt: f64,
+        history: History<'h>,
+    ) -> ElementInput<'h> {
         let t = &self.mesh.tets[e];
         let mut coords = [[0.0; 3]; 10];
         let mut v = ElementValues { u: [[0.0; 3]; 10], udot: [[0.0; 3]; 10], p: [0.0; 4], pdot: [0.0; 4] };
@@ -616,7 +619,7 @@ impl Discretization {
             v.p[m] = u[dofs[NU + m]];
             v.pdot[m] = udot[dofs[NU + m]];
         }
-        (coords, v)
+        ElementInput { elem: e, coords, values: v, dt, history }
     }
 }
 
