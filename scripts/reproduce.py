@@ -404,7 +404,7 @@ def main():
     steps = [("fig4_probe", lambda: fig_probe(dirs, out, "remodel_155", "elastic_155", "fig4_probe.png",
                                               "Fig 4: remodelling vs elastic (t_end = 155 s)")),
              ("fig11_probe", lambda: fig_probe(dirs, out, "remodel_155_c2", "remodel_155", "fig11_probe.png",
-                                               "Fig 11: remodelling-dependent permeability c = 2 vs c = 0")),
+                                               "Fig 11: remodelling-dependent permeability (c = 2, k0 = 2.5779e-3) vs isotropic (k0 = 3.7729e-3)")),
              ("fig7_9_forces", lambda: fig_forces(dirs, out)),
              ("fig5_6_midplane", lambda: fig_midplane(dirs, out)),
              ("fig3_pressure", lambda: fig_pressure(dirs, out, ["remodel_405", "reference_405"], [5, 25, 30, 45],
@@ -417,7 +417,7 @@ def main():
              ("fig_soft_pressure", lambda: fig_pressure(dirs, out, ["remodel_155", "mu3_nu0.2"], [30, 45],
                                                         "fig_soft_pressure.png", "µ = 20 vs 3 kPa")),
              ("fig11c_pressure", lambda: fig_pressure(dirs, out, ["remodel_155", "remodel_155_c2"], [30],
-                                                      "fig11c_pressure.png", "Fig 11c: c = 0 vs c = 2, t = 30 s"))]
+                                                      "fig11c_pressure.png", "Fig 11c: isotropic vs c = 2, t = 30 s"))]
     for name, make in steps:
         print(f" {name}:")
         make()
