@@ -39,8 +39,7 @@ CASES = {
     "sigma_1": (("remodel_405", dict(remodelling=dict(lambda_p=0.001, sigma_y=1.0))), 405.0),       # kPa
     "sigma_4": (("remodel_405", dict(remodelling=dict(lambda_p=0.001, sigma_y=4.0))), 405.0),
     # soft solid: no pressure bubble (paper, mu = 3 kPa, nu = 0.2); Forgacs' aggregates (nu = 0.45)
-    # (without gravity: the settling step fails for this soft solid, docs/reproduction.md)
-    "mu3_nu0.2": (("remodel_155", dict(mu=3.0, gravity="[0.0, 0.0, 0.0]")), 155.0),
+    "mu3_nu0.2": (("remodel_155", dict(mu=3.0)), 155.0),
     "mu3_nu0.45": (("remodel_155", dict(mu=3.0, nu=0.45)), 155.0),
     # why the syringe effect comes later than in the paper: the (40a) rate form, a coarser mesh
     "remodel_155_40a": (("remodel_155", dict(remodelling=dict(lambda_p=0.001, sigma_y=2.0, form="40a"))), 155.0),

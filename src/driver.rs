@@ -477,11 +477,33 @@ impl<'w> Run<'w> {
     /// is at rest): the equilibrium resting on the lower plate, the state at t = 0.
     fn settle(&mut self) -> Result<()> {
         const T: f64 = 1e6;
-        self.ts.set_time(-T)?;
-        self.ts.set_time_step(T)?;
         // B_p(X, 0⁻) = I: no remodelling while settling.
         self.ts.problem_mut().disc.evolve = false;
-        self.ts.step()?;
+        let start = self.u.copy()?;
+        let attempt = |ts: &mut Ts<PoroProblem>| -> Result<()> {
+            ts.set_time(-T)?;
+            ts.set_time_step(T)?;
+            ts.step()
+        };
+        match attempt(&mut self.ts) {
+            Ok(()) => {}
+            Err(e) if !matches!(e, Error::Solver(_)) => return Err(e),
+            Err(first) => {
+                // From the undeformed sphere the whole weight comes down on one contact point: a
+                // full Newton step can overshoot there (J < Φs) for soft solids (µ = 3 kPa).
+                // Backtracking does not, but costs more, so it is the fallback; the time steps
+                // keep their own line search (full steps, see `Run::setup`).
+                self.say(&format!("settling: full Newton steps failed ({first}); retrying with backtracking"));
+                self.u.copy_from(&start)?;
+                self.ts.clear_reason()?;
+                let snes = self.ts.snes()?;
+                let line_search = snes.line_search_type()?;
+                snes.set_line_search_type("bt")?;
+                let r = attempt(&mut self.ts);
+                snes.set_line_search_type(&line_search)?;
+                r?;
+            }
+        }
         self.ts.problem_mut().disc.evolve = true;
         self.ts.set_time(0.0)
     }
