@@ -1,51 +1,167 @@
 #!/usr/bin/env python3
-"""Timing benchmark: runs a scene several times on 1 and 2 ranks (optionally at several mesh
-sizes) and prints medians of wall time, assembly and solve time, Newton/Krylov iterations per
-step, time per DoF and step, and the 1→2-rank speed-up.
+"""Timing benchmark with the accuracy next to the time: runs named cases (or a scene at several
+mesh sizes) a few times on 1 and 2 ranks and prints medians of wall time, steps, step cuts,
+Newton and Krylov iterations, time per stage (assembly from timings.txt; PC setup, Krylov solve
+and submatrix copies -- fieldsplit blocks, the VI reduced system -- from -log_view), DoFs, peak
+memory (the largest rank's peak resident set, `max_rss_mib` in timings.txt), and
+the case's key observables (peak force, F(35 s), p(X_U) at 5 s; p_center error for Cryer;
+stress_zz at 100 s for the relaxation).
 
-    python3 scripts/bench.py [--scene cryer] [--h 12.5 8.33] [--repeat 3] [--ranks 1 2]
+    python3 scripts/bench.py [--case default remodel ...] [--repeat 3] [--ranks 1 2]
+    python3 scripts/bench.py --scene cryer --h 12.5 8.33      # a scene at several mesh sizes (default cryer)
+
+Cases: default (the `reference` scene), remodel (remodel_40), fine (reference at h = 10 µm,
+h_pole = 4 µm), full (reference_full), cryer100k (cryer at h = 6.5 µm, 97k dofs), relaxation.
+The large ones (fine, full, cryer100k) take from many minutes to hours per run on 2 cores.
 """
 import argparse
+import re
 import statistics
-from _runner import scene_text, edit, run
+import subprocess
+import tempfile
+import time
+from pathlib import Path
 
-ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-ap.add_argument("--scene", default="cryer")
-ap.add_argument("--h", type=float, nargs="*", default=[], help="mesh sizes (mesh param h and h_pole)")
-ap.add_argument("--repeat", type=int, default=3)
-ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
-ap.add_argument("--t-end", type=float, default=None, help="shorten the run")
-a = ap.parse_args()
+from _runner import BIN, env, scene_text, edit
 
-base = scene_text(a.scene)
-cases = a.h or [None]
-print(f"{'h':>6} {'ranks':>5} {'dofs':>8} {'steps':>5} {'newton/st':>9} {'ksp/newton':>10} "
-      f"{'wall[s]':>8} {'assem[s]':>8} {'solve[s]':>8} {'us/dof/st':>9} {'speed-up':>8}")
-for h in cases:
-    text = base
-    if h is not None:
-        import re
-        m = re.search(r"params = \{([^}]*)\}", text)
-        params = dict((k.strip(), float(v)) for k, v in (kv.split("=") for kv in m.group(1).split(",")))
-        params["h"] = h
-        if "h_pole" in params:
-            params["h_pole"] = h
-        text = edit(text, params=params)
-    if a.t_end:
-        text = edit(text, t_end=a.t_end)
-    t1 = None
-    for n in a.ranks:
-        walls, assem, solve = [], [], []
-        for _ in range(a.repeat):
-            hist, tm = run(text, n)
-            walls.append(tm["total"])
-            assem.append(tm["residual_assembly"] + tm["jacobian_assembly"])
-            solve.append(tm["linear_solve_and_other"])
-        steps = len(hist) - 1
-        newton = sum(int(r["newton_its"]) for r in hist[1:])
-        ksp = sum(int(r["ksp_its"]) for r in hist[1:])
-        w = statistics.median(walls)
-        t1 = t1 or w
-        print(f"{h if h else '-':>6} {n:>5} {int(tm['dofs']):>8} {steps:>5} {newton / steps:>9.2f} {ksp / max(newton, 1):>10.1f} "
-              f"{w:>8.2f} {statistics.median(assem):>8.2f} {statistics.median(solve):>8.2f} "
-              f"{1e6 * w / (tm['dofs'] * steps):>9.1f} {t1 / w:>8.2f}", flush=True)
+CASES = {
+    "default": ("reference", {}),
+    "remodel": ("remodel_40", {}),
+    "fine": ("reference", {"params": {"R": 100.0, "h": 10.0, "h_pole": 4.0, "r_pole": 50.0}}),
+    "full": ("reference_full", {}),
+    "cryer100k": ("cryer", {"params": {"R": 100.0, "h": 6.5, "h_pole": 6.5}}),   # 97 196 dofs
+    "relaxation": ("relaxation", {}),
+}
+# -log_view events: PC setup (AMG hierarchies, factorisations), Krylov solves, submatrix copies
+# (the fieldsplit blocks and, with contact, the VI solver's reduced system).
+EVENTS = {"pc_setup": "PCSetUp", "ksp_solve": "KSPSolve", "submatrix": "MatCreateSubMat"}
+
+
+def scene_with(name, edits):
+    text = scene_text(name)
+    for key, value in edits.items():
+        if key == "params":
+            text = edit(text, params=value)
+        else:
+            text = edit(text, **{key: value})
+    return text
+
+
+def log_view(path):
+    """Max-over-ranks time of the EVENTS in a -log_view file."""
+    out = {k: 0.0 for k in EVENTS}
+    for line in open(path):
+        f = line.split()
+        for key, ev in EVENTS.items():
+            if f and f[0] == ev and len(f) > 3:
+                out[key] += float(f[3])
+    return out
+
+
+def history(path):
+    lines = open(path).read().splitlines()
+    names = lines[0].split(",")
+    return {n: [float(r.split(",")[i]) for r in lines[1:] if r] for i, n in enumerate(names)}
+
+
+def at(h, col, t):
+    """Column value at time t (linear interpolation), or None."""
+    if col not in h:
+        return None
+    ts, vs = h["time"], h[col]
+    for i in range(1, len(ts)):
+        if ts[i - 1] <= t <= ts[i]:
+            w = (t - ts[i - 1]) / (ts[i] - ts[i - 1]) if ts[i] > ts[i - 1] else 1.0
+            return vs[i - 1] + w * (vs[i] - vs[i - 1])
+    return None
+
+
+def observables(h):
+    """The case's accuracy columns, whichever apply."""
+    obs = {}
+    if "force_total_mg" in h:
+        obs["peak_F_mg"] = max(h["force_total_mg"])
+        obs["F35_mg"] = at(h, "force_total_mg", 35.0)
+        obs["p5_kPa"] = at(h, "probe_p", 5.0)
+    if "p_center_exact" in h:
+        obs["p_center_err"] = max(abs(a - b) for a, b, t in zip(h["p_center"], h["p_center_exact"], h["time"]) if t >= 1.0)
+    if "stress_zz" in h and "force_total_mg" not in h:
+        obs["stress_zz_100"] = at(h, "stress_zz", 100.0)
+    return obs
+
+
+def run_once(text, ranks, work):
+    work.mkdir(parents=True, exist_ok=True)
+    scene, out, lv = work / "scene.toml", work / "run", work / "log_view.txt"
+    scene.write_text(text)
+    t0 = time.time()
+    subprocess.run(["mpirun", "-n", str(ranks), str(BIN), "run", str(scene), "--out", str(out), "--force", "-q",
+                    "--", f"-log_view", f":{lv}"], check=True, env=env(), stdout=subprocess.DEVNULL)
+    wall = time.time() - t0
+    tm = {}
+    for line in open(out / "timings.txt"):
+        if " = " in line:
+            k, v = line.split(" = ")
+            tm[k.strip()] = float(v)
+    r = dict(tm)
+    r.update(log_view(lv))
+    r["wall"] = wall
+    r["rss_MiB"] = tm.get("max_rss_mib")           # the largest rank's peak resident memory
+    r["assembly"] = tm["residual_assembly"] + tm["jacobian_assembly"] + tm.get("history_commit", 0.0)
+    r.update(observables(history(out / "history.csv")))
+    return r
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--case", nargs="+", choices=list(CASES), default=None)
+    ap.add_argument("--scene", default=None, help="instead of --case: a scene at the mesh sizes of --h")
+    ap.add_argument("--h", type=float, nargs="*", default=[], help="mesh sizes (mesh param h and h_pole)")
+    ap.add_argument("--t-end", type=float, default=None, help="shorten a --scene run")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
+    a = ap.parse_args()
+    if a.h and not a.scene:
+        a.scene = "cryer"          # the older form `bench.py --h 12.5 8.33`
+
+    runs = []   # (label, scene text)
+    if a.scene:
+        for h in a.h or [None]:
+            text = scene_text(a.scene)
+            if h is not None:
+                m = re.search(r"params = \{([^}]*)\}", text)
+                params = dict((k.strip(), float(v)) for k, v in (kv.split("=") for kv in m.group(1).split(",")))
+                params["h"] = h
+                if "h_pole" in params:
+                    params["h_pole"] = h
+                text = edit(text, params=params)
+            if a.t_end:
+                text = edit(text, t_end=a.t_end)
+            runs.append((f"{a.scene}" + (f" h={h:g}" if h else ""), text))
+    else:
+        for c in a.case or ["default", "remodel"]:
+            runs.append((c, scene_with(*CASES[c])))
+
+    cols = ["dofs", "steps", "step_cuts", "newton_its", "ksp/newton", "wall", "assembly", "pc_setup", "ksp_solve",
+            "submatrix", "output", "rss_MiB"]
+    work = Path(tempfile.mkdtemp(prefix="poroplast-bench-"))
+    print(f"medians of {a.repeat} run(s); times in s (-log_view: max over ranks); work dir {work}")
+    for label, text in runs:
+        base = None
+        for n in a.ranks:
+            rs = [run_once(text, n, work / f"{label.replace(' ', '_')}-np{n}-{k}") for k in range(a.repeat)]
+            med = lambda key: statistics.median(r[key] for r in rs if r.get(key) is not None) \
+                if any(r.get(key) is not None for r in rs) else None
+            row = {k: med(k) for k in cols if k != "ksp/newton"}
+            row["ksp/newton"] = med("ksp_its") / max(med("newton_its"), 1)
+            base = base or row["wall"]
+            obs = {k: med(k) for k in rs[0] if k in ("peak_F_mg", "F35_mg", "p5_kPa", "p_center_err", "stress_zz_100")}
+            print(f"{label:>14} np={n}: " + "  ".join(
+                f"{k} {row[k]:.4g}" for k in cols if row.get(k) is not None) + f"  speed-up {base / row['wall']:.2f}")
+            if obs:
+                print(f"{'':>14}       accuracy: " + "  ".join(f"{k} {v:.6g}" for k, v in obs.items() if v is not None),
+                      flush=True)
+
+
+if __name__ == "__main__":
+    main()

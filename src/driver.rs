@@ -693,8 +693,9 @@ impl<'w> Run<'w> {
         let cuts = self.ts.rejections()?;
         let total = t_start.elapsed().as_secs_f64() + self.setup_s;
         let assembly = timers.residual_s + timers.jacobian_s;
+        let rss = crate::parallel::max(self.world, peak_rss_mib());
         let summary = format!(
-            "# poroplast timings (seconds, rank 0; wall clock)\nranks = {}\ndofs = {}\nsteps = {}\nstep_cuts = {}\nnewton_its = {}\nksp_its = {}\nsetup = {:.3}\nresidual_assembly = {:.3}\nresidual_evaluations = {}\njacobian_assembly = {:.3}\njacobian_evaluations = {}\nhistory_commit = {:.3}\nsolve_total = {:.3}\nlinear_solve_and_other = {:.3}\noutput = {:.3}\ntotal = {:.3}\n",
+            "# poroplast timings (seconds, rank 0; wall clock)\nranks = {}\ndofs = {}\nsteps = {}\nstep_cuts = {}\nnewton_its = {}\nksp_its = {}\nsetup = {:.3}\nresidual_assembly = {:.3}\nresidual_evaluations = {}\njacobian_assembly = {:.3}\njacobian_evaluations = {}\nhistory_commit = {:.3}\nsolve_total = {:.3}\nlinear_solve_and_other = {:.3}\noutput = {:.3}\ntotal = {:.3}\nmax_rss_mib = {:.1}\n",
             self.world.size(),
             self.n_global_dofs,
             pg.step,
@@ -710,7 +711,8 @@ impl<'w> Run<'w> {
             pg.solve_s,
             pg.solve_s - assembly,
             pg.output_s,
-            total
+            total,
+            rss
         );
         if self.rank0() {
             rundir::write_text(&io.dir, "timings.txt", &summary)?;
@@ -903,6 +905,17 @@ fn mid_edge_nodes(mesh: &dist::LocalMesh) -> Vec<(usize, usize, usize)> {
         }
     }
     out
+}
+
+/// Peak resident memory of this process (MiB), from Linux's /proc/self/status (VmHWM); NaN
+/// where that is not available.
+fn peak_rss_mib() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
+        .map_or(f64::NAN, |kib| kib / 1024.0)
 }
 
 fn human(s: f64) -> String {
