@@ -203,10 +203,6 @@ impl Schedule {
     pub fn at_kink(&self, t: f64) -> bool {
         self.kinks.iter().any(|&l| (t - l).abs() <= self.eps())
     }
-    /// True if t is one of the landing times (kinks excluded).
-    pub fn at_landing(&self, t: f64) -> bool {
-        self.land_on.iter().any(|&l| (t - l).abs() <= self.eps())
-    }
     /// The step from t with nominal size `nominal`: cut to land on the next landing time, and
     /// stretched by up to 10% instead of leaving a sliver before it.
     pub fn step(&self, t: f64, nominal: f64) -> f64 {

@@ -144,10 +144,6 @@ pub fn m_cst<T: Scalar>(a: &[[f64; 3]; 3]) -> M3<T> {
     a.map(|r| r.map(T::cst))
 }
 
-pub fn m_re<T: Scalar>(a: &M3<T>) -> [[f64; 3]; 3] {
-    a.map(|r| r.map(|x| x.re()))
-}
-
 #[inline]
 pub fn m_mul<T: Scalar>(a: &M3<T>, b: &M3<T>) -> M3<T> {
     std::array::from_fn(|i| std::array::from_fn(|j| a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j]))

@@ -172,8 +172,10 @@ impl Remodelling {
         let mut x = [0.0; NX];
         x[..6].copy_from_slice(&to_sym6(bp_n));
         // Residuals in f64 (the convergence test and the line search); the dual Jacobian only
-        // where a Newton step is taken.
-        let mut r0 = self.residual(hm, &c6, bp_n, &x, dt).0;
+        // where a Newton step is taken. At the start (x = B_p^n, Δγ = 0) the map is the identity,
+        // so R_B = 0 and R_γ is the trial overstress.
+        let mut r0 = [0.0; NX];
+        r0[6] = (s_trial - self.yield_radius()) / stress_scale(hm);
         let mut it = 0;
         loop {
             let n0 = norm(&r0);
@@ -241,7 +243,7 @@ impl Remodelling {
         let cm = sym_generic(c6);
         let j = m_det(&cm).sqrt();
         let s = m_trace_mul(&d, &d).sqrt() / j;
-        let sref = hm.phi_s * 2.0 * hm.alpha0 * (hm.alpha3 - hm.alpha2);
+        let sref = stress_scale(hm);
         let mut r = [T::cst(0.0); NX];
         for (k, &(a, b)) in SYM_PAIRS.iter().enumerate() {
             r[k] = x[k] - mapped[a][b];
@@ -255,14 +257,18 @@ impl Remodelling {
     }
 }
 
+/// σ_ref of the consistency residual: the drained shear modulus of the mixture, Φs 2 α0 (α3 − α2).
+fn stress_scale(hm: &HolmesMow) -> f64 {
+    hm.phi_s * 2.0 * hm.alpha0 * (hm.alpha3 - hm.alpha2)
+}
+
 fn to_m3(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
     std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))
 }
 
 #[cfg(test)]
 fn re3<T: Scalar>(m: &M3<T>) -> Matrix3<f64> {
-    let r = super::dual::m_re(m);
-    Matrix3::from_fn(|i, j| r[i][j])
+    Matrix3::from_fn(|i, j| m[i][j].re())
 }
 
 #[cfg(test)]

@@ -7,7 +7,6 @@
 //! * the largest |det B_p − 1| (the integrator keeps it at round-off).
 
 use super::problem::Post;
-use crate::parallel::max;
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -21,14 +20,9 @@ pub fn observe(post: &Post, world: &SimpleCommunicator) -> [f64; 7] {
     let local = [post.volume, post.int_cauchy[0][0], post.int_cauchy[1][1], post.int_cauchy[2][2], post.int_norm_ep];
     let mut tot = [0.0; 5];
     world.all_reduce_into(&local[..], &mut tot[..], SystemOperation::sum());
+    let local_max = [post.max_von_mises, post.max_norm_ep, post.max_det_bp_dev];
+    let mut top = [0.0; 3];
+    world.all_reduce_into(&local_max[..], &mut top[..], SystemOperation::max());
     let v = tot[0];
-    [
-        tot[1] / v,
-        tot[2] / v,
-        tot[3] / v,
-        max(world, post.max_von_mises),
-        max(world, post.max_norm_ep),
-        tot[4] / v,
-        max(world, post.max_det_bp_dev),
-    ]
+    [tot[1] / v, tot[2] / v, tot[3] / v, top[0], top[1], tot[4] / v, top[2]]
 }
