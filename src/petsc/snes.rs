@@ -64,12 +64,15 @@ impl Snes {
     pub fn set_tolerances(&self, atol: f64, rtol: f64, stol: f64, max_it: usize) -> Result<()> {
         check(unsafe { ffi::SNESSetTolerances(self.raw, atol, rtol, stol, max_it as Int, ffi::PETSC_DEFAULT) })
     }
-    /// The line search type of the Newton iteration ("basic", "bt", ...).
-    pub fn line_search_type(&self) -> Result<String> {
+    fn line_search(&self) -> Result<ffi::SNESLineSearch> {
         let mut ls: ffi::SNESLineSearch = std::ptr::null_mut();
         check(unsafe { ffi::SNESGetLineSearch(self.raw, &mut ls) })?;
+        Ok(ls)
+    }
+    /// The line search type of the Newton iteration ("basic", "bt", ...).
+    pub fn line_search_type(&self) -> Result<String> {
         let mut t: ffi::SNESLineSearchType = std::ptr::null();
-        check(unsafe { ffi::SNESLineSearchGetType(ls, &mut t) })?;
+        check(unsafe { ffi::SNESLineSearchGetType(self.line_search()?, &mut t) })?;
         Ok(if t.is_null() {
             String::new()
         } else {
@@ -77,10 +80,8 @@ impl Snes {
         })
     }
     pub fn set_line_search_type(&self, t: &str) -> Result<()> {
-        let mut ls: ffi::SNESLineSearch = std::ptr::null_mut();
-        check(unsafe { ffi::SNESGetLineSearch(self.raw, &mut ls) })?;
         let c = super::cstr(t);
-        check(unsafe { ffi::SNESLineSearchSetType(ls, c.as_ptr()) })
+        check(unsafe { ffi::SNESLineSearchSetType(self.line_search()?, c.as_ptr()) })
     }
     pub fn set_from_options(&self) -> Result<()> {
         check(unsafe { ffi::SNESSetFromOptions(self.raw) })
