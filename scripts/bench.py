@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """Timing benchmark with the accuracy next to the time: runs named cases (or a scene at several
 mesh sizes) a few times on 1 and 2 ranks and prints medians of wall time, steps, step cuts,
-Newton and Krylov iterations, time per stage (assembly from timings.txt; PC setup, Krylov solve
-and submatrix copies -- fieldsplit blocks, the VI reduced system -- from -log_view), DoFs, peak
+Newton and Krylov iterations, time per stage (assembly from timings.txt; PC setup, LU numeric
+factorisations, Krylov solve and submatrix copies -- fieldsplit blocks, the VI reduced system --
+from -log_view), DoFs, peak
 memory (the largest rank's peak resident set, `max_rss_mib` in timings.txt), and
 the case's key observables (peak force, F(35 s), p(X_U) at 5 s; p_center error for Cryer;
-stress_zz at 100 s for the relaxation).
+stress_zz at 100 s for the relaxation). Unless --no-halved, each case is run once more with halved
+steps (dt, dt_max, error_tolerance) and 10x tighter Newton and Krylov tolerances, and the relative
+differences of the observables are printed: the accuracy bought by the time.
 
     python3 scripts/bench.py [--case default remodel ...] [--repeat 3] [--ranks 1 2]
     python3 scripts/bench.py --scene cryer --h 12.5 8.33      # a scene at several mesh sizes (default cryer)
@@ -34,7 +37,7 @@ CASES = {
 }
 # -log_view events: PC setup (AMG hierarchies, factorisations), Krylov solves, submatrix copies
 # (the fieldsplit blocks and, with contact, the VI solver's reduced system).
-EVENTS = {"pc_setup": "PCSetUp", "ksp_solve": "KSPSolve", "submatrix": "MatCreateSubMat"}
+EVENTS = {"pc_setup": "PCSetUp", "ksp_solve": "KSPSolve", "factor": "MatLUFactorNum", "submatrix": "MatCreateSubMat"}
 
 
 def scene_with(name, edits):
@@ -90,13 +93,22 @@ def observables(h):
     return obs
 
 
-def run_once(text, ranks, work):
+def halved(text):
+    """The scene with halved step sizes (dt, dt_max) and error tolerance, if it has them."""
+    for key in ("dt", "dt_max", "error_tolerance"):
+        m = re.search(rf"^{key} = ([0-9.eE+-]+)", text, flags=re.M)
+        if m:
+            text = edit(text, **{key: float(m.group(1)) / 2})
+    return text
+
+
+def run_once(text, ranks, work, petsc=()):
     work.mkdir(parents=True, exist_ok=True)
     scene, out, lv = work / "scene.toml", work / "run", work / "log_view.txt"
     scene.write_text(text)
     t0 = time.time()
     subprocess.run(["mpirun", "-n", str(ranks), str(BIN), "run", str(scene), "--out", str(out), "--force", "-q",
-                    "--", f"-log_view", f":{lv}"], check=True, env=env(), stdout=subprocess.DEVNULL)
+                    "--", f"-log_view", f":{lv}", *petsc], check=True, env=env(), stdout=subprocess.DEVNULL)
     wall = time.time() - t0
     tm = {}
     for line in open(out / "timings.txt"):
@@ -120,6 +132,8 @@ def main():
     ap.add_argument("--t-end", type=float, default=None, help="shorten a --scene run")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--no-halved", action="store_true",
+                    help="skip the accuracy check (one run with halved steps and tolerances, 10x tighter Newton)")
     a = ap.parse_args()
     if a.h and not a.scene:
         a.scene = "cryer"          # the older form `bench.py --h 12.5 8.33`
@@ -142,8 +156,8 @@ def main():
         for c in a.case or ["default", "remodel"]:
             runs.append((c, scene_with(*CASES[c])))
 
-    cols = ["dofs", "steps", "step_cuts", "newton_its", "ksp/newton", "wall", "assembly", "pc_setup", "ksp_solve",
-            "submatrix", "output", "rss_MiB"]
+    cols = ["dofs", "steps", "step_cuts", "error_rejections", "newton_its", "newton/step", "ksp/newton", "wall",
+            "assembly", "pc_setup", "factor", "ksp_solve", "submatrix", "output", "rss_MiB"]
     work = Path(tempfile.mkdtemp(prefix="poroplast-bench-"))
     print(f"medians of {a.repeat} run(s); times in s (-log_view: max over ranks); work dir {work}")
     for label, text in runs:
@@ -152,8 +166,9 @@ def main():
             rs = [run_once(text, n, work / f"{label.replace(' ', '_')}-np{n}-{k}") for k in range(a.repeat)]
             med = lambda key: statistics.median(r[key] for r in rs if r.get(key) is not None) \
                 if any(r.get(key) is not None for r in rs) else None
-            row = {k: med(k) for k in cols if k != "ksp/newton"}
+            row = {k: med(k) for k in cols if "/" not in k}
             row["ksp/newton"] = med("ksp_its") / max(med("newton_its"), 1)
+            row["newton/step"] = med("newton_its") / max(med("steps"), 1)
             base = base or row["wall"]
             obs = {k: med(k) for k in rs[0] if k in ("peak_F_mg", "F35_mg", "p5_kPa", "p_center_err", "stress_zz_100")}
             print(f"{label:>14} np={n}: " + "  ".join(
@@ -161,6 +176,14 @@ def main():
             if obs:
                 print(f"{'':>14}       accuracy: " + "  ".join(f"{k} {v:.6g}" for k, v in obs.items() if v is not None),
                       flush=True)
+        if not a.no_halved and obs:
+            # Accuracy not traded away silently: the same case with halved steps and tolerances.
+            h = run_once(halved(text), max(a.ranks), work / f"{label.replace(' ', '_')}-halved",
+                         petsc=("-snes_rtol", "1e-9", "-ksp_rtol", "1e-9"))
+            diffs = "  ".join(f"{k} {h[k]:.6g} ({100 * (obs[k] - h[k]) / h[k]:+.3f}%)" for k in obs
+                              if obs[k] is not None and h.get(k) not in (None, 0))
+            print(f"{'':>14}       halved steps/tolerances ({h['steps']:.0f} steps, {h['wall']:.1f} s): {diffs}",
+                  flush=True)
 
 
 if __name__ == "__main__":

@@ -179,8 +179,9 @@ fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
     }
 }
 
-/// Time steps: geometric growth to dt_max, landing exactly on t_end and the `land_on` times,
-/// and restarting from dt0 after each of the `kinks` (times where the loading rate jumps).
+/// Time steps: chosen by a local error estimate (with `tol`) or by geometric growth, up to
+/// dt_max, landing exactly on t_end and the `land_on` times, and restarting from dt0 after each
+/// of the `kinks` (times where the loading rate jumps).
 #[derive(Debug, Clone)]
 pub struct Schedule {
     pub t_end: f64,
@@ -189,7 +190,15 @@ pub struct Schedule {
     pub growth: f64,
     pub land_on: Vec<f64>,
     pub kinks: Vec<f64>,
+    /// Error tolerance of the step controller (None: geometric growth).
+    pub tol: Option<f64>,
 }
+
+/// The step controller's limits: a step may grow by at most `MAX_GROWTH` and shrink by at
+/// most `MIN_SHRINK`; an estimate above `REJECT` (relative to the tolerance) rejects the step.
+const MAX_GROWTH: f64 = 2.0;
+const MIN_SHRINK: f64 = 0.2;
+const REJECT: f64 = 2.0;
 
 impl Schedule {
     fn eps(&self) -> f64 {
@@ -219,11 +228,34 @@ impl Schedule {
     /// Nominal size after a step of nominal size `nominal` that actually took `taken` and ended
     /// at `t`. After landing on a kink of the loading the rate of change jumps: restart from
     /// the first step size and grow again.
-    pub fn grow(&self, nominal: f64, taken: f64, t: f64) -> f64 {
+    ///
+    /// With an error estimate `err` (relative to the tolerance) the next step is the one that
+    /// would meet the tolerance, 0.9 dt err^(−1/2) (BE: local error ∝ dt²), within
+    /// [MIN_SHRINK, MAX_GROWTH] × dt; it does not shrink below the nominal step while the error
+    /// is within tolerance (a step shortened to land on a time is not a sign of trouble).
+    pub fn grow(&self, nominal: f64, taken: f64, t: f64, err: Option<f64>) -> f64 {
         if self.at_kink(t) {
             return self.dt0;
         }
-        (nominal * self.growth).min(self.dt_max).min(2.0 * taken.max(nominal * 1e-3))
+        let next = match err {
+            Some(e) => {
+                let f = (0.9 / e.max(1e-12).sqrt()).clamp(MIN_SHRINK, MAX_GROWTH);
+                if f >= 1.0 {
+                    (taken * f).max(nominal)
+                } else {
+                    taken * f
+                }
+            }
+            None => nominal * self.growth,
+        };
+        next.min(self.dt_max).min(2.0 * taken.max(nominal * 1e-3))
+    }
+    /// Whether an error estimate rejects the step, and the step to retry with.
+    pub fn reject(&self, taken: f64, err: Option<f64>) -> Option<f64> {
+        match err {
+            Some(e) if e > REJECT && taken > 1e-3 * self.dt0 => Some(taken * (0.9 / e.sqrt()).max(MIN_SHRINK)),
+            _ => None,
+        }
     }
     pub fn done(&self, t: f64) -> bool {
         t >= self.t_end - self.eps()
@@ -234,7 +266,7 @@ impl Schedule {
         while !self.done(t) && n < 1_000_000 {
             let dt = self.step(t, nominal);
             t += dt;
-            nominal = self.grow(nominal, dt, t);
+            nominal = self.grow(nominal, dt, t, None);
             n += 1;
         }
         n
@@ -252,6 +284,8 @@ struct Run<'w> {
     mid_edges: Vec<(usize, usize, usize)>,
     n_global_dofs: usize,
     setup_s: f64,
+    /// The linear solver policy, for the log.
+    solver_line: String,
     /// Observables of the plates experiment, if the scene has plates.
     experiment: Option<Experiment>,
     /// Settle under gravity before t = 0.
@@ -277,6 +311,8 @@ struct Progress {
     nominal: f64,
     newton: usize,
     ksp: usize,
+    /// Steps rejected by the error estimate (solver failures are TS's step cuts).
+    rejected: usize,
     solve_s: f64,
     output_s: f64,
     recent: std::collections::VecDeque<f64>,
@@ -289,8 +325,8 @@ impl<'w> Run<'w> {
         let comm = world.as_raw();
         let s = &scene.scene;
         if s.plates.is_some() {
-            // Contact: Newton for variational inequalities (reduced-space active set).
-            options::set_default("snes_type", Some("vinewtonrsls"))?;
+            // Contact: the active-set Newton of `solver::active_set` (unless -snes_type names a
+            // PETSc VI solver, e.g. vinewtonrsls).
             // Full Newton steps: with the active set and drainage switching, the residual is
             // only piecewise smooth and backtracking stalls; a failed step is cut by TS instead.
             options::set_default("snes_linesearch_type", Some("basic"))?;
@@ -298,8 +334,6 @@ impl<'w> Run<'w> {
             // is cut by TS.
             options::set_default("snes_max_it", Some("50"))?;
         }
-        // Scene-specific defaults above win over the preset's (set_default keeps the first).
-        solver::set_default_options(s.solver.preset.as_deref().unwrap_or("fieldsplit"))?;
         let path = mesh_file(world, scene)?;
         let mesh = agree(world, read_mesh(&path, scene))?;
         let size = world.size() as usize;
@@ -310,6 +344,10 @@ impl<'w> Run<'w> {
         let local = agree(world, dist::distribute(&mesh, &part, size, world.rank() as usize))?;
         drop(mesh);
         let dofs = DofMap::new(&local);
+        // Scene-specific defaults above win over the preset's (set_default keeps the first).
+        let preset = s.solver.preset.as_deref().unwrap_or("auto");
+        let policy = solver::set_default_options(preset, dofs.n_global)?;
+        let solver_line = policy.describe(dofs.n_global, preset == "auto");
         let model = model_of(scene)?;
         // Degree 2 integrates the linear model exactly on straight elements; the finite-strain
         // model (exponential energy, curved elements) gets the 8-point degree-3 rule.
@@ -390,6 +428,7 @@ impl<'w> Run<'w> {
             growth: t.growth,
             land_on: t.land_on.iter().chain(&s.output.fields_at).copied().collect(),
             kinks: ts.problem().plates.iter().flat_map(|p| p.history.kinks()).collect(),
+            tol: t.error_tolerance,
         };
         ts.set_solution(&u)?;
         ts.set_time(0.0)?;
@@ -398,10 +437,21 @@ impl<'w> Run<'w> {
         ts.set_max_rejections(t.max_retries)?;
         ts.set_from_options()?;
         let snes = ts.snes()?;
-        solver::use_schur_matrix(&snes, &ts.problem().schur)?;
         if let Some((lo, hi)) = &ts.problem().bounds {
-            snes.set_vi_bounds(lo, hi)?;
+            if options::has("snes_type")? {
+                snes.set_vi_bounds(lo, hi)?;
+            } else {
+                let ksp = snes.ksp()?;
+                ksp.use_dm_of(&snes)?;
+                ksp.set_from_options()?;
+                // Reusing a preconditioner needs a Krylov method to absorb the difference.
+                let lag = if ksp.type_name()? == "preonly" { solver::Lag::NEVER } else { policy.lag };
+                let mut newton = solver::ActiveSetNewton::new(world, lo, hi, ts.problem().u_row_scale(), lag)?;
+                newton.monitor = options::has("poroplast_newton_monitor")?;
+                ts.set_nonlinear_solver(Box::new(newton))?;
+            }
         }
+        solver::use_schur_matrix(&snes, &ts.problem().schur)?;
         let experiment = match (&s.plates, plate_faces) {
             (Some(ps), Some(faces)) => {
                 let mesh = &ts.problem().disc.mesh;
@@ -424,6 +474,7 @@ impl<'w> Run<'w> {
             mid_edges,
             n_global_dofs,
             setup_s: t0.elapsed().as_secs_f64(),
+            solver_line,
             experiment,
             settle,
             check_jacobian: match options::get_string("poroplast_check_jacobian")? {
@@ -564,25 +615,39 @@ impl<'w> Run<'w> {
 
     /// One time step from the current state; `prev` receives the state before it.
     fn advance(&mut self, pg: &mut Progress, prev: &mut Vector, stage: Stage) -> Result<(f64, (usize, usize))> {
-        let dt = self.schedule.step(pg.t, pg.nominal);
         prev.copy_from(&self.u)?;
-        self.ts.set_time_step(dt)?;
         let ws = Instant::now();
-        {
-            let _g = stage.push();
-            self.ts.step()?;
-        }
+        let (taken, err) = loop {
+            let dt = self.schedule.step(pg.t, pg.nominal);
+            self.ts.set_time(pg.t)?;
+            self.ts.set_time_step(dt)?;
+            {
+                let _g = stage.push();
+                self.ts.step()?;
+            }
+            let taken = self.ts.time()? - pg.t;
+            let err = match self.schedule.tol {
+                Some(tol) => self.ts.problem().step_error(prev, &self.u, taken, tol)?,
+                None => None,
+            };
+            match self.schedule.reject(taken, err) {
+                Some(retry) => {
+                    // Too large an error: back to the start of the step, with a shorter one.
+                    self.u.copy_from(prev)?;
+                    pg.nominal = retry;
+                    pg.rejected += 1;
+                }
+                None => break (taken, err),
+            }
+        };
         let wall = ws.elapsed().as_secs_f64();
         pg.solve_s += wall;
-        let t_new = self.ts.time()?;
-        let taken = t_new - pg.t;
-        pg.t = t_new;
+        pg.t = self.ts.time()?;
         pg.step += 1;
-        let snes = self.ts.snes()?;
-        let its = (snes.iterations()?, snes.linear_iterations()?);
-        pg.newton += its.0;
-        pg.ksp += its.1;
-        pg.nominal = self.schedule.grow(pg.nominal, taken, pg.t);
+        let totals = self.ts.solver_totals()?;
+        let its = (totals.0 - pg.newton, totals.1 - pg.ksp);
+        (pg.newton, pg.ksp) = totals;
+        pg.nominal = self.schedule.grow(pg.nominal, taken, pg.t, err);
         let kink = self.schedule.at_kink(pg.t);
         self.ts.problem_mut().end_step(prev, &self.u, taken, !kink)?;
         pg.recent.push_back(wall);
@@ -601,6 +666,8 @@ impl<'w> Run<'w> {
             let _g = stage_solve.push();
             self.settle()?;
         }
+        // Settling's iterations are not the experiment's.
+        (pg.newton, pg.ksp) = self.ts.solver_totals()?;
         let initial = self.u.copy()?;
         let mut prev = self.u.duplicate()?;
         // The first step runs before anything is written: then every PETSc option has been
@@ -622,6 +689,7 @@ impl<'w> Run<'w> {
             mesh.n_global_vertices,
             out.display()
         ));
+        self.say(&self.solver_line);
         let exact = exact_columns(&self.scene)?;
         let o = Instant::now();
         {
@@ -691,11 +759,12 @@ impl<'w> Run<'w> {
         let assembly = timers.residual_s + timers.jacobian_s;
         let rss = crate::parallel::max(self.world, peak_rss_mib());
         let summary = format!(
-            "# poroplast timings (seconds, rank 0; wall clock)\nranks = {}\ndofs = {}\nsteps = {}\nstep_cuts = {}\nnewton_its = {}\nksp_its = {}\nsetup = {:.3}\nresidual_assembly = {:.3}\nresidual_evaluations = {}\njacobian_assembly = {:.3}\njacobian_evaluations = {}\nhistory_commit = {:.3}\nsolve_total = {:.3}\nlinear_solve_and_other = {:.3}\noutput = {:.3}\ntotal = {:.3}\nmax_rss_mib = {:.1}\n",
+            "# poroplast timings (seconds, rank 0; wall clock)\nranks = {}\ndofs = {}\nsteps = {}\nstep_cuts = {}\nerror_rejections = {}\nnewton_its = {}\nksp_its = {}\nsetup = {:.3}\nresidual_assembly = {:.3}\nresidual_evaluations = {}\njacobian_assembly = {:.3}\njacobian_evaluations = {}\nhistory_commit = {:.3}\nsolve_total = {:.3}\nlinear_solve_and_other = {:.3}\noutput = {:.3}\ntotal = {:.3}\nmax_rss_mib = {:.1}\n",
             self.world.size(),
             self.n_global_dofs,
             pg.step,
             cuts,
+            pg.rejected,
             pg.newton,
             pg.ksp,
             self.setup_s,
@@ -714,11 +783,12 @@ impl<'w> Run<'w> {
             rundir::write_text(&io.dir, "timings.txt", &summary)?;
         }
         self.say(&format!(
-            "done: {} steps, {} Newton, {} Krylov iterations, {} step cuts, {:.1} s (setup {:.1}, assembly {:.1}, solve {:.1}, output {:.1})",
+            "done: {} steps, {} Newton, {} Krylov iterations, {} step cuts, {} rejected by the error estimate, {:.1} s (setup {:.1}, assembly {:.1}, solve {:.1}, output {:.1})",
             pg.step,
             pg.newton,
             pg.ksp,
             cuts,
+            pg.rejected,
             total,
             self.setup_s,
             assembly,
@@ -930,14 +1000,22 @@ mod tests {
 
     #[test]
     fn schedule_lands_on_kinks_and_end() {
-        let s = Schedule { t_end: 10.0, dt0: 0.3, dt_max: 2.0, growth: 1.5, land_on: vec![7.7], kinks: vec![5.0] };
+        let s = Schedule {
+            t_end: 10.0,
+            dt0: 0.3,
+            dt_max: 2.0,
+            growth: 1.5,
+            land_on: vec![7.7],
+            kinks: vec![5.0],
+            tol: None,
+        };
         let (mut t, mut nom) = (0.0, s.dt0);
         let mut times = vec![];
         while !s.done(t) {
             let dt = s.step(t, nom);
             assert!(dt > 0.0);
             t += dt;
-            nom = s.grow(nom, dt, t);
+            nom = s.grow(nom, dt, t, None);
             times.push(t);
         }
         assert!(times.iter().any(|&x| (x - 5.0).abs() < 1e-12), "{times:?}");
@@ -950,5 +1028,35 @@ mod tests {
         assert!((t - 10.0).abs() < 1e-12);
         assert!(times.windows(2).all(|w| w[1] - w[0] <= 2.0 * 1.1 + 1e-12));
         assert_eq!(s.remaining(0.0, s.dt0), times.len());
+    }
+
+    #[test]
+    fn controller_follows_the_error_estimate() {
+        let s = Schedule {
+            t_end: 100.0,
+            dt0: 0.01,
+            dt_max: 4.0,
+            growth: 1.3,
+            land_on: vec![],
+            kinks: vec![35.0],
+            tol: Some(1e-3),
+        };
+        // BE: error ∝ dt², so the step meeting the tolerance is 0.9 dt / √err, within [0.2, 2] dt.
+        assert!((s.grow(0.1, 0.1, 1.0, Some(0.81)) - 0.1).abs() < 1e-12);
+        assert!((s.grow(0.1, 0.1, 1.0, Some(0.09)) - 0.2).abs() < 1e-12);
+        assert!((s.grow(0.1, 0.1, 1.0, Some(1e-8)) - 0.2).abs() < 1e-12);
+        assert!((s.grow(0.1, 0.1, 1.0, Some(1.8)) - 0.1 * 0.9 / 1.8f64.sqrt()).abs() < 1e-12);
+        assert!((s.grow(3.0, 3.0, 1.0, Some(0.01)) - 4.0).abs() < 1e-12, "capped at dt_max");
+        // A step shortened to land on a time does not shrink the next one while within tolerance.
+        assert!((s.grow(0.5, 0.05, 1.0, Some(0.5)) - 0.5f64.min(0.1)).abs() < 1e-12);
+        // No estimate (first step after a kink): geometric growth; on the kink: dt0.
+        assert!((s.grow(0.1, 0.1, 1.0, None) - 0.13).abs() < 1e-12);
+        assert!((s.grow(0.1, 0.1, 35.0, Some(0.5)) - 0.01).abs() < 1e-12);
+        // Rejection above twice the tolerance, retrying with the step that would meet it.
+        assert_eq!(s.reject(0.1, Some(1.9)), None);
+        assert_eq!(s.reject(0.1, None), None);
+        let r = s.reject(0.1, Some(4.0)).expect("rejected");
+        assert!((r - 0.045).abs() < 1e-12);
+        assert!((s.reject(0.1, Some(1e4)).unwrap() - 0.02).abs() < 1e-12, "at most ×0.2");
     }
 }

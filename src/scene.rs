@@ -192,9 +192,14 @@ pub struct TimeSpec {
     pub dt: f64,
     #[serde(default)]
     pub dt_max: Option<f64>,
-    /// dt_{n+1} = min(growth · dt_n, dt_max); 1 = constant steps.
+    /// dt_{n+1} = min(growth · dt_n, dt_max); 1 = constant steps. With `error_tolerance`, only
+    /// where there is no error estimate (the first step after a kink of the loading).
     #[serde(default = "one")]
     pub growth: f64,
+    /// Choose the steps by a local error estimate (see `PoroProblem::step_error`): the
+    /// tolerance relative to each field's magnitude. Absent: geometric growth.
+    #[serde(default)]
+    pub error_tolerance: Option<f64>,
     #[serde(default)]
     pub land_on: Vec<f64>,
     /// Retries (each cutting the step, by 0.25 by default) allowed when a solve fails.
@@ -319,8 +324,10 @@ pub enum Verification {
 #[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSpec {
-    /// `fieldsplit` (default: Schur fieldsplit, AMG on u with rigid-body modes, fixed-stress
-    /// Schur approximation) or `lu` (MUMPS direct solve, the reference).
+    /// `auto` (default: `direct` for small systems, `fieldsplit` for large ones), `direct`
+    /// (Krylov with a reused MUMPS factorisation), `fieldsplit` (Schur fieldsplit, AMG on u with
+    /// rigid-body modes, fixed-stress Schur approximation) or `lu` (MUMPS for every Newton
+    /// system, the reference). See `solver`.
     #[serde(default)]
     pub preset: Option<String>,
 }
@@ -538,6 +545,9 @@ impl LoadedScene {
         if let Some(m) = t.dt_max {
             positive(self, "time.dt_max", m)?;
         }
+        if let Some(e) = t.error_tolerance {
+            positive(self, "time.error_tolerance", e)?;
+        }
         if !(t.growth >= 1.0 && t.growth.is_finite()) {
             return Err(self.err(format!("time.growth = {}: must be >= 1", t.growth)));
         }
@@ -579,8 +589,9 @@ impl LoadedScene {
             finite(self, "verification load", *b)?;
         }
         if let Some(p) = &s.solver.preset {
-            if !["fieldsplit", "lu"].contains(&p.as_str()) {
-                return Err(self.err(format!("solver.preset = \"{p}\" (use \"fieldsplit\" or \"lu\")")));
+            if !crate::solver::PRESETS.contains(&p.as_str()) {
+                let all = crate::solver::PRESETS.join("\", \"");
+                return Err(self.err(format!("solver.preset = \"{p}\" (use one of \"{all}\")")));
             }
         }
         if let Some(a) = s.fem.stabilisation {

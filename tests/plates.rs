@@ -197,8 +197,9 @@ fn jacobian_errors(stdout: &str) -> Vec<(f64, f64)> {
 }
 
 /// A soft aggregate (µ = 3 kPa) on the default mesh: full Newton steps of the gravity settling
-/// overshoot at the point contact (J < Φs), the driver retries with backtracking, and the
-/// settled state carries its weight on the lower plate (t = 0 row: lower force = ϱ g ∫J dV).
+/// overshoot at the point contact (J < Φs); the active-set Newton halves such steps (before it
+/// did, the driver had to retry the settling with backtracking), and the settled state carries
+/// its weight on the lower plate (t = 0 row: lower force = ϱ g ∫J dV).
 #[test]
 fn soft_aggregate_settles() {
     let dir = scratch("plates-soft-settle");
@@ -206,7 +207,6 @@ fn soft_aggregate_settles() {
     let full = poroplast(2, &["run", &sc, "--out", dir.join("run").to_str().unwrap()]);
     let stdout = String::from_utf8_lossy(&full.stdout);
     assert!(full.status.success(), "{stdout}");
-    assert!(stdout.contains("retrying with backtracking"), "the fallback was not needed:\n{stdout}");
     let h = History::read(&dir.join("run"));
     let (lower, vol) = (h.col("force_lower_mg")[0], h.col("fluid_volume")[0]);
     let weight = 1e-9 * vol;

@@ -19,9 +19,30 @@ impl Ksp {
         let c = cstr(t);
         check(unsafe { ffi::KSPSetType(self.raw, c.as_ptr()) })
     }
+    /// Type name as PETSc reports it ("fgmres", "preonly", ...).
+    pub fn type_name(&self) -> Result<String> {
+        let mut t: ffi::KSPType = std::ptr::null();
+        check(unsafe { ffi::KSPGetType(self.raw, &mut t) })?;
+        Ok(if t.is_null() {
+            String::new()
+        } else {
+            unsafe { std::ffi::CStr::from_ptr(t) }.to_string_lossy().into_owned()
+        })
+    }
     pub fn set_tolerances(&self, rtol: f64, atol: f64, max_it: Option<usize>) -> Result<()> {
         let mi = max_it.map_or(ffi::PETSC_DEFAULT, |m| m as i32);
         check(unsafe { ffi::KSPSetTolerances(self.raw, rtol, atol, ffi::PETSC_DEFAULT as f64, mi as Int) })
+    }
+    /// (rtol, atol, divtol, max_it) in effect.
+    pub fn tolerances(&self) -> Result<(f64, f64, f64, usize)> {
+        let (mut rtol, mut atol, mut dtol, mut maxit) = (0.0, 0.0, 0.0, 0 as Int);
+        check(unsafe { ffi::KSPGetTolerances(self.raw, &mut rtol, &mut atol, &mut dtol, &mut maxit) })?;
+        Ok((rtol, atol, dtol, maxit.max(0) as usize))
+    }
+    /// Sets only the iteration limit.
+    pub fn set_max_it(&self, max_it: usize) -> Result<()> {
+        let (rtol, atol, dtol, _) = self.tolerances()?;
+        check(unsafe { ffi::KSPSetTolerances(self.raw, rtol, atol, dtol, max_it as Int) })
     }
     /// Iterations of the last solve.
     pub fn iterations(&self) -> Result<usize> {
@@ -42,6 +63,18 @@ impl Ksp {
         let mut r = ffi::KSPConvergedReason(0);
         check(unsafe { ffi::KSPGetConvergedReason(self.raw, &mut r) })?;
         Ok(r.0)
+    }
+    /// Keep the preconditioner of the last setup although the operator changed (until reset).
+    pub fn set_reuse_preconditioner(&self, reuse: bool) -> Result<()> {
+        check(unsafe { ffi::KSPSetReusePreconditioner(self.raw, super::pbool(reuse)) })
+    }
+    /// Gives the KSP the DM of `snes` for PC information only (field decomposition), not for
+    /// its operators.
+    pub fn use_dm_of(&self, snes: &super::Snes) -> Result<()> {
+        let mut dm: ffi::DM = std::ptr::null_mut();
+        check(unsafe { ffi::SNESGetDM(snes.raw, &mut dm) })?;
+        check(unsafe { ffi::KSPSetDM(self.raw, dm) })?;
+        check(unsafe { ffi::KSPSetDMActive(self.raw, super::pbool(false)) })
     }
     pub fn set_up(&self) -> Result<()> {
         check(unsafe { ffi::KSPSetUp(self.raw) })

@@ -63,6 +63,14 @@ impl Mat {
         })
     }
 
+    /// Replaces the rows and columns `rows` (global indices) by `diag` times the identity,
+    /// keeping the nonzero pattern. With `x` and `b` given, b is made consistent: b_i −= A_ij x_j
+    /// for the kept rows i, and b_j = diag x_j on the zeroed rows.
+    pub fn zero_rows_columns(&mut self, rows: &[Int], diag: f64, xb: Option<(&Vector, &mut Vector)>) -> Result<()> {
+        let (x, b) = xb.map_or((std::ptr::null_mut(), std::ptr::null_mut()), |(x, b)| (x.raw, b.raw));
+        check(unsafe { ffi::MatZeroRowsColumns(self.raw, rows.len() as Int, rows.as_ptr(), diag, x, b) })
+    }
+
     pub fn zero_entries(&mut self) -> Result<()> {
         check(unsafe { ffi::MatZeroEntries(self.raw) })
     }

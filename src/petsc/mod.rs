@@ -37,7 +37,7 @@ pub use dm::{DmShell, FieldDecomposition};
 pub use is::IndexSet;
 pub use ksp::{Ksp, Pc};
 pub use mat::{CsrBlock, LocalCsr, Mat, NullSpace};
-pub use snes::Snes;
+pub use snes::{ShellSolve, Snes};
 pub use ts::{Ts, TsProblem, TsRef};
 pub use vec::{Scatter, Vector};
 pub use viewer::Viewer;

@@ -1,7 +1,38 @@
-//! `SNES` handle (the TS's nonlinear solver): iteration counts, VI bounds, domain errors.
+//! `SNES` handle (the TS's nonlinear solver): iteration counts, VI bounds, domain errors, and
+//! a Rust nonlinear solver run as a SNESSHELL ([`ShellSolve`]).
 
-use super::{check, ffi, Int, Ksp, Vector};
+use super::{check, ffi, raise, Int, Ksp, Mat, Vector};
 use crate::error::Result;
+use std::ffi::c_void;
+use std::mem::ManuallyDrop;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// A nonlinear solver written in Rust, run by a SNESSHELL inside TS: it evaluates the residual
+/// and Jacobian through the SNES ([`Snes::compute_function`], [`Snes::compute_jacobian`]) and
+/// reports through [`Snes::set_converged_reason`] and [`Snes::set_iteration_number`].
+pub trait ShellSolve {
+    /// Solves F(x) = 0 from the initial guess in `x`.
+    fn solve(&mut self, snes: Snes, x: &mut Vector) -> Result<()>;
+    /// Newton and Krylov iterations summed over every solve so far (failed ones included).
+    fn totals(&self) -> (usize, usize);
+}
+
+/// The solver behind a SNESSHELL's context (a thin pointer to the boxed trait object).
+pub(crate) type ShellBox = Box<dyn ShellSolve>;
+
+pub(crate) unsafe extern "C" fn shell_solve_tramp(snes: ffi::SNES, x: ffi::Vec) -> ffi::PetscErrorCode {
+    let mut ctx: *mut c_void = std::ptr::null_mut();
+    if ffi::SNESShellGetContext(snes, &mut ctx as *mut *mut c_void as *mut c_void) != 0 || ctx.is_null() {
+        return raise("SNESSHELL without a solver context");
+    }
+    let solver = &mut *(ctx as *mut ShellBox);
+    let mut x = Vector::borrowed(x);
+    match catch_unwind(AssertUnwindSafe(|| solver.solve(Snes { raw: snes }, &mut x))) {
+        Ok(Ok(())) => 0,
+        Ok(Err(e)) => raise(&e.to_string()),
+        Err(_) => raise("internal error (panic) in the nonlinear solver"),
+    }
+}
 
 /// A nonlinear solver owned by a TS.
 #[derive(Clone, Copy)]
@@ -60,6 +91,41 @@ impl Snes {
     }
     pub fn set_jacobian_domain_error(&self) -> Result<()> {
         check(unsafe { ffi::SNESSetJacobianDomainError(self.raw) })
+    }
+    /// F(x) into `f` through the SNES (for TS: the IFunction at the stage). A domain error in
+    /// the residual makes `f` infinite on every rank.
+    pub fn compute_function(&self, x: &Vector, f: &mut Vector) -> Result<()> {
+        check(unsafe { ffi::SNESComputeFunction(self.raw, x.raw, f.raw) })
+    }
+    /// Assembles the Jacobian at x into the SNES's matrices and returns them (operator,
+    /// preconditioning matrix; possibly the same object).
+    pub fn compute_jacobian(&self, x: &Vector) -> Result<(ManuallyDrop<Mat>, ManuallyDrop<Mat>)> {
+        let (mut a, mut p) = (std::ptr::null_mut(), std::ptr::null_mut());
+        check(unsafe { ffi::SNESGetJacobian(self.raw, &mut a, &mut p, std::ptr::null_mut(), std::ptr::null_mut()) })?;
+        check(unsafe { ffi::SNESComputeJacobian(self.raw, x.raw, a, p) })?;
+        Ok(unsafe { (Mat::borrowed(a), Mat::borrowed(p)) })
+    }
+    /// (atol, rtol, stol, max_it) as set by options.
+    pub fn tolerances(&self) -> Result<(f64, f64, f64, usize)> {
+        let (mut atol, mut rtol, mut stol, mut maxit, mut maxf) = (0.0, 0.0, 0.0, 0 as Int, 0 as Int);
+        check(unsafe { ffi::SNESGetTolerances(self.raw, &mut atol, &mut rtol, &mut stol, &mut maxit, &mut maxf) })?;
+        Ok((atol, rtol, stol, maxit.max(0) as usize))
+    }
+    pub fn set_converged_reason(&self, reason: ffi::SNESConvergedReason) -> Result<()> {
+        check(unsafe { ffi::SNESSetConvergedReason(self.raw, reason) })
+    }
+    /// Runs the monitors set by options (`-snes_monitor` ...) for iteration `it`.
+    pub fn monitor(&self, it: usize, fnorm: f64) -> Result<()> {
+        check(unsafe { ffi::SNESMonitor(self.raw, it as Int, fnorm) })
+    }
+    pub fn set_iteration_number(&self, n: usize) -> Result<()> {
+        check(unsafe { ffi::SNESSetIterationNumber(self.raw, n as Int) })
+    }
+    /// Makes this a SNESSHELL running `solver` (kept alive by the caller at a stable address).
+    pub(crate) fn set_shell(&self, solver: &mut ShellBox) -> Result<()> {
+        self.set_type("shell")?;
+        check(unsafe { ffi::SNESShellSetContext(self.raw, solver as *mut ShellBox as *mut c_void) })?;
+        check(unsafe { ffi::SNESShellSetSolve(self.raw, Some(shell_solve_tramp)) })
     }
     pub fn set_tolerances(&self, atol: f64, rtol: f64, stol: f64, max_it: usize) -> Result<()> {
         check(unsafe { ffi::SNESSetTolerances(self.raw, atol, rtol, stol, max_it as Int, ffi::PETSC_DEFAULT) })

@@ -3,7 +3,8 @@
 //! original Rust error is kept and returned by [`Ts::step`]. A domain error (J ≤ Φs ...) is not
 //! an error: it marks the SNES solve as failed so TS cuts the step and retries.
 
-use super::{check, ffi, pbool, raise, DmShell, Int, Mat, Snes, Vector};
+use super::snes::ShellBox;
+use super::{check, ffi, pbool, raise, DmShell, Int, Mat, ShellSolve, Snes, Vector};
 use crate::error::{Error, Result};
 use std::ffi::c_void;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -86,6 +87,9 @@ pub struct Ts<P: TsProblem> {
     ctx: Box<Ctx<P>>,
     _dm: Option<DmShell>,
     _keep: (Vector, Mat, Option<Mat>),
+    /// A Rust nonlinear solver run as the SNESSHELL, if one is installed (double box: the
+    /// SNES keeps a thin pointer to the inner one).
+    shell: Option<Box<ShellBox>>,
 }
 
 impl<P: TsProblem> Drop for Ts<P> {
@@ -225,6 +229,7 @@ impl<P: TsProblem> Ts<P> {
             ctx: Box::new(Ctx { problem, ts: raw, error: None, domain_errors: 0, last_domain: None }),
             _dm: None,
             _keep: (f, jac, pre),
+            shell: None,
         };
         let ctxp = &mut *ts.ctx as *mut Ctx<P> as *mut c_void;
         unsafe {
@@ -268,6 +273,23 @@ impl<P: TsProblem> Ts<P> {
     }
     pub fn snes(&self) -> Result<Snes> {
         self.as_ref().snes()
+    }
+    /// Replaces the SNES by `solver` (a SNESSHELL); the TS keeps it alive.
+    pub fn set_nonlinear_solver(&mut self, solver: Box<dyn ShellSolve>) -> Result<()> {
+        let snes = self.snes()?;
+        let shell = self.shell.insert(Box::new(solver));
+        snes.set_shell(shell)
+    }
+    /// Newton and Krylov iterations summed over every nonlinear solve so far (failed attempts of
+    /// cut steps included).
+    pub fn solver_totals(&self) -> Result<(usize, usize)> {
+        if let Some(s) = &self.shell {
+            return Ok(s.totals());
+        }
+        let (mut n, mut k): (Int, Int) = (0, 0);
+        check(unsafe { ffi::TSGetSNESIterations(self.raw, &mut n) })?;
+        check(unsafe { ffi::TSGetKSPIterations(self.raw, &mut k) })?;
+        Ok((n as usize, k as usize))
     }
     /// The vector TS advances in place.
     pub fn set_solution(&mut self, u: &Vector) -> Result<()> {

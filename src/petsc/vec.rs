@@ -39,6 +39,13 @@ impl Vector {
         self.raw
     }
 
+    /// Another owning handle to the same vector (PETSc reference counting): both see the same
+    /// values.
+    pub fn clone_ref(&self) -> Result<Vector> {
+        check(unsafe { ffi::PetscObjectReference(self.raw as ffi::PetscObject) })?;
+        Ok(Vector { raw: self.raw })
+    }
+
     /// A new vector with the same layout (values not copied).
     pub fn duplicate(&self) -> Result<Vector> {
         let mut raw = std::ptr::null_mut();

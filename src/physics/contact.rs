@@ -5,7 +5,8 @@
 //! A surface node at reference height Z has current height Z + u_z, and must satisfy
 //! u(t) ≤ Z + u_z ≤ 2R: lower bound u(t) − Z from the moving lower plate (its top face is at
 //! z = u(t), the loading history (53)), upper bound 2R − Z from the fixed upper plate. These
-//! are SNESVI bounds (vinewtonrsls), refreshed at every stage time.
+//! are variable bounds of the active-set Newton (`solver::active_set`; or PETSc's SNESVI),
+//! refreshed at every stage time.
 //!
 //! Fluid: the surface drains into the bath where it is off the plates and is sealed where it
 //! touches them. The outward flux through a surface vertex m is Q·N = β(g_m) p_m (lumped on
@@ -70,8 +71,8 @@ pub enum Touch {
 /// Default seal distance g_s, relative to R (module docs).
 pub const DEFAULT_SEAL_GAP: f64 = 0.01;
 
-/// Tolerance (relative to R) for "at the bound": iterates of vinewtonrsls satisfy the bounds
-/// exactly, so a node in contact sits on it to round-off.
+/// Tolerance (relative to R) for "at the bound": Newton iterates are projected onto the bounds,
+/// so a node in contact sits on it to round-off.
 const AT_BOUND: f64 = 1e-9;
 
 /// The plates and the aggregate surface that can touch them.
@@ -171,7 +172,7 @@ impl Plates {
     /// t0 (or within the seal distance of it) move with it to t1 in the initial guess `x`.
     ///
     /// Why: when the plate retreats (release), those nodes are off their bound at the start of
-    /// the step, so vinewtonrsls treats them as free and its first Newton step applies the whole
+    /// the step, so the active-set test treats them as free and its first Newton step applies the whole
     /// former contact force to a free surface; the elements next to it collapse (J < Φs) however
     /// small the step. Moved with the plate they stay active while the reaction is compressive,
     /// and leave the plate only when it turns tensile.

@@ -1,0 +1,354 @@
+//! Active-set Newton for the contact variational inequality, on the full-size system.
+//!
+//! The plates are bounds l ≤ x ≤ u on the surface u_z dofs. Each iteration splits the dofs at
+//! the current iterate into the active set A — at a bound with the residual pushing into it,
+//! PETSc's vinewtonrsls test: x_i ≤ l_i + 1e-8 and F_i > 0, or x_i ≥ u_i − 1e-8 and F_i < 0 —
+//! and the free rest; it solves the Newton system with the rows and columns of A replaced by a
+//! scaled identity (the step moves those dofs exactly onto their bound) and projects the new
+//! iterate onto the bounds. Convergence is measured on the free residual.
+//!
+//! Why not vinewtonrsls: it is the same step algebraically, but rsls solves a new, smaller
+//! matrix (a `MatCreateSubMatrix` copy) whenever the active set changes, so nothing of the
+//! preconditioner survives — the AMG hierarchy is rebuilt from scratch, a direct solver redoes
+//! its symbolic analysis, the block size and the rigid-body near-null space are lost. Here the
+//! matrix keeps its size, block size and sparsity pattern ("workaround B" of the PETSc notes),
+//! so the preconditioner setup reuses what it can, and it may be lagged ([`Lag`]).
+
+use crate::error::Result;
+use crate::petsc::{ffi, Int, ShellSolve, Snes, Vector};
+use mpi::collective::SystemOperation;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+
+/// PETSc's vinewtonrsls tolerance for "at the bound" (absolute, in the unknowns' units).
+const AT_BOUND: f64 = 1e-8;
+
+/// Halvings of a Newton step that leaves the admissible domain (or fails the Armijo test when
+/// backtracking).
+const STEP_HALVINGS: i32 = 5;
+
+/// True if the free residual norms (one per iterate) have stopped decreasing: after
+/// `STALL_WINDOW` more iterations than that, the best of the last `STALL_WINDOW` is not 10×
+/// below the best before them. Seen where a node's drainage switches as its gap closes: Newton
+/// then cycles at a fixed residual, and a shorter time step is the cure, found sooner.
+fn stagnates(norms: &[f64]) -> bool {
+    const STALL_WINDOW: usize = 6;
+    let n = norms.len();
+    if n <= 2 * STALL_WINDOW {
+        return false;
+    }
+    let best = |s: &[f64]| s.iter().copied().fold(f64::INFINITY, f64::min);
+    best(&norms[n - STALL_WINDOW..]) > 0.1 * best(&norms[..n - STALL_WINDOW])
+}
+
+/// Size of the symmetric difference of two ascending index lists.
+fn symmetric_difference(a: &[Int], b: &[Int]) -> usize {
+    let (mut i, mut j, mut n) = (0, 0, 0);
+    while i < a.len() && j < b.len() {
+        match a[i].cmp(&b[j]) {
+            std::cmp::Ordering::Less => (i, n) = (i + 1, n + 1),
+            std::cmp::Ordering::Greater => (j, n) = (j + 1, n + 1),
+            std::cmp::Ordering::Equal => (i, j) = (i + 1, j + 1),
+        }
+    }
+    n + (a.len() - i) + (b.len() - j)
+}
+
+/// When to rebuild the preconditioner. A preconditioner built for an earlier Jacobian (an
+/// earlier iterate, or an earlier step) stays a good one while the Jacobian changes little;
+/// the Krylov method then needs a few more iterations instead of a new setup. A change of the
+/// active set by k dofs is a rank-2k change of the matrix, which costs a Krylov method up to
+/// about 2k more iterations. The preconditioner is rebuilt when more than `max_changes` dofs
+/// entered or left the active set since its setup, when the last solve needed more than
+/// `max_krylov` iterations (or failed), or after `max_reuse` reuses.
+#[derive(Debug, Clone, Copy)]
+pub struct Lag {
+    /// Reuse a preconditioner at most this many times (0: rebuild for every Jacobian).
+    pub max_reuse: usize,
+    /// Rebuild after a solve that needed more Krylov iterations than this.
+    pub max_krylov: usize,
+    /// Rebuild when more dofs than this entered or left the active set since the setup.
+    pub max_changes: usize,
+}
+
+/// The bounds l ≤ x ≤ u (shared with the problem, which moves them with the plate).
+struct Bounds {
+    lower: Vector,
+    upper: Vector,
+}
+
+impl Bounds {
+    /// Clamps x into [l, u].
+    fn project(&self, x: &mut Vector) -> Result<()> {
+        let (lo, hi) = (self.lower.read()?, self.upper.read()?);
+        for ((xi, &l), &h) in x.write()?.iter_mut().zip(lo.iter()).zip(hi.iter()) {
+            *xi = xi.max(l).min(h);
+        }
+        Ok(())
+    }
+
+    /// From x and f = F(x): the active set, the Newton right-hand side −F on the free dofs and
+    /// 0 on the active ones, the step onto the bound on the active ones (0 elsewhere) in `to_bound`;
+    /// returns the free residual norm.
+    fn split(
+        &self,
+        x: &Vector,
+        f: &Vector,
+        rhs: &mut Vector,
+        to_bound: &mut Vector,
+        active: &mut Vec<Int>,
+    ) -> Result<f64> {
+        let first = x.ownership_start();
+        active.clear();
+        {
+            let (xv, fv, lo, hi) = (x.read()?, f.read()?, self.lower.read()?, self.upper.read()?);
+            let (mut r, mut d) = (rhs.write()?, to_bound.write()?);
+            for i in 0..xv.len() {
+                let at_lower = xv[i] <= lo[i] + AT_BOUND && fv[i] > 0.0;
+                let at_upper = xv[i] >= hi[i] - AT_BOUND && fv[i] < 0.0;
+                if at_lower || at_upper {
+                    active.push((first + i) as Int);
+                    r[i] = 0.0;
+                    d[i] = if at_lower { lo[i] } else { hi[i] } - xv[i];
+                } else {
+                    r[i] = -fv[i];
+                    d[i] = 0.0;
+                }
+            }
+        }
+        rhs.norm2()
+    }
+}
+
+impl Lag {
+    /// A new preconditioner for every Jacobian.
+    pub const NEVER: Lag = Lag { max_reuse: 0, max_krylov: 0, max_changes: 0 };
+}
+
+/// The active-set Newton solver (a SNESSHELL inside TS).
+pub struct ActiveSetNewton {
+    world: SimpleCommunicator,
+    bounds: Bounds,
+    /// Diagonal of the identity rows of active dofs (the scale of a u row of the Jacobian).
+    diag: f64,
+    lag: Lag,
+    f: Vector,
+    rhs: Vector,
+    /// Newton step, and the step of the active dofs onto their bound.
+    step: Vector,
+    to_bound: Vector,
+    trial: Vector,
+    /// Global indices of the active dofs of the current iterate.
+    active: Vec<Int>,
+    /// Active set of the last preconditioner setup, and how often that setup has been reused.
+    pc_active: Option<Vec<Int>>,
+    pc_uses: usize,
+    last_krylov: usize,
+    newton: usize,
+    krylov: usize,
+    pc_setups: usize,
+    /// Print each iteration on rank 0 (`-poroplast_newton_monitor`).
+    pub monitor: bool,
+}
+
+impl ActiveSetNewton {
+    /// A solver for the bounds `lower`, `upper` (shared: updates to them are seen).
+    pub fn new(
+        world: &SimpleCommunicator,
+        lower: &Vector,
+        upper: &Vector,
+        diag: f64,
+        lag: Lag,
+    ) -> Result<ActiveSetNewton> {
+        Ok(ActiveSetNewton {
+            world: world.duplicate(),
+            bounds: Bounds { lower: lower.clone_ref()?, upper: upper.clone_ref()? },
+            diag,
+            lag,
+            f: lower.duplicate()?,
+            rhs: lower.duplicate()?,
+            step: lower.duplicate()?,
+            to_bound: lower.duplicate()?,
+            trial: lower.duplicate()?,
+            active: Vec::new(),
+            pc_active: None,
+            pc_uses: 0,
+            last_krylov: 0,
+            newton: 0,
+            krylov: 0,
+            pc_setups: 0,
+            monitor: false,
+        })
+    }
+
+    /// Preconditioner setups so far.
+    pub fn pc_setups(&self) -> usize {
+        self.pc_setups
+    }
+
+    /// Whether the preconditioner of the last setup may serve the current Jacobian (the same
+    /// decision on every rank: the setup is collective).
+    fn reuse_pc(&self) -> bool {
+        let Some(pc_active) = &self.pc_active else { return false };
+        let here = symmetric_difference(pc_active, &self.active);
+        let mut changed = 0;
+        self.world.all_reduce_into(&here, &mut changed, SystemOperation::sum());
+        changed <= self.lag.max_changes && self.pc_uses < self.lag.max_reuse && self.last_krylov <= self.lag.max_krylov
+    }
+}
+
+impl ActiveSetNewton {
+    /// One monitor line: iteration, free residual norm, active set size and how many dofs
+    /// entered and left it, Krylov iterations of the last solve.
+    fn print_iteration(&self, it: usize, fnorm: f64, prev: &[Int]) {
+        let entered = self.active.iter().filter(|i| prev.binary_search(i).is_err()).count();
+        let left = prev.iter().filter(|i| self.active.binary_search(i).is_err()).count();
+        let local = [self.active.len(), entered, left];
+        let mut tot = [0usize; 3];
+        self.world.all_reduce_into(&local[..], &mut tot[..], SystemOperation::sum());
+        if self.world.rank() == 0 {
+            let k = if it == 0 { String::new() } else { format!(", krylov {}", self.last_krylov) };
+            println!("    newton {it:2}  |F| {fnorm:.3e}  active {} (+{} -{}){k}", tot[0], tot[1], tot[2]);
+        }
+    }
+}
+
+impl ShellSolve for ActiveSetNewton {
+    fn totals(&self) -> (usize, usize) {
+        (self.newton, self.krylov)
+    }
+
+    fn solve(&mut self, snes: Snes, x: &mut Vector) -> Result<()> {
+        use ffi::SNESConvergedReason as R;
+        let (atol, rtol, stol, max_it) = snes.tolerances()?;
+        let backtrack = snes.line_search_type()? == "bt";
+        let ksp = snes.ksp()?;
+        self.bounds.project(x)?;
+        snes.compute_function(x, &mut self.f)?;
+        let mut fnorm = self.bounds.split(x, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;
+        let fnorm0 = fnorm;
+        let mut it = 0;
+        let mut prev_active = Vec::new();
+        let mut norms = vec![fnorm];
+        let reason = loop {
+            snes.set_iteration_number(it)?;
+            snes.monitor(it, fnorm)?;
+            if self.monitor {
+                self.print_iteration(it, fnorm, &prev_active);
+                prev_active.clone_from(&self.active);
+            }
+            if !fnorm.is_finite() {
+                break R::SNES_DIVERGED_FUNCTION_DOMAIN;
+            }
+            if fnorm <= atol {
+                break R::SNES_CONVERGED_FNORM_ABS;
+            }
+            if it > 0 && fnorm <= rtol * fnorm0 {
+                break R::SNES_CONVERGED_FNORM_RELATIVE;
+            }
+            if it >= max_it {
+                break R::SNES_DIVERGED_MAX_IT;
+            }
+            let (mut a, mut p) = snes.compute_jacobian(x)?;
+            let same = a.as_raw() == p.as_raw();
+            a.zero_rows_columns(&self.active, self.diag, Some((&self.to_bound, &mut self.rhs)))?;
+            if !same {
+                p.zero_rows_columns(&self.active, self.diag, None)?;
+            }
+            // A reused preconditioner gets a short leash: if the Krylov method needs more than
+            // twice the rebuild threshold, the same system is solved again with a new setup.
+            let mut reuse = self.reuse_pc();
+            let max_it = ksp.tolerances()?.3;
+            loop {
+                ksp.set_reuse_preconditioner(reuse)?;
+                ksp.set_operators(&a, &p)?;
+                if reuse {
+                    ksp.set_max_it((2 * self.lag.max_krylov).clamp(1, max_it))?;
+                    self.pc_uses += 1;
+                } else {
+                    self.pc_active = Some(self.active.clone());
+                    self.pc_uses = 0;
+                    self.pc_setups += 1;
+                }
+                ksp.solve(&self.rhs, &mut self.step)?;
+                if reuse {
+                    ksp.set_max_it(max_it)?;
+                }
+                self.last_krylov = ksp.iterations()?;
+                self.krylov += self.last_krylov;
+                if !reuse || ksp.converged_reason()? > 0 {
+                    break;
+                }
+                reuse = false;
+            }
+            self.newton += 1;
+            it += 1;
+            if ksp.converged_reason()? < 0 {
+                self.last_krylov = usize::MAX;
+                break R::SNES_DIVERGED_LINEAR_SOLVE;
+            }
+            // Full step (or backtracking on the free residual norm, Armijo, halving); a step
+            // into an inadmissible state (J ≤ Φs: the residual is infinite) is halved in
+            // either mode, up to STEP_HALVINGS times, before TS has to cut the time step.
+            let mut lambda = 1.0;
+            let trial_norm = loop {
+                self.trial.copy_from(x)?;
+                self.trial.axpy(lambda, &self.step)?;
+                self.bounds.project(&mut self.trial)?;
+                snes.compute_function(&self.trial, &mut self.f)?;
+                let n = self.bounds.split(&self.trial, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;
+                let admissible = n.is_finite();
+                let good = admissible && (!backtrack || n <= (1.0 - 1e-4 * lambda) * fnorm);
+                if good || lambda < 0.5f64.powi(STEP_HALVINGS) {
+                    break n;
+                }
+                lambda *= 0.5;
+            };
+            norms.push(trial_norm);
+            if stagnates(&norms) {
+                break R::SNES_DIVERGED_DTOL;
+            }
+            let dx_norm = lambda * self.step.norm2()?;
+            let x_norm = x.norm2()?;
+            x.copy_from(&self.trial)?;
+            fnorm = trial_norm;
+            if fnorm.is_finite() && dx_norm <= stol * x_norm {
+                snes.set_iteration_number(it)?;
+                break R::SNES_CONVERGED_SNORM_RELATIVE;
+            }
+        };
+        if reason.0 < 0 {
+            // A failed attempt (cut step): its preconditioner may come from a bad iterate.
+            self.pc_active = None;
+        }
+        snes.set_converged_reason(reason)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{stagnates, symmetric_difference};
+
+    #[test]
+    fn active_set_changes_count_both_ways() {
+        assert_eq!(symmetric_difference(&[1, 3, 5], &[1, 3, 5]), 0);
+        assert_eq!(symmetric_difference(&[1, 3, 5], &[1, 4, 5, 9]), 3);
+        assert_eq!(symmetric_difference(&[], &[2, 7]), 2);
+        assert_eq!(symmetric_difference(&[2, 7], &[]), 2);
+    }
+
+    #[test]
+    fn stagnation_is_a_residual_that_stopped_falling() {
+        // Quadratic convergence never stagnates, however many iterations.
+        let fast: Vec<f64> = (0..20).map(|k| 10f64.powi(-k)).collect();
+        assert!(!stagnates(&fast));
+        // Slow but steady (×0.6 per iteration: ×0.047 per window) is progress.
+        let slow: Vec<f64> = (0..30).map(|k| 0.6f64.powi(k)).collect();
+        assert!(!stagnates(&slow));
+        // The contact-onset cycle seen on the default scene: 855 → ~5, then bouncing.
+        let mut cyc = vec![855.0, 280.0, 105.0, 22.0, 4.75];
+        cyc.extend([5.8, 4.1, 10.6, 4.07, 14.3, 4.9, 5.1, 4.9, 5.1].iter());
+        assert!(!stagnates(&cyc[..12]));
+        assert!(stagnates(&cyc));
+    }
+}

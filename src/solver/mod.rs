@@ -1,0 +1,137 @@
+//! Solver policy: default PETSc options per preset, chosen by problem size unless the scene
+//! names one; the u/p field decomposition handed to PCFIELDSPLIT through a DMShell (with the
+//! rigid-body near-null space on u); the fixed-stress Schur approximation as the user Schur
+//! preconditioner; and, for contact, the active-set Newton with its preconditioner lag.
+//!
+//! * "direct": FGMRES preconditioned by a MUMPS LU factorisation that is kept across Newton
+//!   iterations and time steps while it keeps the Krylov iterations few ([`Lag`]). On small
+//!   systems the factorisation is cheap and every Krylov iteration is two triangular solves,
+//!   where an AMG V-cycle is latency-bound.
+//! * "fieldsplit": FGMRES on the full u–p system, preconditioned by an upper Schur
+//!   factorisation; the u block by one GAMG V-cycle (block size 3, six rigid-body modes, the
+//!   interpolation reused across setups), the Schur complement by one BoomerAMG V-cycle on
+//!   Ŝ = K_darcy + (shift/K_dr) M_p, which stays spectrally equivalent to the true Schur
+//!   complement as Δt → 0 and as k → 0. Memory and time grow about linearly with size.
+//! * "lu": MUMPS direct solve of every Newton system (the reference for solver studies).
+//! * "auto" (default): "direct" up to [`DIRECT_MAX_DOFS`], "fieldsplit" above.
+//!
+//! Every default is overridable from the command line (`-- -pc_type ...`); the lag by
+//! `-poroplast_pc_reuse N` (0: a new setup for every Jacobian), `-poroplast_pc_rebuild_its N`
+//! and `-poroplast_pc_rebuild_changes N` (see [`Lag`]).
+
+pub mod active_set;
+mod fields;
+
+pub use active_set::{ActiveSetNewton, Lag};
+pub use fields::Fields;
+
+use crate::error::{Error, Result};
+use crate::petsc::{check, ffi, options, Mat, Snes};
+
+/// Largest system the "auto" preset solves with the lagged direct factorisation.
+pub const DIRECT_MAX_DOFS: usize = 40_000;
+
+/// The presets a scene may name.
+pub const PRESETS: [&str; 4] = ["auto", "direct", "fieldsplit", "lu"];
+
+/// The linear solver chosen for a run.
+#[derive(Debug, Clone)]
+pub struct Policy {
+    /// The preset in effect ("direct", "fieldsplit" or "lu").
+    pub preset: &'static str,
+    /// When the active-set Newton rebuilds its preconditioner.
+    pub lag: Lag,
+}
+
+impl Policy {
+    /// One line for the run log.
+    pub fn describe(&self, n_dofs: usize, auto: bool) -> String {
+        let what = match self.preset {
+            "direct" => "FGMRES + MUMPS LU, factorisation reused while it converges fast",
+            "fieldsplit" => "FGMRES + Schur fieldsplit (GAMG on u, BoomerAMG on the Schur approximation)",
+            _ => "MUMPS LU for every Newton system",
+        };
+        let why =
+            if auto { format!(", chosen for {n_dofs} dofs (direct up to {DIRECT_MAX_DOFS})") } else { String::new() };
+        format!("linear solver: {} ({what}){why}", self.preset)
+    }
+}
+
+/// Sets the defaults of a preset (only options the user has not set) and returns the policy.
+pub fn set_default_options(preset: &str, n_dofs: usize) -> Result<Policy> {
+    let d = |k: &str, v: &str| options::set_default(k, Some(v));
+    let preset: &'static str = match preset {
+        "auto" if n_dofs <= DIRECT_MAX_DOFS => "direct",
+        "auto" | "fieldsplit" => "fieldsplit",
+        "direct" => "direct",
+        "lu" => "lu",
+        p => return Err(Error::Solver(format!("unknown solver preset \"{p}\" (use one of {PRESETS:?})"))),
+    };
+    let lag = match preset {
+        "lu" => {
+            d("ksp_type", "preonly")?;
+            d("pc_type", "lu")?;
+            d("pc_factor_mat_solver_type", "mumps")?;
+            Lag::NEVER
+        }
+        "direct" => {
+            d("ksp_type", "fgmres")?;
+            d("ksp_rtol", "1e-8")?;
+            d("ksp_max_it", "200")?;
+            d("ksp_gmres_restart", "100")?;
+            d("pc_type", "lu")?;
+            d("pc_factor_mat_solver_type", "mumps")?;
+            Lag { max_reuse: 1000, max_krylov: 12, max_changes: 8 }
+        }
+        _ => {
+            d("ksp_type", "fgmres")?;
+            d("ksp_rtol", "1e-8")?;
+            d("ksp_max_it", "400")?;
+            d("ksp_gmres_restart", "100")?;
+            d("pc_type", "fieldsplit")?;
+            d("pc_fieldsplit_type", "schur")?;
+            d("pc_fieldsplit_schur_fact_type", "upper")?;
+            d("fieldsplit_u_ksp_type", "preonly")?;
+            // Set explicitly: PETSc 3.18's SNESVI replaces a first-split PCBJACOBI by fixed
+            // 101×101 blocks, which fails in parallel.
+            d("fieldsplit_u_pc_type", "gamg")?;
+            // The matrix keeps its pattern (also under contact, see `active_set`): keep the
+            // aggregation and prolongators, redo only the Galerkin products.
+            d("fieldsplit_u_pc_gamg_reuse_interpolation", "true")?;
+            d("fieldsplit_p_ksp_type", "preonly")?;
+            d("fieldsplit_p_pc_type", "hypre")?;
+            Lag::NEVER
+        }
+    };
+    d("snes_rtol", "1e-8")?;
+    d("snes_atol", "1e-10")?;
+    d("snes_max_it", "25")?;
+    let int = |k: &str, dflt: usize| -> Result<usize> {
+        match options::get_string(k)? {
+            None => Ok(dflt),
+            Some(v) => v.parse().map_err(|_| Error::Solver(format!("-{k} {v}: expected a non-negative integer"))),
+        }
+    };
+    let lag = Lag {
+        max_reuse: int("poroplast_pc_reuse", lag.max_reuse)?,
+        max_krylov: int("poroplast_pc_rebuild_its", lag.max_krylov)?,
+        max_changes: int("poroplast_pc_rebuild_changes", lag.max_changes)?,
+    };
+    Ok(Policy { preset, lag })
+}
+
+/// Uses `schur` as the Schur-complement preconditioner if the PC is a Schur fieldsplit and the
+/// user did not choose another (`-pc_fieldsplit_schur_precondition`).
+pub fn use_schur_matrix(snes: &Snes, schur: &Mat) -> Result<()> {
+    let pc = snes.ksp()?.pc()?;
+    if pc.type_name()? == "fieldsplit" && !options::has("pc_fieldsplit_schur_precondition")? {
+        check(unsafe {
+            ffi::PCFieldSplitSetSchurPre(
+                pc.raw_handle(),
+                ffi::PCFieldSplitSchurPreType::PC_FIELDSPLIT_SCHUR_PRE_USER,
+                schur.as_raw(),
+            )
+        })?;
+    }
+    Ok(())
+}
