@@ -2,7 +2,8 @@
 # Installs what poroplast needs on a Debian 12 machine: PETSc 3.18, Open MPI, METIS, parallel
 # HDF5, gmsh, libclang (bindgen), the Python plotting packages and OpenBLAS (serial; it takes
 # over libblas.so.3: a MUMPS factorisation of the default scene's 5k-dof system took 55 ms
-# instead of 138 ms with the reference BLAS). Idempotent, and silent when nothing is missing. Runs apt-get as root (or through sudo).
+# instead of 138 ms with the reference BLAS). Idempotent, and silent when nothing is missing.
+# Runs apt-get as root (or through sudo).
 set -euo pipefail
 pkgs=(petsc-dev openmpi-bin libopenmpi-dev libmetis-dev libhdf5-openmpi-dev gmsh libclang-dev clang
       pkg-config python3 python3-numpy python3-h5py python3-matplotlib
