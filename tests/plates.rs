@@ -115,19 +115,18 @@ fn compression_release_protocol() {
     }
 }
 
-/// A full sphere made of the quarter mesh mirrored across both symmetry planes, with the rigid
-/// modes locked on the axis and at (0, R, R), gives the quarter model's results (reported for
-/// the full sphere) to solver tolerance: symmetry reduction and rigid-mode locks are exact.
-#[test]
-fn quarter_and_full_sphere_agree() {
-    let dir = scratch("plates-full");
+/// Runs the coarse quarter model and a full sphere from `full_edits` on 2 ranks, and asserts that
+/// they take the same steps and give the same results (reported for the full sphere) to solver
+/// tolerance.
+fn assert_full_matches_quarter(name: &str, full_edits: &[(&str, &str)], petsc: &[&str]) {
+    let dir = scratch(name);
     let q = coarse_scene(&dir, &[]);
     run_in(2, &q, &dir.join("quarter"), &[]);
     let full_dir = dir.join("full-scene");
     std::fs::create_dir_all(&full_dir).unwrap();
-    let edits: Vec<(&str, &str)> = COARSE.iter().chain(MIRRORED).copied().collect();
+    let edits: Vec<(&str, &str)> = COARSE.iter().chain(full_edits).copied().collect();
     let full = scene_variant("reference", &full_dir, &edits);
-    run_in(2, &full, &dir.join("full"), &[]);
+    run_in(2, &full, &dir.join("full"), petsc);
     let (hq, hf) = (History::read(&dir.join("quarter")), History::read(&dir.join("full")));
     assert_eq!(hq.col("time"), hf.col("time"));
     let peak = hq.col("force_total_mg").iter().cloned().fold(0.0, f64::max);
@@ -138,6 +137,33 @@ fn quarter_and_full_sphere_agree() {
     }
     let v0 = hq.col("fluid_volume")[0];
     assert!(max_abs_diff(&hq.col("fluid_volume"), &hf.col("fluid_volume")) < 1e-8 * v0);
+}
+
+/// A full sphere made of the quarter mesh mirrored across both symmetry planes, with the rigid
+/// modes locked on the axis and at (0, R, R), gives the quarter model's results (reported for
+/// the full sphere) to solver tolerance: symmetry reduction and rigid-mode locks are exact.
+#[test]
+fn quarter_and_full_sphere_agree() {
+    assert_full_matches_quarter("plates-full", MIRRORED, &[]);
+}
+
+/// The same mirrored full sphere with only the poles held in x and y: the rotation about z is
+/// free, and the solver takes it as the Jacobian's null space (`solver::FreeRigidModes`), with
+/// the direct preset and with the AMG fieldsplit.
+#[test]
+fn full_sphere_with_free_rigid_modes_agrees() {
+    let free: &[(&str, &str)] = &[
+        MIRRORED[0],
+        (
+            "[[bc]]\ngroup = \"symmetry_x\"\nroller = true\n\n[[bc]]\ngroup = \"symmetry_y\"\nroller = true\n",
+            "[[bc]]\ngroup = \"pole_bottom\"\ndisplacement = { x = 0.0, y = 0.0 }\n\n\
+             [[bc]]\ngroup = \"pole_top\"\ndisplacement = { x = 0.0, y = 0.0 }\n",
+        ),
+    ];
+    assert_full_matches_quarter("plates-full-free", free, &[]);
+    let amg: Vec<(&str, &str)> =
+        free.iter().copied().chain([("[output]", "[solver]\npreset = \"fieldsplit\"\n\n[output]")]).collect();
+    assert_full_matches_quarter("plates-full-free-amg", &amg, &[]);
 }
 
 /// Held long enough, the poroelastic force relaxes to the drained skeleton's force at the same

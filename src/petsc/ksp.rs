@@ -23,11 +23,7 @@ impl Ksp {
     pub fn type_name(&self) -> Result<String> {
         let mut t: ffi::KSPType = std::ptr::null();
         check(unsafe { ffi::KSPGetType(self.raw, &mut t) })?;
-        Ok(if t.is_null() {
-            String::new()
-        } else {
-            unsafe { std::ffi::CStr::from_ptr(t) }.to_string_lossy().into_owned()
-        })
+        Ok(super::type_name_of(t))
     }
     pub fn set_tolerances(&self, rtol: f64, atol: f64, max_it: Option<usize>) -> Result<()> {
         let mi = max_it.map_or(ffi::PETSC_DEFAULT, |m| m as i32);
@@ -102,11 +98,7 @@ impl Pc {
     pub fn type_name(&self) -> Result<String> {
         let mut t: ffi::PCType = std::ptr::null();
         check(unsafe { ffi::PCGetType(self.raw, &mut t) })?;
-        Ok(if t.is_null() {
-            String::new()
-        } else {
-            unsafe { std::ffi::CStr::from_ptr(t) }.to_string_lossy().into_owned()
-        })
+        Ok(super::type_name_of(t))
     }
     /// Names a split by an index set (used when no DM provides the fields).
     pub fn fieldsplit_set_is(&self, name: &str, is: &IndexSet) -> Result<()> {

@@ -88,6 +88,10 @@ impl Mat {
         check(unsafe { ffi::MatMult(self.raw, x.raw, y.raw) })
     }
 
+    /// The operator's null space: Krylov methods remove it from their iterates.
+    pub fn set_null_space(&mut self, ns: &NullSpace) -> Result<()> {
+        check(unsafe { ffi::MatSetNullSpace(self.raw, ns.raw) })
+    }
     pub fn set_near_null_space(&mut self, ns: &NullSpace) -> Result<()> {
         check(unsafe { ffi::MatSetNearNullSpace(self.raw, ns.raw) })
     }

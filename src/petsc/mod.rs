@@ -46,6 +46,15 @@ use crate::error::{Error, Result};
 use std::ffi::{c_char, c_int, CStr, CString};
 use std::sync::Mutex;
 
+/// A PETSc type name (a C string that may be NULL before a type is set) as a String.
+pub(crate) fn type_name_of(t: *const c_char) -> String {
+    if t.is_null() {
+        String::new()
+    } else {
+        unsafe { CStr::from_ptr(t) }.to_string_lossy().into_owned()
+    }
+}
+
 /// PETSc's integer type (32-bit in the Debian build).
 pub type Int = ffi::PetscInt;
 

@@ -139,11 +139,7 @@ impl Snes {
     pub fn line_search_type(&self) -> Result<String> {
         let mut t: ffi::SNESLineSearchType = std::ptr::null();
         check(unsafe { ffi::SNESLineSearchGetType(self.line_search()?, &mut t) })?;
-        Ok(if t.is_null() {
-            String::new()
-        } else {
-            unsafe { std::ffi::CStr::from_ptr(t) }.to_string_lossy().into_owned()
-        })
+        Ok(super::type_name_of(t))
     }
     pub fn set_line_search_type(&self, t: &str) -> Result<()> {
         let c = super::cstr(t);

@@ -326,6 +326,12 @@ impl<P: TsProblem> Ts<P> {
     pub fn set_from_options(&mut self) -> Result<()> {
         check(unsafe { ffi::TSSetFromOptions(self.raw) })
     }
+    /// Type name as PETSc reports it ("beuler", "bdf", ...).
+    pub fn type_name(&self) -> Result<String> {
+        let mut t: ffi::TSType = std::ptr::null();
+        check(unsafe { ffi::TSGetType(self.raw, &mut t) })?;
+        Ok(super::type_name_of(t))
+    }
     pub fn set_up(&mut self) -> Result<()> {
         check(unsafe { ffi::TSSetUp(self.raw) })
     }
@@ -370,6 +376,15 @@ impl<P: TsProblem> Ts<P> {
             )));
         }
         Ok(())
+    }
+    /// Undoes the last accepted step (state and time), e.g. when an error estimate rejects it.
+    pub fn roll_back(&mut self) -> Result<()> {
+        check(unsafe { ffi::TSRollBack(self.raw) })
+    }
+    /// Tells multistep methods (BDF) that the solution's history is not smooth across the
+    /// current time (a kink of the loading): the next step starts afresh.
+    pub fn restart_step(&mut self) -> Result<()> {
+        check(unsafe { ffi::TSRestartStep(self.raw) })
     }
     /// Resets a failed TS so the caller may continue after handling the failure.
     pub fn clear_reason(&mut self) -> Result<()> {

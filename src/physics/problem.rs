@@ -70,6 +70,8 @@ pub struct PoroProblem {
     f_loc: Vector,
     /// Fixed-stress Schur approximation on the pressure space.
     pub schur: Mat,
+    /// Whether the preconditioner uses `schur` (a Schur fieldsplit): else it is not assembled.
+    pub schur_needed: bool,
     /// Offsets for direct CSR insertion, built after the first assembly.
     inserter: Option<ElementInserter>,
     ghosts: GhostRows,
@@ -86,6 +88,8 @@ pub struct PoroProblem {
     /// Velocity and size of the last accepted step, for the predictor and the error estimate
     /// (None after a loading kink).
     velocity: Option<(Vector, f64)>,
+    /// The last accepted state (with plates: the predictor starts from it).
+    last: Option<Vector>,
     pub timers: Timers,
 }
 
@@ -169,6 +173,7 @@ impl PoroProblem {
             udot_loc,
             f_loc,
             schur,
+            schur_needed: true,
             inserter: None,
             ghosts: GhostRows::default(),
             assembled_shift: None,
@@ -177,6 +182,7 @@ impl PoroProblem {
             bounds: None,
             stage: (0.0, 0.0),
             velocity: None,
+            last: None,
             timers: Timers::default(),
         })
     }
@@ -305,7 +311,8 @@ impl PoroProblem {
         Ok(())
     }
 
-    /// Jacobian dF/dU + shift dF/dU̇ into `jac`, and the Schur approximation into `self.schur`.
+    /// Jacobian dF/dU + shift dF/dU̇ into `jac`, and the Schur approximation into `self.schur`
+    /// if the preconditioner uses it (`schur_needed`).
     /// The first assembly inserts through `MatSetValues` and fixes the pattern; later ones
     /// write into the CSR arrays directly (see `fem::insert`).
     pub fn assemble_jacobian(
@@ -332,11 +339,15 @@ impl PoroProblem {
 
     fn jacobian_with(&mut self, t: f64, dt: f64, shift: f64, jac: &mut Mat) -> Result<()> {
         jac.zero_entries()?;
-        self.schur.zero_entries()?;
+        let needed = self.schur_needed;
+        if needed {
+            self.schur.zero_entries()?;
+        }
         let outcome = {
             let ul = self.u_loc.read()?;
             let udl = self.udot_loc.read()?;
-            let (disc, schur, ghosts) = (&self.disc, &mut self.schur, &mut self.ghosts);
+            let (disc, ghosts) = (&self.disc, &mut self.ghosts);
+            let schur = needed.then_some(&mut self.schur);
             match &self.inserter {
                 Some(ins) => jac.with_local_csr(|csr| {
                     disc.jacobian_loop(&ul, &udl, dt, shift, schur, |e, d, k| {
@@ -375,7 +386,9 @@ impl PoroProblem {
                 }
                 jac.add_values(&[l2g[d.p]], &[l2g[d.p], l2g[d.uz]], &[d.conductance, d.d_conductance * ul[d.p]])?;
                 let gv = self.disc.mesh.vertex_global[d.p - 3 * self.disc.dofs.n_nodes] as Int;
-                self.schur.add_values(&[gv], &[gv], &[d.conductance])?;
+                if needed {
+                    self.schur.add_values(&[gv], &[gv], &[d.conductance])?;
+                }
             }
         }
         let rows: Vec<usize> = self.constraints.iter().map(|c| c.local).collect();
@@ -386,11 +399,15 @@ impl PoroProblem {
             if l >= 3 * self.disc.dofs.n_nodes {
                 let lv = l - 3 * self.disc.dofs.n_nodes;
                 let gv = self.disc.mesh.vertex_global[lv] as Int;
-                self.schur.add_values(&[gv], &[gv], &[s])?;
+                if needed {
+                    self.schur.add_values(&[gv], &[gv], &[s])?;
+                }
             }
         }
         jac.assemble()?;
-        self.schur.assemble()?;
+        if needed {
+            self.schur.assemble()?;
+        }
         if self.inserter.is_none() {
             let disc = &self.disc;
             self.inserter =
@@ -405,6 +422,12 @@ impl PoroProblem {
     /// velocity jumps.
     pub fn end_step(&mut self, prev: &Vector, u: &Vector, dt: f64, extrapolate: bool) -> Result<()> {
         self.commit_history(prev, u, dt)?;
+        if self.plates.is_some() {
+            match &mut self.last {
+                Some(l) => l.copy_from(u)?,
+                None => self.last = Some(u.copy()?),
+            }
+        }
         if !extrapolate || dt <= 0.0 {
             self.velocity = None;
             return Ok(());
@@ -583,14 +606,14 @@ impl Discretization {
     }
 
     /// Element loop of the Jacobian: element matrices (constrained rows and columns zeroed,
-    /// so the pattern stays fixed) go to `sink`, Schur blocks into `schur`.
+    /// so the pattern stays fixed) go to `sink`, Schur blocks into `schur` if given.
     fn jacobian_loop(
         &self,
         ul: &[f64],
         udl: &[f64],
         dt: f64,
         shift: f64,
-        schur: &mut Mat,
+        mut schur: Option<&mut Mat>,
         mut sink: impl FnMut(usize, &[usize; NDOF], &[[f64; NDOF]; NDOF]) -> Result<()>,
     ) -> Result<()> {
         let kernel = self.kernel();
@@ -622,7 +645,9 @@ impl Discretization {
                     }
                 }
             }
-            schur.add_values(&prows, &prows, s.as_flattened())?;
+            if let Some(sm) = schur.as_deref_mut() {
+                sm.add_values(&prows, &prows, s.as_flattened())?;
+            }
         }
         Ok(())
     }
@@ -842,6 +867,10 @@ impl TsProblem for PoroProblem {
     fn initial_guess(&mut self, _ts: TsRef, x: &mut Vector) -> Result<()> {
         let (t0, t1) = self.stage;
         let Some(pl) = &self.plates else { return Ok(()) };
+        // From the start of the step, whatever the integrator put in x (BDF extrapolates).
+        if let Some(last) = &self.last {
+            x.copy_from(last)?;
+        }
         let x0 = x.read()?.to_vec();
         if let Some((v, _)) = &self.velocity {
             x.axpy(t1 - t0, v)?;

@@ -149,6 +149,8 @@ pub struct ActiveSetNewton {
     pc_setups: usize,
     /// Print each iteration on rank 0 (`-poroplast_newton_monitor`).
     pub monitor: bool,
+    /// Rigid modes the bounds leave free, attached to each Jacobian as its null space.
+    pub free_modes: Option<super::FreeRigidModes>,
 }
 
 impl ActiveSetNewton {
@@ -178,6 +180,7 @@ impl ActiveSetNewton {
             krylov: 0,
             pc_setups: 0,
             monitor: false,
+            free_modes: None,
         })
     }
 
@@ -250,6 +253,9 @@ impl ShellSolve for ActiveSetNewton {
                 break R::SNES_DIVERGED_MAX_IT;
             }
             let (mut a, mut p) = snes.compute_jacobian(x)?;
+            if let Some(m) = &self.free_modes {
+                a.set_null_space(&m.null_space(x)?)?;
+            }
             let same = a.as_raw() == p.as_raw();
             a.zero_rows_columns(&self.active, self.diag, Some((&self.to_bound, &mut self.rhs)))?;
             if !same {

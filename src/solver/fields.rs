@@ -98,29 +98,12 @@ impl Fields {
             }
             modes.push(v);
         }
-        orthonormalise(&mut modes)?;
+        super::orthonormalise(&mut modes)?;
         let mut u = IndexSet::general(comm, &u_red)?;
         u.compose("nearnullspace", &NullSpace::from_vectors(comm, &modes)?)?;
         let p = IndexSet::general(comm, &p_red)?;
         Ok(vec![("u".into(), u), ("p".into(), p)])
     }
-}
-
-/// Modified Gram–Schmidt with global dot products.
-fn orthonormalise(vs: &mut [Vector]) -> Result<()> {
-    for i in 0..vs.len() {
-        let (done, rest) = vs.split_at_mut(i);
-        let v = &mut rest[0];
-        for q in done.iter() {
-            let d = v.dot(q)?;
-            v.axpy(-d, q)?;
-        }
-        let n = v.norm2()?;
-        if n > 0.0 {
-            v.scale(1.0 / n)?;
-        }
-    }
-    Ok(())
 }
 
 impl FieldDecomposition for Fields {

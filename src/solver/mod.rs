@@ -21,12 +21,14 @@
 
 pub mod active_set;
 mod fields;
+mod rigid;
 
 pub use active_set::{ActiveSetNewton, Lag};
 pub use fields::Fields;
+pub use rigid::FreeRigidModes;
 
 use crate::error::{Error, Result};
-use crate::petsc::{check, ffi, options, Mat, Snes};
+use crate::petsc::{check, ffi, options, Mat, Snes, Vector};
 
 /// Largest system the "auto" preset solves with the lagged direct factorisation.
 pub const DIRECT_MAX_DOFS: usize = 40_000;
@@ -121,10 +123,12 @@ pub fn set_default_options(preset: &str, n_dofs: usize) -> Result<Policy> {
 }
 
 /// Uses `schur` as the Schur-complement preconditioner if the PC is a Schur fieldsplit and the
-/// user did not choose another (`-pc_fieldsplit_schur_precondition`).
-pub fn use_schur_matrix(snes: &Snes, schur: &Mat) -> Result<()> {
+/// user did not choose another (`-pc_fieldsplit_schur_precondition`). Returns whether it does
+/// (else nothing needs to assemble it).
+pub fn use_schur_matrix(snes: &Snes, schur: &Mat) -> Result<bool> {
     let pc = snes.ksp()?.pc()?;
-    if pc.type_name()? == "fieldsplit" && !options::has("pc_fieldsplit_schur_precondition")? {
+    let used = pc.type_name()? == "fieldsplit" && !options::has("pc_fieldsplit_schur_precondition")?;
+    if used {
         check(unsafe {
             ffi::PCFieldSplitSetSchurPre(
                 pc.raw_handle(),
@@ -132,6 +136,23 @@ pub fn use_schur_matrix(snes: &Snes, schur: &Mat) -> Result<()> {
                 schur.as_raw(),
             )
         })?;
+    }
+    Ok(used)
+}
+
+/// Modified Gram–Schmidt with global dot products.
+pub(crate) fn orthonormalise(vs: &mut [Vector]) -> Result<()> {
+    for i in 0..vs.len() {
+        let (done, rest) = vs.split_at_mut(i);
+        let v = &mut rest[0];
+        for q in done.iter() {
+            let d = v.dot(q)?;
+            v.axpy(-d, q)?;
+        }
+        let n = v.norm2()?;
+        if n > 0.0 {
+            v.scale(1.0 / n)?;
+        }
     }
     Ok(())
 }
