@@ -318,7 +318,8 @@ impl ShellSolve for ActiveSetNewton {
             let x_norm = x.norm2()?;
             x.copy_from(&self.trial)?;
             fnorm = trial_norm;
-            if fnorm.is_finite() && dx_norm <= stol * x_norm {
+            // (Only after a full step: a step shortened by halvings is small for another reason.)
+            if fnorm.is_finite() && lambda == 1.0 && dx_norm <= stol * x_norm {
                 snes.set_iteration_number(it)?;
                 break R::SNES_CONVERGED_SNORM_RELATIVE;
             }
