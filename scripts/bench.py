@@ -20,12 +20,11 @@ The large ones (fine, full, cryer100k) take from many minutes to hours per run o
 import argparse
 import re
 import statistics
-import subprocess
 import tempfile
 import time
 from pathlib import Path
 
-from _runner import BIN, env, scene_text, edit
+from _runner import edit, run, scene_text
 
 CASES = {
     "default": ("reference", {}),
@@ -40,16 +39,6 @@ CASES = {
 EVENTS = {"pc_setup": "PCSetUp", "ksp_solve": "KSPSolve", "factor": "MatLUFactorNum", "submatrix": "MatCreateSubMat"}
 
 
-def scene_with(name, edits):
-    text = scene_text(name)
-    for key, value in edits.items():
-        if key == "params":
-            text = edit(text, params=value)
-        else:
-            text = edit(text, **{key: value})
-    return text
-
-
 def log_view(path):
     """Max-over-ranks time of the EVENTS in a -log_view file."""
     out = {k: 0.0 for k in EVENTS}
@@ -59,12 +48,6 @@ def log_view(path):
             if f and f[0] == ev and len(f) > 3:
                 out[key] += float(f[3])
     return out
-
-
-def history(path):
-    lines = open(path).read().splitlines()
-    names = lines[0].split(",")
-    return {n: [float(r.split(",")[i]) for r in lines[1:] if r] for i, n in enumerate(names)}
 
 
 def at(h, col, t):
@@ -103,24 +86,16 @@ def halved(text):
 
 
 def run_once(text, ranks, work, petsc=()):
-    work.mkdir(parents=True, exist_ok=True)
-    scene, out, lv = work / "scene.toml", work / "run", work / "log_view.txt"
-    scene.write_text(text)
+    lv = work / "log_view.txt"
     t0 = time.time()
-    subprocess.run(["mpirun", "-n", str(ranks), str(BIN), "run", str(scene), "--out", str(out), "--force", "-q",
-                    "--", f"-log_view", f":{lv}", *petsc], check=True, env=env(), stdout=subprocess.DEVNULL)
+    rows, tm = run(text, ranks, petsc=("-log_view", f":{lv}", *petsc), workdir=work)
     wall = time.time() - t0
-    tm = {}
-    for line in open(out / "timings.txt"):
-        if " = " in line:
-            k, v = line.split(" = ")
-            tm[k.strip()] = float(v)
     r = dict(tm)
     r.update(log_view(lv))
     r["wall"] = wall
     r["rss_MiB"] = tm.get("max_rss_mib")           # the largest rank's peak resident memory
     r["assembly"] = tm["residual_assembly"] + tm["jacobian_assembly"] + tm.get("history_commit", 0.0)
-    r.update(observables(history(out / "history.csv")))
+    r.update(observables({k: [float(row[k]) for row in rows] for k in rows[0]}))
     return r
 
 
@@ -154,7 +129,8 @@ def main():
             runs.append((f"{a.scene}" + (f" h={h:g}" if h else ""), text))
     else:
         for c in a.case or ["default", "remodel"]:
-            runs.append((c, scene_with(*CASES[c])))
+            name, edits = CASES[c]
+            runs.append((c, edit(scene_text(name), **edits)))
 
     cols = ["dofs", "steps", "step_cuts", "error_rejections", "newton_its", "newton/step", "ksp/newton", "wall",
             "assembly", "pc_setup", "factor", "ksp_solve", "submatrix", "output", "rss_MiB"]

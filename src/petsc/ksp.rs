@@ -29,16 +29,16 @@ impl Ksp {
         let mi = max_it.map_or(ffi::PETSC_DEFAULT, |m| m as i32);
         check(unsafe { ffi::KSPSetTolerances(self.raw, rtol, atol, ffi::PETSC_DEFAULT as f64, mi as Int) })
     }
-    /// (rtol, atol, divtol, max_it) in effect.
-    pub fn tolerances(&self) -> Result<(f64, f64, f64, usize)> {
+    /// The iteration limit in effect.
+    pub fn max_it(&self) -> Result<usize> {
         let (mut rtol, mut atol, mut dtol, mut maxit) = (0.0, 0.0, 0.0, 0 as Int);
         check(unsafe { ffi::KSPGetTolerances(self.raw, &mut rtol, &mut atol, &mut dtol, &mut maxit) })?;
-        Ok((rtol, atol, dtol, maxit.max(0) as usize))
+        Ok(maxit.max(0) as usize)
     }
-    /// Sets only the iteration limit.
+    /// Sets only the iteration limit (PETSC_DEFAULT leaves the others as they are).
     pub fn set_max_it(&self, max_it: usize) -> Result<()> {
-        let (rtol, atol, dtol, _) = self.tolerances()?;
-        check(unsafe { ffi::KSPSetTolerances(self.raw, rtol, atol, dtol, max_it as Int) })
+        let keep = ffi::PETSC_DEFAULT as f64;
+        check(unsafe { ffi::KSPSetTolerances(self.raw, keep, keep, keep, max_it as Int) })
     }
     /// Iterations of the last solve.
     pub fn iterations(&self) -> Result<usize> {

@@ -56,18 +56,6 @@ impl Snes {
         check(unsafe { ffi::SNESGetType(self.raw, &mut t) })?;
         Ok(!t.is_null() && unsafe { std::ffi::CStr::from_ptr(t) }.to_bytes().starts_with(b"vi"))
     }
-    /// Newton iterations of the last solve.
-    pub fn iterations(&self) -> Result<usize> {
-        let mut n: Int = 0;
-        check(unsafe { ffi::SNESGetIterationNumber(self.raw, &mut n) })?;
-        Ok(n as usize)
-    }
-    /// Krylov iterations summed over the last solve.
-    pub fn linear_iterations(&self) -> Result<usize> {
-        let mut n: Int = 0;
-        check(unsafe { ffi::SNESGetLinearSolveIterations(self.raw, &mut n) })?;
-        Ok(n as usize)
-    }
     /// Converged reason code (> 0 converged, < 0 diverged).
     pub fn converged_reason(&self) -> Result<i32> {
         let mut r = ffi::SNESConvergedReason(0);
@@ -140,10 +128,6 @@ impl Snes {
         let mut t: ffi::SNESLineSearchType = std::ptr::null();
         check(unsafe { ffi::SNESLineSearchGetType(self.line_search()?, &mut t) })?;
         Ok(super::type_name_of(t))
-    }
-    pub fn set_line_search_type(&self, t: &str) -> Result<()> {
-        let c = super::cstr(t);
-        check(unsafe { ffi::SNESLineSearchSetType(self.line_search()?, c.as_ptr()) })
     }
     pub fn set_from_options(&self) -> Result<()> {
         check(unsafe { ffi::SNESSetFromOptions(self.raw) })

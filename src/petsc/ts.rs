@@ -27,6 +27,13 @@ impl TsRef {
         check(unsafe { ffi::TSGetTimeStep(self.raw, &mut dt) })?;
         Ok(dt)
     }
+    /// The solution at the start of the step being attempted (TS replaces it only when the
+    /// step is accepted).
+    pub fn solution(&self) -> Result<std::mem::ManuallyDrop<Vector>> {
+        let mut raw = std::ptr::null_mut();
+        check(unsafe { ffi::TSGetSolution(self.raw, &mut raw) })?;
+        Ok(unsafe { Vector::borrowed(raw) })
+    }
     /// Start time of the step being attempted.
     pub fn time(&self) -> Result<f64> {
         let mut t = 0.0;
@@ -385,10 +392,6 @@ impl<P: TsProblem> Ts<P> {
     /// current time (a kink of the loading): the next step starts afresh.
     pub fn restart_step(&mut self) -> Result<()> {
         check(unsafe { ffi::TSRestartStep(self.raw) })
-    }
-    /// Resets a failed TS so the caller may continue after handling the failure.
-    pub fn clear_reason(&mut self) -> Result<()> {
-        check(unsafe { ffi::TSSetConvergedReason(self.raw, ffi::TSConvergedReason(0)) })
     }
 }
 

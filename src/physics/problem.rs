@@ -88,8 +88,6 @@ pub struct PoroProblem {
     /// Velocity and size of the last accepted step, for the predictor and the error estimate
     /// (None after a loading kink).
     velocity: Option<(Vector, f64)>,
-    /// The last accepted state (with plates: the predictor starts from it).
-    last: Option<Vector>,
     pub timers: Timers,
 }
 
@@ -182,7 +180,6 @@ impl PoroProblem {
             bounds: None,
             stage: (0.0, 0.0),
             velocity: None,
-            last: None,
             timers: Timers::default(),
         })
     }
@@ -417,18 +414,12 @@ impl PoroProblem {
         Ok(())
     }
 
-    /// Records the last accepted step (from `prev` to `u` in dt) for the predictor and the
-    /// error estimate of the next; `extrapolate = false` after a kink of the loading, where the
-    /// velocity jumps.
-    pub fn end_step(&mut self, prev: &Vector, u: &Vector, dt: f64, extrapolate: bool) -> Result<()> {
+    /// Commits the history of the accepted step from `prev` to `u` in dt and, with
+    /// `keep_rate`, keeps its velocity for the predictor and the error estimate of the next (not
+    /// after a kink of the loading, where the velocity jumps; not when nothing uses it).
+    pub fn end_step(&mut self, prev: &Vector, u: &Vector, dt: f64, keep_rate: bool) -> Result<()> {
         self.commit_history(prev, u, dt)?;
-        if self.plates.is_some() {
-            match &mut self.last {
-                Some(l) => l.copy_from(u)?,
-                None => self.last = Some(u.copy()?),
-            }
-        }
-        if !extrapolate || dt <= 0.0 {
+        if !keep_rate || dt <= 0.0 {
             self.velocity = None;
             return Ok(());
         }
@@ -450,32 +441,25 @@ impl PoroProblem {
         let Some((v, dt_prev)) = &self.velocity else { return Ok(None) };
         let nu = 3 * self.disc.dofs.n_owned_nodes;
         let w = dt / (dt + dt_prev);
-        // [Σ e_u², max |u|, Σ e_p², max |p|, #u, #p] over this rank's dofs.
-        let mut m = [0.0f64; 6];
+        // Per field (u, p): Σ e², number of dofs, and max |x| over this rank's dofs.
+        let (mut sums, mut maxs) = ([0.0f64; 4], [0.0f64; 2]);
         {
             let (uv, pv, vv) = (u.read()?, prev.read()?, v.read()?);
             for i in 0..uv.len() {
                 let e = w * (uv[i] - pv[i] - dt * vv[i]);
-                let k = if i < nu { 0 } else { 2 };
-                m[k] += e * e;
-                m[k + 1] = m[k + 1].max(uv[i].abs());
-                m[4 + k / 2] += 1.0;
+                let f = usize::from(i >= nu);
+                sums[2 * f] += e * e;
+                sums[2 * f + 1] += 1.0;
+                maxs[f] = maxs[f].max(uv[i].abs());
             }
         }
-        let mut g = [0.0f64; 6];
-        let sums = [m[0], m[2], m[4], m[5]];
-        let mut gs = [0.0f64; 4];
+        let (mut gs, mut gm) = ([0.0f64; 4], [0.0f64; 2]);
         self.world.all_reduce_into(&sums[..], &mut gs[..], SystemOperation::sum());
-        let maxs = [m[1], m[3]];
-        let mut gm = [0.0f64; 2];
         self.world.all_reduce_into(&maxs[..], &mut gm[..], SystemOperation::max());
-        g[0] = (gs[0] / gs[2].max(1.0)).sqrt();
-        g[2] = (gs[1] / gs[3].max(1.0)).sqrt();
-        g[1] = gm[0];
-        g[3] = gm[1];
-        let model = &self.disc.model;
-        let (u_ref, p_ref) = (g[1].max(self.h), g[3].max(0.1 * model.drained_bulk_modulus()));
-        Ok(Some((g[0] / u_ref).max(g[2] / p_ref) / tol))
+        let rms = |f: usize| (gs[2 * f] / gs[2 * f + 1].max(1.0)).sqrt();
+        let u_ref = gm[0].max(self.h);
+        let p_ref = gm[1].max(0.1 * self.disc.model.drained_bulk_modulus());
+        Ok(Some((rms(0) / u_ref).max(rms(1) / p_ref) / tol))
     }
 
     /// Commits the end-of-step history of the accepted step from `prev` to `u` (size dt): the
@@ -864,14 +848,13 @@ impl TsProblem for PoroProblem {
     /// (see `Plates::predict`). Why: moving only the contact nodes compacts their (already
     /// compacted) elements below J = Φs in the initial guess; the extrapolated field moves the
     /// bulk consistently with the plate.
-    fn initial_guess(&mut self, _ts: TsRef, x: &mut Vector) -> Result<()> {
+    fn initial_guess(&mut self, ts: TsRef, x: &mut Vector) -> Result<()> {
         let (t0, t1) = self.stage;
         let Some(pl) = &self.plates else { return Ok(()) };
         // From the start of the step, whatever the integrator put in x (BDF extrapolates).
-        if let Some(last) = &self.last {
-            x.copy_from(last)?;
-        }
-        let x0 = x.read()?.to_vec();
+        let start = ts.solution()?;
+        x.copy_from(&start)?;
+        let x0 = start.read()?.to_vec();
         if let Some((v, _)) = &self.velocity {
             x.axpy(t1 - t0, v)?;
         }

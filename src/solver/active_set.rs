@@ -146,7 +146,6 @@ pub struct ActiveSetNewton {
     last_krylov: usize,
     newton: usize,
     krylov: usize,
-    pc_setups: usize,
     /// Print each iteration on rank 0 (`-poroplast_newton_monitor`).
     pub monitor: bool,
     /// Rigid modes the bounds leave free, attached to each Jacobian as its null space.
@@ -178,15 +177,9 @@ impl ActiveSetNewton {
             last_krylov: 0,
             newton: 0,
             krylov: 0,
-            pc_setups: 0,
             monitor: false,
             free_modes: None,
         })
-    }
-
-    /// Preconditioner setups so far.
-    pub fn pc_setups(&self) -> usize {
-        self.pc_setups
     }
 
     /// Whether the preconditioner of the last setup may serve the current Jacobian (the same
@@ -264,7 +257,7 @@ impl ShellSolve for ActiveSetNewton {
             // A reused preconditioner gets a short leash: if the Krylov method needs more than
             // twice the rebuild threshold, the same system is solved again with a new setup.
             let mut reuse = self.reuse_pc();
-            let max_it = ksp.tolerances()?.3;
+            let max_it = ksp.max_it()?;
             loop {
                 ksp.set_reuse_preconditioner(reuse)?;
                 ksp.set_operators(&a, &p)?;
@@ -274,7 +267,6 @@ impl ShellSolve for ActiveSetNewton {
                 } else {
                     self.pc_active = Some(self.active.clone());
                     self.pc_uses = 0;
-                    self.pc_setups += 1;
                 }
                 ksp.solve(&self.rhs, &mut self.step)?;
                 if reuse {
