@@ -384,7 +384,20 @@ impl<'w> Run<'w> {
                 // Free-surface drainage conductance: γ k0 / h (a stiff Robin condition, p ≈ 0).
                 let beta_max = ps.drainage_penalty * model.conductivity() / mean_element_size(world, &local);
                 let seal_gap = ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * ps.radius);
-                Some((Plates::new(history, ps.radius, &local, &faces, anchor, ps.drainage, beta_max, seal_gap), faces))
+                Some((
+                    Plates::new(
+                        history,
+                        ps.radius,
+                        &local,
+                        &faces,
+                        anchor,
+                        ps.drainage,
+                        beta_max,
+                        seal_gap,
+                        ps.drainage_gap,
+                    ),
+                    faces,
+                ))
             }
             None => None,
         };

@@ -296,6 +296,21 @@ pub struct PlatesSpec {
     /// Gap (µm) over which drainage opens as a contact separates (default 0.01 R).
     #[serde(default)]
     pub seal_gap: Option<f64>,
+    /// Which gap opens the drainage within a step: the step predictor's (default) or the
+    /// Newton iterate's (fully implicit; numerics.md, "Drainage that follows contact").
+    #[serde(default)]
+    pub drainage_gap: DrainageGap,
+}
+
+/// The gap that sets a surface vertex's drainage conductance during a step.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DrainageGap {
+    /// The step predictor's gap (semi-implicit: fixed during the Newton iteration).
+    #[default]
+    Predicted,
+    /// The current iterate's gap (fully implicit, differentiated exactly).
+    Current,
 }
 
 fn default_penalty() -> f64 {

@@ -136,8 +136,10 @@ impl Experiment {
             zmax = zmax.max(x[2]);
             rmax = rmax.max((x[0] * x[0] + x[1] * x[1]).sqrt());
         }
-        // Outflow through the drained surface: Σ c(g) p over this rank's face shares.
-        let outflow_local: f64 = plates.drainage(mesh, dofs, local, t).iter().map(|d| d.conductance * local[d.p]).sum();
+        // Outflow through the drained surface: Σ c(g) p over this rank's face shares, with the
+        // gaps the step's residual used.
+        let gaps = post.drainage_gaps.as_deref().unwrap_or(local);
+        let outflow_local: f64 = plates.drainage(mesh, dofs, gaps, t).iter().map(|d| d.conductance * local[d.p]).sum();
         let sym = self.symmetry;
         let outflow = sym * sum(world, outflow_local);
         self.outflow_total += dt * outflow;

@@ -13,7 +13,7 @@
 //! becomes a domain error on every rank, which TS answers by cutting the step.
 
 use super::bc::Constraint;
-use super::contact::Plates;
+use super::contact::{DrainageGap, Plates};
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::Tabulation;
@@ -88,6 +88,9 @@ pub struct PoroProblem {
     /// Velocity and size of the last accepted step, for the predictor and the error estimate
     /// (None after a loading kink).
     velocity: Option<(Vector, f64)>,
+    /// The predictor of the step being solved (local layout), whose gaps set the drainage when
+    /// the plates drain by the predicted gap (`DrainageGap::Predicted`).
+    predicted: Option<Vec<f64>>,
     pub timers: Timers,
 }
 
@@ -98,6 +101,9 @@ pub const INFINITY: f64 = f64::MAX / 4.0;
 pub struct Post {
     /// The state, owned + ghost entries (local layout).
     pub local: Vec<f64>,
+    /// The state whose gaps set the step's drainage, if not `local` (the predictor's, with
+    /// `DrainageGap::Predicted`): the outflow is c(gap) p with these.
+    pub drainage_gaps: Option<Vec<f64>>,
     /// Raw residual — internal minus external forces on u rows, mass balance on p rows — with
     /// no constraint rows: the reactions of constrained and contact dofs. Owned entries.
     pub reaction: Vec<f64>,
@@ -180,6 +186,7 @@ impl PoroProblem {
             bounds: None,
             stage: (0.0, 0.0),
             velocity: None,
+            predicted: None,
             timers: Timers::default(),
         })
     }
@@ -280,7 +287,7 @@ impl PoroProblem {
             let res = run();
             // Drainage through the surface off the plates: outflow c(g) p (contact module).
             if let Some(pl) = &self.plates {
-                for d in pl.drainage(&disc.mesh, &disc.dofs, &ul, t) {
+                for d in pl.drainage(&disc.mesh, &disc.dofs, self.predicted.as_deref().unwrap_or(&ul), t) {
                     fl[d.p] += d.conductance * ul[d.p];
                 }
             }
@@ -373,15 +380,21 @@ impl PoroProblem {
         self.collective(outcome)?;
         self.ghosts.flush(jac)?;
         let scales = self.scales(shift);
-        // Drainage: d(c p)/dp = c on the diagonal, d(c p)/du_z = c' p; and c in the Schur block.
+        // Drainage: d(c p)/dp = c on the diagonal, d(c p)/du_z = c' p (not with the predicted
+        // gap, fixed during the step); and c in the Schur block.
         if let Some(pl) = &self.plates {
             let ul = self.u_loc.read()?;
             let l2g = &self.disc.dofs.l2g;
-            for d in pl.drainage(&self.disc.mesh, &self.disc.dofs, &ul, t) {
+            let (gaps, implicit) = match &self.predicted {
+                Some(x) => (&x[..], 0.0),
+                None => (&ul[..], 1.0),
+            };
+            for d in pl.drainage(&self.disc.mesh, &self.disc.dofs, gaps, t) {
                 if self.disc.constrained[d.p] {
                     continue;
                 }
-                jac.add_values(&[l2g[d.p]], &[l2g[d.p], l2g[d.uz]], &[d.conductance, d.d_conductance * ul[d.p]])?;
+                let dc_du = implicit * d.d_conductance * ul[d.p];
+                jac.add_values(&[l2g[d.p]], &[l2g[d.p], l2g[d.uz]], &[d.conductance, dc_du])?;
                 let gv = self.disc.mesh.vertex_global[d.p - 3 * self.disc.dofs.n_nodes] as Int;
                 if needed {
                     self.schur.add_values(&[gv], &[gv], &[d.conductance])?;
@@ -496,6 +509,7 @@ impl PoroProblem {
         let n_el = self.disc.mesh.tets.len();
         let mut post = Post {
             local: self.u_loc.read()?.to_vec(),
+            drainage_gaps: self.predicted.clone(),
             reaction: Vec::new(),
             reaction_pressure: Vec::new(),
             cell_j: Vec::with_capacity(n_el),
@@ -859,6 +873,10 @@ impl TsProblem for PoroProblem {
             x.axpy(t1 - t0, v)?;
         }
         pl.predict(t0, t1, &self.disc.dofs, &x0, &mut x.write()?);
+        if pl.gap == DrainageGap::Predicted {
+            self.scatter.forward(x, &mut self.u_loc)?;
+            self.predicted = Some(self.u_loc.read()?.to_vec());
+        }
         Ok(())
     }
 }
