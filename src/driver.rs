@@ -482,7 +482,14 @@ impl<'w> Run<'w> {
                 ksp.use_dm_of(&snes)?;
                 ksp.set_from_options()?;
                 // Reusing a preconditioner needs a Krylov method to absorb the difference.
-                let lag = if ksp.type_name()? == "preonly" { solver::Lag::NEVER } else { policy.lag };
+                let mut lag = if ksp.type_name()? == "preonly" { solver::Lag::NEVER } else { policy.lag };
+                // No chord iterations when the Jacobian check assembles into the solve matrix
+                // between steps, nor with free rigid modes: their null space moves with the
+                // state, and a kept operator with an earlier one gave a divergent step (the
+                // mirrored full sphere in tests/plates.rs).
+                if options::has("poroplast_check_jacobian")? || free_modes.is_some() {
+                    lag.chord = 0.0;
+                }
                 let mut newton = solver::ActiveSetNewton::new(world, lo, hi, ts.problem().u_row_scale(), lag)?;
                 newton.monitor = options::has("poroplast_newton_monitor")?;
                 newton.free_modes = free_modes;

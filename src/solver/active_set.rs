@@ -69,6 +69,13 @@ pub struct Lag {
     pub max_krylov: usize,
     /// Rebuild when more dofs than this entered or left the active set since the setup.
     pub max_changes: usize,
+    /// Chord iterations: keep the last assembled Jacobian and its preconditioner (no assembly,
+    /// no setup) while the active set is the one it was assembled with and each iteration
+    /// reduces the free residual by at least this factor. With a direct preconditioner such an
+    /// iteration costs one residual and one triangular solve. When > 0, every assembly sets
+    /// up a new preconditioner (the thresholds above apply only with 0: assemble at every
+    /// iteration, and lag the preconditioner instead).
+    pub chord: f64,
 }
 
 /// The bounds l ≤ x ≤ u (shared with the problem, which moves them with the plate).
@@ -122,7 +129,7 @@ impl Bounds {
 
 impl Lag {
     /// A new preconditioner for every Jacobian.
-    pub const NEVER: Lag = Lag { max_reuse: 0, max_krylov: 0, max_changes: 0 };
+    pub const NEVER: Lag = Lag { max_reuse: 0, max_krylov: 0, max_changes: 0, chord: 0.0 };
 }
 
 /// The active-set Newton solver (a SNESSHELL inside TS).
@@ -142,6 +149,10 @@ pub struct ActiveSetNewton {
     active: Vec<Int>,
     /// Active set of the last preconditioner setup, and how often that setup has been reused.
     pc_active: Option<Vec<Int>>,
+    /// Active set of the assembled operator while it may serve chord iterations.
+    jac_active: Option<Vec<Int>>,
+    /// Whether the preconditioner was set up from the assembled operator as it is.
+    exact_pc: bool,
     pc_uses: usize,
     last_krylov: usize,
     newton: usize,
@@ -173,6 +184,8 @@ impl ActiveSetNewton {
             trial: lower.duplicate()?,
             active: Vec::new(),
             pc_active: None,
+            jac_active: None,
+            exact_pc: false,
             pc_uses: 0,
             last_krylov: 0,
             newton: 0,
@@ -194,6 +207,19 @@ impl ActiveSetNewton {
 }
 
 impl ActiveSetNewton {
+    /// Whether the assembled operator may serve this iteration as is (a chord iteration): the
+    /// active set is the one it was assembled with, on every rank, and the last iteration
+    /// contracted by `lag.chord` or better.
+    fn chord(&self, contraction: f64) -> bool {
+        if self.lag.chord <= 0.0 || contraction > self.lag.chord || !self.exact_pc {
+            return false;
+        }
+        let here = usize::from(self.jac_active.as_deref() != Some(&self.active[..]));
+        let mut differ = 0;
+        self.world.all_reduce_into(&here, &mut differ, SystemOperation::sum());
+        differ == 0
+    }
+
     /// One monitor line: iteration, free residual norm, active set size and how many dofs
     /// entered and left it, Krylov iterations of the last solve.
     fn print_iteration(&self, it: usize, fnorm: f64, prev: &[Int]) {
@@ -226,6 +252,9 @@ impl ShellSolve for ActiveSetNewton {
         let mut it = 0;
         let mut prev_active = Vec::new();
         let mut norms = vec![fnorm];
+        // Residual reduction of the last iteration (none yet: the operator of the last step's
+        // final iteration may serve the first chord iteration).
+        let mut contraction = 0.0;
         let reason = loop {
             snes.set_iteration_number(it)?;
             snes.monitor(it, fnorm)?;
@@ -245,39 +274,60 @@ impl ShellSolve for ActiveSetNewton {
             if it >= max_it {
                 break R::SNES_DIVERGED_MAX_IT;
             }
-            let (mut a, mut p) = snes.compute_jacobian(x)?;
-            if let Some(m) = &self.free_modes {
-                a.set_null_space(&m.null_space(x)?)?;
-            }
-            let same = a.as_raw() == p.as_raw();
-            a.zero_rows_columns(&self.active, self.diag, Some((&self.to_bound, &mut self.rhs)))?;
-            if !same {
-                p.zero_rows_columns(&self.active, self.diag, None)?;
-            }
-            // A reused preconditioner gets a short leash: if the Krylov method needs more than
-            // twice the rebuild threshold, the same system is solved again with a new setup.
-            let mut reuse = self.reuse_pc();
-            let max_it = ksp.max_it()?;
-            loop {
-                ksp.set_reuse_preconditioner(reuse)?;
-                ksp.set_operators(&a, &p)?;
-                if reuse {
-                    ksp.set_max_it((2 * self.lag.max_krylov).clamp(1, max_it))?;
-                    self.pc_uses += 1;
-                } else {
-                    self.pc_active = Some(self.active.clone());
-                    self.pc_uses = 0;
-                }
+            // A chord iteration solves with the operator and preconditioner as they are; if its
+            // Krylov solve fails, the iteration assembles after all.
+            let chord = self.chord(contraction) && {
+                // What MatZeroRowsColumns puts in the active rows of the right-hand side.
+                self.rhs.axpy(self.diag, &self.to_bound)?;
+                ksp.set_reuse_preconditioner(true)?;
+                let max_it = ksp.max_it()?;
+                ksp.set_max_it((2 * self.lag.max_krylov).clamp(1, max_it))?;
                 ksp.solve(&self.rhs, &mut self.step)?;
-                if reuse {
-                    ksp.set_max_it(max_it)?;
-                }
+                ksp.set_max_it(max_it)?;
                 self.last_krylov = ksp.iterations()?;
                 self.krylov += self.last_krylov;
-                if !reuse || ksp.converged_reason()? > 0 {
-                    break;
+                self.pc_uses += 1;
+                ksp.converged_reason()? > 0
+            };
+            if !chord {
+                let (mut a, mut p) = snes.compute_jacobian(x)?;
+                if let Some(m) = &self.free_modes {
+                    a.set_null_space(&m.null_space(x)?)?;
                 }
-                reuse = false;
+                let same = a.as_raw() == p.as_raw();
+                a.zero_rows_columns(&self.active, self.diag, Some((&self.to_bound, &mut self.rhs)))?;
+                if !same {
+                    p.zero_rows_columns(&self.active, self.diag, None)?;
+                }
+                // A reused preconditioner gets a short leash: if the Krylov method needs more than
+                // twice the rebuild threshold, the same system is solved again with a new setup.
+                // With chord iterations a new operator gets a new preconditioner (the chord
+                // needs the pair exact: one triangular solve per iteration).
+                let mut reuse = self.lag.chord <= 0.0 && self.reuse_pc();
+                let max_it = ksp.max_it()?;
+                loop {
+                    ksp.set_reuse_preconditioner(reuse)?;
+                    ksp.set_operators(&a, &p)?;
+                    if reuse {
+                        ksp.set_max_it((2 * self.lag.max_krylov).clamp(1, max_it))?;
+                        self.pc_uses += 1;
+                    } else {
+                        self.pc_active = Some(self.active.clone());
+                        self.pc_uses = 0;
+                    }
+                    ksp.solve(&self.rhs, &mut self.step)?;
+                    if reuse {
+                        ksp.set_max_it(max_it)?;
+                    }
+                    self.last_krylov = ksp.iterations()?;
+                    self.krylov += self.last_krylov;
+                    if !reuse || ksp.converged_reason()? > 0 {
+                        break;
+                    }
+                    reuse = false;
+                }
+                self.jac_active = Some(self.active.clone());
+                self.exact_pc = !reuse;
             }
             self.newton += 1;
             it += 1;
@@ -309,16 +359,21 @@ impl ShellSolve for ActiveSetNewton {
             let dx_norm = lambda * self.step.norm2()?;
             let x_norm = x.norm2()?;
             x.copy_from(&self.trial)?;
+            contraction = if lambda == 1.0 { trial_norm / fnorm } else { f64::INFINITY };
             fnorm = trial_norm;
-            // (Only after a full step: a step shortened by halvings is small for another reason.)
-            if fnorm.is_finite() && lambda == 1.0 && dx_norm <= stol * x_norm {
+            // Only after a full Newton step: a step shortened by halvings is small for another
+            // reason, and a chord step is small while the residual still converges only
+            // linearly (the residual tests decide then).
+            if fnorm.is_finite() && lambda == 1.0 && !chord && dx_norm <= stol * x_norm {
                 snes.set_iteration_number(it)?;
                 break R::SNES_CONVERGED_SNORM_RELATIVE;
             }
         };
         if reason.0 < 0 {
-            // A failed attempt (cut step): its preconditioner may come from a bad iterate.
+            // A failed attempt (cut step): its operator and preconditioner may come from a bad
+            // iterate.
             self.pc_active = None;
+            self.jac_active = None;
         }
         snes.set_converged_reason(reason)
     }
