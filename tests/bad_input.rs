@@ -106,14 +106,17 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     fails(&earlier, &["run", &s], "det(I + G)");
     let s = rvariant("fields_at", &[("fields_every = 10", "fields_every = 10\nfields_at = [2000.0]")]);
     fails(&earlier, &["run", &s], "output.fields_at: 2000");
-    // An integrator the finite-strain mixture is not discretised for; a solver preset and an
-    // error tolerance that do not exist.
+    // An integrator the finite-strain mixture is not discretised for; a solver preset, an
+    // error tolerance and a chord rate that do not exist.
     let s = rvariant("bdf", &[]);
     fails(&earlier, &["run", &s, "--", "-ts_type", "bdf"], "-ts_type bdf");
     let s = rvariant("preset", &[("[output]", "[solver]\npreset = \"amg\"\n\n[output]")]);
     fails(&earlier, &["run", &s], "solver.preset = \"amg\"");
     let s = rvariant("tolerance", &[("[time]", "[time]\nerror_tolerance = -1e-3")]);
     fails(&earlier, &["run", &s], "time.error_tolerance");
+    // A chord contraction factor that is not one.
+    let s = rvariant("chord", &[]);
+    fails(&earlier, &["run", &s, "--", "-poroplast_chord", "1.5"], "-poroplast_chord 1.5");
     // A scene that does not exist.
     fails(&earlier, &["run", "no-such-scene"], "not a builtin scene");
     // Without --force an existing run directory is refused, untouched.
