@@ -153,6 +153,8 @@ pub struct ActiveSetNewton {
     jac_active: Option<Vec<Int>>,
     /// Whether the preconditioner was set up from the assembled operator as it is.
     exact_pc: bool,
+    /// Whether the last iteration was a chord iteration (for the monitor).
+    last_chord: bool,
     pc_uses: usize,
     last_krylov: usize,
     newton: usize,
@@ -186,6 +188,7 @@ impl ActiveSetNewton {
             pc_active: None,
             jac_active: None,
             exact_pc: false,
+            last_chord: false,
             pc_uses: 0,
             last_krylov: 0,
             newton: 0,
@@ -221,7 +224,7 @@ impl ActiveSetNewton {
     }
 
     /// One monitor line: iteration, free residual norm, active set size and how many dofs
-    /// entered and left it, Krylov iterations of the last solve.
+    /// entered and left it, Krylov iterations of the last solve (and whether it was a chord).
     fn print_iteration(&self, it: usize, fnorm: f64, prev: &[Int]) {
         let entered = self.active.iter().filter(|i| prev.binary_search(i).is_err()).count();
         let left = prev.iter().filter(|i| self.active.binary_search(i).is_err()).count();
@@ -229,7 +232,8 @@ impl ActiveSetNewton {
         let mut tot = [0usize; 3];
         self.world.all_reduce_into(&local[..], &mut tot[..], SystemOperation::sum());
         if self.world.rank() == 0 {
-            let k = if it == 0 { String::new() } else { format!(", krylov {}", self.last_krylov) };
+            let chord = if self.last_chord { ", chord" } else { "" };
+            let k = if it == 0 { String::new() } else { format!(", krylov {}{chord}", self.last_krylov) };
             println!("    newton {it:2}  |F| {fnorm:.3e}  active {} (+{} -{}){k}", tot[0], tot[1], tot[2]);
         }
     }
@@ -329,6 +333,7 @@ impl ShellSolve for ActiveSetNewton {
                 self.jac_active = Some(self.active.clone());
                 self.exact_pc = !reuse;
             }
+            self.last_chord = chord;
             self.newton += 1;
             it += 1;
             if ksp.converged_reason()? < 0 {
