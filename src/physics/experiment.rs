@@ -86,7 +86,8 @@ impl Experiment {
         Ok(Experiment { symmetry, probe_p, probe_porosity, faces, outflow_total: 0.0 })
     }
 
-    /// Observables at time t after a step of size dt (collective).
+    /// Observables at time t after a step of size dt (collective). `drainage_gaps`: the state
+    /// whose gaps set the step's drainage, if not the solution's (for the outflow).
     #[allow(clippy::too_many_arguments)]
     pub fn observe(
         &mut self,
@@ -96,6 +97,7 @@ impl Experiment {
         mesh: &LocalMesh,
         dofs: &DofMap,
         post: &Post,
+        drainage_gaps: Option<&[f64]>,
         world: &SimpleCommunicator,
     ) -> Observation {
         let local = &post.local;
@@ -137,8 +139,8 @@ impl Experiment {
             rmax = rmax.max((x[0] * x[0] + x[1] * x[1]).sqrt());
         }
         // Outflow through the drained surface: Σ c(g) p over this rank's face shares, with the
-        // gaps the step's residual used.
-        let gaps = post.drainage_gaps.as_deref().unwrap_or(local);
+        // gaps the step's residual used (`PoroProblem::drainage_gaps`; else the solution's).
+        let gaps = drainage_gaps.unwrap_or(local);
         let outflow_local: f64 = plates.drainage(mesh, dofs, gaps, t).iter().map(|d| d.conductance * local[d.p]).sum();
         let sym = self.symmetry;
         let outflow = sym * sum(world, outflow_local);

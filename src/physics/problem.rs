@@ -101,9 +101,6 @@ pub const INFINITY: f64 = f64::MAX / 4.0;
 pub struct Post {
     /// The state, owned + ghost entries (local layout).
     pub local: Vec<f64>,
-    /// The state whose gaps set the step's drainage, if not `local` (the predictor's, with
-    /// `DrainageGap::Predicted`): the outflow is c(gap) p with these.
-    pub drainage_gaps: Option<Vec<f64>>,
     /// Raw residual — internal minus external forces on u rows, mass balance on p rows — with
     /// no constraint rows: the reactions of constrained and contact dofs. Owned entries.
     pub reaction: Vec<f64>,
@@ -385,15 +382,12 @@ impl PoroProblem {
         if let Some(pl) = &self.plates {
             let ul = self.u_loc.read()?;
             let l2g = &self.disc.dofs.l2g;
-            let (gaps, implicit) = match &self.predicted {
-                Some(x) => (&x[..], 0.0),
-                None => (&ul[..], 1.0),
-            };
-            for d in pl.drainage(&self.disc.mesh, &self.disc.dofs, gaps, t) {
+            let gaps = self.predicted.as_deref();
+            for d in pl.drainage(&self.disc.mesh, &self.disc.dofs, gaps.unwrap_or(&ul), t) {
                 if self.disc.constrained[d.p] {
                     continue;
                 }
-                let dc_du = implicit * d.d_conductance * ul[d.p];
+                let dc_du = if gaps.is_some() { 0.0 } else { d.d_conductance * ul[d.p] };
                 jac.add_values(&[l2g[d.p]], &[l2g[d.p], l2g[d.uz]], &[d.conductance, dc_du])?;
                 let gv = self.disc.mesh.vertex_global[d.p - 3 * self.disc.dofs.n_nodes] as Int;
                 if needed {
@@ -509,7 +503,6 @@ impl PoroProblem {
         let n_el = self.disc.mesh.tets.len();
         let mut post = Post {
             local: self.u_loc.read()?.to_vec(),
-            drainage_gaps: self.predicted.clone(),
             reaction: Vec::new(),
             reaction_pressure: Vec::new(),
             cell_j: Vec::with_capacity(n_el),
@@ -583,6 +576,12 @@ impl PoroProblem {
         self.scatter.reverse_add(&pres_loc, &mut g)?;
         post.reaction_pressure = g.read()?.to_vec();
         Ok(post)
+    }
+
+    /// The state whose gaps set the last step's drainage (local layout), if not its solution:
+    /// the predictor's, with `DrainageGap::Predicted`.
+    pub fn drainage_gaps(&self) -> Option<&[f64]> {
+        self.predicted.as_deref()
     }
 
     /// Local copy (owned + ghost) of a global vector, for post-processing.
@@ -875,7 +874,9 @@ impl TsProblem for PoroProblem {
         pl.predict(t0, t1, &self.disc.dofs, &x0, &mut x.write()?);
         if pl.gap == DrainageGap::Predicted {
             self.scatter.forward(x, &mut self.u_loc)?;
-            self.predicted = Some(self.u_loc.read()?.to_vec());
+            let predicted = self.predicted.get_or_insert_with(Vec::new);
+            predicted.clear();
+            predicted.extend_from_slice(&self.u_loc.read()?);
         }
         Ok(())
     }

@@ -15,7 +15,7 @@
 //! so the preconditioner setup reuses what it can, and it may be lagged ([`Lag`]).
 
 use crate::error::Result;
-use crate::petsc::{ffi, Int, ShellSolve, Snes, Vector};
+use crate::petsc::{ffi, Int, Ksp, ShellSolve, Snes, Vector};
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -148,13 +148,9 @@ pub struct ActiveSetNewton {
     /// Global indices of the active dofs of the current iterate.
     active: Vec<Int>,
     /// Active set of the last preconditioner setup, and how often that setup has been reused.
+    /// With chord iterations every assembly sets up anew, so this is also the active set of the
+    /// assembled operator.
     pc_active: Option<Vec<Int>>,
-    /// Active set of the assembled operator while it may serve chord iterations.
-    jac_active: Option<Vec<Int>>,
-    /// Whether the preconditioner was set up from the assembled operator as it is.
-    exact_pc: bool,
-    /// Whether the last iteration was a chord iteration (for the monitor).
-    last_chord: bool,
     pc_uses: usize,
     last_krylov: usize,
     newton: usize,
@@ -186,9 +182,6 @@ impl ActiveSetNewton {
             trial: lower.duplicate()?,
             active: Vec::new(),
             pc_active: None,
-            jac_active: None,
-            exact_pc: false,
-            last_chord: false,
             pc_uses: 0,
             last_krylov: 0,
             newton: 0,
@@ -210,14 +203,16 @@ impl ActiveSetNewton {
 }
 
 impl ActiveSetNewton {
-    /// Whether the assembled operator may serve this iteration as is (a chord iteration): the
-    /// active set is the one it was assembled with, on every rank, and the last iteration
-    /// contracted by `lag.chord` or better.
+    /// Whether the assembled operator and its preconditioner may serve this iteration as they
+    /// are (a chord iteration): the active set is the one they were set up with, on every rank,
+    /// and the last iteration contracted by `lag.chord` or better. Not with free rigid modes:
+    /// their null space moves with the state, and a kept operator with an earlier one gave a
+    /// divergent step (the mirrored full sphere in tests/plates.rs).
     fn chord(&self, contraction: f64) -> bool {
-        if self.lag.chord <= 0.0 || contraction > self.lag.chord || !self.exact_pc {
+        if self.lag.chord <= 0.0 || contraction > self.lag.chord || self.free_modes.is_some() {
             return false;
         }
-        let here = usize::from(self.jac_active.as_deref() != Some(&self.active[..]));
+        let here = usize::from(self.pc_active.as_deref() != Some(&self.active[..]));
         let mut differ = 0;
         self.world.all_reduce_into(&here, &mut differ, SystemOperation::sum());
         differ == 0
@@ -225,17 +220,34 @@ impl ActiveSetNewton {
 
     /// One monitor line: iteration, free residual norm, active set size and how many dofs
     /// entered and left it, Krylov iterations of the last solve (and whether it was a chord).
-    fn print_iteration(&self, it: usize, fnorm: f64, prev: &[Int]) {
+    fn print_iteration(&self, it: usize, fnorm: f64, prev: &[Int], chord: bool) {
         let entered = self.active.iter().filter(|i| prev.binary_search(i).is_err()).count();
         let left = prev.iter().filter(|i| self.active.binary_search(i).is_err()).count();
         let local = [self.active.len(), entered, left];
         let mut tot = [0usize; 3];
         self.world.all_reduce_into(&local[..], &mut tot[..], SystemOperation::sum());
         if self.world.rank() == 0 {
-            let chord = if self.last_chord { ", chord" } else { "" };
+            let chord = if chord { ", chord" } else { "" };
             let k = if it == 0 { String::new() } else { format!(", krylov {}{chord}", self.last_krylov) };
             println!("    newton {it:2}  |F| {fnorm:.3e}  active {} (+{} -{}){k}", tot[0], tot[1], tot[2]);
         }
+    }
+
+    /// Solves for the step with the KSP's operators; `leash`: the preconditioner was not set up
+    /// for this operator, so the solve is capped at twice the rebuild threshold. Returns whether
+    /// it converged.
+    fn krylov_solve(&mut self, ksp: &Ksp, leash: bool) -> Result<bool> {
+        let max_it = ksp.max_it()?;
+        if leash {
+            ksp.set_max_it((2 * self.lag.max_krylov).clamp(1, max_it))?;
+        }
+        ksp.solve(&self.rhs, &mut self.step)?;
+        if leash {
+            ksp.set_max_it(max_it)?;
+        }
+        self.last_krylov = ksp.iterations()?;
+        self.krylov += self.last_krylov;
+        Ok(ksp.converged_reason()? > 0)
     }
 }
 
@@ -259,11 +271,12 @@ impl ShellSolve for ActiveSetNewton {
         // Residual reduction of the last iteration (none yet: the operator of the last step's
         // final iteration may serve the first chord iteration).
         let mut contraction = 0.0;
+        let mut chord = false;
         let reason = loop {
             snes.set_iteration_number(it)?;
             snes.monitor(it, fnorm)?;
             if self.monitor {
-                self.print_iteration(it, fnorm, &prev_active);
+                self.print_iteration(it, fnorm, &prev_active, chord);
                 prev_active.clone_from(&self.active);
             }
             if !fnorm.is_finite() {
@@ -280,18 +293,11 @@ impl ShellSolve for ActiveSetNewton {
             }
             // A chord iteration solves with the operator and preconditioner as they are; if its
             // Krylov solve fails, the iteration assembles after all.
-            let chord = self.chord(contraction) && {
+            chord = self.chord(contraction) && {
                 // What MatZeroRowsColumns puts in the active rows of the right-hand side.
                 self.rhs.axpy(self.diag, &self.to_bound)?;
                 ksp.set_reuse_preconditioner(true)?;
-                let max_it = ksp.max_it()?;
-                ksp.set_max_it((2 * self.lag.max_krylov).clamp(1, max_it))?;
-                ksp.solve(&self.rhs, &mut self.step)?;
-                ksp.set_max_it(max_it)?;
-                self.last_krylov = ksp.iterations()?;
-                self.krylov += self.last_krylov;
-                self.pc_uses += 1;
-                ksp.converged_reason()? > 0
+                self.krylov_solve(&ksp, true)?
             };
             if !chord {
                 let (mut a, mut p) = snes.compute_jacobian(x)?;
@@ -308,32 +314,21 @@ impl ShellSolve for ActiveSetNewton {
                 // With chord iterations a new operator gets a new preconditioner (the chord
                 // needs the pair exact: one triangular solve per iteration).
                 let mut reuse = self.lag.chord <= 0.0 && self.reuse_pc();
-                let max_it = ksp.max_it()?;
                 loop {
                     ksp.set_reuse_preconditioner(reuse)?;
                     ksp.set_operators(&a, &p)?;
                     if reuse {
-                        ksp.set_max_it((2 * self.lag.max_krylov).clamp(1, max_it))?;
                         self.pc_uses += 1;
                     } else {
                         self.pc_active = Some(self.active.clone());
                         self.pc_uses = 0;
                     }
-                    ksp.solve(&self.rhs, &mut self.step)?;
-                    if reuse {
-                        ksp.set_max_it(max_it)?;
-                    }
-                    self.last_krylov = ksp.iterations()?;
-                    self.krylov += self.last_krylov;
-                    if !reuse || ksp.converged_reason()? > 0 {
+                    if self.krylov_solve(&ksp, reuse)? || !reuse {
                         break;
                     }
                     reuse = false;
                 }
-                self.jac_active = Some(self.active.clone());
-                self.exact_pc = !reuse;
             }
-            self.last_chord = chord;
             self.newton += 1;
             it += 1;
             if ksp.converged_reason()? < 0 {
@@ -378,7 +373,6 @@ impl ShellSolve for ActiveSetNewton {
             // A failed attempt (cut step): its operator and preconditioner may come from a bad
             // iterate.
             self.pc_active = None;
-            self.jac_active = None;
         }
         snes.set_converged_reason(reason)
     }
