@@ -348,6 +348,10 @@ impl<'w> Run<'w> {
         let preset = s.solver.preset.as_deref().unwrap_or("auto");
         let policy = solver::set_default_options(preset, dofs.n_global)?;
         let mut solver_line = policy.describe(dofs.n_global, preset == "auto");
+        if let Some(k) = crate::petsc::blas::kernel() {
+            let why = if std::env::var_os("OPENBLAS_CORETYPE").is_some() { " (OPENBLAS_CORETYPE)" } else { "" };
+            solver_line.push_str(&format!("; BLAS: OpenBLAS {k} kernels{why}"));
+        }
         let model = model_of(scene)?;
         // Degree 2 integrates the linear model exactly on straight elements; the finite-strain
         // model (exponential energy, curved elements) gets the 8-point degree-3 rule.

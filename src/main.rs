@@ -24,6 +24,17 @@ fn main() {
         }
         return;
     }
+    if let Some(kernel) = poroplast::petsc::blas::better_kernel() {
+        // OpenBLAS chose its kernels when it was loaded: start again with the right ones.
+        use std::os::unix::process::CommandExt;
+        if let Ok(exe) = std::env::current_exe() {
+            let err = std::process::Command::new(exe)
+                .args(std::env::args_os().skip(1))
+                .env("OPENBLAS_CORETYPE", kernel)
+                .exec();
+            eprintln!("poroplast: note: could not restart with OPENBLAS_CORETYPE={kernel} ({err}); continuing");
+        }
+    }
     let Some(universe) = mpi::initialize() else {
         eprintln!("poroplast: MPI could not be initialised");
         std::process::exit(1);

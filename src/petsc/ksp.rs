@@ -100,9 +100,38 @@ impl Pc {
         check(unsafe { ffi::PCGetType(self.raw, &mut t) })?;
         Ok(super::type_name_of(t))
     }
+    /// x = M⁻¹ b with the preconditioner as set up (for a direct one, an exact solve).
+    pub fn apply(&self, b: &super::Vector, x: &mut super::Vector) -> Result<()> {
+        check(unsafe { ffi::PCApply(self.raw, b.raw, x.raw) })
+    }
     /// Names a split by an index set (used when no DM provides the fields).
     pub fn fieldsplit_set_is(&self, name: &str, is: &IndexSet) -> Result<()> {
         let c = cstr(name);
         check(unsafe { ffi::PCFieldSplitSetIS(self.raw, c.as_ptr(), is.raw) })
+    }
+}
+
+/// A stand-alone LU factorisation of a matrix (an owned PC, outside any SNES).
+pub struct LuFactor {
+    raw: ffi::PC,
+}
+
+destroy_on_drop!(LuFactor, PCDestroy);
+
+impl LuFactor {
+    /// Factorises `a` (collective on `comm`).
+    pub fn new(comm: ffi::MPI_Comm, a: &Mat) -> Result<LuFactor> {
+        let mut raw = std::ptr::null_mut();
+        check(unsafe { ffi::PCCreate(comm, &mut raw) })?;
+        let f = LuFactor { raw };
+        check(unsafe { ffi::PCSetOperators(raw, a.raw, a.raw) })?;
+        f.pc().set_type("lu")?;
+        check(unsafe { ffi::PCSetUp(raw) })?;
+        Ok(f)
+    }
+
+    /// The factorisation as a preconditioner handle (its `apply` solves).
+    pub fn pc(&self) -> Pc {
+        Pc { raw: self.raw }
     }
 }

@@ -88,6 +88,23 @@ impl Mat {
         check(unsafe { ffi::MatMult(self.raw, x.raw, y.raw) })
     }
 
+    /// y = Aᵀ x
+    pub fn mult_transpose(&self, x: &Vector, y: &mut Vector) -> Result<()> {
+        check(unsafe { ffi::MatMultTranspose(self.raw, x.raw, y.raw) })
+    }
+
+    /// A new matrix with the same layout, pattern and values.
+    pub fn duplicate_with_values(&self) -> Result<Mat> {
+        let mut raw = std::ptr::null_mut();
+        check(unsafe { ffi::MatDuplicate(self.raw, ffi::MatDuplicateOption::MAT_COPY_VALUES, &mut raw) })?;
+        Ok(Mat { raw })
+    }
+
+    /// Copies the values of `src`, which has the same nonzero pattern.
+    pub fn copy_values_from(&mut self, src: &Mat) -> Result<()> {
+        check(unsafe { ffi::MatCopy(src.raw, self.raw, ffi::MatStructure::SAME_NONZERO_PATTERN) })
+    }
+
     /// The operator's null space: Krylov methods remove it from their iterates.
     pub fn set_null_space(&mut self, ns: &NullSpace) -> Result<()> {
         check(unsafe { ffi::MatSetNullSpace(self.raw, ns.raw) })

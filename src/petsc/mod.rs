@@ -24,6 +24,7 @@ pub mod ffi {
     include!(concat!(env!("OUT_DIR"), "/petsc_bindings.rs"));
 }
 
+pub mod blas;
 mod dm;
 mod is;
 mod ksp;
@@ -35,7 +36,7 @@ mod viewer;
 
 pub use dm::{DmShell, FieldDecomposition};
 pub use is::IndexSet;
-pub use ksp::{Ksp, Pc};
+pub use ksp::{Ksp, LuFactor, Pc};
 pub use mat::{CsrBlock, LocalCsr, Mat, NullSpace};
 pub use snes::{ShellSolve, Snes};
 pub use ts::{Ts, TsProblem, TsRef};

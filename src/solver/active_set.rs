@@ -14,8 +14,9 @@
 //! matrix keeps its size, block size and sparsity pattern ("workaround B" of the PETSc notes),
 //! so the preconditioner setup reuses what it can, and it may be lagged ([`Lag`]).
 
+use super::woodbury::ActiveSetUpdate;
 use crate::error::Result;
-use crate::petsc::{ffi, Int, Ksp, ShellSolve, Snes, Vector};
+use crate::petsc::{ffi, Int, Ksp, Mat, ShellSolve, Snes, Vector};
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -42,7 +43,7 @@ fn stagnates(norms: &[f64]) -> bool {
 }
 
 /// Size of the symmetric difference of two ascending index lists.
-fn symmetric_difference(a: &[Int], b: &[Int]) -> usize {
+pub(super) fn symmetric_difference(a: &[Int], b: &[Int]) -> usize {
     let (mut i, mut j, mut n) = (0, 0, 0);
     while i < a.len() && j < b.len() {
         match a[i].cmp(&b[j]) {
@@ -67,15 +68,29 @@ pub struct Lag {
     pub max_reuse: usize,
     /// Rebuild after a solve that needed more Krylov iterations than this.
     pub max_krylov: usize,
-    /// Rebuild when more dofs than this entered or left the active set since the setup.
+    /// Rebuild when more dofs than this entered or left the active set since the setup. With
+    /// chord iterations: the largest active-set change a chord iteration absorbs by a low-rank
+    /// update of a direct factorisation ([`ActiveSetUpdate`]; 0: none).
     pub max_changes: usize,
     /// Chord iterations: keep the last assembled Jacobian and its preconditioner (no assembly,
-    /// no setup) while the active set is the one it was assembled with and each iteration
-    /// reduces the free residual by at least this factor. With a direct preconditioner such an
-    /// iteration costs one residual and one triangular solve. When > 0, every assembly sets
-    /// up a new preconditioner (the thresholds above apply only with 0: assemble at every
-    /// iteration, and lag the preconditioner instead).
+    /// no setup) while each iteration reduces the free residual by at least this factor and
+    /// the active set is the one it was assembled with — or, with a direct factorisation,
+    /// differs from it in at most `max_changes` dofs. Such an iteration costs one residual and
+    /// one pair of triangular solves. When > 0, every assembly sets up a new preconditioner
+    /// (`max_reuse` and `max_krylov` apply only with 0: assemble at every iteration, and lag
+    /// the preconditioner instead).
     pub chord: f64,
+}
+
+/// Where an iteration's step comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Step {
+    /// The kept operator and preconditioner, as they are.
+    Chord,
+    /// The kept factorisation with a low-rank update to the current active set.
+    Updated,
+    /// A new Jacobian (and preconditioner setup, unless lagged).
+    Assemble,
 }
 
 /// The bounds l ≤ x ≤ u (shared with the problem, which moves them with the plate).
@@ -152,6 +167,11 @@ pub struct ActiveSetNewton {
     /// assembled operator.
     pc_active: Option<Vec<Int>>,
     pc_uses: usize,
+    /// With chord iterations on a direct factorisation: the last Jacobian before its active
+    /// rows were replaced, and the low-rank update of its factorisation to the current active
+    /// set (if that differs from `pc_active`).
+    jac: Option<Mat>,
+    update: Option<ActiveSetUpdate>,
     last_krylov: usize,
     newton: usize,
     krylov: usize,
@@ -183,6 +203,8 @@ impl ActiveSetNewton {
             active: Vec::new(),
             pc_active: None,
             pc_uses: 0,
+            jac: None,
+            update: None,
             last_krylov: 0,
             newton: 0,
             krylov: 0,
@@ -203,31 +225,76 @@ impl ActiveSetNewton {
 }
 
 impl ActiveSetNewton {
-    /// Whether the assembled operator and its preconditioner may serve this iteration as they
-    /// are (a chord iteration): the active set is the one they were set up with, on every rank,
-    /// and the last iteration contracted by `lag.chord` or better. Not with free rigid modes:
-    /// their null space moves with the state, and a kept operator with an earlier one gave a
-    /// divergent step (the mirrored full sphere in tests/plates.rs).
-    fn chord(&self, contraction: f64) -> bool {
+    /// Whether the assembled operator and its preconditioner may serve this iteration (a chord
+    /// iteration): the last iteration contracted by `lag.chord` or better, and the active set
+    /// is the one they were set up with on every rank ([`Step::Chord`]) or differs from it in at
+    /// most `lag.max_changes` dofs with a kept Jacobian for the update ([`Step::Updated`]).
+    /// Not with free rigid modes: their null space moves with the state, and a kept operator
+    /// with an earlier one gave a divergent step (the mirrored full sphere in tests/plates.rs).
+    fn chord(&self, contraction: f64) -> Step {
         if self.lag.chord <= 0.0 || contraction > self.lag.chord || self.free_modes.is_some() {
-            return false;
+            return Step::Assemble;
         }
-        let here = usize::from(self.pc_active.as_deref() != Some(&self.active[..]));
-        let mut differ = 0;
-        self.world.all_reduce_into(&here, &mut differ, SystemOperation::sum());
-        differ == 0
+        let Some(pc_active) = &self.pc_active else { return Step::Assemble };
+        match ActiveSetUpdate::count_changes(&self.world, pc_active, &self.active) {
+            0 => Step::Chord,
+            k if k <= self.lag.max_changes && self.jac.is_some() => Step::Updated,
+            _ => Step::Assemble,
+        }
+    }
+
+    /// A chord step for an active set that differs from the factorised operator's: through the
+    /// low-rank update, built anew when the active set moved since the last one. Returns false
+    /// (assemble instead) if the update is singular.
+    fn updated_solve(&mut self, ksp: &Ksp) -> Result<bool> {
+        let (Some(jac), Some(pc_active)) = (&self.jac, &self.pc_active) else { return Ok(false) };
+        let pc = ksp.pc()?;
+        let here = usize::from(self.update.as_ref().is_none_or(|u| u.active != self.active));
+        let mut stale = 0;
+        self.world.all_reduce_into(&here, &mut stale, SystemOperation::sum());
+        if stale > 0 {
+            self.update = ActiveSetUpdate::new(&self.world, jac, pc, pc_active, &self.active, self.diag)?;
+        }
+        let Some(update) = &self.update else { return Ok(false) };
+        update.solve(&self.world, pc, &self.rhs, &mut self.step)?;
+        self.last_krylov = 1;
+        self.krylov += 1;
+        Ok(true)
+    }
+
+    /// Keeps a copy of the Jacobian `a` before its active rows are replaced, for updates of its
+    /// factorisation: with chord iterations, a direct factorisation (a is its own
+    /// preconditioning matrix) and `max_changes` > 0. Drops the update of the earlier one.
+    fn keep_jacobian(&mut self, a: &Mat, ksp: &Ksp, same: bool) -> Result<()> {
+        self.update = None;
+        if self.lag.chord <= 0.0 || self.lag.max_changes == 0 || !same || ksp.pc()?.type_name()? != "lu" {
+            self.jac = None;
+            return Ok(());
+        }
+        match &mut self.jac {
+            Some(j) => j.copy_values_from(a),
+            None => {
+                self.jac = Some(a.duplicate_with_values()?);
+                Ok(())
+            }
+        }
     }
 
     /// One monitor line: iteration, free residual norm, active set size and how many dofs
-    /// entered and left it, Krylov iterations of the last solve (and whether it was a chord).
-    fn print_iteration(&self, it: usize, fnorm: f64, prev: &[Int], chord: bool) {
+    /// entered and left it, Krylov iterations of the last solve (and whether it was a chord, and
+    /// one through an update of how many dofs).
+    fn print_iteration(&self, it: usize, fnorm: f64, prev: &[Int], chord: bool, updated: Option<usize>) {
         let entered = self.active.iter().filter(|i| prev.binary_search(i).is_err()).count();
         let left = prev.iter().filter(|i| self.active.binary_search(i).is_err()).count();
         let local = [self.active.len(), entered, left];
         let mut tot = [0usize; 3];
         self.world.all_reduce_into(&local[..], &mut tot[..], SystemOperation::sum());
         if self.world.rank() == 0 {
-            let chord = if chord { ", chord" } else { "" };
+            let chord = match (chord, updated) {
+                (true, Some(k)) => format!(", chord, update of {k}"),
+                (true, None) => ", chord".to_string(),
+                _ => String::new(),
+            };
             let k = if it == 0 { String::new() } else { format!(", krylov {}{chord}", self.last_krylov) };
             println!("    newton {it:2}  |F| {fnorm:.3e}  active {} (+{} -{}){k}", tot[0], tot[1], tot[2]);
         }
@@ -272,11 +339,12 @@ impl ShellSolve for ActiveSetNewton {
         // final iteration may serve the first chord iteration).
         let mut contraction = 0.0;
         let mut chord = false;
+        let mut updated = None;
         let reason = loop {
             snes.set_iteration_number(it)?;
             snes.monitor(it, fnorm)?;
             if self.monitor {
-                self.print_iteration(it, fnorm, &prev_active, chord);
+                self.print_iteration(it, fnorm, &prev_active, chord, updated);
                 prev_active.clone_from(&self.active);
             }
             if !fnorm.is_finite() {
@@ -291,20 +359,29 @@ impl ShellSolve for ActiveSetNewton {
             if it >= max_it {
                 break R::SNES_DIVERGED_MAX_IT;
             }
-            // A chord iteration solves with the operator and preconditioner as they are; if its
-            // Krylov solve fails, the iteration assembles after all.
-            chord = self.chord(contraction) && {
+            // A chord iteration solves with the operator and preconditioner as they are (updated
+            // to the current active set); if its solve fails, the iteration assembles after all.
+            let how = self.chord(contraction);
+            if how != Step::Assemble {
                 // What MatZeroRowsColumns puts in the active rows of the right-hand side.
                 self.rhs.axpy(self.diag, &self.to_bound)?;
-                ksp.set_reuse_preconditioner(true)?;
-                self.krylov_solve(&ksp, true)?
+            }
+            chord = match how {
+                Step::Chord => {
+                    ksp.set_reuse_preconditioner(true)?;
+                    self.krylov_solve(&ksp, true)?
+                }
+                Step::Updated => self.updated_solve(&ksp)?,
+                Step::Assemble => false,
             };
+            updated = if chord && how == Step::Updated { self.update.as_ref().map(|u| u.len()) } else { None };
             if !chord {
                 let (mut a, mut p) = snes.compute_jacobian(x)?;
                 if let Some(m) = &self.free_modes {
                     a.set_null_space(&m.null_space(x)?)?;
                 }
                 let same = a.as_raw() == p.as_raw();
+                self.keep_jacobian(&a, &ksp, same)?;
                 a.zero_rows_columns(&self.active, self.diag, Some((&self.to_bound, &mut self.rhs)))?;
                 if !same {
                     p.zero_rows_columns(&self.active, self.diag, None)?;
@@ -352,6 +429,15 @@ impl ShellSolve for ActiveSetNewton {
                 }
                 lambda *= 0.5;
             };
+            if chord && !(trial_norm < fnorm) {
+                // A chord step that does not reduce the residual is discarded, and the iteration
+                // assembles at x instead: from the iterate of a bad chord step (a kept operator
+                // whose contact has since changed), Newton may not recover.
+                snes.compute_function(x, &mut self.f)?;
+                self.bounds.split(x, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;
+                contraction = f64::INFINITY;
+                continue;
+            }
             norms.push(trial_norm);
             if stagnates(&norms) {
                 break R::SNES_DIVERGED_DTOL;
@@ -373,6 +459,7 @@ impl ShellSolve for ActiveSetNewton {
             // A failed attempt (cut step): its operator and preconditioner may come from a bad
             // iterate.
             self.pc_active = None;
+            self.update = None;
         }
         snes.set_converged_reason(reason)
     }

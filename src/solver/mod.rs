@@ -25,10 +25,12 @@
 pub mod active_set;
 mod fields;
 mod rigid;
+pub mod woodbury;
 
 pub use active_set::{ActiveSetNewton, Lag};
 pub use fields::Fields;
 pub use rigid::FreeRigidModes;
+pub use woodbury::ActiveSetUpdate;
 
 use crate::error::{Error, Result};
 use crate::petsc::{check, ffi, options, Mat, Snes, Vector};
