@@ -76,7 +76,6 @@ fn decay_ts(comm: poroplast::petsc::ffi::MPI_Comm, p: Decay) -> Result<(Ts<Decay
 /// of `active` replaced by d·I".
 fn active_set_operator(comm: poroplast::petsc::ffi::MPI_Comm, n: usize, active: &[Int], d: f64) -> (Mat, Mat) {
     let far = |i: usize| (i * 7 + 3) % n;
-    let mut nnz = vec![0 as Int; n];
     let mut entries = Vec::new();
     for i in 0..n {
         let mut row = vec![(i, 4.0 + 0.1 * i as f64)];
@@ -89,9 +88,9 @@ fn active_set_operator(comm: poroplast::petsc::ffi::MPI_Comm, n: usize, active: 
         if ![i, i.wrapping_sub(1), i + 1].contains(&far(i)) {
             row.push((far(i), 0.45));
         }
-        nnz[i] = row.len() as Int;
         entries.push(row);
     }
+    let nnz: Vec<Int> = entries.iter().map(|r| r.len() as Int).collect();
     let mut j = Mat::aij(comm, n, &nnz, &vec![0; n]).unwrap();
     for (i, row) in entries.iter().enumerate() {
         for &(c, v) in row {
@@ -115,7 +114,7 @@ fn active_set_update_is_exact(world: &mpi::topology::SimpleCommunicator, comm: p
     let p_lu = LuFactor::new(comm, &p).unwrap();
     let b_lu = LuFactor::new(comm, &b_new).unwrap();
     let update = ActiveSetUpdate::new(world, &j, p_lu.pc(), old, new, d).unwrap().expect("nonsingular");
-    assert_eq!(update.len(), 3);
+    assert_eq!(update.n_changed(), 3);
     let mut rhs = Vector::mpi(comm, n).unwrap();
     for (i, r) in rhs.write().unwrap().iter_mut().enumerate() {
         *r = (0.3 * i as f64).sin() + 0.1;

@@ -6,7 +6,8 @@
 //! * "direct": FGMRES preconditioned by a MUMPS LU factorisation. With contact, the active-set
 //!   Newton keeps a Jacobian and its factorisation for chord iterations (one residual and one
 //!   pair of triangular solves each) across iterations and time steps while they contract the
-//!   residual by 0.3 or better and the active set stays ([`Lag::chord`]); otherwise it
+//!   residual by 0.3 or better and the active set stays, or changes by at most 8 dofs (a
+//!   low-rank update of the factorisation, [`ActiveSetUpdate`]) ([`Lag::chord`]); otherwise it
 //!   assembles and factorises anew. On small systems the factorisation is cheap and every
 //!   Krylov iteration is two triangular solves, where an AMG V-cycle is latency-bound.
 //! * "fieldsplit": FGMRES on the full u–p system, preconditioned by an upper Schur
@@ -18,8 +19,9 @@
 //! * "auto" (default): "direct" up to [`DIRECT_MAX_DOFS`], "fieldsplit" above.
 //!
 //! Every default is overridable from the command line (`-- -pc_type ...`); the chord by
-//! `-poroplast_chord RATE` (0: a new Jacobian every iteration), and then the preconditioner
-//! lag by `-poroplast_pc_reuse N` (0: a new setup for every Jacobian),
+//! `-poroplast_chord RATE` (0: a new Jacobian every iteration) and
+//! `-poroplast_pc_rebuild_changes N` (the largest update), and with the chord off the
+//! preconditioner lag by `-poroplast_pc_reuse N` (0: a new setup for every Jacobian),
 //! `-poroplast_pc_rebuild_its N` and `-poroplast_pc_rebuild_changes N` (see [`Lag`]).
 
 pub mod active_set;

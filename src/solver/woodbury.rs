@@ -168,7 +168,7 @@ impl ActiveSetUpdate {
     }
 
     /// Number of changed dofs.
-    pub fn len(&self) -> usize {
+    pub fn n_changed(&self) -> usize {
         self.changed.len()
     }
 
