@@ -1,5 +1,5 @@
-//! Command line: `poroplast run [SCENE] [--out DIR] [--force] [-- PETSC OPTIONS]`,
-//! `poroplast check SCENE`, `poroplast scenes`.
+//! Command line: `poroplast run [SCENE] [--set KEY=VALUE ...] [--out DIR] [--force] [-- PETSC
+//! OPTIONS]`, `poroplast check SCENE [--set KEY=VALUE ...]`, `poroplast scenes`, `poroplast show NAME`.
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -25,6 +25,10 @@ pub enum Command {
         /// A scene file (.toml) or the name of a shipped scene (see `poroplast scenes`).
         #[arg(default_value = "reference")]
         scene: String,
+        /// Override a scene value, e.g. `--set material.mu=3 --set mesh.params.h=10` (a dotted
+        /// key into the scene; `bc.0.group` for the first [[bc]]; repeatable, applied in order).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
         /// Run directory (default: runs/<scene>-<UTC timestamp>).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -42,6 +46,9 @@ pub enum Command {
     Check {
         /// A scene file (.toml) or the name of a shipped scene.
         scene: String,
+        /// Override a scene value (as for `run`).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
     },
     /// List the scenes shipped in the binary.
     Scenes,

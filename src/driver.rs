@@ -33,6 +33,8 @@ use std::time::Instant;
 #[derive(Debug, Clone)]
 pub struct RunArgs {
     pub scene: String,
+    /// `--set KEY=VALUE` overrides of scene values.
+    pub set: Vec<String>,
     pub out: Option<PathBuf>,
     pub force: bool,
     pub petsc: Vec<String>,
@@ -42,7 +44,7 @@ pub struct RunArgs {
 
 /// Runs a scene; returns the run directory. PETSc lives exactly as long as this call.
 pub fn run(world: &SimpleCommunicator, args: &RunArgs) -> Result<PathBuf> {
-    let scene = LoadedScene::load(&args.scene)?;
+    let scene = LoadedScene::load(&args.scene, &args.set)?;
     let mut popts = scene.petsc_args();
     popts.extend(args.petsc.iter().cloned());
     let petsc = Petsc::init(&popts)?;
@@ -52,8 +54,8 @@ pub fn run(world: &SimpleCommunicator, args: &RunArgs) -> Result<PathBuf> {
 }
 
 /// Validates a scene and its mesh without solving (`poroplast check`).
-pub fn check(world: &SimpleCommunicator, scene_arg: &str) -> Result<String> {
-    let scene = LoadedScene::load(scene_arg)?;
+pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String]) -> Result<String> {
+    let scene = LoadedScene::load(scene_arg, set)?;
     let path = mesh_file(world, &scene)?;
     let mesh = agree(world, read_mesh(&path, &scene))?;
     let ctx = scene.source.clone();
@@ -721,6 +723,9 @@ impl<'w> Run<'w> {
             mesh.n_global_vertices,
             out.display()
         ));
+        if !self.scene.overrides.is_empty() {
+            self.say(&format!("overrides: --set {}", self.scene.overrides.join(" --set ")));
+        }
         self.say(&self.solver_line);
         let exact = exact_columns(&self.scene)?;
         let o = Instant::now();

@@ -42,11 +42,11 @@ fn main() {
     let world = universe.world();
     let rank0 = mpi::traits::Communicator::rank(&world) == 0;
     let result = match cli.command {
-        Command::Run { scene, out, force, quiet, petsc } => {
-            driver::run(&world, &RunArgs { scene, out, force, petsc, progress: !quiet })
+        Command::Run { scene, set, out, force, quiet, petsc } => {
+            driver::run(&world, &RunArgs { scene, set, out, force, petsc, progress: !quiet })
                 .map(|dir| dir.display().to_string())
         }
-        Command::Check { scene } => driver::check(&world, &scene),
+        Command::Check { scene, set } => driver::check(&world, &scene, &set),
         Command::Scenes | Command::Show { .. } => unreachable!(),
     };
     let code = match result {

@@ -117,6 +117,19 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     // A chord contraction factor that is not one.
     let s = rvariant("chord", &[]);
     fails(&earlier, &["run", &s, "--", "-poroplast_chord", "1.5"], "-poroplast_chord 1.5");
+    // Command-line overrides: an unknown key, a wrong type, a value out of range, no value.
+    fails(
+        &earlier,
+        &["run", &ok, "--set", "material.viscosity=1"],
+        "--set material.viscosity=1: unknown field `viscosity`",
+    );
+    fails(
+        &earlier,
+        &["run", &ok, "--set", "material.mu=soft"],
+        "--set material.mu=soft: invalid type: string \"soft\"",
+    );
+    fails(&earlier, &["run", &ok, "--set", "material.nu=0.5"], "material.nu = 0.5");
+    fails(&earlier, &["run", &ok, "--set", "time.dt"], "--set time.dt: expected KEY=VALUE");
     // A scene that does not exist.
     fails(&earlier, &["run", "no-such-scene"], "not a builtin scene");
     // Without --force an existing run directory is refused, untouched.
@@ -136,4 +149,33 @@ fn check_validates_without_solving() {
     let out = poroplast(1, &["check", &s]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("physical group \"floor\" not found"));
+    // The same through an override of the first [[bc]]'s group.
+    let out = poroplast(1, &["check", &scene("terzaghi"), "--set", "bc.0.group=floor"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("physical group \"floor\" not found"));
+}
+
+#[test]
+fn overrides_reach_the_run_and_its_resolved_scene() {
+    let dir = scratch("overrides");
+    let out = dir.join("run");
+    let log = run_ok(
+        1,
+        &[
+            "run",
+            &scene("terzaghi"),
+            "--set",
+            "material.mu=24.5",
+            "--set",
+            "time.t_end=0.004",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(log.contains("overrides: --set material.mu=24.5 --set time.t_end=0.004"), "{log}");
+    let resolved: toml::Table = toml::from_str(&std::fs::read_to_string(out.join("scene.toml")).unwrap()).unwrap();
+    assert_eq!(resolved["material"]["mu"].as_float(), Some(24.5));
+    assert_eq!(resolved["time"]["t_end"].as_float(), Some(0.004));
+    let rows = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let last_t: f64 = rows.lines().last().unwrap().split(',').nth(1).unwrap().parse().unwrap();
+    assert!((last_t - 0.004).abs() < 1e-12, "the run ends at the overridden t_end, not {last_t}");
 }

@@ -2,6 +2,8 @@
 //! solver options), parsed from TOML with unknown keys rejected by name, and validated with
 //! physical ranges before anything runs.
 
+pub mod overrides;
+
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -364,6 +366,8 @@ pub struct FemSpec {
 #[derive(Debug, Clone)]
 pub struct LoadedScene {
     pub scene: Scene,
+    /// The `--set KEY=VALUE` overrides applied to the file (already in `scene`).
+    pub overrides: Vec<String>,
     /// The file, or `builtin:<name>`.
     pub source: String,
     /// Directory relative paths are resolved against (None for builtin scenes).
@@ -372,17 +376,17 @@ pub struct LoadedScene {
 
 /// Scenes shipped inside the binary, runnable by name from any directory.
 pub const BUILTIN: &[(&str, &str)] = &[
-    ("terzaghi", include_str!("../meshes/scenes/terzaghi.toml")),
-    ("cryer", include_str!("../meshes/scenes/cryer.toml")),
-    ("reference", include_str!("../meshes/scenes/reference.toml")),
-    ("reference_405", include_str!("../meshes/scenes/reference_405.toml")),
-    ("reference_full", include_str!("../meshes/scenes/reference_full.toml")),
-    ("relaxation", include_str!("../meshes/scenes/relaxation.toml")),
-    ("remodel_40", include_str!("../meshes/scenes/remodel_40.toml")),
-    ("remodel_155", include_str!("../meshes/scenes/remodel_155.toml")),
-    ("remodel_405", include_str!("../meshes/scenes/remodel_405.toml")),
-    ("remodel_155_c2", include_str!("../meshes/scenes/remodel_155_c2.toml")),
-    ("elastic_155", include_str!("../meshes/scenes/elastic_155.toml")),
+    ("terzaghi", include_str!("../../meshes/scenes/terzaghi.toml")),
+    ("cryer", include_str!("../../meshes/scenes/cryer.toml")),
+    ("reference", include_str!("../../meshes/scenes/reference.toml")),
+    ("reference_405", include_str!("../../meshes/scenes/reference_405.toml")),
+    ("reference_full", include_str!("../../meshes/scenes/reference_full.toml")),
+    ("relaxation", include_str!("../../meshes/scenes/relaxation.toml")),
+    ("remodel_40", include_str!("../../meshes/scenes/remodel_40.toml")),
+    ("remodel_155", include_str!("../../meshes/scenes/remodel_155.toml")),
+    ("remodel_405", include_str!("../../meshes/scenes/remodel_405.toml")),
+    ("remodel_155_c2", include_str!("../../meshes/scenes/remodel_155_c2.toml")),
+    ("elastic_155", include_str!("../../meshes/scenes/elastic_155.toml")),
 ];
 
 /// The `.geo` sources shipped inside the binary.
@@ -394,8 +398,9 @@ pub const BUILTIN_GEO: &[(&str, &str)] = &[
 ];
 
 impl LoadedScene {
-    /// Loads `arg`: a path to a `.toml` file, or the name of a builtin scene.
-    pub fn load(arg: &str) -> Result<LoadedScene> {
+    /// Loads `arg`: a path to a `.toml` file, or the name of a builtin scene, with the
+    /// `--set KEY=VALUE` overrides applied in order (see [`overrides`]).
+    pub fn load(arg: &str, overrides: &[String]) -> Result<LoadedScene> {
         let path = Path::new(arg);
         let (text, source, dir, stem) = if path.exists() {
             let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
@@ -412,12 +417,22 @@ impl LoadedScene {
                 msg: format!("no such file, and not a builtin scene (builtin: {})", names.join(", ")),
             });
         };
-        let mut scene: Scene =
-            toml::from_str(&text).map_err(|e| Error::Scene { path: source.clone(), msg: toml_message(&text, &e) })?;
+        let scene_err = |msg: String| Error::Scene { path: source.clone(), msg };
+        let mut scene: Scene = toml::from_str(&text).map_err(|e| scene_err(toml_message(&text, &e)))?;
+        if !overrides.is_empty() {
+            // Applied one at a time, so that a value the scene rejects is blamed on its override.
+            let mut table: toml::Table = toml::from_str(&text).map_err(|e| scene_err(toml_message(&text, &e)))?;
+            for spec in overrides {
+                overrides::apply(&mut table, spec).map_err(scene_err)?;
+                scene = toml::Value::Table(table.clone())
+                    .try_into()
+                    .map_err(|e: toml::de::Error| scene_err(format!("--set {spec}: {}", e.message().trim())))?;
+            }
+        }
         if scene.name.is_empty() {
             scene.name = stem;
         }
-        let loaded = LoadedScene { scene, source, dir };
+        let loaded = LoadedScene { scene, overrides: overrides.to_vec(), source, dir };
         loaded.validate()?;
         Ok(loaded)
     }
