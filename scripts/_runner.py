@@ -8,7 +8,7 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-BIN = ROOT / "target" / "release" / "poroplast"
+BIN = Path(os.environ.get("POROPLAST_BIN", ROOT / "target" / "release" / "poroplast"))
 
 
 def env():

@@ -1,0 +1,230 @@
+"""Parameter studies as batch jobs.
+
+One scene, a grid of `--set` overrides: every combination is a case, run under mpirun (2 ranks
+by default) into its own directory. A case that completed is skipped, so an interrupted study
+continues where it stopped (a failed case is tried again). Writes
+
+  STUDY/summary.csv      one row per case: the overrides, status, wall time, steps, step cuts,
+                         Newton and Krylov iterations, dofs, and the observables
+  STUDY/<observable>.png each observable against the first grid key (a line per combination
+                         of the other keys)
+  STUDY/cases/<case>/    the case's run directory (run/), its log and result (case.json)
+
+    python3 scripts/study.py reference --grid mesh.params.h=20,15 --grid plates.compression=0.2,0.3 \\
+        --dir studies/h_u [--set time.t_end=60] [--observe max:force_total_mg force_total_mg@35] \\
+        [--ranks 2] [-- PETSC OPTIONS]
+
+Observables (columns of history.csv): `max:COL`, `min:COL`, `last:COL`, `last:A/B` (a ratio,
+e.g. last:height/width), `COL@T` (interpolated at time T), `zero:COL` (the first time COL falls
+from positive to zero or below). Default, for the plates experiment: peak force, F(35 s),
+p(X_U) at 5 and 30 s, its zero crossing, final H/W. Run from the repository root after
+`cargo build --release`.
+"""
+import argparse
+import csv
+import itertools
+import json
+import math
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _runner import BIN, env  # noqa: E402
+
+DEFAULT_OBSERVE = ["max:force_total_mg", "force_total_mg@35", "probe_p@5", "probe_p@30", "zero:probe_p",
+                   "last:height/width"]
+# summary.csv column <- timings.txt key
+COUNTERS = {"wall_s": "total", "steps": "steps", "step_cuts": "step_cuts", "newton_its": "newton_its",
+            "ksp_its": "ksp_its", "dofs": "dofs"}
+
+
+def parse_grid(spec):
+    key, _, values = spec.partition("=")
+    if not key or not values:
+        sys.exit(f"study.py: --grid {spec}: expected KEY=V1,V2,...")
+    return key.strip(), [v.strip() for v in values.split(",")]
+
+
+def slug(overrides):
+    return "__".join(f"{k}-{v}" for k, v in overrides).replace("/", "_").replace(" ", "") or "base"
+
+
+def history(path):
+    rows = list(csv.DictReader(open(path)))
+    return {k: [float(r[k]) for r in rows] for k in rows[0]} if rows else {}
+
+
+def observe(h, spec):
+    """The observable `spec` of a history (NaN if it does not apply)."""
+    nan = float("nan")
+    t = h.get("time", [])
+    if spec.startswith(("max:", "min:", "last:", "zero:")):
+        kind, col = spec.split(":", 1)
+        if kind == "last" and "/" in col:
+            a, b = col.split("/", 1)
+            return h[a][-1] / h[b][-1] if a in h and b in h and h[b][-1] != 0 else nan
+        if col not in h:
+            return nan
+        v = h[col]
+        if kind == "zero":
+            for i in range(1, len(v)):
+                if v[i - 1] > 0 >= v[i]:
+                    return t[i - 1] + (t[i] - t[i - 1]) * v[i - 1] / (v[i - 1] - v[i])
+            return nan
+        return {"max": max, "min": min, "last": lambda x: x[-1]}[kind](v)
+    col, _, at = spec.partition("@")
+    if col not in h or not at:
+        return nan
+    at = float(at)
+    for i in range(1, len(t)):
+        if t[i - 1] <= at <= t[i]:
+            w = (at - t[i - 1]) / (t[i] - t[i - 1]) if t[i] > t[i - 1] else 1.0
+            return h[col][i - 1] + w * (h[col][i] - h[col][i - 1])
+    return nan
+
+
+def timings(path):
+    out = {}
+    for line in open(path):
+        if " = " in line:
+            k, v = line.split(" = ", 1)
+            try:
+                out[k.strip()] = float(v)
+            except ValueError:
+                pass
+    return out
+
+
+def run_case(scene, overrides, sets, case_dir, ranks, petsc):
+    """Runs one case; returns its result dict (status ok or failed)."""
+    case_dir.mkdir(parents=True, exist_ok=True)
+    cmd = ["mpirun", "-n", str(ranks), str(BIN), "run", scene, "--out", str(case_dir / "run"), "--force", "-q"]
+    for k, v in list(sets) + list(overrides):
+        cmd += ["--set", f"{k}={v}"]
+    if petsc:
+        cmd += ["--", *petsc]
+    with open(case_dir / "log.txt", "w") as log:
+        log.write(" ".join(cmd) + "\n")
+        log.flush()
+        p = subprocess.run(cmd, env=env(), stdout=log, stderr=subprocess.PIPE, text=True)
+        log.write(p.stderr)
+    if p.returncode != 0:
+        err = next((l for l in p.stderr.splitlines() if l.startswith("poroplast: error:")), p.stderr.strip()[-300:])
+        return {"status": "failed", "error": err}
+    return {"status": "ok"}
+
+
+def plot(rows, keys, observables, study):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    x_key, others = keys[0], keys[1:]
+    try:
+        xs = sorted({float(r[x_key]) for r in rows})
+    except ValueError:
+        return []
+    files = []
+    for obs in observables:
+        fig, ax = plt.subplots(figsize=(5.5, 3.8))
+        groups = sorted({tuple(r[k] for k in others) for r in rows})
+        for g in groups:
+            pts = [(float(r[x_key]), r[obs]) for r in rows
+                   if tuple(r[k] for k in others) == g and r["status"] == "ok" and not math.isnan(r[obs])]
+            pts.sort()
+            if pts:
+                label = ", ".join(f"{k} = {v}" for k, v in zip(others, g)) or None
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=label)
+        ax.set_xlabel(x_key)
+        ax.set_ylabel(obs)
+        ax.grid(alpha=0.3)
+        if others and groups:
+            ax.legend(fontsize=7)
+        if len(xs) > 1:
+            ax.set_xticks(xs)
+        fig.tight_layout()
+        name = obs.replace(":", "_").replace("/", "_over_").replace("@", "_at_") + ".png"
+        fig.savefig(study / name, dpi=120)
+        plt.close(fig)
+        files.append(name)
+    return files
+
+
+def main():
+    argv = sys.argv[1:]
+    petsc = []
+    if "--" in argv:
+        i = argv.index("--")
+        argv, petsc = argv[:i], argv[i + 1:]
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("scene", help="scene file or shipped scene name")
+    ap.add_argument("--grid", action="append", default=[], metavar="KEY=V1,V2,...",
+                    help="a grid axis (repeatable: the cases are all combinations)")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="an override for every case")
+    ap.add_argument("--dir", required=True, help="study directory (created; reused to continue)")
+    ap.add_argument("--observe", nargs="+", default=DEFAULT_OBSERVE)
+    ap.add_argument("--ranks", type=int, default=2)
+    ap.add_argument("--no-plots", action="store_true")
+    a = ap.parse_args(argv)
+    if not BIN.exists():
+        sys.exit(f"study.py: {BIN} not found: run `cargo build --release` first")
+    study = Path(a.dir)
+    study.mkdir(parents=True, exist_ok=True)
+    axes = [parse_grid(g) for g in a.grid]
+    sets = [tuple(s.split("=", 1)) for s in a.set]
+    keys = [k for k, _ in axes]
+    cases = [list(zip(keys, combo)) for combo in itertools.product(*[vals for _, vals in axes])]
+    (study / "study.json").write_text(json.dumps(
+        {"scene": a.scene, "grid": dict(axes), "set": a.set, "observe": a.observe, "ranks": a.ranks,
+         "petsc": petsc}, indent=1))
+
+    rows, ran, t0 = [], 0, time.time()
+    todo = sum(1 for c in cases if not (study / "cases" / slug(c) / "case.json").exists())
+    print(f"study {study}: {len(cases)} cases, {len(cases) - todo} already complete, {todo} to run "
+          f"on {a.ranks} rank(s)", flush=True)
+    for n, case in enumerate(cases, 1):
+        cdir = study / "cases" / slug(case)
+        done = cdir / "case.json"
+        label = " ".join(f"{k}={v}" for k, v in case) or "(base scene)"
+        if done.exists():
+            result = json.loads(done.read_text())
+            print(f"[{n}/{len(cases)}] {label}: complete, skipped", flush=True)
+        else:
+            start = time.time()
+            result = run_case(a.scene, case, sets, cdir, a.ranks, petsc)
+            ran += 1
+            if result["status"] == "ok":
+                tm = timings(cdir / "run" / "timings.txt")
+                result.update({c: tm.get(k, float("nan")) for c, k in COUNTERS.items()})
+                h = history(cdir / "run" / "history.csv")
+                result.update({o: observe(h, o) for o in a.observe})
+                done.write_text(json.dumps(result, indent=1))
+            per = (time.time() - t0) / ran
+            eta = per * (todo - ran)
+            print(f"[{n}/{len(cases)}] {label}: {result['status']} in {time.time() - start:.1f} s"
+                  f"{'' if result['status'] == 'ok' else ' — ' + result['error']}"
+                  f"  [study {time.time() - t0:.0f} s, eta {eta:.0f} s]", flush=True)
+        row = dict(case)
+        row.update({"status": result["status"], "error": result.get("error", "")})
+        for k in COUNTERS:
+            row[k] = result.get(k, float("nan"))
+        for o in a.observe:
+            row[o] = result.get(o, float("nan"))
+        rows.append(row)
+
+    cols = keys + ["status"] + list(COUNTERS) + a.observe + ["error"]
+    with open(study / "summary.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=cols)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: r[k] for k in cols})
+    figs = [] if a.no_plots or not keys else plot(rows, keys, a.observe, study)
+    failed = sum(r["status"] != "ok" for r in rows)
+    print(f"summary: {study / 'summary.csv'} ({len(rows)} cases, {failed} failed)"
+          + (f"; figures: {', '.join(figs)}" if figs else ""))
+    sys.exit(1 if failed else 0)
+
+
+if __name__ == "__main__":
+    main()

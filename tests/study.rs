@@ -1,0 +1,113 @@
+//! The study runner (`scripts/study.py`): a grid of `--set` overrides run as batch jobs on 2
+//! ranks, one summary row per case, failed cases reported and retried, completed ones skipped.
+
+mod common;
+use common::*;
+use std::process::Command;
+
+fn study(args: &[&str]) -> (bool, String) {
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/study.py");
+    let out = Command::new("python3")
+        .arg(script)
+        .args(args)
+        .env("POROPLAST_BIN", env!("CARGO_BIN_EXE_poroplast"))
+        .env("POROPLAST_CACHE", cache_dir())
+        .output()
+        .expect("python3 could not be started");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
+    (out.status.success(), text)
+}
+
+#[test]
+fn a_study_runs_its_grid_and_continues_where_it_stopped() {
+    let dir = scratch("study");
+    let d = dir.join("mu_nu");
+    let args = [
+        &scene("terzaghi"),
+        "--grid",
+        "material.mu=12,24",
+        "--grid",
+        "material.nu=0.2,0.7",
+        "--set",
+        "time.t_end=0.004",
+        "--observe",
+        "last:time",
+        "max:newton_its",
+        "--dir",
+        d.to_str().unwrap(),
+    ];
+    let (ok, out) = study(&args);
+    // ν = 0.7 is not a Poisson ratio: those two cases fail with the scene's message, the study
+    // reports them and exits non-zero.
+    assert!(!ok, "a study with failed cases must exit non-zero:\n{out}");
+    assert!(out.contains("4 cases, 0 already complete, 4 to run"), "{out}");
+    let summary = std::fs::read_to_string(d.join("summary.csv")).unwrap();
+    let mut rows = csv_rows(&summary);
+    assert_eq!(rows.len(), 4, "{summary}");
+    rows.sort_by(|a, b| {
+        (a["material.nu"].clone(), a["material.mu"].clone()).cmp(&(b["material.nu"].clone(), b["material.mu"].clone()))
+    });
+    for r in &rows[..2] {
+        assert_eq!(r["status"], "ok", "{summary}");
+        assert_eq!(r["last:time"].parse::<f64>().unwrap(), 0.004);
+        assert_eq!(r["steps"].parse::<f64>().unwrap(), 4.0);
+    }
+    for r in &rows[2..] {
+        assert_eq!(r["status"], "failed");
+        assert!(r["error"].contains("material.nu = 0.7"), "{}", r["error"]);
+    }
+    // The two shear moduli gave different runs (their wall times are recorded, positive).
+    assert!(rows[..2].iter().all(|r| r["wall_s"].parse::<f64>().unwrap() > 0.0));
+    assert!(d.join("max_newton_its.png").exists() && d.join("last_time.png").exists());
+    // Again: the completed cases are skipped, the failed ones tried again.
+    let (_, out) = study(&args);
+    assert!(out.contains("4 cases, 2 already complete, 2 to run"), "{out}");
+    assert_eq!(out.matches("complete, skipped").count(), 2, "{out}");
+}
+
+#[test]
+fn study_observables_are_read_from_the_history() {
+    let script_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts");
+    // p falls through zero between t = 2 (p = 1) and t = 3 (p = -3): at t = 2.25.
+    let code = "import study\n\
+        h = {'time': [0, 1, 2, 3], 'p': [0.0, 2.0, 1.0, -3.0], 'height': [2.0, 1.0, 1.0, 1.5], 'width': [2.0, 2.0, 2.5, 3.0]}\n\
+        assert study.observe(h, 'max:p') == 2.0\n\
+        assert study.observe(h, 'last:p') == -3.0\n\
+        assert abs(study.observe(h, 'p@1.5') - 1.5) < 1e-15\n\
+        assert abs(study.observe(h, 'zero:p') - 2.25) < 1e-15\n\
+        assert study.observe(h, 'last:height/width') == 0.5\n\
+        import math\n\
+        assert math.isnan(study.observe(h, 'p@7')) and math.isnan(study.observe(h, 'max:q'))\n\
+        print('ok')";
+    let out = Command::new("python3").arg("-c").arg(code).current_dir(&script_dir).output().unwrap();
+    assert!(
+        out.status.success() && String::from_utf8_lossy(&out.stdout).contains("ok"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// CSV text (no quoting beyond what the summary needs) as rows of named fields.
+fn csv_rows(text: &str) -> Vec<std::collections::HashMap<String, String>> {
+    let mut lines = text.lines();
+    let head: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    lines
+        .map(|l| {
+            let fields = split_csv(l);
+            head.iter().cloned().zip(fields).collect()
+        })
+        .collect()
+}
+
+fn split_csv(line: &str) -> Vec<String> {
+    let (mut out, mut cur, mut quoted) = (Vec::new(), String::new(), false);
+    for c in line.chars() {
+        match c {
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(std::mem::take(&mut cur)),
+            _ => cur.push(c),
+        }
+    }
+    out.push(cur);
+    out
+}
