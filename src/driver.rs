@@ -431,7 +431,7 @@ impl<'w> Run<'w> {
         let n_global_dofs = dofs.n_global;
         let mid_edges = mid_edge_nodes(&local);
         let fields = solver::Fields::new(world, &dofs, &local)?;
-        let alpha = s.fem.stabilisation.unwrap_or(DEFAULT_STABILISATION);
+        let stabilisation = (s.fem.stabilisation.unwrap_or(DEFAULT_STABILISATION), s.fem.stabilisation_fade);
         let mut problem = PoroProblem::new(
             world.duplicate(),
             local,
@@ -443,7 +443,7 @@ impl<'w> Run<'w> {
             ext,
             &u,
             schur,
-            alpha,
+            stabilisation,
         )?;
         let plate_faces = match plates {
             Some((pl, faces)) => {

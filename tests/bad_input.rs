@@ -130,6 +130,7 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     );
     fails(&earlier, &["run", &ok, "--set", "material.nu=0.5"], "material.nu = 0.5");
     fails(&earlier, &["run", &ok, "--set", "time.dt"], "--set time.dt: expected KEY=VALUE");
+    fails(&earlier, &["run", &ok, "--set", "fem.stabilisation_fade=0"], "fem.stabilisation_fade = 0: must be positive");
     // A scene that does not exist.
     fails(&earlier, &["run", "no-such-scene"], "not a builtin scene");
     // Without --force an existing run directory is refused, untouched.

@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::Tabulation;
 use crate::fem::insert::{ElementInserter, GhostRows};
-use crate::fem::kernel::{ElementInput, ElementKernel, ElementValues, NDOF, NU};
+use crate::fem::kernel::{ElementInput, ElementKernel, ElementValues, Stabilisation, NDOF, NU};
 use crate::fem::point::{History, PointModel};
 use crate::fem::qp_store::QpStore;
 use crate::mesh::dist::LocalMesh;
@@ -48,8 +48,8 @@ pub struct Discretization {
     pub xi: Vec<[f64; 3]>,
     /// Per local dof: fixed by a constraint.
     pub constrained: Vec<bool>,
-    /// c_s of the pressure stabilisation (see `fem::kernel::ElementKernel::stab`).
-    pub stab: f64,
+    /// The pressure stabilisation (see `fem::kernel::ElementKernel::stab`).
+    pub stab: Stabilisation,
     /// Committed per-point history of the model (empty when it has none).
     pub history: QpStore,
     /// Whether the history evolves in the steps being solved (false while settling before t = 0,
@@ -138,7 +138,7 @@ impl PoroProblem {
         external: Vec<f64>,
         global_template: &Vector,
         schur: Mat,
-        stabilisation: f64,
+        stabilisation: (f64, Option<f64>),
     ) -> Result<PoroProblem> {
         let n_local = dofs.n_local();
         let comm = world.as_raw();
@@ -157,7 +157,11 @@ impl PoroProblem {
         Ok(PoroProblem {
             world,
             disc: Discretization {
-                stab: stabilisation / model.p_wave_modulus(),
+                stab: Stabilisation {
+                    c_s: stabilisation.0 / model.p_wave_modulus(),
+                    fade: stabilisation.1,
+                    c_v: model.conductivity() * model.p_wave_modulus(),
+                },
                 history,
                 evolve: true,
                 mesh,

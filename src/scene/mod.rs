@@ -360,6 +360,10 @@ pub struct FemSpec {
     /// undrained limit monotone next to drained boundaries (default 4: exact lumping; 0 off).
     #[serde(default)]
     pub stabilisation: Option<f64>,
+    /// τ₀: the stabilisation fades linearly to zero as a step resolves the drainage,
+    /// τ = c_v Δt / h² → τ₀ (`fem::kernel::Stabilisation`; default: constant).
+    #[serde(default)]
+    pub stabilisation_fade: Option<f64>,
 }
 
 /// A scene together with where it came from.
@@ -627,6 +631,11 @@ impl LoadedScene {
         if let Some(a) = s.fem.stabilisation {
             if !(a.is_finite() && a >= 0.0) {
                 return Err(self.err(format!("fem.stabilisation = {a}: must be >= 0")));
+            }
+        }
+        if let Some(t) = s.fem.stabilisation_fade {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(self.err(format!("fem.stabilisation_fade = {t}: must be positive (omit it for none)")));
             }
         }
         if let Some(q) = s.fem.quadrature_degree {
