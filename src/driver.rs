@@ -135,7 +135,9 @@ fn read_mesh(path: &Path, scene: &LoadedScene) -> Result<crate::mesh::Mesh> {
 }
 
 fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
-    use crate::material::{CompactionPenalty, FlowForm, HolmesMow, Permeability, PermeabilityModel, Remodelling};
+    use crate::material::{
+        CompactionPenalty, FlowForm, HolmesMow, Integrator, Permeability, PermeabilityModel, Remodelling,
+    };
     let ctx = |e: Error| Error::Scene { path: scene.source.clone(), msg: format!("[material]: {e}") };
     match &scene.scene.material {
         Material::Linear { mu, nu, permeability } => Ok(Box::new(LinearPoroelastic::new(*mu, *nu, *permeability)?)),
@@ -174,7 +176,9 @@ fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
             let mut model = Biphasic::new(solid, pen, perm, *rho_s, *rho_f, *gravity).map_err(ctx)?;
             if let Some(r) = remodelling {
                 let form = if r.form == "40a" { FlowForm::Spatial } else { FlowForm::Referential };
-                model = model.with_remodelling(Remodelling::new(r.lambda_p, r.sigma_y).map_err(ctx)?.with_form(form));
+                let integrator = if r.integrator == "explicit" { Integrator::Explicit } else { Integrator::Implicit };
+                let law = Remodelling::new(r.lambda_p, r.sigma_y).map_err(ctx)?;
+                model = model.with_remodelling(law.with_form(form).with_integrator(integrator));
             }
             Ok(Box::new(model))
         }

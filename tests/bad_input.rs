@@ -100,6 +100,8 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     fails(&earlier, &["run", &s], "material.remodelling.sigma_y = NaN");
     let s = rvariant("form", &[("sigma_y = 2.0", "sigma_y = 2.0, form = \"40c\"")]);
     fails(&earlier, &["run", &s], "material.remodelling.form = \"40c\"");
+    let s = rvariant("integrator", &[("sigma_y = 2.0", "sigma_y = 2.0, integrator = \"rk4\"")]);
+    fails(&earlier, &["run", &s], "material.remodelling.integrator = \"rk4\"");
     let s = rvariant("remodelling_key", &[("sigma_y = 2.0", "sigma_y = 2.0, eta = 1.0")]);
     fails(&earlier, &["run", &s], "unknown field `eta`");
     let s = rvariant("initial", &[("[[0.1180339887498949, 0.0, 0.0]", "[[-1.5, 0.0, 0.0]")]);

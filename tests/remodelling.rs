@@ -168,6 +168,34 @@ fn relaxation_converges_first_order_in_dt() {
     }
 }
 
+/// The contrast to `relaxation_large_steps_stay_bounded`: the explicit (forward Euler) update
+/// at the same Δt = 50 s and 200 s overshoots the yield surface into the elastic region in its
+/// first step, where the flow stops: the relaxed state is missed (measured 84% and 70%) and det B_p
+/// drifts from 1 (measured 0.13 and 0.99) — where the implicit map is relaxed to 1e-6 and 1e-3,
+/// isochoric to 1e-10.
+#[test]
+fn explicit_remodelling_update_fails_at_large_steps() {
+    for dt in ["50.0", "200.0"] {
+        let dir = scratch(&format!("relaxation-explicit-dt{dt}"));
+        let (first, max) = (format!("dt = {dt}"), format!("dt_max = {dt}"));
+        let h = run_relaxation(
+            1,
+            &dir,
+            &[
+                ("dt = 0.05", &first),
+                ("dt_max = 0.5", &max),
+                ("growth = 1.1", "growth = 1.0"),
+                ("land_on = [10.0, 50.0, 100.0]", "land_on = []"),
+                ("sigma_y = 2.0 }", "sigma_y = 2.0, integrator = \"explicit\" }"),
+            ],
+        );
+        let det = h.col("det_bp_max_dev").iter().cloned().fold(0.0, f64::max);
+        let rel = relaxed_error(&h);
+        println!("explicit, dt = {dt} s: relaxed rel. error {rel:.3}, max |det B_p - 1| {det:.3}");
+        assert!(rel > 0.5 && det > 0.1, "dt = {dt}: explicit update error {rel}, det drift {det}");
+    }
+}
+
 /// Δt = 50 s and 200 s (Δt λp µ = 1 and 4): the update stays bounded — σ_zz moves monotonically
 /// from the elastic value towards the relaxed one without overshoot, and every step shrinks the
 /// distance ‖dev σ‖ − √(2/3) σy to the yield surface (a contraction, as for backward Euler on

@@ -21,7 +21,7 @@ use nalgebra::{Matrix3, SMatrix};
 pub use holmes_mow::HolmesMow;
 pub use penalty::CompactionPenalty;
 pub use permeability::{Permeability, PermeabilityModel};
-pub use remodelling::{FlowForm, Remodelling};
+pub use remodelling::{FlowForm, Integrator, Remodelling};
 
 /// A fourth-order tensor ∂P_ij/∂F_kl stored at `[(idx(i, j), idx(k, l))]`.
 pub type Tangent = SMatrix<f64, 9, 9>;

@@ -62,6 +62,19 @@ pub enum FlowForm {
     Spatial,
 }
 
+/// How a step integrates the flow rule.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Integrator {
+    /// The implicit, symmetric exponential map (module docs): unconditionally stable, det B_p
+    /// kept. The default.
+    Implicit,
+    /// Forward Euler in B_p with the rate at the trial state (C^{n+1}, B_p^n):
+    /// B_p^{n+1} = B_p^n − 2 Δt γp B_p^n dev Σ. For stability studies only: it is stable only
+    /// while 2 Δt λp times the stiffness of the overstress stays below about 2, and it does not
+    /// keep det B_p = 1 (an O(Δt²) drift per step).
+    Explicit,
+}
+
 /// Perzyna flow-rule parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Remodelling {
@@ -70,6 +83,7 @@ pub struct Remodelling {
     /// Yield stress σy (kPa).
     pub sigma_y: f64,
     pub form: FlowForm,
+    pub integrator: Integrator,
 }
 
 /// The end-of-step remodelling metric at one point.
@@ -97,12 +111,17 @@ impl Remodelling {
         if !(sigma_y >= 0.0 && sigma_y.is_finite()) {
             return Err(Error::Material(format!("remodelling: sigma_y = {sigma_y} must be finite and >= 0")));
         }
-        Ok(Remodelling { lambda_p, sigma_y, form: FlowForm::Referential })
+        Ok(Remodelling { lambda_p, sigma_y, form: FlowForm::Referential, integrator: Integrator::Implicit })
     }
 
     /// The same law in the other form of (40).
     pub fn with_form(self, form: FlowForm) -> Self {
         Remodelling { form, ..self }
+    }
+
+    /// The same law with another step integrator.
+    pub fn with_integrator(self, integrator: Integrator) -> Self {
+        Remodelling { integrator, ..self }
     }
 
     /// √(2/3) σy: the yield radius of ‖dev σ‖.
@@ -121,6 +140,9 @@ impl Remodelling {
     /// B_p^{n+1} from B_p^n over a step dt at the end-of-step C (domain error if the local
     /// Newton fails, so the caller can cut the step).
     pub fn update(&self, hm: &HolmesMow, c: &Matrix3<f64>, bp_n: &Matrix3<f64>, dt: f64) -> Result<Update> {
+        if self.integrator == Integrator::Explicit {
+            return Ok(self.explicit(hm, c, bp_n, dt)?.0);
+        }
         Ok(self.solve(hm, c, bp_n, dt)?.0)
     }
 
@@ -134,6 +156,9 @@ impl Remodelling {
         bp_n: &Matrix3<f64>,
         dt: f64,
     ) -> Result<(Update, Option<[[f64; 6]; 6]>)> {
+        if self.integrator == Integrator::Explicit {
+            return self.explicit(hm, c, bp_n, dt);
+        }
         let (up, x) = self.solve(hm, c, bp_n, dt)?;
         let Some(x) = x else { return Ok((up, None)) };
         // R(x, c) with both seeded: 7 + 6 directions.
@@ -146,6 +171,53 @@ impl Remodelling {
         let lu = jx.lu();
         let dx = lu.solve(&(-jc)).ok_or_else(|| domain_error(f64::NAN, "remodelling: singular local tangent"))?;
         Ok((up, Some(std::array::from_fn(|s| std::array::from_fn(|r| dx[(s, r)])))))
+    }
+
+    /// The explicit (forward Euler) update and its tangent ∂x_s/∂c_r (None on the elastic branch).
+    #[allow(clippy::type_complexity)]
+    fn explicit(
+        &self,
+        hm: &HolmesMow,
+        c: &Matrix3<f64>,
+        bp_n: &Matrix3<f64>,
+        dt: f64,
+    ) -> Result<(Update, Option<[[f64; 6]; 6]>)> {
+        let elastic = Update { bp: *bp_n, dgamma: 0.0, iterations: 0 };
+        if !(self.lambda_p > 0.0 && dt > 0.0) {
+            return Ok((elastic, None));
+        }
+        let s_trial = Self::dev_stress_norm(hm, c, bp_n);
+        if !(s_trial.is_finite()) {
+            return Err(domain_error(f64::NAN, format!("remodelling: non-finite trial stress ({s_trial})")));
+        }
+        if s_trial <= self.yield_radius() {
+            return Ok((elastic, None));
+        }
+        let c6 = to_sym6(c);
+        let cd: [Dual<6>; 6] = std::array::from_fn(|r| Dual::var(c6[r], r));
+        let cm = sym_generic(&cd);
+        let ln_j = m_det(&cm).ln().scale(0.5);
+        let bn: M3<Dual<6>> = std::array::from_fn(|i| std::array::from_fn(|j| Dual::cst(bp_n[(i, j)])));
+        let d = hm.mandel_dev(&m_mul(&cm, &bn), ln_j);
+        let j = ln_j.exp();
+        let s = m_trace_mul(&d, &d).sqrt() / j;
+        // Δγ = Δt γp = Δt λp (s − k)/s (spatial form: λp/J).
+        let mut dgamma = (s - Dual::cst(self.yield_radius())) / s;
+        dgamma = match self.form {
+            FlowForm::Referential => dgamma.scale(self.lambda_p * dt),
+            FlowForm::Spatial => dgamma.scale(self.lambda_p * dt) / j,
+        };
+        let bd = m_mul(&bn, &d);
+        let x: [Dual<6>; 6] = std::array::from_fn(|k| {
+            let (a, b) = SYM_PAIRS[k];
+            bn[a][b] - dgamma * (bd[a][b] + bd[b][a])
+        });
+        let bp = from_sym6(&x.map(|v| v.re));
+        if !(bp.iter().all(|v| v.is_finite()) && bp.determinant() > 0.0) {
+            return Err(domain_error(f64::NAN, format!("remodelling: explicit update lost det B_p > 0 (dt = {dt})")));
+        }
+        let tangent = std::array::from_fn(|s| std::array::from_fn(|r| x[s].d[r]));
+        Ok((Update { bp, dgamma: dgamma.re, iterations: 0 }, Some(tangent)))
     }
 
     /// Local Newton. Returns the update and, on the plastic branch, the converged unknowns.
@@ -394,8 +466,30 @@ mod tests {
     #[test]
     fn tangent_matches_finite_differences() {
         let (hm, rm) = table1();
+        tangent_check(&rm, &[(0.8, 0.5), (1.05, 20.0), (0.9, 1e4)]);
+    }
+
+    /// The explicit update's tangent too (steps small enough to stay in det B_p > 0); and it
+    /// is not isochoric: det B_p drifts at O(Δt²) per step, unlike the map's.
+    #[test]
+    fn explicit_update_tangent_and_drift() {
+        let (hm, rm) = table1();
+        let re = rm.with_integrator(Integrator::Explicit);
+        tangent_check(&re, &[(0.8, 0.5), (1.05, 5.0)]);
+        let f = Matrix3::from_diagonal(&nalgebra::Vector3::new(0.8f64.powf(-0.5), 0.8f64.powf(-0.5), 0.8));
+        let c = f.transpose() * f;
+        let (ex, im) = (
+            re.update(&hm, &c, &Matrix3::identity(), 5.0).unwrap(),
+            rm.update(&hm, &c, &Matrix3::identity(), 5.0).unwrap(),
+        );
+        assert!((ex.bp.determinant() - 1.0).abs() > 1e-4, "explicit det {}", ex.bp.determinant());
+        assert!((im.bp.determinant() - 1.0).abs() < 1e-13, "implicit det {}", im.bp.determinant());
+    }
+
+    fn tangent_check(rm: &Remodelling, cases: &[(f64, f64)]) {
+        let (hm, _) = table1();
         let mut rng = Rng::new(73);
-        for (j, dt) in [(0.8, 0.5), (1.05, 20.0), (0.9, 1e4)] {
+        for &(j, dt) in cases {
             let f = rng.deformation(j);
             let c = f.transpose() * f;
             let bp_n = rng.remodelling_metric();

@@ -143,10 +143,18 @@ pub struct RemodellingSpec {
     /// what the paper says it solved) or "40a" (L b_e = −2 γp b_e dev σ: a rate 1/J faster).
     #[serde(default = "form_40b")]
     pub form: String,
+    /// Step integrator: "implicit" (default: the exponential map, unconditionally stable) or
+    /// "explicit" (forward Euler in B_p, conditionally stable: for stability studies).
+    #[serde(default = "implicit")]
+    pub integrator: String,
 }
 
 fn form_40b() -> String {
     "40b".into()
+}
+
+fn implicit() -> String {
+    "implicit".into()
 }
 
 fn water() -> f64 {
@@ -506,6 +514,12 @@ impl LoadedScene {
                         return Err(self.err(format!(
                             "material.remodelling.form = \"{}\": use \"40b\" (default) or \"40a\"",
                             r.form
+                        )));
+                    }
+                    if !["implicit", "explicit"].contains(&r.integrator.as_str()) {
+                        return Err(self.err(format!(
+                            "material.remodelling.integrator = \"{}\": use \"implicit\" (default) or \"explicit\"",
+                            r.integrator
                         )));
                     }
                 }
