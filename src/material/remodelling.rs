@@ -465,7 +465,7 @@ mod tests {
     /// The consistent tangent against central differences of the update in C.
     #[test]
     fn tangent_matches_finite_differences() {
-        let (hm, rm) = table1();
+        let (_, rm) = table1();
         tangent_check(&rm, &[(0.8, 0.5), (1.05, 20.0), (0.9, 1e4)]);
     }
 
