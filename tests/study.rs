@@ -87,6 +87,42 @@ fn study_observables_are_read_from_the_history() {
     );
 }
 
+/// The convergence study end to end on a tiny case (Terzaghi, 3 meshes × 3 step levels): it
+/// writes its tables with one row per observable; and its order estimate and Richardson
+/// correction recover a known C h^p error.
+#[test]
+fn convergence_study_extrapolates() {
+    let dir = scratch("convergence_study");
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/convergence_study.py");
+    let d = dir.join("terzaghi");
+    let out = Command::new("python3")
+        .arg(&script)
+        .args([&scene("terzaghi"), "--h", "20,15,10", "--dt-scale", "1,0.5,0.25", "--set", "time.t_end=0.02"])
+        .args(["--observe", "p_bottom@0.02", "last:settlement", "--dir", d.to_str().unwrap()])
+        .env("POROPLAST_BIN", env!("CARGO_BIN_EXE_poroplast"))
+        .env("POROPLAST_CACHE", cache_dir())
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{text}");
+    let conv = std::fs::read_to_string(d.join("convergence.csv")).unwrap();
+    let rows = csv_rows(&conv);
+    assert_eq!(rows.len(), 2, "{conv}");
+    assert!(rows.iter().all(|r| r["finest"].parse::<f64>().unwrap().is_finite()), "{conv}");
+    assert_eq!(std::fs::read_to_string(d.join("errors.csv")).unwrap().lines().count(), 10);
+    let code = "import convergence_study as c\n\
+        q = [1 + 2 * h**1.5 for h in (3.0, 2.0, 1.5)]\n\
+        p = c.solve_order(q, (1.5, 2 / 1.5))\n\
+        assert abs(p - 1.5) < 1e-9, p\n\
+        assert abs(q[2] + c.correction(q[1], q[2], 2 / 1.5, p) - 1.0) < 1e-9\n\
+        import math\n\
+        assert math.isnan(c.solve_order([1.0, 2.0, 1.5], (2.0, 2.0)))\n\
+        print('ok')";
+    let script_dir = script.parent().unwrap();
+    let out = Command::new("python3").arg("-c").arg(code).current_dir(script_dir).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}
+
 /// CSV text (no quoting beyond what the summary needs) as rows of named fields.
 fn csv_rows(text: &str) -> Vec<std::collections::HashMap<String, String>> {
     let mut lines = text.lines();

@@ -1,0 +1,210 @@
+"""Convergence study on 2 ranks: mesh levels × time-step levels, Richardson extrapolation.
+
+Runs a scene on every combination of mesh size h (mesh.params.h, with h_pole scaled in
+proportion when the mesh has one) and time-step scale s (time.dt and time.dt_max multiplied by
+s), as batch jobs through `scripts/study.py`'s runner (completed cases are skipped, so an
+interrupted study continues). For each observable it estimates
+
+  * the observed orders p_h (from the three finest meshes at the finest Δt) and p_t (from the
+    three finest Δt on the finest mesh),
+  * the extrapolated value Q* = Q_ff + (Q_ff − Q_cf)/(r_h^p_h − 1) + (Q_ff − Q_fc)/(r_t^p_t − 1)
+    (f: finest, c: next coarser; errors taken as additive in h and Δt), with an error bar of
+    1.25 × the two corrections (Roache's grid convergence index with observed orders). Where an
+    order is not observed — the differences do not shrink monotonically, or the order falls
+    outside [0.5, 4] — the formal order is used instead (--formal-h 2, --formal-t 1: P2–P1 and
+    backward Euler), the safety factor is 3, and the bar is at least the spread of the two
+    finest levels; convergence.csv says which (`order_h`, `order_t`: observed or formal),
+  * the error of every case against Q*.
+
+Writes STUDY/summary.csv (the runner's), STUDY/convergence.csv (observable, Q*, error bar,
+p_h, p_t, the finest value), STUDY/errors.csv (every case's error per observable), and
+STUDY/conv_<observable>.png (error against h per Δt level, and against Δt per mesh).
+
+    python3 scripts/convergence_study.py reference --h 30,25,20,15 --dt-scale 1,0.5,0.25,0.125 \\
+        --dir studies/conv_reference [--set KEY=VALUE ...] [--observe ...] [--ranks 2]
+"""
+import argparse
+import csv
+import json
+import math
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import study  # noqa: E402
+from _runner import BIN  # noqa: E402
+
+
+def scene_table(scene):
+    """The scene's TOML (a file, or a shipped scene through `poroplast show`)."""
+    import tomllib
+    p = Path(scene)
+    text = p.read_text() if p.exists() else subprocess.run([str(BIN), "show", scene], check=True,
+                                                          capture_output=True, text=True).stdout
+    return tomllib.loads(text)
+
+
+def solve_order(q, r):
+    """Observed order from three values q (coarse → fine) on levels with ratios r = (r1, r2)
+    (h_i / h_{i+1}); NaN if the differences do not shrink monotonically."""
+    d1, d2 = q[0] - q[1], q[1] - q[2]
+    if d1 == 0 or d2 == 0 or d1 * d2 < 0 or abs(d2) >= abs(d1) * 1.0:
+        return float("nan")
+    # (r1^p − 1) r2^p / (r2^p − 1) = d1/d2 (constant C h^p errors); bisection in p.
+    f = lambda p: (r[0] ** p - 1) * r[1] ** p / (r[1] ** p - 1) - abs(d1 / d2)
+    lo, hi = 0.05, 8.0
+    if f(lo) > 0 or f(hi) < 0:
+        return float("nan")
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if f(mid) < 0 else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def correction(q_coarse, q_fine, ratio, p):
+    if math.isnan(p):
+        return float("nan")
+    return (q_fine - q_coarse) / (ratio ** p - 1)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("scene")
+    ap.add_argument("--h", required=True, help="mesh sizes, coarse to fine, e.g. 30,25,20,15")
+    ap.add_argument("--dt-scale", default="1,0.5,0.25,0.125", help="time-step scales, coarse to fine")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    ap.add_argument("--observe", nargs="+", default=study.DEFAULT_OBSERVE)
+    ap.add_argument("--dir", required=True)
+    ap.add_argument("--ranks", type=int, default=2)
+    ap.add_argument("--formal-h", type=float, default=2.0)
+    ap.add_argument("--formal-t", type=float, default=1.0)
+    a = ap.parse_args()
+    hs = [float(x) for x in a.h.split(",")]
+    ss = [float(x) for x in a.dt_scale.split(",")]
+    if len(hs) < 3 or len(ss) < 3:
+        sys.exit("convergence_study.py: need at least 3 mesh and 3 time-step levels")
+    t = scene_table(a.scene)
+    params = t.get("mesh", {}).get("params", {})
+    h0, hp0 = params.get("h"), params.get("h_pole")
+    if h0 is None:
+        sys.exit("convergence_study.py: the scene's mesh has no params.h")
+    dt0, dtmax0 = t["time"]["dt"], t["time"].get("dt_max")
+    for s in a.set:
+        k, v = s.split("=", 1)
+        if k == "time.dt":
+            dt0 = float(v)
+        if k == "time.dt_max":
+            dtmax0 = float(v)
+
+    root = Path(a.dir)
+    root.mkdir(parents=True, exist_ok=True)
+    sets = [tuple(s.split("=", 1)) for s in a.set if not s.startswith(("time.dt=", "time.dt_max="))]
+    cases = []
+    for h in hs:
+        for s in ss:
+            ov = [("mesh.params.h", f"{h:g}")]
+            if hp0 is not None:
+                ov.append(("mesh.params.h_pole", f"{hp0 * h / h0:g}"))
+            ov.append(("time.dt", f"{dt0 * s:g}"))
+            if dtmax0 is not None:
+                ov.append(("time.dt_max", f"{dtmax0 * s:g}"))
+            cases.append((h, s, ov))
+    todo = sum(1 for _, _, ov in cases if not (root / "cases" / study.slug(ov) / "case.json").exists())
+    print(f"convergence study {root}: {len(hs)} meshes x {len(ss)} time-step levels, {todo} cases to run", flush=True)
+    t0, ran, results = time.time(), 0, {}
+    for n, (h, s, ov) in enumerate(cases, 1):
+        cdir = root / "cases" / study.slug(ov)
+        done = cdir / "case.json"
+        if done.exists():
+            r = json.loads(done.read_text())
+        else:
+            start = time.time()
+            r = study.run_case(a.scene, ov, sets, cdir, a.ranks, [])
+            ran += 1
+            if r["status"] == "ok":
+                tm = study.timings(cdir / "run" / "timings.txt")
+                r.update({c: tm.get(k, float("nan")) for c, k in study.COUNTERS.items()})
+                hist = study.history(cdir / "run" / "history.csv")
+                r.update({o: study.observe(hist, o) for o in a.observe})
+                done.write_text(json.dumps(r, indent=1))
+            eta = (time.time() - t0) / ran * (todo - ran)
+            print(f"[{n}/{len(cases)}] h = {h:g}, dt x {s:g}: {r['status']} in {time.time() - start:.0f} s"
+                  f"  [eta {eta:.0f} s]", flush=True)
+        results[(h, s)] = r
+
+    with open(root / "summary.csv", "w", newline="") as f:
+        cols = ["h", "dt_scale", "status"] + list(study.COUNTERS) + a.observe
+        w = csv.DictWriter(f, fieldnames=cols)
+        w.writeheader()
+        for (h, s), r in results.items():
+            w.writerow({"h": h, "dt_scale": s, **{k: r.get(k, float("nan")) for k in cols[2:]}})
+
+    hf, sf = hs[-1], ss[-1]
+    rows = []
+    for o in a.observe:
+        q = lambda h, s: results[(h, s)].get(o, float("nan")) if results[(h, s)]["status"] == "ok" else float("nan")
+        qh = [q(h, sf) for h in hs]
+        qt = [q(hf, s) for s in ss]
+        p_h = solve_order(qh[-3:], (hs[-3] / hs[-2], hs[-2] / hs[-1]))
+        p_t = solve_order(qt[-3:], (ss[-3] / ss[-2], ss[-2] / ss[-1]))
+        ok = lambda p: 0.5 <= p <= 4.0  # NaN is not
+        use_h, use_t = (p_h if ok(p_h) else a.formal_h), (p_t if ok(p_t) else a.formal_t)
+        c_h = correction(qh[-2], qh[-1], hs[-2] / hs[-1], use_h)
+        c_t = correction(qt[-2], qt[-1], ss[-2] / ss[-1], use_t)
+        extrap = qh[-1] + c_h + c_t
+        fs_h, fs_t = (1.25 if ok(p_h) else 3.0), (1.25 if ok(p_t) else 3.0)
+        bar = fs_h * abs(c_h) + fs_t * abs(c_t)
+        if not ok(p_h):
+            bar = max(bar, abs(qh[-1] - qh[-2]))
+        if not ok(p_t):
+            bar = max(bar, abs(qt[-1] - qt[-2]))
+        rows.append({"observable": o, "extrapolated": extrap, "error_bar": bar, "p_h": p_h, "p_t": p_t,
+                     "order_h": "observed" if ok(p_h) else "formal", "order_t": "observed" if ok(p_t) else "formal",
+                     "finest": qh[-1]})
+    with open(root / "convergence.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    ref = {r["observable"]: r["extrapolated"] for r in rows}
+    with open(root / "errors.csv", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["h", "dt_scale", "wall_s"] + a.observe)
+        for (h, s), r in results.items():
+            w.writerow([h, s, r.get("wall_s", float("nan"))]
+                       + [abs(r.get(o, float("nan")) - ref[o]) / abs(ref[o]) if ref[o] else float("nan")
+                          for o in a.observe])
+    print(f"{'observable':24} {'extrapolated':>14} {'± bar':>10} {'p_h':>6} {'p_t':>6} {'finest':>12}  orders used")
+    for r in rows:
+        print(f"{r['observable']:24} {r['extrapolated']:14.6g} {r['error_bar']:10.2g} {r['p_h']:6.2f} "
+              f"{r['p_t']:6.2f} {r['finest']:12.6g}  h {r['order_h']}, dt {r['order_t']}")
+    plot(root, hs, ss, results, a.observe, ref)
+
+
+def plot(root, hs, ss, results, observe, ref):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    for o in observe:
+        if not ref[o] or math.isnan(ref[o]):
+            continue
+        fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9, 3.6))
+        err = lambda h, s: abs(results[(h, s)].get(o, float("nan")) - ref[o]) / abs(ref[o])
+        for s in ss:
+            ax1.loglog(hs, [err(h, s) for h in hs], "o-", label=f"dt x {s:g}")
+        for h in hs:
+            ax2.loglog(ss, [err(h, s) for s in ss], "s-", label=f"h = {h:g}")
+        ax1.set_xlabel("h (um)")
+        ax2.set_xlabel("dt scale")
+        for ax in (ax1, ax2):
+            ax.set_ylabel(f"relative error of {o}")
+            ax.grid(alpha=0.3, which="both")
+            ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(root / ("conv_" + o.replace(":", "_").replace("/", "_over_").replace("@", "_at_") + ".png"), dpi=110)
+        plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()
