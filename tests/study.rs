@@ -117,10 +117,47 @@ fn convergence_study_extrapolates() {
         assert abs(q[2] + c.correction(q[1], q[2], 2 / 1.5, p) - 1.0) < 1e-9\n\
         import math\n\
         assert math.isnan(c.solve_order([1.0, 2.0, 1.5], (2.0, 2.0)))\n\
+        import speed_accuracy as s\n\
+        pts = [dict(wall_s=w, error=e) for w, e in [(1, 0.1), (2, 0.2), (3, 0.01), (4, 0.05), (5, 0.001)]]\n\
+        assert [(p['wall_s'], p['error']) for p in s.pareto(pts)] == [(1, 0.1), (3, 0.01), (5, 0.001)]\n\
         print('ok')";
     let script_dir = script.parent().unwrap();
     let out = Command::new("python3").arg("-c").arg(code).current_dir(script_dir).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+/// Calibration recovers known parameters from the code's own curve: (λp, σy) = (0.5 (MPa s)⁻¹,
+/// 1.5 kPa) from σ_zz(t) of the relaxation scene, starting at (1 (MPa s)⁻¹, 2 kPa), 2 ranks.
+#[test]
+fn calibration_recovers_synthetic_parameters() {
+    let dir = scratch("calibration");
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/calibrate.py");
+    let out = Command::new("python3")
+        .arg(&script)
+        .args(["relaxation", "--column", "stress_zz"])
+        .args(["--param", "material.remodelling.lambda_p=0.001", "--param", "material.remodelling.sigma_y=2.0"])
+        .args([
+            "--synthetic",
+            "material.remodelling.lambda_p=0.0005",
+            "--synthetic",
+            "material.remodelling.sigma_y=1.5",
+        ])
+        .args(["--set", "time.t_end=100", "--set", "time.dt_max=1.0", "--dir", dir.to_str().unwrap()])
+        .env("POROPLAST_BIN", env!("CARGO_BIN_EXE_poroplast"))
+        .env("POROPLAST_CACHE", cache_dir())
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{text}");
+    let json = std::fs::read_to_string(dir.join("calibration.json")).unwrap();
+    let value = |key: &str| -> f64 {
+        let at = json.find(&format!("\"{key}\"")).unwrap();
+        let v = &json[at..];
+        let v = &v[v.find("\"value\": ").unwrap() + 9..];
+        v[..v.find([',', '\n']).unwrap()].trim().parse().unwrap()
+    };
+    let (lp, sy) = (value("material.remodelling.lambda_p"), value("material.remodelling.sigma_y"));
+    assert!((lp / 0.0005 - 1.0).abs() < 0.02 && (sy / 1.5 - 1.0).abs() < 0.02, "recovered {lp}, {sy}:\n{text}");
 }
 
 /// CSV text (no quoting beyond what the summary needs) as rows of named fields.
