@@ -35,14 +35,27 @@ def edit(text, **subs):
     return text
 
 
-def run(text, ranks=2, petsc=(), workdir=None):
-    """Runs a scene given as TOML text; returns (history rows as dicts, timings dict)."""
+def scene_values(scene):
+    """A scene (file or shipped name) as a dict, through `poroplast show` for shipped ones."""
+    import tomllib
+    p = Path(scene)
+    text = p.read_text() if p.exists() else subprocess.run([str(BIN), "show", scene], check=True,
+                                                          capture_output=True, text=True).stdout
+    return tomllib.loads(text)
+
+
+def run(text, ranks=2, petsc=(), workdir=None, scene=None, overrides=()):
+    """Runs a scene given as TOML text, or the scene `scene` (file or shipped name) with `--set`
+    overrides ("key=value"); returns (history rows as dicts, timings dict)."""
     workdir = Path(workdir or tempfile.mkdtemp(prefix="poroplast-study-"))
     workdir.mkdir(parents=True, exist_ok=True)
-    scene = workdir / "scene.toml"
-    scene.write_text(text)
+    if scene is None:
+        scene = workdir / "scene.toml"
+        scene.write_text(text)
     out = workdir / "run"
     cmd = ["mpirun", "-n", str(ranks), str(BIN), "run", str(scene), "--out", str(out), "--force", "-q"]
+    for o in overrides:
+        cmd += ["--set", o]
     if petsc:
         cmd += ["--", *petsc]
     subprocess.run(cmd, check=True, env=env(), stdout=subprocess.DEVNULL)

@@ -18,21 +18,20 @@ h_pole = 4 µm), full (reference_full), cryer100k (cryer at h = 6.5 µm, 85k dof
 The large ones (fine, full, cryer100k) take from many minutes to hours per run on 2 cores.
 """
 import argparse
-import re
 import statistics
 import tempfile
 import time
 from pathlib import Path
 
-from _runner import edit, run, scene_text
+from _runner import run, scene_values
 
-CASES = {
-    "default": ("reference", {}),
-    "remodel": ("remodel_40", {}),
-    "fine": ("reference", {"params": {"R": 100.0, "h": 10.0, "h_pole": 4.0, "r_pole": 50.0}}),
-    "full": ("reference_full", {}),
-    "cryer100k": ("cryer", {"params": {"R": 100.0, "h": 6.5, "h_pole": 6.5}}),   # 85 440 dofs
-    "relaxation": ("relaxation", {}),
+CASES = {   # shipped scene, --set overrides
+    "default": ("reference", []),
+    "remodel": ("remodel_40", []),
+    "fine": ("reference", ["mesh.params.h=10.0", "mesh.params.h_pole=4.0"]),
+    "full": ("reference_full", []),
+    "cryer100k": ("cryer", ["mesh.params.h=6.5", "mesh.params.h_pole=6.5"]),   # 85 440 dofs
+    "relaxation": ("relaxation", []),
 }
 # -log_view events: PC setup (AMG hierarchies, factorisations), Krylov solves, submatrix copies
 # (the fieldsplit blocks and, with contact, the VI solver's reduced system).
@@ -76,19 +75,23 @@ def observables(h):
     return obs
 
 
-def halved(text):
-    """The scene with halved step sizes (dt, dt_max) and error tolerance, if it has them."""
+def halved(scene, overrides):
+    """Overrides that halve the step sizes (dt, dt_max) and error tolerance the scene has."""
+    t = scene_values(scene)["time"]
+    given = dict(o.split("=", 1) for o in overrides)
+    out = list(overrides)
     for key in ("dt", "dt_max", "error_tolerance"):
-        m = re.search(rf"^{key} = ([0-9.eE+-]+)", text, flags=re.M)
-        if m:
-            text = edit(text, **{key: float(m.group(1)) / 2})
-    return text
+        v = given.get(f"time.{key}", t.get(key))
+        if v is not None:
+            out.append(f"time.{key}={float(v) / 2!r}")
+    return out
 
 
-def run_once(text, ranks, work, petsc=()):
+def run_once(scene, overrides, ranks, work, petsc=()):
     lv = work / "log_view.txt"
     t0 = time.time()
-    rows, tm = run(text, ranks, petsc=("-log_view", f":{lv}", *petsc), workdir=work)
+    rows, tm = run(None, ranks, petsc=("-log_view", f":{lv}", *petsc), workdir=work, scene=scene,
+                   overrides=overrides)
     wall = time.time() - t0
     r = dict(tm)
     r.update(log_view(lv))
@@ -113,33 +116,31 @@ def main():
     if a.h and not a.scene:
         a.scene = "cryer"          # the older form `bench.py --h 12.5 8.33`
 
-    runs = []   # (label, scene text)
+    runs = []   # (label, scene, overrides)
     if a.scene:
+        params = scene_values(a.scene).get("mesh", {}).get("params", {})
         for h in a.h or [None]:
-            text = scene_text(a.scene)
+            ov = []
             if h is not None:
-                m = re.search(r"params = \{([^}]*)\}", text)
-                params = dict((k.strip(), float(v)) for k, v in (kv.split("=") for kv in m.group(1).split(",")))
-                params["h"] = h
+                ov.append(f"mesh.params.h={h!r}")
                 if "h_pole" in params:
-                    params["h_pole"] = h
-                text = edit(text, params=params)
+                    ov.append(f"mesh.params.h_pole={h!r}")
             if a.t_end:
-                text = edit(text, t_end=a.t_end)
-            runs.append((f"{a.scene}" + (f" h={h:g}" if h else ""), text))
+                ov.append(f"time.t_end={a.t_end!r}")
+            runs.append((f"{a.scene}" + (f" h={h:g}" if h else ""), a.scene, ov))
     else:
         for c in a.case or ["default", "remodel"]:
-            name, edits = CASES[c]
-            runs.append((c, edit(scene_text(name), **edits)))
+            name, ov = CASES[c]
+            runs.append((c, name, ov))
 
     cols = ["dofs", "steps", "step_cuts", "error_rejections", "newton_its", "newton/step", "ksp/newton", "wall",
             "assembly", "pc_setup", "factor", "ksp_solve", "submatrix", "output", "rss_MiB"]
     work = Path(tempfile.mkdtemp(prefix="poroplast-bench-"))
     print(f"medians of {a.repeat} run(s); times in s (-log_view: max over ranks); work dir {work}")
-    for label, text in runs:
+    for label, scene, ov in runs:
         base = None
         for n in a.ranks:
-            rs = [run_once(text, n, work / f"{label.replace(' ', '_')}-np{n}-{k}") for k in range(a.repeat)]
+            rs = [run_once(scene, ov, n, work / f"{label.replace(' ', '_')}-np{n}-{k}") for k in range(a.repeat)]
             med = lambda key: statistics.median(r[key] for r in rs if r.get(key) is not None) \
                 if any(r.get(key) is not None for r in rs) else None
             row = {k: med(k) for k in cols if "/" not in k}
@@ -154,7 +155,7 @@ def main():
                       flush=True)
         if not a.no_halved and obs:
             # Accuracy not traded away silently: the same case with halved steps and tolerances.
-            h = run_once(halved(text), max(a.ranks), work / f"{label.replace(' ', '_')}-halved",
+            h = run_once(scene, halved(scene, ov), max(a.ranks), work / f"{label.replace(' ', '_')}-halved",
                          petsc=("-snes_rtol", "1e-9", "-ksp_rtol", "1e-9"))
             diffs = "  ".join(f"{k} {h[k]:.6g} ({100 * (obs[k] - h[k]) / h[k]:+.3f}%)" for k in obs
                               if obs[k] is not None and h.get(k) not in (None, 0))
