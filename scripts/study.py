@@ -8,6 +8,8 @@ continues where it stopped (a failed case is tried again). Writes
                          Newton and Krylov iterations, dofs, and the observables
   STUDY/<observable>.png each observable against the first grid key (a line per combination
                          of the other keys)
+  STUDY/curve_<col>.png  with --curves COL: COL(t) of every case on one figure (the paper's
+                         force–time figures)
   STUDY/cases/<case>/    the case's run directory (run/), its log and result (case.json)
 
     python3 scripts/study.py reference --grid mesh.params.h=20,15 --grid plates.compression=0.2,0.3 \\
@@ -151,6 +153,33 @@ def plot(rows, keys, observables, study):
     return files
 
 
+def plot_curves(cases, study, columns):
+    """COL(t) of every completed case, one figure per column."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    files = []
+    for col in columns:
+        fig, ax = plt.subplots(figsize=(6, 3.8))
+        for case in cases:
+            cdir = study / "cases" / slug(case)
+            if not (cdir / "case.json").exists():
+                continue
+            h = history(cdir / "run" / "history.csv")
+            if col in h:
+                ax.plot(h["time"], h[col], label=", ".join(f"{k.split('.')[-1]} = {v}" for k, v in case) or "base")
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel(col)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        name = f"curve_{col.replace('/', '_')}.png"
+        fig.savefig(study / name, dpi=120)
+        plt.close(fig)
+        files.append(name)
+    return files
+
+
 def main():
     argv = sys.argv[1:]
     petsc = []
@@ -166,6 +195,8 @@ def main():
     ap.add_argument("--observe", nargs="+", default=DEFAULT_OBSERVE)
     ap.add_argument("--ranks", type=int, default=2)
     ap.add_argument("--no-plots", action="store_true")
+    ap.add_argument("--curves", nargs="+", default=[], metavar="COL",
+                    help="history columns to plot against time, one line per case")
     a = ap.parse_args(argv)
     if not BIN.exists():
         sys.exit(f"study.py: {BIN} not found: run `cargo build --release` first")
@@ -220,6 +251,8 @@ def main():
         for r in rows:
             w.writerow({k: r[k] for k in cols})
     figs = [] if a.no_plots or not keys else plot(rows, keys, a.observe, study)
+    if not a.no_plots:
+        figs += plot_curves(cases, study, a.curves)
     failed = sum(r["status"] != "ok" for r in rows)
     print(f"summary: {study / 'summary.csv'} ({len(rows)} cases, {failed} failed)"
           + (f"; figures: {', '.join(figs)}" if figs else ""))
