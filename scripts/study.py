@@ -16,7 +16,8 @@ continues where it stopped (a failed case is tried again). Writes
         --dir studies/h_u [--set time.t_end=60] [--observe max:force_total_mg force_total_mg@35] \\
         [--ranks 2] [-- PETSC OPTIONS]
 
-Observables (columns of history.csv): `max:COL`, `min:COL`, `last:COL`, `last:A/B` (a ratio,
+A grid axis is `KEY=V1,V2,...`, or `K1,K2=A1:A2,B1:B2,...` for keys that change together (e.g.
+the radius with the mesh and the plates). Observables (columns of history.csv): `max:COL`, `min:COL`, `last:COL`, `last:A/B` (a ratio,
 e.g. last:height/width), `COL@T` (interpolated at time T), `zero:COL` (the first time COL falls
 from positive to zero or below). Default, for the plates experiment: peak force, F(35 s),
 p(X_U) at 5 and 30 s, its zero crossing, final H/W. Run from the repository root after
@@ -43,10 +44,15 @@ COUNTERS = {"wall_s": "total", "steps": "steps", "step_cuts": "step_cuts", "newt
 
 
 def parse_grid(spec):
+    """KEY=V1,V2,... or, for keys that vary together, K1,K2=A1:A2,B1:B2,... (one axis)."""
     key, _, values = spec.partition("=")
-    if not key or not values:
-        sys.exit(f"study.py: --grid {spec}: expected KEY=V1,V2,...")
-    return key.strip(), [v.strip() for v in values.split(",")]
+    keys = [k.strip() for k in key.split(",")]
+    if not all(keys) or not values:
+        sys.exit(f"study.py: --grid {spec}: expected KEY=V1,V2,... or K1,K2=A1:A2,B1:B2,...")
+    points = [[x.strip() for x in v.split(":")] if len(keys) > 1 else [v.strip()] for v in values.split(",")]
+    if any(len(p) != len(keys) for p in points):
+        sys.exit(f"study.py: --grid {spec}: every value needs {len(keys)} parts separated by ':'")
+    return keys, points
 
 
 def slug(overrides):
@@ -204,10 +210,11 @@ def main():
     study.mkdir(parents=True, exist_ok=True)
     axes = [parse_grid(g) for g in a.grid]
     sets = [tuple(s.split("=", 1)) for s in a.set]
-    keys = [k for k, _ in axes]
-    cases = [list(zip(keys, combo)) for combo in itertools.product(*[vals for _, vals in axes])]
+    keys = [k for ks, _ in axes for k in ks]
+    cases = [[kv for (ks, _), point in zip(axes, combo) for kv in zip(ks, point)]
+             for combo in itertools.product(*[points for _, points in axes])]
     (study / "study.json").write_text(json.dumps(
-        {"scene": a.scene, "grid": dict(axes), "set": a.set, "observe": a.observe, "ranks": a.ranks,
+        {"scene": a.scene, "grid": a.grid, "set": a.set, "observe": a.observe, "ranks": a.ranks,
          "petsc": petsc}, indent=1))
 
     rows, ran, t0 = [], 0, time.time()
@@ -250,7 +257,8 @@ def main():
         w.writeheader()
         for r in rows:
             w.writerow({k: r[k] for k in cols})
-    figs = [] if a.no_plots or not keys else plot(rows, keys, a.observe, study)
+    # One line per axis: the first key of a linked axis stands for it.
+    figs = [] if a.no_plots or not keys else plot(rows, [ks[0] for ks, _ in axes], a.observe, study)
     if not a.no_plots:
         figs += plot_curves(cases, study, a.curves)
     failed = sum(r["status"] != "ok" for r in rows)

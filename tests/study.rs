@@ -59,6 +59,27 @@ fn a_study_runs_its_grid_and_continues_where_it_stopped() {
     // The two shear moduli gave different runs (their wall times are recorded, positive).
     assert!(rows[..2].iter().all(|r| r["wall_s"].parse::<f64>().unwrap() > 0.0));
     assert!(d.join("max_newton_its.png").exists() && d.join("last_time.png").exists());
+    // Keys that vary together form one axis; --curves draws a column against time.
+    let linked = dir.join("linked");
+    let (ok, out) = study(&[
+        &scene("terzaghi"),
+        "--grid",
+        "material.mu,material.nu=12:0.2,24:0.3",
+        "--set",
+        "time.t_end=0.004",
+        "--observe",
+        "last:time",
+        "--curves",
+        "settlement",
+        "--dir",
+        linked.to_str().unwrap(),
+    ]);
+    assert!(ok, "{out}");
+    let rows = csv_rows(&std::fs::read_to_string(linked.join("summary.csv")).unwrap());
+    let pairs: Vec<(String, String)> =
+        rows.iter().map(|r| (r["material.mu"].clone(), r["material.nu"].clone())).collect();
+    assert_eq!(pairs, [("12".into(), "0.2".into()), ("24".into(), "0.3".into())]);
+    assert!(linked.join("curve_settlement.png").exists());
     // Again: the completed cases are skipped, the failed ones tried again.
     let (_, out) = study(&args);
     assert!(out.contains("4 cases, 2 already complete, 2 to run"), "{out}");
