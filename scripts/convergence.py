@@ -12,7 +12,7 @@ Prints a table per study with the observed order between successive levels.
     python3 scripts/convergence.py [--cryer] [--ranks 2]
 """
 import argparse
-from _runner import scene_text, edit, run, at_time, order
+from _runner import run, at_time, order
 
 BDF2 = ("-ts_type", "bdf", "-ts_bdf_order", "2", "-ts_adapt_type", "none")
 
@@ -32,20 +32,19 @@ def table(title, rows, ratio_key):
 
 
 def terzaghi(ranks):
-    base = scene_text("terzaghi")
     ts = 10.0
     rows = []
     for h in [20.0, 10.0, 5.0]:
-        t = edit(base, params={"H": 100.0, "W": 20.0, "h": h}, t_end=ts, dt="1e-3", growth=1.2, dt_max=0.02)
-        hist, tm = run(t, ranks, BDF2)
+        ov = [f"mesh.params.h={h}", f"time.t_end={ts}", "time.dt=1e-3", "time.growth=1.2", "time.dt_max=0.02"]
+        hist, tm = run(None, ranks, BDF2, scene="terzaghi", overrides=ov)
         rows.append({"h": h, "dofs": int(tm["dofs"]),
                      "err_p": abs(at_time(hist, ts, "p_bottom") - at_time(hist, ts, "p_bottom_exact")),
                      "err_settl": abs(at_time(hist, ts, "settlement") - at_time(hist, ts, "settlement_exact"))})
     table(f"Terzaghi h-refinement (BDF2, dt <= 0.02 s), errors at t = {ts} s", rows, "h")
     rows = []
     for dt in [2.0, 1.0, 0.5, 0.25]:
-        t = edit(base, params={"H": 100.0, "W": 20.0, "h": 5.0}, t_end=20.0, dt=dt, growth=1.0, dt_max=dt)
-        hist, tm = run(t, ranks)
+        ov = ["mesh.params.h=5.0", "time.t_end=20.0", f"time.dt={dt}", "time.growth=1.0", f"time.dt_max={dt}"]
+        hist, tm = run(None, ranks, scene="terzaghi", overrides=ov)
         rows.append({"dt": dt, "steps": len(hist) - 1,
                      "err_p": abs(at_time(hist, 20.0, "p_bottom") - at_time(hist, 20.0, "p_bottom_exact")),
                      "err_settl": abs(at_time(hist, 20.0, "settlement") - at_time(hist, 20.0, "settlement_exact"))})
@@ -53,13 +52,13 @@ def terzaghi(ranks):
 
 
 def cryer(ranks):
-    base = scene_text("cryer")
     t0, t1 = 1.0, 12.0
     rows = []
     for n in [4, 8, 12]:
         h = 100.0 / n
-        t = edit(base, params={"R": 100.0, "h": h, "h_pole": h}, t_end=t1, dt="1e-3", growth=1.2, dt_max=0.05)
-        hist, tm = run(t, ranks, BDF2)
+        ov = [f"mesh.params.h={h}", f"mesh.params.h_pole={h}", f"time.t_end={t1}", "time.dt=1e-3",
+              "time.growth=1.2", "time.dt_max=0.05"]
+        hist, tm = run(None, ranks, BDF2, scene="cryer", overrides=ov)
         # The numerical curve crosses the exact one, so errors at a single time are noisy:
         # use the maximum over the window covering the rise, the peak and the decay.
         err = max(abs(float(r["p_center"]) - float(r["p_center_exact"])) for r in hist if t0 <= float(r["time"]) <= t1)

@@ -7,7 +7,7 @@ steps after the first), wall time per step, and DoFs.
     python3 scripts/krylov_study.py [--ranks 2] [--levels 4 8 16]
 """
 import argparse
-from _runner import scene_text, edit, run
+from _runner import run
 
 ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
 ap.add_argument("--ranks", type=int, default=2)
@@ -15,13 +15,13 @@ ap.add_argument("--levels", type=int, nargs="+", default=[4, 8, 16], help="R/h v
 ap.add_argument("--steps", type=int, default=4)
 a = ap.parse_args()
 
-base = scene_text("cryer")
 print(f"{'R/h':>5} {'dofs':>8} {'dt [s]':>8} {'c dt/h^2':>9} {'its/solve':>10} {'s/step':>8}")
 for n in a.levels:
     h = 100.0 / n
     for dt in [1.0, 0.01]:
-        t = edit(base, params={"R": 100.0, "h": h, "h_pole": h}, t_end=a.steps * dt, dt=dt, growth=1.0, dt_max=dt)
-        hist, tm = run(t, a.ranks)
+        ov = ["solver.preset=fieldsplit", f"mesh.params.h={h}", f"mesh.params.h_pole={h}",
+              f"time.t_end={a.steps * dt}", f"time.dt={dt}", "time.growth=1.0", f"time.dt_max={dt}"]
+        hist, tm = run(None, a.ranks, scene="cryer", overrides=ov)
         steps = hist[2:]
         its = sum(int(r["ksp_its"]) / max(1, int(r["newton_its"])) for r in steps) / len(steps)
         per = tm["solve_total"] / max(1, len(hist) - 1)
