@@ -173,6 +173,19 @@ impl Remodelling {
         Ok((up, Some(std::array::from_fn(|s| std::array::from_fn(|r| dx[(s, r)])))))
     }
 
+    /// ‖dev σ‖ at the trial state (C^{n+1}, B_p^n) if it lies outside the yield surface and the
+    /// step can flow (λp > 0, Δt > 0); None on the elastic branch.
+    fn trial_overstress(&self, hm: &HolmesMow, c: &Matrix3<f64>, bp_n: &Matrix3<f64>, dt: f64) -> Result<Option<f64>> {
+        if !(self.lambda_p > 0.0 && dt > 0.0) {
+            return Ok(None);
+        }
+        let s_trial = Self::dev_stress_norm(hm, c, bp_n);
+        if !(s_trial.is_finite()) {
+            return Err(domain_error(f64::NAN, format!("remodelling: non-finite trial stress ({s_trial})")));
+        }
+        Ok((s_trial > self.yield_radius()).then_some(s_trial))
+    }
+
     /// The explicit (forward Euler) update and its tangent ∂x_s/∂c_r (None on the elastic branch).
     #[allow(clippy::type_complexity)]
     fn explicit(
@@ -183,14 +196,7 @@ impl Remodelling {
         dt: f64,
     ) -> Result<(Update, Option<[[f64; 6]; 6]>)> {
         let elastic = Update { bp: *bp_n, dgamma: 0.0, iterations: 0 };
-        if !(self.lambda_p > 0.0 && dt > 0.0) {
-            return Ok((elastic, None));
-        }
-        let s_trial = Self::dev_stress_norm(hm, c, bp_n);
-        if !(s_trial.is_finite()) {
-            return Err(domain_error(f64::NAN, format!("remodelling: non-finite trial stress ({s_trial})")));
-        }
-        if s_trial <= self.yield_radius() {
+        if self.trial_overstress(hm, c, bp_n, dt)?.is_none() {
             return Ok((elastic, None));
         }
         let c6 = to_sym6(c);
@@ -229,16 +235,7 @@ impl Remodelling {
         dt: f64,
     ) -> Result<(Update, Option<[f64; NX]>)> {
         let elastic = Update { bp: *bp_n, dgamma: 0.0, iterations: 0 };
-        if !(self.lambda_p > 0.0 && dt > 0.0) {
-            return Ok((elastic, None));
-        }
-        let s_trial = Self::dev_stress_norm(hm, c, bp_n);
-        if !(s_trial.is_finite()) {
-            return Err(domain_error(f64::NAN, format!("remodelling: non-finite trial stress ({s_trial})")));
-        }
-        if s_trial <= self.yield_radius() {
-            return Ok((elastic, None));
-        }
+        let Some(s_trial) = self.trial_overstress(hm, c, bp_n, dt)? else { return Ok((elastic, None)) };
         let c6 = to_sym6(c).map(f64::cst);
         let norm = |r: &[f64; NX]| r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let mut x = [0.0; NX];
