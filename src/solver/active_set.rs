@@ -43,7 +43,7 @@ fn stagnates(norms: &[f64]) -> bool {
 }
 
 /// Size of the symmetric difference of two ascending index lists.
-pub(super) fn symmetric_difference(a: &[Int], b: &[Int]) -> usize {
+fn symmetric_difference(a: &[Int], b: &[Int]) -> usize {
     let (mut i, mut j, mut n) = (0, 0, 0);
     while i < a.len() && j < b.len() {
         match a[i].cmp(&b[j]) {
@@ -216,11 +216,17 @@ impl ActiveSetNewton {
     /// Whether the preconditioner of the last setup may serve the current Jacobian (the same
     /// decision on every rank: the setup is collective).
     fn reuse_pc(&self) -> bool {
-        let Some(pc_active) = &self.pc_active else { return false };
-        let here = symmetric_difference(pc_active, &self.active);
+        let Some(changed) = self.changes_since_setup() else { return false };
+        changed <= self.lag.max_changes && self.pc_uses < self.lag.max_reuse && self.last_krylov <= self.lag.max_krylov
+    }
+
+    /// How many dofs entered or left the active set since the last preconditioner setup, on all
+    /// ranks (None without one). Collective.
+    fn changes_since_setup(&self) -> Option<usize> {
+        let here = symmetric_difference(self.pc_active.as_ref()?, &self.active);
         let mut changed = 0;
         self.world.all_reduce_into(&here, &mut changed, SystemOperation::sum());
-        changed <= self.lag.max_changes && self.pc_uses < self.lag.max_reuse && self.last_krylov <= self.lag.max_krylov
+        Some(changed)
     }
 }
 
@@ -233,10 +239,9 @@ impl ActiveSetNewton {
         if self.lag.chord <= 0.0 || contraction > self.lag.chord {
             return Step::Assemble;
         }
-        let Some(pc_active) = &self.pc_active else { return Step::Assemble };
-        match ActiveSetUpdate::count_changes(&self.world, pc_active, &self.active) {
-            0 => Step::Chord,
-            k if k <= self.lag.max_changes && self.jac.is_some() => Step::Updated,
+        match self.changes_since_setup() {
+            Some(0) => Step::Chord,
+            Some(k) if k <= self.lag.max_changes && self.jac.is_some() => Step::Updated,
             _ => Step::Assemble,
         }
     }

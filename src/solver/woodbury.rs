@@ -49,14 +49,6 @@ fn mask(active: &[Int], first: usize, n: usize) -> Vec<bool> {
 }
 
 impl ActiveSetUpdate {
-    /// How many dofs differ in status between the active sets `old` and `new` on all ranks.
-    pub fn count_changes(world: &SimpleCommunicator, old: &[Int], new: &[Int]) -> usize {
-        let here = super::active_set::symmetric_difference(old, new);
-        let mut all = 0;
-        world.all_reduce_into(&here, &mut all, SystemOperation::sum());
-        all
-    }
-
     /// The update from the factorised operator P (active set `old`, preconditioner `pc` an exact
     /// factorisation of it, `jac` the Jacobian before the active rows were replaced) to the
     /// active set `new`. `diag` is the identity rows' scale. None if B is singular (K is).
@@ -94,14 +86,19 @@ impl ActiveSetUpdate {
         // The changed rows r_i and columns c̃_i of B − P, from J e_i and Jᵀ e_i: for a dof that
         // left S the row (column) of J restricted to the new free set, minus d e_i; for one
         // that entered, d e_i minus the row (column) of J restricted to the old free set.
+        // Z = P⁻¹ [e_D, C̃]: the P⁻¹ e_i here, the P⁻¹ c̃_i after the loop.
         let mut rows = Vec::with_capacity(k);
         let mut cols = Vec::with_capacity(k);
+        let mut z = Vec::with_capacity(2 * k);
         for (m, &s) in signed.iter().enumerate() {
             let here = owned.iter().find(|o| o.1 == m).map(|o| o.0);
             e.zero()?;
             if let Some(i) = here {
                 e.write()?[i] = 1.0;
             }
+            let mut ze = e.duplicate()?;
+            pc.apply(&e, &mut ze)?;
+            z.push(ze);
             jac.mult(&e, &mut jcol)?;
             jac.mult_transpose(&e, &mut jrow)?;
             // The row and column of J that one of B and P has, on that one's free set.
@@ -128,17 +125,6 @@ impl ActiveSetUpdate {
             cols.push(c);
         }
 
-        // Z = P⁻¹ [e_D, C̃].
-        let mut z = Vec::with_capacity(2 * k);
-        for m in 0..k {
-            e.zero()?;
-            if let Some(&(i, _)) = owned.iter().find(|o| o.1 == m) {
-                e.write()?[i] = 1.0;
-            }
-            let mut zm = e.duplicate()?;
-            pc.apply(&e, &mut zm)?;
-            z.push(zm);
-        }
         for c in &cols {
             let mut zm = c.duplicate()?;
             pc.apply(c, &mut zm)?;
