@@ -6,6 +6,7 @@
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::tabulate_tet10;
+use crate::fem::kernel::Stabilisation;
 use crate::fem::point::PointModel;
 use crate::fem::quadrature;
 use crate::io::fields::{Field, FieldFile, FieldKind, OutputMesh};
@@ -435,7 +436,8 @@ impl<'w> Run<'w> {
         let n_global_dofs = dofs.n_global;
         let mid_edges = mid_edge_nodes(&local);
         let fields = solver::Fields::new(world, &dofs, &local)?;
-        let stabilisation = (s.fem.stabilisation.unwrap_or(DEFAULT_STABILISATION), s.fem.stabilisation_fade);
+        let c = s.fem.stabilisation.unwrap_or(DEFAULT_STABILISATION);
+        let stabilisation = Stabilisation::new(c, s.fem.stabilisation_fade, model.as_ref());
         let mut problem = PoroProblem::new(
             world.duplicate(),
             local,

@@ -154,6 +154,13 @@ pub struct Stabilisation {
 }
 
 impl Stabilisation {
+    /// c (the weight as Δt → 0, relative to the model's P-wave modulus) and the fade τ₀ (None:
+    /// constant), with the model's reference consolidation coefficient.
+    pub fn new(c: f64, fade: Option<f64>, model: &dyn PointModel) -> Stabilisation {
+        let m = model.p_wave_modulus();
+        Stabilisation { c_s: c / m, fade, c_v: model.conductivity() * m }
+    }
+
     /// The weight for an element of (reference) volume `vol` in a step of `dt`; h is the edge of
     /// the regular tetrahedron of that volume.
     pub fn weight(&self, vol: f64, dt: f64) -> f64 {

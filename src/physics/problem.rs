@@ -138,7 +138,7 @@ impl PoroProblem {
         external: Vec<f64>,
         global_template: &Vector,
         schur: Mat,
-        stabilisation: (f64, Option<f64>),
+        stab: Stabilisation,
     ) -> Result<PoroProblem> {
         let n_local = dofs.n_local();
         let comm = world.as_raw();
@@ -156,21 +156,7 @@ impl PoroProblem {
         let history = QpStore::new(mesh.tets.len(), xi.len(), model.history_len(), |v| model.initial_history(v));
         Ok(PoroProblem {
             world,
-            disc: Discretization {
-                stab: Stabilisation {
-                    c_s: stabilisation.0 / model.p_wave_modulus(),
-                    fade: stabilisation.1,
-                    c_v: model.conductivity() * model.p_wave_modulus(),
-                },
-                history,
-                evolve: true,
-                mesh,
-                dofs,
-                model,
-                tab,
-                xi,
-                constrained,
-            },
+            disc: Discretization { stab, history, evolve: true, mesh, dofs, model, tab, xi, constrained },
             constraints: owned,
             external,
             scatter,
