@@ -18,12 +18,12 @@ import argparse
 import csv
 import json
 import math
-import subprocess
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _runner import BIN, env  # noqa: E402
+import numpy as np  # noqa: E402
+import study  # noqa: E402
 
 
 class Model:
@@ -32,53 +32,16 @@ class Model:
         self.root = Path(a.dir)
 
     def history(self, values, tag=None):
-        """Runs the scene with the parameter values; returns (time, column) lists."""
+        """Runs the scene with the parameter values (a case of the study runner); returns its
+        history."""
         self.n += 1
-        out = self.root / "runs" / (tag or f"run{self.n:03d}")
-        cmd = ["mpirun", "-n", str(self.a.ranks), str(BIN), "run", self.a.scene, "--out", str(out), "--force", "-q"]
-        for s in self.a.set:
-            cmd += ["--set", s]
-        for k, v in zip(self.keys, values):
-            cmd += ["--set", f"{k}={v!r}"]
-        p = subprocess.run(cmd, env=env(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        if p.returncode != 0:
-            err = next((l for l in p.stderr.splitlines() if l.startswith("poroplast: error:")), p.stderr[-300:])
-            raise RuntimeError(f"run with {dict(zip(self.keys, values))} failed: {err}")
-        rows = list(csv.DictReader(open(out / "history.csv")))
-        return [float(r["time"]) for r in rows], [float(r[self.a.column]) for r in rows]
-
-
-def interp(ts, vs, t):
-    for i in range(1, len(ts)):
-        if ts[i - 1] <= t <= ts[i]:
-            w = (t - ts[i - 1]) / (ts[i] - ts[i - 1]) if ts[i] > ts[i - 1] else 1.0
-            return vs[i - 1] + w * (vs[i] - vs[i - 1])
-    raise ValueError(f"t = {t} outside the run ({ts[0]}..{ts[-1]})")
-
-
-def solve(a, b):
-    """Solves the small dense system a x = b (Gaussian elimination, partial pivoting)."""
-    n = len(b)
-    m = [row[:] + [b[i]] for i, row in enumerate(a)]
-    for c in range(n):
-        piv = max(range(c, n), key=lambda r: abs(m[r][c]))
-        m[c], m[piv] = m[piv], m[c]
-        if m[c][c] == 0:
-            raise ZeroDivisionError("singular normal equations")
-        for r in range(c + 1, n):
-            f = m[r][c] / m[c][c]
-            for k in range(c, n + 1):
-                m[r][k] -= f * m[c][k]
-    x = [0.0] * n
-    for r in reversed(range(n)):
-        x[r] = (m[r][n] - sum(m[r][k] * x[k] for k in range(r + 1, n))) / m[r][r]
-    return x
-
-
-def inverse(a):
-    n = len(a)
-    cols = [solve(a, [1.0 if i == j else 0.0 for i in range(n)]) for j in range(n)]
-    return [[cols[j][i] for j in range(n)] for i in range(n)]
+        overrides = [(k, repr(v)) for k, v in zip(self.keys, values)]
+        sets = [tuple(s.split("=", 1)) for s in self.a.set]
+        case = self.root / "runs" / (tag or f"run{self.n:03d}")
+        r = study.run_case(self.a.scene, overrides, sets, case, self.a.ranks, [])
+        if r["status"] != "ok":
+            raise RuntimeError(f"run with {dict(overrides)} failed: {r['error']}")
+        return study.history(case / "run" / "history.csv")
 
 
 def main():
@@ -104,7 +67,8 @@ def main():
     if a.synthetic:
         truth = dict(s.split("=", 1) for s in a.synthetic)
         syn = Model(a, list(truth))
-        td, vd = syn.history([float(v) for v in truth.values()], tag="synthetic")
+        h = syn.history([float(v) for v in truth.values()], tag="synthetic")
+        td, vd = h["time"], h[a.column]
     elif a.data:
         rows = list(csv.DictReader(open(a.data)))
         col = a.column if a.column in rows[0] else "value"
@@ -116,47 +80,38 @@ def main():
         sys.exit(f"calibrate.py: {len(data)} data points for {len(keys)} parameters")
 
     def residuals(xs):
-        ts, vs = model.history([math.exp(v) for v in xs])
-        return [interp(ts, vs, t) - v for t, v in data]
+        h = model.history([math.exp(v) for v in xs])
+        return np.array([study.at(h, a.column, t) - v for t, v in data])
 
+    x = np.array(x)
     r = residuals(x)
-    cost = sum(v * v for v in r)
+    cost = float(r @ r)
     lam, h = 1e-2, 1e-3
     log = []
     for it in range(a.max_it):
-        jac = []
-        for k in range(len(x)):
-            xp = x[:]
-            xp[k] += h
-            rp = residuals(xp)
-            jac.append([(b - c) / h for b, c in zip(rp, r)])  # column k
-        jtj = [[sum(jac[i][m] * jac[j][m] for m in range(len(r))) for j in range(len(x))] for i in range(len(x))]
-        jtr = [sum(jac[i][m] * r[m] for m in range(len(r))) for i in range(len(x))]
+        jac = np.column_stack([(residuals(x + h * np.eye(len(x))[k]) - r) / h for k in range(len(x))])
+        jtj, jtr = jac.T @ jac, jac.T @ r
         improved = False
         while lam < 1e8:
-            a_mat = [[jtj[i][j] * (1 + lam if i == j else 1) for j in range(len(x))] for i in range(len(x))]
-            step = solve(a_mat, [-g for g in jtr])
-            xt = [xi + si for xi, si in zip(x, step)]
-            rt = residuals(xt)
-            ct = sum(v * v for v in rt)
+            step = np.linalg.solve(jtj + lam * np.diag(np.diag(jtj)), -jtr)
+            rt = residuals(x + step)
+            ct = float(rt @ rt)
             if ct < cost:
-                x, r, cost, lam, improved = xt, rt, ct, lam / 3, True
+                x, r, cost, lam, improved = x + step, rt, ct, lam / 3, True
                 break
             lam *= 4
         vals = {k: math.exp(v) for k, v in zip(keys, x)}
         log.append({"iteration": it + 1, "cost": cost, **vals})
         print(f"iteration {it + 1}: rms {math.sqrt(cost / len(r)):.4g}  " + "  ".join(f"{k} = {v:.6g}" for k, v in vals.items()), flush=True)
-        if not improved or max(abs(s) for s in step) < 1e-5:
+        if not improved or np.max(np.abs(step)) < 1e-5:
             break
     # Uncertainties at the optimum, from the last Jacobian (log parameters: relative errors).
-    dof = max(len(r) - len(x), 1)
-    s2 = cost / dof
+    s2 = cost / max(len(r) - len(x), 1)
     try:
-        cov = inverse(jtj)
-        rel = [math.sqrt(max(cov[i][i] * s2, 0.0)) for i in range(len(x))]
-    except ZeroDivisionError:
+        rel = np.sqrt(np.maximum(np.diag(np.linalg.inv(jtj)) * s2, 0.0))
+    except np.linalg.LinAlgError:
         rel = [math.nan] * len(x)
-    result = {k: {"value": math.exp(v), "sigma": math.exp(v) * e} for k, v, e in zip(keys, x, rel)}
+    result = {k: {"value": math.exp(v), "sigma": math.exp(v) * float(e)} for k, v, e in zip(keys, x, rel)}
     result["rms"] = math.sqrt(cost / len(r))
     result["runs"] = model.n
     (Path(a.dir) / "calibration.json").write_text(json.dumps({"result": result, "log": log}, indent=1))

@@ -25,25 +25,14 @@ STUDY/conv_<observable>.png (error against h per Δt level, and against Δt per 
 """
 import argparse
 import csv
-import json
 import math
-import subprocess
 import sys
 import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import study  # noqa: E402
-from _runner import BIN  # noqa: E402
-
-
-def scene_table(scene):
-    """The scene's TOML (a file, or a shipped scene through `poroplast show`)."""
-    import tomllib
-    p = Path(scene)
-    text = p.read_text() if p.exists() else subprocess.run([str(BIN), "show", scene], check=True,
-                                                          capture_output=True, text=True).stdout
-    return tomllib.loads(text)
+from _runner import scene_values  # noqa: E402
 
 
 def solve_order(q, r):
@@ -85,7 +74,7 @@ def main():
     ss = [float(x) for x in a.dt_scale.split(",")]
     if len(hs) < 3 or len(ss) < 3:
         sys.exit("convergence_study.py: need at least 3 mesh and 3 time-step levels")
-    t = scene_table(a.scene)
+    t = scene_values(a.scene)
     params = t.get("mesh", {}).get("params", {})
     h0, hp0 = params.get("h"), params.get("h_pole")
     if h0 is None:
@@ -111,24 +100,16 @@ def main():
             if dtmax0 is not None:
                 ov.append(("time.dt_max", f"{dtmax0 * s:g}"))
             cases.append((h, s, ov))
-    todo = sum(1 for _, _, ov in cases if not (root / "cases" / study.slug(ov) / "case.json").exists())
+    todo = sum(1 for _, _, ov in cases if study.completed(root / "cases" / study.slug(ov)) is None)
     print(f"convergence study {root}: {len(hs)} meshes x {len(ss)} time-step levels, {todo} cases to run", flush=True)
     t0, ran, results = time.time(), 0, {}
     for n, (h, s, ov) in enumerate(cases, 1):
         cdir = root / "cases" / study.slug(ov)
-        done = cdir / "case.json"
-        if done.exists():
-            r = json.loads(done.read_text())
-        else:
+        r = study.completed(cdir)
+        if r is None:
             start = time.time()
-            r = study.run_case(a.scene, ov, sets, cdir, a.ranks, [])
+            r = study.run_case(a.scene, ov, sets, cdir, a.ranks, [], a.observe)
             ran += 1
-            if r["status"] == "ok":
-                tm = study.timings(cdir / "run" / "timings.txt")
-                r.update({c: tm.get(k, float("nan")) for c, k in study.COUNTERS.items()})
-                hist = study.history(cdir / "run" / "history.csv")
-                r.update({o: study.observe(hist, o) for o in a.observe})
-                done.write_text(json.dumps(r, indent=1))
             eta = (time.time() - t0) / ran * (todo - ran)
             print(f"[{n}/{len(cases)}] h = {h:g}, dt x {s:g}: {r['status']} in {time.time() - start:.0f} s"
                   f"  [eta {eta:.0f} s]", flush=True)

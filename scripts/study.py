@@ -82,15 +82,18 @@ def observe(h, spec):
                     return t[i - 1] + (t[i] - t[i - 1]) * v[i - 1] / (v[i - 1] - v[i])
             return nan
         return {"max": max, "min": min, "last": lambda x: x[-1]}[kind](v)
-    col, _, at = spec.partition("@")
-    if col not in h or not at:
-        return nan
-    at = float(at)
+    col, _, when = spec.partition("@")
+    return at(h, col, float(when)) if col in h and when else nan
+
+
+def at(h, col, when):
+    """Column `col` of a history interpolated linearly at time `when` (NaN outside the run)."""
+    t = h["time"]
     for i in range(1, len(t)):
-        if t[i - 1] <= at <= t[i]:
-            w = (at - t[i - 1]) / (t[i] - t[i - 1]) if t[i] > t[i - 1] else 1.0
+        if t[i - 1] <= when <= t[i]:
+            w = (when - t[i - 1]) / (t[i] - t[i - 1]) if t[i] > t[i - 1] else 1.0
             return h[col][i - 1] + w * (h[col][i] - h[col][i - 1])
-    return nan
+    return float("nan")
 
 
 def timings(path):
@@ -105,8 +108,15 @@ def timings(path):
     return out
 
 
-def run_case(scene, overrides, sets, case_dir, ranks, petsc):
-    """Runs one case; returns its result dict (status ok or failed)."""
+def completed(case_dir):
+    """The recorded result of a case that completed, or None."""
+    done = case_dir / "case.json"
+    return json.loads(done.read_text()) if done.exists() else None
+
+
+def run_case(scene, overrides, sets, case_dir, ranks, petsc, observables=()):
+    """Runs one case; returns its result (status ok or failed, and for ok: the counters of
+    timings.txt and the observables), recorded in case_dir/case.json when it completed."""
     case_dir.mkdir(parents=True, exist_ok=True)
     cmd = ["mpirun", "-n", str(ranks), str(BIN), "run", scene, "--out", str(case_dir / "run"), "--force", "-q"]
     for k, v in list(sets) + list(overrides):
@@ -121,7 +131,12 @@ def run_case(scene, overrides, sets, case_dir, ranks, petsc):
     if p.returncode != 0:
         err = next((l for l in p.stderr.splitlines() if l.startswith("poroplast: error:")), p.stderr.strip()[-300:])
         return {"status": "failed", "error": err}
-    return {"status": "ok"}
+    tm = timings(case_dir / "run" / "timings.txt")
+    result = {"status": "ok", **{c: tm.get(k, float("nan")) for c, k in COUNTERS.items()}}
+    h = history(case_dir / "run" / "history.csv")
+    result.update({o: observe(h, o) for o in observables})
+    (case_dir / "case.json").write_text(json.dumps(result, indent=1))
+    return result
 
 
 def plot(rows, keys, observables, study):
@@ -218,26 +233,19 @@ def main():
          "petsc": petsc}, indent=1))
 
     rows, ran, t0 = [], 0, time.time()
-    todo = sum(1 for c in cases if not (study / "cases" / slug(c) / "case.json").exists())
+    todo = sum(1 for c in cases if completed(study / "cases" / slug(c)) is None)
     print(f"study {study}: {len(cases)} cases, {len(cases) - todo} already complete, {todo} to run "
           f"on {a.ranks} rank(s)", flush=True)
     for n, case in enumerate(cases, 1):
         cdir = study / "cases" / slug(case)
-        done = cdir / "case.json"
         label = " ".join(f"{k}={v}" for k, v in case) or "(base scene)"
-        if done.exists():
-            result = json.loads(done.read_text())
+        result = completed(cdir)
+        if result is not None:
             print(f"[{n}/{len(cases)}] {label}: complete, skipped", flush=True)
         else:
             start = time.time()
-            result = run_case(a.scene, case, sets, cdir, a.ranks, petsc)
+            result = run_case(a.scene, case, sets, cdir, a.ranks, petsc, a.observe)
             ran += 1
-            if result["status"] == "ok":
-                tm = timings(cdir / "run" / "timings.txt")
-                result.update({c: tm.get(k, float("nan")) for c, k in COUNTERS.items()})
-                h = history(cdir / "run" / "history.csv")
-                result.update({o: observe(h, o) for o in a.observe})
-                done.write_text(json.dumps(result, indent=1))
             per = (time.time() - t0) / ran
             eta = per * (todo - ran)
             print(f"[{n}/{len(cases)}] {label}: {result['status']} in {time.time() - start:.1f} s"

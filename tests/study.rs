@@ -5,10 +5,14 @@ mod common;
 use common::*;
 use std::process::Command;
 
-fn study(args: &[&str]) -> (bool, String) {
-    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/study.py");
+fn scripts_dir() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts")
+}
+
+/// Runs `python3 scripts/<name> <args>` against this build; (success, stdout + stderr).
+fn script(name: &str, args: &[&str]) -> (bool, String) {
     let out = Command::new("python3")
-        .arg(script)
+        .arg(scripts_dir().join(name))
         .args(args)
         .env("POROPLAST_BIN", env!("CARGO_BIN_EXE_poroplast"))
         .env("POROPLAST_CACHE", cache_dir())
@@ -16,6 +20,20 @@ fn study(args: &[&str]) -> (bool, String) {
         .expect("python3 could not be started");
     let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
     (out.status.success(), text)
+}
+
+fn study(args: &[&str]) -> (bool, String) {
+    script("study.py", args)
+}
+
+/// Runs Python `code` with the scripts importable; it must print "ok".
+fn python_ok(code: &str) {
+    let out = Command::new("python3").arg("-c").arg(code).current_dir(scripts_dir()).output().unwrap();
+    assert!(
+        out.status.success() && String::from_utf8_lossy(&out.stdout).contains("ok"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 #[test]
@@ -88,7 +106,6 @@ fn a_study_runs_its_grid_and_continues_where_it_stopped() {
 
 #[test]
 fn study_observables_are_read_from_the_history() {
-    let script_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts");
     // p falls through zero between t = 2 (p = 1) and t = 3 (p = -3): at t = 2.25.
     let code = "import study\n\
         h = {'time': [0, 1, 2, 3], 'p': [0.0, 2.0, 1.0, -3.0], 'height': [2.0, 1.0, 1.0, 1.5], 'width': [2.0, 2.0, 2.5, 3.0]}\n\
@@ -100,12 +117,7 @@ fn study_observables_are_read_from_the_history() {
         import math\n\
         assert math.isnan(study.observe(h, 'p@7')) and math.isnan(study.observe(h, 'max:q'))\n\
         print('ok')";
-    let out = Command::new("python3").arg("-c").arg(code).current_dir(&script_dir).output().unwrap();
-    assert!(
-        out.status.success() && String::from_utf8_lossy(&out.stdout).contains("ok"),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    python_ok(code);
 }
 
 /// The convergence study end to end on a tiny case (Terzaghi, 3 meshes × 3 step levels): it
@@ -114,18 +126,16 @@ fn study_observables_are_read_from_the_history() {
 #[test]
 fn convergence_study_extrapolates() {
     let dir = scratch("convergence_study");
-    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/convergence_study.py");
     let d = dir.join("terzaghi");
-    let out = Command::new("python3")
-        .arg(&script)
-        .args([&scene("terzaghi"), "--h", "20,15,10", "--dt-scale", "1,0.5,0.25", "--set", "time.t_end=0.02"])
-        .args(["--observe", "p_bottom@0.02", "last:settlement", "--dir", d.to_str().unwrap()])
-        .env("POROPLAST_BIN", env!("CARGO_BIN_EXE_poroplast"))
-        .env("POROPLAST_CACHE", cache_dir())
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{text}");
+    let terzaghi = scene("terzaghi");
+    let (ok, text) = script(
+        "convergence_study.py",
+        &[&terzaghi, "--h", "20,15,10", "--dt-scale", "1,0.5,0.25", "--set", "time.t_end=0.02"]
+            .into_iter()
+            .chain(["--observe", "p_bottom@0.02", "last:settlement", "--dir", d.to_str().unwrap()])
+            .collect::<Vec<_>>(),
+    );
+    assert!(ok, "{text}");
     let conv = std::fs::read_to_string(d.join("convergence.csv")).unwrap();
     let rows = csv_rows(&conv);
     assert_eq!(rows.len(), 2, "{conv}");
@@ -142,9 +152,7 @@ fn convergence_study_extrapolates() {
         pts = [dict(wall_s=w, error=e) for w, e in [(1, 0.1), (2, 0.2), (3, 0.01), (4, 0.05), (5, 0.001)]]\n\
         assert [(p['wall_s'], p['error']) for p in s.pareto(pts)] == [(1, 0.1), (3, 0.01), (5, 0.001)]\n\
         print('ok')";
-    let script_dir = script.parent().unwrap();
-    let out = Command::new("python3").arg("-c").arg(code).current_dir(script_dir).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    python_ok(code);
 }
 
 /// Calibration recovers known parameters from the code's own curve: (λp, σy) = (0.5 (MPa s)⁻¹,
@@ -152,24 +160,29 @@ fn convergence_study_extrapolates() {
 #[test]
 fn calibration_recovers_synthetic_parameters() {
     let dir = scratch("calibration");
-    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/calibrate.py");
-    let out = Command::new("python3")
-        .arg(&script)
-        .args(["relaxation", "--column", "stress_zz"])
-        .args(["--param", "material.remodelling.lambda_p=0.001", "--param", "material.remodelling.sigma_y=2.0"])
-        .args([
+    let (ok, text) = script(
+        "calibrate.py",
+        &[
+            "relaxation",
+            "--column",
+            "stress_zz",
+            "--param",
+            "material.remodelling.lambda_p=0.001",
+            "--param",
+            "material.remodelling.sigma_y=2.0",
             "--synthetic",
             "material.remodelling.lambda_p=0.0005",
             "--synthetic",
             "material.remodelling.sigma_y=1.5",
-        ])
-        .args(["--set", "time.t_end=100", "--set", "time.dt_max=1.0", "--dir", dir.to_str().unwrap()])
-        .env("POROPLAST_BIN", env!("CARGO_BIN_EXE_poroplast"))
-        .env("POROPLAST_CACHE", cache_dir())
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{text}");
+            "--set",
+            "time.t_end=100",
+            "--set",
+            "time.dt_max=1.0",
+            "--dir",
+            dir.to_str().unwrap(),
+        ],
+    );
+    assert!(ok, "{text}");
     let json = std::fs::read_to_string(dir.join("calibration.json")).unwrap();
     let value = |key: &str| -> f64 {
         let at = json.find(&format!("\"{key}\"")).unwrap();
