@@ -368,8 +368,8 @@ pub struct FemSpec {
     /// undrained limit monotone next to drained boundaries (default 4: exact lumping; 0 off).
     #[serde(default)]
     pub stabilisation: Option<f64>,
-    /// τ₀: the stabilisation fades linearly to zero as a step resolves the drainage,
-    /// τ = c_v Δt / h² → τ₀ (`fem::kernel::Stabilisation`; default: constant).
+    /// τ₀: the stabilisation fades as a step resolves the drainage, weight c (1 − (τ/τ₀)²)₊ with
+    /// τ = c_v Δt / h² (`fem::kernel::Stabilisation`; default: constant).
     #[serde(default)]
     pub stabilisation_fade: Option<f64>,
 }
