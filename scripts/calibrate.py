@@ -2,15 +2,18 @@
 
 Levenberg–Marquardt on the residuals r_i = model(t_i) − data(t_i) (the model's history column
 interpolated at the data's times), the Jacobian by forward differences (one run per parameter,
-relative step 1e-3), parameters in log space (they are positive and of different scales). The
-uncertainties are the square roots of the diagonal of s² (JᵀJ)⁻¹, s² = Σr²/(n − p), at the
-optimum. Every run is a `poroplast run --set ...` on 2 ranks (`--ranks`) in STUDY/runs/.
+relative step 1e-3; `--jobs N` runs N of them at once), parameters in log space (they are
+positive and of different scales). A trial step whose run fails counts as a worse fit (more
+damping). The uncertainties are the square roots of the diagonal of s² (JᵀJ)⁻¹,
+s² = Σr²/(n − p), at the optimum. Every run is a `poroplast run --set ...` on 2 ranks
+(`--ranks`) in STUDY/runs/; STUDY/calibration.png shows the data and the fitted curve.
 
     python3 scripts/calibrate.py remodel_40 --data measured.csv --column force_total_mg \\
         --param material.remodelling.lambda_p=0.001 --param material.remodelling.sigma_y=2.0 \\
         --dir studies/calib [--set KEY=VALUE ...] [--t-min 0 --t-max 40] [--max-it 15]
 
-`--data`: a CSV with columns `time` and the value (named like --column, or `value`). A
+`--data`: a CSV with columns `time` and the value (named like --column, or `value`; lines
+starting with # are comments). A
 synthetic curve for testing the fit: `--synthetic KEY=VALUE ...` runs the scene with those
 values first and fits to its own history.
 """
@@ -19,6 +22,8 @@ import csv
 import json
 import math
 import sys
+import threading
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -29,15 +34,18 @@ import study  # noqa: E402
 class Model:
     def __init__(self, a, keys):
         self.a, self.keys, self.n = a, keys, 0
+        self.lock = threading.Lock()
         self.root = Path(a.dir)
 
     def history(self, values, tag=None):
         """Runs the scene with the parameter values (a case of the study runner); returns its
-        history."""
-        self.n += 1
+        history. Thread-safe (the run's number is taken before it starts)."""
+        with self.lock:
+            self.n += 1
+            n = self.n
         overrides = [(k, repr(v)) for k, v in zip(self.keys, values)]
         sets = [tuple(s.split("=", 1)) for s in self.a.set]
-        case = self.root / "runs" / (tag or f"run{self.n:03d}")
+        case = self.root / "runs" / (tag or f"run{n:03d}")
         r = study.run_case(self.a.scene, overrides, sets, case, self.a.ranks, [])
         if r["status"] != "ok":
             raise RuntimeError(f"run with {dict(overrides)} failed: {r['error']}")
@@ -58,6 +66,7 @@ def main():
     ap.add_argument("--dir", required=True)
     ap.add_argument("--ranks", type=int, default=2)
     ap.add_argument("--max-it", type=int, default=15)
+    ap.add_argument("--jobs", type=int, default=1, help="finite-difference runs at once")
     a = ap.parse_args()
     keys = [p.split("=", 1)[0] for p in a.param]
     x = [math.log(float(p.split("=", 1)[1])) for p in a.param]
@@ -70,7 +79,7 @@ def main():
         h = syn.history([float(v) for v in truth.values()], tag="synthetic")
         td, vd = h["time"], h[a.column]
     elif a.data:
-        rows = list(csv.DictReader(open(a.data)))
+        rows = list(csv.DictReader(line for line in open(a.data) if not line.startswith("#")))
         col = a.column if a.column in rows[0] else "value"
         td, vd = [float(r["time"]) for r in rows], [float(r[col]) for r in rows]
     else:
@@ -80,31 +89,42 @@ def main():
         sys.exit(f"calibrate.py: {len(data)} data points for {len(keys)} parameters")
 
     def residuals(xs):
-        h = model.history([math.exp(v) for v in xs])
-        return np.array([study.at(h, a.column, t) - v for t, v in data])
+        """The residuals and the history of a run with log-parameters xs (None: it failed)."""
+        try:
+            h = model.history([math.exp(v) for v in xs])
+        except RuntimeError as e:
+            print(f"  {e}", flush=True)
+            return None, None
+        return np.array([study.at(h, a.column, t) - v for t, v in data]), h
 
     x = np.array(x)
-    r = residuals(x)
+    r, best = residuals(x)
+    if r is None:
+        sys.exit("calibrate.py: the run at the initial parameters failed")
     cost = float(r @ r)
     lam, h = 1e-2, 1e-3
     log = []
-    for it in range(a.max_it):
-        jac = np.column_stack([(residuals(x + h * np.eye(len(x))[k]) - r) / h for k in range(len(x))])
-        jtj, jtr = jac.T @ jac, jac.T @ r
-        improved = False
-        while lam < 1e8:
-            step = np.linalg.solve(jtj + lam * np.diag(np.diag(jtj)), -jtr)
-            rt = residuals(x + step)
-            ct = float(rt @ rt)
-            if ct < cost:
-                x, r, cost, lam, improved = x + step, rt, ct, lam / 3, True
+    with ThreadPoolExecutor(max_workers=a.jobs) as pool:
+        for it in range(a.max_it):
+            shifted = list(pool.map(lambda k: residuals(x + h * np.eye(len(x))[k])[0], range(len(x))))
+            if any(rk is None for rk in shifted):
+                sys.exit("calibrate.py: a finite-difference run failed (see its log under runs/)")
+            jac = np.column_stack([(rk - r) / h for rk in shifted])
+            jtj, jtr = jac.T @ jac, jac.T @ r
+            improved = False
+            while lam < 1e8:
+                step = np.linalg.solve(jtj + lam * np.diag(np.diag(jtj)), -jtr)
+                rt, ht = residuals(x + step)
+                if rt is not None and float(rt @ rt) < cost:
+                    x, r, best, cost, lam, improved = x + step, rt, ht, float(rt @ rt), lam / 3, True
+                    break
+                lam *= 4
+            vals = {k: math.exp(v) for k, v in zip(keys, x)}
+            log.append({"iteration": it + 1, "cost": cost, **vals})
+            print(f"iteration {it + 1}: rms {math.sqrt(cost / len(r)):.4g}  "
+                  + "  ".join(f"{k} = {v:.6g}" for k, v in vals.items()), flush=True)
+            if not improved or np.max(np.abs(step)) < 1e-5:
                 break
-            lam *= 4
-        vals = {k: math.exp(v) for k, v in zip(keys, x)}
-        log.append({"iteration": it + 1, "cost": cost, **vals})
-        print(f"iteration {it + 1}: rms {math.sqrt(cost / len(r)):.4g}  " + "  ".join(f"{k} = {v:.6g}" for k, v in vals.items()), flush=True)
-        if not improved or np.max(np.abs(step)) < 1e-5:
-            break
     # Uncertainties at the optimum, from the last Jacobian (log parameters: relative errors).
     s2 = cost / max(len(r) - len(x), 1)
     try:
@@ -117,7 +137,26 @@ def main():
     (Path(a.dir) / "calibration.json").write_text(json.dumps({"result": result, "log": log}, indent=1))
     for k in keys:
         print(f"{k} = {result[k]['value']:.6g} ± {result[k]['sigma']:.2g}")
+    plot(a, data, best, result, keys)
     print(f"rms residual {result['rms']:.3g}, {model.n} runs; {Path(a.dir) / 'calibration.json'}")
+
+
+def plot(a, data, h, result, keys):
+    """STUDY/calibration.png: the data and the fitted run's curve."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    ax.plot(h["time"], h[a.column], "-", label="fit: " + ", ".join(
+        f"{k.split('.')[-1]} = {result[k]['value']:.4g}" for k in keys))
+    ax.plot([t for t, _ in data], [v for _, v in data], "o", ms=3, label="data")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(a.column)
+    ax.set_title(f"{a.scene}: rms residual {result['rms']:.3g}")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(Path(a.dir) / "calibration.png", dpi=120)
+    plt.close(fig)
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ use crate::fem::quadrature;
 use crate::io::fields::{Field, FieldFile, FieldKind, OutputMesh};
 use crate::io::history::History;
 use crate::io::rundir;
+use crate::material::{ellipticity, HolmesMow};
 use crate::mesh::{dist, gmsh, partition};
 use crate::parallel::{agree, broadcast_u32};
 use crate::petsc::{options, DmShell, Mat, Petsc, Stage, Ts, Vector};
@@ -73,8 +74,9 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String]) -> Res
         }
     }
     model_of(&scene)?;
+    let warning = ellipticity_warning(&scene)?.map(|w| format!("\nwarning: {w}")).unwrap_or_default();
     Ok(format!(
-        "{}: ok — mesh {} ({} tets, {} nodes, {} vertices)",
+        "{}: ok — mesh {} ({} tets, {} nodes, {} vertices){warning}",
         scene.source,
         path.display(),
         mesh.tets.len(),
@@ -135,10 +137,36 @@ fn read_mesh(path: &Path, scene: &LoadedScene) -> Result<crate::mesh::Mesh> {
     Ok(mesh)
 }
 
-fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
-    use crate::material::{
-        CompactionPenalty, FlowForm, HolmesMow, Integrator, Permeability, PermeabilityModel, Remodelling,
+/// The Holmes–Mow solid of a scene: from (µ, ν) by (56), or from its α's.
+fn holmes_mow(mu: Option<f64>, nu: Option<f64>, alpha: &Option<[f64; 3]>, phi_s: f64) -> Result<HolmesMow> {
+    match (mu, nu, alpha) {
+        (Some(mu), Some(nu), _) => HolmesMow::from_mu_nu(mu, nu, phi_s),
+        (_, _, Some(a)) => HolmesMow::new(phi_s, a[0], a[1], a[2], 1.0),
+        _ => unreachable!("validated"),
+    }
+}
+
+/// A warning for a solid law that loses strong ellipticity under the strains of a compression
+/// experiment (`material::ellipticity`): there the solve stops converging, on every mesh.
+fn ellipticity_warning(scene: &LoadedScene) -> Result<Option<String>> {
+    let Material::HolmesMow { mu, nu, alpha, phi_s, .. } = &scene.scene.material else {
+        return Ok(None);
     };
+    let solid = holmes_mow(*mu, *nu, alpha, *phi_s)?;
+    Ok(ellipticity::isochoric_compression_limit(&solid, 0.5)?.map(|lam| {
+        format!(
+            "the Holmes–Mow solid (alpha1 = {:.3} < 0{}) loses strong ellipticity beyond {:.1}% isochoric \
+             compression: strains above that localise, and the solve stops converging there on any mesh \
+             (docs/studies.md, stability (f))",
+            solid.alpha1,
+            nu.map(|n| format!(": nu = {n} > 1/3")).unwrap_or_default(),
+            100.0 * (1.0 - lam)
+        )
+    }))
+}
+
+fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
+    use crate::material::{CompactionPenalty, FlowForm, Integrator, Permeability, PermeabilityModel, Remodelling};
     let ctx = |e: Error| Error::Scene { path: scene.source.clone(), msg: format!("[material]: {e}") };
     match &scene.scene.material {
         Material::Linear { mu, nu, permeability } => Ok(Box::new(LinearPoroelastic::new(*mu, *nu, *permeability)?)),
@@ -158,12 +186,7 @@ fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
             remodelling,
             ..
         } => {
-            let solid = match (mu, nu, alpha) {
-                (Some(mu), Some(nu), _) => HolmesMow::from_mu_nu(*mu, *nu, *phi_s),
-                (_, _, Some(a)) => HolmesMow::new(*phi_s, a[0], a[1], a[2], 1.0),
-                _ => unreachable!("validated"),
-            }
-            .map_err(ctx)?;
+            let solid = holmes_mow(*mu, *nu, alpha, *phi_s).map_err(ctx)?;
             let pen = penalty
                 .as_ref()
                 .map(|p| CompactionPenalty::new(*phi_s, p.u0, p.j_cr, p.q, p.r))
@@ -199,6 +222,8 @@ pub struct Schedule {
     pub kinks: Vec<f64>,
     /// Error tolerance of the step controller (None: geometric growth).
     pub tol: Option<f64>,
+    /// A step cut below this by failed solves is an error (see `TimeSpec::dt_min`).
+    pub dt_min: f64,
 }
 
 /// The step controller's limits: a step may grow by at most `MAX_GROWTH` and shrink by at
@@ -297,6 +322,9 @@ struct Run<'w> {
     experiment: Option<Experiment>,
     /// Settle under gravity before t = 0.
     settle: bool,
+    /// The solid law loses strong ellipticity under the run's strains (`ellipticity_warning`):
+    /// printed at the start, and added to a failed solve's error.
+    ellipticity: Option<String>,
     /// `-poroplast_check_jacobian [eps]`: after each step, compare the assembled Jacobian with
     /// central differences of the residual (`PoroProblem::jacobian_error`, relative step eps,
     /// default 1e-7) and print the errors.
@@ -469,6 +497,7 @@ impl<'w> Run<'w> {
             land_on: t.land_on.iter().chain(&s.output.fields_at).copied().collect(),
             kinks: ts.problem().plates.iter().flat_map(|p| p.history.kinks()).collect(),
             tol: t.error_tolerance,
+            dt_min: t.dt_min.unwrap_or(1e-6 * t.dt),
         };
         ts.set_solution(&u)?;
         ts.set_time(0.0)?;
@@ -532,6 +561,7 @@ impl<'w> Run<'w> {
             solver_line,
             experiment,
             settle,
+            ellipticity: ellipticity_warning(scene)?,
             check_jacobian: match options::get_string("poroplast_check_jacobian")? {
                 Some(v) if v.is_empty() => Some(1e-7),
                 Some(v) => Some(v.parse().map_err(|_| {
@@ -649,6 +679,14 @@ impl<'w> Run<'w> {
         Ok(Output { dir: dir.to_path_buf(), fields, history })
     }
 
+    /// A failed solve's error, with the likely cause when the solid law is not elliptic.
+    fn explain(&self, e: Error) -> Error {
+        match (e, &self.ellipticity) {
+            (Error::Solver(m), Some(w)) => Error::Solver(format!("{m}. Likely cause: {w}")),
+            (e, _) => e,
+        }
+    }
+
     /// One time step from the current state; `prev` receives the state before it.
     fn advance(&mut self, pg: &mut Progress, prev: &mut Vector, stage: Stage) -> Result<(f64, (usize, usize))> {
         prev.copy_from(&self.u)?;
@@ -658,9 +696,18 @@ impl<'w> Run<'w> {
             self.ts.set_time_step(dt)?;
             {
                 let _g = stage.push();
-                self.ts.step()?;
+                self.ts.step().map_err(|e| self.explain(e))?;
             }
             let taken = self.ts.time()? - pg.t;
+            if taken < self.schedule.dt_min && taken < dt {
+                let last =
+                    self.ts.domain_errors().1.map(|d| format!("; last inadmissible state: {d}")).unwrap_or_default();
+                return Err(self.explain(Error::Solver(format!(
+                    "failed solves cut the step from t = {} to {taken:.3e} s, below time.dt_min = {:.3e} s: \
+                     the solve does not converge here{last}",
+                    pg.t, self.schedule.dt_min
+                ))));
+            }
             let err = match self.schedule.tol {
                 Some(tol) => self.ts.problem().step_error(prev, &self.u, taken, tol)?,
                 None => None,
@@ -733,6 +780,9 @@ impl<'w> Run<'w> {
             self.say(&format!("overrides: --set {}", self.scene.overrides.join(" --set ")));
         }
         self.say(&self.solver_line);
+        if let Some(w) = &self.ellipticity {
+            self.say(&format!("warning: {w}"));
+        }
         let exact = exact_columns(&self.scene)?;
         let o = Instant::now();
         {
@@ -1053,6 +1103,7 @@ mod tests {
             land_on: vec![7.7],
             kinks: vec![5.0],
             tol: None,
+            dt_min: 1e-9,
         };
         let (mut t, mut nom) = (0.0, s.dt0);
         let mut times = vec![];
@@ -1085,6 +1136,7 @@ mod tests {
             land_on: vec![],
             kinks: vec![35.0],
             tol: Some(1e-3),
+            dt_min: 1e-9,
         };
         // BE: error ∝ dt², so the step meeting the tolerance is 0.9 dt / √err, within [0.2, 2] dt.
         assert!((s.grow(0.1, 0.1, 1.0, Some(0.81)) - 0.1).abs() < 1e-12);

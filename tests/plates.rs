@@ -398,3 +398,44 @@ fn newton_converges_quadratically_with_remodelling() {
     let median = orders[orders.len() / 2];
     assert!(median > 1.6, "median convergence order {median} (orders {orders:?})");
 }
+
+/// A solid law that loses strong ellipticity (Holmes–Mow with ν = 0.45 > 1/3: beyond 11.8%
+/// isochoric compression) cannot be squeezed far: the solve stops converging at the contact
+/// edge on any mesh. The run must end promptly with an error naming the cause — not crawl on
+/// with ever shorter steps — while the same ramp with ν = 0.3 (elliptic) completes.
+#[test]
+fn non_elliptic_solid_fails_promptly_naming_the_cause() {
+    let dir = scratch("plates-non-elliptic");
+    let run = |nu: &str, name: &str| {
+        let nu_set = format!("material.nu={nu}");
+        let args = [
+            "run",
+            "reference",
+            "--set",
+            "material.mu=3",
+            "--set",
+            nu_set.as_str(),
+            "--set",
+            "mesh.params.h=30",
+            "--set",
+            "time.t_end=3",
+            "--set",
+            "time.dt_min=1e-4",
+            "--set",
+            "output.fields=false",
+            "--out",
+        ];
+        let out_dir = dir.join(name);
+        let mut full = args.to_vec();
+        full.push(out_dir.to_str().unwrap());
+        poroplast(2, &full)
+    };
+    let ok = run("0.3", "nu03");
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    let bad = run("0.45", "nu045");
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert!(!bad.status.success());
+    let line = stderr.lines().find(|l| l.starts_with("poroplast: error:")).expect("an error line");
+    assert!(line.contains("below time.dt_min = 1.000e-4 s"), "{line}");
+    assert!(line.contains("loses strong ellipticity beyond 11.8% isochoric compression"), "{line}");
+}

@@ -7,6 +7,7 @@
 //! convention on (row, column), independent of nalgebra's column-major storage.
 
 pub mod dual;
+pub mod ellipticity;
 pub mod holmes_mow;
 pub mod penalty;
 pub mod permeability;

@@ -215,6 +215,10 @@ pub struct TimeSpec {
     /// Retries (each cutting the step, by 0.25 by default) allowed when a solve fails.
     #[serde(default = "default_retries")]
     pub max_retries: usize,
+    /// A step cut below this (s) by failed solves ends the run with an error: the solve is not
+    /// converging there, and ever shorter steps would only make the run crawl (default 1e-6 dt).
+    #[serde(default)]
+    pub dt_min: Option<f64>,
 }
 
 fn one() -> f64 {
@@ -595,6 +599,12 @@ impl LoadedScene {
         }
         if let Some(e) = t.error_tolerance {
             positive(self, "time.error_tolerance", e)?;
+        }
+        if let Some(m) = t.dt_min {
+            positive(self, "time.dt_min", m)?;
+            if m >= t.dt {
+                return Err(self.err(format!("time.dt_min = {m}: must be below the first step time.dt = {}", t.dt)));
+            }
         }
         if !(t.growth >= 1.0 && t.growth.is_finite()) {
             return Err(self.err(format!("time.growth = {}: must be >= 1", t.growth)));
