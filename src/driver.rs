@@ -479,6 +479,9 @@ impl<'w> Run<'w> {
             schur,
             stabilisation,
         )?;
+        if s.fem.equal_order() {
+            problem.tie_displacement();
+        }
         let plate_faces = match plates {
             Some((pl, faces)) => {
                 problem.attach_plates(pl, &u)?;

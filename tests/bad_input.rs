@@ -134,6 +134,12 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     fails(&earlier, &["run", &ok, "--set", "time.dt"], "--set time.dt: expected KEY=VALUE");
     fails(&earlier, &["run", &ok, "--set", "fem.stabilisation_fade=0"], "fem.stabilisation_fade = 0: must be positive");
     fails(&earlier, &["run", &ok, "--set", "time.dt_min=1e3"], "time.dt_min = 1000: must be below the first step");
+    fails(&earlier, &["run", &ok, "--set", "fem.element=\"Q2\""], "fem.element = \"Q2\": use \"P2-P1\" or \"P1-P1\"");
+    fails(
+        &earlier,
+        &["run", "reference", "--set", "fem.element=\"P1-P1\""],
+        "fem.element = \"P1-P1\": not with plates",
+    );
     // A scene that does not exist.
     fails(&earlier, &["run", "no-such-scene"], "not a builtin scene");
     // Without --force an existing run directory is refused, untouched.

@@ -12,6 +12,7 @@
 //! Element dof order: u of node a, component i at 3a + i (0..30), then p of vertex m at 30 + m.
 
 use super::element::{tet10_geometry, Tabulation, TET10_EDGES};
+use super::equal_order;
 use super::point::{ij, History, PointFlux, PointModel, PointState, QpId};
 use crate::error::Result;
 use nalgebra::{Matrix3, Vector3};
@@ -133,6 +134,9 @@ pub struct ElementKernel<'a> {
     /// the local pressure projection of Dohrmann & Bochev (2004) used by White & Borja (2008)
     /// for poroelasticity, applied here to Taylor–Hood for monotonicity.
     pub stab: Stabilisation,
+    /// Equal-order P1–P1: the displacement's mid-edge nodes tied to their edges' vertices
+    /// (`fem::equal_order`).
+    pub equal_order: bool,
 }
 
 /// The pressure stabilisation of a run: c_s and how it fades once a step resolves the drainage.
@@ -344,17 +348,26 @@ impl ElementKernel<'_> {
         })
     }
 
-    /// Adds the element residual to `r`.
+    /// The element residual into `r` (zero on entry).
     pub fn residual(&self, e: &ElementInput, r: &mut [f64; NDOF]) -> Result<()> {
         let mut proj = Projection::default();
         self.for_points(e, |at, pt, hq| self.add_point_residual(at, pt, hq, &e.values.pdot, r, &mut proj))?;
         if self.stab.c_s > 0.0 {
             proj.residual(self.stab.weight(proj.vol, e.dt), r);
         }
+        if self.equal_order {
+            equal_order::tie_residual(r, &e.values.u, self.tie_stiffness(proj.vol));
+        }
         Ok(())
     }
 
-    /// Adds the element residual, Jacobian (row-major NDOF × NDOF) and Schur block.
+    /// The tie rows' scale for an element of volume `vol`: P-wave modulus × size.
+    fn tie_stiffness(&self, vol: f64) -> f64 {
+        self.model.p_wave_modulus() * vol.cbrt()
+    }
+
+    /// The element residual, Jacobian (row-major NDOF × NDOF) and Schur block into `r`, `k` and
+    /// `schur` (zero on entry).
     pub fn jacobian(
         &self,
         e: &ElementInput,
@@ -438,6 +451,11 @@ impl ElementKernel<'_> {
         })?;
         if self.stab.c_s > 0.0 {
             proj.jacobian(self.stab.weight(proj.vol, e.dt), shift, k, schur);
+        }
+        if self.equal_order {
+            let s = self.tie_stiffness(proj.vol);
+            equal_order::tie_residual(r, &e.values.u, s);
+            equal_order::tie_jacobian(k, s);
         }
         Ok(())
     }

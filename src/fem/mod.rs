@@ -3,6 +3,7 @@
 
 pub mod dofmap;
 pub mod element;
+pub mod equal_order;
 pub mod insert;
 pub mod kernel;
 pub mod point;

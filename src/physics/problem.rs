@@ -17,6 +17,7 @@ use super::contact::{DrainageGap, Plates};
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::Tabulation;
+use crate::fem::equal_order;
 use crate::fem::insert::{ElementInserter, GhostRows};
 use crate::fem::kernel::{ElementInput, ElementKernel, ElementValues, Stabilisation, NDOF, NU};
 use crate::fem::point::{History, PointModel};
@@ -52,6 +53,8 @@ pub struct Discretization {
     pub stab: Stabilisation,
     /// Committed per-point history of the model (empty when it has none).
     pub history: QpStore,
+    /// Equal-order P1–P1 instead of Taylor–Hood (`fem::equal_order`).
+    pub equal_order: bool,
     /// Whether the history evolves in the steps being solved (false while settling before t = 0,
     /// where B_p(X, 0⁻) = I holds by definition).
     pub evolve: bool,
@@ -156,7 +159,18 @@ impl PoroProblem {
         let history = QpStore::new(mesh.tets.len(), xi.len(), model.history_len(), |v| model.initial_history(v));
         Ok(PoroProblem {
             world,
-            disc: Discretization { stab, history, evolve: true, mesh, dofs, model, tab, xi, constrained },
+            disc: Discretization {
+                stab,
+                history,
+                evolve: true,
+                equal_order: false,
+                mesh,
+                dofs,
+                model,
+                tab,
+                xi,
+                constrained,
+            },
             constraints: owned,
             external,
             scatter,
@@ -568,6 +582,14 @@ impl PoroProblem {
         Ok(post)
     }
 
+    /// Switches to equal-order P1–P1 (`fem::equal_order`): ties the displacement's mid-edge
+    /// nodes to their edges' vertices and moves their loads there.
+    pub fn tie_displacement(&mut self) {
+        self.disc.equal_order = true;
+        equal_order::tie_loads(&mut self.external, &self.disc.mesh);
+        self.assembled_shift = None;
+    }
+
     /// The state whose gaps set the last step's drainage (local layout), if not its solution:
     /// the predictor's, with `DrainageGap::Predicted`.
     pub fn drainage_gaps(&self) -> Option<&[f64]> {
@@ -583,7 +605,13 @@ impl PoroProblem {
 
 impl Discretization {
     fn kernel(&self) -> ElementKernel<'_> {
-        ElementKernel { model: self.model.as_ref(), tab: &self.tab, xi: &self.xi, stab: self.stab }
+        ElementKernel {
+            model: self.model.as_ref(),
+            tab: &self.tab,
+            xi: &self.xi,
+            stab: self.stab,
+            equal_order: self.equal_order,
+        }
     }
 
     /// The committed history of element e as the step being solved sees it.

@@ -376,6 +376,17 @@ pub struct FemSpec {
     /// τ = c_v Δt / h² (`fem::kernel::Stabilisation`; default: constant).
     #[serde(default)]
     pub stabilisation_fade: Option<f64>,
+    /// The element: "P2-P1" (Taylor–Hood, default) or "P1-P1" (equal order, unstable without
+    /// the stabilisation; `fem::equal_order`). Not with plates.
+    #[serde(default)]
+    pub element: Option<String>,
+}
+
+impl FemSpec {
+    /// Equal-order P1–P1 instead of Taylor–Hood.
+    pub fn equal_order(&self) -> bool {
+        self.element.as_deref() == Some("P1-P1")
+    }
 }
 
 /// A scene together with where it came from.
@@ -661,6 +672,14 @@ impl LoadedScene {
             if !(t.is_finite() && t > 0.0) {
                 return Err(self.err(format!("fem.stabilisation_fade = {t}: must be positive (omit it for none)")));
             }
+        }
+        match s.fem.element.as_deref() {
+            None | Some("P2-P1") => {}
+            Some("P1-P1") if s.plates.is_some() => {
+                return Err(self.err("fem.element = \"P1-P1\": not with plates (contact acts on mid-edge nodes)"));
+            }
+            Some("P1-P1") => {}
+            Some(e) => return Err(self.err(format!("fem.element = \"{e}\": use \"P2-P1\" or \"P1-P1\""))),
         }
         if let Some(q) = s.fem.quadrature_degree {
             if !(1..=8).contains(&q) {
