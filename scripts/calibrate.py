@@ -6,7 +6,9 @@ relative step 1e-3; `--jobs N` runs N of them at once), parameters in log space 
 positive and of different scales). A trial step whose run fails counts as a worse fit (more
 damping). The uncertainties are the square roots of the diagonal of s² (JᵀJ)⁻¹,
 s² = Σr²/(n − p), at the optimum. Every run is a `poroplast run --set ...` on 2 ranks
-(`--ranks`) in STUDY/runs/; STUDY/calibration.png shows the data and the fitted curve.
+(`--ranks`) in STUDY/runs/; STUDY/calibration.png shows the data and the fitted curve. The fit
+stops when an iteration lowers the sum of squares by less than `--ftol` (default 0.1%), when
+its step is below 1e-5 (log space), or after `--max-it` iterations.
 
     python3 scripts/calibrate.py remodel_40 --data measured.csv --column force_total_mg \\
         --param material.remodelling.lambda_p=0.001 --param material.remodelling.sigma_y=2.0 \\
@@ -67,6 +69,8 @@ def main():
     ap.add_argument("--ranks", type=int, default=2)
     ap.add_argument("--max-it", type=int, default=15)
     ap.add_argument("--jobs", type=int, default=1, help="finite-difference runs at once")
+    ap.add_argument("--ftol", type=float, default=1e-3,
+                    help="stop when an iteration lowers the sum of squares by less than this fraction")
     a = ap.parse_args()
     keys = [p.split("=", 1)[0] for p in a.param]
     x = [math.log(float(p.split("=", 1)[1])) for p in a.param]
@@ -116,6 +120,7 @@ def main():
                 step = np.linalg.solve(jtj + lam * np.diag(np.diag(jtj)), -jtr)
                 rt, ht = residuals(x + step)
                 if rt is not None and float(rt @ rt) < cost:
+                    gain = 1 - float(rt @ rt) / cost
                     x, r, best, cost, lam, improved = x + step, rt, ht, float(rt @ rt), lam / 3, True
                     break
                 lam *= 4
@@ -123,7 +128,7 @@ def main():
             log.append({"iteration": it + 1, "cost": cost, **vals})
             print(f"iteration {it + 1}: rms {math.sqrt(cost / len(r)):.4g}  "
                   + "  ".join(f"{k} = {v:.6g}" for k, v in vals.items()), flush=True)
-            if not improved or np.max(np.abs(step)) < 1e-5:
+            if not improved or np.max(np.abs(step)) < 1e-5 or gain < a.ftol:
                 break
     # Uncertainties at the optimum, from the last Jacobian (log parameters: relative errors).
     s2 = cost / max(len(r) - len(x), 1)
