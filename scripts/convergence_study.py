@@ -27,7 +27,6 @@ import argparse
 import csv
 import math
 import sys
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -100,20 +99,10 @@ def main():
             if dtmax0 is not None:
                 ov.append(("time.dt_max", f"{dtmax0 * s:g}"))
             cases.append((h, s, ov))
-    todo = sum(1 for _, _, ov in cases if study.completed(root / "cases" / study.slug(ov)) is None)
-    print(f"convergence study {root}: {len(hs)} meshes x {len(ss)} time-step levels, {todo} cases to run", flush=True)
-    t0, ran, results = time.time(), 0, {}
-    for n, (h, s, ov) in enumerate(cases, 1):
-        cdir = root / "cases" / study.slug(ov)
-        r = study.completed(cdir)
-        if r is None:
-            start = time.time()
-            r = study.run_case(a.scene, ov, sets, cdir, a.ranks, [], a.observe)
-            ran += 1
-            eta = (time.time() - t0) / ran * (todo - ran)
-            print(f"[{n}/{len(cases)}] h = {h:g}, dt x {s:g}: {r['status']} in {time.time() - start:.0f} s"
-                  f"  [eta {eta:.0f} s]", flush=True)
-        results[(h, s)] = r
+    names = {tuple(ov): f"h = {h:g}, dt x {s:g}" for h, s, ov in cases}
+    ran = study.run_cases(a.scene, [ov for _, _, ov in cases], sets, root, a.ranks, [], a.observe,
+                          label=lambda ov: names[tuple(ov)])
+    results = {(h, s): r for (h, s, _), (_, r) in zip(cases, ran)}
 
     with open(root / "summary.csv", "w", newline="") as f:
         cols = ["h", "dt_scale", "status"] + list(study.COUNTERS) + a.observe

@@ -12,7 +12,7 @@
   Δt_max = 0.125 s (the seed paper's limit), 2, 5 and 10 s: force against time, and F(35 s) and
   the final H/W against the 0.125 s run (`stability_steps.png`, `stability_steps.csv`).
 
-Every run goes through the study runner (resumable) into DIR/<group>/<case>/.
+Every run goes through the study runner (resumable) into DIR/<group>/cases/<case>/.
 """
 import argparse
 import csv
@@ -20,16 +20,29 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import numpy as np  # noqa: E402
 import study  # noqa: E402
 
 
-def run(scene, overrides, case, ranks):
-    """One case (skipped if complete); its history, or exits on failure."""
-    r = study.completed(case) or study.run_case(scene, overrides, [], case, ranks, [])
+def run(scene, overrides, group, ranks):
+    """One case of DIR/<group> (skipped if complete): its run directory, or exits on failure."""
+    [(case, r)] = study.run_cases(scene, [overrides], [], group, ranks, [])
     if r["status"] != "ok":
         sys.exit(f"stability.py: {case} failed: {r['error']}")
-    return study.history(case / "run" / "history.csv")
+    return case / "run"
+
+
+def history(run_dir):
+    return study.history(run_dir / "history.csv")
+
+
+def finish(fig, ax, path, title, xlabel, ylabel):
+    """Labels, legend, and the figure written to `path`."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
 
 
 def undrained(root, plt):
@@ -39,42 +52,32 @@ def undrained(root, plt):
     variants = [("P1-P1", 0, "P1–P1, no stabilisation"), ("P2-P1", 0, "P2–P1, no stabilisation"),
                 ("P1-P1", 4, "P1–P1, stabilised"), ("P2-P1", 4, "P2–P1, stabilised (default)")]
     for el, c, label in variants:
-        case = root / "undrained" / f"{el}_c{c}"
-        run("terzaghi", [("time.t_end", "1e-6"), ("time.dt", "1e-6"), ("fem.element", f'"{el}"'),
-                         ("fem.stabilisation", str(c))], case, 1)
-        with h5py.File(case / "run" / "fields.h5", "r") as f:
+        out = run("terzaghi", [("time.t_end", "1e-6"), ("time.dt", "1e-6"), ("fem.element", f'"{el}"'),
+                               ("fem.stabilisation", str(c))], root / "undrained", 1)
+        with h5py.File(out / "fields.h5", "r") as f:
             z = f["mesh/coordinates"][:, 2]
             p = f["fields/p/000001"][:]
-        vertex = np.isfinite(p)
-        ax.plot(p[vertex], z[vertex], ".", ms=3, label=f"{label}: p in [{p.min():.2f}, {p.max():.2f}]")
+        ax.plot(p, z, ".", ms=3, label=f"{label}: p in [{p.min():.2f}, {p.max():.2f}]")
     ax.axvline(1.0, color="k", lw=0.6, ls="--")
-    ax.set_xlabel("p / load after the first step (exact: 1, 0 at the drained top)")
-    ax.set_ylabel("z (µm)")
-    ax.set_title("Terzaghi, first step 1e-6 s (undrained limit)")
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(root / "stability_undrained.png", dpi=120)
+    finish(fig, ax, root / "stability_undrained.png", "Terzaghi, first step 1e-6 s (undrained limit)",
+           "p / load after the first step (exact: 1, 0 at the drained top)", "z (µm)")
     plt.close(fig)
 
 
 def remodelling(root, plt):
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    ref = run("relaxation", [("time.t_end", "1000"), ("time.dt_max", "0.5")], root / "remodelling" / "reference", 1)
+    ref = history(run("relaxation", [("time.t_end", "1000"), ("time.dt_max", "0.5")], root / "remodelling", 1))
     ax.plot(ref["time"], ref["stress_zz"], "k-", lw=1, label="Δt ≤ 0.5 s (reference)")
     for dt, mark in (("50", "o"), ("200", "s")):
         for integ in ("implicit", "explicit"):
-            h = run("relaxation", [("time.t_end", "1000"), ("time.dt", dt), ("time.dt_max", dt),
-                                   ("time.growth", "1.0"), ("time.land_on", "[]"),
-                                   ("material.remodelling.integrator", f'"{integ}"')],
-                    root / "remodelling" / f"{integ}_dt{dt}", 1)
+            h = history(run("relaxation", [("time.t_end", "1000"), ("time.dt", dt), ("time.dt_max", dt),
+                                           ("time.growth", "1.0"), ("time.land_on", "[]"),
+                                           ("material.remodelling.integrator", f'"{integ}"')],
+                            root / "remodelling", 1))
             ax.plot(h["time"], h["stress_zz"], mark + ("-" if integ == "implicit" else "--"), ms=4,
                     label=f"{integ}, Δt = {dt} s")
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel("σ_zz (kPa)")
-    ax.set_title("Homogeneous relaxation: remodelling update at large steps")
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(root / "stability_remodelling.png", dpi=120)
+    finish(fig, ax, root / "stability_remodelling.png", "Homogeneous relaxation: remodelling update at large steps",
+           "t (s)", "σ_zz (kPa)")
     plt.close(fig)
 
 
@@ -82,8 +85,7 @@ def steps(root, plt, ranks):
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     rows, ref = [], None
     for dt_max in ("0.125", "2", "5", "10"):
-        h = run("remodel_40", [("time.dt_max", dt_max), ("output.fields", "false")],
-                root / "steps" / f"dt_max_{dt_max}", ranks)
+        h = history(run("remodel_40", [("time.dt_max", dt_max), ("output.fields", "false")], root / "steps", ranks))
         f35, hw = study.at(h, "force_total_mg", 35.0), h["height"][-1] / h["width"][-1]
         ref = ref or (f35, hw)
         rows.append({"dt_max": dt_max, "steps": len(h["time"]) - 1, "largest_dt": max(h["dt"]),
@@ -97,12 +99,8 @@ def steps(root, plt, ranks):
     for r in rows:
         print(f"dt_max {r['dt_max']:>5} s: {r['steps']} steps, F(35 s) {r['F35_mg']:.4f} mg "
               f"({100 * r['F35_error']:+.2f}%), final H/W {r['final_HW']:.5f} ({r['HW_error']:+.5f})")
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel("force on the upper plate (mg)")
-    ax.set_title("remodel_40 with long steps in the hold")
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(root / "stability_steps.png", dpi=120)
+    finish(fig, ax, root / "stability_steps.png", "remodel_40 with long steps in the hold", "t (s)",
+           "force on the upper plate (mg)")
     plt.close(fig)
 
 

@@ -139,6 +139,32 @@ def run_case(scene, overrides, sets, case_dir, ranks, petsc, observables=()):
     return result
 
 
+def run_cases(scene, cases, sets, root, ranks, petsc, observables=(), label=None):
+    """Runs every case (a list of (key, value) overrides) into root/cases/<slug>/, skipping the
+    ones that completed, with progress and the ETA of the whole set. Returns (case dir, result)
+    per case, in order. `label(case)` names a case in the progress lines."""
+    label = label or (lambda case: " ".join(f"{k}={v}" for k, v in case) or "(base scene)")
+    dirs = [root / "cases" / slug(c) for c in cases]
+    todo = sum(1 for d in dirs if completed(d) is None)
+    print(f"{root}: {len(cases)} cases, {len(cases) - todo} already complete, {todo} to run "
+          f"on {ranks} rank(s)", flush=True)
+    out, ran, t0 = [], 0, time.time()
+    for n, (case, cdir) in enumerate(zip(cases, dirs), 1):
+        result = completed(cdir)
+        if result is not None:
+            print(f"[{n}/{len(cases)}] {label(case)}: complete, skipped", flush=True)
+        else:
+            start = time.time()
+            result = run_case(scene, case, sets, cdir, ranks, petsc, observables)
+            ran += 1
+            eta = (time.time() - t0) / ran * (todo - ran)
+            print(f"[{n}/{len(cases)}] {label(case)}: {result['status']} in {time.time() - start:.1f} s"
+                  f"{'' if result['status'] == 'ok' else ' — ' + result['error']}"
+                  f"  [{time.time() - t0:.0f} s, eta {eta:.0f} s]", flush=True)
+        out.append((cdir, result))
+    return out
+
+
 def plot(rows, keys, observables, study):
     import matplotlib
     matplotlib.use("Agg")
@@ -232,25 +258,8 @@ def main():
         {"scene": a.scene, "grid": a.grid, "set": a.set, "observe": a.observe, "ranks": a.ranks,
          "petsc": petsc}, indent=1))
 
-    rows, ran, t0 = [], 0, time.time()
-    todo = sum(1 for c in cases if completed(study / "cases" / slug(c)) is None)
-    print(f"study {study}: {len(cases)} cases, {len(cases) - todo} already complete, {todo} to run "
-          f"on {a.ranks} rank(s)", flush=True)
-    for n, case in enumerate(cases, 1):
-        cdir = study / "cases" / slug(case)
-        label = " ".join(f"{k}={v}" for k, v in case) or "(base scene)"
-        result = completed(cdir)
-        if result is not None:
-            print(f"[{n}/{len(cases)}] {label}: complete, skipped", flush=True)
-        else:
-            start = time.time()
-            result = run_case(a.scene, case, sets, cdir, a.ranks, petsc, a.observe)
-            ran += 1
-            per = (time.time() - t0) / ran
-            eta = per * (todo - ran)
-            print(f"[{n}/{len(cases)}] {label}: {result['status']} in {time.time() - start:.1f} s"
-                  f"{'' if result['status'] == 'ok' else ' — ' + result['error']}"
-                  f"  [study {time.time() - t0:.0f} s, eta {eta:.0f} s]", flush=True)
+    rows = []
+    for case, (_, result) in zip(cases, run_cases(a.scene, cases, sets, study, a.ranks, petsc, a.observe)):
         row = dict(case)
         row.update({"status": result["status"], "error": result.get("error", "")})
         for k in COUNTERS:

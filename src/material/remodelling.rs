@@ -96,6 +96,13 @@ pub struct Update {
     pub iterations: usize,
 }
 
+impl Update {
+    /// The elastic branch: B_p stays B_p^n.
+    fn elastic(bp_n: &Matrix3<f64>) -> Update {
+        Update { bp: *bp_n, dgamma: 0.0, iterations: 0 }
+    }
+}
+
 /// Unknowns of the local problem: six components of B_p^{n+1}, then Δγ.
 const NX: usize = 7;
 /// Local Newton: iteration limit and tolerance on the scaled residual (all entries are O(1)).
@@ -195,9 +202,8 @@ impl Remodelling {
         bp_n: &Matrix3<f64>,
         dt: f64,
     ) -> Result<(Update, Option<[[f64; 6]; 6]>)> {
-        let elastic = Update { bp: *bp_n, dgamma: 0.0, iterations: 0 };
         if self.trial_overstress(hm, c, bp_n, dt)?.is_none() {
-            return Ok((elastic, None));
+            return Ok((Update::elastic(bp_n), None));
         }
         let c6 = to_sym6(c);
         let cd: [Dual<6>; 6] = std::array::from_fn(|r| Dual::var(c6[r], r));
@@ -234,8 +240,7 @@ impl Remodelling {
         bp_n: &Matrix3<f64>,
         dt: f64,
     ) -> Result<(Update, Option<[f64; NX]>)> {
-        let elastic = Update { bp: *bp_n, dgamma: 0.0, iterations: 0 };
-        let Some(s_trial) = self.trial_overstress(hm, c, bp_n, dt)? else { return Ok((elastic, None)) };
+        let Some(s_trial) = self.trial_overstress(hm, c, bp_n, dt)? else { return Ok((Update::elastic(bp_n), None)) };
         let c6 = to_sym6(c).map(f64::cst);
         let norm = |r: &[f64; NX]| r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let mut x = [0.0; NX];

@@ -583,11 +583,10 @@ impl PoroProblem {
     }
 
     /// Switches to equal-order P1–P1 (`fem::equal_order`): ties the displacement's mid-edge
-    /// nodes to their edges' vertices and moves their loads there.
+    /// nodes to their edges' vertices and moves their loads there. Before the first assembly.
     pub fn tie_displacement(&mut self) {
         self.disc.equal_order = true;
         equal_order::tie_loads(&mut self.external, &self.disc.mesh);
-        self.assembled_shift = None;
     }
 
     /// The state whose gaps set the last step's drainage (local layout), if not its solution:
