@@ -9,6 +9,12 @@ DefineConstant[ R = 100 ];          // sphere radius
 DefineConstant[ h = R / 4 ];        // element size in the bulk
 DefineConstant[ h_pole = h / 3 ];   // element size at the two poles (plate contacts)
 DefineConstant[ r_pole = 0.5 * R ]; // distance over which the size blends from h_pole back to h
+// Optional grading at the contact edges (off unless h_edge < h): size h_edge on the two rings of
+// reference radius r_edge on the surface (where the contact patch ends at the peak force), growing
+// linearly back to h over the distance w_edge.
+DefineConstant[ h_edge = h ];
+DefineConstant[ r_edge = 0.62 * R ];
+DefineConstant[ w_edge = 0.25 * R ];
 
 Sphere(1) = {0, 0, R, R};
 Box(2) = {0, 0, -R, 2 * R, 2 * R, 4 * R};
@@ -39,7 +45,18 @@ Field[2].SizeMin = h_pole;
 Field[2].SizeMax = h;
 Field[2].DistMin = 0;
 Field[2].DistMax = r_pole;
-Background Field = 2;
+If (h_edge < h)
+  // distance to the nearer ring, in the (radius, height) half-plane
+  z_edge = R - Sqrt(R * R - r_edge * r_edge);
+  Field[3] = MathEval;
+  Field[3].F = Sprintf("min(%g, %g + %g * sqrt((sqrt(x*x + y*y) - %g)^2 + (min(z, %g - z) - %g)^2))",
+                       h, h_edge, (h - h_edge) / w_edge, r_edge, 2 * R, z_edge);
+  Field[4] = Min;
+  Field[4].FieldsList = {2, 3};
+  Background Field = 4;
+Else
+  Background Field = 2;
+EndIf
 Mesh.MeshSizeFromPoints = 0;
 Mesh.MeshSizeFromCurvature = 0;
 Mesh.MeshSizeExtendFromBoundary = 0;

@@ -1,8 +1,7 @@
-"""Shared helpers for the study scripts: write scene variants, run poroplast under mpirun,
+"""Shared helpers for the study scripts: run poroplast (scene variants by `--set`) under mpirun,
 read history.csv. Run the scripts from the repository root after `cargo build --release`."""
 import csv
 import os
-import re
 import subprocess
 import tempfile
 from pathlib import Path
@@ -17,22 +16,6 @@ def env():
         e.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     e.update(OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_btl="self,vader", OMPI_MCA_pml="ob1")
     return e
-
-
-def scene_text(name):
-    return (ROOT / "meshes" / "scenes" / f"{name}.toml").read_text()
-
-
-def edit(text, **subs):
-    """Replace `key = value` lines (first occurrence) and `{ ... }` mesh params by key."""
-    for key, value in subs.items():
-        if key == "params":
-            text = re.sub(r"params = \{[^}]*\}", "params = { " + ", ".join(f"{k} = {v}" for k, v in value.items()) + " }", text, count=1)
-        else:
-            text, n = re.subn(rf"^{key} = .*$", f"{key} = {value}", text, count=1, flags=re.M)
-            if n == 0:
-                raise KeyError(f"scene has no `{key} = ...` line")
-    return text
 
 
 def scene_values(scene):

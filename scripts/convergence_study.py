@@ -1,7 +1,7 @@
 """Convergence study on 2 ranks: mesh levels × time-step levels, Richardson extrapolation.
 
-Runs a scene on every combination of mesh size h (mesh.params.h, with h_pole scaled in
-proportion when the mesh has one) and time-step scale s (time.dt and time.dt_max multiplied by
+Runs a scene on every combination of mesh size h (mesh.params.h, with the other sizes —
+h_pole, h_edge, from the scene or --set — scaled in proportion) and time-step scale s (time.dt and time.dt_max multiplied by
 s), as batch jobs through `scripts/study.py`'s runner (completed cases are skipped, so an
 interrupted study continues). For each observable it estimates
 
@@ -31,6 +31,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import study  # noqa: E402
+
+SIZES = ("h_pole", "h_edge")   # mesh sizes besides h, scaled with it
 from _runner import scene_values  # noqa: E402
 
 
@@ -75,26 +77,29 @@ def main():
         sys.exit("convergence_study.py: need at least 3 mesh and 3 time-step levels")
     t = scene_values(a.scene)
     params = t.get("mesh", {}).get("params", {})
-    h0, hp0 = params.get("h"), params.get("h_pole")
+    h0 = params.get("h")
     if h0 is None:
         sys.exit("convergence_study.py: the scene's mesh has no params.h")
     dt0, dtmax0 = t["time"]["dt"], t["time"].get("dt_max")
+    sizes = {k: v for k, v in params.items() if k in SIZES}   # scaled with h
     for s in a.set:
         k, v = s.split("=", 1)
         if k == "time.dt":
             dt0 = float(v)
         if k == "time.dt_max":
             dtmax0 = float(v)
+        if k.startswith("mesh.params.") and k[12:] in SIZES:
+            sizes[k[12:]] = float(v)
 
     root = Path(a.dir)
     root.mkdir(parents=True, exist_ok=True)
-    sets = [tuple(s.split("=", 1)) for s in a.set if not s.startswith(("time.dt=", "time.dt_max="))]
+    scaled = ("time.dt=", "time.dt_max=", *(f"mesh.params.{k}=" for k in SIZES))
+    sets = [tuple(s.split("=", 1)) for s in a.set if not s.startswith(scaled)]
     cases = []
     for h in hs:
         for s in ss:
             ov = [("mesh.params.h", f"{h:g}")]
-            if hp0 is not None:
-                ov.append(("mesh.params.h_pole", f"{hp0 * h / h0:g}"))
+            ov += [(f"mesh.params.{k}", f"{v * h / h0:g}") for k, v in sizes.items()]
             ov.append(("time.dt", f"{dt0 * s:g}"))
             if dtmax0 is not None:
                 ov.append(("time.dt_max", f"{dtmax0 * s:g}"))

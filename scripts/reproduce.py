@@ -10,7 +10,6 @@ A case whose <out>/<case>/timings.txt exists is not run again, so an interrupted
 """
 import argparse
 import csv
-import re
 import shutil
 import subprocess
 import time
@@ -24,26 +23,28 @@ import matplotlib.pyplot as plt
 import matplotlib.tri as mtri
 from matplotlib.colors import TwoSlopeNorm
 
-from _runner import ROOT, BIN, env, scene_text, edit
+from _runner import ROOT, BIN, env
 
-# case -> (builtin scene, or remodelling overrides of remodel_405; t_end of the loading in s)
+# case -> (builtin scene, `--set` overrides, t_end of the loading in s)
+R405 = "material.remodelling"
 CASES = {
-    "remodel_40": ("remodel_40", 40.0),
-    "remodel_155": ("remodel_155", 155.0),
-    "remodel_155_c2": ("remodel_155_c2", 155.0),
-    "elastic_155": ("elastic_155", 155.0),
-    "remodel_405": ("remodel_405", 405.0),
-    "reference_405": ("reference_405", 405.0),
-    "lambda_0.1": (("remodel_405", dict(remodelling=dict(lambda_p=0.0001, sigma_y=2.0))), 405.0),  # 0.1 (MPa s)^-1
-    "lambda_0.5": (("remodel_405", dict(remodelling=dict(lambda_p=0.0005, sigma_y=2.0))), 405.0),
-    "sigma_1": (("remodel_405", dict(remodelling=dict(lambda_p=0.001, sigma_y=1.0))), 405.0),       # kPa
-    "sigma_4": (("remodel_405", dict(remodelling=dict(lambda_p=0.001, sigma_y=4.0))), 405.0),
+    "remodel_40": ("remodel_40", [], 40.0),
+    "remodel_155": ("remodel_155", [], 155.0),
+    "remodel_155_c2": ("remodel_155_c2", [], 155.0),
+    "elastic_155": ("elastic_155", [], 155.0),
+    "remodel_405": ("remodel_405", [], 405.0),
+    "reference_405": ("reference_405", [], 405.0),
+    "lambda_0.1": ("remodel_405", [f"{R405}.lambda_p=0.0001"], 405.0),   # 0.1 (MPa s)^-1
+    "lambda_0.5": ("remodel_405", [f"{R405}.lambda_p=0.0005"], 405.0),
+    "sigma_1": ("remodel_405", [f"{R405}.sigma_y=1.0"], 405.0),          # kPa
+    "sigma_4": ("remodel_405", [f"{R405}.sigma_y=4.0"], 405.0),
     # soft solid: no pressure bubble (paper, mu = 3 kPa, nu = 0.2); Forgacs' aggregates (nu = 0.45)
-    "mu3_nu0.2": (("remodel_155", dict(mu=3.0)), 155.0),
-    "mu3_nu0.45": (("remodel_155", dict(mu=3.0, nu=0.45)), 155.0),
+    "mu3_nu0.2": ("remodel_155", ["material.mu=3.0"], 155.0),
+    "mu3_nu0.45": ("remodel_155", ["material.mu=3.0", "material.nu=0.45"], 155.0),
     # why the syringe effect comes later than in the paper: the (40a) rate form, a coarser mesh
-    "remodel_155_40a": (("remodel_155", dict(remodelling=dict(lambda_p=0.001, sigma_y=2.0, form="40a"))), 155.0),
-    "remodel_155_h25": (("remodel_155", dict(params=dict(R=100.0, h=25.0, h_pole=8.0, r_pole=50.0))), 155.0),
+    "remodel_155_40a": ("remodel_155", [f'{R405}.form="40a"'], 155.0),
+    "remodel_155_h25": ("remodel_155", [f"mesh.params.{k}={v}" for k, v in
+                                        dict(R=100.0, h=25.0, h_pole=8.0, r_pole=50.0).items()], 155.0),
 }
 T_RAMP = 5.0
 PROBE = (40.0, 0.0, 190.0)       # X_U, um
@@ -54,30 +55,18 @@ def fmt_s(s):
     return f"{int(s // 3600)}h{int(s % 3600 // 60):02d}m{int(s % 60):02d}s"
 
 
-def toml(v):
-    return f'"{v}"' if isinstance(v, str) else str(v)
-
-
-def variant_scene(case, spec, out):
-    """Writes a builtin scene with edited material lines (the remodelling table, or `key = value`
-    lines such as mu, nu); fields rarely (disk) but at the figure times (fields_at) as before."""
-    base, edits = spec
-    text = scene_text(base)
-    for key, value in edits.items():
-        if key == "remodelling":
-            table = "remodelling = { " + ", ".join(f"{k} = {toml(v)}" for k, v in value.items()) + " }   # (kPa s)^-1; kPa"
-            text, n = re.subn(r"^remodelling = \{[^}]*\}.*$", table, text, count=1, flags=re.M)
-            assert n == 1, f"{base} has no `remodelling = {{ ... }}` line"
-        else:
-            text = edit(text, **{key: value})
-    what = ", ".join(f"{k} = {v}" for k, v in edits.items()).replace('"', "'")
-    every = re.search(r"^fields_every = .*$", text, flags=re.M).group(0)
-    text = edit(text, name=f'"{case}"', description=f'"{base} with {what} (scripts/reproduce.py)"')
-    text = text.replace(every, "fields_every = 1000")
-    path = out / "scenes" / f"{case}.toml"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(text)
-    return str(path)
+def run_command(case, out):
+    """mpirun command of one case: its builtin scene with the case's `--set` overrides; a variant
+    is renamed and writes fields rarely (disk) but still at the scene's figure times (fields_at)."""
+    base, sets, _ = CASES[case]
+    if sets:
+        what = ", ".join(sets).replace('"', "'")
+        sets = sets + [f'name="{case}"', f'description="{base} with {what} (scripts/reproduce.py)"',
+                       "output.fields_every=1000"]
+    cmd = ["mpirun", "-n", "2", str(BIN), "run", base, "--out", str(out / case), "--force", "-q"]
+    for s in sets:
+        cmd += ["--set", s]
+    return cmd
 
 
 def read_timings(d):
@@ -114,19 +103,16 @@ def run_cases(out, names):
         if (d / "timings.txt").exists():
             print(f"[{i}/{len(names)}] {case}: already done (total = {read_timings(d).get('total', 0):.1f} s)")
             continue
-        src, _ = CASES[case]
-        scene = variant_scene(case, src, out) if isinstance(src, tuple) else src
         # cost scales roughly with the simulated time, so weight the ETA by each case's t_end
-        left = sum(CASES[c][1] for c in names[i - 1:])
+        left = sum(CASES[c][2] for c in names[i - 1:])
         eta = fmt_s(sum(done_wall) / sum(done_tend) * left) if done_wall else "?"
         print(f"[{i}/{len(names)}] {case}: running (elapsed {fmt_s(time.time() - t0)}, ETA {eta})", flush=True)
         (out / "logs").mkdir(parents=True, exist_ok=True)
         start = time.time()
         with open(out / "logs" / f"{case}.log", "w") as log:   # --force: resume into a partial dir
-            rc = subprocess.run(["mpirun", "-n", "2", str(BIN), "run", scene, "--out", str(d), "--force", "-q"],
-                                env=env(), stdout=log, stderr=subprocess.STDOUT).returncode
+            rc = subprocess.run(run_command(case, out), env=env(), stdout=log, stderr=subprocess.STDOUT).returncode
         done_wall.append(time.time() - start)
-        done_tend.append(CASES[case][1])
+        done_tend.append(CASES[case][2])
         if rc != 0:
             failed.append(case)
             print(f"    FAILED (exit {rc}); see {out / 'logs' / (case + '.log')}", flush=True)
@@ -138,7 +124,7 @@ def run_cases(out, names):
 # ---------------------------------------------------------------- summary
 
 def summarise(case, d):
-    h, tim, t_end = read_history(d), read_timings(d), CASES.get(case, (None, 405.0))[1]
+    h, tim, t_end = read_history(d), read_timings(d), CASES.get(case, (None, None, 405.0))[2]
     t, th = h["time"], t_end - 5.0                   # th: end of the hold
     at = lambda col, x: float(np.interp(x, t, h[col])) if col in h and t[-1] >= x else None
     s = {k: tim.get(v) for k, v in [("wall_s", "total"), ("steps", "steps"), ("newton", "newton_its"),
@@ -211,7 +197,7 @@ def fig_probe(dirs, out, a, b, name, title):
         h = read_history(dirs[case])
         ax[0].plot(h["time"], h["probe_p"], style, label=case)
         ax[1].plot(h["time"], h["probe_porosity"], style, label=case)
-    t_end = CASES[a][1]
+    t_end = CASES[a][2]
     ax[0].axhline(0, color="k", lw=0.7)
     for x, lab, unit in ((ax[0], "pressure p(X_U)", " [kPa]"), (ax[1], "porosity at X_U", " [-]")):
         x.axvline(t_end, color="grey", ls=":", label=f"t_end = {t_end:g} s")

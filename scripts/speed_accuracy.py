@@ -1,10 +1,13 @@
 """Speed against accuracy from a convergence study: every case's error (against the study's
 extrapolated value) against its wall time on 2 ranks, the Pareto front marked, and one case
-(the default discretisation) highlighted. Prints the front and the cheapest case within a
-target error.
+(the default discretisation) highlighted. Solver and time-stepping variants run at one
+discretisation (a `scripts/study.py` study over `solver.preset`, `time.growth`, ...) join the
+chart with `--variants STUDY`: each of its cases is a labelled point, its error taken against
+the same extrapolated value. Prints the front and the cheapest case within a target error.
 
     python3 scripts/speed_accuracy.py studies/conv_reference --observable force_total_mg@35 \\
-        [--default-h 20 --default-dt 1] [--target 0.01] [--out docs/figures/speed_accuracy.png]
+        [--default-h 20 --default-dt 1] [--target 0.01] [--variants studies/solvers_reference] \\
+        [--out docs/figures/speed_accuracy.png]
 """
 import argparse
 import csv
@@ -22,6 +25,31 @@ def pareto(points):
     return front
 
 
+def name(p):
+    return p["label"] if "label" in p else f"h = {p['h']:g}, dt x {p['dt']:g}"
+
+
+def read_variants(vdir, study, observable):
+    """The variant study's cases as points: wall time, and the error of `observable` against the
+    convergence study's extrapolated value (convergence.csv)."""
+    ref = next((float(r["extrapolated"]) for r in csv.DictReader(open(study / "convergence.csv"))
+                if r["observable"] == observable), None)
+    if ref is None:
+        raise SystemExit(f"speed_accuracy.py: {observable} is not in {study / 'convergence.csv'}")
+    rows = list(csv.DictReader(open(vdir / "summary.csv")))
+    if rows and observable not in rows[0]:
+        raise SystemExit(f"speed_accuracy.py: {observable} is not in {vdir / 'summary.csv'}")
+    keys = list(rows[0])[:list(rows[0]).index("status")] if rows else []
+    out = []
+    for r in rows:
+        if r["status"] != "ok":
+            continue
+        label = ", ".join(f"{k.split('.')[-1]} = {r[k]}" for k in keys if r[k] != "") or "(base scene)"
+        out.append({"label": label, "wall_s": float(r["wall_s"]), "error": abs(float(r[observable]) - ref) / abs(ref),
+                    "steps": float(r["steps"]), "newton": float(r["newton_its"]), "krylov": float(r["ksp_its"])})
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("study")
@@ -29,6 +57,8 @@ def main():
     ap.add_argument("--default-h", type=float, default=20.0)
     ap.add_argument("--default-dt", type=float, default=1.0)
     ap.add_argument("--target", type=float, default=0.01, help="relative error a user asks for")
+    ap.add_argument("--variants", action="append", default=[], metavar="STUDY",
+                    help="a study.py directory of solver/time-stepping variants at one discretisation (repeatable)")
     ap.add_argument("--out", default=None)
     a = ap.parse_args()
     study = Path(a.study)
@@ -38,19 +68,23 @@ def main():
     pts = [{"h": float(r["h"]), "dt": float(r["dt_scale"]), "wall_s": float(r["wall_s"]),
             "error": float(r[a.observable])} for r in rows]
     pts = [p for p in pts if math.isfinite(p["error"]) and math.isfinite(p["wall_s"])]
-    front = pareto(pts)
+    variants = [v for d in a.variants for v in read_variants(Path(d), study, a.observable)]
+    front = pareto(pts + variants)
     default = next((p for p in pts if p["h"] == a.default_h and p["dt"] == a.default_dt), None)
-    print(f"{a.observable}: error against the extrapolated value; Pareto front (h, dt scale, wall s, error):")
+    print(f"{a.observable}: error against the extrapolated value; Pareto front (case, wall s, error):")
     for p in front:
-        print(f"  h = {p['h']:g}, dt x {p['dt']:g}: {p['wall_s']:.1f} s, {p['error']:.2e}")
+        print(f"  {name(p)}: {p['wall_s']:.1f} s, {p['error']:.2e}")
+    for v in variants:
+        print(f"variant {v['label']}: {v['wall_s']:.1f} s, {v['error']:.2e}"
+              f" ({v['steps']:.0f} steps, {v['newton']:.0f} Newton, {v['krylov']:.0f} Krylov)")
     if default:
         on = any(p is default for p in front)
         print(f"default (h = {a.default_h:g}, dt x {a.default_dt:g}): {default['wall_s']:.1f} s, "
               f"{default['error']:.2e} ({'on' if on else 'off'} the front)")
-    ok = [p for p in pts if p["error"] <= a.target]
+    ok = [p for p in pts + variants if p["error"] <= a.target]
     if ok:
         c = min(ok, key=lambda p: p["wall_s"])
-        print(f"cheapest within {a.target:g}: h = {c['h']:g}, dt x {c['dt']:g}, {c['wall_s']:.1f} s ({c['error']:.2e})")
+        print(f"cheapest within {a.target:g}: {name(c)}, {c['wall_s']:.1f} s ({c['error']:.2e})")
     else:
         print(f"no case within {a.target:g}")
 
@@ -61,6 +95,8 @@ def main():
     for h in sorted({p["h"] for p in pts}, reverse=True):
         sel = sorted((p for p in pts if p["h"] == h), key=lambda p: p["wall_s"])
         ax.loglog([p["wall_s"] for p in sel], [max(p["error"], 1e-6) for p in sel], "o-", alpha=0.7, label=f"h = {h:g} um")
+    for v, marker in zip(variants, "sD^vP<>Xhp" * 3):
+        ax.loglog([v["wall_s"]], [max(v["error"], 1e-6)], marker, ms=7, mfc="none", label=v["label"])
     ax.loglog([p["wall_s"] for p in front], [max(p["error"], 1e-6) for p in front], "k--", lw=1, label="Pareto front")
     if default:
         ax.loglog([default["wall_s"]], [max(default["error"], 1e-6)], "r*", ms=14, label="default")

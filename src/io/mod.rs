@@ -1,6 +1,7 @@
 //! Run output: the run directory, per-step field files (HDF5 + XDMF for ParaView) and the `history.csv` log.
 pub mod fields;
 pub mod history;
+pub mod recorder;
 pub mod rundir;
 
 /// Formats a real number so that it parses back to the identical `f64` (shortest round-trip digits),

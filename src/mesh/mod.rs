@@ -11,6 +11,7 @@ pub mod generate;
 pub mod gmsh;
 pub mod mirror;
 pub mod partition;
+pub mod source;
 
 #[cfg(test)]
 mod tests;

@@ -3,28 +3,29 @@
 //! and `timings.txt`. Everything that can fail on bad input is checked before the run directory
 //! is touched, so a failed start never damages an earlier run's results.
 
+mod schedule;
+
+pub use schedule::Schedule;
+
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::tabulate_tet10;
 use crate::fem::kernel::Stabilisation;
-use crate::fem::point::PointModel;
 use crate::fem::quadrature;
-use crate::io::fields::{Field, FieldFile, FieldKind, OutputMesh};
-use crate::io::history::History;
+use crate::io::recorder::{Observers, Recorder, StepRow};
 use crate::io::rundir;
-use crate::material::{ellipticity, HolmesMow};
-use crate::mesh::{dist, gmsh, partition};
+use crate::mesh::source::{mesh_file, read_mesh};
+use crate::mesh::{dist, partition};
 use crate::parallel::{agree, broadcast_u32};
 use crate::petsc::{options, DmShell, Mat, Petsc, Stage, Ts, Vector};
-use crate::physics::analytic;
 use crate::physics::bc;
-use crate::physics::biphasic::Biphasic;
 use crate::physics::contact::{PlateHistory, Plates, DEFAULT_SEAL_GAP};
-use crate::physics::experiment::{self, Experiment};
-use crate::physics::linear::LinearPoroelastic;
+use crate::physics::experiment::Experiment;
+use crate::physics::factory::{ellipticity_warning, model_of};
 use crate::physics::probe::Probe;
 use crate::physics::problem::{mean_element_size, PoroProblem};
-use crate::scene::{LoadedScene, Material, Verification};
+use crate::physics::verification::exact_columns;
+use crate::scene::{LoadedScene, Material};
 use crate::solver;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -85,241 +86,19 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String]) -> Res
     ))
 }
 
-/// Where generated meshes are cached.
-fn cache_dir() -> PathBuf {
-    if let Ok(d) = std::env::var("POROPLAST_CACHE") {
-        return PathBuf::from(d);
-    }
-    if let Ok(d) = std::env::var("XDG_CACHE_HOME") {
-        return Path::new(&d).join("poroplast");
-    }
-    if let Ok(h) = std::env::var("HOME") {
-        return Path::new(&h).join(".cache/poroplast");
-    }
-    std::env::temp_dir().join("poroplast-cache")
-}
-
-/// The `.msh` file of a scene: given, or generated from its `.geo` by rank 0 (cached).
-fn mesh_file(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<PathBuf> {
-    let spec = &scene.scene.mesh;
-    if let Some(f) = &spec.file {
-        return Ok(scene.resolve(f));
-    }
-    let geo = spec.geo.as_deref().unwrap_or_default();
-    let local = scene.resolve(geo);
-    let (name, source) = if local.exists() {
-        let text = std::fs::read_to_string(&local).map_err(|e| Error::io(&local, e))?;
-        (local.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(), text)
-    } else if let Some((n, text)) = crate::scene::BUILTIN_GEO.iter().find(|(n, _)| *n == geo) {
-        (n.to_string(), text.to_string())
-    } else {
-        return Err(Error::mesh(&local, "geometry source not found (not a file, nor a shipped .geo)"));
-    };
-    let params: Vec<(String, f64)> = spec.params.iter().map(|(k, v)| (k.clone(), *v)).collect();
-    let mut path = Vec::new();
-    let r = if world.rank() == 0 {
-        crate::mesh::generate::cached(&name, &source, &params, 2, &cache_dir())
-            .map(|p| path = p.to_string_lossy().into_owned().into_bytes())
-    } else {
-        Ok(())
-    };
-    agree(world, r)?;
-    crate::parallel::broadcast_bytes(world, 0, &mut path);
-    Ok(PathBuf::from(String::from_utf8_lossy(&path).into_owned()))
-}
-
-/// Reads the mesh file and applies the scene's reflections.
-fn read_mesh(path: &Path, scene: &LoadedScene) -> Result<crate::mesh::Mesh> {
-    let mut mesh = gmsh::read(path)?;
-    for plane in &scene.scene.mesh.mirror {
-        mesh = crate::mesh::mirror::mirror(&mesh, plane)?;
-    }
-    Ok(mesh)
-}
-
-/// The Holmes–Mow solid of a scene: from (µ, ν) by (56), or from its α's.
-fn holmes_mow(mu: Option<f64>, nu: Option<f64>, alpha: &Option<[f64; 3]>, phi_s: f64) -> Result<HolmesMow> {
-    match (mu, nu, alpha) {
-        (Some(mu), Some(nu), _) => HolmesMow::from_mu_nu(mu, nu, phi_s),
-        (_, _, Some(a)) => HolmesMow::new(phi_s, a[0], a[1], a[2], 1.0),
-        _ => unreachable!("validated"),
-    }
-}
-
-/// A warning for a solid law that loses strong ellipticity under the strains of a compression
-/// experiment (`material::ellipticity`): there the solve stops converging, on every mesh.
-fn ellipticity_warning(scene: &LoadedScene) -> Result<Option<String>> {
-    let Material::HolmesMow { mu, nu, alpha, phi_s, .. } = &scene.scene.material else {
-        return Ok(None);
-    };
-    let solid = holmes_mow(*mu, *nu, alpha, *phi_s)?;
-    Ok(ellipticity::isochoric_compression_limit(&solid, 0.5)?.map(|lam| {
-        format!(
-            "the Holmes–Mow solid (alpha1 = {:.3} < 0{}) loses strong ellipticity beyond {:.1}% isochoric \
-             compression: strains above that localise, and the solve stops converging there on any mesh \
-             (docs/studies.md, stability (f))",
-            solid.alpha1,
-            nu.map(|n| format!(": nu = {n} > 1/3")).unwrap_or_default(),
-            100.0 * (1.0 - lam)
-        )
-    }))
-}
-
-fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
-    use crate::material::{CompactionPenalty, FlowForm, Integrator, Permeability, PermeabilityModel, Remodelling};
-    let ctx = |e: Error| Error::Scene { path: scene.source.clone(), msg: format!("[material]: {e}") };
-    match &scene.scene.material {
-        Material::Linear { mu, nu, permeability } => Ok(Box::new(LinearPoroelastic::new(*mu, *nu, *permeability)?)),
-        Material::HolmesMow {
-            mu,
-            nu,
-            alpha,
-            phi_s,
-            k0,
-            kappa,
-            m0,
-            permeability_c,
-            penalty,
-            rho_s,
-            rho_f,
-            gravity,
-            remodelling,
-            ..
-        } => {
-            let solid = holmes_mow(*mu, *nu, alpha, *phi_s).map_err(ctx)?;
-            let pen = penalty
-                .as_ref()
-                .map(|p| CompactionPenalty::new(*phi_s, p.u0, p.j_cr, p.q, p.r))
-                .transpose()
-                .map_err(ctx)?;
-            let model = match permeability_c {
-                Some(c) => PermeabilityModel::RemodellingDependent { c: *c },
-                None => PermeabilityModel::Isotropic,
-            };
-            let perm = Permeability::new(*k0, *phi_s, *kappa, *m0, model).map_err(ctx)?;
-            let mut model = Biphasic::new(solid, pen, perm, *rho_s, *rho_f, *gravity).map_err(ctx)?;
-            if let Some(r) = remodelling {
-                let form = if r.form == "40a" { FlowForm::Spatial } else { FlowForm::Referential };
-                let integrator = if r.integrator == "explicit" { Integrator::Explicit } else { Integrator::Implicit };
-                let law = Remodelling::new(r.lambda_p, r.sigma_y).map_err(ctx)?;
-                model = model.with_remodelling(law.with_form(form).with_integrator(integrator));
-            }
-            Ok(Box::new(model))
-        }
-    }
-}
-
-/// Time steps: chosen by a local error estimate (with `tol`) or by geometric growth, up to
-/// dt_max, landing exactly on t_end and the `land_on` times, and restarting from dt0 after each
-/// of the `kinks` (times where the loading rate jumps).
-#[derive(Debug, Clone)]
-pub struct Schedule {
-    pub t_end: f64,
-    pub dt0: f64,
-    pub dt_max: f64,
-    pub growth: f64,
-    pub land_on: Vec<f64>,
-    pub kinks: Vec<f64>,
-    /// Error tolerance of the step controller (None: geometric growth).
-    pub tol: Option<f64>,
-    /// A step cut below this by failed solves is an error (see `TimeSpec::dt_min`).
-    pub dt_min: f64,
-}
-
-/// The step controller's limits: a step may grow by at most `MAX_GROWTH` and shrink by at
-/// most `MIN_SHRINK`; an estimate above `REJECT` (relative to the tolerance) rejects the step.
-const MAX_GROWTH: f64 = 2.0;
-const MIN_SHRINK: f64 = 0.2;
-const REJECT: f64 = 2.0;
-
-impl Schedule {
-    fn eps(&self) -> f64 {
-        1e-10 * self.t_end
-    }
-    /// The next landing time after t.
-    fn next_landing(&self, t: f64) -> f64 {
-        self.land_on.iter().chain(&self.kinks).copied().filter(|&l| l > t + self.eps()).fold(self.t_end, f64::min)
-    }
-    /// True if t is one of the kinks.
-    pub fn at_kink(&self, t: f64) -> bool {
-        self.kinks.iter().any(|&l| (t - l).abs() <= self.eps())
-    }
-    /// The step from t with nominal size `nominal`: cut to land on the next landing time, and
-    /// stretched by up to 10% instead of leaving a sliver before it.
-    pub fn step(&self, t: f64, nominal: f64) -> f64 {
-        let land = self.next_landing(t);
-        let gap = land - t;
-        if nominal >= gap * (1.0 - 0.1) {
-            gap
-        } else if nominal > 0.5 * gap {
-            0.5 * gap
-        } else {
-            nominal
-        }
-    }
-    /// Nominal size after a step of nominal size `nominal` that actually took `taken` and ended
-    /// at `t`. After landing on a kink of the loading the rate of change jumps: restart from
-    /// the first step size and grow again.
-    ///
-    /// With an error estimate `err` (relative to the tolerance) the next step is the one that
-    /// would meet the tolerance, 0.9 dt err^(−1/2) (BE: local error ∝ dt²), within
-    /// [MIN_SHRINK, MAX_GROWTH] × dt; it does not shrink below the nominal step while the error
-    /// is within tolerance (a step shortened to land on a time is not a sign of trouble).
-    pub fn grow(&self, nominal: f64, taken: f64, t: f64, err: Option<f64>) -> f64 {
-        if self.at_kink(t) {
-            return self.dt0;
-        }
-        let next = match err {
-            Some(e) => {
-                let f = (0.9 / e.max(1e-12).sqrt()).clamp(MIN_SHRINK, MAX_GROWTH);
-                if f >= 1.0 {
-                    (taken * f).max(nominal)
-                } else {
-                    taken * f
-                }
-            }
-            None => nominal * self.growth,
-        };
-        next.min(self.dt_max).min(2.0 * taken.max(nominal * 1e-3))
-    }
-    /// Whether an error estimate rejects the step, and the step to retry with.
-    pub fn reject(&self, taken: f64, err: Option<f64>) -> Option<f64> {
-        match err {
-            Some(e) if e > REJECT && taken > 1e-3 * self.dt0 => Some(taken * (0.9 / e.sqrt()).max(MIN_SHRINK)),
-            _ => None,
-        }
-    }
-    pub fn done(&self, t: f64) -> bool {
-        t >= self.t_end - self.eps()
-    }
-    /// Steps left from t (no retries), for the ETA.
-    pub fn remaining(&self, mut t: f64, mut nominal: f64) -> usize {
-        let mut n = 0;
-        while !self.done(t) && n < 1_000_000 {
-            let dt = self.step(t, nominal);
-            t += dt;
-            nominal = self.grow(nominal, dt, t, None);
-            n += 1;
-        }
-        n
-    }
-}
-
 struct Run<'w> {
     world: &'w SimpleCommunicator,
     scene: LoadedScene,
     args: RunArgs,
     ts: Ts<PoroProblem>,
     u: Vector,
-    probes: Vec<Probe>,
+    /// Probes, experiment and exact columns: moved into the recorder when the run directory opens.
+    observers: Option<Observers>,
     schedule: Schedule,
-    mid_edges: Vec<(usize, usize, usize)>,
     n_global_dofs: usize,
     setup_s: f64,
     /// The linear solver policy, for the log.
     solver_line: String,
-    /// Observables of the plates experiment, if the scene has plates.
-    experiment: Option<Experiment>,
     /// Settle under gravity before t = 0.
     settle: bool,
     /// The solid law loses strong ellipticity under the run's strains (`ellipticity_warning`):
@@ -329,13 +108,6 @@ struct Run<'w> {
     /// central differences of the residual (`PoroProblem::jacobian_error`, relative step eps,
     /// default 1e-7) and print the errors.
     check_jacobian: Option<f64>,
-}
-
-/// The open outputs of a run.
-struct Output {
-    dir: PathBuf,
-    fields: Option<FieldFile>,
-    history: History,
 }
 
 /// Where the time loop stands.
@@ -462,7 +234,6 @@ impl<'w> Run<'w> {
         }
         let f = u.duplicate()?;
         let n_global_dofs = dofs.n_global;
-        let mid_edges = mid_edge_nodes(&local);
         let fields = solver::Fields::new(world, &dofs, &local)?;
         let c = s.fem.stabilisation.unwrap_or(DEFAULT_STABILISATION);
         let stabilisation = Stabilisation::new(c, s.fem.stabilisation_fade, model.as_ref());
@@ -550,19 +321,24 @@ impl<'w> Run<'w> {
         };
         let settle = s.plates.is_some()
             && matches!(&s.material, Material::HolmesMow { gravity, .. } if gravity.iter().any(|g| *g != 0.0));
+        let remodelling = !ts.problem().disc.history.is_empty();
         Ok(Run {
             world,
             scene: scene.clone(),
             args: args.clone(),
             ts,
             u,
-            probes,
+            observers: Some(Observers {
+                probes,
+                experiment,
+                exact: exact_columns(scene)?,
+                remodelling,
+                fields: s.output.fields,
+            }),
             schedule,
-            mid_edges,
             n_global_dofs,
             setup_s: t0.elapsed().as_secs_f64(),
             solver_line,
-            experiment,
             settle,
             ellipticity: ellipticity_warning(scene)?,
             check_jacobian: match options::get_string("poroplast_check_jacobian")? {
@@ -582,11 +358,6 @@ impl<'w> Run<'w> {
     /// t is one of the scene's `output.fields_at` times.
     fn output_time(&self, t: f64) -> bool {
         self.scene.scene.output.fields_at.iter().any(|&a| (t - a).abs() <= 1e-10 * self.schedule.t_end)
-    }
-
-    /// The model keeps per-point history (remodelling): its observables and fields are written.
-    fn remodelling(&self) -> bool {
-        !self.ts.problem().disc.history.is_empty()
     }
 
     fn say(&self, s: &str) {
@@ -610,8 +381,12 @@ impl<'w> Run<'w> {
 
     /// Gravity settling: one drained step from t = −T to 0 with T huge (so J̇ ≈ 0 and the fluid
     /// is at rest): the equilibrium resting on the lower plate, the state at t = 0.
-    fn settle(&mut self) -> Result<()> {
+    fn settle(&mut self, stage: Stage) -> Result<()> {
         const T: f64 = 1e6;
+        if !self.settle {
+            return Ok(());
+        }
+        let _g = stage.push();
         // B_p(X, 0⁻) = I: no remodelling while settling.
         self.ts.problem_mut().disc.evolve = false;
         // From the undeformed sphere the whole weight comes down on one contact point: a full
@@ -638,7 +413,7 @@ impl<'w> Run<'w> {
     }
 
     /// Creates the run directory and its files (nothing is written before this point).
-    fn open_output(&self, dir: &Path) -> Result<Output> {
+    fn open_output(&mut self, dir: &Path) -> Result<Recorder> {
         agree(self.world, rundir::prepare(dir, self.args.force, self.rank0()))?;
         self.world.barrier();
         if self.rank0() {
@@ -649,37 +424,8 @@ impl<'w> Run<'w> {
             )?;
             rundir::write_text(dir, "petsc_options.txt", &(options::dump()? + "\n"))?;
         }
-        let mesh = &self.ts.problem().disc.mesh;
-        let cells: Vec<[u32; 10]> =
-            mesh.tets.iter().map(|t| std::array::from_fn(|a| mesh.node_global[t[a] as usize])).collect();
-        let coords: Vec<[f64; 3]> = mesh.coords[..mesh.n_owned_nodes].to_vec();
-        let omesh = OutputMesh {
-            n_global_nodes: mesh.n_global_nodes,
-            node_offset: mesh.node_offset,
-            coords: &coords,
-            n_global_cells: mesh.n_global_elems,
-            cell_offset: mesh.elem_offset,
-            cells: &cells,
-        };
-        let fields =
-            if self.scene.scene.output.fields { Some(FieldFile::create(dir, self.world, &omesh)?) } else { None };
-        let mut cols: Vec<String> = vec!["step".into(), "time".into(), "dt".into()];
-        if self.experiment.is_some() {
-            cols.extend(experiment::COLUMNS.iter().map(|c| c.to_string()));
-        }
-        if self.remodelling() {
-            cols.extend(crate::physics::remodelling::COLUMNS.iter().map(|c| c.to_string()));
-        }
-        cols.extend(self.probes.iter().map(|p| p.name.clone()));
-        cols.extend(exact_columns(&self.scene)?.into_iter().map(|(n, _)| n));
-        cols.extend(["newton_its", "ksp_its", "wall_s"].map(String::from));
-        let colrefs: Vec<&str> = cols.iter().map(|c| c.as_str()).collect();
-        let ints: Vec<&str> = ["step", "newton_its", "ksp_its", "contact_nodes_upper", "contact_nodes_lower"]
-            .into_iter()
-            .filter(|c| colrefs.contains(c))
-            .collect();
-        let history = History::create(&dir.join("history.csv"), &colrefs, &ints, self.rank0())?;
-        Ok(Output { dir: dir.to_path_buf(), fields, history })
+        let obs = self.observers.take().expect("the run directory opens once");
+        Recorder::create(self.world, dir, &self.ts.problem().disc.mesh, obs)
     }
 
     /// A failed solve's error, with the likely cause when the solid law is not elliptic.
@@ -747,26 +493,44 @@ impl<'w> Run<'w> {
         Ok((taken, its))
     }
 
+    /// The run, step by step (the first step runs before anything is written: then every
+    /// PETSc option has been read, and an unknown one is an error that leaves no half-made run
+    /// directory).
     fn execute(&mut self) -> Result<PathBuf> {
         let out = self.out_dir();
         let t_start = Instant::now();
-        let (stage_solve, stage_out) = (Stage::register("Solve")?, Stage::register("Output")?);
+        let stages = (Stage::register("Solve")?, Stage::register("Output")?);
         let mut pg = Progress { nominal: self.schedule.dt0, ..Default::default() };
-        if self.settle {
-            let _g = stage_solve.push();
-            self.settle()?;
-        }
+        self.settle(stages.0)?;
         // Settling's iterations are not the experiment's.
         (pg.newton, pg.ksp) = self.ts.solver_totals()?;
         let initial = self.u.copy()?;
+        // The history at t = 0, for the first row: the first step commits its own.
+        let history0 = self.ts.problem().disc.history.clone();
         let mut prev = self.u.duplicate()?;
-        // The first step runs before anything is written: then every PETSc option has been
-        // read, and an unknown one is an error that leaves no half-made run directory.
-        // (The history at t = 0, for the first row: the first step commits its own.)
-        let mut history0 = self.ts.problem().disc.history.clone();
-        let first = self.advance(&mut pg, &mut prev, stage_solve)?;
+        let first = self.advance(&mut pg, &mut prev, stages.0)?;
         self.check_options()?;
-        let mut io = self.open_output(&out)?;
+        let mut rec = self.open_output(&out)?;
+        self.announce(&out);
+        let initial_row = StepRow { step: 0, t: 0.0, dt: 0.0, its: (0, 0), wall: t_start.elapsed().as_secs_f64() };
+        self.write_initial(&mut rec, &initial, history0, &initial_row, stages.1)?;
+        let mut cur = self.u.duplicate()?;
+        let mut step = first;
+        loop {
+            self.output_step(&mut rec, &mut pg, &mut cur, &prev, step, t_start, stages.1)?;
+            self.progress(&pg, step.0, step.1, t_start);
+            self.check_jacobian(&pg, step.0, &cur, &prev)?;
+            if self.schedule.done(pg.t) {
+                break;
+            }
+            step = self.advance(&mut pg, &mut prev, stages.0)?;
+        }
+        self.finish(&rec.dir, &pg, t_start)?;
+        Ok(rec.dir)
+    }
+
+    /// The run log's opening lines (rank 0).
+    fn announce(&self, out: &Path) {
         let mesh = &self.ts.problem().disc.mesh;
         self.say(&format!(
             "poroplast: scene {} on {} rank(s): {} tets, {} nodes, {} dofs ({} u + {} p), output {}",
@@ -786,48 +550,61 @@ impl<'w> Run<'w> {
         if let Some(w) = &self.ellipticity {
             self.say(&format!("warning: {w}"));
         }
-        let exact = exact_columns(&self.scene)?;
+    }
+
+    /// The row (and fields) of the initial state, recorded with the history it had.
+    fn write_initial(
+        &mut self,
+        rec: &mut Recorder,
+        initial: &Vector,
+        mut history0: crate::fem::qp_store::QpStore,
+        row: &StepRow,
+        stage: Stage,
+    ) -> Result<()> {
+        let _g = stage.push();
+        std::mem::swap(&mut self.ts.problem_mut().disc.history, &mut history0);
+        let r = rec.record(self.world, self.ts.problem_mut(), initial, initial, row, true);
+        std::mem::swap(&mut self.ts.problem_mut().disc.history, &mut history0);
+        r
+    }
+
+    /// The row of the step just taken, with fields every `fields_every` steps, at the
+    /// `fields_at` times and at the end.
+    #[allow(clippy::too_many_arguments)]
+    fn output_step(
+        &mut self,
+        rec: &mut Recorder,
+        pg: &mut Progress,
+        cur: &mut Vector,
+        prev: &Vector,
+        (taken, its): (f64, (usize, usize)),
+        t_start: Instant,
+        stage: Stage,
+    ) -> Result<()> {
         let o = Instant::now();
         {
-            let _g = stage_out.push();
-            std::mem::swap(&mut self.ts.problem_mut().disc.history, &mut history0);
-            self.record(&mut io, &initial, &initial, 0, 0.0, 0.0, (0, 0), t_start, true, &exact)?;
-            std::mem::swap(&mut self.ts.problem_mut().disc.history, &mut history0);
-            self.progress(&pg, first.0, first.1, t_start);
-            let last = self.schedule.done(pg.t);
+            let _g = stage.push();
             let every = self.scene.scene.output.fields_every;
-            let wf = last || (every > 0 && 1 % every == 0) || self.output_time(pg.t);
-            let cur = self.u.copy()?;
-            self.record(&mut io, &cur, &prev, 1, pg.t, first.0, first.1, t_start, wf, &exact)?;
+            let fields =
+                self.schedule.done(pg.t) || (every > 0 && pg.step.is_multiple_of(every)) || self.output_time(pg.t);
+            cur.copy_from(&self.u)?;
+            let row = StepRow { step: pg.step, t: pg.t, dt: taken, its, wall: t_start.elapsed().as_secs_f64() };
+            rec.record(self.world, self.ts.problem_mut(), cur, prev, &row, fields)?;
         }
         pg.output_s += o.elapsed().as_secs_f64();
-        let mut cur = self.u.duplicate()?;
-        while !self.schedule.done(pg.t) {
-            let (taken, its) = self.advance(&mut pg, &mut prev, stage_solve)?;
-            let o = Instant::now();
-            {
-                let _g = stage_out.push();
-                let every = self.scene.scene.output.fields_every;
-                let wf =
-                    self.schedule.done(pg.t) || (every > 0 && pg.step.is_multiple_of(every)) || self.output_time(pg.t);
-                cur.copy_from(&self.u)?;
-                self.record(&mut io, &cur, &prev, pg.step, pg.t, taken, its, t_start, wf, &exact)?;
-            }
-            pg.output_s += o.elapsed().as_secs_f64();
-            self.progress(&pg, taken, its, t_start);
-            if let Some(eps) = self.check_jacobian {
-                let (problem, jac) = self.ts.problem_and_jacobian();
-                let (eu, ep) = problem.jacobian_error(pg.t, taken, &cur, &prev, jac, eps)?;
-                if self.rank0() {
-                    println!(
-                        "jacobian check: step {} t = {:.6e}: rel. error u rows {eu:.3e}, p rows {ep:.3e}",
-                        pg.step, pg.t
-                    );
-                }
-            }
+        Ok(())
+    }
+
+    /// `-poroplast_check_jacobian`: the assembled Jacobian of the step against central
+    /// differences (rank 0 prints the errors).
+    fn check_jacobian(&mut self, pg: &Progress, taken: f64, cur: &Vector, prev: &Vector) -> Result<()> {
+        let Some(eps) = self.check_jacobian else { return Ok(()) };
+        let (problem, jac) = self.ts.problem_and_jacobian();
+        let (eu, ep) = problem.jacobian_error(pg.t, taken, cur, prev, jac, eps)?;
+        if self.rank0() {
+            println!("jacobian check: step {} t = {:.6e}: rel. error u rows {eu:.3e}, p rows {ep:.3e}", pg.step, pg.t);
         }
-        self.finish(&io, &pg, t_start)?;
-        Ok(io.dir)
+        Ok(())
     }
 
     /// The progress line of a step (rank 0).
@@ -848,7 +625,7 @@ impl<'w> Run<'w> {
     }
 
     /// timings.txt and the closing line.
-    fn finish(&self, io: &Output, pg: &Progress, t_start: Instant) -> Result<()> {
+    fn finish(&self, dir: &Path, pg: &Progress, t_start: Instant) -> Result<()> {
         let timers = self.ts.problem().timers;
         let cuts = self.ts.rejections()?;
         let total = t_start.elapsed().as_secs_f64() + self.setup_s;
@@ -876,7 +653,7 @@ impl<'w> Run<'w> {
             rss
         );
         if self.rank0() {
-            rundir::write_text(&io.dir, "timings.txt", &summary)?;
+            rundir::write_text(dir, "timings.txt", &summary)?;
         }
         self.say(&format!(
             "done: {} steps, {} Newton, {} Krylov iterations, {} step cuts, {} rejected by the error estimate, {:.1} s (setup {:.1}, assembly {:.1}, solve {:.1}, output {:.1})",
@@ -891,97 +668,6 @@ impl<'w> Run<'w> {
             pg.solve_s - assembly,
             pg.output_s
         ));
-        Ok(())
-    }
-
-    /// One history row (and fields if asked) for state `u` reached from `prev` in a step dt.
-    #[allow(clippy::too_many_arguments)]
-    fn record(
-        &mut self,
-        io: &mut Output,
-        u: &Vector,
-        prev: &Vector,
-        step: usize,
-        t: f64,
-        dt: f64,
-        its: (usize, usize),
-        t_start: Instant,
-        write_fields: bool,
-        exact: &[(String, ExactFn)],
-    ) -> Result<()> {
-        let world = self.world;
-        let write_fields = write_fields && io.fields.is_some();
-        // The post-processing element loop (reactions, cell fields) only when something reads
-        // it; probes and history alone need just the local state.
-        let post = if self.experiment.is_some() || write_fields || self.remodelling() {
-            let dt_eff = if dt > 0.0 { dt } else { 1.0 };
-            let udot = crate::physics::problem::rate(u, prev, dt_eff)?;
-            Some(self.ts.problem_mut().post_process(dt_eff, u, &udot)?)
-        } else {
-            None
-        };
-        let localized;
-        let local: &[f64] = match &post {
-            Some(p) => &p.local,
-            None => {
-                localized = self.ts.problem_mut().localize(u)?;
-                &localized
-            }
-        };
-        let pb = self.ts.problem();
-        let (mesh, dofs) = (&pb.disc.mesh, &pb.disc.dofs);
-        let mut row = vec![step as f64, t, dt];
-        let obs = match (&mut self.experiment, &pb.plates, &post) {
-            (Some(ex), Some(pl), Some(post)) => {
-                Some(ex.observe(t, dt, pl, mesh, dofs, post, pb.drainage_gaps(), world))
-            }
-            _ => None,
-        };
-        if let Some(o) = &obs {
-            row.extend(o.values);
-        }
-        if let (Some(post), true) = (&post, !pb.disc.history.is_empty()) {
-            row.extend(crate::physics::remodelling::observe(post, world));
-        }
-        row.extend(self.probes.iter().map(|p| p.value(mesh, dofs, local, world)));
-        row.extend(exact.iter().map(|(_, f)| f(t)));
-        row.extend([its.0 as f64, its.1 as f64, t_start.elapsed().as_secs_f64()]);
-        io.history.row(&row)?;
-        if let (Some(ff), Some(post), true) = (io.fields.as_mut(), &post, write_fields) {
-            let n = mesh.n_owned_nodes;
-            let uo: Vec<f64> = local[..3 * n].to_vec();
-            let mut p = vec![0.0; n];
-            for (node, pv) in p.iter_mut().enumerate() {
-                let v = mesh.vertex_of_node[node];
-                if v >= 0 {
-                    *pv = local[dofs.p_local(v as usize)];
-                }
-            }
-            for &(m, a, b) in &self.mid_edges {
-                let pa = local[dofs.p_local(mesh.vertex_of_node[a] as usize)];
-                let pb_ = local[dofs.p_local(mesh.vertex_of_node[b] as usize)];
-                p[m] = 0.5 * (pa + pb_);
-            }
-            let rank = vec![world.rank() as f64; mesh.tets.len()];
-            let mut fields = vec![
-                Field { name: "u", kind: FieldKind::NodeVector, data: &uo },
-                Field { name: "p", kind: FieldKind::NodeScalar, data: &p },
-                Field { name: "J", kind: FieldKind::CellScalar, data: &post.cell_j },
-                Field { name: "von_mises", kind: FieldKind::CellScalar, data: &post.cell_von_mises },
-                Field { name: "darcy_flux", kind: FieldKind::CellVector, data: &post.cell_darcy },
-                Field { name: "rank", kind: FieldKind::CellScalar, data: &rank },
-            ];
-            if pb.disc.model.solid_fraction().is_some() {
-                fields.push(Field { name: "porosity", kind: FieldKind::CellScalar, data: &post.cell_porosity });
-            }
-            if let Some(o) = &obs {
-                fields.push(Field { name: "contact", kind: FieldKind::NodeScalar, data: &o.node_contact });
-            }
-            if !pb.disc.history.is_empty() {
-                fields.push(Field { name: "norm_ep", kind: FieldKind::CellScalar, data: &post.cell_norm_ep });
-            }
-            ff.write_step(t, &fields)?;
-        }
         Ok(())
     }
 }
@@ -1002,43 +688,6 @@ const IGNORED_OPTIONS: &[&str] = &[
     "-no_signal_handler",
 ];
 
-type ExactFn = Box<dyn Fn(f64) -> f64>;
-
-/// Exact-solution columns of a verification scene.
-fn exact_columns(scene: &LoadedScene) -> Result<Vec<(String, ExactFn)>> {
-    let Some(v) = &scene.scene.verification else { return Ok(vec![]) };
-    let Material::Linear { mu, nu, permeability } = scene.scene.material.clone() else {
-        return Err(Error::Scene {
-            path: scene.source.clone(),
-            msg: "[verification] needs material.model = \"linear\"".into(),
-        });
-    };
-    let m = analytic::Drained::new(mu, nu, permeability)?;
-    Ok(match v.clone() {
-        Verification::Terzaghi { height, load } => vec![
-            (
-                "p_bottom_exact".into(),
-                Box::new(
-                    move |t| if t > 0.0 { analytic::terzaghi_pressure(0.0, t, height, load, &m) / load } else { 0.0 },
-                ) as ExactFn,
-            ),
-            (
-                "settlement_exact".into(),
-                Box::new(move |t| if t > 0.0 { analytic::terzaghi_settlement(t, height, load, &m) } else { 0.0 }),
-            ),
-        ],
-        Verification::Cryer { radius, load: _ } => {
-            let series = analytic::CryerSeries::new(nu, 1e-6)?;
-            let c = m.consolidation_coefficient();
-            vec![(
-                "p_center_exact".into(),
-                Box::new(move |t| if t > 0.0 { series.center_pressure(c * t / (radius * radius)) } else { 0.0 })
-                    as ExactFn,
-            )]
-        }
-    })
-}
-
 /// Σ of the straight (vertex) tetrahedra volumes of the local elements.
 fn straight_volume(mesh: &dist::LocalMesh) -> f64 {
     mesh.tets
@@ -1053,22 +702,6 @@ fn straight_volume(mesh: &dist::LocalMesh) -> f64 {
                 / 6.0
         })
         .sum()
-}
-
-/// (mid-edge node, end a, end b) for owned mid-edge nodes, to show P1 pressure on P2 nodes.
-fn mid_edge_nodes(mesh: &dist::LocalMesh) -> Vec<(usize, usize, usize)> {
-    let mut seen = vec![false; mesh.n_owned_nodes];
-    let mut out = Vec::new();
-    for t in &mesh.tets {
-        for (e, &(a, b)) in crate::fem::element::TET10_EDGES.iter().enumerate() {
-            let m = t[4 + e] as usize;
-            if m < mesh.n_owned_nodes && !seen[m] {
-                seen[m] = true;
-                out.push((m, t[a] as usize, t[b] as usize));
-            }
-        }
-    }
-    out
 }
 
 /// Peak resident memory of this process (MiB), from Linux's /proc/self/status (VmHWM); NaN
@@ -1089,74 +722,5 @@ fn human(s: f64) -> String {
         format!("{}m{:02}s", (s / 60.0) as u64, (s % 60.0) as u64)
     } else {
         format!("{}h{:02}m", (s / 3600.0) as u64, ((s % 3600.0) / 60.0) as u64)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::Schedule;
-
-    #[test]
-    fn schedule_lands_on_kinks_and_end() {
-        let s = Schedule {
-            t_end: 10.0,
-            dt0: 0.3,
-            dt_max: 2.0,
-            growth: 1.5,
-            land_on: vec![7.7],
-            kinks: vec![5.0],
-            tol: None,
-            dt_min: 1e-9,
-        };
-        let (mut t, mut nom) = (0.0, s.dt0);
-        let mut times = vec![];
-        while !s.done(t) {
-            let dt = s.step(t, nom);
-            assert!(dt > 0.0);
-            t += dt;
-            nom = s.grow(nom, dt, t, None);
-            times.push(t);
-        }
-        assert!(times.iter().any(|&x| (x - 5.0).abs() < 1e-12), "{times:?}");
-        // A plain landing time is hit without restarting the growth.
-        let j = times.iter().position(|&x| (x - 7.7).abs() < 1e-12).expect("lands on 7.7");
-        assert!(times[j + 1] - times[j] > 0.3 + 1e-9, "{times:?}");
-        // After the kink the steps restart from dt0.
-        let i = times.iter().position(|&x| (x - 5.0).abs() < 1e-12).unwrap();
-        assert!((times[i + 1] - times[i] - 0.3).abs() < 1e-12, "{times:?}");
-        assert!((t - 10.0).abs() < 1e-12);
-        assert!(times.windows(2).all(|w| w[1] - w[0] <= 2.0 * 1.1 + 1e-12));
-        assert_eq!(s.remaining(0.0, s.dt0), times.len());
-    }
-
-    #[test]
-    fn controller_follows_the_error_estimate() {
-        let s = Schedule {
-            t_end: 100.0,
-            dt0: 0.01,
-            dt_max: 4.0,
-            growth: 1.3,
-            land_on: vec![],
-            kinks: vec![35.0],
-            tol: Some(1e-3),
-            dt_min: 1e-9,
-        };
-        // BE: error ∝ dt², so the step meeting the tolerance is 0.9 dt / √err, within [0.2, 2] dt.
-        assert!((s.grow(0.1, 0.1, 1.0, Some(0.81)) - 0.1).abs() < 1e-12);
-        assert!((s.grow(0.1, 0.1, 1.0, Some(0.09)) - 0.2).abs() < 1e-12);
-        assert!((s.grow(0.1, 0.1, 1.0, Some(1e-8)) - 0.2).abs() < 1e-12);
-        assert!((s.grow(0.1, 0.1, 1.0, Some(1.8)) - 0.1 * 0.9 / 1.8f64.sqrt()).abs() < 1e-12);
-        assert!((s.grow(3.0, 3.0, 1.0, Some(0.01)) - 4.0).abs() < 1e-12, "capped at dt_max");
-        // A step shortened to land on a time does not shrink the next one while within tolerance.
-        assert!((s.grow(0.5, 0.05, 1.0, Some(0.5)) - 0.5f64.min(0.1)).abs() < 1e-12);
-        // No estimate (first step after a kink): geometric growth; on the kink: dt0.
-        assert!((s.grow(0.1, 0.1, 1.0, None) - 0.13).abs() < 1e-12);
-        assert!((s.grow(0.1, 0.1, 35.0, Some(0.5)) - 0.01).abs() < 1e-12);
-        // Rejection above twice the tolerance, retrying with the step that would meet it.
-        assert_eq!(s.reject(0.1, Some(1.9)), None);
-        assert_eq!(s.reject(0.1, None), None);
-        let r = s.reject(0.1, Some(4.0)).expect("rejected");
-        assert!((r - 0.045).abs() < 1e-12);
-        assert!((s.reject(0.1, Some(1e4)).unwrap() - 0.02).abs() < 1e-12, "at most ×0.2");
     }
 }

@@ -1,0 +1,62 @@
+//! A scene's mesh: the given `.msh`, or one generated from its `.geo` by rank 0 and cached,
+//! read and reflected as the scene asks.
+
+use crate::error::{Error, Result};
+use crate::mesh::{gmsh, Mesh};
+use crate::parallel::agree;
+use crate::scene::LoadedScene;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+use std::path::{Path, PathBuf};
+
+/// Where generated meshes are cached.
+fn cache_dir() -> PathBuf {
+    if let Ok(d) = std::env::var("POROPLAST_CACHE") {
+        return PathBuf::from(d);
+    }
+    if let Ok(d) = std::env::var("XDG_CACHE_HOME") {
+        return Path::new(&d).join("poroplast");
+    }
+    if let Ok(h) = std::env::var("HOME") {
+        return Path::new(&h).join(".cache/poroplast");
+    }
+    std::env::temp_dir().join("poroplast-cache")
+}
+
+/// The `.msh` file of a scene: given, or generated from its `.geo` by rank 0 (cached).
+pub fn mesh_file(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<PathBuf> {
+    let spec = &scene.scene.mesh;
+    if let Some(f) = &spec.file {
+        return Ok(scene.resolve(f));
+    }
+    let geo = spec.geo.as_deref().unwrap_or_default();
+    let local = scene.resolve(geo);
+    let (name, source) = if local.exists() {
+        let text = std::fs::read_to_string(&local).map_err(|e| Error::io(&local, e))?;
+        (local.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(), text)
+    } else if let Some((n, text)) = crate::scene::BUILTIN_GEO.iter().find(|(n, _)| *n == geo) {
+        (n.to_string(), text.to_string())
+    } else {
+        return Err(Error::mesh(&local, "geometry source not found (not a file, nor a shipped .geo)"));
+    };
+    let params: Vec<(String, f64)> = spec.params.iter().map(|(k, v)| (k.clone(), *v)).collect();
+    let mut path = Vec::new();
+    let r = if world.rank() == 0 {
+        crate::mesh::generate::cached(&name, &source, &params, 2, &cache_dir())
+            .map(|p| path = p.to_string_lossy().into_owned().into_bytes())
+    } else {
+        Ok(())
+    };
+    agree(world, r)?;
+    crate::parallel::broadcast_bytes(world, 0, &mut path);
+    Ok(PathBuf::from(String::from_utf8_lossy(&path).into_owned()))
+}
+
+/// Reads the mesh file and applies the scene's reflections.
+pub fn read_mesh(path: &Path, scene: &LoadedScene) -> Result<Mesh> {
+    let mut mesh = gmsh::read(path)?;
+    for plane in &scene.scene.mesh.mirror {
+        mesh = crate::mesh::mirror::mirror(&mesh, plane)?;
+    }
+    Ok(mesh)
+}
