@@ -81,7 +81,7 @@ class Checker:
             self.err(f"{where}: {obj} has dtype {ds.dtype}, XDMF declares {key}")
         return obj, ds[()]
 
-    def grid(self, g, where, h5, n_nodes, n_cells):
+    def grid(self, g, where, h5, n_nodes, n_cells, mesh="/mesh"):
         """Check one Uniform grid; return {attribute name: (h5 path, center, type)}."""
         if g.get("GridType", "Uniform") != "Uniform":
             self.err(f"{where}: GridType {g.get('GridType')!r}, expected Uniform")
@@ -98,13 +98,13 @@ class Checker:
         if t.get("NumberOfElements") != str(n_cells):
             self.err(f"{where}: NumberOfElements {t.get('NumberOfElements')!r}, mesh has {n_cells}")
         r = self.data_item(t, where + "/Topology", h5)
-        if r and r[0] != "/mesh/topology":
-            self.err(f"{where}: topology refers to {r[0]}, not /mesh/topology")
+        if r and r[0] != f"{mesh}/topology":
+            self.err(f"{where}: topology refers to {r[0]}, not {mesh}/topology")
         if geo[0].get("GeometryType") != "XYZ":
             self.err(f"{where}: GeometryType {geo[0].get('GeometryType')!r}, expected XYZ")
         r = self.data_item(geo[0], where + "/Geometry", h5)
-        if r and r[0] != "/mesh/coordinates":
-            self.err(f"{where}: geometry refers to {r[0]}, not /mesh/coordinates")
+        if r and r[0] != f"{mesh}/coordinates":
+            self.err(f"{where}: geometry refers to {r[0]}, not {mesh}/coordinates")
         attrs = {}
         for a in g.findall("Attribute"):
             name = a.get("Name")
@@ -186,7 +186,12 @@ class Checker:
                 except (AttributeError, TypeError, ValueError):
                     self.err(f"step grid {i}: missing or bad Time")
                     t = float("nan")
-                steps.append((t, self.grid(g, f"step {i}", h5, n, m)))
+                # A resumed run on another rank count writes its numbering as /mesh_g (/step_mesh).
+                g_mesh = int(h5["/step_mesh"][i]) if "/step_mesh" in h5 and i < len(h5["/step_mesh"]) else 0
+                mesh = "/mesh" if g_mesh == 0 else f"/mesh_{g_mesh}"
+                if mesh not in h5 or h5[mesh + "/coordinates"].shape != (n, 3):
+                    self.err(f"step {i}: mesh group {mesh} missing or not {n} x 3")
+                steps.append((t, self.grid(g, f"step {i}", h5, n, m, mesh)))
         else:
             self.grid(top, "mesh grid", h5, n, m)
         # Time and field datasets.

@@ -42,6 +42,21 @@ pub enum Command {
         #[arg(last = true, allow_hyphen_values = true)]
         petsc: Vec<String>,
     },
+    /// Continue a run from the last checkpoint in its run directory.
+    ///
+    /// The run continues with the scene, overrides and PETSc options it was started with (PETSc
+    /// options given here are added); history.csv and the fields continue after the
+    /// checkpoint's step. Any rank count works.
+    Resume {
+        /// The run directory.
+        dir: PathBuf,
+        /// No per-step progress lines.
+        #[arg(long, short)]
+        quiet: bool,
+        /// PETSc options, after `--`.
+        #[arg(last = true, allow_hyphen_values = true)]
+        petsc: Vec<String>,
+    },
     /// Validate a scene and its mesh (groups, parameters) without solving.
     Check {
         /// A scene file (.toml) or the name of a shipped scene.

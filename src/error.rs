@@ -28,6 +28,9 @@ pub enum Error {
     /// A solve that did not converge after all retries.
     #[error("solver: {0}")]
     Solver(String),
+    /// The run stopped on request (a signal) after writing a checkpoint.
+    #[error("{0}")]
+    Stopped(String),
     /// A failure on another rank, reported here so every rank stops together.
     #[error("{msg} (reported by rank {rank})")]
     Elsewhere { rank: i32, msg: String },

@@ -46,6 +46,9 @@ fn main() {
             driver::run(&world, &RunArgs { scene, set, out, force, petsc, progress: !quiet })
                 .map(|dir| dir.display().to_string())
         }
+        Command::Resume { dir, quiet, petsc } => {
+            driver::resume(&world, &dir, &petsc, !quiet).map(|dir| dir.display().to_string())
+        }
         Command::Check { scene, set } => driver::check(&world, &scene, &set),
         Command::Scenes | Command::Show { .. } => unreachable!(),
     };
@@ -55,6 +58,12 @@ fn main() {
                 println!("{msg}");
             }
             0
+        }
+        Err(e @ poroplast::error::Error::Stopped(_)) => {
+            if rank0 {
+                eprintln!("poroplast: {e}");
+            }
+            driver::EXIT_STOPPED
         }
         Err(e) => {
             if rank0 {

@@ -4,29 +4,22 @@
 //! is touched, so a failed start never damages an earlier run's results.
 
 mod schedule;
+mod setup;
+mod signals;
+pub mod state;
 
 pub use schedule::Schedule;
+use signals::StopRequest;
+use state::{Counters, RunState};
 
 use crate::error::{Error, Result};
-use crate::fem::dofmap::DofMap;
-use crate::fem::element::tabulate_tet10;
-use crate::fem::kernel::Stabilisation;
-use crate::fem::quadrature;
 use crate::io::recorder::{Observers, Recorder, StepRow};
 use crate::io::rundir;
-use crate::mesh::source::{mesh_file, read_mesh};
-use crate::mesh::{dist, partition};
-use crate::parallel::{agree, broadcast_u32};
-use crate::petsc::{options, DmShell, Mat, Petsc, Stage, Ts, Vector};
-use crate::physics::bc;
-use crate::physics::contact::{PlateHistory, Plates, DEFAULT_SEAL_GAP};
-use crate::physics::experiment::Experiment;
-use crate::physics::factory::{ellipticity_warning, model_of};
-use crate::physics::probe::Probe;
-use crate::physics::problem::{mean_element_size, PoroProblem};
-use crate::physics::verification::exact_columns;
-use crate::scene::{LoadedScene, Material};
-use crate::solver;
+use crate::mesh::dist;
+use crate::parallel::agree;
+use crate::petsc::{options, Petsc, Stage, Ts, Vector};
+use crate::physics::problem::PoroProblem;
+use crate::scene::LoadedScene;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use std::path::{Path, PathBuf};
@@ -48,42 +41,140 @@ pub struct RunArgs {
 /// Runs a scene; returns the run directory. PETSc lives exactly as long as this call.
 pub fn run(world: &SimpleCommunicator, args: &RunArgs) -> Result<PathBuf> {
     let scene = LoadedScene::load(&args.scene, &args.set)?;
-    let mut popts = scene.petsc_args();
-    popts.extend(args.petsc.iter().cloned());
-    let petsc = Petsc::init(&popts)?;
-    let r = Run::setup(world, &scene, args).and_then(|mut run| run.execute());
+    let petsc = Petsc::init(&petsc_args(&scene, &args.petsc))?;
+    let r = Run::setup(world, &scene, args).and_then(|mut run| run.execute(None));
     drop(petsc);
     r
 }
 
-/// Validates a scene and its mesh without solving (`poroplast check`).
+/// Continues the run in `dir` from its last checkpoint (`poroplast resume`), with the scene,
+/// overrides and PETSc options it was started with, then `petsc` (added, or overriding).
+pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress: bool) -> Result<PathBuf> {
+    let record = agree(world, RunRecord::read(dir))?;
+    let checkpoint = agree(
+        world,
+        state::list(dir).and_then(|l| {
+            l.last().cloned().ok_or_else(|| {
+                Error::io(dir, "no checkpoint to resume from (checkpoints/step-*.h5; see output.checkpoint_every)")
+            })
+        }),
+    )?;
+    let scene = record.scene(dir)?;
+    let mut options = record.petsc.clone();
+    options.extend(petsc.iter().cloned());
+    let args = RunArgs {
+        scene: record.scene.clone(),
+        set: record.set.clone(),
+        out: Some(dir.to_path_buf()),
+        force: false,
+        petsc: options,
+        progress,
+    };
+    let petsc = Petsc::init(&petsc_args(&scene, &args.petsc))?;
+    let r = Run::setup(world, &scene, &args).and_then(|mut run| {
+        let per_elem = run.ts.problem().disc.history.element(0).len();
+        let state = RunState::read(world, &checkpoint, run.n_file_nodes, run.n_file_elems, per_elem)?;
+        // The solver's state, if saved on as many ranks as now (else it starts afresh).
+        let solver = state::read_solver(dir, state.counters.step, world.rank(), world.size());
+        let mut found = u8::from(matches!(solver, Ok(Some(_))));
+        let mut all = 0u8;
+        world.all_reduce_into(&found, &mut all, mpi::collective::SystemOperation::min());
+        found = all;
+        if let (Ok(Some(s)), 1) = (solver, found) {
+            run.ts.restore_nonlinear_solver_state(s);
+        }
+        run.say(&format!(
+            "resuming from {} (step {}, t = {})",
+            checkpoint.display(),
+            state.counters.step,
+            state.counters.t
+        ));
+        run.execute(Some(state))
+    });
+    drop(petsc);
+    r
+}
+
+/// PETSc's command line: the scene's options, then the user's; PETSc's own signal handler off
+/// (a stop signal is the run's, see `signals`).
+fn petsc_args(scene: &LoadedScene, user: &[String]) -> Vec<String> {
+    let mut popts = scene.petsc_args();
+    popts.extend(user.iter().cloned());
+    if !popts.iter().any(|o| o == "-no_signal_handler") {
+        popts.push("-no_signal_handler".into());
+    }
+    popts
+}
+
+/// How a run was started (`DIR/run.toml`): what `resume` needs to set it up again.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+struct RunRecord {
+    /// The scene argument (a file, made absolute, or a shipped scene's name).
+    scene: String,
+    set: Vec<String>,
+    petsc: Vec<String>,
+}
+
+impl RunRecord {
+    const FILE: &'static str = "run.toml";
+
+    fn of(args: &RunArgs) -> RunRecord {
+        let p = Path::new(&args.scene);
+        let scene = if p.exists() {
+            std::fs::canonicalize(p).map(|a| a.display().to_string()).unwrap_or_else(|_| args.scene.clone())
+        } else {
+            args.scene.clone()
+        };
+        RunRecord { scene, set: args.set.clone(), petsc: args.petsc.clone() }
+    }
+
+    fn read(dir: &Path) -> Result<RunRecord> {
+        let path = dir.join(Self::FILE);
+        let text =
+            std::fs::read_to_string(&path).map_err(|e| Error::io(&path, format!("not a run directory ({e})")))?;
+        toml::from_str(&text).map_err(|e| Error::io(&path, e.message().to_string()))
+    }
+
+    /// The scene, loaded as at the start; it must still resolve to the run's `scene.toml`.
+    fn scene(&self, dir: &Path) -> Result<LoadedScene> {
+        let scene = LoadedScene::load(&self.scene, &self.set)?;
+        let path = dir.join("scene.toml");
+        let was = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+        let body = was.split_once('\n').map_or("", |(_, b)| b);
+        if body != scene.to_toml() {
+            return Err(Error::io(
+                &path,
+                format!("{} no longer resolves to this run's scene (was it edited?): cannot resume", scene.source),
+            ));
+        }
+        Ok(scene)
+    }
+}
+
+/// Validates a scene without solving (`poroplast check`): the set-up `run` does — scene, mesh
+/// (orientation, folded elements), groups, plates against the mesh, anchor, probes, material,
+/// solver options read at set-up — with nothing written.
 pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String]) -> Result<String> {
     let scene = LoadedScene::load(scene_arg, set)?;
-    let path = mesh_file(world, &scene)?;
-    let mesh = agree(world, read_mesh(&path, &scene))?;
-    let ctx = scene.source.clone();
-    for bcnd in &scene.scene.bc {
-        let known = mesh.face_groups.iter().any(|(n, _)| *n == bcnd.group)
-            || mesh.point_groups.iter().any(|(n, _)| *n == bcnd.group);
-        if !known {
-            let names: Vec<&str> =
-                mesh.face_groups.iter().chain(mesh.point_groups.iter()).map(|(n, _)| n.as_str()).collect();
-            return Err(Error::Mesh {
-                path: path.display().to_string(),
-                msg: format!("{ctx}: physical group \"{}\" not found (the mesh has: {})", bcnd.group, names.join(", ")),
-            });
-        }
-    }
-    model_of(&scene)?;
-    let warning = ellipticity_warning(&scene)?.map(|w| format!("\nwarning: {w}")).unwrap_or_default();
-    Ok(format!(
-        "{}: ok — mesh {} ({} tets, {} nodes, {} vertices){warning}",
-        scene.source,
-        path.display(),
-        mesh.tets.len(),
-        mesh.coords.len(),
-        mesh.n_vertices()
-    ))
+    let petsc = Petsc::init(&petsc_args(&scene, &[]))?;
+    let args =
+        RunArgs { scene: scene_arg.into(), set: set.to_vec(), out: None, force: false, petsc: vec![], progress: false };
+    let r = Run::setup(world, &scene, &args).map(|run| {
+        let mesh = &run.ts.problem().disc.mesh;
+        let warning = run.ellipticity.as_ref().map(|w| format!("\nwarning: {w}")).unwrap_or_default();
+        format!(
+            "{}: ok — mesh {} ({} tets, {} nodes, {} vertices; {} dofs)\n{}{warning}",
+            scene.source,
+            run.mesh_path.display(),
+            mesh.n_global_elems,
+            mesh.n_global_nodes,
+            mesh.n_global_vertices,
+            run.n_global_dofs,
+            run.solver_line
+        )
+    });
+    drop(petsc);
+    r
 }
 
 struct Run<'w> {
@@ -108,6 +199,14 @@ struct Run<'w> {
     /// central differences of the residual (`PoroProblem::jacobian_error`, relative step eps,
     /// default 1e-7) and print the errors.
     check_jacobian: Option<f64>,
+    /// The mesh file (given, or generated and cached).
+    mesh_path: PathBuf,
+    /// Nodes and elements of the mesh file: the numbering of the run state.
+    n_file_nodes: usize,
+    n_file_elems: usize,
+    /// history.csv rows and fields steps written up to the checkpoint (a resumed run).
+    resumed: Option<(usize, usize)>,
+    started: Instant,
 }
 
 /// Where the time loop stands.
@@ -122,235 +221,35 @@ struct Progress {
     rejected: usize,
     solve_s: f64,
     output_s: f64,
+    /// The solver's iteration totals after the last step (this process), to count a step's.
+    totals: (usize, usize),
+    /// Step cuts and wall time of the sessions before a resume.
+    cuts_before: usize,
+    wall_before: f64,
+    /// Wall time of the last checkpoint (this process).
+    checkpointed: Option<Instant>,
     recent: std::collections::VecDeque<f64>,
 }
 
-impl<'w> Run<'w> {
-    fn setup(world: &'w SimpleCommunicator, scene: &LoadedScene, args: &RunArgs) -> Result<Run<'w>> {
-        let t0 = Instant::now();
-        let _stage = Stage::register("Setup")?.push();
-        let comm = world.as_raw();
-        let s = &scene.scene;
-        if s.plates.is_some() {
-            // Contact: the active-set Newton of `solver::active_set` (unless -snes_type names a
-            // PETSc VI solver, e.g. vinewtonrsls).
-            // Full Newton steps: with the active set and drainage switching, the residual is
-            // only piecewise smooth and backtracking stalls; a failed step is cut by TS instead.
-            options::set_default("snes_linesearch_type", Some("basic"))?;
-            // Each change of the active set costs an iteration; a step still cycling after 50
-            // is cut by TS.
-            options::set_default("snes_max_it", Some("50"))?;
+impl Progress {
+    /// The loop's position after a resume from `c` (stage times count again: timings.txt gives
+    /// this session's, with the whole run's counts and total).
+    fn resumed(c: &Counters) -> Progress {
+        Progress {
+            step: c.step,
+            t: c.t,
+            nominal: c.nominal,
+            newton: c.newton,
+            ksp: c.ksp,
+            rejected: c.rejected,
+            cuts_before: c.cuts,
+            wall_before: c.wall_s,
+            ..Default::default()
         }
-        let path = mesh_file(world, scene)?;
-        let mesh = agree(world, read_mesh(&path, scene))?;
-        let size = world.size() as usize;
-        let mut part = Vec::new();
-        let r = if world.rank() == 0 { partition::partition(&mesh, size).map(|p| part = p) } else { Ok(()) };
-        agree(world, r)?;
-        broadcast_u32(world, 0, &mut part);
-        let local = agree(world, dist::distribute(&mesh, &part, size, world.rank() as usize))?;
-        drop(mesh);
-        let dofs = DofMap::new(&local);
-        // Scene-specific defaults above win over the preset's (set_default keeps the first).
-        let preset = s.solver.preset.as_deref().unwrap_or("auto");
-        let policy = solver::set_default_options(preset, dofs.n_global)?;
-        let mut solver_line = policy.describe(dofs.n_global, preset == "auto");
-        if let Some(k) = crate::petsc::blas::kernel() {
-            let why = if std::env::var_os("OPENBLAS_CORETYPE").is_some() { " (OPENBLAS_CORETYPE)" } else { "" };
-            solver_line.push_str(&format!("; BLAS: OpenBLAS {k} kernels{why}"));
-        }
-        let model = model_of(scene)?;
-        // Degree 2 integrates the linear model exactly on straight elements; the finite-strain
-        // model (exponential energy, curved elements) gets the 8-point degree-3 rule.
-        let default_degree = if model.is_linear() { 2 } else { 3 };
-        let q = quadrature::tet(s.fem.quadrature_degree.unwrap_or(default_degree));
-        let tab = tabulate_tet10(&q);
-        let (mut cons, ext) = agree(world, bc::build(&s.bc, &local, &dofs, &scene.source))?;
-        // Frictionless plates leave x, y translation and the rotation about z free unless
-        // displacement constraints block them: the free ones are the Jacobian's null space.
-        let constrained_u: Vec<usize> = cons.iter().map(|c| c.local).filter(|&l| l < 3 * dofs.n_nodes).collect();
-        let free_modes = match s.plates {
-            Some(_) => solver::FreeRigidModes::find(world, &dofs, &local, &constrained_u),
-            None => None,
-        };
-        if let Some(m) = &free_modes {
-            solver_line.push_str(&format!(
-                "\nrigid modes left free by the plates (the Jacobian's null space): {}",
-                m.describe()
-            ));
-            // MUMPS: factor the singular system, leaving the null pivots to the Krylov method.
-            options::set_default("mat_mumps_icntl_24", Some("1"))?;
-        }
-        if matches!(s.material, Material::HolmesMow { drained: true, .. }) {
-            cons.extend((0..local.n_vertices()).map(|v| bc::Constraint { local: dofs.p_local(v), value: 0.0 }));
-        }
-        // The plates and the surface faces that can touch them (also the experiment's).
-        let plates = match &s.plates {
-            Some(ps) => {
-                let ctx = format!("{}: [plates]", scene.source);
-                let faces = agree(world, bc::face_group(&local, &ps.group, &ctx))?.to_vec();
-                let anchor = agree(world, bc::point_group(&local, &ps.anchor, &ctx))?.first().map(|&n| n as usize);
-                let history =
-                    PlateHistory { u_max: ps.compression * 2.0 * ps.radius, t_ramp: ps.t_ramp, t_end: ps.t_end };
-                // Free-surface drainage conductance: γ k0 / h (a stiff Robin condition, p ≈ 0).
-                let beta_max = ps.drainage_penalty * model.conductivity() / mean_element_size(world, &local);
-                let seal_gap = ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * ps.radius);
-                Some((
-                    Plates::new(
-                        history,
-                        ps.radius,
-                        &local,
-                        &faces,
-                        anchor,
-                        ps.drainage,
-                        beta_max,
-                        seal_gap,
-                        ps.drainage_gap,
-                    ),
-                    faces,
-                ))
-            }
-            None => None,
-        };
-        let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
-        let pre = dofs.preallocation(&local);
-        let mut jac = Mat::aij(comm, dofs.n_owned, &pre.d_nnz, &pre.o_nnz)?;
-        jac.set_name("Jacobian")?;
-        let schur = Mat::aij(comm, dofs.n_owned_vertices, &pre.schur_d, &pre.schur_o)?;
-        let mut u = Vector::mpi(comm, dofs.n_owned)?;
-        u.set_name("solution")?;
-        u.zero()?;
-        if let Some(init) = &s.initial {
-            let g = &init.displacement_gradient;
-            let mut w = u.write()?;
-            for n in 0..local.n_nodes() {
-                let x = local.coords[n];
-                for (c, row) in g.iter().enumerate() {
-                    if let Some(i) = dofs.local_to_owned(dofs.u_local(n, c)) {
-                        w[i] = row[0] * x[0] + row[1] * x[1] + row[2] * x[2];
-                    }
-                }
-            }
-        }
-        let f = u.duplicate()?;
-        let n_global_dofs = dofs.n_global;
-        let fields = solver::Fields::new(world, &dofs, &local)?;
-        let c = s.fem.stabilisation.unwrap_or(DEFAULT_STABILISATION);
-        let stabilisation = Stabilisation::new(c, s.fem.stabilisation_fade, model.as_ref());
-        let mut problem = PoroProblem::new(
-            world.duplicate(),
-            local,
-            dofs,
-            model,
-            tab,
-            q.points.clone(),
-            cons,
-            ext,
-            &u,
-            schur,
-            stabilisation,
-        )?;
-        if s.fem.equal_order() {
-            problem.tie_displacement();
-        }
-        let plate_faces = match plates {
-            Some((pl, faces)) => {
-                problem.attach_plates(pl, &u)?;
-                Some(faces)
-            }
-            None => None,
-        };
-        let dm = DmShell::new(comm, &u, Box::new(fields))?;
-        let mut ts = Ts::new(comm, problem, f, jac, None, Some(dm))?;
-        let t = &s.time;
-        let schedule = Schedule {
-            t_end: t.t_end,
-            dt0: t.dt,
-            dt_max: t.dt_max.unwrap_or(t.t_end),
-            growth: t.growth,
-            land_on: t.land_on.iter().chain(&s.output.fields_at).copied().collect(),
-            kinks: ts.problem().plates.iter().flat_map(|p| p.history.kinks()).collect(),
-            tol: t.error_tolerance,
-            dt_min: t.dt_min.unwrap_or(1e-6 * t.dt),
-        };
-        ts.set_solution(&u)?;
-        ts.set_time(0.0)?;
-        ts.set_time_step(schedule.step(0.0, schedule.dt0))?;
-        ts.set_max_time(t.t_end)?;
-        ts.set_max_rejections(t.max_retries)?;
-        ts.set_from_options()?;
-        // The finite-strain mixture's fluid-content rate is the backward-Euler difference
-        // (J(F) − J(F − Δt Grad u̇))/Δt (docs/numerics.md): another integrator's u̇ would make
-        // it inconsistent (measured with -ts_type bdf: F(35 s) 0.6–1% below every BE run).
-        let ts_type = ts.type_name()?;
-        if !ts.problem().disc.model.is_linear() && ts_type != "beuler" {
-            return Err(Error::Solver(format!(
-                "-ts_type {ts_type}: the finite-strain model's fluid-content rate is discretised for backward Euler only"
-            )));
-        }
-        let snes = ts.snes()?;
-        if let Some((lo, hi)) = &ts.problem().bounds {
-            if options::has("snes_type")? {
-                snes.set_vi_bounds(lo, hi)?;
-            } else {
-                let ksp = snes.ksp()?;
-                ksp.use_dm_of(&snes)?;
-                ksp.set_from_options()?;
-                // Reusing a preconditioner needs a Krylov method to absorb the difference.
-                let mut lag = if ksp.type_name()? == "preonly" { solver::Lag::NEVER } else { policy.lag };
-                // No chord iterations when the Jacobian check assembles into the solve matrix
-                // between steps.
-                if options::has("poroplast_check_jacobian")? {
-                    lag.chord = 0.0;
-                }
-                let mut newton = solver::ActiveSetNewton::new(world, lo, hi, ts.problem().u_row_scale(), lag)?;
-                newton.monitor = options::has("poroplast_newton_monitor")?;
-                newton.free_modes = free_modes;
-                ts.set_nonlinear_solver(Box::new(newton))?;
-            }
-        }
-        ts.problem_mut().schur_needed = solver::use_schur_matrix(&snes, &ts.problem().schur)?;
-        let experiment = match (&s.plates, plate_faces) {
-            (Some(ps), Some(faces)) => {
-                let mesh = &ts.problem().disc.mesh;
-                let volume = crate::parallel::sum(world, straight_volume(mesh));
-                let phi = ts.problem().disc.model.solid_fraction();
-                Some(Experiment::new(mesh, faces, ps.radius, volume, phi, world, &scene.source)?)
-            }
-            _ => None,
-        };
-        let settle = s.plates.is_some()
-            && matches!(&s.material, Material::HolmesMow { gravity, .. } if gravity.iter().any(|g| *g != 0.0));
-        let remodelling = !ts.problem().disc.history.is_empty();
-        Ok(Run {
-            world,
-            scene: scene.clone(),
-            args: args.clone(),
-            ts,
-            u,
-            observers: Some(Observers {
-                probes,
-                experiment,
-                exact: exact_columns(scene)?,
-                remodelling,
-                fields: s.output.fields,
-            }),
-            schedule,
-            n_global_dofs,
-            setup_s: t0.elapsed().as_secs_f64(),
-            solver_line,
-            settle,
-            ellipticity: ellipticity_warning(scene)?,
-            check_jacobian: match options::get_string("poroplast_check_jacobian")? {
-                Some(v) if v.is_empty() => Some(1e-7),
-                Some(v) => Some(v.parse().map_err(|_| {
-                    Error::Solver(format!("-poroplast_check_jacobian {v}: expected a relative step like 1e-7"))
-                })?),
-                None => None,
-            },
-        })
     }
+}
 
+impl<'w> Run<'w> {
     fn rank0(&self) -> bool {
         self.world.rank() == 0
     }
@@ -415,17 +314,35 @@ impl<'w> Run<'w> {
     /// Creates the run directory and its files (nothing is written before this point).
     fn open_output(&mut self, dir: &Path) -> Result<Recorder> {
         agree(self.world, rundir::prepare(dir, self.args.force, self.rank0()))?;
-        self.world.barrier();
-        if self.rank0() {
-            rundir::write_text(
-                dir,
-                "scene.toml",
-                &format!("# resolved from {}\n{}", self.scene.source, self.scene.to_toml()),
-            )?;
-            rundir::write_text(dir, "petsc_options.txt", &(options::dump()? + "\n"))?;
-        }
+        // Rank 0 writes; every rank learns whether it could (else the others would go on into
+        // the collective creation of the fields file, and wait there).
+        let options = options::dump()?;
+        let written = if self.rank0() {
+            (|| -> Result<()> {
+                let scene = format!("# resolved from {}\n{}", self.scene.source, self.scene.to_toml());
+                rundir::write_text(dir, "scene.toml", &scene)?;
+                rundir::write_text(dir, "petsc_options.txt", &(options + "\n"))?;
+                let record = toml::to_string(&RunRecord::of(&self.args)).unwrap_or_default();
+                rundir::write_text(
+                    dir,
+                    RunRecord::FILE,
+                    &format!("# how this run was started, for `poroplast resume`\n{record}"),
+                )
+            })()
+        } else {
+            Ok(())
+        };
+        agree(self.world, written)?;
         let obs = self.observers.take().expect("the run directory opens once");
         Recorder::create(self.world, dir, &self.ts.problem().disc.mesh, obs)
+    }
+
+    /// Reopens the run directory of a resumed run: history.csv and the fields continue after
+    /// the checkpoint's step (later rows and steps, from after the checkpoint, are dropped).
+    fn reopen_output(&mut self, dir: &Path) -> Result<Recorder> {
+        let obs = self.observers.take().expect("the run directory opens once");
+        let (rows, fields) = self.resumed.expect("resuming");
+        Recorder::reopen(self.world, dir, &self.ts.problem().disc.mesh, obs, rows, fields)
     }
 
     /// A failed solve's error, with the likely cause when the solid law is not elliptic.
@@ -476,8 +393,10 @@ impl<'w> Run<'w> {
         pg.t = self.ts.time()?;
         pg.step += 1;
         let totals = self.ts.solver_totals()?;
-        let its = (totals.0 - pg.newton, totals.1 - pg.ksp);
-        (pg.newton, pg.ksp) = totals;
+        let its = (totals.0 - pg.totals.0, totals.1 - pg.totals.1);
+        pg.totals = totals;
+        pg.newton += its.0;
+        pg.ksp += its.1;
         pg.nominal = self.schedule.grow(pg.nominal, taken, pg.t, err);
         let kink = self.schedule.at_kink(pg.t);
         // The step's rate serves the contact predictor and the error estimate; not across a kink.
@@ -493,40 +412,186 @@ impl<'w> Run<'w> {
         Ok((taken, its))
     }
 
-    /// The run, step by step (the first step runs before anything is written: then every
-    /// PETSc option has been read, and an unknown one is an error that leaves no half-made run
-    /// directory).
-    fn execute(&mut self) -> Result<PathBuf> {
+    /// The run, step by step, from t = 0 or from a checkpoint (`resume`). The first step runs
+    /// before anything is written: then every PETSc option has been read, and an unknown one is
+    /// an error that leaves no half-made (or, resuming, no truncated) run directory.
+    fn execute(&mut self, resume: Option<RunState>) -> Result<PathBuf> {
         let out = self.out_dir();
         let t_start = Instant::now();
         let stages = (Stage::register("Solve")?, Stage::register("Output")?);
-        let mut pg = Progress { nominal: self.schedule.dt0, ..Default::default() };
-        self.settle(stages.0)?;
-        // Settling's iterations are not the experiment's.
-        (pg.newton, pg.ksp) = self.ts.solver_totals()?;
-        let initial = self.u.copy()?;
-        // The history at t = 0, for the first row: the first step commits its own.
-        let history0 = self.ts.problem().disc.history.clone();
-        let mut prev = self.u.duplicate()?;
-        let first = self.advance(&mut pg, &mut prev, stages.0)?;
-        self.check_options()?;
-        let mut rec = self.open_output(&out)?;
-        self.announce(&out);
-        let initial_row = StepRow { step: 0, t: 0.0, dt: 0.0, its: (0, 0), wall: t_start.elapsed().as_secs_f64() };
-        self.write_initial(&mut rec, &initial, history0, &initial_row, stages.1)?;
-        let mut cur = self.u.duplicate()?;
-        let mut step = first;
-        loop {
-            self.output_step(&mut rec, &mut pg, &mut cur, &prev, step, t_start, stages.1)?;
-            self.progress(&pg, step.0, step.1, t_start);
-            self.check_jacobian(&pg, step.0, &cur, &prev)?;
-            if self.schedule.done(pg.t) {
-                break;
+        let resuming = resume.is_some();
+        let (mut pg, history0) = match resume {
+            Some(state) => (self.restore(state)?, None),
+            None => {
+                let mut pg = Progress { nominal: self.schedule.dt0, ..Default::default() };
+                self.settle(stages.0)?;
+                // Settling's iterations are not the experiment's.
+                pg.totals = self.ts.solver_totals()?;
+                // The history at t = 0, for the first row: the first step commits its own.
+                (pg, Some(self.ts.problem().disc.history.clone()))
             }
-            step = self.advance(&mut pg, &mut prev, stages.0)?;
+        };
+        let initial = self.u.copy()?;
+        let mut prev = self.u.duplicate()?;
+        let mut step = self.advance(&mut pg, &mut prev, stages.0)?;
+        self.check_options()?;
+        let mut rec = if resuming { self.reopen_output(&out)? } else { self.open_output(&out)? };
+        self.announce(&out);
+        if let Some(h0) = history0 {
+            let row = StepRow { step: 0, t: 0.0, dt: 0.0, its: (0, 0), wall: t_start.elapsed().as_secs_f64() };
+            self.write_initial(&mut rec, &initial, h0, &row, stages.1)?;
         }
-        self.finish(&rec.dir, &pg, t_start)?;
-        Ok(rec.dir)
+        let stop = StopRequest::install()?;
+        let r = (|| -> Result<()> {
+            let mut cur = self.u.duplicate()?;
+            loop {
+                self.output_step(&mut rec, &mut pg, &mut cur, &prev, step, t_start, stages.1)?;
+                self.progress(&pg, step.0, step.1, t_start);
+                self.check_jacobian(&pg, step.0, &cur, &prev)?;
+                if self.schedule.done(pg.t) {
+                    return Ok(());
+                }
+                let stopping = stop.requested(self.world);
+                if stopping || self.checkpoint_due(&pg) {
+                    let path = self.checkpoint(&rec, &mut pg, t_start)?;
+                    if stopping {
+                        return Err(Error::Stopped(format!(
+                            "stopped by a signal after step {} (t = {}); checkpoint {}; continue with \
+                             `poroplast resume {}`",
+                            pg.step,
+                            pg.t,
+                            path.display(),
+                            rec.dir.display()
+                        )));
+                    }
+                }
+                step = self.advance(&mut pg, &mut prev, stages.0)?;
+            }
+        })();
+        // Whatever ended the run, the directory says so, with the timings so far.
+        let status = match &r {
+            Ok(()) => format!("completed: {} steps, t = {}\n", pg.step, pg.t),
+            Err(e @ Error::Stopped(_)) => format!("{e}\n"),
+            Err(e) => format!("failed after step {} (t = {}): {e}\n", pg.step, pg.t),
+        };
+        let written = if self.rank0() { rundir::write_text(&rec.dir, "status.txt", &status) } else { Ok(()) };
+        agree(self.world, written)?;
+        self.finish(&rec.dir, &pg, t_start, r.is_ok())?;
+        r.map(|()| rec.dir)
+    }
+
+    /// A periodic checkpoint is due after this step: every `output.checkpoint_every` steps, or
+    /// `output.checkpoint_minutes` of wall time after the last (rank 0's clock decides).
+    fn checkpoint_due(&self, pg: &Progress) -> bool {
+        let o = &self.scene.scene.output;
+        if o.checkpoint_every > 0 && pg.step.is_multiple_of(o.checkpoint_every) {
+            return true;
+        }
+        if o.checkpoint_minutes <= 0.0 {
+            return false;
+        }
+        let since = pg.checkpointed.map_or(self.started.elapsed(), |c| c.elapsed()).as_secs_f64();
+        let mut due = u8::from(since >= 60.0 * o.checkpoint_minutes);
+        self.world.process_at_rank(0).broadcast_into(&mut due);
+        due == 1
+    }
+
+    /// Writes the run state after the step just recorded (collective), and makes the next
+    /// solve start as it would after resuming from this checkpoint, so that a resumed run
+    /// repeats the uninterrupted one.
+    fn checkpoint(&mut self, rec: &Recorder, pg: &mut Progress, t_start: Instant) -> Result<PathBuf> {
+        let counters = Counters {
+            step: pg.step,
+            t: pg.t,
+            nominal: pg.nominal,
+            newton: pg.newton,
+            ksp: pg.ksp,
+            rejected: pg.rejected,
+            cuts: pg.cuts_before + self.ts.rejections()?,
+            solve_s: pg.solve_s,
+            output_s: pg.output_s,
+            wall_s: pg.wall_before + t_start.elapsed().as_secs_f64() + self.setup_s,
+            fields_written: rec.fields_written(),
+            outflow: rec.outflow(),
+        };
+        let pb = self.ts.problem_mut();
+        let u_local = pb.localize(&self.u)?;
+        let v_local = match pb.velocity() {
+            Some((v, dt)) => {
+                let v = v.copy()?;
+                Some((pb.localize(&v)?, dt))
+            }
+            None => None,
+        };
+        let pb = self.ts.problem();
+        let mesh = &pb.disc.mesh;
+        let per_elem = pb.disc.history.element(0).len();
+        let state = RunState::gather(
+            self.world,
+            mesh,
+            &pb.disc.dofs,
+            self.n_file_nodes,
+            self.n_file_elems,
+            counters,
+            &u_local,
+            v_local.as_ref().map(|(v, dt)| (v.as_slice(), *dt)),
+            pb.disc.history.export(&mesh.tet_original),
+            per_elem,
+        );
+        // The solver's state between steps (the kept factorised Jacobian), per rank: a run
+        // resumed on as many ranks continues exactly as this one. Where it cannot be saved the
+        // solver starts afresh here, as a resumed run will.
+        let solver = self.ts.nonlinear_solver_state()?;
+        let mut saved = u8::from(solver.is_some());
+        let mut all = 0u8;
+        self.world.all_reduce_into(&saved, &mut all, mpi::collective::SystemOperation::min());
+        saved = all;
+        let solver_written = match (&solver, saved) {
+            (Some(s), 1) => state::write_solver(&rec.dir, pg.step, self.world.rank(), self.world.size(), s),
+            _ => Ok(()),
+        };
+        agree(self.world, solver_written)?;
+        if saved == 0 {
+            self.ts.restart_nonlinear_solver();
+        }
+        let written = if self.rank0() { state.write(&rec.dir).map(Some) } else { Ok(None) };
+        let path = agree(self.world, written)?;
+        let mut name = path.map(|p| p.to_string_lossy().into_owned().into_bytes()).unwrap_or_default();
+        crate::parallel::broadcast_bytes(self.world, 0, &mut name);
+        pg.checkpointed = Some(Instant::now());
+        Ok(PathBuf::from(String::from_utf8_lossy(&name).into_owned()))
+    }
+
+    /// Sets the run state of a checkpoint: U, the velocity, the history, t and the schedule.
+    fn restore(&mut self, state: RunState) -> Result<Progress> {
+        let c = state.counters.clone();
+        let pb = self.ts.problem_mut();
+        let (mesh, dofs) = (&pb.disc.mesh, &pb.disc.dofs);
+        state::to_owned(mesh, dofs, &state.state, &mut self.u)?;
+        let velocity = match &state.velocity {
+            Some((v, dt)) => {
+                let mut x = self.u.duplicate()?;
+                state::to_owned(mesh, dofs, v, &mut x)?;
+                Some((x, *dt))
+            }
+            None => None,
+        };
+        let per_elem = pb.disc.history.element(0).len();
+        if per_elem > 0 {
+            let h = &state.history;
+            let original = mesh.tet_original.clone();
+            pb.disc
+                .history
+                .import(&original, |o| Some(h[o as usize * per_elem..(o as usize + 1) * per_elem].to_vec()))?;
+        }
+        pb.set_velocity(velocity);
+        if let Some(ex) = self.observers.as_mut().and_then(|o| o.experiment.as_mut()) {
+            ex.set_outflow(c.outflow);
+        }
+        self.ts.set_time(c.t)?;
+        // Rows of steps 0..=step.
+        self.resumed = Some((c.step + 1, c.fields_written));
+        Ok(Progress::resumed(&c))
     }
 
     /// The run log's opening lines (rank 0).
@@ -624,15 +689,15 @@ impl<'w> Run<'w> {
         ));
     }
 
-    /// timings.txt and the closing line.
-    fn finish(&self, dir: &Path, pg: &Progress, t_start: Instant) -> Result<()> {
+    /// timings.txt, and the closing line of a completed run.
+    fn finish(&self, dir: &Path, pg: &Progress, t_start: Instant, completed: bool) -> Result<()> {
         let timers = self.ts.problem().timers;
-        let cuts = self.ts.rejections()?;
-        let total = t_start.elapsed().as_secs_f64() + self.setup_s;
+        let cuts = pg.cuts_before + self.ts.rejections()?;
+        let total = pg.wall_before + t_start.elapsed().as_secs_f64() + self.setup_s;
         let assembly = timers.residual_s + timers.jacobian_s;
         let rss = crate::parallel::max(self.world, peak_rss_mib());
         let summary = format!(
-            "# poroplast timings (seconds, rank 0; wall clock)\nranks = {}\ndofs = {}\nsteps = {}\nstep_cuts = {}\nerror_rejections = {}\nnewton_its = {}\nksp_its = {}\nsetup = {:.3}\nresidual_assembly = {:.3}\nresidual_evaluations = {}\njacobian_assembly = {:.3}\njacobian_evaluations = {}\nhistory_commit = {:.3}\nsolve_total = {:.3}\nlinear_solve_and_other = {:.3}\noutput = {:.3}\ntotal = {:.3}\nmax_rss_mib = {:.1}\n",
+            "# poroplast timings (seconds, rank 0; wall clock; after a resume the stage times are this session's,\n# the counts and the total the whole run's)\nranks = {}\ndofs = {}\nsteps = {}\nstep_cuts = {}\nerror_rejections = {}\nnewton_its = {}\nksp_its = {}\nsetup = {:.3}\nresidual_assembly = {:.3}\nresidual_evaluations = {}\njacobian_assembly = {:.3}\njacobian_evaluations = {}\nhistory_commit = {:.3}\nsolve_total = {:.3}\nlinear_solve_and_other = {:.3}\noutput = {:.3}\ntotal = {:.3}\nmax_rss_mib = {:.1}\n",
             self.world.size(),
             self.n_global_dofs,
             pg.step,
@@ -652,8 +717,10 @@ impl<'w> Run<'w> {
             total,
             rss
         );
-        if self.rank0() {
-            rundir::write_text(dir, "timings.txt", &summary)?;
+        let written = if self.rank0() { rundir::write_text(dir, "timings.txt", &summary) } else { Ok(()) };
+        agree(self.world, written)?;
+        if !completed {
+            return Ok(());
         }
         self.say(&format!(
             "done: {} steps, {} Newton, {} Krylov iterations, {} step cuts, {} rejected by the error estimate, {:.1} s (setup {:.1}, assembly {:.1}, solve {:.1}, output {:.1})",
@@ -671,6 +738,10 @@ impl<'w> Run<'w> {
         Ok(())
     }
 }
+
+/// Exit code of a run stopped by a signal after writing its checkpoint (EX_TEMPFAIL: try
+/// again, with `poroplast resume`).
+pub const EXIT_STOPPED: i32 = 75;
 
 /// Default c of the pressure stabilisation: 4 lumps the P1 mass of the undrained constraint
 /// exactly (see `fem::kernel::ElementKernel::stab`).

@@ -6,6 +6,9 @@
 //! * `/mesh/topology`: `i64`, M×10, global node ids of each quadratic tetrahedron **in VTK/XDMF order**
 //!   (see below), row = global cell id.
 //! * `/time`: `f64`, 1-D, extendible; `time[k]` is the time of step `k`.
+//! * `/step_mesh`: `i64`, 1-D, extendible: the mesh group step `k` uses, 0 for `/mesh`, g for
+//!   `/mesh_g` — a run resumed on another rank count numbers the nodes differently and writes
+//!   its mesh again ([`FieldFile::reopen`]).
 //! * `/fields/<name>/<k as 6 digits>`: `f64`; N (node scalar), N×3 (node vector), M (cell scalar) or
 //!   M×3 (cell vector) values of field `<name>` at step `k`. A field may be absent from some steps.
 //!
@@ -137,12 +140,16 @@ pub struct Field<'a> {
 struct StepRecord {
     time: f64,
     fields: Vec<(String, FieldKind)>,
+    /// The mesh group its grid uses (0: `/mesh`, g: `/mesh_g`; see [`FieldFile::reopen`]).
+    mesh: i64,
 }
 
 /// An open `fields.h5` + `fields.xdmf` pair; see the module documentation.
 pub struct FieldFile {
     // Field order matters for Drop: datasets are closed before the file, the communicator last.
     time_ds: hdf5::Dataset,
+    /// `/step_mesh`: the mesh group of every step.
+    step_mesh_ds: hdf5::Dataset,
     file: hdf5::File,
     comm: SimpleCommunicator,
     h5_path: PathBuf,
@@ -156,6 +163,8 @@ pub struct FieldFile {
     kinds: BTreeMap<String, FieldKind>,
     steps: Vec<StepRecord>,
     xdmf_grids: String,
+    /// The mesh group this run's numbering is written in.
+    mesh: i64,
 }
 
 fn h5err(path: &Path, what: &str, e: hdf5::Error) -> Error {
@@ -248,6 +257,42 @@ fn check_mesh(mesh: &OutputMesh, dir: &Path) -> std::result::Result<(), String> 
     Ok(())
 }
 
+/// Name of mesh group g.
+fn mesh_group(g: i64) -> String {
+    if g == 0 {
+        "mesh".into()
+    } else {
+        format!("mesh_{g}")
+    }
+}
+
+/// Writes the mesh as group `g` (collective: the datasets; independent: each rank's rows).
+fn write_mesh(file: &hdf5::File, comm: &SimpleCommunicator, path: &Path, mesh: &OutputMesh, g: i64) -> Result<()> {
+    let made = (|| -> hdf5::Result<(hdf5::Dataset, hdf5::Dataset)> {
+        let grp = file.create_group(&mesh_group(g))?;
+        let xyz = grp.new_dataset::<f64>().shape([mesh.n_global_nodes, 3]).create("coordinates")?;
+        let topo = grp.new_dataset::<i64>().shape([mesh.n_global_cells, 10]).create("topology")?;
+        Ok((xyz, topo))
+    })()
+    .map_err(|e| h5err(path, "cannot create mesh datasets", e));
+    let (xyz_ds, topo_ds) = agree(comm, made)?;
+    let written = (|| -> hdf5::Result<()> {
+        if !mesh.coords.is_empty() {
+            let r = mesh.node_offset..mesh.node_offset + mesh.coords.len();
+            xyz_ds.write_slice::<_, f64, _, _>(mesh.coords, (r, ..))?;
+        }
+        if !mesh.cells.is_empty() {
+            let topo: Vec<[i64; 10]> =
+                mesh.cells.iter().map(|c| std::array::from_fn(|i| i64::from(c[GMSH_TO_XDMF_TET10[i]]))).collect();
+            let r = mesh.cell_offset..mesh.cell_offset + mesh.cells.len();
+            topo_ds.write_slice::<_, i64, _, _>(topo.as_slice(), (r, ..))?;
+        }
+        Ok(())
+    })()
+    .map_err(|e| h5err(path, "cannot write mesh", e));
+    agree(comm, written)
+}
+
 impl FieldFile {
     /// Creates (truncating) `dir/fields.h5` and `dir/fields.xdmf` and writes the mesh. Collective
     /// over `comm`; `dir` must exist and be the same shared directory on every rank.
@@ -294,35 +339,15 @@ impl FieldFile {
         let file = agree(&comm, file)?;
 
         // Collective: groups and datasets.
-        let made = (|| -> hdf5::Result<(hdf5::Dataset, hdf5::Dataset, hdf5::Dataset)> {
-            let g = file.create_group("mesh")?;
+        let made = (|| -> hdf5::Result<(hdf5::Dataset, hdf5::Dataset)> {
             file.create_group("fields")?;
-            let xyz = g.new_dataset::<f64>().shape([mesh.n_global_nodes, 3]).create("coordinates")?;
-            let topo = g.new_dataset::<i64>().shape([mesh.n_global_cells, 10]).create("topology")?;
             let time = file.new_dataset::<f64>().chunk(256).shape((0..,)).create("time")?;
-            Ok((xyz, topo, time))
+            let step_mesh = file.new_dataset::<i64>().chunk(256).shape((0..,)).create("step_mesh")?;
+            Ok((time, step_mesh))
         })()
-        .map_err(|e| h5err(&h5_path, "cannot create mesh datasets", e));
-        let (xyz_ds, topo_ds, time_ds) = agree(&comm, made)?;
-
-        // Independent: each rank writes its rows.
-        let written = (|| -> hdf5::Result<()> {
-            if !mesh.coords.is_empty() {
-                let r = mesh.node_offset..mesh.node_offset + mesh.coords.len();
-                xyz_ds.write_slice::<_, f64, _, _>(mesh.coords, (r, ..))?;
-            }
-            if !mesh.cells.is_empty() {
-                let topo: Vec<[i64; 10]> =
-                    mesh.cells.iter().map(|c| std::array::from_fn(|i| i64::from(c[GMSH_TO_XDMF_TET10[i]]))).collect();
-                let r = mesh.cell_offset..mesh.cell_offset + mesh.cells.len();
-                topo_ds.write_slice::<_, i64, _, _>(topo.as_slice(), (r, ..))?;
-            }
-            Ok(())
-        })()
-        .map_err(|e| h5err(&h5_path, "cannot write mesh", e));
-        agree(&comm, written)?;
-        drop(xyz_ds);
-        drop(topo_ds);
+        .map_err(|e| h5err(&h5_path, "cannot create datasets", e));
+        let (time_ds, step_mesh_ds) = agree(&comm, made)?;
+        write_mesh(&file, &comm, &h5_path, mesh, 0)?;
 
         let mut ff = FieldFile {
             time_ds,
@@ -339,7 +364,109 @@ impl FieldFile {
             kinds: BTreeMap::new(),
             steps: Vec::new(),
             xdmf_grids: String::new(),
+            step_mesh_ds,
+            mesh: 0,
         };
+        ff.flush_and_index()?;
+        Ok(ff)
+    }
+
+    /// Reopens the pair in `dir` written by [`create`](Self::create) to continue a run after
+    /// its first `keep` steps (collective): later steps are removed, and the next step is
+    /// number `keep`. If this run numbers the mesh differently (another rank count), its mesh
+    /// is written as a new group `/mesh_g` that the following steps use.
+    pub fn reopen(dir: &Path, comm: &SimpleCommunicator, mesh: &OutputMesh, keep: usize) -> Result<Self> {
+        let comm = comm.duplicate();
+        let h5_path = dir.join(H5_NAME);
+        let xdmf_path = dir.join(XDMF_NAME);
+        let local = check_mesh(mesh, dir).map_err(|m| Error::io(&h5_path, m));
+        agree(&comm, local)?;
+        let file = hdf5::File::with_options()
+            .with_fapl(|p| p.mpio(comm.as_raw(), None))
+            .open_rw(&h5_path)
+            .map_err(|e| h5err(&h5_path, "cannot open HDF5 file", e));
+        let file = agree(&comm, file)?;
+        // Collective metadata: the steps kept, and the mesh groups.
+        let read = (|| -> hdf5::Result<(hdf5::Dataset, hdf5::Dataset, Vec<f64>, Vec<i64>, Vec<String>)> {
+            let time_ds = file.dataset("time")?;
+            let step_mesh_ds = file.dataset("step_mesh")?;
+            let times: Vec<f64> = time_ds.read_raw()?;
+            let meshes: Vec<i64> = step_mesh_ds.read_raw()?;
+            Ok((time_ds, step_mesh_ds, times, meshes, file.group("fields")?.member_names()?))
+        })()
+        .map_err(|e| h5err(&h5_path, "cannot read the steps written", e));
+        let (time_ds, step_mesh_ds, times, meshes, names) = agree(&comm, read)?;
+        if times.len() < keep || meshes.len() < keep {
+            return Err(Error::io(&h5_path, format!("has {} steps, the checkpoint needs {keep}", times.len())));
+        }
+        let mut steps: Vec<StepRecord> =
+            (0..keep).map(|k| StepRecord { time: times[k], fields: vec![], mesh: meshes[k] }).collect();
+        let mut kinds = BTreeMap::new();
+        let trimmed = (|| -> hdf5::Result<()> {
+            for name in &names {
+                let g = file.group(&format!("fields/{name}"))?;
+                for ds_name in g.member_names()? {
+                    let k: usize = ds_name.parse().unwrap_or(usize::MAX);
+                    if k >= keep {
+                        g.unlink(&ds_name)?;
+                        continue;
+                    }
+                    let shape = g.dataset(&ds_name)?.shape();
+                    let on_nodes = shape[0] == mesh.n_global_nodes;
+                    let kind = match (on_nodes, shape.len()) {
+                        (true, 1) => FieldKind::NodeScalar,
+                        (true, _) => FieldKind::NodeVector,
+                        (false, 1) => FieldKind::CellScalar,
+                        (false, _) => FieldKind::CellVector,
+                    };
+                    kinds.insert(name.clone(), kind);
+                    steps[k].fields.push((name.clone(), kind));
+                }
+            }
+            time_ds.resize(keep)?;
+            step_mesh_ds.resize(keep)?;
+            Ok(())
+        })()
+        .map_err(|e| h5err(&h5_path, "cannot remove the steps after the checkpoint", e));
+        agree(&comm, trimmed)?;
+        // The mesh group of this numbering: the last one, if it holds this rank's rows as they
+        // are here on every rank; else a new one.
+        let last = meshes[..keep].iter().copied().max().unwrap_or(0);
+        let same = (|| -> hdf5::Result<bool> {
+            let g = file.group(&mesh_group(last))?;
+            let xyz: Vec<f64> = g.dataset("coordinates")?.read_raw()?;
+            let mine = xyz.get(3 * mesh.node_offset..3 * (mesh.node_offset + mesh.coords.len()));
+            Ok(mine.is_some_and(|m| m.chunks(3).zip(mesh.coords).all(|(a, b)| a == b.as_slice())))
+        })()
+        .map_err(|e| h5err(&h5_path, "cannot read the mesh", e));
+        let same = agree(&comm, same)?;
+        let mut all_same = u8::from(same);
+        let mut out = 0u8;
+        comm.all_reduce_into(&all_same, &mut out, SystemOperation::min());
+        all_same = out;
+        let group = if all_same == 1 { last } else { last + 1 };
+        if group != last {
+            write_mesh(&file, &comm, &h5_path, mesh, group)?;
+        }
+        let mut ff = FieldFile {
+            time_ds,
+            file,
+            comm,
+            h5_path,
+            xdmf_path,
+            n_global_nodes: mesh.n_global_nodes,
+            node_offset: mesh.node_offset,
+            n_local_nodes: mesh.coords.len(),
+            n_global_cells: mesh.n_global_cells,
+            cell_offset: mesh.cell_offset,
+            n_local_cells: mesh.cells.len(),
+            kinds,
+            steps,
+            xdmf_grids: String::new(),
+            step_mesh_ds,
+            mesh: group,
+        };
+        ff.xdmf_grids = (0..keep).map(|k| ff.step_grid(k)).collect();
         ff.flush_and_index()?;
         Ok(ff)
     }
@@ -412,6 +539,7 @@ impl FieldFile {
         // Collective metadata: extend /time, create this step's datasets.
         let created = (|| -> hdf5::Result<Vec<hdf5::Dataset>> {
             self.time_ds.resize(k + 1)?;
+            self.step_mesh_ds.resize(k + 1)?;
             let mut out = Vec::with_capacity(fields.len());
             for f in fields {
                 let group = match self.kinds.contains_key(f.name) {
@@ -438,6 +566,7 @@ impl FieldFile {
         let written = (|| -> hdf5::Result<()> {
             if self.comm.rank() == 0 {
                 self.time_ds.write_slice(&[time][..], k..k + 1)?;
+                self.step_mesh_ds.write_slice(&[self.mesh][..], k..k + 1)?;
             }
             for (f, ds) in fields.iter().zip(&datasets) {
                 let (off, n) = if f.kind.on_nodes() {
@@ -461,7 +590,11 @@ impl FieldFile {
         agree(&self.comm, written)?;
         drop(datasets);
 
-        self.steps.push(StepRecord { time, fields: fields.iter().map(|f| (f.name.to_string(), f.kind)).collect() });
+        self.steps.push(StepRecord {
+            time,
+            fields: fields.iter().map(|f| (f.name.to_string(), f.kind)).collect(),
+            mesh: self.mesh,
+        });
         let grid = self.step_grid(k);
         self.xdmf_grids.push_str(&grid);
         self.flush_and_index()
@@ -469,8 +602,9 @@ impl FieldFile {
 
     /// Flushes and closes the file (collective), reporting errors that `Drop` would swallow.
     pub fn close(self) -> Result<()> {
-        let FieldFile { time_ds, file, comm, h5_path, .. } = self;
+        let FieldFile { time_ds, step_mesh_ds, file, comm, h5_path, .. } = self;
         drop(time_ds);
+        drop(step_mesh_ds);
         let r = file.close().map_err(|e| h5err(&h5_path, "cannot close", e));
         agree(&comm, r)
     }
@@ -490,8 +624,9 @@ impl FieldFile {
         )
     }
 
-    fn mesh_xml(&self, indent: &str) -> String {
+    fn mesh_xml(&self, indent: &str, group: i64) -> String {
         let (n, m) = (self.n_global_nodes, self.n_global_cells);
+        let g = mesh_group(group);
         format!(
             "{indent}<Topology TopologyType=\"{XDMF_TOPOLOGY_TYPE}\" NumberOfElements=\"{m}\" NodesPerElement=\"10\">\n\
              {indent}  {}\n\
@@ -499,8 +634,8 @@ impl FieldFile {
              {indent}<Geometry GeometryType=\"XYZ\">\n\
              {indent}  {}\n\
              {indent}</Geometry>\n",
-            self.data_item(&format!("{m} 10"), "Int", "/mesh/topology"),
-            self.data_item(&format!("{n} 3"), "Float", "/mesh/coordinates"),
+            self.data_item(&format!("{m} 10"), "Int", &format!("/{g}/topology")),
+            self.data_item(&format!("{n} 3"), "Float", &format!("/{g}/coordinates")),
         )
     }
 
@@ -509,7 +644,7 @@ impl FieldFile {
         let mut s = String::new();
         let _ = writeln!(s, "      <Grid Name=\"step_{k:06}\" GridType=\"Uniform\">");
         let _ = writeln!(s, "        <Time Value=\"{}\"/>", fmt_real(step.time));
-        s.push_str(&self.mesh_xml("        "));
+        s.push_str(&self.mesh_xml("        ", step.mesh));
         for (name, kind) in &step.fields {
             let rows = if kind.on_nodes() { self.n_global_nodes } else { self.n_global_cells };
             let (ty, dims) = match kind.components() {
@@ -530,7 +665,7 @@ impl FieldFile {
         let mut s = String::from("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n");
         if self.steps.is_empty() {
             s.push_str("    <Grid Name=\"mesh\" GridType=\"Uniform\">\n");
-            s.push_str(&self.mesh_xml("      "));
+            s.push_str(&self.mesh_xml("      ", self.mesh));
             s.push_str("    </Grid>\n");
         } else {
             s.push_str("    <Grid Name=\"fields\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");

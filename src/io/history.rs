@@ -31,6 +31,17 @@ impl History {
     /// `"step"`, `"newton_its"`) are printed as integers, and a non-integral value there is an error.
     /// Names must be non-empty, unique, and free of `,`, `"` and line breaks.
     pub fn create(path: &Path, columns: &[&str], integer_columns: &[&str], is_root: bool) -> Result<Self> {
+        let mut h = History::create_handle(path, columns, integer_columns)?;
+        if is_root {
+            let mut f = File::create(path).map_err(|e| Error::io(path, e))?;
+            writeln!(f, "{}", columns.join(",")).map_err(|e| Error::io(path, e))?;
+            h.file = Some(f);
+        }
+        Ok(h)
+    }
+
+    /// A handle with checked columns and no file yet.
+    fn create_handle(path: &Path, columns: &[&str], integer_columns: &[&str]) -> Result<Self> {
         if columns.is_empty() {
             return Err(Error::io(path, "history needs at least one column"));
         }
@@ -45,19 +56,36 @@ impl History {
         if let Some(bad) = integer_columns.iter().find(|c| !columns.contains(c)) {
             return Err(Error::io(path, format!("integer column {bad:?} is not among the columns")));
         }
-        let file = if is_root {
-            let mut f = File::create(path).map_err(|e| Error::io(path, e))?;
-            writeln!(f, "{}", columns.join(",")).map_err(|e| Error::io(path, e))?;
-            Some(f)
-        } else {
-            None
-        };
         Ok(History {
             path: path.to_path_buf(),
-            file,
+            file: None,
             columns: columns.iter().map(|c| c.to_string()).collect(),
             integer: columns.iter().map(|c| integer_columns.contains(c)).collect(),
         })
+    }
+
+    /// Reopens the CSV at `path` to continue it after its first `keep` rows (rank 0 truncates
+    /// the rest): the header must be `columns`, and the file must hold at least `keep` rows.
+    pub fn reopen(path: &Path, columns: &[&str], integer_columns: &[&str], keep: usize, is_root: bool) -> Result<Self> {
+        let mut h = History::create_handle(path, columns, integer_columns)?;
+        if is_root {
+            let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+            let mut lines = text.split_inclusive('\n');
+            let head = lines.next().unwrap_or("");
+            if head.trim_end() != columns.join(",") {
+                return Err(Error::io(path, "its columns are not this run's (was the scene changed?)"));
+            }
+            let kept: Vec<&str> = lines.take(keep).collect();
+            if kept.len() < keep || kept.last().is_some_and(|l| !l.ends_with('\n')) {
+                return Err(Error::io(path, format!("has fewer than the {keep} complete rows of the checkpoint")));
+            }
+            let len = (head.len() + kept.iter().map(|l| l.len()).sum::<usize>()) as u64;
+            let f = std::fs::OpenOptions::new().write(true).open(path).map_err(|e| Error::io(path, e))?;
+            f.set_len(len).map_err(|e| Error::io(path, e))?;
+            drop(f);
+            h.file = Some(std::fs::OpenOptions::new().append(true).open(path).map_err(|e| Error::io(path, e))?);
+        }
+        Ok(h)
     }
 
     /// The column names.

@@ -68,26 +68,45 @@ impl Recorder {
 
     /// Creates `fields.h5/.xdmf` (if fields are written) and `history.csv` in `dir` (collective).
     pub fn create(world: &SimpleCommunicator, dir: &Path, mesh: &LocalMesh, obs: Observers) -> Result<Recorder> {
-        let cells: Vec<[u32; 10]> =
-            mesh.tets.iter().map(|t| std::array::from_fn(|a| mesh.node_global[t[a] as usize])).collect();
-        let coords: Vec<[f64; 3]> = mesh.coords[..mesh.n_owned_nodes].to_vec();
-        let omesh = OutputMesh {
-            n_global_nodes: mesh.n_global_nodes,
-            node_offset: mesh.node_offset,
-            coords: &coords,
-            n_global_cells: mesh.n_global_elems,
-            cell_offset: mesh.elem_offset,
-            cells: &cells,
-        };
-        let fields = if obs.fields { Some(FieldFile::create(dir, world, &omesh)?) } else { None };
+        let (cells, coords) = output_mesh(mesh);
+        let fields =
+            if obs.fields { Some(FieldFile::create(dir, world, &omesh(mesh, &coords, &cells))?) } else { None };
         let cols = Self::columns(&obs);
         let colrefs: Vec<&str> = cols.iter().map(|c| c.as_str()).collect();
-        let ints: Vec<&str> = ["step", "newton_its", "ksp_its", "contact_nodes_upper", "contact_nodes_lower"]
-            .into_iter()
-            .filter(|c| colrefs.contains(c))
-            .collect();
-        let history = History::create(&dir.join("history.csv"), &colrefs, &ints, world.rank() == 0)?;
+        let history =
+            History::create(&dir.join("history.csv"), &colrefs, &integer_columns(&colrefs), world.rank() == 0)?;
         Ok(Recorder { dir: dir.to_path_buf(), fields, history, obs, mid_edges: mid_edge_nodes(mesh) })
+    }
+
+    /// Reopens the outputs of `dir` to continue a run: `history.csv` after its first `rows`
+    /// rows, the fields after their first `fields` steps (collective).
+    pub fn reopen(
+        world: &SimpleCommunicator,
+        dir: &Path,
+        mesh: &LocalMesh,
+        obs: Observers,
+        rows: usize,
+        fields: usize,
+    ) -> Result<Recorder> {
+        let (cells, coords) = output_mesh(mesh);
+        let fields =
+            if obs.fields { Some(FieldFile::reopen(dir, world, &omesh(mesh, &coords, &cells), fields)?) } else { None };
+        let cols = Self::columns(&obs);
+        let colrefs: Vec<&str> = cols.iter().map(|c| c.as_str()).collect();
+        let history =
+            History::reopen(&dir.join("history.csv"), &colrefs, &integer_columns(&colrefs), rows, world.rank() == 0);
+        let history = crate::parallel::agree(world, history)?;
+        Ok(Recorder { dir: dir.to_path_buf(), fields, history, obs, mid_edges: mid_edge_nodes(mesh) })
+    }
+
+    /// Steps written to the fields file so far.
+    pub fn fields_written(&self) -> usize {
+        self.fields.as_ref().map_or(0, |f| f.n_steps())
+    }
+
+    /// The experiment's time-integrated outflow so far (0 without plates).
+    pub fn outflow(&self) -> f64 {
+        self.obs.experiment.as_ref().map_or(0.0, |e| e.outflow())
     }
 
     /// One history row (and fields if asked) for state `u` reached from `prev` in the step `row`.
@@ -173,6 +192,29 @@ impl Recorder {
             ff.write_step(row.t, &fields)?;
         }
         Ok(())
+    }
+}
+
+/// The integer columns among `cols`.
+fn integer_columns<'a>(cols: &[&'a str]) -> Vec<&'a str> {
+    const INTEGER: [&str; 5] = ["step", "newton_its", "ksp_its", "contact_nodes_upper", "contact_nodes_lower"];
+    cols.iter().copied().filter(|c| INTEGER.contains(c)).collect()
+}
+
+/// This rank's cells (global node ids) and owned node coordinates, for the fields file.
+fn output_mesh(mesh: &LocalMesh) -> (Vec<[u32; 10]>, Vec<[f64; 3]>) {
+    let cells = mesh.tets.iter().map(|t| std::array::from_fn(|a| mesh.node_global[t[a] as usize])).collect();
+    (cells, mesh.coords[..mesh.n_owned_nodes].to_vec())
+}
+
+fn omesh<'a>(mesh: &LocalMesh, coords: &'a [[f64; 3]], cells: &'a [[u32; 10]]) -> OutputMesh<'a> {
+    OutputMesh {
+        n_global_nodes: mesh.n_global_nodes,
+        node_offset: mesh.node_offset,
+        coords,
+        n_global_cells: mesh.n_global_elems,
+        cell_offset: mesh.elem_offset,
+        cells,
     }
 }
 

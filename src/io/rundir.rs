@@ -57,8 +57,15 @@ pub fn default_run_dir(scene_stem: &str) -> PathBuf {
 }
 
 /// `runs/<scene_stem>-<YYYYmmdd-HHMMSS>` for `unix_secs` seconds since 1970-01-01T00:00:00Z.
+/// The stem is reduced to a plain name (a scene `name` of `../../x` or `/abs` stays in `runs/`).
 pub fn default_run_dir_at(scene_stem: &str, unix_secs: u64) -> PathBuf {
-    Path::new("runs").join(format!("{scene_stem}-{}", utc_stamp(unix_secs)))
+    let safe: String = scene_stem
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.') { c } else { '_' })
+        .collect();
+    let safe = safe.trim_start_matches('.');
+    let safe = if safe.is_empty() { "run" } else { safe };
+    Path::new("runs").join(format!("{safe}-{}", utc_stamp(unix_secs)))
 }
 
 /// `YYYYmmdd-HHMMSS` (UTC) for `unix_secs` seconds since the Unix epoch (proleptic Gregorian).
@@ -85,6 +92,21 @@ fn civil_from_days(days: i64) -> (i64, u32, u32) {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn default_run_dir_stays_in_runs() {
+        for name in ["../../x", "/etc/passwd", "..", "a/b", ""] {
+            let d = super::default_run_dir_at(name, 0);
+            assert_eq!(d.components().count(), 2, "{name:?} -> {}", d.display());
+            assert!(d.starts_with("runs"), "{name:?} -> {}", d.display());
+            assert!(
+                d.components().all(|c| matches!(c, std::path::Component::Normal(_))),
+                "{name:?} -> {}",
+                d.display()
+            );
+        }
+        assert_eq!(super::default_run_dir_at("remodel_40", 0), std::path::Path::new("runs/remodel_40-19700101-000000"));
+    }
+
     use super::*;
 
     fn tmp(name: &str) -> PathBuf {

@@ -40,6 +40,14 @@ pub fn mesh_file(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<Path
         return Err(Error::mesh(&local, "geometry source not found (not a file, nor a shipped .geo)"));
     };
     let params: Vec<(String, f64)> = spec.params.iter().map(|(k, v)| (k.clone(), *v)).collect();
+    // gmsh ignores a -setnumber it has no DefineConstant for: a typo would go unnoticed.
+    let known = define_constants(&source);
+    if let Some((k, _)) = params.iter().find(|(k, _)| !known.contains(&k.as_str())) {
+        return Err(Error::Scene {
+            path: scene.source.clone(),
+            msg: format!("mesh.params.{k}: {name} has no parameter `{k}` (it has: {})", known.join(", ")),
+        });
+    }
     let mut path = Vec::new();
     let r = if world.rank() == 0 {
         crate::mesh::generate::cached(&name, &source, &params, 2, &cache_dir())
@@ -52,6 +60,17 @@ pub fn mesh_file(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<Path
     Ok(PathBuf::from(String::from_utf8_lossy(&path).into_owned()))
 }
 
+/// The parameters a `.geo` source declares with `DefineConstant[ name = ... ]`.
+fn define_constants(source: &str) -> Vec<&str> {
+    source
+        .lines()
+        .filter_map(|l| l.trim_start().strip_prefix("DefineConstant["))
+        .filter_map(|rest| rest.split('=').next())
+        .map(str::trim)
+        .filter(|n| !n.is_empty())
+        .collect()
+}
+
 /// Reads the mesh file and applies the scene's reflections.
 pub fn read_mesh(path: &Path, scene: &LoadedScene) -> Result<Mesh> {
     let mut mesh = gmsh::read(path)?;
@@ -59,4 +78,16 @@ pub fn read_mesh(path: &Path, scene: &LoadedScene) -> Result<Mesh> {
         mesh = crate::mesh::mirror::mirror(&mesh, plane)?;
     }
     Ok(mesh)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn geo_parameters_are_the_define_constants() {
+        let names = super::define_constants(crate::mesh::generate::SPHERE_QUARTER_GEO);
+        for p in ["R", "h", "h_pole", "r_pole", "h_edge", "r_edge", "w_edge"] {
+            assert!(names.contains(&p), "{p} not in {names:?}");
+        }
+        assert!(!names.contains(&"h_pol"));
+    }
 }

@@ -1,7 +1,7 @@
 //! `Mat` (parallel AIJ with exact preallocation) and `MatNullSpace` (rigid-body modes) wrappers.
 
 use super::{check, ffi, pbool, Int, Vector};
-use crate::error::Result;
+use crate::error::{Error, Result};
 
 /// An owned PETSc matrix.
 pub struct Mat {
@@ -234,6 +234,41 @@ impl RawBlock {
 }
 
 impl Mat {
+    /// The values of the locally owned rows (diagonal block, then off-diagonal block), in
+    /// storage order: with [`set_local_values`](Self::set_local_values) on a matrix of the
+    /// same pattern, a copy.
+    pub fn local_values(&mut self) -> Result<Vec<f64>> {
+        self.with_local_csr(|c| {
+            let mut v = c.diag.vals.to_vec();
+            if let Some(o) = &c.off {
+                v.extend_from_slice(o.vals);
+            }
+            Ok(v)
+        })
+    }
+
+    /// Sets the values of the locally owned rows from [`local_values`](Self::local_values) of a
+    /// matrix with the same pattern, and assembles.
+    pub fn set_local_values(&mut self, values: &[f64]) -> Result<()> {
+        self.with_local_csr(|c| {
+            let nd = c.diag.vals.len();
+            let no = c.off.as_ref().map_or(0, |o| o.vals.len());
+            if values.len() != nd + no {
+                return Err(Error::Solver(format!(
+                    "saved matrix values: {} on this rank, the matrix has {}",
+                    values.len(),
+                    nd + no
+                )));
+            }
+            c.diag.vals.copy_from_slice(&values[..nd]);
+            if let Some(o) = c.off.as_mut() {
+                o.vals.copy_from_slice(&values[nd..]);
+            }
+            Ok(())
+        })?;
+        self.assemble()
+    }
+
     /// Runs `f` with direct access to the local CSR blocks of an assembled AIJ matrix. Values
     /// written there bypass `MatSetValues` (and its per-entry search); call [`Mat::assemble`]
     /// afterwards as usual.

@@ -38,7 +38,7 @@ pub use dm::{DmShell, FieldDecomposition};
 pub use is::IndexSet;
 pub use ksp::{Ksp, LuFactor, Pc};
 pub use mat::{CsrBlock, LocalCsr, Mat, NullSpace};
-pub use snes::{ShellSolve, Snes};
+pub use snes::{ShellSolve, Snes, SolverState};
 pub use ts::{Ts, TsProblem, TsRef};
 pub use vec::{Scatter, Vector};
 pub use viewer::Viewer;

@@ -15,6 +15,63 @@ pub trait ShellSolve {
     fn solve(&mut self, snes: Snes, x: &mut Vector) -> Result<()>;
     /// Newton and Krylov iterations summed over every solve so far (failed ones included).
     fn totals(&self) -> (usize, usize);
+    /// Forgets what one solve hands the next (a reused operator or preconditioner), so that
+    /// the next solve starts as after a restart from a checkpoint.
+    fn restart(&mut self) {}
+    /// What one solve hands the next, for a checkpoint on this rank (None: nothing, or nothing
+    /// that can be saved; then [`restart`](Self::restart) makes runs with and without a restart
+    /// agree).
+    fn saved_state(&mut self) -> Result<Option<SolverState>> {
+        Ok(None)
+    }
+    /// Hands the next solve a state of [`saved_state`](Self::saved_state) (same rank count).
+    fn restore_state(&mut self, _state: SolverState) {}
+}
+
+/// A nonlinear solver's state between solves on one rank: the local values of a kept operator,
+/// a set of global indices (e.g. an active set), and counters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolverState {
+    pub values: Vec<f64>,
+    pub indices: Vec<Int>,
+    pub counters: Vec<u64>,
+}
+
+impl SolverState {
+    /// Little-endian bytes: three length-prefixed arrays.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut b = Vec::new();
+        b.extend((self.values.len() as u64).to_le_bytes());
+        self.values.iter().for_each(|v| b.extend(v.to_le_bytes()));
+        b.extend((self.indices.len() as u64).to_le_bytes());
+        self.indices.iter().for_each(|v| b.extend((*v as i64).to_le_bytes()));
+        b.extend((self.counters.len() as u64).to_le_bytes());
+        self.counters.iter().for_each(|v| b.extend(v.to_le_bytes()));
+        b
+    }
+
+    /// The inverse of [`to_bytes`](Self::to_bytes); None for anything else.
+    pub fn from_bytes(b: &[u8]) -> Option<SolverState> {
+        let mut at = 0;
+        let mut word = || -> Option<[u8; 8]> {
+            let w = b.get(at..at + 8)?.try_into().ok()?;
+            at += 8;
+            Some(w)
+        };
+        let mut values = vec![0.0; u64::from_le_bytes(word()?) as usize];
+        for v in values.iter_mut() {
+            *v = f64::from_le_bytes(word()?);
+        }
+        let mut indices = vec![0 as Int; u64::from_le_bytes(word()?) as usize];
+        for v in indices.iter_mut() {
+            *v = i64::from_le_bytes(word()?) as Int;
+        }
+        let mut counters = vec![0u64; u64::from_le_bytes(word()?) as usize];
+        for v in counters.iter_mut() {
+            *v = u64::from_le_bytes(word()?);
+        }
+        (at == b.len()).then_some(SolverState { values, indices, counters })
+    }
 }
 
 /// The solver behind a SNESSHELL's context (a thin pointer to the boxed trait object).

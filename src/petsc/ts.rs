@@ -287,6 +287,26 @@ impl<P: TsProblem> Ts<P> {
         let shell = self.shell.insert(Box::new(solver));
         snes.set_shell(shell)
     }
+    /// Makes the next nonlinear solve start afresh (see [`ShellSolve::restart`]); PETSc's own
+    /// SNES keeps nothing between time steps that a restart would lose.
+    pub fn restart_nonlinear_solver(&mut self) {
+        if let Some(s) = self.shell.as_mut() {
+            s.restart();
+        }
+    }
+    /// The shell nonlinear solver's state between solves (see [`ShellSolve::saved_state`]).
+    pub fn nonlinear_solver_state(&mut self) -> Result<Option<super::SolverState>> {
+        match self.shell.as_mut() {
+            Some(s) => s.saved_state(),
+            None => Ok(None),
+        }
+    }
+    /// Hands the shell nonlinear solver a saved state for its next solve.
+    pub fn restore_nonlinear_solver_state(&mut self, state: super::SolverState) {
+        if let Some(s) = self.shell.as_mut() {
+            s.restore_state(state);
+        }
+    }
     /// Newton and Krylov iterations summed over every nonlinear solve so far (failed attempts of
     /// cut steps included).
     pub fn solver_totals(&self) -> Result<(usize, usize)> {

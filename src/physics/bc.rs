@@ -19,26 +19,36 @@ pub struct Constraint {
 
 /// Local faces of a surface group, or an error naming the group and the available ones.
 pub fn face_group<'m>(mesh: &'m LocalMesh, name: &str, context: &str) -> Result<&'m [u32]> {
-    lookup(&mesh.face_groups, mesh, name, context)
+    lookup(&mesh.face_groups, mesh, name, context, "a surface")
 }
 
 /// Local nodes of a point group, or an error naming it and the available groups.
 pub fn point_group<'m>(mesh: &'m LocalMesh, name: &str, context: &str) -> Result<&'m [u32]> {
-    lookup(&mesh.point_groups, mesh, name, context)
+    lookup(&mesh.point_groups, mesh, name, context, "a point")
 }
 
-/// The entry `name` of `groups` (a group list of `mesh`); the error lists all of the mesh's groups.
-fn lookup<'m>(groups: &'m [(String, Vec<u32>)], mesh: &LocalMesh, name: &str, context: &str) -> Result<&'m [u32]> {
-    groups.iter().find(|(n, _)| n == name).map(|(_, v)| v.as_slice()).ok_or_else(|| missing(mesh, name, context))
+/// The entry `name` of `groups` (a group list of `mesh`, of `kind` groups); the error lists the
+/// mesh's groups by kind, or says that `name` is a group of the other kind.
+fn lookup<'m>(
+    groups: &'m [(String, Vec<u32>)],
+    mesh: &LocalMesh,
+    name: &str,
+    context: &str,
+    kind: &str,
+) -> Result<&'m [u32]> {
+    groups.iter().find(|(n, _)| n == name).map(|(_, v)| v.as_slice()).ok_or_else(|| missing(mesh, name, context, kind))
 }
 
-fn missing(mesh: &LocalMesh, name: &str, context: &str) -> Error {
-    let mut names: Vec<&str> = mesh.face_groups.iter().map(|(n, _)| n.as_str()).collect();
-    names.extend(mesh.point_groups.iter().map(|(n, _)| n.as_str()));
-    Error::Mesh {
-        path: context.into(),
-        msg: format!("physical group \"{name}\" not found (the mesh has: {})", names.join(", ")),
-    }
+fn missing(mesh: &LocalMesh, name: &str, context: &str, kind: &str) -> Error {
+    let list = |g: &[(String, Vec<u32>)]| g.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(", ");
+    let (faces, points) = (list(&mesh.face_groups), list(&mesh.point_groups));
+    let other = mesh.face_groups.iter().chain(&mesh.point_groups).any(|(n, _)| n == name);
+    let msg = if other {
+        format!("\"{name}\" is not {kind} group (surface groups: {faces}; point groups: {points})")
+    } else {
+        format!("physical group \"{name}\" not found (surface groups: {faces}; point groups: {points})")
+    };
+    Error::Mesh { path: context.into(), msg }
 }
 
 /// Local nodes touched by a group: all nodes of its faces, or the nodes of a point group.
@@ -53,7 +63,7 @@ pub fn group_nodes(mesh: &LocalMesh, name: &str, context: &str) -> Result<Vec<us
     if let Some((_, nodes)) = mesh.point_groups.iter().find(|(n, _)| n == name) {
         return Ok(nodes.iter().map(|&n| n as usize).collect());
     }
-    Err(missing(mesh, name, context))
+    Err(missing(mesh, name, context, "a surface or point"))
 }
 
 /// Straight-facet normal of a face from its three vertices (orientation is outward).

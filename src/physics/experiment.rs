@@ -89,6 +89,16 @@ impl Experiment {
     /// Observables at time t after a step of size dt (collective). `drainage_gaps`: the state
     /// whose gaps set the step's drainage, if not the solution's (for the outflow).
     #[allow(clippy::too_many_arguments)]
+    /// The time-integrated outflow so far (µm³, full sphere), for a checkpoint.
+    pub fn outflow(&self) -> f64 {
+        self.outflow_total
+    }
+
+    /// Restores the outflow of a checkpoint.
+    pub fn set_outflow(&mut self, v: f64) {
+        self.outflow_total = v;
+    }
+
     pub fn observe(
         &mut self,
         t: f64,

@@ -230,7 +230,8 @@ impl PoroProblem {
     }
 
     /// Makes a per-rank outcome collective: if any rank failed, every rank returns an error
-    /// (a domain error if the failure anywhere was one, so TS can cut the step).
+    /// naming the first failure (its rank's message), a domain error if the failure anywhere
+    /// was one, so TS can cut the step.
     fn collective(&self, local: Result<()>) -> Result<()> {
         let code: i32 = match &local {
             Ok(()) => 0,
@@ -239,13 +240,12 @@ impl PoroProblem {
         };
         let mut worst = 0i32;
         self.world.all_reduce_into(&code, &mut worst, SystemOperation::max());
-        match (worst, local) {
-            (0, _) => Ok(()),
-            (_, Err(e)) => Err(e),
-            (1, Ok(())) => {
-                Err(Error::Domain { cell: 0, point: 0, j: f64::NAN, msg: "inadmissible state on another rank".into() })
+        match (worst, crate::parallel::agree(&self.world, local)) {
+            (_, Ok(())) => Ok(()),
+            (1, Err(Error::Elsewhere { rank, msg })) => {
+                Err(Error::Domain { cell: 0, point: 0, j: f64::NAN, msg: format!("on rank {rank}: {msg}") })
             }
-            (_, Ok(())) => Err(Error::Solver("assembly failed on another rank".into())),
+            (_, Err(e)) => Err(e),
         }
     }
 
@@ -436,6 +436,16 @@ impl PoroProblem {
         }
         self.velocity = Some((rate(u, prev, dt)?, dt));
         Ok(())
+    }
+
+    /// The last accepted step's velocity and size (None after a kink), for a checkpoint.
+    pub fn velocity(&self) -> Option<(&Vector, f64)> {
+        self.velocity.as_ref().map(|(v, dt)| (v, *dt))
+    }
+
+    /// Restores the velocity of a checkpoint.
+    pub fn set_velocity(&mut self, velocity: Option<(Vector, f64)>) {
+        self.velocity = velocity;
     }
 
     /// Local error estimate of the backward-Euler step from `prev` to `u` in dt, relative to

@@ -240,10 +240,26 @@ pub struct OutputSpec {
     /// Also write fields at these times (the time steps land on them).
     #[serde(default)]
     pub fields_at: Vec<f64>,
+    /// Write a checkpoint every N steps (0: not by steps).
+    #[serde(default)]
+    pub checkpoint_every: usize,
+    /// Write a checkpoint when this much wall time (minutes) has passed since the last (0: not
+    /// by time).
+    #[serde(default = "default_checkpoint_minutes")]
+    pub checkpoint_minutes: f64,
+}
+fn default_checkpoint_minutes() -> f64 {
+    10.0
 }
 impl Default for OutputSpec {
     fn default() -> Self {
-        OutputSpec { fields_every: 1, fields: true, fields_at: vec![] }
+        OutputSpec {
+            fields_every: 1,
+            fields: true,
+            fields_at: vec![],
+            checkpoint_every: 0,
+            checkpoint_minutes: default_checkpoint_minutes(),
+        }
     }
 }
 fn default_every() -> usize {
@@ -595,6 +611,10 @@ impl LoadedScene {
                 );
             }
         }
+        let m = s.output.checkpoint_minutes;
+        if !(m.is_finite() && m >= 0.0) {
+            return Err(self.err(format!("output.checkpoint_minutes = {m}: must be >= 0 (0: not by time)")));
+        }
         let t = &s.time;
         for &a in t.land_on.iter().chain(&s.output.fields_at) {
             if !(a > 0.0 && a <= t.t_end) {
@@ -607,6 +627,11 @@ impl LoadedScene {
         positive(self, "time.dt", t.dt)?;
         if let Some(m) = t.dt_max {
             positive(self, "time.dt_max", m)?;
+            if t.dt > m {
+                return Err(
+                    self.err(format!("time.dt = {} exceeds time.dt_max = {m}: the first step must be <= dt_max", t.dt))
+                );
+            }
         }
         if let Some(e) = t.error_tolerance {
             positive(self, "time.error_tolerance", e)?;

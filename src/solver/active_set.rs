@@ -16,7 +16,7 @@
 
 use super::woodbury::ActiveSetUpdate;
 use crate::error::Result;
-use crate::petsc::{ffi, Int, Ksp, Mat, ShellSolve, Snes, Vector};
+use crate::petsc::{ffi, Int, Ksp, Mat, ShellSolve, Snes, SolverState, Vector};
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -175,6 +175,8 @@ pub struct ActiveSetNewton {
     last_krylov: usize,
     newton: usize,
     krylov: usize,
+    /// A checkpoint's state, set up at the start of the next solve.
+    pending: Option<SolverState>,
     /// Print each iteration on rank 0 (`-poroplast_newton_monitor`).
     pub monitor: bool,
     /// Rigid modes the bounds leave free, attached to each Jacobian as its null space.
@@ -208,6 +210,7 @@ impl ActiveSetNewton {
             last_krylov: 0,
             newton: 0,
             krylov: 0,
+            pending: None,
             monitor: false,
             free_modes: None,
         })
@@ -289,6 +292,23 @@ impl ActiveSetNewton {
         }
     }
 
+    /// The operator and factorisation of a checkpoint: its Jacobian with the active rows of
+    /// its active set replaced, factorised (as they were when the checkpoint was written).
+    fn set_up_saved(&mut self, snes: &Snes, ksp: &Ksp, x: &Vector, state: SolverState) -> Result<()> {
+        // An assembly gives the matrix its pattern; its values are then the saved ones.
+        let (mut a, _) = snes.compute_jacobian(x)?;
+        a.set_local_values(&state.values)?;
+        self.jac = Some(a.duplicate_with_values()?);
+        a.zero_rows_columns(&state.indices, self.diag, None)?;
+        ksp.set_reuse_preconditioner(false)?;
+        ksp.set_operators(&a, &a)?;
+        ksp.set_up()?;
+        self.pc_active = Some(state.indices);
+        self.pc_uses = state.counters[0] as usize;
+        self.last_krylov = state.counters[1] as usize;
+        Ok(())
+    }
+
     /// One monitor line: iteration, free residual norm, active set size and how many dofs
     /// entered and left it, Krylov iterations of the last solve (and whether it was a chord, and
     /// one through an update of how many dofs).
@@ -332,11 +352,45 @@ impl ShellSolve for ActiveSetNewton {
         (self.newton, self.krylov)
     }
 
+    fn restart(&mut self) {
+        self.pc_active = None;
+        self.pc_uses = 0;
+        self.jac = None;
+        self.update = None;
+        self.last_krylov = 0;
+        self.pending = None;
+    }
+
+    /// With chord iterations the next solve starts from the kept Jacobian, factorised with the
+    /// active rows of `pc_active` replaced: that (and the counters) is the state. The
+    /// low-rank update is rebuilt from it when needed, as it would be anyway.
+    fn saved_state(&mut self) -> Result<Option<SolverState>> {
+        match (&mut self.jac, &self.pc_active) {
+            (Some(jac), Some(active)) => Ok(Some(SolverState {
+                values: jac.local_values()?,
+                indices: active.clone(),
+                counters: vec![self.pc_uses as u64, self.last_krylov as u64],
+            })),
+            (None, None) => Ok(Some(SolverState { values: vec![], indices: vec![], counters: vec![] })),
+            _ => Ok(None),
+        }
+    }
+
+    fn restore_state(&mut self, state: SolverState) {
+        self.restart();
+        if !state.counters.is_empty() {
+            self.pending = Some(state);
+        }
+    }
+
     fn solve(&mut self, snes: Snes, x: &mut Vector) -> Result<()> {
         use ffi::SNESConvergedReason as R;
         let (atol, rtol, stol, max_it) = snes.tolerances()?;
         let backtrack = snes.line_search_type()? == "bt";
         let ksp = snes.ksp()?;
+        if let Some(state) = self.pending.take() {
+            self.set_up_saved(&snes, &ksp, x, state)?;
+        }
         self.bounds.project(x)?;
         snes.compute_function(x, &mut self.f)?;
         let mut fnorm = self.bounds.split(x, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;

@@ -66,6 +66,28 @@ impl Policy {
     }
 }
 
+/// Defaults for contact: the active-set Newton of [`active_set`] (unless -snes_type names a
+/// PETSc VI solver, e.g. vinewtonrsls) with full Newton steps — with the active set and the
+/// drainage switching, the residual is only piecewise smooth and backtracking stalls; a failed
+/// step is cut by TS instead — and up to 50 iterations (each change of the active set costs
+/// one; a step still cycling after 50 is cut). Set before the preset's, which they override.
+pub fn set_contact_defaults() -> Result<()> {
+    options::set_default("snes_linesearch_type", Some("basic"))?;
+    options::set_default("snes_max_it", Some("50"))
+}
+
+/// The preset's defaults (see [`set_default_options`]) and the run log's solver line (with the
+/// BLAS kernels MUMPS runs in).
+pub fn policy(preset: &str, n_dofs: usize) -> Result<(Policy, String)> {
+    let policy = set_default_options(preset, n_dofs)?;
+    let mut line = policy.describe(n_dofs, preset == "auto");
+    if let Some(k) = crate::petsc::blas::kernel() {
+        let why = if std::env::var_os("OPENBLAS_CORETYPE").is_some() { " (OPENBLAS_CORETYPE)" } else { "" };
+        line.push_str(&format!("; BLAS: OpenBLAS {k} kernels{why}"));
+    }
+    Ok((policy, line))
+}
+
 /// Sets the defaults of a preset (only options the user has not set) and returns the policy.
 pub fn set_default_options(preset: &str, n_dofs: usize) -> Result<Policy> {
     let d = |k: &str, v: &str| options::set_default(k, Some(v));

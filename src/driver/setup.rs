@@ -1,0 +1,324 @@
+//! Setting a run up: scene → mesh (partitioned) → dofs → solver policy → model → constraints
+//! and plates → problem → time stepper → observers. Everything that can fail on bad input
+//! fails here, before the run directory is touched.
+
+use super::{Run, Schedule, DEFAULT_STABILISATION};
+use crate::error::{Error, Result};
+use crate::fem::dofmap::DofMap;
+use crate::fem::element::tabulate_tet10;
+use crate::fem::kernel::Stabilisation;
+use crate::fem::point::PointModel;
+use crate::fem::quadrature;
+use crate::io::recorder::Observers;
+use crate::mesh::dist::{self, LocalMesh};
+use crate::mesh::partition;
+use crate::mesh::source::{mesh_file, read_mesh};
+use crate::parallel::{agree, broadcast_u32};
+use crate::petsc::{options, DmShell, Mat, Stage, Ts, Vector};
+use crate::physics::bc::{self, Constraint};
+use crate::physics::contact::{PlateHistory, Plates, DEFAULT_SEAL_GAP};
+use crate::physics::experiment::Experiment;
+use crate::physics::factory::{ellipticity_warning, model_of};
+use crate::physics::probe::Probe;
+use crate::physics::problem::{mean_element_size, PoroProblem};
+use crate::physics::verification::exact_columns;
+use crate::scene::{LoadedScene, Material};
+use crate::solver;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+use std::time::Instant;
+
+use super::RunArgs;
+
+/// The mesh partitioned and distributed, with the mesh file's node and element counts (the
+/// numbering of the run state).
+pub(super) struct Distributed {
+    pub local: LocalMesh,
+    pub path: std::path::PathBuf,
+    pub n_file_nodes: usize,
+    pub n_file_elems: usize,
+}
+
+/// Reads (or generates) the scene's mesh, partitions it on rank 0 and distributes it.
+pub(super) fn distribute_mesh(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<Distributed> {
+    let path = mesh_file(world, scene)?;
+    let mesh = agree(world, read_mesh(&path, scene))?;
+    let size = world.size() as usize;
+    let mut part = Vec::new();
+    let r = if world.rank() == 0 { partition::partition(&mesh, size).map(|p| part = p) } else { Ok(()) };
+    agree(world, r)?;
+    broadcast_u32(world, 0, &mut part);
+    let local = agree(world, dist::distribute(&mesh, &part, size, world.rank() as usize))?;
+    Ok(Distributed { local, path, n_file_nodes: mesh.coords.len(), n_file_elems: mesh.tets.len() })
+}
+
+/// The scene's boundary conditions as constraints and loads; with plates, the rigid modes
+/// they leave free (the Jacobian's null space), noted in the solver line.
+fn constraints(
+    world: &SimpleCommunicator,
+    scene: &LoadedScene,
+    local: &LocalMesh,
+    dofs: &DofMap,
+    solver_line: &mut String,
+) -> Result<(Vec<Constraint>, Vec<f64>, Option<solver::FreeRigidModes>)> {
+    let s = &scene.scene;
+    let (mut cons, ext) = agree(world, bc::build(&s.bc, local, dofs, &scene.source))?;
+    // Frictionless plates leave x, y translation and the rotation about z free unless
+    // displacement constraints block them: the free ones are the Jacobian's null space.
+    let constrained_u: Vec<usize> = cons.iter().map(|c| c.local).filter(|&l| l < 3 * dofs.n_nodes).collect();
+    let free_modes = match s.plates {
+        Some(_) => solver::FreeRigidModes::find(world, dofs, local, &constrained_u),
+        None => None,
+    };
+    if let Some(m) = &free_modes {
+        solver_line
+            .push_str(&format!("\nrigid modes left free by the plates (the Jacobian's null space): {}", m.describe()));
+        // MUMPS: factor the singular system, leaving the null pivots to the Krylov method.
+        options::set_default("mat_mumps_icntl_24", Some("1"))?;
+    }
+    if matches!(s.material, Material::HolmesMow { drained: true, .. }) {
+        cons.extend((0..local.n_vertices()).map(|v| Constraint { local: dofs.p_local(v), value: 0.0 }));
+    }
+    Ok((cons, ext, free_modes))
+}
+
+/// The plates and the surface faces that can touch them (also the experiment's).
+fn plates(
+    world: &SimpleCommunicator,
+    scene: &LoadedScene,
+    local: &LocalMesh,
+    model: &dyn PointModel,
+) -> Result<Option<(Plates, Vec<u32>)>> {
+    let Some(ps) = &scene.scene.plates else { return Ok(None) };
+    let ctx = format!("{}: [plates]", scene.source);
+    // The plates are z = 0 and z = 2 radius at the start: the aggregate must rest between them.
+    let (lo, hi) = local.coords.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x[2]), b.max(x[2])));
+    let (z0, z1) = (-crate::parallel::max(world, -lo), crate::parallel::max(world, hi));
+    let tol = 0.01 * ps.radius;
+    if (z0).abs() > tol || (z1 - 2.0 * ps.radius).abs() > tol {
+        return Err(Error::Scene {
+            path: scene.source.clone(),
+            msg: format!(
+                "plates.radius = {}: the plates are at z = 0 and z = 2 radius = {}, but the mesh spans z = [{z0:.6}, \
+                 {z1:.6}] (they must agree to 1% of the radius: set plates.radius to the aggregate's radius)",
+                ps.radius,
+                2.0 * ps.radius
+            ),
+        });
+    }
+    let faces = agree(world, bc::face_group(local, &ps.group, &ctx))?.to_vec();
+    let anchor = agree(world, bc::point_group(local, &ps.anchor, &ctx))?.first().map(|&n| n as usize);
+    let history = PlateHistory { u_max: ps.compression * 2.0 * ps.radius, t_ramp: ps.t_ramp, t_end: ps.t_end };
+    // Free-surface drainage conductance: γ k0 / h (a stiff Robin condition, p ≈ 0).
+    let beta_max = ps.drainage_penalty * model.conductivity() / mean_element_size(world, local);
+    let seal_gap = ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * ps.radius);
+    let plates =
+        Plates::new(history, ps.radius, local, &faces, anchor, ps.drainage, beta_max, seal_gap, ps.drainage_gap);
+    Ok(Some((plates, faces)))
+}
+
+/// The initial state: zero, or the scene's affine displacement u = G X.
+fn initial_state(
+    comm: crate::petsc::ffi::MPI_Comm,
+    scene: &LoadedScene,
+    local: &LocalMesh,
+    dofs: &DofMap,
+) -> Result<Vector> {
+    let mut u = Vector::mpi(comm, dofs.n_owned)?;
+    u.set_name("solution")?;
+    u.zero()?;
+    if let Some(init) = &scene.scene.initial {
+        let g = &init.displacement_gradient;
+        let mut w = u.write()?;
+        for n in 0..local.n_nodes() {
+            let x = local.coords[n];
+            for (c, row) in g.iter().enumerate() {
+                if let Some(i) = dofs.local_to_owned(dofs.u_local(n, c)) {
+                    w[i] = row[0] * x[0] + row[1] * x[1] + row[2] * x[2];
+                }
+            }
+        }
+    }
+    Ok(u)
+}
+
+/// The time steps of the scene (landing on the loading's kinks and the output times).
+fn schedule(scene: &LoadedScene, kinks: Vec<f64>) -> Schedule {
+    let (t, o) = (&scene.scene.time, &scene.scene.output);
+    Schedule {
+        t_end: t.t_end,
+        dt0: t.dt,
+        dt_max: t.dt_max.unwrap_or(t.t_end),
+        growth: t.growth,
+        land_on: t.land_on.iter().chain(&o.fields_at).copied().collect(),
+        kinks,
+        tol: t.error_tolerance,
+        dt_min: t.dt_min.unwrap_or(1e-6 * t.dt),
+    }
+}
+
+/// The finite-strain mixture's fluid-content rate is the backward-Euler difference
+/// (J(F) − J(F − Δt Grad u̇))/Δt (docs/numerics.md): another integrator's u̇ would make it
+/// inconsistent (measured with -ts_type bdf: F(35 s) 0.6–1% below every BE run).
+fn refuse_other_integrators(ts: &Ts<PoroProblem>) -> Result<()> {
+    let ts_type = ts.type_name()?;
+    if !ts.problem().disc.model.is_linear() && ts_type != "beuler" {
+        return Err(Error::Solver(format!(
+            "-ts_type {ts_type}: the finite-strain model's fluid-content rate is discretised for backward Euler \
+             only (accepted: beuler, the default)"
+        )));
+    }
+    Ok(())
+}
+
+/// With contact: the active-set Newton (unless -snes_type names one of PETSc's VI solvers),
+/// with the policy's lag; then whether the preconditioner uses the Schur matrix.
+fn configure_nonlinear_solver(
+    world: &SimpleCommunicator,
+    ts: &mut Ts<PoroProblem>,
+    policy: &solver::Policy,
+    free_modes: Option<solver::FreeRigidModes>,
+) -> Result<()> {
+    let snes = ts.snes()?;
+    if let Some((lo, hi)) = &ts.problem().bounds {
+        if options::has("snes_type")? {
+            snes.set_vi_bounds(lo, hi)?;
+        } else {
+            let ksp = snes.ksp()?;
+            ksp.use_dm_of(&snes)?;
+            ksp.set_from_options()?;
+            // Reusing a preconditioner needs a Krylov method to absorb the difference.
+            let mut lag = if ksp.type_name()? == "preonly" { solver::Lag::NEVER } else { policy.lag };
+            // No chord iterations when the Jacobian check assembles into the solve matrix
+            // between steps.
+            if options::has("poroplast_check_jacobian")? {
+                lag.chord = 0.0;
+            }
+            let mut newton = solver::ActiveSetNewton::new(world, lo, hi, ts.problem().u_row_scale(), lag)?;
+            newton.monitor = options::has("poroplast_newton_monitor")?;
+            newton.free_modes = free_modes;
+            ts.set_nonlinear_solver(Box::new(newton))?;
+        }
+    }
+    ts.problem_mut().schur_needed = solver::use_schur_matrix(&snes, &ts.problem().schur)?;
+    Ok(())
+}
+
+/// `-poroplast_check_jacobian [eps]`.
+fn check_jacobian_option() -> Result<Option<f64>> {
+    Ok(match options::get_string("poroplast_check_jacobian")? {
+        Some(v) if v.is_empty() => Some(1e-7),
+        Some(v) => Some(v.parse().map_err(|_| {
+            Error::Solver(format!("-poroplast_check_jacobian {v}: expected a relative step like 1e-7"))
+        })?),
+        None => None,
+    })
+}
+
+impl<'w> Run<'w> {
+    pub(super) fn setup(world: &'w SimpleCommunicator, scene: &LoadedScene, args: &RunArgs) -> Result<Run<'w>> {
+        let t0 = Instant::now();
+        let _stage = Stage::register("Setup")?.push();
+        let comm = world.as_raw();
+        let s = &scene.scene;
+        if s.plates.is_some() {
+            solver::set_contact_defaults()?;
+        }
+        let Distributed { local, path: mesh_path, n_file_nodes, n_file_elems } = distribute_mesh(world, scene)?;
+        let dofs = DofMap::new(&local);
+        let (policy, mut solver_line) = solver::policy(s.solver.preset.as_deref().unwrap_or("auto"), dofs.n_global)?;
+        let model = model_of(scene)?;
+        // Degree 2 integrates the linear model exactly on straight elements; the finite-strain
+        // model (exponential energy, curved elements) gets the 8-point degree-3 rule.
+        let default_degree = if model.is_linear() { 2 } else { 3 };
+        let q = quadrature::tet(s.fem.quadrature_degree.unwrap_or(default_degree));
+        let (cons, ext, free_modes) = constraints(world, scene, &local, &dofs, &mut solver_line)?;
+        let plates = plates(world, scene, &local, model.as_ref())?;
+        let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
+
+        let pre = dofs.preallocation(&local);
+        let mut jac = Mat::aij(comm, dofs.n_owned, &pre.d_nnz, &pre.o_nnz)?;
+        jac.set_name("Jacobian")?;
+        let schur = Mat::aij(comm, dofs.n_owned_vertices, &pre.schur_d, &pre.schur_o)?;
+        let u = initial_state(comm, scene, &local, &dofs)?;
+        let n_global_dofs = dofs.n_global;
+        let fields = solver::Fields::new(world, &dofs, &local)?;
+        let c = s.fem.stabilisation.unwrap_or(DEFAULT_STABILISATION);
+        let stabilisation = Stabilisation::new(c, s.fem.stabilisation_fade, model.as_ref());
+        let tab = tabulate_tet10(&q);
+        let mut problem = PoroProblem::new(
+            world.duplicate(),
+            local,
+            dofs,
+            model,
+            tab,
+            q.points.clone(),
+            cons,
+            ext,
+            &u,
+            schur,
+            stabilisation,
+        )?;
+        if s.fem.equal_order() {
+            problem.tie_displacement();
+        }
+        let plate_faces = match plates {
+            Some((pl, faces)) => {
+                problem.attach_plates(pl, &u)?;
+                Some(faces)
+            }
+            None => None,
+        };
+
+        let dm = DmShell::new(comm, &u, Box::new(fields))?;
+        let mut ts = Ts::new(comm, problem, u.duplicate()?, jac, None, Some(dm))?;
+        let schedule = schedule(scene, ts.problem().plates.iter().flat_map(|p| p.history.kinks()).collect());
+        ts.set_solution(&u)?;
+        ts.set_time(0.0)?;
+        ts.set_time_step(schedule.step(0.0, schedule.dt0))?;
+        ts.set_max_time(s.time.t_end)?;
+        ts.set_max_rejections(s.time.max_retries)?;
+        ts.set_from_options()?;
+        refuse_other_integrators(&ts)?;
+        configure_nonlinear_solver(world, &mut ts, &policy, free_modes)?;
+
+        let experiment = match (&s.plates, plate_faces) {
+            (Some(ps), Some(faces)) => {
+                let mesh = &ts.problem().disc.mesh;
+                let volume = crate::parallel::sum(world, super::straight_volume(mesh));
+                let phi = ts.problem().disc.model.solid_fraction();
+                Some(Experiment::new(mesh, faces, ps.radius, volume, phi, world, &scene.source)?)
+            }
+            _ => None,
+        };
+        let observers = Observers {
+            probes,
+            experiment,
+            exact: exact_columns(scene)?,
+            remodelling: !ts.problem().disc.history.is_empty(),
+            fields: s.output.fields,
+        };
+        let settle = s.plates.is_some()
+            && matches!(&s.material, Material::HolmesMow { gravity, .. } if gravity.iter().any(|g| *g != 0.0));
+        Ok(Run {
+            world,
+            scene: scene.clone(),
+            args: args.clone(),
+            ts,
+            u,
+            observers: Some(observers),
+            schedule,
+            n_global_dofs,
+            setup_s: t0.elapsed().as_secs_f64(),
+            solver_line,
+            settle,
+            ellipticity: ellipticity_warning(scene)?,
+            check_jacobian: check_jacobian_option()?,
+            mesh_path,
+            n_file_nodes,
+            n_file_elems,
+            resumed: None,
+            started: t0,
+        })
+    }
+}

@@ -1,0 +1,47 @@
+//! Stop requests: SIGTERM, SIGINT and SIGUSR1 (which `mpirun` forwards to every rank) set a
+//! flag; the time loop asks all ranks at each step boundary, writes a checkpoint and stops.
+
+use crate::error::{Error, Result};
+use mpi::collective::SystemOperation;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+/// The signals that ask a run to checkpoint and stop.
+pub const SIGNALS: [i32; 3] = [signal_hook::consts::SIGTERM, signal_hook::consts::SIGINT, signal_hook::consts::SIGUSR1];
+
+pub struct StopRequest {
+    flag: Arc<AtomicBool>,
+    ids: Vec<signal_hook::SigId>,
+}
+
+impl StopRequest {
+    /// Catches the stop signals until dropped.
+    pub fn install() -> Result<StopRequest> {
+        let flag = Arc::new(AtomicBool::new(false));
+        let mut ids = Vec::new();
+        for sig in SIGNALS {
+            let id = signal_hook::flag::register(sig, Arc::clone(&flag))
+                .map_err(|e| Error::Solver(format!("cannot catch signal {sig}: {e}")))?;
+            ids.push(id);
+        }
+        Ok(StopRequest { flag, ids })
+    }
+
+    /// Whether any rank has been asked to stop (collective: every rank gets the same answer).
+    pub fn requested(&self, world: &SimpleCommunicator) -> bool {
+        let mine = u8::from(self.flag.load(Ordering::Relaxed));
+        let mut any = 0u8;
+        world.all_reduce_into(&mine, &mut any, SystemOperation::max());
+        any == 1
+    }
+}
+
+impl Drop for StopRequest {
+    fn drop(&mut self) {
+        for id in self.ids.drain(..) {
+            signal_hook::low_level::unregister(id);
+        }
+    }
+}

@@ -1,0 +1,361 @@
+//! The run state: everything a restart needs — where the time loop stands (t, step, the
+//! nominal step, the counters), the solution U, the last step's velocity (the contact predictor
+//! and the error estimate), the committed per-point history (B_p), the experiment's cumulative
+//! outflow and the output counters — and its checkpoint files.
+//!
+//! The state is stored by the mesh file's numbering (original node and element ids), not by
+//! the partition's, so a run can resume on another rank count. Rank 0 writes and reads the
+//! files (gathered with a reduction, scattered with a broadcast): a checkpoint is a few MB.
+//!
+//! Files: `DIR/checkpoints/step-NNNNNNNN.h5`, written to a `.tmp` name and renamed, the last two
+//! kept. Datasets: `counters` (see [`Counters`]), `state` (4 values per original node: u, then p
+//! or 0 at a mid-edge node), `velocity` (the same layout, absent after a kink), `history`
+//! (per original element, its points' values).
+
+use crate::error::{Error, Result};
+use crate::fem::dofmap::DofMap;
+use crate::mesh::dist::LocalMesh;
+use crate::petsc::{SolverState, Vector};
+use hdf5_metno as hdf5;
+use mpi::collective::SystemOperation;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+use std::path::{Path, PathBuf};
+
+/// Format of the checkpoint files (the first counter).
+const FORMAT: f64 = 1.0;
+/// Checkpoints kept in a run directory.
+const KEEP: usize = 2;
+/// Sub-directory of the run directory that holds them.
+pub const DIR: &str = "checkpoints";
+
+/// Where the time loop stands, and what has been counted and written so far.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Counters {
+    pub step: usize,
+    pub t: f64,
+    /// The nominal size of the next step (the schedule's growth or error control).
+    pub nominal: f64,
+    pub newton: usize,
+    pub ksp: usize,
+    /// Steps rejected by the error estimate.
+    pub rejected: usize,
+    /// Steps cut by failed solves.
+    pub cuts: usize,
+    pub solve_s: f64,
+    pub output_s: f64,
+    /// Wall time of the run so far (setup included), over all its sessions.
+    pub wall_s: f64,
+    /// Steps written to the fields file.
+    pub fields_written: usize,
+    /// Time-integrated outflow of the experiment so far.
+    pub outflow: f64,
+}
+
+impl Counters {
+    fn to_vec(&self) -> Vec<f64> {
+        vec![
+            FORMAT,
+            self.step as f64,
+            self.t,
+            self.nominal,
+            self.newton as f64,
+            self.ksp as f64,
+            self.rejected as f64,
+            self.cuts as f64,
+            self.solve_s,
+            self.output_s,
+            self.wall_s,
+            self.fields_written as f64,
+            self.outflow,
+        ]
+    }
+
+    fn from_slice(v: &[f64]) -> Option<Counters> {
+        if v.len() != 13 || v[0] != FORMAT {
+            return None;
+        }
+        let n = |x: f64| x as usize;
+        Some(Counters {
+            step: n(v[1]),
+            t: v[2],
+            nominal: v[3],
+            newton: n(v[4]),
+            ksp: n(v[5]),
+            rejected: n(v[6]),
+            cuts: n(v[7]),
+            solve_s: v[8],
+            output_s: v[9],
+            wall_s: v[10],
+            fields_written: n(v[11]),
+            outflow: v[12],
+        })
+    }
+}
+
+/// Everything a restart needs, by original numbering (complete on rank 0 after
+/// [`RunState::gather`], on every rank after [`RunState::read`]).
+pub struct RunState {
+    pub counters: Counters,
+    /// 4 values per original node: u_x, u_y, u_z, p (0 at mid-edge nodes).
+    pub state: Vec<f64>,
+    /// The last step's velocity in the same layout and its step size (None after a kink).
+    pub velocity: Option<(Vec<f64>, f64)>,
+    /// Per original element, its points' committed history (empty without history).
+    pub history: Vec<f64>,
+}
+
+/// Sum over ranks into rank 0 (the other ranks' buffers are left as they were).
+fn reduce_to_root(world: &SimpleCommunicator, v: &mut [f64]) {
+    let root = world.process_at_rank(0);
+    if world.rank() == 0 {
+        let mut out = vec![0.0; v.len()];
+        root.reduce_into_root(&v[..], &mut out[..], SystemOperation::sum());
+        v.copy_from_slice(&out);
+    } else {
+        root.reduce_into(&v[..], SystemOperation::sum());
+    }
+}
+
+/// An owned state vector by original node (this rank's owned nodes filled, zeros elsewhere).
+fn by_original_node(mesh: &LocalMesh, dofs: &DofMap, local: &[f64], n_nodes: usize) -> Vec<f64> {
+    let mut out = vec![0.0; 4 * n_nodes];
+    for n in 0..mesh.n_owned_nodes {
+        let o = mesh.node_original[n] as usize;
+        for c in 0..3 {
+            out[4 * o + c] = local[dofs.u_local(n, c)];
+        }
+        let v = mesh.vertex_of_node[n];
+        out[4 * o + 3] = if v >= 0 { local[dofs.p_local(v as usize)] } else { 0.0 };
+    }
+    out
+}
+
+/// The owned entries of a state vector from its by-original-node values.
+pub fn to_owned(mesh: &LocalMesh, dofs: &DofMap, state: &[f64], x: &mut Vector) -> Result<()> {
+    let mut w = x.write()?;
+    for n in 0..mesh.n_nodes() {
+        let o = mesh.node_original[n] as usize;
+        for c in 0..3 {
+            if let Some(i) = dofs.local_to_owned(dofs.u_local(n, c)) {
+                w[i] = state[4 * o + c];
+            }
+        }
+        let v = mesh.vertex_of_node[n];
+        if v >= 0 {
+            if let Some(i) = dofs.local_to_owned(dofs.p_local(v as usize)) {
+                w[i] = state[4 * o + 3];
+            }
+        }
+    }
+    Ok(())
+}
+
+impl RunState {
+    /// Gathers the state on rank 0 (collective). `u_local` and `velocity_local` are local
+    /// (owned + ghost) layouts; `history` is this rank's per-element history, of `per_elem`
+    /// values per element.
+    #[allow(clippy::too_many_arguments)]
+    pub fn gather<'a>(
+        world: &SimpleCommunicator,
+        mesh: &LocalMesh,
+        dofs: &DofMap,
+        n_nodes: usize,
+        n_elems: usize,
+        counters: Counters,
+        u_local: &[f64],
+        velocity_local: Option<(&[f64], f64)>,
+        history: impl Iterator<Item = (u32, &'a [f64])>,
+        per_elem: usize,
+    ) -> RunState {
+        let mut state = by_original_node(mesh, dofs, u_local, n_nodes);
+        reduce_to_root(world, &mut state);
+        let velocity = velocity_local.map(|(v, dt)| {
+            let mut vv = by_original_node(mesh, dofs, v, n_nodes);
+            reduce_to_root(world, &mut vv);
+            (vv, dt)
+        });
+        let mut hist = vec![0.0; n_elems * per_elem];
+        if per_elem > 0 {
+            for (o, values) in history {
+                hist[o as usize * per_elem..(o as usize + 1) * per_elem].copy_from_slice(values);
+            }
+            reduce_to_root(world, &mut hist);
+        }
+        RunState { counters, state, velocity, history: hist }
+    }
+
+    /// Writes the checkpoint of step `counters.step` into `run_dir/checkpoints/` (rank 0; the
+    /// result is agreed by the caller): to a temporary name, renamed, older ones beyond the last
+    /// two removed. Returns its path.
+    pub fn write(&self, run_dir: &Path) -> Result<PathBuf> {
+        let dir = run_dir.join(DIR);
+        std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+        let name = format!("step-{:08}.h5", self.counters.step);
+        let path = dir.join(&name);
+        let tmp = dir.join(format!("{name}.tmp"));
+        let h5 = |e: hdf5::Error| Error::io(&tmp, format!("cannot write checkpoint: {e}"));
+        {
+            let f = hdf5::File::create(&tmp).map_err(h5)?;
+            let put = |name: &str, v: &[f64]| -> hdf5::Result<()> {
+                f.new_dataset::<f64>().shape([v.len()]).create(name)?.write_raw(v)
+            };
+            put("counters", &self.counters.to_vec()).map_err(h5)?;
+            put("state", &self.state).map_err(h5)?;
+            if let Some((v, dt)) = &self.velocity {
+                put("velocity", v).map_err(h5)?;
+                put("velocity_dt", &[*dt]).map_err(h5)?;
+            }
+            put("history", &self.history).map_err(h5)?;
+            f.close().map_err(h5)?;
+        }
+        std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))?;
+        let mut all = list(run_dir)?;
+        while all.len() > KEEP {
+            let old = all.remove(0);
+            std::fs::remove_file(&old).map_err(|e| Error::io(&old, e))?;
+            // ... and its solver states (step-N.solver.*).
+            let stem = old.file_stem().and_then(|s| s.to_str()).unwrap_or("").to_string();
+            for e in std::fs::read_dir(&dir).map_err(|e| Error::io(&dir, e))?.flatten() {
+                if e.file_name().to_str().is_some_and(|n| n.starts_with(&format!("{stem}.solver."))) {
+                    let _ = std::fs::remove_file(e.path());
+                }
+            }
+        }
+        Ok(path)
+    }
+
+    /// Reads a checkpoint on rank 0 and broadcasts it (collective): `n_nodes`, `n_elems` and
+    /// `per_elem` are this run's mesh, which the file must match.
+    pub fn read(
+        world: &SimpleCommunicator,
+        path: &Path,
+        n_nodes: usize,
+        n_elems: usize,
+        per_elem: usize,
+    ) -> Result<RunState> {
+        let mut buf: Vec<Vec<f64>> = vec![vec![]; 5];
+        let r = if world.rank() == 0 {
+            (|| -> Result<()> {
+                let h5 = |e: hdf5::Error| Error::io(path, format!("cannot read checkpoint: {e}"));
+                let f = hdf5::File::open(path).map_err(h5)?;
+                for (i, name) in ["counters", "state", "velocity", "velocity_dt", "history"].iter().enumerate() {
+                    if let Ok(ds) = f.dataset(name) {
+                        buf[i] = ds.read_raw().map_err(h5)?;
+                    }
+                }
+                let bad = |what: &str| Err(Error::io(path, format!("checkpoint does not match this run: {what}")));
+                if Counters::from_slice(&buf[0]).is_none() {
+                    return bad("unknown format");
+                }
+                if buf[1].len() != 4 * n_nodes {
+                    return bad(&format!("{} nodes, the mesh has {n_nodes}", buf[1].len() / 4));
+                }
+                if !buf[2].is_empty() && (buf[2].len() != 4 * n_nodes || buf[3].len() != 1) {
+                    return bad("velocity");
+                }
+                if buf[4].len() != n_elems * per_elem {
+                    return bad(&format!(
+                        "{} history values, the run keeps {} ({n_elems} elements)",
+                        buf[4].len(),
+                        n_elems * per_elem
+                    ));
+                }
+                Ok(())
+            })()
+        } else {
+            Ok(())
+        };
+        crate::parallel::agree(world, r)?;
+        for b in buf.iter_mut() {
+            broadcast_f64(world, b);
+        }
+        let counters = Counters::from_slice(&buf[0]).expect("checked on rank 0");
+        let velocity = if buf[2].is_empty() { None } else { Some((std::mem::take(&mut buf[2]), buf[3][0])) };
+        Ok(RunState { counters, state: std::mem::take(&mut buf[1]), velocity, history: std::mem::take(&mut buf[4]) })
+    }
+}
+
+fn broadcast_f64(world: &SimpleCommunicator, v: &mut Vec<f64>) {
+    let mut n = v.len() as u64;
+    world.process_at_rank(0).broadcast_into(&mut n);
+    v.resize(n as usize, 0.0);
+    if n > 0 {
+        world.process_at_rank(0).broadcast_into(&mut v[..]);
+    }
+}
+
+/// The solver-state file of rank `rank` of `size` at `step`.
+fn solver_file(run_dir: &Path, step: usize, rank: i32, size: i32) -> PathBuf {
+    run_dir.join(DIR).join(format!("step-{step:08}.solver.r{rank}of{size}"))
+}
+
+/// Writes this rank's solver state for the checkpoint of `step` (before the checkpoint itself,
+/// whose rename commits both).
+pub fn write_solver(run_dir: &Path, step: usize, rank: i32, size: i32, s: &SolverState) -> Result<()> {
+    let dir = run_dir.join(DIR);
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    let path = solver_file(run_dir, step, rank, size);
+    let mut tmp = path.clone().into_os_string();
+    tmp.push(".tmp");
+    std::fs::write(&tmp, s.to_bytes()).map_err(|e| Error::io(Path::new(&tmp), e))?;
+    std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))
+}
+
+/// This rank's solver state of the checkpoint of `step`, if one was saved for `size` ranks.
+pub fn read_solver(run_dir: &Path, step: usize, rank: i32, size: i32) -> Result<Option<SolverState>> {
+    let path = solver_file(run_dir, step, rank, size);
+    match std::fs::read(&path) {
+        Ok(b) => SolverState::from_bytes(&b)
+            .map(Some)
+            .ok_or_else(|| Error::io(&path, "not a solver state written by this version")),
+        Err(_) => Ok(None),
+    }
+}
+
+/// The checkpoints of a run directory, oldest first.
+pub fn list(run_dir: &Path) -> Result<Vec<PathBuf>> {
+    let dir = run_dir.join(DIR);
+    if !dir.is_dir() {
+        return Ok(vec![]);
+    }
+    let mut out: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map_err(|e| Error::io(&dir, e))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("step-") && n.ends_with(".h5") && !n.ends_with(".tmp"))
+        })
+        .collect();
+    out.sort();
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counters_round_trip_and_reject_other_formats() {
+        let c = Counters {
+            step: 17,
+            t: 3.25,
+            nominal: 0.5,
+            newton: 90,
+            ksp: 1234,
+            rejected: 2,
+            cuts: 3,
+            solve_s: 1.5,
+            output_s: 0.25,
+            wall_s: 2.0,
+            fields_written: 5,
+            outflow: 7.5e3,
+        };
+        assert_eq!(Counters::from_slice(&c.to_vec()), Some(c.clone()));
+        let mut v = c.to_vec();
+        v[0] = 2.0;
+        assert_eq!(Counters::from_slice(&v), None);
+        assert_eq!(Counters::from_slice(&v[..5]), None);
+    }
+}

@@ -1,0 +1,174 @@
+//! Checkpoint and restart: a run killed (`kill -9`) or stopped by a signal, then resumed with
+//! `poroplast resume`, gives the history of the uninterrupted run — the same rows and times, and
+//! every value equal to 1e-10 on the same rank count; on another rank count to solver
+//! tolerance. The scene: the remodelling experiment on a coarse mesh, to t = 8 s (the ramp and
+//! the start of the hold), checkpoints every 5 steps.
+
+mod common;
+use common::*;
+use std::os::unix::process::CommandExt;
+use std::path::Path;
+use std::process::{Child, Command};
+use std::time::{Duration, Instant};
+
+const SETS: [&str; 6] = [
+    "mesh.params.h=30",
+    "mesh.params.h_pole=9",
+    "time.t_end=8",
+    "output.checkpoint_every=5",
+    "output.fields_every=4",
+    "output.fields_at=[]",
+];
+
+fn args(out: &Path) -> Vec<String> {
+    let mut a = vec!["run".to_string(), "remodel_40".into(), "--out".into(), out.display().to_string(), "-q".into()];
+    for s in SETS {
+        a.extend(["--set".into(), s.into()]);
+    }
+    a
+}
+
+/// Starts a run in its own process group: the binary itself (1 rank, MPI singleton) or under
+/// mpirun.
+fn spawn(np: usize, out: &Path) -> Child {
+    let mut cmd = if np == 1 {
+        Command::new(env!("CARGO_BIN_EXE_poroplast"))
+    } else {
+        let mut c = Command::new("mpirun");
+        c.args(["-n", &np.to_string(), "--oversubscribe", env!("CARGO_BIN_EXE_poroplast")]);
+        c
+    };
+    cmd.args(args(out))
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_btl", "self,vader")
+        .env("OMPI_MCA_pml", "ob1")
+        .env("POROPLAST_CACHE", cache_dir())
+        .process_group(0)
+        .spawn()
+        .expect("the run could not be started")
+}
+
+/// Waits until the checkpoint of `step` exists (or the run ended).
+fn wait_for_checkpoint(child: &mut Child, out: &Path, step: usize) {
+    let file = out.join(format!("checkpoints/step-{step:08}.h5"));
+    let start = Instant::now();
+    while !file.exists() {
+        assert!(child.try_wait().unwrap().is_none(), "the run ended before writing {}", file.display());
+        assert!(start.elapsed() < Duration::from_secs(300), "no {} after 300 s", file.display());
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// Sends `sig` to the process group of `child`.
+fn signal_group(child: &Child, sig: &str) {
+    let ok = Command::new("kill").args([sig, "--", &format!("-{}", child.id())]).status().unwrap().success();
+    assert!(ok, "kill {sig} failed");
+}
+
+/// Sends `sig` to `child` alone.
+fn signal(child: &Child, sig: &str) {
+    let ok = Command::new("kill").args([sig, &child.id().to_string()]).status().unwrap().success();
+    assert!(ok, "kill {sig} failed");
+}
+
+/// Same rows (step, time) and every column but the wall time equal to `tol` relative (with a
+/// floor of `tol` times the column's largest magnitude, for columns that pass through zero).
+fn assert_same_history(a: &History, b: &History, tol: f64, what: &str) {
+    assert_eq!(a.names, b.names, "{what}: columns");
+    assert_eq!(a.col("step"), b.col("step"), "{what}: steps");
+    assert_eq!(a.col("time"), b.col("time"), "{what}: times");
+    // det_bp_max_dev is round-off (|det B_p − 1| ~ 1e-15): bounded, not compared.
+    for name in ["det_bp_max_dev"].iter().filter(|n| a.names.iter().any(|m| m == *n)) {
+        assert!(a.col(name).iter().chain(&b.col(name)).all(|v| v.abs() < 1e-12), "{what}: {name}");
+    }
+    let skip = ["wall_s", "newton_its", "ksp_its", "det_bp_max_dev"];
+    for name in a.names.iter().filter(|n| !skip.contains(&n.as_str())) {
+        let (x, y) = (a.col(name), b.col(name));
+        let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (i, (u, v)) in x.iter().zip(&y).enumerate() {
+            assert!((u - v).abs() <= tol * u.abs().max(scale), "{what}: {name} at row {i}: {u} vs {v} (tol {tol})");
+        }
+    }
+}
+
+fn resume(np: usize, dir: &Path) {
+    run_ok(np, &["resume", &dir.display().to_string(), "-q"]);
+    let status = std::fs::read_to_string(dir.join("status.txt")).unwrap();
+    assert!(status.starts_with("completed"), "{status}");
+}
+
+#[test]
+fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
+    let d = scratch("restart_same_ranks");
+    let reference = d.join("reference");
+    assert!(spawn(1, &reference).wait().unwrap().success(), "the reference run failed");
+    let a = History::read(&reference);
+    assert!(a.rows.len() > 30, "{} rows", a.rows.len());
+
+    // kill -9 after the checkpoint of step 15: at most the steps since are lost, then redone.
+    let killed = d.join("killed");
+    let mut child = spawn(1, &killed);
+    wait_for_checkpoint(&mut child, &killed, 15);
+    signal_group(&child, "-KILL");
+    child.wait().unwrap();
+    assert!(!killed.join("status.txt").exists(), "a killed run says nothing");
+    resume(1, &killed);
+    assert_same_history(&a, &History::read(&killed), 1e-10, "kill -9, resumed");
+
+    // SIGTERM: a checkpoint at the next step boundary, a clean stop with exit code 75.
+    let stopped = d.join("stopped");
+    let mut child = spawn(1, &stopped);
+    wait_for_checkpoint(&mut child, &stopped, 10);
+    signal(&child, "-TERM");
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(75), "exit code of a stopped run");
+    let why = std::fs::read_to_string(stopped.join("status.txt")).unwrap();
+    assert!(why.starts_with("stopped by a signal after step"), "{why}");
+    let rows_at_stop = History::read(&stopped).rows.len();
+    assert!(rows_at_stop < a.rows.len(), "stopped after {rows_at_stop} rows of {}", a.rows.len());
+    resume(1, &stopped);
+    assert_same_history(&a, &History::read(&stopped), 1e-10, "SIGTERM, resumed");
+    // The fields continue too: one XDMF step per fields.h5 step, times increasing.
+    let xdmf = std::fs::read_to_string(stopped.join("fields.xdmf")).unwrap();
+    let ref_xdmf = std::fs::read_to_string(reference.join("fields.xdmf")).unwrap();
+    assert_eq!(xdmf.matches("<Time Value=").count(), ref_xdmf.matches("<Time Value=").count());
+}
+
+#[test]
+fn a_two_rank_run_stopped_by_mpirun_resumes_on_one_rank() {
+    let d = scratch("restart_other_ranks");
+    let reference = d.join("reference");
+    assert!(spawn(1, &reference).wait().unwrap().success(), "the reference run failed");
+    // mpirun forwards SIGUSR1 to the ranks (SIGTERM it answers with SIGKILL after 1 s).
+    let stopped = d.join("stopped");
+    let mut child = spawn(2, &stopped);
+    wait_for_checkpoint(&mut child, &stopped, 10);
+    signal(&child, "-USR1");
+    assert!(!child.wait().unwrap().success());
+    let why = std::fs::read_to_string(stopped.join("status.txt")).unwrap();
+    assert!(why.starts_with("stopped by a signal after step"), "{why}");
+    resume(1, &stopped);
+    // Another partition: the same steps, values to solver tolerance.
+    assert_same_history(&History::read(&reference), &History::read(&stopped), 1e-6, "2 ranks, resumed on 1");
+    // The fields written on 1 rank use their own mesh numbering (/mesh_1).
+    let xdmf = std::fs::read_to_string(stopped.join("fields.xdmf")).unwrap();
+    assert!(xdmf.contains("/mesh_1/coordinates") && xdmf.contains("/mesh/coordinates"));
+}
+
+#[test]
+fn resume_refuses_what_it_cannot_continue() {
+    let d = scratch("restart_refusals");
+    let fails = |dir: &Path, expect: &str| {
+        let out = poroplast(1, &["resume", &dir.display().to_string()]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "resume {} should fail", dir.display());
+        let line = stderr.lines().find(|l| l.starts_with("poroplast: error:")).unwrap_or_else(|| panic!("{stderr}"));
+        assert!(line.contains(expect), "`{expect}` expected in: {line}");
+    };
+    fails(&d.join("nothing"), "not a run directory");
+    // A run without checkpoints (none due in its 1 s of wall time).
+    let run = d.join("run");
+    run_ok(1, &["run", "terzaghi", "--set", "time.t_end=0.002", "--out", &run.display().to_string(), "-q"]);
+    fails(&run, "no checkpoint to resume from");
+}
