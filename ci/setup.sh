@@ -18,6 +18,16 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
+# ParaView's own readers check the XDMF output in the tests (tests/io_fields.rs): best effort,
+# as the package is large (about 1 GB with its dependencies); the test says loudly when it is
+# missing.
+if ! command -v pvpython >/dev/null; then
+  echo "setup: installing paraview (pvpython, for the XDMF reader check)"
+  sudo=""; [ "$(id -u)" -eq 0 ] || sudo=sudo
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends paraview python3-paraview >/dev/null \
+    || echo "setup: WARNING: paraview could not be installed; the ParaView reader check will be skipped" >&2
+fi
 # The python3 on PATH may not be Debian's (pyenv): give it the packages too.
 if ! python3 -c 'import numpy, h5py, matplotlib' 2>/dev/null; then
   echo "setup: installing numpy, h5py, matplotlib for $(command -v python3)"

@@ -5,37 +5,31 @@ mod common;
 use common::*;
 use std::path::Path;
 
-/// All files of a directory with their contents.
+/// All files under a directory (recursively) with their contents.
 fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut v: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .map(|p| (p.display().to_string(), std::fs::read(&p).unwrap()))
-        .collect();
+    let mut v = Vec::new();
+    for p in std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()) {
+        if p.is_dir() {
+            v.extend(snapshot(&p));
+        } else {
+            v.push((p.display().to_string(), std::fs::read(&p).unwrap()));
+        }
+    }
     v.sort();
     v
 }
 
 /// Runs a failing case against the earlier run in `earlier` and checks message and intactness.
 fn fails(earlier: &Path, args: &[&str], expect: &str) {
-    let before = snapshot(earlier);
-    let mut full: Vec<&str> = args.to_vec();
-    let out_flag = ["--out", earlier.to_str().unwrap(), "--force", "-q"];
-    let split = full.iter().position(|a| *a == "--").unwrap_or(full.len());
-    for (i, a) in out_flag.iter().enumerate() {
-        full.insert(split + i, a);
-    }
-    let out = poroplast(2, &full);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{args:?} should fail");
-    let line = stderr
-        .lines()
-        .find(|l| l.starts_with("poroplast: error:"))
-        .unwrap_or_else(|| panic!("no error line in:\n{stderr}"));
-    assert!(line.contains(expect), "message for {args:?} should mention `{expect}`:\n{line}");
-    assert_eq!(stderr.lines().filter(|l| l.starts_with("poroplast: error:")).count(), 1, "one message only:\n{stderr}");
-    assert_eq!(before, snapshot(earlier), "{args:?} modified the earlier run directory");
+    fails_as(earlier, args, expect, &format!("{args:?}"));
 }
+
+/// One tet10 (Gmsh 4.1 ASCII) with the mid-node of edge (0, 1) pulled past the opposite edge.
+const TANGLED_TET10: &str =
+    "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n3 1 \"column\"\n$EndPhysicalNames\n\
+$Entities\n0 0 0 1\n1 0 0 0 1 1 1 1 1 0\n$EndEntities\n$Nodes\n1 10 1 10\n3 1 0 10\n1\n2\n3\n4\n5\n6\n7\n8\n9\n10\n\
+0 0 0\n1 0 0\n0 1 0\n0 0 1\n0.5 0 1.2\n0.5 0.5 0\n0 0.5 0\n0 0 0.5\n0 0.5 0.5\n0.5 0 0.5\n$EndNodes\n\
+$Elements\n1 1 1 1\n3 1 11 1\n1 1 2 3 4 5 6 7 8 9 10\n$EndElements\n";
 
 #[test]
 fn bad_input_is_reported_and_earlier_results_survive() {
@@ -140,6 +134,21 @@ fn bad_input_is_reported_and_earlier_results_survive() {
         &["run", "reference", "--set", "fem.element=\"P1-P1\""],
         "fem.element = \"P1-P1\": not with plates",
     );
+    // The plates experiment's own checks (one validation path with `check`, below).
+    fails(&earlier, &["run", "reference", "--set", "time.dt=10"], "time.dt = 10 exceeds time.dt_max = 4");
+    fails(
+        &earlier,
+        &["run", "reference", "--set", "mesh.params.h_pol=5"],
+        "mesh.params.h_pol: sphere_quarter.geo has no parameter `h_pol`",
+    );
+    fails(&earlier, &["run", "reference", "--set", "plates.radius=120"], "plates.radius = 120");
+    fails(&earlier, &["run", "reference", "--set", "plates.anchor=\"surface\""], "\"surface\" is not a point group");
+    fails(&earlier, &["run", "reference", "--set", "plates.group=\"skin\""], "physical group \"skin\" not found");
+    // A quadratic tetrahedron whose mid-edge node folds it over.
+    let tangled = dir.join("tangled.msh");
+    std::fs::write(&tangled, TANGLED_TET10).unwrap();
+    let s = variant("tangled", &[("geo = \"column.geo\"", &format!("file = \"{}\"", tangled.display()))]);
+    fails(&earlier, &["run", &s], "tetrahedron 1 (element tag) is tangled");
     // A scene that does not exist.
     fails(&earlier, &["run", "no-such-scene"], "not a builtin scene");
     // Without --force an existing run directory is refused, untouched.
@@ -162,6 +171,24 @@ fn check_validates_without_solving() {
     // The same through an override of the first [[bc]]'s group.
     let out = poroplast(1, &["check", &scene("terzaghi"), "--set", "bc.0.group=floor"]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("physical group \"floor\" not found"));
+    // `check` sets the run up as `run` does: what `run` refuses, `check` refuses.
+    for (set, expect) in [
+        ("plates.radius=120", "plates.radius = 120"),
+        ("plates.group=\"skin\"", "physical group \"skin\" not found"),
+        ("plates.anchor=\"surface\"", "\"surface\" is not a point group"),
+    ] {
+        let out = poroplast(1, &["check", "reference", "--set", set]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(expect), "check --set {set}: {err}");
+    }
+    // A directory rank 0 cannot write into: every rank stops (no rank waits in a collective).
+    let out = poroplast(2, &["run", &scene("terzaghi"), "--set", "time.t_end=0.002", "--out", "/proc/1", "--force"]);
+    assert!(!out.status.success());
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("/proc/1/scene.toml"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 #[test]
@@ -188,4 +215,162 @@ fn overrides_reach_the_run_and_its_resolved_scene() {
     let rows = std::fs::read_to_string(out.join("history.csv")).unwrap();
     let last_t: f64 = rows.lines().last().unwrap().split(',').nth(1).unwrap().parse().unwrap();
     assert!((last_t - 0.004).abs() < 1e-12, "the run ends at the overridden t_end, not {last_t}");
+}
+
+/// A battery over the kinds of bad input (on 2 ranks, against an earlier run kept intact): each
+/// is (what, arguments after `run`, expected part of the one error line). `SCENE` in the
+/// arguments is replaced by a file written for the case, `MESH` by a mesh file.
+#[test]
+fn every_kind_of_bad_input_gets_one_clear_message() {
+    let dir = scratch("bad_input_battery");
+    let ok = scene_variant("terzaghi", &dir, &[("t_end = 100.0", "t_end = 0.002")]);
+    let earlier = dir.join("earlier");
+    run_ok(2, &["run", &ok, "--out", earlier.to_str().unwrap(), "-q"]);
+    let terzaghi_mesh = |file: &str| {
+        let d = dir.join(file.replace(['.', '/'], "_"));
+        std::fs::create_dir_all(&d).unwrap();
+        scene_variant("terzaghi", &d, &[("geo = \"column.geo\"", &format!("file = \"{file}\""))])
+    };
+    let write = |name: &str, bytes: &[u8]| {
+        let p = dir.join(name);
+        std::fs::write(&p, bytes).unwrap();
+        p.display().to_string()
+    };
+    let good_msh = ONE_TET10;
+    let cases: Vec<(&str, Vec<String>, &str)> = vec![
+        // TOML syntax and types.
+        ("TOML syntax", vec![write("syntax.toml", b"name = \"x\"\n[material\nmu = 1\n")], "line 2"),
+        ("wrong type in a file", vec![scene_variant("cryer", &dir, &[("nu = 0.2", "nu = [0.2]")])], "line"),
+        ("wrong type by --set", vec!["reference".into(), "--set".into(), "time.dt=\"fast\"".into()], "time.dt"),
+        // Unknown keys at every level.
+        (
+            "unknown key [plates]",
+            vec!["reference".into(), "--set".into(), "plates.speed=1".into()],
+            "unknown field `speed`",
+        ),
+        ("unknown key [time]", vec!["reference".into(), "--set".into(), "time.cfl=1".into()], "unknown field `cfl`"),
+        (
+            "unknown key [output]",
+            vec!["reference".into(), "--set".into(), "output.vtk=true".into()],
+            "unknown field `vtk`",
+        ),
+        (
+            "unknown key [mesh]",
+            vec!["reference".into(), "--set".into(), "mesh.order=3".into()],
+            "unknown field `order`",
+        ),
+        (
+            "unknown key [fem]",
+            vec!["reference".into(), "--set".into(), "fem.degree=3".into()],
+            "unknown field `degree`",
+        ),
+        (
+            "unknown key [solver]",
+            vec!["reference".into(), "--set".into(), "solver.tol=1".into()],
+            "unknown field `tol`",
+        ),
+        (
+            "unknown key penalty",
+            vec!["reference".into(), "--set".into(), "material.penalty.k=1".into()],
+            "unknown field `k`",
+        ),
+        (
+            "unknown key [[bc]]",
+            vec!["reference".into(), "--set".into(), "bc.0.slip=true".into()],
+            "unknown field `slip`",
+        ),
+        // Non-physical values.
+        ("negative mu", vec!["reference".into(), "--set".into(), "material.mu=-1".into()], "material.mu = -1"),
+        ("NaN mu", vec!["reference".into(), "--set".into(), "material.mu=nan".into()], "material.mu = NaN"),
+        ("infinite mu", vec!["reference".into(), "--set".into(), "material.mu=inf".into()], "material.mu = inf"),
+        ("nu below -1", vec!["reference".into(), "--set".into(), "material.nu=-1.5".into()], "material.nu = -1.5"),
+        ("phi_s = 1", vec!["reference".into(), "--set".into(), "material.phi_s=1.0".into()], "material.phi_s = 1"),
+        ("phi_s = 0", vec!["reference".into(), "--set".into(), "material.phi_s=0.0".into()], "material.phi_s = 0"),
+        ("k0 = 0", vec!["reference".into(), "--set".into(), "material.k0=0.0".into()], "material.k0 = 0"),
+        (
+            "compression 1",
+            vec!["reference".into(), "--set".into(), "plates.compression=1.0".into()],
+            "plates.compression = 1",
+        ),
+        (
+            "t_ramp > t_end",
+            vec!["reference".into(), "--set".into(), "plates.t_ramp=50.0".into()],
+            "must be at least 2 t_ramp = 100",
+        ),
+        ("dt = 0", vec!["reference".into(), "--set".into(), "time.dt=0.0".into()], "time.dt = 0"),
+        ("dt < 0", vec!["reference".into(), "--set".into(), "time.dt=-1.0".into()], "time.dt = -1"),
+        ("radius 0", vec!["reference".into(), "--set".into(), "plates.radius=0.0".into()], "plates.radius = 0"),
+        ("land_on NaN", vec!["reference".into(), "--set".into(), "time.land_on=[nan]".into()], "time.land_on"),
+        // Mesh files.
+        ("mesh is a directory", vec![terzaghi_mesh(dir.to_str().unwrap())], "Is a directory"),
+        ("empty mesh", vec![terzaghi_mesh(&write("empty.msh", b""))], "empty"),
+        (
+            "truncated mesh",
+            vec![terzaghi_mesh(&write("truncated.msh", &good_msh.as_bytes()[..good_msh.len() / 2]))],
+            "msh",
+        ),
+        ("binary garbage", vec![terzaghi_mesh(&write("garbage.msh", &[0u8, 159, 146, 150, 255, 1, 2, 3]))], "msh"),
+        ("2-D mesh", vec![terzaghi_mesh(&write("flat.msh", FLAT_MESH.as_bytes()))], "no tetrahedra"),
+        (
+            "more ranks than elements",
+            vec![terzaghi_mesh(&write("one_tet.msh", good_msh.as_bytes()))],
+            "fewer than the 2 ranks",
+        ),
+        // PETSc options.
+        ("PETSc value", vec![ok.clone(), "--".into(), "-ksp_max_it".into(), "-5".into()], "-ksp_max_it"),
+        ("PETSc type", vec![ok.clone(), "--".into(), "-ksp_type".into(), "nonsense".into()], "nonsense"),
+        // A solve that cannot succeed: a solid too soft to carry its weight.
+        (
+            "diverging solve",
+            vec!["reference".into(), "--set".into(), "material.mu=1e-12".into()],
+            "settling under gravity",
+        ),
+    ];
+    for (what, args, expect) in &cases {
+        let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+        let mut full = vec!["run"];
+        full.extend(a);
+        fails_as(&earlier, &full, expect, what);
+    }
+    assert!(cases.len() >= 30);
+    // The command line: --out that is a file; an unknown subcommand (clap's own message).
+    for np in [1, 2] {
+        let out = poroplast(np, &["run", &ok, "--out", &ok, "-q"]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains("exists and is not a directory"), "{err}");
+        let out = poroplast(np, &["runn", &ok]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains("unrecognized subcommand 'runn'"), "{err}");
+    }
+    assert_eq!(std::fs::read_to_string(&ok).unwrap().contains("t_end = 0.002"), true, "the scene file is intact");
+}
+
+/// One straight tet10 in a physical volume "column" (no surface groups).
+const ONE_TET10: &str = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n3 1 \"column\"\n$EndPhysicalNames\n\
+$Entities\n0 0 0 1\n1 0 0 0 1 1 1 1 1 0\n$EndEntities\n$Nodes\n1 10 1 10\n3 1 0 10\n1\n2\n3\n4\n5\n6\n7\n8\n9\n10\n\
+0 0 0\n1 0 0\n0 1 0\n0 0 1\n0.5 0 0\n0.5 0.5 0\n0 0.5 0\n0 0 0.5\n0 0.5 0.5\n0.5 0 0.5\n$EndNodes\n\
+$Elements\n1 1 1 1\n3 1 11 1\n1 1 2 3 4 5 6 7 8 9 10\n$EndElements\n";
+
+/// Two triangles and no tetrahedron.
+const FLAT_MESH: &str = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n\
+0 0 0\n1 0 0\n0 1 0\n1 1 0\n$EndNodes\n$Elements\n1 2 1 2\n2 1 2 2\n1 1 2 3\n2 2 4 3\n$EndElements\n";
+
+/// A case that must fail on 2 ranks (written into `earlier` with --force): non-zero exit, one
+/// error line containing `expect`, no panic, and `earlier` byte for byte as it was.
+fn fails_as(earlier: &Path, args: &[&str], expect: &str, what: &str) {
+    let before = snapshot(earlier);
+    let mut full: Vec<&str> = args.to_vec();
+    let out_flag = ["--out", earlier.to_str().unwrap(), "--force", "-q"];
+    let split = full.iter().position(|a| *a == "--").unwrap_or(full.len());
+    for (i, a) in out_flag.iter().enumerate() {
+        full.insert(split + i, a);
+    }
+    let out = poroplast(2, &full);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{what}: {args:?} should fail");
+    let lines: Vec<&str> = stderr.lines().filter(|l| l.starts_with("poroplast: error:")).collect();
+    assert_eq!(lines.len(), 1, "{what}: one error line expected:\n{stderr}");
+    assert!(lines[0].contains(expect), "{what}: `{expect}` expected in:\n{}", lines[0]);
+    assert!(!stderr.contains("panicked"), "{what}: panic:\n{stderr}");
+    assert_eq!(before, snapshot(earlier), "{what}: the earlier run directory changed");
 }

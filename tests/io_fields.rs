@@ -130,7 +130,11 @@ fn two_ranks_split_and_paraview() {
     let no_pv = std::env::var("POROPLAST_NO_PARAVIEW").is_ok_and(|v| v == "1");
     let has_pv = Command::new("pvpython").arg("--version").output().is_ok_and(|o| o.status.success());
     if no_pv || !has_pv {
-        eprintln!("pvpython not found (or POROPLAST_NO_PARAVIEW=1): ParaView reader check skipped");
+        eprintln!(
+            "\n******** WARNING: ParaView reader check SKIPPED: {} ********\n\
+             ******** (ci/setup.sh installs paraview + python3-paraview where Debian has them) ********\n",
+            if no_pv { "POROPLAST_NO_PARAVIEW=1" } else { "pvpython not found" }
+        );
         return;
     }
     for reader in ["XDMFReader", "Xdmf3ReaderS", "Xdmf3ReaderT"] {

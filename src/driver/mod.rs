@@ -293,7 +293,12 @@ impl<'w> Run<'w> {
         // Newton halves such steps.
         self.ts.set_time(-T)?;
         self.ts.set_time_step(T)?;
-        self.ts.step()?;
+        self.ts.step().map_err(|e| {
+            self.explain(Error::Solver(format!(
+                "settling under gravity (the static equilibrium on the lower plate, before t = 0) failed: {e}. \
+                 Can the solid carry its weight (material.mu, material.gravity)?"
+            )))
+        })?;
         self.ts.problem_mut().disc.evolve = true;
         self.ts.set_time(0.0)
     }

@@ -44,6 +44,16 @@ pub(super) fn distribute_mesh(world: &SimpleCommunicator, scene: &LoadedScene) -
     let path = mesh_file(world, scene)?;
     let mesh = agree(world, read_mesh(&path, scene))?;
     let size = world.size() as usize;
+    if mesh.tets.len() < size {
+        return Err(Error::Mesh {
+            path: path.display().to_string(),
+            msg: format!(
+                "{} elements, fewer than the {size} ranks: run on at most {} ranks",
+                mesh.tets.len(),
+                mesh.tets.len()
+            ),
+        });
+    }
     let mut part = Vec::new();
     let r = if world.rank() == 0 { partition::partition(&mesh, size).map(|p| part = p) } else { Ok(()) };
     agree(world, r)?;
@@ -201,7 +211,7 @@ fn configure_nonlinear_solver(
         }
     }
     ts.problem_mut().schur_needed = solver::use_schur_matrix(&snes, &ts.problem().schur)?;
-    Ok(())
+    solver::check_tolerances(&snes)
 }
 
 /// `-poroplast_check_jacobian [eps]`.

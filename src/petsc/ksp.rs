@@ -29,6 +29,12 @@ impl Ksp {
         let mi = max_it.map_or(ffi::PETSC_DEFAULT, |m| m as i32);
         check(unsafe { ffi::KSPSetTolerances(self.raw, rtol, atol, ffi::PETSC_DEFAULT as f64, mi as Int) })
     }
+    /// (rtol, atol, dtol, max_it) as set (by options too), unclamped.
+    pub fn tolerances(&self) -> Result<(f64, f64, f64, i64)> {
+        let (mut rtol, mut atol, mut dtol, mut maxit) = (0.0, 0.0, 0.0, 0 as Int);
+        check(unsafe { ffi::KSPGetTolerances(self.raw, &mut rtol, &mut atol, &mut dtol, &mut maxit) })?;
+        Ok((rtol, atol, dtol, maxit as i64))
+    }
     /// The iteration limit in effect.
     pub fn max_it(&self) -> Result<usize> {
         let (mut rtol, mut atol, mut dtol, mut maxit) = (0.0, 0.0, 0.0, 0 as Int);

@@ -76,6 +76,31 @@ pub fn set_contact_defaults() -> Result<()> {
     options::set_default("snes_max_it", Some("50"))
 }
 
+/// The Krylov and Newton tolerances as the options set them: PETSc takes a negative count or
+/// tolerance without complaint and then fails every solve, so name the option here.
+pub fn check_tolerances(snes: &Snes) -> Result<()> {
+    let (rtol, atol, dtol, max_it) = snes.ksp()?.tolerances()?;
+    let (satol, srtol, stol, smax_it) = snes.tolerances()?;
+    let bad = |opt: &str, v: String, want: &str| Err(Error::Solver(format!("-{opt} {v}: must be {want}")));
+    for (opt, v) in
+        [("ksp_rtol", rtol), ("ksp_atol", atol), ("snes_rtol", srtol), ("snes_atol", satol), ("snes_stol", stol)]
+    {
+        if !(v.is_finite() && v >= 0.0) {
+            return bad(opt, format!("{v}"), ">= 0");
+        }
+    }
+    if !(dtol.is_finite() && dtol > 0.0) && dtol != -1.0 {
+        return bad("ksp_divtol", format!("{dtol}"), "> 0");
+    }
+    if max_it < 0 {
+        return bad("ksp_max_it", format!("{max_it}"), "a non-negative integer");
+    }
+    if smax_it == 0 {
+        return bad("snes_max_it", "0".into(), "a positive integer");
+    }
+    Ok(())
+}
+
 /// The preset's defaults (see [`set_default_options`]) and the run log's solver line (with the
 /// BLAS kernels MUMPS runs in).
 pub fn policy(preset: &str, n_dofs: usize) -> Result<(Policy, String)> {
