@@ -342,7 +342,7 @@ fn every_kind_of_bad_input_gets_one_clear_message() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success() && err.contains("unrecognized subcommand 'runn'"), "{err}");
     }
-    assert_eq!(std::fs::read_to_string(&ok).unwrap().contains("t_end = 0.002"), true, "the scene file is intact");
+    assert!(std::fs::read_to_string(&ok).unwrap().contains("t_end = 0.002"), "the scene file is intact");
 }
 
 /// One straight tet10 in a physical volume "column" (no surface groups).

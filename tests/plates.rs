@@ -438,6 +438,11 @@ fn non_elliptic_solid_fails_promptly_naming_the_cause() {
     let line = stderr.lines().find(|l| l.starts_with("poroplast: error:")).expect("an error line");
     assert!(line.contains("below time.dt_min = 1.000e-4 s"), "{line}");
     assert!(line.contains("loses strong ellipticity beyond 11.8% isochoric compression"), "{line}");
+    // The run directory says why it stopped, and keeps what was computed.
+    let failed = dir.join("nu045");
+    let status = std::fs::read_to_string(failed.join("status.txt")).expect("status.txt");
+    assert!(status.starts_with("failed after step") && status.contains("below time.dt_min"), "{status}");
+    assert!(failed.join("timings.txt").exists() && failed.join("history.csv").exists());
 }
 
 /// Stability (c) and (d): remodelling, a 400 s hold with steps up to 50 s (400× the seed

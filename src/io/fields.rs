@@ -387,7 +387,8 @@ impl FieldFile {
             .map_err(|e| h5err(&h5_path, "cannot open HDF5 file", e));
         let file = agree(&comm, file)?;
         // Collective metadata: the steps kept, and the mesh groups.
-        let read = (|| -> hdf5::Result<(hdf5::Dataset, hdf5::Dataset, Vec<f64>, Vec<i64>, Vec<String>)> {
+        type Written = (hdf5::Dataset, hdf5::Dataset, Vec<f64>, Vec<i64>, Vec<String>);
+        let read = (|| -> hdf5::Result<Written> {
             let time_ds = file.dataset("time")?;
             let step_mesh_ds = file.dataset("step_mesh")?;
             let times: Vec<f64> = time_ds.read_raw()?;

@@ -111,6 +111,16 @@ impl Pc {
         check(unsafe { ffi::PCApply(self.raw, b.raw, x.raw) })
     }
     /// Names a split by an index set (used when no DM provides the fields).
+    /// A Schur fieldsplit's Schur-complement preconditioner: built from `schur` (user's).
+    pub fn set_schur_pre_user(&self, schur: &Mat) -> Result<()> {
+        check(unsafe {
+            ffi::PCFieldSplitSetSchurPre(
+                self.raw_handle(),
+                ffi::PCFieldSplitSchurPreType::PC_FIELDSPLIT_SCHUR_PRE_USER,
+                schur.as_raw(),
+            )
+        })
+    }
     pub fn fieldsplit_set_is(&self, name: &str, is: &IndexSet) -> Result<()> {
         let c = cstr(name);
         check(unsafe { ffi::PCFieldSplitSetIS(self.raw, c.as_ptr(), is.raw) })

@@ -124,10 +124,14 @@ impl Snes {
         check(unsafe { ffi::SNESVISetVariableBounds(self.raw, lower.raw, upper.raw) })
     }
     /// The inactive (free) set of the current VI iterate, if the VI solver has one yet.
-    pub fn vi_inactive_set(&self) -> Result<Option<ffi::IS>> {
+    pub fn vi_inactive_set(&self) -> Result<Option<super::IndexSet>> {
         let mut is: ffi::IS = std::ptr::null_mut();
         check(unsafe { ffi::SNESVIGetInactiveSet(self.raw, &mut is) })?;
-        Ok((!is.is_null()).then_some(is))
+        if is.is_null() {
+            return Ok(None);
+        }
+        // SAFETY: a valid IS owned by SNESVI; we take our own reference.
+        Ok(Some(unsafe { super::IndexSet::from_raw_ref(is)? }))
     }
     /// Tells SNES the last function evaluation left the admissible domain (J <= Φs ...):
     /// the solve fails softly and TS retries with a smaller step.

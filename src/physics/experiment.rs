@@ -86,9 +86,6 @@ impl Experiment {
         Ok(Experiment { symmetry, probe_p, probe_porosity, faces, outflow_total: 0.0 })
     }
 
-    /// Observables at time t after a step of size dt (collective). `drainage_gaps`: the state
-    /// whose gaps set the step's drainage, if not the solution's (for the outflow).
-    #[allow(clippy::too_many_arguments)]
     /// The time-integrated outflow so far (µm³, full sphere), for a checkpoint.
     pub fn outflow(&self) -> f64 {
         self.outflow_total
@@ -99,6 +96,9 @@ impl Experiment {
         self.outflow_total = v;
     }
 
+    /// Observables at time t after a step of size dt (collective). `drainage_gaps`: the state
+    /// whose gaps set the step's drainage, if not the solution's (for the outflow).
+    #[allow(clippy::too_many_arguments)]
     pub fn observe(
         &mut self,
         t: f64,

@@ -755,16 +755,48 @@ impl LoadedScene {
 }
 
 /// A TOML error on one line: "line N (`text`): message" (the parser's own text spans lines).
+/// A type error reported for a whole table (serde loses the key inside tagged enums such as
+/// `[material]`) is put on the one `key = value` line of the table whose value has that type.
 fn toml_message(text: &str, e: &toml::de::Error) -> String {
     let msg = e.message().replace('\n', " ");
     match e.span() {
         Some(span) => {
-            let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
+            let start = span.start.min(text.len());
+            let mut line = text[..start].matches('\n').count() + 1;
+            if let Some(kind) = msg.strip_prefix("invalid type: ") {
+                let region = &text[start..span.end.clamp(start, text.len())];
+                let hits: Vec<usize> = region
+                    .lines()
+                    .enumerate()
+                    .filter(|(_, l)| value_kind(l).is_some_and(|k| kind.starts_with(k)))
+                    .map(|(i, _)| i)
+                    .collect();
+                if let [i] = hits[..] {
+                    line += i;
+                }
+            }
             let what = text.lines().nth(line - 1).unwrap_or("").trim();
             format!("line {line} (`{what}`): {msg}")
         }
         None => msg,
     }
+}
+
+/// The serde name of the kind of value on a `key = value` line (None for other lines).
+fn value_kind(line: &str) -> Option<&'static str> {
+    let (key, value) = line.split_once('=')?;
+    let (key, v) = (key.trim(), value.trim());
+    if key.is_empty() || key.starts_with(['#', '[']) {
+        return None;
+    }
+    Some(match v.chars().next()? {
+        '[' => "sequence",
+        '{' => "map",
+        '"' | '\'' => "string",
+        't' | 'f' if v.starts_with("true") || v.starts_with("false") => "boolean",
+        _ if v.split(['#', ' ']).next().is_some_and(|n| n.parse::<i64>().is_ok()) => "integer",
+        _ => "floating point",
+    })
 }
 
 fn poisson(s: &LoadedScene, nu: f64) -> Result<()> {
@@ -796,5 +828,22 @@ fn finite(s: &LoadedScene, key: &str, v: f64) -> Result<()> {
         Ok(())
     } else {
         Err(s.err(format!("{key} = {v}: must be finite")))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_type_error_in_a_tagged_table_names_its_line() {
+        let text = "name = \"x\"\n[mesh]\ngeo = \"column.geo\"\n[material]\nmodel = \"linear\"\nmu = [1]\nnu = 0.2\n";
+        let e = toml::from_str::<Scene>(text).expect_err("mu is not a number");
+        let m = toml_message(text, &e);
+        assert!(m.starts_with("line 6 (`mu = [1]`): invalid type: sequence"), "{m}");
+        assert_eq!(value_kind("nu = 0.2  # comment"), Some("floating point"));
+        assert_eq!(value_kind("n = 3"), Some("integer"));
+        assert_eq!(value_kind("drained = true"), Some("boolean"));
+        assert_eq!(value_kind("[material]"), None);
     }
 }

@@ -113,8 +113,7 @@ impl FieldDecomposition for Fields {
             Some(s) if s.is_vi()? => s.vi_inactive_set()?,
             _ => None,
         };
-        if let Some(raw) = inactive {
-            let is = unsafe { IndexSet::from_raw_ref(raw)? };
+        if let Some(is) = inactive {
             return self.restricted(&is);
         }
         let mut u = IndexSet::stride_like(&self.u)?;

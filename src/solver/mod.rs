@@ -35,7 +35,7 @@ pub use rigid::FreeRigidModes;
 pub use woodbury::ActiveSetUpdate;
 
 use crate::error::{Error, Result};
-use crate::petsc::{check, ffi, options, Mat, Snes, Vector};
+use crate::petsc::{options, Mat, Snes, Vector};
 
 /// Largest system the "auto" preset solves with the lagged direct factorisation.
 pub const DIRECT_MAX_DOFS: usize = 40_000;
@@ -192,13 +192,7 @@ pub fn use_schur_matrix(snes: &Snes, schur: &Mat) -> Result<bool> {
     let pc = snes.ksp()?.pc()?;
     let used = pc.type_name()? == "fieldsplit" && !options::has("pc_fieldsplit_schur_precondition")?;
     if used {
-        check(unsafe {
-            ffi::PCFieldSplitSetSchurPre(
-                pc.raw_handle(),
-                ffi::PCFieldSplitSchurPreType::PC_FIELDSPLIT_SCHUR_PRE_USER,
-                schur.as_raw(),
-            )
-        })?;
+        pc.set_schur_pre_user(schur)?;
     }
     Ok(used)
 }
