@@ -1,5 +1,5 @@
 //! Command line: `poroplast run [SCENE] [--set KEY=VALUE ...] [--out DIR] [--force] [-- PETSC
-//! OPTIONS]`, `poroplast check SCENE [--set KEY=VALUE ...]`, `poroplast scenes`, `poroplast show NAME`.
+//! OPTIONS]`, `poroplast check SCENE [--set KEY=VALUE ...] [-- PETSC OPTIONS]`, `poroplast scenes`, `poroplast show NAME`.
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -57,13 +57,16 @@ pub enum Command {
         #[arg(last = true, allow_hyphen_values = true)]
         petsc: Vec<String>,
     },
-    /// Validate a scene and its mesh (groups, parameters) without solving.
+    /// Validate a scene as `run` would — set-up and first step, nothing written.
     Check {
         /// A scene file (.toml) or the name of a shipped scene.
         scene: String,
         /// Override a scene value (as for `run`).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
+        /// PETSc options, after `--` (checked as `run` checks them).
+        #[arg(last = true, allow_hyphen_values = true)]
+        petsc: Vec<String>,
     },
     /// List the scenes shipped in the binary.
     Scenes,

@@ -49,7 +49,7 @@ fn main() {
         Command::Resume { dir, quiet, petsc } => {
             driver::resume(&world, &dir, &petsc, !quiet).map(|dir| dir.display().to_string())
         }
-        Command::Check { scene, set } => driver::check(&world, &scene, &set),
+        Command::Check { scene, set, petsc } => driver::check(&world, &scene, &set, &petsc),
         Command::Scenes | Command::Show { .. } => unreachable!(),
     };
     let code = match result {

@@ -160,7 +160,7 @@ fn bad_input_is_reported_and_earlier_results_survive() {
 }
 
 #[test]
-fn check_validates_without_solving() {
+fn check_validates_as_run_does() {
     let dir = scratch("check");
     let out = run_ok(1, &["check", &scene("terzaghi")]);
     assert!(out.contains("ok"), "{out}");
@@ -171,7 +171,10 @@ fn check_validates_without_solving() {
     // The same through an override of the first [[bc]]'s group.
     let out = poroplast(1, &["check", &scene("terzaghi"), "--set", "bc.0.group=floor"]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("physical group \"floor\" not found"));
-    // `check` sets the run up as `run` does: what `run` refuses, `check` refuses.
+    // `check` sets the run up and takes its first step as `run` does: what `run` refuses,
+    // `check` refuses — PETSc options included.
+    let out = poroplast(1, &["check", &scene("terzaghi"), "--", "-ksp_rtoll", "1e-5"]);
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("-ksp_rtoll"));
     for (set, expect) in [
         ("plates.radius=120", "plates.radius = 120"),
         ("plates.group=\"skin\"", "physical group \"skin\" not found"),

@@ -151,19 +151,30 @@ impl RunRecord {
     }
 }
 
-/// Validates a scene without solving (`poroplast check`): the set-up `run` does — scene, mesh
-/// (orientation, folded elements), groups, plates against the mesh, anchor, probes, material,
-/// solver options read at set-up — with nothing written.
-pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String]) -> Result<String> {
+/// Validates a scene as `run` does (`poroplast check`): the set-up — scene, mesh (orientation,
+/// folded elements), groups, plates against the mesh, anchor, probes, material — and the first
+/// step, after which every PETSc option has been read; nothing is written.
+pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc: &[String]) -> Result<String> {
     let scene = LoadedScene::load(scene_arg, set)?;
-    let petsc = Petsc::init(&petsc_args(&scene, &[]))?;
-    let args =
-        RunArgs { scene: scene_arg.into(), set: set.to_vec(), out: None, force: false, petsc: vec![], progress: false };
-    let r = Run::setup(world, &scene, &args).map(|run| {
+    let args = RunArgs {
+        scene: scene_arg.into(),
+        set: set.to_vec(),
+        out: None,
+        force: false,
+        petsc: petsc.to_vec(),
+        progress: false,
+    };
+    let petsc = Petsc::init(&petsc_args(&scene, petsc))?;
+    let r = Run::setup(world, &scene, &args).and_then(|mut run| {
+        // The same first step as `run` (settling included), into no directory: then the PETSc
+        // options have all been read, and the first solve has worked.
+        let mut pg = Progress { nominal: run.schedule.dt0, ..Default::default() };
+        let mut prev = run.u.duplicate()?;
+        run.first_step(&mut pg, &mut prev, Stage::register("Solve")?, true)?;
         let mesh = &run.ts.problem().disc.mesh;
         let warning = run.ellipticity.as_ref().map(|w| format!("\nwarning: {w}")).unwrap_or_default();
-        format!(
-            "{}: ok — mesh {} ({} tets, {} nodes, {} vertices; {} dofs)\n{}{warning}",
+        Ok(format!(
+            "{}: ok — mesh {} ({} tets, {} nodes, {} vertices; {} dofs), first step taken\n{}{warning}",
             scene.source,
             run.mesh_path.display(),
             mesh.n_global_elems,
@@ -171,7 +182,7 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String]) -> Res
             mesh.n_global_vertices,
             run.n_global_dofs,
             run.solver_line
-        )
+        ))
     });
     drop(petsc);
     r
@@ -425,21 +436,12 @@ impl<'w> Run<'w> {
         let t_start = Instant::now();
         let stages = (Stage::register("Solve")?, Stage::register("Output")?);
         let resuming = resume.is_some();
-        let (mut pg, history0) = match resume {
-            Some(state) => (self.restore(state)?, None),
-            None => {
-                let mut pg = Progress { nominal: self.schedule.dt0, ..Default::default() };
-                self.settle(stages.0)?;
-                // Settling's iterations are not the experiment's.
-                pg.totals = self.ts.solver_totals()?;
-                // The history at t = 0, for the first row: the first step commits its own.
-                (pg, Some(self.ts.problem().disc.history.clone()))
-            }
+        let mut pg = match resume {
+            Some(state) => self.restore(state)?,
+            None => Progress { nominal: self.schedule.dt0, ..Default::default() },
         };
-        let initial = self.u.copy()?;
         let mut prev = self.u.duplicate()?;
-        let mut step = self.advance(&mut pg, &mut prev, stages.0)?;
-        self.check_options()?;
+        let (mut step, initial, history0) = self.first_step(&mut pg, &mut prev, stages.0, !resuming)?;
         let mut rec = if resuming { self.reopen_output(&out)? } else { self.open_output(&out)? };
         self.announce(&out);
         if let Some(h0) = history0 {
@@ -597,6 +599,32 @@ impl<'w> Run<'w> {
         // Rows of steps 0..=step.
         self.resumed = Some((c.step + 1, c.fields_written));
         Ok(Progress::resumed(&c))
+    }
+
+    /// Settling (when starting afresh) and the first step: run before anything is written, so
+    /// that every PETSc option has been read and an unknown one is an error. Returns the step,
+    /// and when starting afresh the state and history at t = 0 (for the first row: the first
+    /// step commits its own history).
+    #[allow(clippy::type_complexity)]
+    fn first_step(
+        &mut self,
+        pg: &mut Progress,
+        prev: &mut Vector,
+        stage: Stage,
+        fresh: bool,
+    ) -> Result<((f64, (usize, usize)), Vector, Option<crate::fem::qp_store::QpStore>)> {
+        let history0 = if fresh {
+            self.settle(stage)?;
+            // Settling's iterations are not the experiment's.
+            pg.totals = self.ts.solver_totals()?;
+            Some(self.ts.problem().disc.history.clone())
+        } else {
+            None
+        };
+        let initial = self.u.copy()?;
+        let step = self.advance(pg, prev, stage)?;
+        self.check_options()?;
+        Ok((step, initial, history0))
     }
 
     /// The run log's opening lines (rank 0).
