@@ -21,7 +21,7 @@ fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
 
 /// Runs a failing case against the earlier run in `earlier` and checks message and intactness.
 fn fails(earlier: &Path, args: &[&str], expect: &str) {
-    fails_as(earlier, args, expect, &format!("{args:?}"));
+    fails_as(2, earlier, args, expect, &format!("{args:?}"));
 }
 
 /// One tet10 (Gmsh 4.1 ASCII) with the mid-node of edge (0, 1) pulled past the opposite edge.
@@ -220,7 +220,7 @@ fn overrides_reach_the_run_and_its_resolved_scene() {
     assert!((last_t - 0.004).abs() < 1e-12, "the run ends at the overridden t_end, not {last_t}");
 }
 
-/// A battery over the kinds of bad input (on 2 ranks, against an earlier run kept intact): each
+/// A battery over the kinds of bad input (on 1 and 2 ranks, against an earlier run kept intact): each
 /// is (what, arguments after `run`, expected part of the one error line). `SCENE` in the
 /// arguments is replaced by a file written for the case, `MESH` by a mesh file.
 #[test]
@@ -314,11 +314,6 @@ fn every_kind_of_bad_input_gets_one_clear_message() {
         ),
         ("binary garbage", vec![terzaghi_mesh(&write("garbage.msh", &[0u8, 159, 146, 150, 255, 1, 2, 3]))], "msh"),
         ("2-D mesh", vec![terzaghi_mesh(&write("flat.msh", FLAT_MESH.as_bytes()))], "no tetrahedra"),
-        (
-            "more ranks than elements",
-            vec![terzaghi_mesh(&write("one_tet.msh", good_msh.as_bytes()))],
-            "fewer than the 2 ranks",
-        ),
         // PETSc options.
         ("PETSc value", vec![ok.clone(), "--".into(), "-ksp_max_it".into(), "-5".into()], "-ksp_max_it"),
         ("PETSc type", vec![ok.clone(), "--".into(), "-ksp_type".into(), "nonsense".into()], "nonsense"),
@@ -329,13 +324,18 @@ fn every_kind_of_bad_input_gets_one_clear_message() {
             "settling under gravity",
         ),
     ];
-    for (what, args, expect) in &cases {
-        let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
-        let mut full = vec!["run"];
-        full.extend(a);
-        fails_as(&earlier, &full, expect, what);
+    for np in [1, 2] {
+        for (what, args, expect) in &cases {
+            let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+            let mut full = vec!["run"];
+            full.extend(a);
+            fails_as(np, &earlier, &full, expect, &format!("{what} ({np} rank(s))"));
+        }
     }
     assert!(cases.len() >= 30);
+    // More ranks than elements (one tet on 2 ranks).
+    let one_tet = terzaghi_mesh(&write("one_tet.msh", good_msh.as_bytes()));
+    fails_as(2, &earlier, &["run", &one_tet], "fewer than the 2 ranks", "more ranks than elements");
     // The command line: --out that is a file; an unknown subcommand (clap's own message).
     for np in [1, 2] {
         let out = poroplast(np, &["run", &ok, "--out", &ok, "-q"]);
@@ -358,9 +358,9 @@ $Elements\n1 1 1 1\n3 1 11 1\n1 1 2 3 4 5 6 7 8 9 10\n$EndElements\n";
 const FLAT_MESH: &str = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n\
 0 0 0\n1 0 0\n0 1 0\n1 1 0\n$EndNodes\n$Elements\n1 2 1 2\n2 1 2 2\n1 1 2 3\n2 2 4 3\n$EndElements\n";
 
-/// A case that must fail on 2 ranks (written into `earlier` with --force): non-zero exit, one
-/// error line containing `expect`, no panic, and `earlier` byte for byte as it was.
-fn fails_as(earlier: &Path, args: &[&str], expect: &str, what: &str) {
+/// A case that must fail on `np` ranks (written into `earlier` with --force): non-zero exit,
+/// one error line containing `expect`, no panic, and `earlier` byte for byte as it was.
+fn fails_as(np: usize, earlier: &Path, args: &[&str], expect: &str, what: &str) {
     let before = snapshot(earlier);
     let mut full: Vec<&str> = args.to_vec();
     let out_flag = ["--out", earlier.to_str().unwrap(), "--force", "-q"];
@@ -368,7 +368,7 @@ fn fails_as(earlier: &Path, args: &[&str], expect: &str, what: &str) {
     for (i, a) in out_flag.iter().enumerate() {
         full.insert(split + i, a);
     }
-    let out = poroplast(2, &full);
+    let out = poroplast(np, &full);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{what}: {args:?} should fail");
     let lines: Vec<&str> = stderr.lines().filter(|l| l.starts_with("poroplast: error:")).collect();

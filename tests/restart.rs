@@ -157,7 +157,7 @@ fn a_two_rank_run_stopped_by_mpirun_resumes_on_one_rank() {
 }
 
 #[test]
-fn resume_refuses_what_it_cannot_continue() {
+fn resume_refuses_what_it_cannot_continue_and_restarts_what_never_checkpointed() {
     let d = scratch("restart_refusals");
     let fails = |dir: &Path, expect: &str| {
         let out = poroplast(1, &["resume", &dir.display().to_string()]);
@@ -167,8 +167,18 @@ fn resume_refuses_what_it_cannot_continue() {
         assert!(line.contains(expect), "`{expect}` expected in: {line}");
     };
     fails(&d.join("nothing"), "not a run directory");
-    // A run without checkpoints (none due in its 1 s of wall time).
+    // A completed run: nothing to do, and nothing changes.
     let run = d.join("run");
     run_ok(1, &["run", "terzaghi", "--set", "time.t_end=0.002", "--out", &run.display().to_string(), "-q"]);
-    fails(&run, "no checkpoint to resume from");
+    let before = std::fs::read(run.join("history.csv")).unwrap();
+    let out = run_ok(1, &["resume", &run.display().to_string()]);
+    assert!(out.contains("nothing to resume"), "{out}");
+    assert_eq!(before, std::fs::read(run.join("history.csv")).unwrap());
+    // Killed before its first checkpoint: it runs again from t = 0, to the same history.
+    std::fs::remove_file(run.join("status.txt")).unwrap();
+    std::fs::write(run.join("history.csv"), &before[..before.len() / 2]).unwrap();
+    run_ok(1, &["resume", &run.display().to_string(), "-q"]);
+    let again = std::fs::read_to_string(run.join("history.csv")).unwrap();
+    let strip = |t: &str| t.lines().map(|l| l.rsplit_once(',').unwrap().0.to_string()).collect::<Vec<_>>(); // no wall_s
+    assert_eq!(strip(&again), strip(&String::from_utf8(before).unwrap()));
 }

@@ -51,14 +51,15 @@ pub fn run(world: &SimpleCommunicator, args: &RunArgs) -> Result<PathBuf> {
 /// overrides and PETSc options it was started with, then `petsc` (added, or overriding).
 pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress: bool) -> Result<PathBuf> {
     let record = agree(world, RunRecord::read(dir))?;
-    let checkpoint = agree(
-        world,
-        state::list(dir).and_then(|l| {
-            l.last().cloned().ok_or_else(|| {
-                Error::io(dir, "no checkpoint to resume from (checkpoints/step-*.h5; see output.checkpoint_every)")
-            })
-        }),
-    )?;
+    let status = std::fs::read_to_string(dir.join("status.txt")).unwrap_or_default();
+    if status.starts_with("completed") {
+        if world.rank() == 0 {
+            println!("{}: the run has {}; nothing to resume", dir.display(), status.trim());
+        }
+        return Ok(dir.to_path_buf());
+    }
+    // Killed before its first checkpoint: the run starts again from t = 0 in its directory.
+    let checkpoint = agree(world, state::list(dir))?.last().cloned();
     let scene = record.scene(dir)?;
     let mut options = record.petsc.clone();
     options.extend(petsc.iter().cloned());
@@ -66,12 +67,16 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
         scene: record.scene.clone(),
         set: record.set.clone(),
         out: Some(dir.to_path_buf()),
-        force: false,
+        force: true,
         petsc: options,
         progress,
     };
     let petsc = Petsc::init(&petsc_args(&scene, &args.petsc))?;
     let r = Run::setup(world, &scene, &args).and_then(|mut run| {
+        let Some(checkpoint) = checkpoint else {
+            run.say("no checkpoint yet: the run starts again from t = 0");
+            return run.execute(None);
+        };
         let per_elem = run.ts.problem().disc.history.element(0).len();
         let state = RunState::read(world, &checkpoint, run.n_file_nodes, run.n_file_elems, per_elem)?;
         // The solver's state, if saved on as many ranks as now (else it starts afresh).

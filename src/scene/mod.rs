@@ -241,12 +241,15 @@ pub struct OutputSpec {
     #[serde(default)]
     pub fields_at: Vec<f64>,
     /// Write a checkpoint every N steps (0: not by steps).
-    #[serde(default)]
+    #[serde(default = "default_checkpoint_every")]
     pub checkpoint_every: usize,
     /// Write a checkpoint when this much wall time (minutes) has passed since the last (0: not
     /// by time).
     #[serde(default = "default_checkpoint_minutes")]
     pub checkpoint_minutes: f64,
+}
+fn default_checkpoint_every() -> usize {
+    25
 }
 fn default_checkpoint_minutes() -> f64 {
     10.0
@@ -257,7 +260,7 @@ impl Default for OutputSpec {
             fields_every: 1,
             fields: true,
             fields_at: vec![],
-            checkpoint_every: 0,
+            checkpoint_every: default_checkpoint_every(),
             checkpoint_minutes: default_checkpoint_minutes(),
         }
     }
