@@ -181,4 +181,14 @@ fn resume_refuses_what_it_cannot_continue_and_restarts_what_never_checkpointed()
     let again = std::fs::read_to_string(run.join("history.csv")).unwrap();
     let strip = |t: &str| t.lines().map(|l| l.rsplit_once(',').unwrap().0.to_string()).collect::<Vec<_>>(); // no wall_s
     assert_eq!(strip(&again), strip(&String::from_utf8(before).unwrap()));
+    // A new run written over it (--force) does not inherit its checkpoints or its status.
+    let r = run.display().to_string();
+    let rerun = |every: &str| {
+        let set = format!("output.checkpoint_every={every}");
+        run_ok(1, &["run", "terzaghi", "--set", "time.t_end=0.002", "--set", &set, "--out", &r, "--force", "-q"]);
+    };
+    rerun("1");
+    assert!(run.join("checkpoints").is_dir());
+    rerun("0");
+    assert!(!run.join("checkpoints").exists(), "the earlier run's checkpoints were left behind");
 }

@@ -60,7 +60,7 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
     }
     // Killed before its first checkpoint: the run starts again from t = 0 in its directory.
     let checkpoint = agree(world, state::list(dir))?.last().cloned();
-    let scene = record.scene(dir)?;
+    let scene = agree(world, record.scene(dir))?;
     let mut options = record.petsc.clone();
     options.extend(petsc.iter().cloned());
     let args = RunArgs {
@@ -340,15 +340,19 @@ impl<'w> Run<'w> {
         let options = options::dump()?;
         let written = if self.rank0() {
             (|| -> Result<()> {
+                // An earlier run's checkpoints and status (--force) are not this run's.
+                let old = dir.join(state::DIR);
+                if old.is_dir() {
+                    std::fs::remove_dir_all(&old).map_err(|e| Error::io(&old, e))?;
+                }
+                let status = dir.join("status.txt");
+                if status.exists() {
+                    std::fs::remove_file(&status).map_err(|e| Error::io(&status, e))?;
+                }
                 let scene = format!("# resolved from {}\n{}", self.scene.source, self.scene.to_toml());
                 rundir::write_text(dir, "scene.toml", &scene)?;
                 rundir::write_text(dir, "petsc_options.txt", &(options + "\n"))?;
-                let record = toml::to_string(&RunRecord::of(&self.args)).unwrap_or_default();
-                rundir::write_text(
-                    dir,
-                    RunRecord::FILE,
-                    &format!("# how this run was started, for `poroplast resume`\n{record}"),
-                )
+                self.write_record(dir)
             })()
         } else {
             Ok(())
@@ -361,9 +365,22 @@ impl<'w> Run<'w> {
     /// Reopens the run directory of a resumed run: history.csv and the fields continue after
     /// the checkpoint's step (later rows and steps, from after the checkpoint, are dropped).
     fn reopen_output(&mut self, dir: &Path) -> Result<Recorder> {
+        // The options given to `resume` join the record, for the next resume.
+        let written = if self.rank0() { self.write_record(dir) } else { Ok(()) };
+        agree(self.world, written)?;
         let obs = self.observers.take().expect("the run directory opens once");
         let (rows, fields) = self.resumed.expect("resuming");
         Recorder::reopen(self.world, dir, &self.ts.problem().disc.mesh, obs, rows, fields)
+    }
+
+    /// `run.toml`: how to set this run up again (rank 0).
+    fn write_record(&self, dir: &Path) -> Result<()> {
+        let record = toml::to_string(&RunRecord::of(&self.args)).unwrap_or_default();
+        rundir::write_text(
+            dir,
+            RunRecord::FILE,
+            &format!("# how this run was started, for `poroplast resume`\n{record}"),
+        )
     }
 
     /// A failed solve's error, with the likely cause when the solid law is not elliptic.
@@ -464,8 +481,10 @@ impl<'w> Run<'w> {
                     return Ok(());
                 }
                 let stopping = stop.requested(self.world);
-                if stopping || self.checkpoint_due(&pg) {
-                    let path = self.checkpoint(&rec, &mut pg, t_start)?;
+                let every = self.scene.scene.output.checkpoint_every;
+                let periodic = every > 0 && pg.step.is_multiple_of(every);
+                if stopping || periodic || self.checkpoint_due(&pg) {
+                    let path = self.checkpoint(&rec, &mut pg, t_start, periodic)?;
                     if stopping {
                         return Err(Error::Stopped(format!(
                             "stopped by a signal after step {} (t = {}); checkpoint {}; continue with \
@@ -492,13 +511,10 @@ impl<'w> Run<'w> {
         r.map(|()| rec.dir)
     }
 
-    /// A periodic checkpoint is due after this step: every `output.checkpoint_every` steps, or
-    /// `output.checkpoint_minutes` of wall time after the last (rank 0's clock decides).
+    /// A checkpoint by wall time is due after this step: `output.checkpoint_minutes` after the
+    /// last (rank 0's clock decides).
     fn checkpoint_due(&self, pg: &Progress) -> bool {
         let o = &self.scene.scene.output;
-        if o.checkpoint_every > 0 && pg.step.is_multiple_of(o.checkpoint_every) {
-            return true;
-        }
         if o.checkpoint_minutes <= 0.0 {
             return false;
         }
@@ -511,7 +527,7 @@ impl<'w> Run<'w> {
     /// Writes the run state after the step just recorded (collective), and makes the next
     /// solve start as it would after resuming from this checkpoint, so that a resumed run
     /// repeats the uninterrupted one.
-    fn checkpoint(&mut self, rec: &Recorder, pg: &mut Progress, t_start: Instant) -> Result<PathBuf> {
+    fn checkpoint(&mut self, rec: &Recorder, pg: &mut Progress, t_start: Instant, periodic: bool) -> Result<PathBuf> {
         let counters = Counters {
             step: pg.step,
             t: pg.t,
@@ -553,7 +569,7 @@ impl<'w> Run<'w> {
         // The solver's state between steps (the kept factorised Jacobian), per rank: a run
         // resumed on as many ranks continues exactly as this one. Where it cannot be saved the
         // solver starts afresh here, as a resumed run will.
-        let solver = self.ts.nonlinear_solver_state()?;
+        let solver = agree(self.world, self.ts.nonlinear_solver_state())?;
         let mut saved = u8::from(solver.is_some());
         let mut all = 0u8;
         self.world.all_reduce_into(&saved, &mut all, mpi::collective::SystemOperation::min());
@@ -563,7 +579,9 @@ impl<'w> Run<'w> {
             _ => Ok(()),
         };
         agree(self.world, solver_written)?;
-        if saved == 0 {
+        // Only at the checkpoints every N steps, which every run of the scene takes at the same
+        // steps: restarting at wall-clock ones would make uninterrupted runs differ.
+        if saved == 0 && periodic {
             self.ts.restart_nonlinear_solver();
         }
         let written = if self.rank0() { state.write(&rec.dir).map(Some) } else { Ok(None) };
@@ -691,7 +709,8 @@ impl<'w> Run<'w> {
             let fields =
                 self.schedule.done(pg.t) || (every > 0 && pg.step.is_multiple_of(every)) || self.output_time(pg.t);
             cur.copy_from(&self.u)?;
-            let row = StepRow { step: pg.step, t: pg.t, dt: taken, its, wall: t_start.elapsed().as_secs_f64() };
+            let wall = pg.wall_before + t_start.elapsed().as_secs_f64();
+            let row = StepRow { step: pg.step, t: pg.t, dt: taken, its, wall };
             rec.record(self.world, self.ts.problem_mut(), cur, prev, &row, fields)?;
         }
         pg.output_s += o.elapsed().as_secs_f64();

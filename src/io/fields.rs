@@ -447,6 +447,15 @@ impl FieldFile {
         all_same = out;
         let group = if all_same == 1 { last } else { last + 1 };
         if group != last {
+            // A group of that name left by a later session that was cut off: no kept step uses it.
+            let stale = (|| -> hdf5::Result<()> {
+                if file.member_names()?.contains(&mesh_group(group)) {
+                    file.unlink(&mesh_group(group))?;
+                }
+                Ok(())
+            })()
+            .map_err(|e| h5err(&h5_path, "cannot remove a stale mesh group", e));
+            agree(&comm, stale)?;
             write_mesh(&file, &comm, &h5_path, mesh, group)?;
         }
         let mut ff = FieldFile {

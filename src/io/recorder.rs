@@ -155,7 +155,9 @@ impl Recorder {
         values.extend(self.obs.probes.iter().map(|p| p.value(mesh, dofs, local, world)));
         values.extend(self.obs.exact.iter().map(|(_, f)| f(row.t)));
         values.extend([row.its.0 as f64, row.its.1 as f64, row.wall]);
-        self.history.row(&values)?;
+        // Only rank 0 writes: all agree before the collective fields output.
+        let written = self.history.row(&values);
+        crate::parallel::agree(world, written)?;
         if let (Some(ff), Some(post), true) = (self.fields.as_mut(), &post, write_fields) {
             let n = mesh.n_owned_nodes;
             let uo: Vec<f64> = local[..3 * n].to_vec();

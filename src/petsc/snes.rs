@@ -53,20 +53,35 @@ impl SolverState {
     /// The inverse of [`to_bytes`](Self::to_bytes); None for anything else.
     pub fn from_bytes(b: &[u8]) -> Option<SolverState> {
         let mut at = 0;
+        // Every array length is checked against the file's (a damaged file cannot make a huge
+        // allocation).
+        let fits = |n: u64| (n as usize).checked_mul(8).is_some_and(|bytes| bytes <= b.len());
         let mut word = || -> Option<[u8; 8]> {
             let w = b.get(at..at + 8)?.try_into().ok()?;
             at += 8;
             Some(w)
         };
-        let mut values = vec![0.0; u64::from_le_bytes(word()?) as usize];
+        let n = u64::from_le_bytes(word()?);
+        if !fits(n) {
+            return None;
+        }
+        let mut values = vec![0.0; n as usize];
         for v in values.iter_mut() {
             *v = f64::from_le_bytes(word()?);
         }
-        let mut indices = vec![0 as Int; u64::from_le_bytes(word()?) as usize];
+        let n = u64::from_le_bytes(word()?);
+        if !fits(n) {
+            return None;
+        }
+        let mut indices = vec![0 as Int; n as usize];
         for v in indices.iter_mut() {
             *v = i64::from_le_bytes(word()?) as Int;
         }
-        let mut counters = vec![0u64; u64::from_le_bytes(word()?) as usize];
+        let n = u64::from_le_bytes(word()?);
+        if !fits(n) {
+            return None;
+        }
+        let mut counters = vec![0u64; n as usize];
         for v in counters.iter_mut() {
             *v = u64::from_le_bytes(word()?);
         }
@@ -192,5 +207,22 @@ impl Snes {
     }
     pub fn set_from_options(&self) -> Result<()> {
         check(unsafe { ffi::SNESSetFromOptions(self.raw) })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SolverState;
+
+    #[test]
+    fn solver_state_round_trips_and_rejects_damaged_bytes() {
+        let s = SolverState { values: vec![1.5, -2.0, 3.25], indices: vec![7, 11], counters: vec![4, 9] };
+        let b = s.to_bytes();
+        assert_eq!(SolverState::from_bytes(&b), Some(s));
+        assert_eq!(SolverState::from_bytes(&b[..b.len() - 1]), None, "truncated");
+        let mut huge = b.clone();
+        huge[..8].copy_from_slice(&u64::MAX.to_le_bytes());
+        assert_eq!(SolverState::from_bytes(&huge), None, "a length beyond the file");
+        assert_eq!(SolverState::from_bytes(&[b, vec![0]].concat()), None, "trailing bytes");
     }
 }

@@ -287,8 +287,9 @@ impl<P: TsProblem> Ts<P> {
         let shell = self.shell.insert(Box::new(solver));
         snes.set_shell(shell)
     }
-    /// Makes the next nonlinear solve start afresh (see [`ShellSolve::restart`]); PETSc's own
-    /// SNES keeps nothing between time steps that a restart would lose.
+    /// Makes the next nonlinear solve start afresh (see [`ShellSolve::restart`]). PETSc's own
+    /// objects keep what they keep (e.g. GAMG's reused interpolation): a run resumed with
+    /// them repeats the uninterrupted one only to solver tolerance.
     pub fn restart_nonlinear_solver(&mut self) {
         if let Some(s) = self.shell.as_mut() {
             s.restart();

@@ -295,8 +295,15 @@ impl ActiveSetNewton {
     /// The operator and factorisation of a checkpoint: its Jacobian with the active rows of
     /// its active set replaced, factorised (as they were when the checkpoint was written).
     fn set_up_saved(&mut self, snes: &Snes, ksp: &Ksp, x: &Vector, state: SolverState) -> Result<()> {
-        // An assembly gives the matrix its pattern; its values are then the saved ones.
+        // An assembly gives the matrix its pattern; its values are then the saved ones — if
+        // the saved state fits on every rank (else the solve starts afresh, on every rank).
         let (mut a, _) = snes.compute_jacobian(x)?;
+        let fits = u8::from(state.counters.len() == 2 && a.local_values()?.len() == state.values.len());
+        let mut all = 0u8;
+        self.world.all_reduce_into(&fits, &mut all, SystemOperation::min());
+        if all == 0 {
+            return Ok(());
+        }
         a.set_local_values(&state.values)?;
         self.jac = Some(a.duplicate_with_values()?);
         a.zero_rows_columns(&state.indices, self.diag, None)?;
@@ -388,11 +395,12 @@ impl ShellSolve for ActiveSetNewton {
         let (atol, rtol, stol, max_it) = snes.tolerances()?;
         let backtrack = snes.line_search_type()? == "bt";
         let ksp = snes.ksp()?;
-        if let Some(state) = self.pending.take() {
-            self.set_up_saved(&snes, &ksp, x, state)?;
-        }
         self.bounds.project(x)?;
         snes.compute_function(x, &mut self.f)?;
+        if let Some(state) = self.pending.take() {
+            // Assembled where the residual just was (the uninterrupted run evaluates there too).
+            self.set_up_saved(&snes, &ksp, x, state)?;
+        }
         let mut fnorm = self.bounds.split(x, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;
         let fnorm0 = fnorm;
         let mut it = 0;
