@@ -78,7 +78,8 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
             return run.execute(None);
         };
         let per_elem = run.ts.problem().disc.history.element(0).len();
-        let state = RunState::read(world, &checkpoint, run.n_file_nodes, run.n_file_elems, per_elem)?;
+        let fingerprint = state::mesh_fingerprint(world, &run.ts.problem().disc.mesh);
+        let state = RunState::read(world, &checkpoint, run.n_file_nodes, run.n_file_elems, per_elem, fingerprint)?;
         // The solver's state, if saved on as many ranks as now (else it starts afresh).
         let solver = state::read_solver(dir, state.counters.step, world.rank(), world.size());
         let mut found = u8::from(matches!(solver, Ok(Some(_))));

@@ -103,6 +103,21 @@ pub struct RunState {
     pub velocity: Option<(Vec<f64>, f64)>,
     /// Per original element, its points' committed history (empty without history).
     pub history: Vec<f64>,
+    /// [`mesh_fingerprint`] of the mesh it was written on.
+    pub mesh: f64,
+}
+
+/// A fingerprint of the mesh by the file's numbering (collective): Σ (o + 1)(x + 2y + 3z) over
+/// the nodes o. A mesh regenerated or edited since the checkpoint, with the same counts, moves
+/// it.
+pub fn mesh_fingerprint(world: &SimpleCommunicator, mesh: &LocalMesh) -> f64 {
+    let local: f64 = (0..mesh.n_owned_nodes)
+        .map(|n| {
+            let x = mesh.coords[n];
+            (mesh.node_original[n] as f64 + 1.0) * (x[0] + 2.0 * x[1] + 3.0 * x[2])
+        })
+        .sum();
+    crate::parallel::sum(world, local)
 }
 
 /// Sum over ranks into rank 0 (the other ranks' buffers are left as they were).
@@ -182,7 +197,7 @@ impl RunState {
             }
             reduce_to_root(world, &mut hist);
         }
-        RunState { counters, state, velocity, history: hist }
+        RunState { counters, state, velocity, history: hist, mesh: mesh_fingerprint(world, mesh) }
     }
 
     /// Writes the checkpoint of step `counters.step` into `run_dir/checkpoints/` (rank 0; the
@@ -207,6 +222,7 @@ impl RunState {
                 put("velocity_dt", &[*dt]).map_err(h5)?;
             }
             put("history", &self.history).map_err(h5)?;
+            put("mesh_fingerprint", &[self.mesh]).map_err(h5)?;
             f.close().map_err(h5)?;
         }
         std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))?;
@@ -225,21 +241,24 @@ impl RunState {
         Ok(path)
     }
 
-    /// Reads a checkpoint on rank 0 and broadcasts it (collective): `n_nodes`, `n_elems` and
-    /// `per_elem` are this run's mesh, which the file must match.
+    /// Reads a checkpoint on rank 0 and broadcasts it (collective): `n_nodes`, `n_elems`,
+    /// `per_elem` and `fingerprint` are this run's mesh, which the file must match.
     pub fn read(
         world: &SimpleCommunicator,
         path: &Path,
         n_nodes: usize,
         n_elems: usize,
         per_elem: usize,
+        fingerprint: f64,
     ) -> Result<RunState> {
-        let mut buf: Vec<Vec<f64>> = vec![vec![]; 5];
+        let mut buf: Vec<Vec<f64>> = vec![vec![]; 6];
         let r = if world.rank() == 0 {
             (|| -> Result<()> {
                 let h5 = |e: hdf5::Error| Error::io(path, format!("cannot read checkpoint: {e}"));
                 let f = hdf5::File::open(path).map_err(h5)?;
-                for (i, name) in ["counters", "state", "velocity", "velocity_dt", "history"].iter().enumerate() {
+                for (i, name) in
+                    ["counters", "state", "velocity", "velocity_dt", "history", "mesh_fingerprint"].iter().enumerate()
+                {
                     if let Ok(ds) = f.dataset(name) {
                         buf[i] = ds.read_raw().map_err(h5)?;
                     }
@@ -253,6 +272,10 @@ impl RunState {
                 }
                 if !buf[2].is_empty() && (buf[2].len() != 4 * n_nodes || buf[3].len() != 1) {
                     return bad("velocity");
+                }
+                let fp = buf[5].first().copied().unwrap_or(f64::NAN);
+                if !((fp - fingerprint).abs() <= 1e-12 * fingerprint.abs().max(1.0)) {
+                    return bad("the mesh has changed since (same counts, other nodes)");
                 }
                 if buf[4].len() != n_elems * per_elem {
                     return bad(&format!(
@@ -272,7 +295,13 @@ impl RunState {
         }
         let counters = Counters::from_slice(&buf[0]).expect("checked on rank 0");
         let velocity = if buf[2].is_empty() { None } else { Some((std::mem::take(&mut buf[2]), buf[3][0])) };
-        Ok(RunState { counters, state: std::mem::take(&mut buf[1]), velocity, history: std::mem::take(&mut buf[4]) })
+        Ok(RunState {
+            counters,
+            state: std::mem::take(&mut buf[1]),
+            velocity,
+            history: std::mem::take(&mut buf[4]),
+            mesh: fingerprint,
+        })
     }
 }
 
