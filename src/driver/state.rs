@@ -274,7 +274,8 @@ impl RunState {
                     return bad("velocity");
                 }
                 let fp = buf[5].first().copied().unwrap_or(f64::NAN);
-                if !((fp - fingerprint).abs() <= 1e-12 * fingerprint.abs().max(1.0)) {
+                let same_mesh = (fp - fingerprint).abs() <= 1e-12 * fingerprint.abs().max(1.0);
+                if !same_mesh {
                     return bad("the mesh has changed since (same counts, other nodes)");
                 }
                 if buf[4].len() != n_elems * per_elem {
