@@ -314,6 +314,19 @@ fn every_kind_of_bad_input_gets_one_clear_message() {
         ),
         ("binary garbage", vec![terzaghi_mesh(&write("garbage.msh", &[0u8, 159, 146, 150, 255, 1, 2, 3]))], "msh"),
         ("2-D mesh", vec![terzaghi_mesh(&write("flat.msh", FLAT_MESH.as_bytes()))], "no tetrahedra"),
+        (
+            "degenerate tetrahedron",
+            vec![terzaghi_mesh(&write(
+                "flat_tet.msh",
+                good_msh.replacen("\n0 0 1\n0.5 0 0", "\n1 1 0\n0.5 0 0", 1).as_bytes(),
+            ))],
+            "tetrahedron 1 (element tag) is degenerate",
+        ),
+        (
+            "duplicate node tags",
+            vec![terzaghi_mesh(&write("dup.msh", good_msh.replacen("1\n2\n3\n4\n", "1\n2\n2\n4\n", 1).as_bytes()))],
+            "node tag 2 defined twice",
+        ),
         // PETSc options.
         ("PETSc value", vec![ok.clone(), "--".into(), "-ksp_max_it".into(), "-5".into()], "-ksp_max_it"),
         ("PETSc type", vec![ok.clone(), "--".into(), "-ksp_type".into(), "nonsense".into()], "nonsense"),
