@@ -557,8 +557,10 @@ impl LoadedScene {
                         )));
                     }
                 }
-                if !(*rho_s >= 0.0 && *rho_f >= 0.0) {
-                    return Err(self.err("material.rho_s and rho_f must be >= 0".to_string()));
+                for (key, rho) in [("material.rho_s", *rho_s), ("material.rho_f", *rho_f)] {
+                    if !(rho.is_finite() && rho >= 0.0) {
+                        return Err(self.err(format!("{key} = {rho}: must be >= 0 (kg/m^3)")));
+                    }
                 }
                 for g in gravity {
                     finite(self, "material.gravity", *g)?;
