@@ -38,7 +38,13 @@ pub fn ellipticity_warning(scene: &LoadedScene) -> Result<Option<String>> {
 /// The scene's point model.
 pub fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
     use crate::material::{CompactionPenalty, FlowForm, Integrator, Permeability, PermeabilityModel, Remodelling};
-    let ctx = |e: Error| Error::Scene { path: scene.source.clone(), msg: format!("[material]: {e}") };
+    let ctx = |e: Error| {
+        let msg = match e {
+            Error::Material(m) => m,
+            e => e.to_string(),
+        };
+        Error::Scene { path: scene.source.clone(), msg: format!("[material] {msg}") }
+    };
     match &scene.scene.material {
         Material::Linear { mu, nu, permeability } => Ok(Box::new(LinearPoroelastic::new(*mu, *nu, *permeability)?)),
         Material::HolmesMow {
