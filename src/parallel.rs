@@ -4,6 +4,7 @@
 
 use crate::error::{Error, Result};
 use mpi::collective::SystemOperation;
+use mpi::datatype::Equivalence;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 
@@ -19,31 +20,35 @@ pub fn agree<T>(world: &SimpleCommunicator, local: Result<T>) -> Result<T> {
         Err(e) if world.rank() == first => e.to_string().into_bytes(),
         _ => Vec::new(),
     };
-    broadcast_bytes(world, first, &mut msg);
+    broadcast_vec(world, first, &mut msg);
     match local {
         Err(e) => Err(e),
         Ok(_) => Err(Error::Elsewhere { rank: first, msg: String::from_utf8_lossy(&msg).into_owned() }),
     }
 }
 
-/// Broadcasts a byte buffer of unknown length from `root`.
-pub fn broadcast_bytes(world: &SimpleCommunicator, root: i32, buf: &mut Vec<u8>) {
-    let mut n = buf.len() as u64;
-    world.process_at_rank(root).broadcast_into(&mut n);
-    buf.resize(n as usize, 0);
-    if n > 0 {
-        world.process_at_rank(root).broadcast_into(&mut buf[..]);
-    }
-}
-
-/// Broadcasts a `u32` vector of unknown length from `root`.
-pub fn broadcast_u32(world: &SimpleCommunicator, root: i32, v: &mut Vec<u32>) {
+/// Broadcasts a vector of unknown length from `root`.
+pub fn broadcast_vec<T: Equivalence + Default + Clone>(world: &SimpleCommunicator, root: i32, v: &mut Vec<T>) {
     let mut n = v.len() as u64;
     world.process_at_rank(root).broadcast_into(&mut n);
-    v.resize(n as usize, 0);
+    v.resize(n as usize, T::default());
     if n > 0 {
         world.process_at_rank(root).broadcast_into(&mut v[..]);
     }
+}
+
+/// Whether `mine` holds on every rank.
+pub fn all(world: &SimpleCommunicator, mine: bool) -> bool {
+    let mut out = 0u8;
+    world.all_reduce_into(&u8::from(mine), &mut out, SystemOperation::min());
+    out == 1
+}
+
+/// Whether `mine` holds on some rank.
+pub fn any(world: &SimpleCommunicator, mine: bool) -> bool {
+    let mut out = 0u8;
+    world.all_reduce_into(&u8::from(mine), &mut out, SystemOperation::max());
+    out == 1
 }
 
 /// Sum of a scalar over ranks.

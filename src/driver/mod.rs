@@ -15,7 +15,6 @@ use state::{Counters, RunState};
 use crate::error::{Error, Result};
 use crate::io::recorder::{Observers, Recorder, StepRow};
 use crate::io::rundir;
-use crate::mesh::dist;
 use crate::parallel::agree;
 use crate::petsc::{options, Petsc, Stage, Ts, Vector};
 use crate::physics::problem::PoroProblem;
@@ -82,11 +81,8 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
         let state = RunState::read(world, &checkpoint, run.n_file_nodes, run.n_file_elems, per_elem, fingerprint)?;
         // The solver's state, if saved on as many ranks as now (else it starts afresh).
         let solver = state::read_solver(dir, state.counters.step, world.rank(), world.size());
-        let mut found = u8::from(matches!(solver, Ok(Some(_))));
-        let mut all = 0u8;
-        world.all_reduce_into(&found, &mut all, mpi::collective::SystemOperation::min());
-        found = all;
-        if let (Ok(Some(s)), 1) = (solver, found) {
+        let found = crate::parallel::all(world, matches!(solver, Ok(Some(_))));
+        if let (Ok(Some(s)), true) = (solver, found) {
             run.ts.restore_nonlinear_solver_state(s);
         }
         run.say(&format!(
@@ -289,7 +285,7 @@ impl<'w> Run<'w> {
             None => {
                 let mut name =
                     rundir::default_run_dir(&self.scene.scene.name).to_string_lossy().into_owned().into_bytes();
-                crate::parallel::broadcast_bytes(self.world, 0, &mut name);
+                crate::parallel::broadcast_vec(self.world, 0, &mut name);
                 PathBuf::from(String::from_utf8_lossy(&name).into_owned())
             }
         }
@@ -571,24 +567,21 @@ impl<'w> Run<'w> {
         // resumed on as many ranks continues exactly as this one. Where it cannot be saved the
         // solver starts afresh here, as a resumed run will.
         let solver = agree(self.world, self.ts.nonlinear_solver_state())?;
-        let mut saved = u8::from(solver.is_some());
-        let mut all = 0u8;
-        self.world.all_reduce_into(&saved, &mut all, mpi::collective::SystemOperation::min());
-        saved = all;
+        let saved = crate::parallel::all(self.world, solver.is_some());
         let solver_written = match (&solver, saved) {
-            (Some(s), 1) => state::write_solver(&rec.dir, pg.step, self.world.rank(), self.world.size(), s),
+            (Some(s), true) => state::write_solver(&rec.dir, pg.step, self.world.rank(), self.world.size(), s),
             _ => Ok(()),
         };
         agree(self.world, solver_written)?;
         // Only at the checkpoints every N steps, which every run of the scene takes at the same
         // steps: restarting at wall-clock ones would make uninterrupted runs differ.
-        if saved == 0 && periodic {
+        if !saved && periodic {
             self.ts.restart_nonlinear_solver();
         }
         let written = if self.rank0() { state.write(&rec.dir).map(Some) } else { Ok(None) };
         let path = agree(self.world, written)?;
         let mut name = path.map(|p| p.to_string_lossy().into_owned().into_bytes()).unwrap_or_default();
-        crate::parallel::broadcast_bytes(self.world, 0, &mut name);
+        crate::parallel::broadcast_vec(self.world, 0, &mut name);
         pg.checkpointed = Some(Instant::now());
         Ok(PathBuf::from(String::from_utf8_lossy(&name).into_owned()))
     }
@@ -816,22 +809,6 @@ const IGNORED_OPTIONS: &[&str] = &[
     "-on_error_abort",
     "-no_signal_handler",
 ];
-
-/// Σ of the straight (vertex) tetrahedra volumes of the local elements.
-fn straight_volume(mesh: &dist::LocalMesh) -> f64 {
-    mesh.tets
-        .iter()
-        .map(|t| {
-            let x = |i: usize| mesh.coords[t[i] as usize];
-            let e = |i: usize| [x(i)[0] - x(0)[0], x(i)[1] - x(0)[1], x(i)[2] - x(0)[2]];
-            let (a, b, c) = (e(1), e(2), e(3));
-            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-                + a[2] * (b[0] * c[1] - b[1] * c[0]))
-                .abs()
-                / 6.0
-        })
-        .sum()
-}
 
 /// Peak resident memory of this process (MiB), from Linux's /proc/self/status (VmHWM); NaN
 /// where that is not available.

@@ -13,7 +13,7 @@ use crate::io::recorder::Observers;
 use crate::mesh::dist::{self, LocalMesh};
 use crate::mesh::partition;
 use crate::mesh::source::{mesh_file, read_mesh};
-use crate::parallel::{agree, broadcast_u32};
+use crate::parallel::{agree, broadcast_vec};
 use crate::petsc::{options, DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
 use crate::physics::contact::{PlateHistory, Plates, DEFAULT_SEAL_GAP};
@@ -57,7 +57,7 @@ pub(super) fn distribute_mesh(world: &SimpleCommunicator, scene: &LoadedScene) -
     let mut part = Vec::new();
     let r = if world.rank() == 0 { partition::partition(&mesh, size).map(|p| part = p) } else { Ok(()) };
     agree(world, r)?;
-    broadcast_u32(world, 0, &mut part);
+    broadcast_vec(world, 0, &mut part);
     let local = agree(world, dist::distribute(&mesh, &part, size, world.rank() as usize))?;
     Ok(Distributed { local, path, n_file_nodes: mesh.coords.len(), n_file_elems: mesh.tets.len() })
 }
@@ -214,6 +214,22 @@ fn configure_nonlinear_solver(
     solver::check_tolerances(&snes)
 }
 
+/// Σ of the straight (vertex) tetrahedra volumes of the local elements.
+fn straight_volume(mesh: &LocalMesh) -> f64 {
+    mesh.tets
+        .iter()
+        .map(|t| {
+            let x = |i: usize| mesh.coords[t[i] as usize];
+            let e = |i: usize| [x(i)[0] - x(0)[0], x(i)[1] - x(0)[1], x(i)[2] - x(0)[2]];
+            let (a, b, c) = (e(1), e(2), e(3));
+            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                .abs()
+                / 6.0
+        })
+        .sum()
+}
+
 /// `-poroplast_check_jacobian [eps]`.
 fn check_jacobian_option() -> Result<Option<f64>> {
     Ok(match options::get_string("poroplast_check_jacobian")? {
@@ -295,7 +311,7 @@ impl<'w> Run<'w> {
         let experiment = match (&s.plates, plate_faces) {
             (Some(ps), Some(faces)) => {
                 let mesh = &ts.problem().disc.mesh;
-                let volume = crate::parallel::sum(world, super::straight_volume(mesh));
+                let volume = crate::parallel::sum(world, straight_volume(mesh));
                 let phi = ts.problem().disc.model.solid_fraction();
                 Some(Experiment::new(mesh, faces, ps.radius, volume, phi, world, &scene.source)?)
             }

@@ -2,9 +2,7 @@
 //! flag; the time loop asks all ranks at each step boundary, writes a checkpoint and stops.
 
 use crate::error::{Error, Result};
-use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
-use mpi::traits::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
@@ -31,10 +29,7 @@ impl StopRequest {
 
     /// Whether any rank has been asked to stop (collective: every rank gets the same answer).
     pub fn requested(&self, world: &SimpleCommunicator) -> bool {
-        let mine = u8::from(self.flag.load(Ordering::Relaxed));
-        let mut any = 0u8;
-        world.all_reduce_into(&mine, &mut any, SystemOperation::max());
-        any == 1
+        crate::parallel::any(world, self.flag.load(Ordering::Relaxed))
     }
 }
 

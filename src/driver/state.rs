@@ -292,7 +292,7 @@ impl RunState {
         };
         crate::parallel::agree(world, r)?;
         for b in buf.iter_mut() {
-            broadcast_f64(world, b);
+            crate::parallel::broadcast_vec(world, 0, b);
         }
         let counters = Counters::from_slice(&buf[0]).expect("checked on rank 0");
         let velocity = if buf[2].is_empty() { None } else { Some((std::mem::take(&mut buf[2]), buf[3][0])) };
@@ -303,15 +303,6 @@ impl RunState {
             history: std::mem::take(&mut buf[4]),
             mesh: fingerprint,
         })
-    }
-}
-
-fn broadcast_f64(world: &SimpleCommunicator, v: &mut Vec<f64>) {
-    let mut n = v.len() as u64;
-    world.process_at_rank(0).broadcast_into(&mut n);
-    v.resize(n as usize, 0.0);
-    if n > 0 {
-        world.process_at_rank(0).broadcast_into(&mut v[..]);
     }
 }
 

@@ -257,6 +257,12 @@ fn check_mesh(mesh: &OutputMesh, dir: &Path) -> std::result::Result<(), String> 
     Ok(())
 }
 
+/// The extendible per-step datasets: `/time` and `/step_mesh`.
+struct Datasets {
+    time: hdf5::Dataset,
+    step_mesh: hdf5::Dataset,
+}
+
 /// Name of mesh group g.
 fn mesh_group(g: i64) -> String {
     if g == 0 {
@@ -349,26 +355,8 @@ impl FieldFile {
         let (time_ds, step_mesh_ds) = agree(&comm, made)?;
         write_mesh(&file, &comm, &h5_path, mesh, 0)?;
 
-        let mut ff = FieldFile {
-            time_ds,
-            file,
-            comm,
-            h5_path,
-            xdmf_path,
-            n_global_nodes: mesh.n_global_nodes,
-            node_offset: mesh.node_offset,
-            n_local_nodes: mesh.coords.len(),
-            n_global_cells: mesh.n_global_cells,
-            cell_offset: mesh.cell_offset,
-            n_local_cells: mesh.cells.len(),
-            kinds: BTreeMap::new(),
-            steps: Vec::new(),
-            xdmf_grids: String::new(),
-            step_mesh_ds,
-            mesh: 0,
-        };
-        ff.flush_and_index()?;
-        Ok(ff)
+        let datasets = Datasets { time: time_ds, step_mesh: step_mesh_ds };
+        FieldFile::assemble(file, comm, (h5_path, xdmf_path), datasets, mesh, (BTreeMap::new(), Vec::new()), 0)
     }
 
     /// Reopens the pair in `dir` written by [`create`](Self::create) to continue a run after
@@ -440,12 +428,8 @@ impl FieldFile {
             Ok(mine.is_some_and(|m| m.chunks(3).zip(mesh.coords).all(|(a, b)| a == b.as_slice())))
         })()
         .map_err(|e| h5err(&h5_path, "cannot read the mesh", e));
-        let same = agree(&comm, same)?;
-        let mut all_same = u8::from(same);
-        let mut out = 0u8;
-        comm.all_reduce_into(&all_same, &mut out, SystemOperation::min());
-        all_same = out;
-        let group = if all_same == 1 { last } else { last + 1 };
+        let same = crate::parallel::all(&comm, agree(&comm, same)?);
+        let group = if same { last } else { last + 1 };
         if group != last {
             // A group of that name left by a later session that was cut off: no kept step uses it.
             let stale = (|| -> hdf5::Result<()> {
@@ -458,8 +442,24 @@ impl FieldFile {
             agree(&comm, stale)?;
             write_mesh(&file, &comm, &h5_path, mesh, group)?;
         }
+        let datasets = Datasets { time: time_ds, step_mesh: step_mesh_ds };
+        FieldFile::assemble(file, comm, (h5_path, xdmf_path), datasets, mesh, (kinds, steps), group)
+    }
+
+    /// The open pair with its steps so far (kinds and records) and the mesh group of this
+    /// numbering; the XDMF is written for those steps.
+    fn assemble(
+        file: hdf5::File,
+        comm: SimpleCommunicator,
+        (h5_path, xdmf_path): (PathBuf, PathBuf),
+        datasets: Datasets,
+        mesh: &OutputMesh,
+        (kinds, steps): (BTreeMap<String, FieldKind>, Vec<StepRecord>),
+        group: i64,
+    ) -> Result<Self> {
         let mut ff = FieldFile {
-            time_ds,
+            time_ds: datasets.time,
+            step_mesh_ds: datasets.step_mesh,
             file,
             comm,
             h5_path,
@@ -473,10 +473,9 @@ impl FieldFile {
             kinds,
             steps,
             xdmf_grids: String::new(),
-            step_mesh_ds,
             mesh: group,
         };
-        ff.xdmf_grids = (0..keep).map(|k| ff.step_grid(k)).collect();
+        ff.xdmf_grids = (0..ff.steps.len()).map(|k| ff.step_grid(k)).collect();
         ff.flush_and_index()?;
         Ok(ff)
     }

@@ -56,7 +56,7 @@ pub fn mesh_file(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<Path
         Ok(())
     };
     agree(world, r)?;
-    crate::parallel::broadcast_bytes(world, 0, &mut path);
+    crate::parallel::broadcast_vec(world, 0, &mut path);
     Ok(PathBuf::from(String::from_utf8_lossy(&path).into_owned()))
 }
 

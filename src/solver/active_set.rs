@@ -298,10 +298,8 @@ impl ActiveSetNewton {
         // An assembly gives the matrix its pattern; its values are then the saved ones — if
         // the saved state fits on every rank (else the solve starts afresh, on every rank).
         let (mut a, _) = snes.compute_jacobian(x)?;
-        let fits = u8::from(state.counters.len() == 2 && a.local_values()?.len() == state.values.len());
-        let mut all = 0u8;
-        self.world.all_reduce_into(&fits, &mut all, SystemOperation::min());
-        if all == 0 {
+        let fits = state.counters.len() == 2 && a.local_values()?.len() == state.values.len();
+        if !crate::parallel::all(&self.world, fits) {
             return Ok(());
         }
         a.set_local_values(&state.values)?;
