@@ -10,7 +10,7 @@ pub mod state;
 
 pub use schedule::Schedule;
 use signals::StopRequest;
-use state::{Counters, RunState};
+use state::{Checkpoint, Counters, RunState};
 
 use crate::error::{Error, Result};
 use crate::io::recorder::{Observers, Recorder, StepRow};
@@ -58,7 +58,7 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
         return Ok(dir.to_path_buf());
     }
     // Killed before its first checkpoint: the run starts again from t = 0 in its directory.
-    let checkpoint = agree(world, state::list(dir))?.last().cloned();
+    let checkpoints = agree(world, state::list(dir))?;
     let scene = agree(world, record.scene(dir))?;
     let mut options = record.petsc.clone();
     options.extend(petsc.iter().cloned());
@@ -72,18 +72,35 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
     };
     let petsc = Petsc::init(&petsc_args(&scene, &args.petsc))?;
     let r = Run::setup(world, &scene, &args).and_then(|mut run| {
-        let Some(checkpoint) = checkpoint else {
+        let per_elem = run.ts.problem().disc.history.element(0).len();
+        let fingerprint = state::mesh_fingerprint(world, &run.ts.problem().disc.mesh);
+        // The last checkpoint that can be read (a damaged one is passed over, with a warning).
+        let mut found = None;
+        for path in checkpoints.iter().rev() {
+            match RunState::read(world, path, run.n_file_nodes, run.n_file_elems, per_elem, fingerprint)? {
+                Checkpoint::Read(state) => {
+                    found = Some((path.clone(), state));
+                    break;
+                }
+                Checkpoint::Damaged(e) => run.warn(&format!("{e}; trying the checkpoint before it")),
+            }
+        }
+        let Some((checkpoint, state)) = found else {
+            if !checkpoints.is_empty() {
+                return Err(Error::io(dir, "no checkpoint of this run can be read (see the warnings above)"));
+            }
             run.say("no checkpoint yet: the run starts again from t = 0");
             return run.execute(None);
         };
-        let per_elem = run.ts.problem().disc.history.element(0).len();
-        let fingerprint = state::mesh_fingerprint(world, &run.ts.problem().disc.mesh);
-        let state = RunState::read(world, &checkpoint, run.n_file_nodes, run.n_file_elems, per_elem, fingerprint)?;
         // The solver's state, if saved on as many ranks as now (else it starts afresh).
         let solver = state::read_solver(dir, state.counters.step, world.rank(), world.size());
         let found = crate::parallel::all(world, matches!(solver, Ok(Some(_))));
-        if let (Ok(Some(s)), true) = (solver, found) {
-            run.ts.restore_nonlinear_solver_state(s);
+        match (solver, found) {
+            (Ok(Some(s)), true) => run.ts.restore_nonlinear_solver_state(s),
+            (Err(e), _) => {
+                run.warn(&format!("{e}; the solver starts afresh (the resumed run matches to solver tolerance)"))
+            }
+            _ => {}
         }
         run.say(&format!(
             "resuming from {} (step {}, t = {})",
@@ -278,6 +295,13 @@ impl<'w> Run<'w> {
         }
     }
 
+    /// A warning that `-q` does not silence (rank 0, standard error).
+    fn warn(&self, s: &str) {
+        if self.rank0() {
+            eprintln!("poroplast: warning: {s}");
+        }
+    }
+
     /// The run directory: --out, or runs/<scene>-<UTC time> chosen by rank 0's clock.
     fn out_dir(&self) -> PathBuf {
         match &self.args.out {
@@ -366,8 +390,13 @@ impl<'w> Run<'w> {
         let written = if self.rank0() { self.write_record(dir) } else { Ok(()) };
         agree(self.world, written)?;
         let obs = self.observers.take().expect("the run directory opens once");
-        let (rows, fields) = self.resumed.expect("resuming");
-        Recorder::reopen(self.world, dir, &self.ts.problem().disc.mesh, obs, rows, fields)
+        let counts = self.resumed.expect("resuming");
+        let backup = state::fields_backup(dir);
+        let (rec, warning) = Recorder::reopen(self.world, dir, &self.ts.problem().disc.mesh, obs, counts, &backup)?;
+        if let Some(w) = warning {
+            self.warn(&w);
+        }
+        Ok(rec)
     }
 
     /// `run.toml`: how to set this run up again (rank 0).
@@ -573,6 +602,9 @@ impl<'w> Run<'w> {
             _ => Ok(()),
         };
         agree(self.world, solver_written)?;
+        // The fields as of now, for a resume that finds fields.h5 damaged; before the state,
+        // so that every checkpoint has a copy with at least its steps.
+        rec.backup_fields(&state::fields_backup(&rec.dir))?;
         // Only at the checkpoints every N steps, which every run of the scene takes at the same
         // steps: restarting at wall-clock ones would make uninterrupted runs differ.
         if !saved && periodic {

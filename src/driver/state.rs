@@ -8,7 +8,8 @@
 //! files (gathered with a reduction, scattered with a broadcast): a checkpoint is a few MB.
 //!
 //! Files: `DIR/checkpoints/step-NNNNNNNN.h5`, written to a `.tmp` name and renamed, the last two
-//! kept. Datasets: `counters` (see [`Counters`]), `state` (4 values per original node: u, then p
+//! kept (a damaged last one is passed over for the one before), with the ranks' solver states
+//! `step-NNNNNNNN.solver.rRofN` and one copy of `fields.h5` as of the last checkpoint. Datasets: `counters` (see [`Counters`]), `state` (4 values per original node: u, then p
 //! or 0 at a mid-edge node), `velocity` (the same layout, absent after a kink), `history`
 //! (per original element, its points' values).
 
@@ -242,7 +243,9 @@ impl RunState {
     }
 
     /// Reads a checkpoint on rank 0 and broadcasts it (collective): `n_nodes`, `n_elems`,
-    /// `per_elem` and `fingerprint` are this run's mesh, which the file must match.
+    /// `per_elem` and `fingerprint` are this run's mesh, which the file must match. A file that
+    /// cannot be read (cut short, damaged) is `Ok(Checkpoint::Damaged)`, so that the caller can
+    /// take the one before; one that does not match this run is an error.
     pub fn read(
         world: &SimpleCommunicator,
         path: &Path,
@@ -250,60 +253,91 @@ impl RunState {
         n_elems: usize,
         per_elem: usize,
         fingerprint: f64,
-    ) -> Result<RunState> {
+    ) -> Result<Checkpoint> {
         let mut buf: Vec<Vec<f64>> = vec![vec![]; 6];
+        let mut damaged = vec![0u8];
         let r = if world.rank() == 0 {
-            (|| -> Result<()> {
-                let h5 = |e: hdf5::Error| Error::io(path, format!("cannot read checkpoint: {e}"));
-                let f = hdf5::File::open(path).map_err(h5)?;
+            let h5 = |e: hdf5::Error| Error::io(path, format!("cannot read checkpoint: {e}"));
+            let read = (|| -> hdf5::Result<()> {
+                let f = hdf5::File::open(path)?;
                 for (i, name) in
                     ["counters", "state", "velocity", "velocity_dt", "history", "mesh_fingerprint"].iter().enumerate()
                 {
                     if let Ok(ds) = f.dataset(name) {
-                        buf[i] = ds.read_raw().map_err(h5)?;
+                        buf[i] = ds.read_raw()?;
                     }
                 }
-                let bad = |what: &str| Err(Error::io(path, format!("checkpoint does not match this run: {what}")));
-                if Counters::from_slice(&buf[0]).is_none() {
-                    return bad("unknown format");
-                }
-                if buf[1].len() != 4 * n_nodes {
-                    return bad(&format!("{} nodes, the mesh has {n_nodes}", buf[1].len() / 4));
-                }
-                if !buf[2].is_empty() && (buf[2].len() != 4 * n_nodes || buf[3].len() != 1) {
-                    return bad("velocity");
-                }
-                let fp = buf[5].first().copied().unwrap_or(f64::NAN);
-                let same_mesh = (fp - fingerprint).abs() <= 1e-12 * fingerprint.abs().max(1.0);
-                if !same_mesh {
-                    return bad("the mesh has changed since (same counts, other nodes)");
-                }
-                if buf[4].len() != n_elems * per_elem {
-                    return bad(&format!(
-                        "{} history values, the run keeps {} ({n_elems} elements)",
-                        buf[4].len(),
-                        n_elems * per_elem
-                    ));
-                }
                 Ok(())
-            })()
+            })();
+            match read {
+                Err(e) => {
+                    damaged[0] = 1;
+                    Err(h5(e))
+                }
+                Ok(()) => Self::check(&buf, path, n_nodes, n_elems, per_elem, fingerprint),
+            }
         } else {
             Ok(())
         };
-        crate::parallel::agree(world, r)?;
+        crate::parallel::broadcast_vec(world, 0, &mut damaged);
+        match crate::parallel::agree(world, r) {
+            Err(e) if damaged[0] == 1 => return Ok(Checkpoint::Damaged(e)),
+            r => r?,
+        }
         for b in buf.iter_mut() {
             crate::parallel::broadcast_vec(world, 0, b);
         }
         let counters = Counters::from_slice(&buf[0]).expect("checked on rank 0");
         let velocity = if buf[2].is_empty() { None } else { Some((std::mem::take(&mut buf[2]), buf[3][0])) };
-        Ok(RunState {
+        Ok(Checkpoint::Read(RunState {
             counters,
             state: std::mem::take(&mut buf[1]),
             velocity,
             history: std::mem::take(&mut buf[4]),
             mesh: fingerprint,
-        })
+        }))
     }
+
+    /// Rank 0: the datasets read from `path` fit this run's mesh and history.
+    fn check(
+        buf: &[Vec<f64>],
+        path: &Path,
+        n_nodes: usize,
+        n_elems: usize,
+        per_elem: usize,
+        fingerprint: f64,
+    ) -> Result<()> {
+        let bad = |what: &str| Err(Error::io(path, format!("checkpoint does not match this run: {what}")));
+        if Counters::from_slice(&buf[0]).is_none() {
+            return bad("unknown format");
+        }
+        if buf[1].len() != 4 * n_nodes {
+            return bad(&format!("{} nodes, the mesh has {n_nodes}", buf[1].len() / 4));
+        }
+        if !buf[2].is_empty() && (buf[2].len() != 4 * n_nodes || buf[3].len() != 1) {
+            return bad("velocity");
+        }
+        let fp = buf[5].first().copied().unwrap_or(f64::NAN);
+        let same_mesh = (fp - fingerprint).abs() <= 1e-12 * fingerprint.abs().max(1.0);
+        if !same_mesh {
+            return bad("the mesh has changed since (same counts, other nodes)");
+        }
+        if buf[4].len() != n_elems * per_elem {
+            return bad(&format!(
+                "{} history values, the run keeps {} ({n_elems} elements)",
+                buf[4].len(),
+                n_elems * per_elem
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// What reading a checkpoint file gave.
+pub enum Checkpoint {
+    Read(RunState),
+    /// The file could not be read (why): cut short or damaged.
+    Damaged(Error),
 }
 
 /// The solver-state file of rank `rank` of `size` at `step`.
@@ -332,6 +366,12 @@ pub fn read_solver(run_dir: &Path, step: usize, rank: i32, size: i32) -> Result<
             .ok_or_else(|| Error::io(&path, "not a solver state written by this version")),
         Err(_) => Ok(None),
     }
+}
+
+/// The copy of the fields file taken at the last checkpoint: what `resume` continues from if
+/// `fields.h5` itself was damaged (a kill in the middle of writing it).
+pub fn fields_backup(run_dir: &Path) -> PathBuf {
+    run_dir.join(DIR).join(crate::io::fields::H5_NAME)
 }
 
 /// The checkpoints of a run directory, oldest first.

@@ -609,6 +609,13 @@ impl FieldFile {
         self.flush_and_index()
     }
 
+    /// Copies the file as it stands after its last step (flushed) to `to` (collective: rank 0
+    /// copies it to a temporary name and renames it over `to`).
+    pub fn backup(&self, to: &Path) -> Result<()> {
+        let r = if self.comm.rank() == 0 { copy_atomically(&self.h5_path, to) } else { Ok(()) };
+        agree(&self.comm, r)
+    }
+
     /// Flushes and closes the file (collective), reporting errors that `Drop` would swallow.
     pub fn close(self) -> Result<()> {
         let FieldFile { time_ds, step_mesh_ds, file, comm, h5_path, .. } = self;
@@ -692,6 +699,33 @@ impl FieldFile {
         std::fs::write(&tmp, self.xdmf_text()).map_err(|e| Error::io(&tmp, e))?;
         std::fs::rename(&tmp, &self.xdmf_path).map_err(|e| Error::io(&self.xdmf_path, e))
     }
+}
+
+/// `from` copied to `to.tmp`, then renamed over `to`.
+fn copy_atomically(from: &Path, to: &Path) -> Result<()> {
+    let mut tmp = to.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
+    if let Some(dir) = to.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    std::fs::copy(from, &tmp).map_err(|e| Error::io(&tmp, format!("cannot copy {}: {e}", from.display())))?;
+    std::fs::rename(&tmp, to).map_err(|e| Error::io(to, e))
+}
+
+/// Puts the copy `backup` (of [`FieldFile::backup`]) in place of the `fields.h5` of `dir`, which is
+/// kept as `fields.damaged.h5` (or `fields.damaged-N.h5`); returns that name. Rank 0 only.
+pub fn restore_backup(dir: &Path, backup: &Path) -> Result<PathBuf> {
+    let h5 = dir.join(H5_NAME);
+    let kept = (1..)
+        .map(|n| dir.join(if n == 1 { "fields.damaged.h5".to_string() } else { format!("fields.damaged-{n}.h5") }))
+        .find(|p| !p.exists())
+        .expect("an unused name");
+    if h5.exists() {
+        std::fs::rename(&h5, &kept).map_err(|e| Error::io(&kept, e))?;
+    }
+    copy_atomically(backup, &h5)?;
+    Ok(kept)
 }
 
 #[cfg(test)]

@@ -2,7 +2,7 @@
 //! remodelling summary, probes, exact columns, iteration counts) and, when asked, the fields.
 
 use crate::error::Result;
-use crate::io::fields::{Field, FieldFile, FieldKind, OutputMesh};
+use crate::io::fields::{restore_backup, Field, FieldFile, FieldKind, OutputMesh};
 use crate::io::history::History;
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::Vector;
@@ -79,24 +79,50 @@ impl Recorder {
     }
 
     /// Reopens the outputs of `dir` to continue a run: `history.csv` after its first `rows`
-    /// rows, the fields after their first `fields` steps (collective).
+    /// rows, the fields after their first `fields` steps (collective). A fields file that cannot
+    /// be continued (damaged by a kill while it was written) is set aside and replaced by
+    /// `backup`, the copy taken at the last checkpoint; what was done is returned as a warning.
     pub fn reopen(
         world: &SimpleCommunicator,
         dir: &Path,
         mesh: &LocalMesh,
         obs: Observers,
-        rows: usize,
-        fields: usize,
-    ) -> Result<Recorder> {
+        (rows, fields): (usize, usize),
+        backup: &Path,
+    ) -> Result<(Recorder, Option<String>)> {
         let (cells, coords) = output_mesh(mesh);
-        let fields =
-            if obs.fields { Some(FieldFile::reopen(dir, world, &omesh(mesh, &coords, &cells), fields)?) } else { None };
+        let mut warning = None;
+        let fields = if obs.fields {
+            let om = omesh(mesh, &coords, &cells);
+            match FieldFile::reopen(dir, world, &om, fields) {
+                Ok(f) => Some(f),
+                Err(e) if crate::parallel::all(world, backup.is_file()) => {
+                    let kept = if world.rank() == 0 { restore_backup(dir, backup).map(Some) } else { Ok(None) };
+                    let kept = crate::parallel::agree(world, kept)?;
+                    warning = Some(format!(
+                        "{e}; continuing from the copy taken at the checkpoint ({}){}",
+                        backup.display(),
+                        kept.map(|k| format!("; the damaged file is kept as {}", k.display())).unwrap_or_default()
+                    ));
+                    Some(FieldFile::reopen(dir, world, &om, fields)?)
+                }
+                Err(e) => return Err(e),
+            }
+        } else {
+            None
+        };
         let cols = Self::columns(&obs);
         let colrefs: Vec<&str> = cols.iter().map(|c| c.as_str()).collect();
         let history =
             History::reopen(&dir.join("history.csv"), &colrefs, &integer_columns(&colrefs), rows, world.rank() == 0);
         let history = crate::parallel::agree(world, history)?;
-        Ok(Recorder { dir: dir.to_path_buf(), fields, history, obs, mid_edges: mid_edge_nodes(mesh) })
+        let rec = Recorder { dir: dir.to_path_buf(), fields, history, obs, mid_edges: mid_edge_nodes(mesh) };
+        Ok((rec, warning))
+    }
+
+    /// Copies the fields file as it stands to `to` (collective; nothing without fields).
+    pub fn backup_fields(&self, to: &Path) -> Result<()> {
+        self.fields.as_ref().map_or(Ok(()), |f| f.backup(to))
     }
 
     /// Steps written to the fields file so far.

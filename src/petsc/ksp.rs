@@ -110,7 +110,28 @@ impl Pc {
     pub fn apply(&self, b: &super::Vector, x: &mut super::Vector) -> Result<()> {
         check(unsafe { ffi::PCApply(self.raw, b.raw, x.raw) })
     }
-    /// Names a split by an index set (used when no DM provides the fields).
+    /// Makes the preconditioners of a fieldsplit's blocks (set up before) forget what they kept
+    /// from earlier setups — GAMG its interpolation — so that the next setup builds them as a new
+    /// solver would. Nothing for another type.
+    pub fn reset_split_preconditioners(&self) -> Result<()> {
+        if self.type_name()? != "fieldsplit" {
+            return Ok(());
+        }
+        let mut n: Int = 0;
+        let mut subs: *mut ffi::KSP = std::ptr::null_mut();
+        check(unsafe { ffi::PCFieldSplitGetSubKSP(self.raw, &mut n, &mut subs) })?;
+        // PCReset would not do: GAMG's keeps its levels. A new object of the same type, set
+        // from the same options, is what a new solver has.
+        let reset = (0..n as usize).try_for_each(|i| {
+            let pc = Ksp { raw: unsafe { *subs.add(i) } }.pc()?;
+            let t = pc.type_name()?;
+            pc.set_type("none")?;
+            pc.set_type(&t)?;
+            check(unsafe { ffi::PCSetFromOptions(pc.raw) })
+        });
+        unsafe { super::petsc_free(subs) }?;
+        reset
+    }
     /// A Schur fieldsplit's Schur-complement preconditioner: built from `schur` (user's).
     pub fn set_schur_pre_user(&self, schur: &Mat) -> Result<()> {
         check(unsafe {
@@ -121,6 +142,7 @@ impl Pc {
             )
         })
     }
+    /// Names a split by an index set (used when no DM provides the fields).
     pub fn fieldsplit_set_is(&self, name: &str, is: &IndexSet) -> Result<()> {
         let c = cstr(name);
         check(unsafe { ffi::PCFieldSplitSetIS(self.raw, c.as_ptr(), is.raw) })

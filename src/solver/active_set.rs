@@ -167,6 +167,10 @@ pub struct ActiveSetNewton {
     /// assembled operator.
     pc_active: Option<Vec<Int>>,
     pc_uses: usize,
+    /// The next setup builds the preconditioner afresh, as a new solver would (after
+    /// [`restart`](ShellSolve::restart): what the block preconditioners kept, e.g. GAMG's
+    /// interpolation, cannot be saved in a checkpoint).
+    fresh_pc: bool,
     /// With chord iterations on a direct factorisation: the last Jacobian before its active
     /// rows were replaced, and the low-rank update of its factorisation to the current active
     /// set (if that differs from `pc_active`).
@@ -205,6 +209,7 @@ impl ActiveSetNewton {
             active: Vec::new(),
             pc_active: None,
             pc_uses: 0,
+            fresh_pc: false,
             jac: None,
             update: None,
             last_krylov: 0,
@@ -358,6 +363,8 @@ impl ShellSolve for ActiveSetNewton {
     }
 
     fn restart(&mut self) {
+        // (A preconditioner that was never set up has nothing to forget.)
+        self.fresh_pc |= self.pc_active.is_some();
         self.pc_active = None;
         self.pc_uses = 0;
         self.jac = None;
@@ -462,6 +469,9 @@ impl ShellSolve for ActiveSetNewton {
                 let mut reuse = self.lag.chord <= 0.0 && self.reuse_pc();
                 loop {
                     ksp.set_reuse_preconditioner(reuse)?;
+                    if !reuse && std::mem::take(&mut self.fresh_pc) {
+                        ksp.pc()?.reset_split_preconditioners()?;
+                    }
                     ksp.set_operators(&a, &p)?;
                     if reuse {
                         self.pc_uses += 1;
