@@ -329,7 +329,17 @@ fn every_kind_of_bad_input_gets_one_clear_message() {
         ),
         // PETSc options.
         ("PETSc value", vec![ok.clone(), "--".into(), "-ksp_max_it".into(), "-5".into()], "-ksp_max_it"),
-        ("PETSc type", vec![ok.clone(), "--".into(), "-ksp_type".into(), "nonsense".into()], "nonsense"),
+        ("PETSc type", vec![ok.clone(), "--".into(), "-ksp_type".into(), "nonsense".into()], "-ksp_type nonsense"),
+        ("PETSc number", vec![ok.clone(), "--".into(), "-ksp_rtol".into(), "abc".into()], "-ksp_rtol abc"),
+        ("PETSc integer", vec![ok.clone(), "--".into(), "-snes_max_it".into(), "-1".into()], "-snes_max_it -1"),
+        (
+            "PETSc type read in the first solve",
+            std::iter::once(ok.as_str())
+                .chain(["--set", "solver.preset=\"fieldsplit\"", "--", "-fieldsplit_p_pc_type", "nonsense"])
+                .map(String::from)
+                .collect(),
+            "-fieldsplit_p_pc_type nonsense",
+        ),
         // A solve that cannot succeed: a solid too soft to carry its weight.
         (
             "diverging solve",

@@ -42,6 +42,7 @@ pub fn run(world: &SimpleCommunicator, args: &RunArgs) -> Result<PathBuf> {
     let scene = LoadedScene::load(&args.scene, &args.set)?;
     let petsc = Petsc::init(&petsc_args(&scene, &args.petsc))?;
     let r = Run::setup(world, &scene, args).and_then(|mut run| run.execute(None));
+    let r = r.map_err(options::name_option);
     drop(petsc);
     r
 }
@@ -110,6 +111,7 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
         ));
         run.execute(Some(state))
     });
+    let r = r.map_err(options::name_option);
     drop(petsc);
     r
 }
@@ -203,6 +205,7 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc:
             run.solver_line
         ))
     });
+    let r = r.map_err(options::name_option);
     drop(petsc);
     r
 }

@@ -267,6 +267,27 @@ pub mod options {
         }
     }
 
+    /// A PETSc error about an option's value (not a number, an unknown type), which PETSc
+    /// reports by the value alone, with the option(s) holding that value named:
+    /// `-ksp_rtol abc: Input string abc has no numeric value [...]`. Other errors unchanged.
+    pub fn name_option(e: Error) -> Error {
+        // Also inside another error (a solve that failed when a preconditioner read its options).
+        let text = e.to_string();
+        let Some(at) = ["Input string ", "Unable to find requested "].iter().find_map(|p| text.find(p)) else {
+            return e;
+        };
+        let short = text[at..].split(" (in ").next().unwrap_or_default();
+        let Ok(all) = dump() else {
+            return e;
+        };
+        let named: Vec<&str> =
+            all.lines().filter(|l| l.split_once(' ').is_some_and(|(_, v)| short.contains(&format!(" {v} ")))).collect();
+        if named.is_empty() {
+            return e;
+        }
+        Error::Solver(format!("PETSc option {}: {short}", named.join(", ")))
+    }
+
     /// All options in the database, one `-name value` per line (for the run directory).
     pub fn dump() -> Result<String> {
         let mut s: *mut c_char = std::ptr::null_mut();

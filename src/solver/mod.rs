@@ -96,7 +96,9 @@ pub fn check_tolerances(snes: &Snes) -> Result<()> {
         return bad("ksp_max_it", format!("{max_it}"), "a non-negative integer");
     }
     if smax_it == 0 {
-        return bad("snes_max_it", "0".into(), "a positive integer");
+        // (PETSc stores a negative count as 0: quote what was given.)
+        let given = options::get_string("snes_max_it")?.unwrap_or_else(|| "0".into());
+        return bad("snes_max_it", given, "a positive integer");
     }
     Ok(())
 }
