@@ -472,7 +472,7 @@ impl LoadedScene {
                 overrides::apply(&mut table, spec).map_err(scene_err)?;
                 scene = toml::Value::Table(table.clone())
                     .try_into()
-                    .map_err(|e: toml::de::Error| scene_err(format!("--set {spec}: {}", e.message().trim())))?;
+                    .map_err(|e: toml::de::Error| scene_err(format!("--set {spec}: {}", plain(e.message().trim()))))?;
             }
         }
         if scene.name.is_empty() {
@@ -763,7 +763,7 @@ impl LoadedScene {
 /// A type error reported for a whole table (serde loses the key inside tagged enums such as
 /// `[material]`) is put on the one `key = value` line of the table whose value has that type.
 fn toml_message(text: &str, e: &toml::de::Error) -> String {
-    let msg = e.message().replace('\n', " ");
+    let msg = plain(&e.message().replace('\n', " "));
     match e.span() {
         Some(span) => {
             let start = span.start.min(text.len());
@@ -785,6 +785,24 @@ fn toml_message(text: &str, e: &toml::de::Error) -> String {
         }
         None => msg,
     }
+}
+
+/// serde's Rust type names in words: "expected usize" → "expected a non-negative integer".
+fn plain(msg: &str) -> String {
+    let mut m = msg.to_string();
+    for (rust, words) in [
+        ("expected usize", "expected a non-negative integer"),
+        ("expected u64", "expected a non-negative integer"),
+        ("expected u32", "expected a non-negative integer"),
+        ("expected i64", "expected an integer"),
+        ("expected i32", "expected an integer"),
+        ("expected f64", "expected a number"),
+    ] {
+        if let Some(rest) = m.strip_suffix(rust) {
+            m = format!("{rest}{words}");
+        }
+    }
+    m
 }
 
 /// The serde name of the kind of value on a `key = value` line (None for other lines).
@@ -845,10 +863,20 @@ mod tests {
         let text = "name = \"x\"\n[mesh]\ngeo = \"column.geo\"\n[material]\nmodel = \"linear\"\nmu = [1]\nnu = 0.2\n";
         let e = toml::from_str::<Scene>(text).expect_err("mu is not a number");
         let m = toml_message(text, &e);
-        assert!(m.starts_with("line 6 (`mu = [1]`): invalid type: sequence"), "{m}");
+        assert_eq!(m, "line 6 (`mu = [1]`): invalid type: sequence, expected a number");
         assert_eq!(value_kind("nu = 0.2  # comment"), Some("floating point"));
         assert_eq!(value_kind("n = 3"), Some("integer"));
         assert_eq!(value_kind("drained = true"), Some("boolean"));
         assert_eq!(value_kind("[material]"), None);
+    }
+
+    #[test]
+    fn counts_given_negative_are_named_in_words() {
+        let e = LoadedScene::load("reference", &["output.fields_every=-1".into()]).err().expect("a negative count");
+        let m = e.to_string();
+        assert!(
+            m.ends_with("--set output.fields_every=-1: invalid value: integer `-1`, expected a non-negative integer"),
+            "{m}"
+        );
     }
 }
