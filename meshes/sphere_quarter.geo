@@ -15,6 +15,11 @@ DefineConstant[ r_pole = 0.5 * R ]; // distance over which the size blends from 
 DefineConstant[ h_edge = h ];
 DefineConstant[ r_edge = 0.62 * R ];
 DefineConstant[ w_edge = 0.25 * R ];
+// Optional grading towards the whole curved surface (off unless h_surf < h): size h_surf on the
+// surface, growing linearly to h over the depth w_surf (resolves the pressure layer under the
+// drained surface, which the peak force depends on; docs/studies.md).
+DefineConstant[ h_surf = h ];
+DefineConstant[ w_surf = 0.3 * R ];
 
 Sphere(1) = {0, 0, R, R};
 Box(2) = {0, 0, -R, 2 * R, 2 * R, 4 * R};
@@ -45,18 +50,26 @@ Field[2].SizeMin = h_pole;
 Field[2].SizeMax = h;
 Field[2].DistMin = 0;
 Field[2].DistMax = r_pole;
+// The size field: the pole threshold, and the optional contact-edge and surface gradings.
+sizes() = {2};
 If (h_edge < h)
   // distance to the nearer ring, in the (radius, height) half-plane
   z_edge = R - Sqrt(R * R - r_edge * r_edge);
   Field[3] = MathEval;
   Field[3].F = Sprintf("min(%g, %g + %g * sqrt((sqrt(x*x + y*y) - %g)^2 + (min(z, %g - z) - %g)^2))",
                        h, h_edge, (h - h_edge) / w_edge, r_edge, 2 * R, z_edge);
-  Field[4] = Min;
-  Field[4].FieldsList = {2, 3};
-  Background Field = 4;
-Else
-  Background Field = 2;
+  sizes() += {3};
 EndIf
+If (h_surf < h)
+  // depth below the surface of the sphere centred at (0, 0, R)
+  Field[4] = MathEval;
+  Field[4].F = Sprintf("min(%g, %g + %g * max(0, %g - sqrt(x*x + y*y + (z - %g)^2)))",
+                       h, h_surf, (h - h_surf) / w_surf, R, R);
+  sizes() += {4};
+EndIf
+Field[5] = Min;
+Field[5].FieldsList = {sizes()};
+Background Field = 5;
 Mesh.MeshSizeFromPoints = 0;
 Mesh.MeshSizeFromCurvature = 0;
 Mesh.MeshSizeExtendFromBoundary = 0;
