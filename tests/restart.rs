@@ -172,6 +172,19 @@ fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
 }
 
 #[test]
+fn a_second_signal_ends_the_run_at_once() {
+    let d = scratch("restart_second_signal");
+    let run = d.join("run");
+    let mut child = spawn(1, &run);
+    wait_for_checkpoint(&mut child, &run, 5);
+    signal(&child, "-INT");
+    signal(&child, "-INT");
+    assert_eq!(child.wait().unwrap().code(), Some(130), "128 + SIGINT");
+    assert!(!run.join("status.txt").exists(), "ended like a kill");
+    resume(1, &run);
+}
+
+#[test]
 fn the_iterative_solver_resumes_exactly_from_a_periodic_checkpoint() {
     // The fieldsplit preset's AMG keeps its interpolation between setups, which a checkpoint
     // cannot save: at the periodic checkpoints the uninterrupted run renews it, as a resumed
