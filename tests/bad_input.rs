@@ -331,6 +331,11 @@ fn every_kind_of_bad_input_gets_one_clear_message() {
         ("PETSc value", vec![ok.clone(), "--".into(), "-ksp_max_it".into(), "-5".into()], "-ksp_max_it"),
         ("PETSc type", vec![ok.clone(), "--".into(), "-ksp_type".into(), "nonsense".into()], "-ksp_type nonsense"),
         ("PETSc number", vec![ok.clone(), "--".into(), "-ksp_rtol".into(), "abc".into()], "-ksp_rtol abc"),
+        (
+            "PETSc range",
+            vec![ok.clone(), "--".into(), "-ksp_gmres_restart".into(), "0".into()],
+            "while reading the PETSc options given: -ksp_gmres_restart 0",
+        ),
         ("PETSc integer", vec![ok.clone(), "--".into(), "-snes_max_it".into(), "-1".into()], "-snes_max_it -1"),
         (
             "PETSc type read in the first solve",

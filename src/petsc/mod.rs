@@ -273,19 +273,35 @@ pub mod options {
     pub fn name_option(e: Error) -> Error {
         // Also inside another error (a solve that failed when a preconditioner read its options).
         let text = e.to_string();
-        let Some(at) = ["Input string ", "Unable to find requested "].iter().find_map(|p| text.find(p)) else {
-            return e;
-        };
-        let short = text[at..].split(" (in ").next().unwrap_or_default();
         let Ok(all) = dump() else {
             return e;
         };
-        let named: Vec<&str> =
-            all.lines().filter(|l| l.split_once(' ').is_some_and(|(_, v)| short.contains(&format!(" {v} ")))).collect();
-        if named.is_empty() {
-            return e;
+        if let Some(at) = ["Input string ", "Unable to find requested "].iter().find_map(|p| text.find(p)) {
+            let short = text[at..].split(" (in ").next().unwrap_or_default();
+            let named: Vec<&str> = all
+                .lines()
+                .filter(|l| l.split_once(' ').is_some_and(|(_, v)| short.contains(&format!(" {v} "))))
+                .collect();
+            if !named.is_empty() {
+                return Error::Solver(format!("PETSc option {}: {short}", named.join(", ")));
+            }
         }
-        Error::Solver(format!("PETSc option {}: {short}", named.join(", ")))
+        // Any other error raised while PETSc read its options (e.g. "Restart must be positive"):
+        // the options the user gave, since one of them is the cause.
+        if text.contains("SetFromOptions") {
+            let defaults = DEFAULTS.lock().unwrap_or_else(|e| e.into_inner());
+            let given: Vec<&str> = all
+                .lines()
+                .filter(|l| {
+                    let name = l.split(' ').next().unwrap_or_default();
+                    !defaults.contains(name) && name != "-no_signal_handler"
+                })
+                .collect();
+            if !given.is_empty() {
+                return Error::Solver(format!("{e} — while reading the PETSc options given: {}", given.join(" ")));
+            }
+        }
+        e
     }
 
     /// All options in the database, one `-name value` per line (for the run directory).
