@@ -872,7 +872,9 @@ mod tests {
 
     #[test]
     fn counts_given_negative_are_named_in_words() {
-        let e = LoadedScene::load("reference", &["output.fields_every=-1".into()]).err().expect("a negative count");
+        let Err(e) = LoadedScene::load("reference", &["output.fields_every=-1".into()]) else {
+            panic!("a negative count was accepted");
+        };
         let m = e.to_string();
         assert!(
             m.ends_with("--set output.fields_every=-1: invalid value: integer `-1`, expected a non-negative integer"),
