@@ -172,6 +172,26 @@ fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
 }
 
 #[test]
+fn a_run_directory_in_use_is_refused() {
+    let d = scratch("restart_in_use");
+    let run = d.join("run");
+    let mut child = spawn(1, &run);
+    wait_for_checkpoint(&mut child, &run, 5);
+    // A second job into the same directory (a resubmission while the first still runs).
+    let dir = run.display().to_string();
+    for args in [vec!["resume", dir.as_str()], vec!["run", "terzaghi", "--out", dir.as_str(), "--force"]] {
+        let out = poroplast(1, &args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} went ahead while the run was going");
+        assert!(stderr.contains("is in use by another poroplast run (pid"), "{args:?}: {stderr}");
+    }
+    // The lock goes with the process, however it ends.
+    signal_group(&child, "-KILL");
+    child.wait().unwrap();
+    resume(1, &run);
+}
+
+#[test]
 fn a_second_signal_ends_the_run_at_once() {
     let d = scratch("restart_second_signal");
     let run = d.join("run");

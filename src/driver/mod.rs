@@ -58,6 +58,8 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
         }
         return Ok(dir.to_path_buf());
     }
+    // Before anything is read: a run still going in `dir` keeps it.
+    let lock = agree(world, rundir::lock(dir, world.rank() == 0))?;
     // Killed before its first checkpoint: the run starts again from t = 0 in its directory.
     let checkpoints = agree(world, state::list(dir))?;
     let scene = agree(world, record.scene(dir))?;
@@ -73,6 +75,7 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
     };
     let petsc = Petsc::init(&petsc_args(&scene, &args.petsc))?;
     let r = Run::setup(world, &scene, &args).and_then(|mut run| {
+        run.lock = Some(lock);
         let per_elem = run.ts.problem().disc.history.element(0).len();
         let fingerprint = state::mesh_fingerprint(world, &run.ts.problem().disc.mesh);
         // The last checkpoint that can be read (a damaged one is passed over, with a warning).
@@ -239,6 +242,8 @@ struct Run<'w> {
     n_file_elems: usize,
     /// history.csv rows and fields steps written up to the checkpoint (a resumed run).
     resumed: Option<(usize, usize)>,
+    /// The run directory's lock, once it is opened.
+    lock: Option<rundir::RunLock>,
     started: Instant,
 }
 
@@ -359,6 +364,9 @@ impl<'w> Run<'w> {
     /// Creates the run directory and its files (nothing is written before this point).
     fn open_output(&mut self, dir: &Path) -> Result<Recorder> {
         agree(self.world, rundir::prepare(dir, self.args.force, self.rank0()))?;
+        if self.lock.is_none() {
+            self.lock = Some(agree(self.world, rundir::lock(dir, self.rank0()))?);
+        }
         // Rank 0 writes; every rank learns whether it could (else the others would go on into
         // the collective creation of the fields file, and wait there).
         let options = options::dump()?;

@@ -344,6 +344,7 @@ impl<'w> Run<'w> {
             n_file_nodes,
             n_file_elems,
             resumed: None,
+            lock: None,
             started: t0,
         })
     }

@@ -40,6 +40,56 @@ pub fn prepare(dir: &Path, force: bool, is_root: bool) -> Result<()> {
     }
 }
 
+/// The lock file a run holds in its directory while it writes there (left behind, unlocked).
+pub const LOCK_NAME: &str = ".lock";
+
+/// An exclusive lock on a run directory (held by the root rank): a second run or `resume` into
+/// the same directory — a job resubmitted while the first still runs — is refused instead of
+/// mixing its files with the first's. The operating system releases it when the process ends,
+/// however it ends.
+pub struct RunLock(#[allow(dead_code)] Option<std::fs::File>);
+
+/// Takes the lock of `dir` (root rank only; the others get an empty one), or says who holds it.
+pub fn lock(dir: &Path, is_root: bool) -> Result<RunLock> {
+    use std::io::{Read, Seek, Write};
+    if !is_root {
+        return Ok(RunLock(None));
+    }
+    let path = dir.join(LOCK_NAME);
+    let mut f = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .read(true)
+        .write(true)
+        .open(&path)
+        .map_err(|e| Error::io(&path, e))?;
+    match f.try_lock() {
+        Ok(()) => {
+            let me = format!("pid {} on {}\n", std::process::id(), hostname());
+            f.set_len(0)
+                .and_then(|()| f.rewind())
+                .and_then(|()| f.write_all(me.as_bytes()))
+                .map_err(|e| Error::io(&path, e))?;
+            Ok(RunLock(Some(f)))
+        }
+        Err(std::fs::TryLockError::WouldBlock) => {
+            let mut holder = String::new();
+            let _ = f.read_to_string(&mut holder);
+            let holder = holder.trim();
+            let by = if holder.is_empty() { String::new() } else { format!(" ({holder})") };
+            Err(Error::io(
+                dir,
+                format!("is in use by another poroplast run{by}: wait for it to end, or choose another --out"),
+            ))
+        }
+        Err(std::fs::TryLockError::Error(e)) => Err(Error::io(&path, format!("cannot lock: {e}"))),
+    }
+}
+
+fn hostname() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname").map(|h| h.trim().to_string()).unwrap_or_else(|_| "?".into())
+}
+
 /// Writes `contents` to `dir/name` (a plain file name, no separators), replacing any old file;
 /// call on rank 0 only. For the resolved scene, options, timings and the like.
 pub fn write_text(dir: &Path, name: &str, contents: &str) -> Result<()> {
