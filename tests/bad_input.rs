@@ -188,7 +188,7 @@ fn check_validates_as_run_does() {
     let out = poroplast(2, &["run", &scene("terzaghi"), "--set", "time.t_end=0.002", "--out", "/proc/1", "--force"]);
     assert!(!out.status.success());
     assert!(
-        String::from_utf8_lossy(&out.stderr).contains("/proc/1/scene.toml"),
+        String::from_utf8_lossy(&out.stderr).contains("/proc/1/.lock: cannot create"),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );

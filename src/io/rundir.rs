@@ -62,7 +62,7 @@ pub fn lock(dir: &Path, is_root: bool) -> Result<RunLock> {
         .read(true)
         .write(true)
         .open(&path)
-        .map_err(|e| Error::io(&path, e))?;
+        .map_err(|e| Error::io(&path, format!("cannot create ({e})")))?;
     match f.try_lock() {
         Ok(()) => {
             let me = format!("pid {} on {}\n", std::process::id(), hostname());
