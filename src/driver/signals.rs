@@ -1,6 +1,8 @@
 //! Stop requests: SIGTERM, SIGINT and SIGUSR1 (which `mpirun` forwards to every rank) set a
-//! flag; the time loop asks all ranks at each step boundary, writes a checkpoint and stops. A
-//! second signal before that ends the process at once.
+//! flag; the time loop asks all ranks at each step boundary, writes a checkpoint and stops.
+//! More signals before then change nothing: a scheduler that signals every process of a job
+//! and `mpirun` forwarding the same signal deliver it twice, and that must not cost the
+//! checkpoint.
 
 use crate::error::{Error, Result};
 use mpi::topology::SimpleCommunicator;
@@ -20,15 +22,10 @@ impl StopRequest {
     pub fn install() -> Result<StopRequest> {
         let flag = Arc::new(AtomicBool::new(false));
         let mut ids = Vec::new();
-        let err = |sig: i32, e: std::io::Error| Error::Solver(format!("cannot catch signal {sig}: {e}"));
         for sig in SIGNALS {
-            // A second signal while the first is pending ends the process at once (an
-            // impatient Ctrl-C): exit code 128 + signal, what a shell reports for a kill by it.
-            // (Registered first: it must see the flag before this signal sets it.)
-            let id = signal_hook::flag::register_conditional_shutdown(sig, 128 + sig, Arc::clone(&flag))
-                .map_err(|e| err(sig, e))?;
+            let id = signal_hook::flag::register(sig, Arc::clone(&flag))
+                .map_err(|e| Error::Solver(format!("cannot catch signal {sig}: {e}")))?;
             ids.push(id);
-            ids.push(signal_hook::flag::register(sig, Arc::clone(&flag)).map_err(|e| err(sig, e))?);
         }
         Ok(StopRequest { flag, ids })
     }
