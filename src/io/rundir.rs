@@ -82,7 +82,15 @@ pub fn lock(dir: &Path, is_root: bool) -> Result<RunLock> {
                 format!("is in use by another poroplast run{by}: wait for it to end, or choose another --out"),
             ))
         }
-        Err(std::fs::TryLockError::Error(e)) => Err(Error::io(&path, format!("cannot lock: {e}"))),
+        // A file system without locks (e.g. Lustre mounted without `flock`): run unguarded
+        // rather than not at all.
+        Err(std::fs::TryLockError::Error(e)) => {
+            eprintln!(
+                "poroplast: warning: {}: cannot lock ({e}); another job into this directory would not be refused",
+                path.display()
+            );
+            Ok(RunLock(None))
+        }
     }
 }
 
