@@ -55,6 +55,13 @@ fn spawn_with(np: usize, out: &Path, extra: &[&str]) -> Child {
         .expect("the run could not be started")
 }
 
+/// [`spawn_with`], once the run has written the checkpoint of `step`.
+fn running(np: usize, out: &Path, extra: &[&str], step: usize) -> Child {
+    let mut child = spawn_with(np, out, extra);
+    wait_for_checkpoint(&mut child, out, step);
+    child
+}
+
 /// Waits until the checkpoint of `step` exists (or the run ended).
 fn wait_for_checkpoint(child: &mut Child, out: &Path, step: usize) {
     let file = out.join(format!("checkpoints/step-{step:08}.h5"));
@@ -126,8 +133,7 @@ fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
 
     // kill -9 after the checkpoint of step 15: at most the steps since are lost, then redone.
     let killed = d.join("killed");
-    let mut child = spawn(1, &killed);
-    wait_for_checkpoint(&mut child, &killed, 15);
+    let mut child = running(1, &killed, &[], 15);
     signal_group(&child, "-KILL");
     child.wait().unwrap();
     assert!(!killed.join("status.txt").exists(), "a killed run says nothing");
@@ -154,8 +160,7 @@ fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
 
     // SIGTERM: a checkpoint at the next step boundary, a clean stop with exit code 75.
     let stopped = d.join("stopped");
-    let mut child = spawn(1, &stopped);
-    wait_for_checkpoint(&mut child, &stopped, 10);
+    let mut child = running(1, &stopped, &[], 10);
     signal(&child, "-TERM");
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(75), "exit code of a stopped run");
@@ -175,8 +180,7 @@ fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
 fn a_run_directory_in_use_is_refused() {
     let d = scratch("restart_in_use");
     let run = d.join("run");
-    let mut child = spawn(1, &run);
-    wait_for_checkpoint(&mut child, &run, 5);
+    let mut child = running(1, &run, &[], 5);
     // A second job into the same directory (a resubmission while the first still runs).
     let dir = run.display().to_string();
     for args in [vec!["resume", dir.as_str()], vec!["run", "terzaghi", "--out", dir.as_str(), "--force"]] {
@@ -198,8 +202,7 @@ fn signals_that_arrive_twice_still_stop_with_a_checkpoint() {
     // stop with a checkpoint.
     let d = scratch("restart_two_signals");
     let run = d.join("run");
-    let mut child = spawn(1, &run);
-    wait_for_checkpoint(&mut child, &run, 5);
+    let mut child = running(1, &run, &[], 5);
     signal(&child, "-INT");
     signal(&child, "-TERM");
     assert_eq!(child.wait().unwrap().code(), Some(75), "a clean stop");
@@ -218,8 +221,7 @@ fn the_iterative_solver_resumes_exactly_from_a_periodic_checkpoint() {
     let reference = d.join("reference");
     assert!(spawn_with(1, &reference, &fieldsplit).wait().unwrap().success(), "the reference run failed");
     let killed = d.join("killed");
-    let mut child = spawn_with(1, &killed, &fieldsplit);
-    wait_for_checkpoint(&mut child, &killed, 15);
+    let mut child = running(1, &killed, &fieldsplit, 15);
     signal_group(&child, "-KILL");
     child.wait().unwrap();
     resume(1, &killed);
@@ -235,8 +237,7 @@ fn a_two_rank_run_stopped_by_mpirun_resumes_on_one_rank() {
     assert!(spawn(1, &reference).wait().unwrap().success(), "the reference run failed");
     // mpirun forwards SIGUSR1 to the ranks (SIGTERM it answers with SIGKILL after 1 s).
     let stopped = d.join("stopped");
-    let mut child = spawn(2, &stopped);
-    wait_for_checkpoint(&mut child, &stopped, 10);
+    let mut child = running(2, &stopped, &[], 10);
     signal(&child, "-USR1");
     assert!(!child.wait().unwrap().success());
     let why = std::fs::read_to_string(stopped.join("status.txt")).unwrap();

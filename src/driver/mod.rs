@@ -40,9 +40,14 @@ pub struct RunArgs {
 /// Runs a scene; returns the run directory. PETSc lives exactly as long as this call.
 pub fn run(world: &SimpleCommunicator, args: &RunArgs) -> Result<PathBuf> {
     let scene = LoadedScene::load(&args.scene, &args.set)?;
-    let petsc = Petsc::init(&petsc_args(&scene, &args.petsc))?;
-    let r = Run::setup(world, &scene, args).and_then(|mut run| run.execute(None));
-    let r = r.map_err(options::name_option);
+    with_petsc(&petsc_args(&scene, &args.petsc), || Run::setup(world, &scene, args)?.execute(None))
+}
+
+/// Runs `f` with PETSc initialised from `options` and finalised after; an error about an
+/// option's value names the option (only PETSc's live options database can tell which).
+fn with_petsc<T>(options: &[String], f: impl FnOnce() -> Result<T>) -> Result<T> {
+    let petsc = Petsc::init(options)?;
+    let r = f().map_err(options::name_option);
     drop(petsc);
     r
 }
@@ -73,8 +78,8 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
         petsc: options,
         progress,
     };
-    let petsc = Petsc::init(&petsc_args(&scene, &args.petsc))?;
-    let r = Run::setup(world, &scene, &args).and_then(|mut run| {
+    with_petsc(&petsc_args(&scene, &args.petsc), || {
+        let mut run = Run::setup(world, &scene, &args)?;
         run.lock = Some(lock);
         let per_elem = run.ts.problem().disc.history.element(0).len();
         let fingerprint = state::mesh_fingerprint(world, &run.ts.problem().disc.mesh);
@@ -113,10 +118,7 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
             state.counters.t
         ));
         run.execute(Some(state))
-    });
-    let r = r.map_err(options::name_option);
-    drop(petsc);
-    r
+    })
 }
 
 /// PETSc's command line: the scene's options, then the user's; PETSc's own signal handler off
@@ -188,8 +190,8 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc:
         petsc: petsc.to_vec(),
         progress: false,
     };
-    let petsc = Petsc::init(&petsc_args(&scene, petsc))?;
-    let r = Run::setup(world, &scene, &args).and_then(|mut run| {
+    with_petsc(&petsc_args(&scene, petsc), || {
+        let mut run = Run::setup(world, &scene, &args)?;
         // The same first step as `run` (settling included), into no directory: then the PETSc
         // options have all been read, and the first solve has worked.
         let mut pg = Progress { nominal: run.schedule.dt0, ..Default::default() };
@@ -207,10 +209,7 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc:
             run.n_global_dofs,
             run.solver_line
         ))
-    });
-    let r = r.map_err(options::name_option);
-    drop(petsc);
-    r
+    })
 }
 
 struct Run<'w> {

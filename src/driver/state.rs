@@ -9,12 +9,14 @@
 //!
 //! Files: `DIR/checkpoints/step-NNNNNNNN.h5`, written to a `.tmp` name and renamed, the last two
 //! kept (a damaged last one is passed over for the one before), with the ranks' solver states
-//! `step-NNNNNNNN.solver.rRofN` and one copy of `fields.h5` as of the last checkpoint. Datasets: `counters` (see [`Counters`]), `state` (4 values per original node: u, then p
+//! `step-NNNNNNNN.solver.rRofN` and one copy of `fields.h5` as of the last checkpoint.
+//! Datasets: `counters` (see [`Counters`]), `state` (4 values per original node: u, then p
 //! or 0 at a mid-edge node), `velocity` (the same layout, absent after a kink), `history`
 //! (per original element, its points' values).
 
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
+use crate::io::rundir::write_atomically;
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::{SolverState, Vector};
 use hdf5_metno as hdf5;
@@ -206,13 +208,10 @@ impl RunState {
     /// two removed. Returns its path.
     pub fn write(&self, run_dir: &Path) -> Result<PathBuf> {
         let dir = run_dir.join(DIR);
-        std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
-        let name = format!("step-{:08}.h5", self.counters.step);
-        let path = dir.join(&name);
-        let tmp = dir.join(format!("{name}.tmp"));
-        let h5 = |e: hdf5::Error| Error::io(&tmp, format!("cannot write checkpoint: {e}"));
-        {
-            let f = hdf5::File::create(&tmp).map_err(h5)?;
+        let path = dir.join(format!("step-{:08}.h5", self.counters.step));
+        write_atomically(&path, |tmp| {
+            let h5 = |e: hdf5::Error| Error::io(tmp, format!("cannot write checkpoint: {e}"));
+            let f = hdf5::File::create(tmp).map_err(h5)?;
             let put = |name: &str, v: &[f64]| -> hdf5::Result<()> {
                 f.new_dataset::<f64>().shape([v.len()]).create(name)?.write_raw(v)
             };
@@ -224,9 +223,8 @@ impl RunState {
             }
             put("history", &self.history).map_err(h5)?;
             put("mesh_fingerprint", &[self.mesh]).map_err(h5)?;
-            f.close().map_err(h5)?;
-        }
-        std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))?;
+            f.close().map_err(h5)
+        })?;
         let mut all = list(run_dir)?;
         while all.len() > KEEP {
             let old = all.remove(0);
@@ -348,13 +346,8 @@ fn solver_file(run_dir: &Path, step: usize, rank: i32, size: i32) -> PathBuf {
 /// Writes this rank's solver state for the checkpoint of `step` (before the checkpoint itself,
 /// whose rename commits both).
 pub fn write_solver(run_dir: &Path, step: usize, rank: i32, size: i32, s: &SolverState) -> Result<()> {
-    let dir = run_dir.join(DIR);
-    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
     let path = solver_file(run_dir, step, rank, size);
-    let mut tmp = path.clone().into_os_string();
-    tmp.push(".tmp");
-    std::fs::write(&tmp, s.to_bytes()).map_err(|e| Error::io(Path::new(&tmp), e))?;
-    std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))
+    write_atomically(&path, |tmp| std::fs::write(tmp, s.to_bytes()).map_err(|e| Error::io(tmp, e)))
 }
 
 /// This rank's solver state of the checkpoint of `step`, if one was saved for `size` ranks.

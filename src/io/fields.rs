@@ -64,6 +64,7 @@ use mpi::traits::*;
 
 use crate::error::{Error, Result};
 use crate::io::fmt_real;
+use crate::io::rundir::write_atomically;
 use crate::parallel::agree;
 
 /// Name of the HDF5 file inside the run directory.
@@ -693,24 +694,15 @@ impl FieldFile {
     }
 
     fn write_xdmf(&self) -> Result<()> {
-        let mut tmp = self.xdmf_path.clone().into_os_string();
-        tmp.push(".tmp");
-        let tmp = PathBuf::from(tmp);
-        std::fs::write(&tmp, self.xdmf_text()).map_err(|e| Error::io(&tmp, e))?;
-        std::fs::rename(&tmp, &self.xdmf_path).map_err(|e| Error::io(&self.xdmf_path, e))
+        write_atomically(&self.xdmf_path, |tmp| std::fs::write(tmp, self.xdmf_text()).map_err(|e| Error::io(tmp, e)))
     }
 }
 
-/// `from` copied to `to.tmp`, then renamed over `to`.
+/// `from` copied over `to` (atomically).
 fn copy_atomically(from: &Path, to: &Path) -> Result<()> {
-    let mut tmp = to.as_os_str().to_owned();
-    tmp.push(".tmp");
-    let tmp = PathBuf::from(tmp);
-    if let Some(dir) = to.parent() {
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    }
-    std::fs::copy(from, &tmp).map_err(|e| Error::io(&tmp, format!("cannot copy {}: {e}", from.display())))?;
-    std::fs::rename(&tmp, to).map_err(|e| Error::io(to, e))
+    write_atomically(to, |tmp| {
+        std::fs::copy(from, tmp).map(drop).map_err(|e| Error::io(tmp, format!("cannot copy {}: {e}", from.display())))
+    })
 }
 
 /// Puts the copy `backup` (of [`FieldFile::backup`]) in place of the `fields.h5` of `dir`, which is

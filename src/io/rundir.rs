@@ -47,13 +47,15 @@ pub const LOCK_NAME: &str = ".lock";
 /// the same directory — a job resubmitted while the first still runs — is refused instead of
 /// mixing its files with the first's. The operating system releases it when the process ends,
 /// however it ends.
-pub struct RunLock(#[allow(dead_code)] Option<std::fs::File>);
+pub struct RunLock {
+    _held: Option<std::fs::File>,
+}
 
 /// Takes the lock of `dir` (root rank only; the others get an empty one), or says who holds it.
 pub fn lock(dir: &Path, is_root: bool) -> Result<RunLock> {
     use std::io::{Read, Seek, Write};
     if !is_root {
-        return Ok(RunLock(None));
+        return Ok(RunLock { _held: None });
     }
     let path = dir.join(LOCK_NAME);
     let mut f = std::fs::OpenOptions::new()
@@ -70,7 +72,7 @@ pub fn lock(dir: &Path, is_root: bool) -> Result<RunLock> {
                 .and_then(|()| f.rewind())
                 .and_then(|()| f.write_all(me.as_bytes()))
                 .map_err(|e| Error::io(&path, e))?;
-            Ok(RunLock(Some(f)))
+            Ok(RunLock { _held: Some(f) })
         }
         Err(std::fs::TryLockError::WouldBlock) => {
             let mut holder = String::new();
@@ -89,13 +91,27 @@ pub fn lock(dir: &Path, is_root: bool) -> Result<RunLock> {
                 "poroplast: warning: {}: cannot lock ({e}); another job into this directory would not be refused",
                 path.display()
             );
-            Ok(RunLock(None))
+            Ok(RunLock { _held: None })
         }
     }
 }
 
 fn hostname() -> String {
     std::fs::read_to_string("/proc/sys/kernel/hostname").map(|h| h.trim().to_string()).unwrap_or_else(|_| "?".into())
+}
+
+/// Makes `path` by `write(tmp)` into `path.tmp` (its directory created if missing), then renames
+/// it over `path`: a reader, or a resume after a kill, finds the old file or the new one, never a
+/// part of one.
+pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
+    write(&tmp)?;
+    std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
 }
 
 /// Writes `contents` to `dir/name` (a plain file name, no separators), replacing any old file;

@@ -113,7 +113,7 @@ impl Pc {
     /// Makes the preconditioners of a fieldsplit's blocks (set up before) forget what they kept
     /// from earlier setups — GAMG its interpolation — so that the next setup builds them as a new
     /// solver would. Nothing for another type.
-    pub fn reset_split_preconditioners(&self) -> Result<()> {
+    pub fn renew_split_preconditioners(&self) -> Result<()> {
         if self.type_name()? != "fieldsplit" {
             return Ok(());
         }

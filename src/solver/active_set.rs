@@ -470,7 +470,7 @@ impl ShellSolve for ActiveSetNewton {
                 loop {
                     ksp.set_reuse_preconditioner(reuse)?;
                     if !reuse && std::mem::take(&mut self.fresh_pc) {
-                        ksp.pc()?.reset_split_preconditioners()?;
+                        ksp.pc()?.renew_split_preconditioners()?;
                     }
                     ksp.set_operators(&a, &p)?;
                     if reuse {
