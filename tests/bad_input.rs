@@ -135,7 +135,7 @@ fn bad_input_is_reported_and_earlier_results_survive() {
         "fem.element = \"P1-P1\": not with plates",
     );
     // The plates experiment's own checks (one validation path with `check`, below).
-    fails(&earlier, &["run", "reference", "--set", "time.dt=10"], "time.dt = 10 exceeds time.dt_max = 4");
+    fails(&earlier, &["run", "reference", "--set", "time.dt=10"], "time.dt = 10 exceeds time.dt_max = 2");
     fails(
         &earlier,
         &["run", "reference", "--set", "mesh.params.h_pol=5"],

@@ -199,7 +199,7 @@ fn long_hold_reaches_the_drained_static_force() {
             ("h = 20.0, h_pole = 6.0", "h = 40.0, h_pole = 12.0"),
             ("t_end = 40.0", "t_end = 100000.0"),
             ("t_end = 100.0", "t_end = 800.0"),
-            ("dt_max = 4.0", "dt_max = 100.0"),
+            ("dt_max = 2.0", "dt_max = 100.0"),
         ],
     );
     run_in(2, &hold, &dir.join("hold"), &[]);

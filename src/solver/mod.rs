@@ -159,6 +159,9 @@ pub fn set_default_options(preset: &str, n_dofs: usize) -> Result<Policy> {
             // The matrix keeps its pattern (also under contact, see `active_set`): keep the
             // aggregation and prolongators, redo only the Galerkin products.
             d("fieldsplit_u_pc_gamg_reuse_interpolation", "true")?;
+            // Chebyshev smoothing over [0.05, 1.05] of the estimated largest eigenvalue instead
+            // of PETSc's [0.1, 1.1]: Cryer at 85k dofs 6% faster per step (docs/performance.md).
+            d("fieldsplit_u_mg_levels_ksp_chebyshev_esteig", "0,0.05,0,1.05")?;
             d("fieldsplit_p_ksp_type", "preonly")?;
             d("fieldsplit_p_pc_type", "hypre")?;
             Lag::NEVER
