@@ -51,6 +51,23 @@ def run(text, ranks=2, petsc=(), workdir=None, scene=None, overrides=()):
     return rows, timings
 
 
+def refined_steps(scene_time, given, s):
+    """("time.KEY", value) overrides that scale every step of a scene by s: dt, dt_max and
+    error_tolerance times s, and the growth factor raised to the power s, so that the geometric
+    sequence is refined too (scaling dt alone, the growth kept, only shifts the sequence: with
+    growth 1.3 the ramp keeps about as many steps). `scene_time` is the scene's [time] table,
+    `given` the "time.KEY" overrides that replace its values."""
+    out = []
+    for key in ("dt", "dt_max", "error_tolerance"):
+        v = given.get(f"time.{key}", scene_time.get(key))
+        if v is not None:
+            out.append((f"time.{key}", float(v) * s))
+    g = given.get("time.growth", scene_time.get("growth"))
+    if g is not None:
+        out.append(("time.growth", float(g) ** s))
+    return out
+
+
 def at_time(rows, t, col):
     r = min(rows, key=lambda r: abs(float(r["time"]) - t))
     if abs(float(r["time"]) - t) > 1e-9 * max(1.0, t):

@@ -1,8 +1,9 @@
 """Convergence study on 2 ranks: mesh levels × time-step levels, Richardson extrapolation.
 
 Runs a scene on every combination of mesh size h (mesh.params.h, with the other sizes —
-h_pole, h_edge, from the scene or --set — scaled in proportion) and time-step scale s (time.dt and time.dt_max multiplied by
-s), as batch jobs through `scripts/study.py`'s runner (completed cases are skipped, so an
+h_pole, h_edge, from the scene or --set — scaled in proportion) and time-step scale s (every
+step scaled by s: time.dt, time.dt_max and time.error_tolerance multiplied by s, time.growth raised
+to the power s; `_runner.refined_steps`), as batch jobs through `scripts/study.py`'s runner (completed cases are skipped, so an
 interrupted study continues). For each observable it estimates
 
   * the observed orders p_h (from the three finest meshes at the finest Δt) and p_t (from the
@@ -33,7 +34,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import study  # noqa: E402
 
 SIZES = ("h_pole", "h_edge")   # mesh sizes besides h, scaled with it
-from _runner import scene_values  # noqa: E402
+from _runner import refined_steps, scene_values  # noqa: E402
 
 
 def solve_order(q, r):
@@ -80,29 +81,26 @@ def main():
     h0 = params.get("h")
     if h0 is None:
         sys.exit("convergence_study.py: the scene's mesh has no params.h")
-    dt0, dtmax0 = t["time"]["dt"], t["time"].get("dt_max")
+    given = {}                                                 # time.* overrides, scaled per level
     sizes = {k: v for k, v in params.items() if k in SIZES}   # scaled with h
     for s in a.set:
         k, v = s.split("=", 1)
-        if k == "time.dt":
-            dt0 = float(v)
-        if k == "time.dt_max":
-            dtmax0 = float(v)
+        if k.startswith("time."):
+            given[k] = v
         if k.startswith("mesh.params.") and k[12:] in SIZES:
             sizes[k[12:]] = float(v)
 
     root = Path(a.dir)
     root.mkdir(parents=True, exist_ok=True)
-    scaled = ("time.dt=", "time.dt_max=", *(f"mesh.params.{k}=" for k in SIZES))
+    scaled = ("time.dt=", "time.dt_max=", "time.error_tolerance=", "time.growth=",
+              *(f"mesh.params.{k}=" for k in SIZES))
     sets = [tuple(s.split("=", 1)) for s in a.set if not s.startswith(scaled)]
     cases = []
     for h in hs:
         for s in ss:
             ov = [("mesh.params.h", f"{h:g}")]
             ov += [(f"mesh.params.{k}", f"{v * h / h0:g}") for k, v in sizes.items()]
-            ov.append(("time.dt", f"{dt0 * s:g}"))
-            if dtmax0 is not None:
-                ov.append(("time.dt_max", f"{dtmax0 * s:g}"))
+            ov += [(k, f"{v:g}") for k, v in refined_steps(t["time"], given, s)]
             cases.append((h, s, ov))
     names = {tuple(ov): f"h = {h:g}, dt x {s:g}" for h, s, ov in cases}
     ran = study.run_cases(a.scene, [ov for _, _, ov in cases], sets, root, a.ranks, [], a.observe,
