@@ -148,8 +148,8 @@ fn quarter_and_full_sphere_agree() {
 }
 
 /// The same mirrored full sphere with only the poles held in x and y: the rotation about z is
-/// free, and the solver takes it as the Jacobian's null space (`solver::FreeRigidModes`), with
-/// the direct preset and with the AMG fieldsplit.
+/// free (`solver::FreeRigidModes`); the direct preset locks it at one dof, the AMG fieldsplit
+/// takes it as the Jacobian's null space.
 #[test]
 fn full_sphere_with_free_rigid_modes_agrees() {
     let free: &[(&str, &str)] = &[

@@ -63,29 +63,22 @@ pub(super) fn distribute_mesh(world: &SimpleCommunicator, scene: &LoadedScene) -
 }
 
 /// The scene's boundary conditions as constraints and loads; with plates, the rigid modes
-/// they leave free (the Jacobian's null space), noted in the solver line.
+/// they leave free.
 fn constraints(
     world: &SimpleCommunicator,
     scene: &LoadedScene,
     local: &LocalMesh,
     dofs: &DofMap,
-    solver_line: &mut String,
 ) -> Result<(Vec<Constraint>, Vec<f64>, Option<solver::FreeRigidModes>)> {
     let s = &scene.scene;
     let (mut cons, ext) = agree(world, bc::build(&s.bc, local, dofs, &scene.source))?;
     // Frictionless plates leave x, y translation and the rotation about z free unless
-    // displacement constraints block them: the free ones are the Jacobian's null space.
+    // displacement constraints block them.
     let constrained_u: Vec<usize> = cons.iter().map(|c| c.local).filter(|&l| l < 3 * dofs.n_nodes).collect();
     let free_modes = match s.plates {
         Some(_) => solver::FreeRigidModes::find(world, dofs, local, &constrained_u),
         None => None,
     };
-    if let Some(m) = &free_modes {
-        solver_line
-            .push_str(&format!("\nrigid modes left free by the plates (the Jacobian's null space): {}", m.describe()));
-        // MUMPS: factor the singular system, leaving the null pivots to the Krylov method.
-        options::set_default("mat_mumps_icntl_24", Some("1"))?;
-    }
     if matches!(s.material, Material::HolmesMow { drained: true, .. }) {
         cons.extend((0..local.n_vertices()).map(|v| Constraint { local: dofs.p_local(v), value: 0.0 }));
     }
@@ -182,17 +175,23 @@ fn refuse_other_integrators(ts: &Ts<PoroProblem>) -> Result<()> {
 }
 
 /// With contact: the active-set Newton (unless -snes_type names one of PETSc's VI solvers),
-/// with the policy's lag; then whether the preconditioner uses the Schur matrix.
+/// with the policy's lag, and how it treats the free rigid modes (noted in the solver line);
+/// then whether the preconditioner uses the Schur matrix.
 fn configure_nonlinear_solver(
     world: &SimpleCommunicator,
     ts: &mut Ts<PoroProblem>,
     policy: &solver::Policy,
     free_modes: Option<solver::FreeRigidModes>,
+    solver_line: &mut String,
 ) -> Result<()> {
     let snes = ts.snes()?;
     if let Some((lo, hi)) = &ts.problem().bounds {
         if options::has("snes_type")? {
             snes.set_vi_bounds(lo, hi)?;
+            if let Some(m) = free_modes {
+                solver_line.push_str(&format!("\nrigid modes left free by the plates (not handled): {}", m.describe()));
+                singular_factorisations()?;
+            }
         } else {
             let ksp = snes.ksp()?;
             ksp.use_dm_of(&snes)?;
@@ -206,12 +205,28 @@ fn configure_nonlinear_solver(
             }
             let mut newton = solver::ActiveSetNewton::new(world, lo, hi, ts.problem().u_row_scale(), lag)?;
             newton.monitor = options::has("poroplast_newton_monitor")?;
-            newton.free_modes = free_modes;
+            if let Some(m) = free_modes {
+                // A factorisation gets the modes locked (nonsingular, updatable); a Krylov
+                // method with AMG their null space (a point lock defeats AMG).
+                let pin = ksp.pc()?.type_name()? == "lu";
+                let how = if pin { "locked at single dofs" } else { "the Jacobian's null space" };
+                solver_line.push_str(&format!("\nrigid modes left free by the plates ({how}): {}", m.describe()));
+                if !pin {
+                    singular_factorisations()?;
+                }
+                newton.set_free_modes(m, pin);
+            }
             ts.set_nonlinear_solver(Box::new(newton))?;
         }
     }
     ts.problem_mut().schur_needed = solver::use_schur_matrix(&snes, &ts.problem().schur)?;
     solver::check_tolerances(&snes)
+}
+
+/// MUMPS, wherever it factors a block with the free rigid modes: leave the null pivots to the
+/// Krylov method.
+fn singular_factorisations() -> Result<()> {
+    options::set_default("mat_mumps_icntl_24", Some("1"))
 }
 
 /// Σ of the straight (vertex) tetrahedra volumes of the local elements.
@@ -258,7 +273,7 @@ impl<'w> Run<'w> {
         // model (exponential energy, curved elements) gets the 8-point degree-3 rule.
         let default_degree = if model.is_linear() { 2 } else { 3 };
         let q = quadrature::tet(s.fem.quadrature_degree.unwrap_or(default_degree));
-        let (cons, ext, free_modes) = constraints(world, scene, &local, &dofs, &mut solver_line)?;
+        let (cons, ext, free_modes) = constraints(world, scene, &local, &dofs)?;
         let plates = plates(world, scene, &local, model.as_ref())?;
         let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
 
@@ -306,7 +321,7 @@ impl<'w> Run<'w> {
         ts.set_max_rejections(s.time.max_retries)?;
         ts.set_from_options()?;
         refuse_other_integrators(&ts)?;
-        configure_nonlinear_solver(world, &mut ts, &policy, free_modes)?;
+        configure_nonlinear_solver(world, &mut ts, &policy, free_modes, &mut solver_line)?;
 
         let experiment = match (&s.plates, plate_faces) {
             (Some(ps), Some(faces)) => {

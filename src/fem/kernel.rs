@@ -348,6 +348,16 @@ impl ElementKernel<'_> {
         })
     }
 
+    /// The smallest J = det F over the element's points (kinematics only, no material law).
+    pub fn min_j(&self, e: &ElementInput) -> Result<f64> {
+        let mut m = f64::INFINITY;
+        self.for_points(e, |_, pt, _| {
+            m = m.min((Matrix3::identity() + pt.state.grad_u).determinant());
+            Ok(())
+        })?;
+        Ok(m)
+    }
+
     /// The element residual into `r` (zero on entry).
     pub fn residual(&self, e: &ElementInput, r: &mut [f64; NDOF]) -> Result<()> {
         let mut proj = Projection::default();

@@ -203,6 +203,23 @@ impl Plates {
         }
     }
 
+    /// The isochoric affine guess for a step from t0 to t1: the plates' relative motion as a
+    /// uniform vertical compression between them, with the lateral expansion that keeps the
+    /// volume (J) of every element to first order, on the state `x0` (owned entries, u of the
+    /// owned nodes first; `coords` their reference positions). Short steps load the mixture
+    /// almost undrained, so this guess respects J > Φs where an extrapolated compaction rate
+    /// overshoots it.
+    pub fn predict_isochoric(&self, t0: f64, t1: f64, coords: &[[f64; 3]], x0: &[f64], x: &mut [f64]) {
+        let (z0, z1) = (self.z_lower(t0), self.z_lower(t1));
+        for (n, c) in coords.iter().enumerate() {
+            let cur = [c[0] + x0[3 * n], c[1] + x0[3 * n + 1], c[2] + x0[3 * n + 2]];
+            let du = isochoric_increment(cur, z0, z1, self.z_upper);
+            for k in 0..3 {
+                x[3 * n + k] = x0[3 * n + k] + du[k];
+            }
+        }
+    }
+
     /// Contact state of a surface node at reference height `z_ref` from its u_z.
     fn touch(&self, z_ref: f64, uz: f64, t: f64) -> Touch {
         let z = z_ref + uz;
@@ -267,9 +284,41 @@ fn smoothstep(x: f64) -> (f64, f64) {
     }
 }
 
+/// The displacement increment at the current position `x` of the affine map that moves the
+/// lower plate from z0 to z1 against the fixed upper one at z_upper: vertical strain
+/// ε = (z1 − z0)/(z_upper − z0), lateral strain −ε/2 about the z axis, so that
+/// det F = (1 + ε/2)² (1 − ε) = 1 + O(ε²).
+fn isochoric_increment(x: [f64; 3], z0: f64, z1: f64, z_upper: f64) -> [f64; 3] {
+    let strain = (z1 - z0) / (z_upper - z0);
+    [0.5 * strain * x[0], 0.5 * strain * x[1], strain * (z_upper - x[2])]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn isochoric_increment_moves_the_plates_and_keeps_volume() {
+        let (z0, z1, zu) = (3.0, 5.0, 200.0);
+        let eps = (z1 - z0) / (zu - z0);
+        // The lower plate's height moves with it, the upper plate's stays.
+        assert!((isochoric_increment([7.0, -4.0, z0], z0, z1, zu)[2] - (z1 - z0)).abs() < 1e-12);
+        assert_eq!(isochoric_increment([7.0, -4.0, zu], z0, z1, zu)[2], 0.0);
+        // F = I + ∂Δu/∂x by central differences (exact for an affine map): the determinant is
+        // (1 + ε/2)² (1 − ε), i.e. 1 up to O(ε²).
+        let x = [12.0, 30.0, 80.0];
+        let h = 1.0;
+        let f = nalgebra::Matrix3::from_fn(|i, j| {
+            let (mut a, mut b) = (x, x);
+            a[j] += h;
+            b[j] -= h;
+            let d = (isochoric_increment(a, z0, z1, zu)[i] - isochoric_increment(b, z0, z1, zu)[i]) / (2.0 * h);
+            d + f64::from(u8::from(i == j))
+        });
+        let expected = (1.0 + 0.5 * eps).powi(2) * (1.0 - eps);
+        assert!((f.determinant() - expected).abs() < 1e-12);
+        assert!((f.determinant() - 1.0).abs() < eps * eps);
+    }
 
     #[test]
     fn smoothstep_is_c1() {

@@ -93,10 +93,12 @@ enum Step {
     Assemble,
 }
 
-/// The bounds l ≤ x ≤ u (shared with the problem, which moves them with the plate).
+/// The bounds l ≤ x ≤ u (shared with the problem, which moves them with the plate), and the
+/// dofs held where they are (the free rigid modes' pins).
 struct Bounds {
     lower: Vector,
     upper: Vector,
+    pinned: Vec<Int>,
 }
 
 impl Bounds {
@@ -111,7 +113,8 @@ impl Bounds {
 
     /// From x and f = F(x): the active set, the Newton right-hand side −F on the free dofs and
     /// 0 on the active ones, the step onto the bound on the active ones (0 elsewhere) in `to_bound`;
-    /// returns the free residual norm.
+    /// returns the free residual norm. The pinned dofs (ascending) are always active, with a
+    /// zero step.
     fn split(
         &self,
         x: &Vector,
@@ -126,6 +129,12 @@ impl Bounds {
             let (xv, fv, lo, hi) = (x.read()?, f.read()?, self.lower.read()?, self.upper.read()?);
             let (mut r, mut d) = (rhs.write()?, to_bound.write()?);
             for i in 0..xv.len() {
+                if self.pinned.binary_search(&((first + i) as Int)).is_ok() {
+                    active.push((first + i) as Int);
+                    r[i] = 0.0;
+                    d[i] = 0.0;
+                    continue;
+                }
                 let at_lower = xv[i] <= lo[i] + AT_BOUND && fv[i] > 0.0;
                 let at_upper = xv[i] >= hi[i] - AT_BOUND && fv[i] < 0.0;
                 if at_lower || at_upper {
@@ -183,8 +192,9 @@ pub struct ActiveSetNewton {
     pending: Option<SolverState>,
     /// Print each iteration on rank 0 (`-poroplast_newton_monitor`).
     pub monitor: bool,
-    /// Rigid modes the bounds leave free, attached to each Jacobian as its null space.
-    pub free_modes: Option<super::FreeRigidModes>,
+    /// Rigid modes the bounds leave free, attached to each Jacobian as its null space (unless
+    /// pinned).
+    free_modes: Option<super::FreeRigidModes>,
 }
 
 impl ActiveSetNewton {
@@ -198,7 +208,7 @@ impl ActiveSetNewton {
     ) -> Result<ActiveSetNewton> {
         Ok(ActiveSetNewton {
             world: world.duplicate(),
-            bounds: Bounds { lower: lower.clone_ref()?, upper: upper.clone_ref()? },
+            bounds: Bounds { lower: lower.clone_ref()?, upper: upper.clone_ref()?, pinned: Vec::new() },
             diag,
             lag,
             f: lower.duplicate()?,
@@ -219,6 +229,17 @@ impl ActiveSetNewton {
             monitor: false,
             free_modes: None,
         })
+    }
+
+    /// Rigid modes the bounds leave free: with a direct factorisation (`pin`) locked at as many
+    /// dofs, else attached to each Jacobian as its null space (module docs of `solver::rigid`).
+    /// Collective.
+    pub fn set_free_modes(&mut self, modes: super::FreeRigidModes, pin: bool) {
+        if pin {
+            self.bounds.pinned = modes.pins(self.bounds.lower.ownership_start());
+        } else {
+            self.free_modes = Some(modes);
+        }
     }
 
     /// Whether the preconditioner of the last setup may serve the current Jacobian (the same

@@ -15,11 +15,19 @@
 //! point (before and while it settles under gravity) can also rotate about horizontal axes
 //! through its centre at almost no cost, and those modes are not exact null vectors (they stop
 //! being soft once the contact patch grows), so they cannot be projected out.
+//!
+//! With a direct factorisation the null space is not needed: the free modes are locked instead
+//! at as many dofs ([`FreeRigidModes::pins`]), held like active contact dofs (a zero step), so
+//! the factorised operator is nonsingular — MUMPS then needs no null-pivot detection, and a kept
+//! factorisation can be updated to a new active set (`solver::woodbury`). No reaction arises at
+//! a pin: the residual's x, y forces and z moment vanish by equilibrium, so the pinned rows are
+//! satisfied once the others are. The solution differs from the null-space one by a rigid
+//! motion, which no observable sees.
 
 use crate::error::Result;
 use crate::fem::dofmap::DofMap;
 use crate::mesh::dist::LocalMesh;
-use crate::petsc::{NullSpace, Vector};
+use crate::petsc::{Int, NullSpace, Vector};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 
@@ -69,6 +77,61 @@ impl FreeRigidModes {
     pub fn describe(&self) -> String {
         let names = ["x translation", "y translation", "rotation about z"];
         (0..3).filter(|&m| self.free[m]).map(|m| names[m]).collect::<Vec<_>>().join(", ")
+    }
+
+    /// The dofs that lock the free modes (global indices of this rank's, ascending), one per
+    /// mode, among the x and y dofs of two nodes: A farthest from the z axis and B farthest from
+    /// A in the xy-plane, chosen so that the modes' values there form the best-conditioned
+    /// square matrix (largest |det|). `first` is the global index of the first owned dof.
+    /// Collective.
+    pub fn pins(&self, first: usize) -> Vec<Int> {
+        let free: Vec<usize> = (0..3).filter(|&m| self.free[m]).collect();
+        let a = self.farthest(|p| p[0] * p[0] + p[1] * p[1]);
+        let b = self.farthest(|p| (p[0] - a.1[0]).powi(2) + (p[1] - a.1[1]).powi(2));
+        let candidates = [(a, 0), (a, 1), (b, 0), (b, 1)];
+        let value = |i: usize, m: usize| {
+            let ((_, x, _), c) = candidates[i];
+            mode(m, &x)[c]
+        };
+        let mut best = (0.0, Vec::new());
+        for set in (0..1usize << 4).filter(|s| s.count_ones() as usize == free.len()) {
+            let rows: Vec<usize> = (0..4).filter(|i| set >> i & 1 == 1).collect();
+            let m = nalgebra::DMatrix::from_fn(rows.len(), free.len(), |r, c| value(rows[r], free[c]));
+            let det = m.determinant().abs();
+            if det > best.0 {
+                best = (det, rows);
+            }
+        }
+        let me = self.world.rank();
+        let mut pins: Vec<Int> = best
+            .1
+            .iter()
+            .filter_map(|&i| {
+                let ((owner, _, node), c) = candidates[i];
+                (owner == me).then(|| (first + 3 * node + c) as Int)
+            })
+            .collect();
+        pins.sort_unstable();
+        pins.dedup();
+        pins
+    }
+
+    /// The owned node maximising `score` over all ranks (ties: the lowest rank): its rank,
+    /// reference coordinates, and local index there. Collective.
+    fn farthest(&self, score: impl Fn(&[f64; 3]) -> f64) -> (i32, [f64; 3], usize) {
+        let (node, s) = self
+            .coords
+            .iter()
+            .enumerate()
+            .map(|(n, p)| (n, score(p)))
+            .fold((0, f64::NEG_INFINITY), |b, c| if c.1 > b.1 { c } else { b });
+        let x = self.coords.get(node).copied().unwrap_or_default();
+        let mine = [s, x[0], x[1], x[2]];
+        let mut all = vec![0.0; 4 * self.world.size() as usize];
+        self.world.all_gather_into(&mine[..], &mut all[..]);
+        let owner = (0..self.world.size() as usize).fold(0, |b, r| if all[4 * r] > all[4 * b] { r } else { b });
+        let at = [all[4 * owner + 1], all[4 * owner + 2], all[4 * owner + 3]];
+        (owner as i32, at, node)
     }
 
     /// The null space at the state `x` (owned u then p entries; zero on p): the free modes at
