@@ -171,3 +171,65 @@ fn mumps_reference_agrees_with_fieldsplit() {
     let opts = std::fs::read_to_string(dir.join("lu/run/petsc_options.txt")).unwrap();
     assert!(opts.contains("-pc_factor_mat_solver_type mumps"), "{opts}");
 }
+
+/// The fieldsplit preset smooths the u block's finest GAMG level by Richardson/SOR (a hook, as
+/// the finest level's number is known only once GAMG has built its hierarchy) and the coarser
+/// ones by Chebyshev/Jacobi; `-poroplast_finest_sor 0` leaves Chebyshev there too. Both solve
+/// to the Krylov tolerance (Cryer, 2 ranks, two steps).
+#[test]
+fn fieldsplit_smooths_the_finest_level_by_sor() {
+    let dir = scratch("finest-sor");
+    // (level number, KSP type, PC type) of each u-block smoother in a -ksp_view.
+    let smoothers = |view: &str| -> Vec<(usize, String, String)> {
+        let lines: Vec<&str> = view.lines().collect();
+        let mut out = Vec::new();
+        for (i, l) in lines.iter().enumerate() {
+            let Some(rest) = l.trim().strip_prefix("KSP Object: (fieldsplit_u_mg_levels_") else { continue };
+            let level: usize = rest.split('_').next().unwrap().parse().unwrap();
+            let ty = |from: usize, what: &str| -> String {
+                let at = (from..lines.len()).find(|&j| lines[j].contains(what)).unwrap();
+                lines[at + 1].trim().trim_start_matches("type: ").to_string()
+            };
+            out.push((level, ty(i, "KSP Object:"), ty(i + 1, "PC Object:")));
+        }
+        out
+    };
+    let mut p = Vec::new();
+    for (name, extra) in [("sor", None), ("cheb", Some("-poroplast_finest_sor"))] {
+        let out = dir.join(name);
+        let mut args = vec![
+            "run",
+            "cryer",
+            "-q",
+            "--set",
+            "mesh.params.h=20",
+            "--set",
+            "mesh.params.h_pole=20",
+            "--set",
+            "time.t_end=0.2",
+            "--set",
+            "time.dt=0.1",
+            "--set",
+            "solver.preset=\"fieldsplit\"",
+            "--out",
+            out.to_str().unwrap(),
+            "--",
+            "-ksp_view",
+        ];
+        if let Some(o) = extra {
+            args.extend([o, "0"]);
+        }
+        let view = run_ok(2, &args);
+        let s = smoothers(&view);
+        let finest = s.iter().map(|x| x.0).max().expect("no GAMG levels in -ksp_view");
+        assert!(finest >= 2, "too few levels to test: {s:?}");
+        for (level, ksp, pc) in &s {
+            let want =
+                if *level == finest && extra.is_none() { ("richardson", "sor") } else { ("chebyshev", "jacobi") };
+            assert_eq!((ksp.as_str(), pc.as_str()), want, "level {level} of {finest}: {s:?}");
+        }
+        p.push(History::read(&out).col("p_center"));
+    }
+    let d = p[0].iter().zip(&p[1]).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(d < 1e-6, "p_center with and without SOR differs by {d:e}");
+}

@@ -219,6 +219,9 @@ fn configure_nonlinear_solver(
             ts.set_nonlinear_solver(Box::new(newton))?;
         }
     }
+    if solver::finest_sor_enabled()? {
+        snes.ksp()?.set_pre_solve(solver::finest_level_sor)?;
+    }
     ts.problem_mut().schur_needed = solver::use_schur_matrix(&snes, &ts.problem().schur)?;
     solver::check_tolerances(&snes)
 }

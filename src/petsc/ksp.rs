@@ -2,6 +2,26 @@
 
 use super::{check, cstr, ffi, IndexSet, Int, Mat};
 use crate::error::Result;
+use std::ffi::c_void;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// Work done before every solve of a KSP (before its own setup).
+pub type PreSolve = fn(Ksp) -> Result<()>;
+
+unsafe extern "C" fn pre_solve_tramp(
+    ksp: ffi::KSP,
+    _b: ffi::Vec,
+    _x: ffi::Vec,
+    ctx: *mut c_void,
+) -> ffi::PetscErrorCode {
+    // SAFETY: ctx is the PreSolve fn pointer set by Ksp::set_pre_solve.
+    let f: PreSolve = std::mem::transmute::<*mut c_void, PreSolve>(ctx);
+    match catch_unwind(AssertUnwindSafe(|| f(Ksp { raw: ksp }))) {
+        Ok(Ok(())) => 0,
+        Ok(Err(e)) => super::raise(&e.to_string()),
+        Err(_) => super::raise("panic before a Krylov solve"),
+    }
+}
 
 /// A Krylov solver owned by a SNES.
 #[derive(Clone, Copy)]
@@ -84,6 +104,10 @@ impl Ksp {
     pub fn set_from_options(&self) -> Result<()> {
         check(unsafe { ffi::KSPSetFromOptions(self.raw) })
     }
+    /// Calls `f` at the start of every solve, before the KSP sets itself up.
+    pub fn set_pre_solve(&self, f: PreSolve) -> Result<()> {
+        check(unsafe { ffi::KSPSetPreSolve(self.raw, Some(pre_solve_tramp), f as *mut c_void) })
+    }
 }
 
 /// A preconditioner owned by a KSP.
@@ -110,6 +134,27 @@ impl Pc {
     pub fn apply(&self, b: &super::Vector, x: &mut super::Vector) -> Result<()> {
         check(unsafe { ffi::PCApply(self.raw, b.raw, x.raw) })
     }
+    /// The KSPs of a fieldsplit's blocks (set up before), in split order.
+    pub fn split_ksps(&self) -> Result<Vec<Ksp>> {
+        let mut n: Int = 0;
+        let mut subs: *mut ffi::KSP = std::ptr::null_mut();
+        check(unsafe { ffi::PCFieldSplitGetSubKSP(self.raw, &mut n, &mut subs) })?;
+        let out = (0..n as usize).map(|i| Ksp { raw: unsafe { *subs.add(i) } }).collect();
+        unsafe { super::petsc_free(subs) }?;
+        Ok(out)
+    }
+    /// A multigrid preconditioner's number of levels (set up before).
+    pub fn mg_levels(&self) -> Result<usize> {
+        let mut n: Int = 0;
+        check(unsafe { ffi::PCMGGetLevels(self.raw, &mut n) })?;
+        Ok(n.max(0) as usize)
+    }
+    /// A multigrid preconditioner's smoother on `level` (0: the coarsest).
+    pub fn mg_smoother(&self, level: usize) -> Result<Ksp> {
+        let mut raw = std::ptr::null_mut();
+        check(unsafe { ffi::PCMGGetSmoother(self.raw, level as Int, &mut raw) })?;
+        Ok(Ksp { raw })
+    }
     /// Makes the preconditioners of a fieldsplit's blocks (set up before) forget what they kept
     /// from earlier setups — GAMG its interpolation — so that the next setup builds them as a new
     /// solver would. Nothing for another type.
@@ -117,20 +162,15 @@ impl Pc {
         if self.type_name()? != "fieldsplit" {
             return Ok(());
         }
-        let mut n: Int = 0;
-        let mut subs: *mut ffi::KSP = std::ptr::null_mut();
-        check(unsafe { ffi::PCFieldSplitGetSubKSP(self.raw, &mut n, &mut subs) })?;
         // PCReset would not do: GAMG's keeps its levels. A new object of the same type, set
         // from the same options, is what a new solver has.
-        let reset = (0..n as usize).try_for_each(|i| {
-            let pc = Ksp { raw: unsafe { *subs.add(i) } }.pc()?;
+        self.split_ksps()?.into_iter().try_for_each(|k| {
+            let pc = k.pc()?;
             let t = pc.type_name()?;
             pc.set_type("none")?;
             pc.set_type(&t)?;
             check(unsafe { ffi::PCSetFromOptions(pc.raw) })
-        });
-        unsafe { super::petsc_free(subs) }?;
-        reset
+        })
     }
     /// A Schur fieldsplit's Schur-complement preconditioner: built from `schur` (user's).
     pub fn set_schur_pre_user(&self, schur: &Mat) -> Result<()> {
