@@ -130,6 +130,10 @@ impl Pc {
         check(unsafe { ffi::PCGetType(self.raw, &mut t) })?;
         Ok(super::type_name_of(t))
     }
+    /// SOR by forward sweeps over each rank's own rows (PCSOR's default is the symmetric sweep).
+    pub fn set_sor_local_forward(&self) -> Result<()> {
+        check(unsafe { ffi::PCSORSetSymmetric(self.raw, ffi::MatSORType::SOR_LOCAL_FORWARD_SWEEP) })
+    }
     /// x = M⁻¹ b with the preconditioner as set up (for a direct one, an exact solve).
     pub fn apply(&self, b: &super::Vector, x: &mut super::Vector) -> Result<()> {
         check(unsafe { ffi::PCApply(self.raw, b.raw, x.raw) })
