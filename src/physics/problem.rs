@@ -610,9 +610,7 @@ impl PoroProblem {
         self.scatter.forward(u, &mut self.u_loc)?;
         Ok(self.u_loc.read()?.to_vec())
     }
-}
 
-impl PoroProblem {
     /// Whether J > Φs at every point in the state `x` (true for models without a solid
     /// fraction). Collective.
     fn compaction_admissible(&mut self, x: &Vector) -> Result<bool> {
@@ -935,7 +933,7 @@ impl TsProblem for PoroProblem {
             predicted.extend_from_slice(&self.u_loc.read()?);
         }
         if self.velocity.is_some() && !self.compaction_admissible(x)? {
-            let pl = self.plates.as_ref().expect("checked");
+            let Some(pl) = &self.plates else { return Ok(()) };
             let mut affine = x.duplicate()?;
             affine.copy_from(&start)?;
             let n = self.disc.dofs.n_owned_nodes;

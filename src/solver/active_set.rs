@@ -128,8 +128,9 @@ impl Bounds {
         {
             let (xv, fv, lo, hi) = (x.read()?, f.read()?, self.lower.read()?, self.upper.read()?);
             let (mut r, mut d) = (rhs.write()?, to_bound.write()?);
+            let mut pins = self.pinned.iter().peekable();
             for i in 0..xv.len() {
-                if self.pinned.binary_search(&((first + i) as Int)).is_ok() {
+                if pins.next_if_eq(&&((first + i) as Int)).is_some() {
                     active.push((first + i) as Int);
                     r[i] = 0.0;
                     d[i] = 0.0;
@@ -192,8 +193,8 @@ pub struct ActiveSetNewton {
     pending: Option<SolverState>,
     /// Print each iteration on rank 0 (`-poroplast_newton_monitor`).
     pub monitor: bool,
-    /// Rigid modes the bounds leave free, attached to each Jacobian as its null space (unless
-    /// pinned).
+    /// Free rigid modes taken as each Jacobian's null space (None when there are none, or when
+    /// they are pinned: [`set_free_modes`](Self::set_free_modes)).
     free_modes: Option<super::FreeRigidModes>,
 }
 

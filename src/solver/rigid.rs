@@ -116,8 +116,8 @@ impl FreeRigidModes {
         pins
     }
 
-    /// The owned node maximising `score` over all ranks (ties: the lowest rank): its rank,
-    /// reference coordinates, and local index there. Collective.
+    /// The owned node maximising `score` over all ranks (ties: the lowest rank): its rank, its
+    /// reference coordinates, and its local index (meaningful on that rank only). Collective.
     fn farthest(&self, score: impl Fn(&[f64; 3]) -> f64) -> (i32, [f64; 3], usize) {
         let (node, s) = self
             .coords
