@@ -132,6 +132,48 @@ fn active_set_update_is_exact(world: &mpi::topology::SimpleCommunicator, comm: p
     assert!(stale.norm_inf().unwrap() > 1e-2 * scale, "the active-set change must change the solution");
 }
 
+/// Chord iterations x ← x + P⁻¹(b − A x) with P an operator that differs from A in the rows
+/// and columns of 3 dofs (a rank-6 difference, so I − P⁻¹A has rank 6): Anderson mixing of
+/// depth 6, equivalent to GMRES on a linear map, converges in 6 iterations after its first
+/// (measured: residual 8.5e-11 after 8, 6.7e-14 after 9) to the solution of an LU factorisation
+/// of A; the plain chord iterations are still far off after as many.
+fn anderson_accelerates_chord_iterations(comm: poroplast::petsc::ffi::MPI_Comm) {
+    use poroplast::petsc::LuFactor;
+    use poroplast::solver::anderson::Anderson;
+    let (n, d) = (40, 2.5);
+    let (a, p) = active_set_operator(comm, n, &[3, 10, 11], d);
+    let p_lu = LuFactor::new(comm, &p).unwrap();
+    let a_lu = LuFactor::new(comm, &a).unwrap();
+    let mut b = Vector::mpi(comm, n).unwrap();
+    for (i, r) in b.write().unwrap().iter_mut().enumerate() {
+        *r = (0.3 * i as f64).sin() + 0.1;
+    }
+    let mut exact = b.duplicate().unwrap();
+    a_lu.pc().apply(&b, &mut exact).unwrap();
+    let run = |depth: usize, its: usize| -> (f64, f64) {
+        let mut mixing = Anderson::new(depth);
+        let (mut x, mut r, mut step) = (b.duplicate().unwrap(), b.duplicate().unwrap(), b.duplicate().unwrap());
+        x.zero().unwrap();
+        for it in 0..its {
+            a.mult(&x, &mut r).unwrap();
+            r.scale(-1.0).unwrap();
+            r.axpy(1.0, &b).unwrap();
+            p_lu.pc().apply(&r, &mut step).unwrap();
+            mixing.mix(&x, &mut step, it > 0).unwrap();
+            x.axpy(1.0, &step).unwrap();
+        }
+        a.mult(&x, &mut r).unwrap();
+        r.axpy(-1.0, &b).unwrap();
+        let res = r.norm2().unwrap() / b.norm2().unwrap();
+        x.axpy(-1.0, &exact).unwrap();
+        (res, x.norm_inf().unwrap() / exact.norm_inf().unwrap())
+    };
+    let (res, err) = run(6, 9);
+    assert!(res < 1e-12 && err < 1e-11, "Anderson(6), 9 iterations: residual {res:.2e}, error {err:.2e}");
+    let (res0, _) = run(0, 9);
+    assert!(res0 > 1e-4, "plain chord iterations, 9 iterations: residual {res0:.2e} (too easy a test)");
+}
+
 #[test]
 fn petsc_layer() {
     let universe = mpi::initialize().expect("MPI");
@@ -212,6 +254,7 @@ fn petsc_layer() {
     // 6. The low-rank update of a factorised active-set operator solves with the operator of
     //    the new active set: against a factorisation of that operator itself.
     active_set_update_is_exact(&universe.world(), comm);
+    anderson_accelerates_chord_iterations(comm);
 
     drop(v);
     drop(petsc);

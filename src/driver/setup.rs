@@ -205,6 +205,7 @@ fn configure_nonlinear_solver(
             }
             let mut newton = solver::ActiveSetNewton::new(world, lo, hi, ts.problem().u_row_scale(), lag)?;
             newton.monitor = options::has("poroplast_newton_monitor")?;
+            newton.anderson = solver::anderson::Anderson::new(solver::anderson_depth()?);
             if let Some(m) = free_modes {
                 // A factorisation gets the modes locked (nonsingular, updatable); a Krylov
                 // method with AMG their null space (a point lock defeats AMG).

@@ -14,6 +14,7 @@
 //! matrix keeps its size, block size and sparsity pattern ("workaround B" of the PETSc notes),
 //! so the preconditioner setup reuses what it can, and it may be lagged ([`Lag`]).
 
+use super::anderson::Anderson;
 use super::woodbury::ActiveSetUpdate;
 use crate::error::Result;
 use crate::petsc::{ffi, Int, Ksp, Mat, ShellSolve, Snes, SolverState, Vector};
@@ -187,12 +188,18 @@ pub struct ActiveSetNewton {
     jac: Option<Mat>,
     update: Option<ActiveSetUpdate>,
     last_krylov: usize,
+    /// The step length of the last iteration (1: a full step; halved for admissibility).
+    last_lambda: f64,
     newton: usize,
     krylov: usize,
     /// A checkpoint's state, set up at the start of the next solve.
     pending: Option<SolverState>,
     /// Print each iteration on rank 0 (`-poroplast_newton_monitor`).
     pub monitor: bool,
+    /// Acceleration of the chord iterations (`-poroplast_anderson M`).
+    pub anderson: Anderson,
+    /// The active set of the last chord iteration (the map `anderson` has a history of).
+    chord_active: Option<Vec<Int>>,
     /// Free rigid modes taken as each Jacobian's null space (None when there are none, or when
     /// they are pinned: [`set_free_modes`](Self::set_free_modes)).
     free_modes: Option<super::FreeRigidModes>,
@@ -224,10 +231,13 @@ impl ActiveSetNewton {
             jac: None,
             update: None,
             last_krylov: 0,
+            last_lambda: 1.0,
             newton: 0,
             krylov: 0,
             pending: None,
             monitor: false,
+            anderson: Anderson::new(0),
+            chord_active: None,
             free_modes: None,
         })
     }
@@ -356,7 +366,8 @@ impl ActiveSetNewton {
                 (true, None) => ", chord".to_string(),
                 _ => String::new(),
             };
-            let k = if it == 0 { String::new() } else { format!(", krylov {}{chord}", self.last_krylov) };
+            let step = if self.last_lambda < 1.0 { format!(", step {}", self.last_lambda) } else { String::new() };
+            let k = if it == 0 { String::new() } else { format!(", krylov {}{chord}{step}", self.last_krylov) };
             println!("    newton {it:2}  |F| {fnorm:.3e}  active {} (+{} -{}){k}", tot[0], tot[1], tot[2]);
         }
     }
@@ -430,6 +441,7 @@ impl ShellSolve for ActiveSetNewton {
         }
         let mut fnorm = self.bounds.split(x, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;
         let fnorm0 = fnorm;
+        self.chord_active = None;
         let mut it = 0;
         let mut prev_active = Vec::new();
         let mut norms = vec![fnorm];
@@ -513,6 +525,15 @@ impl ShellSolve for ActiveSetNewton {
                 self.last_krylov = usize::MAX;
                 break R::SNES_DIVERGED_LINEAR_SOLVE;
             }
+            if chord {
+                let here = usize::from(self.chord_active.as_ref() != Some(&self.active));
+                let mut changed = 0;
+                self.world.all_reduce_into(&here, &mut changed, SystemOperation::sum());
+                self.anderson.mix(x, &mut self.step, changed == 0)?;
+                self.chord_active = Some(self.active.clone());
+            } else {
+                self.chord_active = None;
+            }
             // Full step (or backtracking on the free residual norm, Armijo, halving); a step
             // into an inadmissible state (J ≤ Φs: the residual is infinite) is halved in
             // either mode, up to STEP_HALVINGS times, before TS has to cut the time step.
@@ -530,6 +551,7 @@ impl ShellSolve for ActiveSetNewton {
                 }
                 lambda *= 0.5;
             };
+            self.last_lambda = lambda;
             if chord && trial_norm.partial_cmp(&fnorm) != Some(std::cmp::Ordering::Less) {
                 // A chord step that does not reduce the residual is discarded, and the iteration
                 // assembles at x instead: from the iterate of a bad chord step (a kept operator

@@ -7,8 +7,8 @@
 //!   Newton keeps a Jacobian and its factorisation for chord iterations (one residual and one
 //!   pair of triangular solves each) across iterations and time steps while they contract the
 //!   residual by 0.3 or better and the active set stays, or changes by at most 8 dofs (a
-//!   low-rank update of the factorisation, [`ActiveSetUpdate`]) ([`Lag::chord`]); otherwise it
-//!   assembles and factorises anew. On small systems the factorisation is cheap and every
+//!   low-rank update of the factorisation, [`ActiveSetUpdate`]) ([`Lag::chord`]), the chord
+//!   steps Anderson-mixed ([`anderson`]); otherwise it assembles and factorises anew. On small systems the factorisation is cheap and every
 //!   Krylov iteration is two triangular solves, where an AMG V-cycle is latency-bound.
 //! * "fieldsplit": FGMRES on the full u–p system, preconditioned by an upper Schur
 //!   factorisation; the u block by one GAMG V-cycle (block size 3, six rigid-body modes, the
@@ -20,11 +20,13 @@
 //!
 //! Every default is overridable from the command line (`-- -pc_type ...`); the chord by
 //! `-poroplast_chord RATE` (0: a new Jacobian every iteration) and
-//! `-poroplast_pc_rebuild_changes N` (the largest update), and with the chord off the
+//! `-poroplast_pc_rebuild_changes N` (the largest update), the mixing by `-poroplast_anderson M`,
+//! and with the chord off the
 //! preconditioner lag by `-poroplast_pc_reuse N` (0: a new setup for every Jacobian),
 //! `-poroplast_pc_rebuild_its N` and `-poroplast_pc_rebuild_changes N` (see [`Lag`]).
 
 pub mod active_set;
+pub mod anderson;
 mod fields;
 mod rigid;
 pub mod woodbury;
@@ -114,6 +116,18 @@ pub fn policy(preset: &str, n_dofs: usize) -> Result<(Policy, String)> {
         line.push_str(&format!("; BLAS: OpenBLAS {k} kernels{why}"));
     }
     Ok((policy, line))
+}
+
+/// Depth of the Anderson mixing of chord iterations ([`anderson`]; `-poroplast_anderson M`, 0:
+/// off).
+pub fn anderson_depth() -> Result<usize> {
+    const DEFAULT: usize = 2;
+    match options::get_string("poroplast_anderson")? {
+        None => Ok(DEFAULT),
+        Some(v) => {
+            v.parse().map_err(|_| Error::Solver(format!("-poroplast_anderson {v}: expected a non-negative integer")))
+        }
+    }
 }
 
 /// Whether the u block's finest multigrid level is smoothed by SOR ([`finest_level_sor`]; on

@@ -10,8 +10,8 @@
 //!   entries zeroed (so that the D×D block is counted once),
 //!
 //! a rank-2k update B = P + U Vᵀ. Then B⁻¹ b = y − Z K⁻¹ Vᵀ y with y = P⁻¹ b, Z = P⁻¹ U and the
-//! 2k×2k capacitance matrix K = I + Vᵀ Z. Setting it up costs 2k solves with P (and one product
-//! with J and Jᵀ per changed dof); each use one solve and 2k dot products. That is cheaper than
+//! 2k×2k capacitance matrix K = I + Vᵀ Z. Setting it up costs 2k solves with P (one block solve:
+//! a single pass over the factors) and one product with J and Jᵀ per changed dof; each use one solve and 2k dot products. That is cheaper than
 //! assembling and factorising anew while k is small, and it is exact: the chord iteration
 //! stays the one with the operator of the current active set.
 
@@ -86,19 +86,19 @@ impl ActiveSetUpdate {
         // The changed rows r_i and columns c̃_i of B − P, from J e_i and Jᵀ e_i: for a dof that
         // left S the row (column) of J restricted to the new free set, minus d e_i; for one
         // that entered, d e_i minus the row (column) of J restricted to the old free set.
-        // Z = P⁻¹ [e_D, C̃]: the P⁻¹ e_i here, the P⁻¹ c̃_i after the loop.
+        // U = [e_D, C̃], and Z = P⁻¹ U after the loop.
         let mut rows = Vec::with_capacity(k);
+        let mut u = Vec::with_capacity(2 * k);
         let mut cols = Vec::with_capacity(k);
-        let mut z = Vec::with_capacity(2 * k);
         for (m, &s) in signed.iter().enumerate() {
             let here = owned.iter().find(|o| o.1 == m).map(|o| o.0);
             e.zero()?;
             if let Some(i) = here {
                 e.write()?[i] = 1.0;
             }
-            let mut ze = e.duplicate()?;
-            pc.apply(&e, &mut ze)?;
-            z.push(ze);
+            let mut unit = e.duplicate()?;
+            unit.copy_from(&e)?;
+            u.push(unit);
             jac.mult(&e, &mut jcol)?;
             jac.mult_transpose(&e, &mut jrow)?;
             // The row and column of J that one of B and P has, on that one's free set.
@@ -125,11 +125,9 @@ impl ActiveSetUpdate {
             cols.push(c);
         }
 
-        for c in &cols {
-            let mut zm = c.duplicate()?;
-            pc.apply(c, &mut zm)?;
-            z.push(zm);
-        }
+        u.append(&mut cols);
+        let mut z = u.iter().map(|v| v.duplicate()).collect::<Result<Vec<_>>>()?;
+        pc.apply_columns(&u, &mut z)?;
 
         // K = I + Vᵀ Z, Vᵀ = [R; E_Dᵀ]: partial sums here, one reduction.
         let mut part = vec![0.0; 4 * k * k];
