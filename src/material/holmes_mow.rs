@@ -94,8 +94,12 @@ impl HolmesMow {
 
     /// Second Piola–Kirchhoff stress S_sc = 2 ∂Ψ/∂C of the solid (no penalty).
     pub fn stress(&self, f: &Matrix3<f64>, bp: &Matrix3<f64>) -> Result<Matrix3<f64>> {
-        let kin = Kinematics::new(f)?;
-        let core = self.core(&kin, bp)?;
+        self.stress_at(&Kinematics::new(f)?, bp)
+    }
+
+    /// S at precomputed kinematics (the residual's need: no tangent).
+    pub(crate) fn stress_at(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<Matrix3<f64>> {
+        let core = self.core(kin, bp)?;
         Ok(core.g * (2.0 * self.phi_s * self.alpha0 * core.exp_f))
     }
 

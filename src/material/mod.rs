@@ -142,6 +142,25 @@ pub fn solid_response(
     Ok(r)
 }
 
+/// The stresses of [`solid_response`] without its tangent (residuals and output fields need no
+/// more; the 9×9 tangent is most of a point's cost): (P_sc, S_sc), the same numbers.
+pub fn solid_stresses(
+    hm: &HolmesMow,
+    pen: Option<&CompactionPenalty>,
+    f: &Matrix3<f64>,
+    bp: &Matrix3<f64>,
+) -> Result<(Matrix3<f64>, Matrix3<f64>)> {
+    let kin = Kinematics::new(f)?;
+    let s = hm.stress_at(&kin, bp)?;
+    let (mut p, mut s) = (f * s, s);
+    if let Some(pen) = pen {
+        let (pp, ps) = pen.stresses(&kin)?;
+        p += pp;
+        s += ps;
+    }
+    Ok((p, s))
+}
+
 /// Φs must lie in (0, 1); shared by all laws.
 pub(crate) fn check_phi_s(law: &str, phi_s: f64) -> Result<()> {
     if phi_s > 0.0 && phi_s < 1.0 {

@@ -79,6 +79,16 @@ impl CompactionPenalty {
         Ok(kin.c_inv * (kin.j * du))
     }
 
+    /// (P, S) = (J U' F⁻ᵀ, J U' C⁻¹) at precomputed kinematics, without the tangent.
+    pub(crate) fn stresses(&self, kin: &Kinematics) -> Result<(Matrix3<f64>, Matrix3<f64>)> {
+        let (_, du, _) = self.u_and_derivatives(kin.j)?;
+        if du == 0.0 {
+            return Ok((Matrix3::zeros(), Matrix3::zeros()));
+        }
+        let j = kin.j;
+        Ok((kin.f_inv.transpose() * (j * du), kin.c_inv * (j * du)))
+    }
+
     /// P = J U' F⁻ᵀ and A = ∂P/∂F (index map of [`super::idx`]).
     pub fn first_pk_and_tangent(&self, f: &Matrix3<f64>) -> Result<(Matrix3<f64>, Tangent)> {
         let r = self.response(&Kinematics::new(f)?)?;

@@ -42,8 +42,8 @@ use crate::error::{Error, Result};
 use crate::fem::point::{ij, History, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId};
 use crate::material::remodelling::{from_sym6, to_sym6};
 use crate::material::{
-    domain_error, idx, locate, solid_response, AtPoint, CompactionPenalty, HolmesMow, Kinematics, Permeability,
-    Remodelling, Tangent,
+    domain_error, idx, locate, solid_response, solid_stresses, AtPoint, CompactionPenalty, HolmesMow, Kinematics,
+    Permeability, Remodelling, Tangent,
 };
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
@@ -168,8 +168,8 @@ impl Biphasic {
     /// Output fields at a point (uses Grad u, p, Grad p). Domain error as in `eval`.
     pub fn point_fields(&self, at: QpId, s: &PointState, h: History) -> Result<PointFields> {
         let k = self.kinematics(at, s, h, false)?;
-        let r = solid_response(&self.solid, self.penalty.as_ref(), &k.f, &k.bp).at_point(at.elem, at.point)?;
-        let cauchy = k.f * r.s * k.f.transpose() / k.j;
+        let (_, s_sc) = solid_stresses(&self.solid, self.penalty.as_ref(), &k.f, &k.bp).at_point(at.elem, at.point)?;
+        let cauchy = k.f * s_sc * k.f.transpose() / k.j;
         let cauchy_sc = 0.5 * (cauchy + cauchy.transpose());
         let dev = cauchy_sc - Matrix3::identity() * (cauchy_sc.trace() / 3.0);
         let kt = self.perm.tensor(&k.f, &k.bp).at_point(at.elem, at.point)?;
@@ -316,10 +316,10 @@ impl PointModel for Biphasic {
     fn eval(&self, at: QpId, s: &PointState, h: History) -> Result<PointFlux> {
         let k = self.kinematics(at, s, h, false)?;
         let (rate, _) = self.rate(at, &k, s)?;
-        let sc = solid_response(&self.solid, self.penalty.as_ref(), &k.f, &k.bp).at_point(at.elem, at.point)?;
+        let (p_sc, _) = solid_stresses(&self.solid, self.penalty.as_ref(), &k.f, &k.bp).at_point(at.elem, at.point)?;
         let kt = self.perm.tensor(&k.f, &k.bp).at_point(at.elem, at.point)?;
         Ok(PointFlux {
-            stress: sc.p - k.cof_f * s.p,
+            stress: p_sc - k.cof_f * s.p,
             body: self.body(&k),
             rate,
             flux: kt * self.driving_gradient(&k, s),
