@@ -279,6 +279,10 @@ mod tests {
             assert!(rel_err(&r.s, &s_parts) < 1e-14);
             let alone = solid_response(&hm, None, &f, &bp).unwrap();
             assert_eq!(alone.p, hm.first_pk_and_tangent(&f, &bp).unwrap().0);
+            // The residual's stress-only path gives the same numbers, with and without the
+            // penalty (J = 0.63 and 0.68 are inside its range, 0.9 outside).
+            assert_eq!(solid_stresses(&hm, Some(&pen), &f, &bp).unwrap(), (r.p, r.s));
+            assert_eq!(solid_stresses(&hm, None, &f, &bp).unwrap(), (alone.p, alone.s));
         }
     }
 
