@@ -144,17 +144,17 @@ pub fn solid_response(
 
 /// The stresses of [`solid_response`] without its tangent (residuals and output fields need no
 /// more; the 9×9 tangent is most of a point's cost): (P_sc, S_sc), the same numbers.
+/// `kin` the kinematics of F (computed once per point by the caller).
 pub fn solid_stresses(
     hm: &HolmesMow,
     pen: Option<&CompactionPenalty>,
-    f: &Matrix3<f64>,
+    kin: &Kinematics,
     bp: &Matrix3<f64>,
 ) -> Result<(Matrix3<f64>, Matrix3<f64>)> {
-    let kin = Kinematics::new(f)?;
-    let s = hm.stress_at(&kin, bp)?;
-    let (mut p, mut s) = (f * s, s);
+    let s = hm.stress_at(kin, bp)?;
+    let (mut p, mut s) = (kin.f * s, s);
     if let Some(pen) = pen {
-        let (pp, ps) = pen.stresses(&kin)?;
+        let (pp, ps) = pen.stresses(kin)?;
         p += pp;
         s += ps;
     }
@@ -281,8 +281,9 @@ mod tests {
             assert_eq!(alone.p, hm.first_pk_and_tangent(&f, &bp).unwrap().0);
             // The residual's stress-only path gives the same numbers, with and without the
             // penalty (J = 0.63 and 0.68 are inside its range, 0.9 outside).
-            assert_eq!(solid_stresses(&hm, Some(&pen), &f, &bp).unwrap(), (r.p, r.s));
-            assert_eq!(solid_stresses(&hm, None, &f, &bp).unwrap(), (alone.p, alone.s));
+            let kin = Kinematics::new(&f).unwrap();
+            assert_eq!(solid_stresses(&hm, Some(&pen), &kin, &bp).unwrap(), (r.p, r.s));
+            assert_eq!(solid_stresses(&hm, None, &kin, &bp).unwrap(), (alone.p, alone.s));
         }
     }
 

@@ -64,7 +64,11 @@ impl Permeability {
 
     /// K = g0 C⁻¹ + g1 B_p + g2 B_p C B_p.
     pub fn tensor(&self, f: &Matrix3<f64>, bp: &Matrix3<f64>) -> Result<Matrix3<f64>> {
-        let kin = Kinematics::new(f)?;
+        self.tensor_at(&Kinematics::new(f)?, bp)
+    }
+
+    /// K at precomputed kinematics.
+    pub fn tensor_at(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<Matrix3<f64>> {
         let [(g0, _), (g1, _), (g2, _)] = self.coefficients(kin.j)?;
         Ok(kin.c_inv * g0 + bp * g1 + bp * kin.c * bp * g2)
     }

@@ -80,6 +80,8 @@ struct Kin {
     f: Matrix3<f64>,
     /// J = det F (cancellation-free near F = I).
     j: f64,
+    /// The material laws' kinematics of F (C, C⁻¹, F⁻¹, ln J), computed once per point.
+    kin: Kinematics,
     /// cof F = J F⁻ᵀ, from the entries of F.
     cof_f: Matrix3<f64>,
     /// B_p at the end of the step at this point.
@@ -168,11 +170,12 @@ impl Biphasic {
     /// Output fields at a point (uses Grad u, p, Grad p). Domain error as in `eval`.
     pub fn point_fields(&self, at: QpId, s: &PointState, h: History) -> Result<PointFields> {
         let k = self.kinematics(at, s, h, false)?;
-        let (_, s_sc) = solid_stresses(&self.solid, self.penalty.as_ref(), &k.f, &k.bp).at_point(at.elem, at.point)?;
+        let (_, s_sc) =
+            solid_stresses(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
         let cauchy = k.f * s_sc * k.f.transpose() / k.j;
         let cauchy_sc = 0.5 * (cauchy + cauchy.transpose());
         let dev = cauchy_sc - Matrix3::identity() * (cauchy_sc.trace() / 3.0);
-        let kt = self.perm.tensor(&k.f, &k.bp).at_point(at.elem, at.point)?;
+        let kt = self.perm.tensor_at(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         let w = kt * self.driving_gradient(&k, s);
         Ok(PointFields {
             j: k.j,
@@ -204,7 +207,8 @@ impl Biphasic {
             return Err(locate(domain_error(f64::NAN, msg), at.elem, at.point));
         }
         let f = Matrix3::identity() + s.grad_u;
-        let j = Kinematics::new(&f).at_point(at.elem, at.point)?.j;
+        let kin = Kinematics::new(&f).at_point(at.elem, at.point)?;
+        let j = kin.j;
         if j <= self.phi_s {
             let msg = format!("J <= phi_s = {} (mixture compacted to its solid fraction)", self.phi_s);
             return Err(locate(domain_error(j, msg), at.elem, at.point));
@@ -222,7 +226,7 @@ impl Biphasic {
             }
             _ => (bp_n, None),
         };
-        Ok(Kin { f, j, cof_f: cof(&f), bp, dbp_dc })
+        Ok(Kin { f, j, kin, cof_f: cof(&f), bp, dbp_dc })
     }
 
     /// Adds the remodelling chain terms to the tangent: with y_s = dx_s/dF_kl = Σ_r T_sr
@@ -236,8 +240,7 @@ impl Biphasic {
         dstress: &mut Tangent,
         dflux: &mut SMatrix<f64, 3, 9>,
     ) -> Result<()> {
-        let kin = Kinematics::new(&k.f)?;
-        let ds = self.solid.stress_derivative_bp(&kin, &k.bp)?;
+        let ds = self.solid.stress_derivative_bp(&k.kin, &k.bp)?;
         let dk = self.perm.derivative_bp(&k.f, &k.bp)?;
         let dp: [Matrix3<f64>; 6] = ds.map(|d| k.f * d);
         let dw: [Vector3<f64>; 6] = dk.map(|d| d * g);
@@ -316,8 +319,9 @@ impl PointModel for Biphasic {
     fn eval(&self, at: QpId, s: &PointState, h: History) -> Result<PointFlux> {
         let k = self.kinematics(at, s, h, false)?;
         let (rate, _) = self.rate(at, &k, s)?;
-        let (p_sc, _) = solid_stresses(&self.solid, self.penalty.as_ref(), &k.f, &k.bp).at_point(at.elem, at.point)?;
-        let kt = self.perm.tensor(&k.f, &k.bp).at_point(at.elem, at.point)?;
+        let (p_sc, _) =
+            solid_stresses(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let kt = self.perm.tensor_at(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         Ok(PointFlux {
             stress: p_sc - k.cof_f * s.p,
             body: self.body(&k),
