@@ -131,10 +131,19 @@ pub fn solid_response(
     f: &Matrix3<f64>,
     bp: &Matrix3<f64>,
 ) -> Result<SolidResponse> {
-    let kin = Kinematics::new(f)?;
-    let mut r = hm.response(&kin, bp)?;
+    solid_response_at(hm, pen, &Kinematics::new(f)?, bp)
+}
+
+/// [`solid_response`] at the kinematics of F (computed once per point by the caller).
+pub fn solid_response_at(
+    hm: &HolmesMow,
+    pen: Option<&CompactionPenalty>,
+    kin: &Kinematics,
+    bp: &Matrix3<f64>,
+) -> Result<SolidResponse> {
+    let mut r = hm.response(kin, bp)?;
     if let Some(pen) = pen {
-        let u = pen.response(&kin)?;
+        let u = pen.response(kin)?;
         r.p += u.p;
         r.a += u.a;
         r.s += u.s;
@@ -142,9 +151,8 @@ pub fn solid_response(
     Ok(r)
 }
 
-/// The stresses of [`solid_response`] without its tangent (residuals and output fields need no
-/// more; the 9×9 tangent is most of a point's cost): (P_sc, S_sc), the same numbers.
-/// `kin` the kinematics of F (computed once per point by the caller).
+/// The stresses of [`solid_response_at`] without its tangent (residuals and output fields need
+/// no more; the 9×9 tangent is most of a point's cost): (P_sc, S_sc), the same numbers.
 pub fn solid_stresses(
     hm: &HolmesMow,
     pen: Option<&CompactionPenalty>,

@@ -74,9 +74,7 @@ impl CompactionPenalty {
 
     /// Second Piola–Kirchhoff contribution J U'(J) C⁻¹.
     pub fn stress(&self, f: &Matrix3<f64>) -> Result<Matrix3<f64>> {
-        let kin = Kinematics::new(f)?;
-        let (_, du, _) = self.u_and_derivatives(kin.j)?;
-        Ok(kin.c_inv * (kin.j * du))
+        Ok(self.stresses(&Kinematics::new(f)?)?.1)
     }
 
     /// (P, S) = (J U' F⁻ᵀ, J U' C⁻¹) at precomputed kinematics, without the tangent.

@@ -83,7 +83,16 @@ impl Permeability {
         f: &Matrix3<f64>,
         bp: &Matrix3<f64>,
     ) -> Result<(Matrix3<f64>, [Matrix3<f64>; 9])> {
-        let kin = Kinematics::new(f)?;
+        self.tensor_and_derivative_at(&Kinematics::new(f)?, bp)
+    }
+
+    /// [`Self::tensor_and_derivative`] at precomputed kinematics.
+    pub fn tensor_and_derivative_at(
+        &self,
+        kin: &Kinematics,
+        bp: &Matrix3<f64>,
+    ) -> Result<(Matrix3<f64>, [Matrix3<f64>; 9])> {
+        let f = &kin.f;
         let [(g0, dg0), (g1, dg1), (g2, dg2)] = self.coefficients(kin.j)?;
         let (ci, fi) = (&kin.c_inv, &kin.f_inv);
         let bcb = bp * kin.c * bp;
@@ -104,11 +113,10 @@ impl Permeability {
 
     /// ∂K/∂B_p [H] = g1 H + g2 (H C B_p + B_p C H) for the six symmetric unit directions H of
     /// [`super::remodelling::sym_basis`] (zero for the isotropic model).
-    pub fn derivative_bp(&self, f: &Matrix3<f64>, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
+    pub fn derivative_bp(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
         if self.model == PermeabilityModel::Isotropic {
             return Ok([Matrix3::zeros(); 6]);
         }
-        let kin = Kinematics::new(f)?;
         let [_, (g1, _), (g2, _)] = self.coefficients(kin.j)?;
         let cb = kin.c * bp;
         Ok(super::remodelling::sym_basis().map(|h| {

@@ -1,7 +1,7 @@
 //! `KSP` and `PC` handles (borrowed from the SNES that owns them).
 
 use super::{check, cstr, ffi, IndexSet, Int, Mat};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use std::ffi::c_void;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
@@ -143,7 +143,9 @@ impl Pc {
     /// passes over the factors once, with BLAS-3, instead of once per column). The vectors
     /// share one layout. Another preconditioner type: one `apply` per column.
     pub fn apply_columns(&self, rhs: &[super::Vector], out: &mut [super::Vector]) -> Result<()> {
-        assert_eq!(rhs.len(), out.len(), "apply_columns: as many outputs as right-hand sides");
+        if rhs.len() != out.len() {
+            return Err(Error::Solver(format!("apply_columns: {} right-hand sides, {} outputs", rhs.len(), out.len())));
+        }
         let Some(first) = rhs.first() else { return Ok(()) };
         if !matches!(self.type_name()?.as_str(), "lu" | "cholesky") {
             return rhs.iter().zip(out.iter_mut()).try_for_each(|(b, x)| self.apply(b, x));
@@ -151,26 +153,8 @@ impl Pc {
         let mut factor: ffi::Mat = std::ptr::null_mut();
         check(unsafe { ffi::PCFactorGetMatrix(self.raw, &mut factor) })?;
         let (n, cols) = (first.local_size(), rhs.len());
-        let mut comm: ffi::MPI_Comm = unsafe { std::mem::zeroed() };
-        check(unsafe { ffi::PetscObjectGetComm(first.raw as ffi::PetscObject, &mut comm) })?;
-        let dense = || -> Result<Mat> {
-            let mut raw = std::ptr::null_mut();
-            let big = ffi::PETSC_DECIDE;
-            check(unsafe {
-                ffi::MatCreateDense(
-                    comm,
-                    n as Int,
-                    big,
-                    ffi::PETSC_DETERMINE,
-                    cols as Int,
-                    std::ptr::null_mut(),
-                    &mut raw,
-                )
-            })?;
-            Ok(Mat { raw })
-        };
-        let (b, x) = (dense()?, dense()?);
-        // Column-major local blocks with leading dimension n (MatCreateDense's own storage).
+        let (b, x) = (Mat::dense(first.comm()?, n, cols)?, Mat::dense(first.comm()?, n, cols)?);
+        // Column-major local blocks with leading dimension n.
         unsafe {
             let mut a: *mut f64 = std::ptr::null_mut();
             check(ffi::MatDenseGetArrayWrite(b.raw, &mut a))?;

@@ -28,6 +28,24 @@ impl Mat {
         }
     }
 
+    /// A dense matrix with `n_local` rows on this rank and `cols` columns, in PETSc's own
+    /// column-major storage (leading dimension `n_local`).
+    pub fn dense(comm: ffi::MPI_Comm, n_local: usize, cols: usize) -> Result<Mat> {
+        let mut raw = std::ptr::null_mut();
+        check(unsafe {
+            ffi::MatCreateDense(
+                comm,
+                n_local as Int,
+                ffi::PETSC_DECIDE,
+                ffi::PETSC_DETERMINE,
+                cols as Int,
+                std::ptr::null_mut(),
+                &mut raw,
+            )
+        })?;
+        Ok(Mat { raw })
+    }
+
     /// Borrows a matrix PETSc hands to a callback.
     ///
     /// # Safety

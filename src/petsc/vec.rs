@@ -60,6 +60,13 @@ impl Vector {
         Ok(v)
     }
 
+    /// The communicator the vector lives on.
+    pub fn comm(&self) -> Result<ffi::MPI_Comm> {
+        let mut comm: ffi::MPI_Comm = unsafe { std::mem::zeroed() };
+        check(unsafe { ffi::PetscObjectGetComm(self.raw as ffi::PetscObject, &mut comm) })?;
+        Ok(comm)
+    }
+
     pub fn local_size(&self) -> usize {
         let mut n: Int = 0;
         unsafe { ffi::VecGetLocalSize(self.raw, &mut n) };

@@ -42,8 +42,8 @@ use crate::error::{Error, Result};
 use crate::fem::point::{ij, History, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId};
 use crate::material::remodelling::{from_sym6, to_sym6};
 use crate::material::{
-    domain_error, idx, locate, solid_response, solid_stresses, AtPoint, CompactionPenalty, HolmesMow, Kinematics,
-    Permeability, Remodelling, Tangent,
+    domain_error, idx, locate, solid_response, solid_response_at, solid_stresses, AtPoint, CompactionPenalty,
+    HolmesMow, Kinematics, Permeability, Remodelling, Tangent,
 };
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
@@ -76,11 +76,8 @@ pub struct Biphasic {
 
 /// What eval and eval_tangent share at one point, after the domain checks.
 struct Kin {
-    /// F = I + Grad u.
-    f: Matrix3<f64>,
-    /// J = det F (cancellation-free near F = I).
-    j: f64,
-    /// The material laws' kinematics of F (C, C⁻¹, F⁻¹, ln J), computed once per point.
+    /// The kinematics of F = I + Grad u (J cancellation-free near F = I, C, C⁻¹, F⁻¹, ln J),
+    /// computed once per point for every law.
     kin: Kinematics,
     /// cof F = J F⁻ᵀ, from the entries of F.
     cof_f: Matrix3<f64>,
@@ -172,17 +169,17 @@ impl Biphasic {
         let k = self.kinematics(at, s, h, false)?;
         let (_, s_sc) =
             solid_stresses(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
-        let cauchy = k.f * s_sc * k.f.transpose() / k.j;
+        let cauchy = k.kin.f * s_sc * k.kin.f.transpose() / k.kin.j;
         let cauchy_sc = 0.5 * (cauchy + cauchy.transpose());
         let dev = cauchy_sc - Matrix3::identity() * (cauchy_sc.trace() / 3.0);
         let kt = self.perm.tensor_at(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         let w = kt * self.driving_gradient(&k, s);
         Ok(PointFields {
-            j: k.j,
-            porosity: 1.0 - self.phi_s / k.j,
+            j: k.kin.j,
+            porosity: 1.0 - self.phi_s / k.kin.j,
             cauchy_sc,
             von_mises: (1.5f64).sqrt() * dev.norm(),
-            darcy: -(k.f * w) / k.j,
+            darcy: -(k.kin.f * w) / k.kin.j,
             pressure_stress: -k.cof_f * s.p,
             norm_ep: match self.remodel {
                 // E_p = ½(B_p⁻¹ − I); B_p is symmetric positive definite.
@@ -216,17 +213,17 @@ impl Biphasic {
         let bp_n = if h.committed.is_empty() { Matrix3::identity() } else { from_sym6(h.committed) };
         let (bp, dbp_dc) = match (&self.remodel, h.evolve) {
             (Some(rm), true) => {
-                let c = f.transpose() * f;
+                let c = &kin.c;
                 if tangent {
-                    let (up, t) = rm.update_and_tangent(&self.solid, &c, &bp_n, s.dt).at_point(at.elem, at.point)?;
+                    let (up, t) = rm.update_and_tangent(&self.solid, c, &bp_n, s.dt).at_point(at.elem, at.point)?;
                     (up.bp, t)
                 } else {
-                    (rm.update(&self.solid, &c, &bp_n, s.dt).at_point(at.elem, at.point)?.bp, None)
+                    (rm.update(&self.solid, c, &bp_n, s.dt).at_point(at.elem, at.point)?.bp, None)
                 }
             }
             _ => (bp_n, None),
         };
-        Ok(Kin { f, j, kin, cof_f: cof(&f), bp, dbp_dc })
+        Ok(Kin { kin, cof_f: cof(&f), bp, dbp_dc })
     }
 
     /// Adds the remodelling chain terms to the tangent: with y_s = dx_s/dF_kl = Σ_r T_sr
@@ -241,15 +238,15 @@ impl Biphasic {
         dflux: &mut SMatrix<f64, 3, 9>,
     ) -> Result<()> {
         let ds = self.solid.stress_derivative_bp(&k.kin, &k.bp)?;
-        let dk = self.perm.derivative_bp(&k.f, &k.bp)?;
-        let dp: [Matrix3<f64>; 6] = ds.map(|d| k.f * d);
+        let dk = self.perm.derivative_bp(&k.kin, &k.bp)?;
+        let dp: [Matrix3<f64>; 6] = ds.map(|d| k.kin.f * d);
         let dw: [Vector3<f64>; 6] = dk.map(|d| d * g);
         let pairs = crate::material::remodelling::SYM_PAIRS;
         for kk in 0..3 {
             for l in 0..3 {
                 // ∂c_r/∂F_kl for the six components of C.
                 let dc: [f64; 6] = pairs.map(|(a, b)| {
-                    (if l == a { k.f[(kk, b)] } else { 0.0 }) + (if l == b { k.f[(kk, a)] } else { 0.0 })
+                    (if l == a { k.kin.f[(kk, b)] } else { 0.0 }) + (if l == b { k.kin.f[(kk, a)] } else { 0.0 })
                 });
                 let y: [f64; 6] = std::array::from_fn(|s| (0..6).map(|r| t6[s][r] * dc[r]).sum());
                 let col = ij(kk, l);
@@ -273,23 +270,23 @@ impl Biphasic {
     fn rate(&self, at: QpId, k: &Kin, s: &PointState) -> Result<(f64, Matrix3<f64>)> {
         let (l, dt) = (&s.grad_udot, s.dt);
         let cof_l = cof(l);
-        let rate = k.cof_f.dot(l) - dt * k.f.dot(&cof_l) + dt * dt * l.determinant();
-        let j_n = (k.f - l * dt).determinant();
+        let rate = k.cof_f.dot(l) - dt * k.kin.f.dot(&cof_l) + dt * dt * l.determinant();
+        let j_n = (k.kin.f - l * dt).determinant();
         if !(j_n > 0.0 && rate.is_finite()) {
             let msg = format!("J(F_n) = {j_n} <= 0 for F_n = F - dt Grad u_dot (dt = {dt})");
-            return Err(locate(domain_error(k.j, msg), at.elem, at.point));
+            return Err(locate(domain_error(k.kin.j, msg), at.elem, at.point));
         }
         Ok((rate, cof_l))
     }
 
     /// b = Φs ϱs a_g + (J − Φs) ϱf a_g.
     fn body(&self, k: &Kin) -> Vector3<f64> {
-        self.rho_s_g * self.phi_s + self.rho_f_g * (k.j - self.phi_s)
+        self.rho_s_g * self.phi_s + self.rho_f_g * (k.kin.j - self.phi_s)
     }
 
     /// g = Grad p − ϱf Fᵀ a_g.
     fn driving_gradient(&self, k: &Kin, s: &PointState) -> Vector3<f64> {
-        s.grad_p - k.f.transpose() * self.rho_f_g
+        s.grad_p - k.kin.f.transpose() * self.rho_f_g
     }
 }
 
@@ -334,15 +331,15 @@ impl PointModel for Biphasic {
     fn eval_tangent(&self, at: QpId, s: &PointState, h: History, shift: f64) -> Result<(PointFlux, PointTangent)> {
         let k = self.kinematics(at, s, h, true)?;
         let (rate, cof_l) = self.rate(at, &k, s)?;
-        let sc = solid_response(&self.solid, self.penalty.as_ref(), &k.f, &k.bp).at_point(at.elem, at.point)?;
-        let (kt, dk) = self.perm.tensor_and_derivative(&k.f, &k.bp).at_point(at.elem, at.point)?;
+        let sc = solid_response_at(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let (kt, dk) = self.perm.tensor_and_derivative_at(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         let g = self.driving_gradient(&k, s);
         let flux = PointFlux { stress: sc.p - k.cof_f * s.p, body: self.body(&k), rate, flux: kt * g };
 
         // (cof F − cof F_n)/dt = X(F, L) − dt cof L and cof F_n = cof F − dt X(F, L) + dt² cof L,
         // both free of cancellation (X: the bilinear part of cof, cof(A + B) = cof A + X + cof B).
         let (l, dt) = (&s.grad_udot, s.dt);
-        let x = cof_cross(&k.f, l);
+        let x = cof_cross(&k.kin.f, l);
         let cof_fn = k.cof_f - x * dt + cof_l * (dt * dt);
         let drate_du = x - cof_l * dt + cof_fn * shift;
 
@@ -358,7 +355,7 @@ impl PointModel for Biphasic {
                 }
             }
         }
-        let mut dstress_du = sc.a - dcof(&k.f) * s.p;
+        let mut dstress_du = sc.a - dcof(&k.kin.f) * s.p;
         if let Some(t6) = &k.dbp_dc {
             self.add_remodelling_tangent(&k, t6, &g, &mut dstress_du, &mut dflux_du).at_point(at.elem, at.point)?;
         }

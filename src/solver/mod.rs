@@ -8,8 +8,9 @@
 //!   pair of triangular solves each) across iterations and time steps while they contract the
 //!   residual by 0.3 or better and the active set stays, or changes by at most 8 dofs (a
 //!   low-rank update of the factorisation, [`ActiveSetUpdate`]) ([`Lag::chord`]), the chord
-//!   steps Anderson-mixed ([`anderson`]); otherwise it assembles and factorises anew. On small systems the factorisation is cheap and every
-//!   Krylov iteration is two triangular solves, where an AMG V-cycle is latency-bound.
+//!   steps Anderson-mixed ([`anderson`]); otherwise it assembles and factorises anew. On small
+//!   systems the factorisation is cheap and every Krylov iteration is two triangular solves,
+//!   where an AMG V-cycle is latency-bound.
 //! * "fieldsplit": FGMRES on the full u–p system, preconditioned by an upper Schur
 //!   factorisation; the u block by one GAMG V-cycle (block size 3, six rigid-body modes, the
 //!   interpolation reused across setups), the Schur complement by one BoomerAMG V-cycle on
@@ -21,8 +22,8 @@
 //! Every default is overridable from the command line (`-- -pc_type ...`); the chord by
 //! `-poroplast_chord RATE` (0: a new Jacobian every iteration) and
 //! `-poroplast_pc_rebuild_changes N` (the largest update), the mixing by `-poroplast_anderson M`,
-//! and with the chord off the
-//! preconditioner lag by `-poroplast_pc_reuse N` (0: a new setup for every Jacobian),
+//! and with the chord off the preconditioner lag by `-poroplast_pc_reuse N` (0: a new setup for
+//! every Jacobian),
 //! `-poroplast_pc_rebuild_its N` and `-poroplast_pc_rebuild_changes N` (see [`Lag`]).
 
 pub mod active_set;

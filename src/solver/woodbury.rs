@@ -10,10 +10,11 @@
 //!   entries zeroed (so that the D×D block is counted once),
 //!
 //! a rank-2k update B = P + U Vᵀ. Then B⁻¹ b = y − Z K⁻¹ Vᵀ y with y = P⁻¹ b, Z = P⁻¹ U and the
-//! 2k×2k capacitance matrix K = I + Vᵀ Z. Setting it up costs 2k solves with P (one block solve:
-//! a single pass over the factors) and one product with J and Jᵀ per changed dof; each use one solve and 2k dot products. That is cheaper than
-//! assembling and factorising anew while k is small, and it is exact: the chord iteration
-//! stays the one with the operator of the current active set.
+//! 2k×2k capacitance matrix K = I + Vᵀ Z. Setting it up costs 2k solves with P (one block
+//! solve: a single pass over the factors) and one product with J and Jᵀ per changed dof; each
+//! use one solve and 2k dot products. That is cheaper than assembling and factorising anew
+//! while k is small, and it is exact: the chord iteration stays the one with the operator of
+//! the current active set.
 
 use crate::error::{Error, Result};
 use crate::petsc::{Int, Mat, Pc, Vector};
@@ -96,9 +97,7 @@ impl ActiveSetUpdate {
             if let Some(i) = here {
                 e.write()?[i] = 1.0;
             }
-            let mut unit = e.duplicate()?;
-            unit.copy_from(&e)?;
-            u.push(unit);
+            u.push(e.copy()?);
             jac.mult(&e, &mut jcol)?;
             jac.mult_transpose(&e, &mut jrow)?;
             // The row and column of J that one of B and P has, on that one's free set.
