@@ -599,7 +599,7 @@ impl<'w> Run<'w> {
             counters,
             &u_local,
             v_local.as_ref().map(|(v, dt)| (v.as_slice(), *dt)),
-            pb.disc.history.export(&mesh.tet_original),
+            pb.disc.history.export(&mesh.cell_original),
             per_elem,
         );
         // The solver's state between steps (the kept factorised Jacobian), per rank: a run
@@ -645,7 +645,7 @@ impl<'w> Run<'w> {
         let per_elem = pb.disc.history.element(0).len();
         if per_elem > 0 {
             let h = &state.history;
-            let original = mesh.tet_original.clone();
+            let original = mesh.cell_original.clone();
             pb.disc
                 .history
                 .import(&original, |o| Some(h[o as usize * per_elem..(o as usize + 1) * per_elem].to_vec()))?;

@@ -5,7 +5,7 @@
 use super::{Run, Schedule, DEFAULT_STABILISATION};
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
-use crate::fem::element::tabulate_tet10;
+use crate::fem::element::tabulate_cell;
 use crate::fem::kernel::Stabilisation;
 use crate::fem::point::PointModel;
 use crate::fem::quadrature;
@@ -13,6 +13,7 @@ use crate::io::recorder::Observers;
 use crate::mesh::dist::{self, LocalMesh};
 use crate::mesh::partition;
 use crate::mesh::source::{mesh_file, read_mesh};
+use crate::mesh::Family;
 use crate::parallel::{agree, broadcast_vec};
 use crate::petsc::{options, DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
@@ -44,13 +45,13 @@ pub(super) fn distribute_mesh(world: &SimpleCommunicator, scene: &LoadedScene) -
     let path = mesh_file(world, scene)?;
     let mesh = agree(world, read_mesh(&path, scene))?;
     let size = world.size() as usize;
-    if mesh.tets.len() < size {
+    if mesh.cells.len() < size {
         return Err(Error::Mesh {
             path: path.display().to_string(),
             msg: format!(
                 "{} elements, fewer than the {size} ranks: run on at most {} ranks",
-                mesh.tets.len(),
-                mesh.tets.len()
+                mesh.cells.len(),
+                mesh.cells.len()
             ),
         });
     }
@@ -59,7 +60,7 @@ pub(super) fn distribute_mesh(world: &SimpleCommunicator, scene: &LoadedScene) -
     agree(world, r)?;
     broadcast_vec(world, 0, &mut part);
     let local = agree(world, dist::distribute(&mesh, &part, size, world.rank() as usize))?;
-    Ok(Distributed { local, path, n_file_nodes: mesh.coords.len(), n_file_elems: mesh.tets.len() })
+    Ok(Distributed { local, path, n_file_nodes: mesh.coords.len(), n_file_elems: mesh.cells.len() })
 }
 
 /// The scene's boundary conditions as constraints and loads; with plates, the rigid modes
@@ -74,7 +75,7 @@ fn constraints(
     let (mut cons, ext) = agree(world, bc::build(&s.bc, local, dofs, &scene.source))?;
     // Frictionless plates leave x, y translation and the rotation about z free unless
     // displacement constraints block them.
-    let constrained_u: Vec<usize> = cons.iter().map(|c| c.local).filter(|&l| l < 3 * dofs.n_nodes).collect();
+    let constrained_u: Vec<usize> = cons.iter().map(|c| c.local).filter(|&l| l < dofs.n_u_local()).collect();
     let free_modes = match s.plates {
         Some(_) => solver::FreeRigidModes::find(world, dofs, local, &constrained_u),
         None => None,
@@ -233,18 +234,20 @@ fn singular_factorisations() -> Result<()> {
     options::set_default("mat_mumps_icntl_24", Some("1"))
 }
 
-/// Σ of the straight (vertex) tetrahedra volumes of the local elements.
+/// Σ of the volumes of the straight (vertex) cells of the local elements: tetrahedra, or the rings
+/// the meridian triangles sweep (Pappus: 2π × centroid radius × area).
 fn straight_volume(mesh: &LocalMesh) -> f64 {
-    mesh.tets
+    mesh.cells
         .iter()
         .map(|t| {
             let x = |i: usize| mesh.coords[t[i] as usize];
-            let e = |i: usize| [x(i)[0] - x(0)[0], x(i)[1] - x(0)[1], x(i)[2] - x(0)[2]];
-            let (a, b, c) = (e(1), e(2), e(3));
-            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-                + a[2] * (b[0] * c[1] - b[1] * c[0]))
-                .abs()
-                / 6.0
+            match mesh.family {
+                Family::Tet10 => crate::mesh::tet_det(x(0), x(1), x(2), x(3)).abs() / 6.0,
+                Family::Tri6 => {
+                    let r = (x(0)[0] + x(1)[0] + x(2)[0]) / 3.0;
+                    std::f64::consts::PI * r * crate::mesh::meridian::area2(x(0), x(1), x(2)).abs()
+                }
+            }
         })
         .sum()
 }
@@ -276,7 +279,18 @@ impl<'w> Run<'w> {
         // Degree 2 integrates the linear model exactly on straight elements; the finite-strain
         // model (exponential energy, curved elements) gets the 8-point degree-3 rule.
         let default_degree = if model.is_linear() { 2 } else { 3 };
-        let q = quadrature::tet(s.fem.quadrature_degree.unwrap_or(default_degree));
+        // On the meridian dV = 2πR dA adds a degree.
+        let degree = s.fem.quadrature_degree.unwrap_or(default_degree);
+        let q = match local.family {
+            Family::Tet10 => quadrature::tet(degree),
+            Family::Tri6 => quadrature::tri(degree + 1),
+        };
+        if local.family.axisymmetric() && s.fem.equal_order() {
+            return Err(Error::Scene {
+                path: scene.source.clone(),
+                msg: "fem.element = \"P1-P1\" is for tetrahedral meshes only (not the meridian)".into(),
+            });
+        }
         let (cons, ext, free_modes) = constraints(world, scene, &local, &dofs)?;
         let plates = plates(world, scene, &local, model.as_ref())?;
         let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
@@ -290,7 +304,7 @@ impl<'w> Run<'w> {
         let fields = solver::Fields::new(world, &dofs, &local)?;
         let c = s.fem.stabilisation.unwrap_or(DEFAULT_STABILISATION);
         let stabilisation = Stabilisation::new(c, s.fem.stabilisation_fade, model.as_ref());
-        let tab = tabulate_tet10(&q);
+        let tab = tabulate_cell(local.family, &q);
         let mut problem = PoroProblem::new(
             world.duplicate(),
             local,

@@ -1,18 +1,20 @@
 //! Degrees of freedom of Taylor–Hood P2–P1 on the distributed mesh.
 //!
-//! Global layout: rank r owns one contiguous block [u of its owned nodes (3 per node, xyz
-//! interleaved) | p of its owned vertices]. So the u and p index sets are contiguous per rank,
-//! the u block has block size 3 (for AMG with rigid-body modes), and a global node g owned by
-//! rank s has u dofs 3g + vertex_ranges[s] + c, a global vertex v owned by s has p dof
-//! 3 node_ranges[s+1] + v.
-//! Local layout (what elements read and write): u of local node n at 3n + c, then p of local
-//! vertex m at 3 n_nodes + m; owned entries come first in each part.
+//! Global layout: rank r owns one contiguous block [u of its owned nodes (nc per node: xyz, or
+//! rz on the meridian, interleaved) | p of its owned vertices]. So the u and p index sets are
+//! contiguous per rank, the u block has block size nc (for AMG with rigid-body modes), and a
+//! global node g owned by rank s has u dofs nc g + vertex_ranges[s] + c, a global vertex v owned
+//! by s has p dof nc node_ranges[s+1] + v.
+//! Local layout (what elements read and write): u of local node n at nc n + c, then p of local
+//! vertex m at nc n_nodes + m; owned entries come first in each part.
 
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::Int;
 
 pub struct DofMap {
     pub rank: usize,
+    /// Displacement components per node (3, or 2 on the meridian: u_r, u_z); z is the last.
+    pub nc: usize,
     /// Local nodes / vertices (owned + ghost).
     pub n_nodes: usize,
     pub n_vertices: usize,
@@ -33,22 +35,24 @@ impl DofMap {
         let (nr, vr) = (&m.node_ranges, &m.vertex_ranges);
         let n_nodes = m.coords.len();
         let n_vertices = m.vertex_node.len();
+        let nc = m.family.components();
         let mut d = DofMap {
             rank: m.rank,
+            nc,
             n_nodes,
             n_vertices,
             n_owned_nodes: m.n_owned_nodes,
             n_owned_vertices: m.n_owned_vertices,
-            n_owned: 3 * m.n_owned_nodes + m.n_owned_vertices,
-            offset: 3 * nr[m.rank] + vr[m.rank],
-            n_global: 3 * nr[m.nranks] + vr[m.nranks],
-            l2g: Vec::with_capacity(3 * n_nodes + n_vertices),
+            n_owned: nc * m.n_owned_nodes + m.n_owned_vertices,
+            offset: nc * nr[m.rank] + vr[m.rank],
+            n_global: nc * nr[m.nranks] + vr[m.nranks],
+            l2g: Vec::with_capacity(nc * n_nodes + n_vertices),
             node_ranges: nr.clone(),
             vertex_ranges: vr.clone(),
         };
         for n in 0..n_nodes {
             let g = m.node_global[n] as usize;
-            for c in 0..3 {
+            for c in 0..nc {
                 d.l2g.push(d.u_global(g, c) as Int);
             }
         }
@@ -64,23 +68,38 @@ impl DofMap {
 
     /// Global u dof of global node `g`, component `c`.
     pub fn u_global(&self, g: usize, c: usize) -> usize {
-        3 * g + self.vertex_ranges[Self::owner(&self.node_ranges, g)] + c
+        self.nc * g + self.vertex_ranges[Self::owner(&self.node_ranges, g)] + c
     }
 
     /// Global p dof of global vertex `v`.
     pub fn p_global(&self, v: usize) -> usize {
-        3 * self.node_ranges[Self::owner(&self.vertex_ranges, v) + 1] + v
+        self.nc * self.node_ranges[Self::owner(&self.vertex_ranges, v) + 1] + v
     }
 
     /// Local u dof of local node n.
     #[inline]
     pub fn u_local(&self, n: usize, c: usize) -> usize {
-        3 * n + c
+        self.nc * n + c
+    }
+    /// Local u_z dof of local node n (z is the last component).
+    #[inline]
+    pub fn uz_local(&self, n: usize) -> usize {
+        self.nc * n + self.nc - 1
+    }
+    /// Number of local u dofs (owned + ghost nodes).
+    #[inline]
+    pub fn n_u_local(&self) -> usize {
+        self.nc * self.n_nodes
+    }
+    /// Number of owned u dofs.
+    #[inline]
+    pub fn n_u_owned(&self) -> usize {
+        self.nc * self.n_owned_nodes
     }
     /// Local p dof of local vertex m.
     #[inline]
     pub fn p_local(&self, m: usize) -> usize {
-        3 * self.n_nodes + m
+        self.nc * self.n_nodes + m
     }
     /// Size of the local (owned + ghost) vector.
     pub fn n_local(&self) -> usize {
@@ -90,19 +109,19 @@ impl DofMap {
     /// The local dof of the i-th owned global dof (offset + i).
     #[inline]
     pub fn owned_to_local(&self, i: usize) -> usize {
-        let nu = 3 * self.n_owned_nodes;
+        let nu = self.n_u_owned();
         if i < nu {
             i
         } else {
-            3 * self.n_nodes + (i - nu)
+            self.n_u_local() + (i - nu)
         }
     }
     /// Whether a local dof is owned here.
     #[inline]
     pub fn is_owned(&self, l: usize) -> bool {
-        let nu = 3 * self.n_nodes;
+        let nu = self.n_u_local();
         if l < nu {
-            l < 3 * self.n_owned_nodes
+            l < self.n_u_owned()
         } else {
             l - nu < self.n_owned_vertices
         }
@@ -113,16 +132,16 @@ impl DofMap {
         if !self.is_owned(l) {
             return None;
         }
-        let nu = 3 * self.n_nodes;
-        Some(if l < nu { l } else { 3 * self.n_owned_nodes + (l - nu) })
+        let nu = self.n_u_local();
+        Some(if l < nu { l } else { self.n_u_owned() + (l - nu) })
     }
 
     /// Global u range [start, end) owned here, and p range.
     pub fn u_range(&self) -> (usize, usize) {
-        (self.offset, self.offset + 3 * self.n_owned_nodes)
+        (self.offset, self.offset + self.n_u_owned())
     }
     pub fn p_range(&self) -> (usize, usize) {
-        let s = self.offset + 3 * self.n_owned_nodes;
+        let s = self.offset + self.n_u_owned();
         (s, s + self.n_owned_vertices)
     }
     /// First global vertex owned here (row offset of the pressure-only Schur matrix).
@@ -141,9 +160,9 @@ impl DofMap {
             for k in m.node_nbr_offsets[n]..m.node_nbr_offsets[n + 1] {
                 let g = m.node_nbr[k] as usize;
                 if (nlo..nhi).contains(&g) {
-                    d += 3;
+                    d += self.nc;
                 } else {
-                    o += 3;
+                    o += self.nc;
                 }
                 let gv = m.node_nbr_vertex_global[k];
                 if gv >= 0 {
@@ -163,7 +182,7 @@ impl DofMap {
             schur_o: vec![],
         };
         for &(d, o, _, _) in &node_counts {
-            for _ in 0..3 {
+            for _ in 0..self.nc {
                 p.d_nnz.push(d as Int);
                 p.o_nnz.push(o as Int);
             }

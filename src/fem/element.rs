@@ -3,10 +3,7 @@
 
 use super::quadrature::Quadrature;
 use crate::error::{Error, Result};
-pub use crate::mesh::TET10_EDGES;
-
-/// Triangle6 mid-edge nodes 3, 4, 5 sit on edges (0,1), (1,2), (2,0).
-pub const TRI6_EDGES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
+pub use crate::mesh::{TET10_EDGES, TRI6_EDGES};
 
 const DL: [[f64; 3]; 4] = [[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
@@ -82,6 +79,23 @@ pub fn tabulate_tri6(q: &Quadrature) -> Tabulation<6> {
         t.dn.push(std::array::from_fn(|a| [d[a][0], d[a][1], 0.0]));
     }
     t
+}
+
+/// The cell functions of a family at every point of a rule, in the kernel's 10-slot layout
+/// (a triangle's 6 functions first, the other slots zero).
+pub fn tabulate_cell(family: crate::mesh::Family, q: &Quadrature) -> Tabulation<10> {
+    match family {
+        crate::mesh::Family::Tet10 => tabulate_tet10(q),
+        crate::mesh::Family::Tri6 => {
+            let t = tabulate_tri6(q);
+            let pad = |v: &[f64; 6]| std::array::from_fn(|a| if a < 6 { v[a] } else { 0.0 });
+            Tabulation {
+                n: t.n.iter().map(pad).collect(),
+                dn: t.dn.iter().map(|d| std::array::from_fn(|a| if a < 6 { d[a] } else { [0.0; 3] })).collect(),
+                weights: t.weights,
+            }
+        }
+    }
 }
 
 /// The isoparametric map of a 10-node tet at one quadrature point.
@@ -163,7 +177,10 @@ pub fn tri6_surface(coords: &[[f64; 3]; 6], tab: &Tabulation<6>, q: usize) -> Su
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::kernel::p1_gradients;
+    use crate::fem::cell::{p1_gradients as p1_grads, Tet10};
+    fn p1_gradients(dn: &[[f64; 3]; 10]) -> [[f64; 3]; 4] {
+        p1_grads::<Tet10>(dn)
+    }
     use crate::fem::quadrature;
 
     const REF: [[f64; 3]; 4] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];

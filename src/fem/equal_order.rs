@@ -13,7 +13,8 @@
 //! Loads on mid-edge nodes move to the vertices the same way ([`tie_loads`]). Contact acts on
 //! mid-edge nodes, so the plates refuse this element.
 
-use super::kernel::NDOF;
+use super::cell::MAX_DOF as NDOF;
+use super::kernel::ElementMatrix;
 use crate::mesh::dist::LocalMesh;
 use crate::mesh::TET10_EDGES;
 
@@ -37,7 +38,7 @@ pub fn tie_residual(r: &mut [f64; NDOF], u: &[[f64; 3]; 10], s: f64) {
 
 /// The same transformation of one element's Jacobian rows (the derivative of
 /// [`tie_residual`]'s result).
-pub fn tie_jacobian(k: &mut [[f64; NDOF]; NDOF], s: f64) {
+pub fn tie_jacobian(k: &mut ElementMatrix, s: f64) {
     for (m, a, b) in edges() {
         for i in 0..3 {
             let row = k[3 * m + i];
@@ -57,7 +58,7 @@ pub fn tie_jacobian(k: &mut [[f64; NDOF]; NDOF], s: f64) {
 /// edge's vertices, half to each.
 pub fn tie_loads(ext: &mut [f64], mesh: &LocalMesh) {
     let mut done = vec![false; mesh.coords.len()];
-    for t in &mesh.tets {
+    for t in &mesh.cells {
         for (m, a, b) in edges() {
             let (m, a, b) = (t[m] as usize, t[a] as usize, t[b] as usize);
             if std::mem::replace(&mut done[m], true) {

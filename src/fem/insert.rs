@@ -2,43 +2,40 @@
 //!
 //! `MatSetValues` binary-searches every entry (≈ 40 ns each, ≈ 46 µs per 34×34 P2–P1
 //! element). The pattern never changes, so the position of each element block is computed
-//! once. It is compact because of the dof layout: the three u rows of a node and the p row of
-//! a vertex have identical column sets, and the three u columns of a node are adjacent in every
-//! row. So per element one offset per (row node, column group) suffices: 10 row nodes × (10 u
-//! column nodes + 4 p columns) = 140 offsets. Rows owned by another rank (elements on the
+//! once. It is compact because of the dof layout: the nc u rows of a node and the p row of
+//! a vertex have identical column sets, and the nc u columns of a node are adjacent in every
+//! row. So per element one offset per (row node, column group) suffices: on a tetrahedron 10 row
+//! nodes × (10 u column nodes + 4 p columns) = 140 offsets (6 × 9 on a meridian triangle). Rows owned by another rank (elements on the
 //! partition boundary) still go through `MatSetValues`, which sends them to their owner.
 
+use super::cell::{MAX_DOF, MAX_NODES, MAX_VERTICES};
 use super::dofmap::DofMap;
-use super::kernel::{NDOF, NU};
+use super::kernel::{ElementDofs, ElementMatrix};
 use crate::error::{Error, Result};
+use crate::mesh::Family;
 use crate::petsc::{CsrBlock, Int, LocalCsr, Mat};
 
-const GROUPS: usize = 14;
+const GROUPS: usize = MAX_NODES + MAX_VERTICES;
 /// Marks a row node owned by another rank.
 const NOT_OWNED: i32 = i32::MIN;
-
-/// Row node of element row a: u rows 3n+c and the p row of vertex n share node n's pattern.
-#[inline]
-fn row_node(a: usize) -> usize {
-    if a < NU {
-        a / 3
-    } else {
-        a - NU
-    }
-}
 
 /// Offsets of each element's blocks in the local CSR rows: >= 0 in the diagonal block,
 /// -(k+1) at position k of the off-diagonal block.
 pub struct ElementInserter {
-    table: Vec<[[i32; GROUPS]; 10]>,
+    table: Vec<[[i32; GROUPS]; MAX_NODES]>,
+    /// Nodes, vertices and components of the cell family.
+    nn: usize,
+    nv: usize,
+    nc: usize,
 }
 
 /// Entries of rows owned elsewhere, inserted with `MatSetValues` after the fast pass.
 #[derive(Default)]
 pub struct GhostRows {
     rows: Vec<Int>,
-    cols: Vec<[Int; NDOF]>,
-    vals: Vec<[f64; NDOF]>,
+    cols: Vec<[Int; MAX_DOF]>,
+    vals: Vec<[f64; MAX_DOF]>,
+    ndof: usize,
 }
 
 fn find(row: &[Int], col: Int, map: impl Fn(Int) -> Int) -> Option<usize> {
@@ -64,9 +61,12 @@ impl ElementInserter {
     pub fn build(
         mat: &mut Mat,
         dofs: &DofMap,
+        family: Family,
         n_elems: usize,
-        elem_dofs: impl Fn(usize) -> [usize; NDOF],
+        elem_dofs: impl Fn(usize) -> ElementDofs,
     ) -> Result<ElementInserter> {
+        let (nn, nv, nc) = (family.cell_nodes(), family.cell_vertices(), family.components());
+        let nu = nc * nn;
         mat.with_local_csr(|csr| {
             let mismatch = |what: &str| {
                 Error::Solver(format!("fast assembly: the matrix pattern does not match the element pattern ({what})"))
@@ -78,14 +78,14 @@ impl ElementInserter {
             let mut table = Vec::with_capacity(n_elems);
             for e in 0..n_elems {
                 let d = elem_dofs(e);
-                let mut t = [[NOT_OWNED; GROUPS]; 10];
-                for (n, tn) in t.iter_mut().enumerate() {
-                    if !dofs.is_owned(d[3 * n]) {
+                let mut t = [[NOT_OWNED; GROUPS]; MAX_NODES];
+                for (n, tn) in t.iter_mut().enumerate().take(nn) {
+                    if !dofs.is_owned(d[nc * n]) {
                         continue;
                     }
-                    let r = l2g[d[3 * n]] as usize - csr.row_start;
-                    if n < 4 {
-                        let rp = l2g[d[NU + n]] as usize - csr.row_start;
+                    let r = l2g[d[nc * n]] as usize - csr.row_start;
+                    if n < nv {
+                        let rp = l2g[d[nu + n]] as usize - csr.row_start;
                         let same = csr.diag.ia[r + 1] - csr.diag.ia[r] == csr.diag.ia[rp + 1] - csr.diag.ia[rp]
                             && off_len(r) == off_len(rp);
                         if !same {
@@ -94,9 +94,9 @@ impl ElementInserter {
                     }
                     let drow = row_slice(&csr.diag, r);
                     let orow = csr.off.as_ref().map_or(empty, |o| row_slice(o, r));
-                    for (g, slot) in tn.iter_mut().enumerate() {
-                        let width = if g < 10 { 3 } else { 1 };
-                        let col = if g < 10 { l2g[d[3 * g]] } else { l2g[d[NU + g - 10]] };
+                    for (g, slot) in tn.iter_mut().enumerate().take(nn + nv) {
+                        let width = if g < nn { nc } else { 1 };
+                        let col = if g < nn { l2g[d[nc * g]] } else { l2g[d[nu + g - nn]] };
                         let c = col as usize;
                         if (csr.col_start..csr.col_end).contains(&c) {
                             let k = find(drow, col - csr.col_start as Int, |x| x)
@@ -121,7 +121,7 @@ impl ElementInserter {
                 }
                 table.push(t);
             }
-            Ok(ElementInserter { table })
+            Ok(ElementInserter { table, nn, nv, nc })
         })
     }
 
@@ -132,25 +132,30 @@ impl ElementInserter {
         &self,
         csr: &mut LocalCsr,
         e: usize,
-        d: &[usize; NDOF],
+        d: &ElementDofs,
         l2g: &[Int],
-        k: &[[f64; NDOF]; NDOF],
+        k: &ElementMatrix,
         ghosts: &mut GhostRows,
     ) {
+        let (nn, nc) = (self.nn, self.nc);
+        let nu = nc * nn;
+        let ndof = nu + self.nv;
         let t = &self.table[e];
-        for (a, ka) in k.iter().enumerate() {
-            let tn = &t[row_node(a)];
+        for (a, ka) in k.iter().enumerate().take(ndof) {
+            // u rows nc n + c and the p row of vertex n share node n's pattern.
+            let tn = &t[if a < nu { a / nc } else { a - nu }];
             if tn[0] == NOT_OWNED {
                 ghosts.rows.push(l2g[d[a]]);
-                ghosts.cols.push(std::array::from_fn(|b| l2g[d[b]]));
+                ghosts.cols.push(std::array::from_fn(|b| if b < ndof { l2g[d[b]] } else { 0 }));
                 ghosts.vals.push(*ka);
+                ghosts.ndof = ndof;
                 continue;
             }
             let r = l2g[d[a]] as usize - csr.row_start;
             let ds = csr.diag.ia[r] as usize;
             let os = csr.off.as_ref().map_or(0, |o| o.ia[r] as usize);
-            for (g, &o) in tn.iter().enumerate() {
-                let (src, width) = if g < 10 { (3 * g, 3) } else { (NU + g - 10, 1) };
+            for (g, &o) in tn.iter().enumerate().take(nn + self.nv) {
+                let (src, width) = if g < nn { (nc * g, nc) } else { (nu + g - nn, 1) };
                 let dst = if o >= 0 {
                     &mut csr.diag.vals[ds + o as usize..ds + o as usize + width]
                 } else {
@@ -170,7 +175,7 @@ impl GhostRows {
     /// Sends the collected rows to their owners (through PETSc's stash) and clears.
     pub fn flush(&mut self, mat: &mut Mat) -> Result<()> {
         for i in 0..self.rows.len() {
-            mat.add_values(&[self.rows[i]], &self.cols[i], &self.vals[i])?;
+            mat.add_values(&[self.rows[i]], &self.cols[i][..self.ndof], &self.vals[i][..self.ndof])?;
         }
         self.rows.clear();
         self.cols.clear();

@@ -1,123 +1,145 @@
-//! Element residual and Jacobian of the u–p weak form on one Taylor–Hood P2–P1 tetrahedron:
+//! Element residual and Jacobian of the u–p weak form on one Taylor–Hood P2–P1 cell of either
+//! family (`fem::cell`: the 10-node tetrahedron, the 6-node meridian triangle):
 //!
 //! ```text
-//!   r_u[a,i] = ∫ (P_ij ∂N_a/∂X_j − b_i N_a) dV        (a: 10 P2 nodes, i: component)
-//!   r_p[m]   = ∫ (ṡ L_m + W · ∇L_m) dV                 (m: 4 P1 vertices)
+//!   r_u[a,i] = ∫ (P : Grad(N_a e_i) − b_i N_a) dV     (a: P2 nodes, i: displacement component)
+//!   r_p[m]   = ∫ (ṡ L_m + W · ∇L_m) dV                 (m: P1 vertices)
 //! ```
+//!
+//! with Grad(N_a e_i) = e_i ⊗ ∇N_a, plus on the meridian the hoop entry N_a / R in θθ for the
+//! radial component (so P_θθ enters the u_r rows), and dV = 2πR dR dZ there.
 //!
 //! plus the pressure stabilisation c_s ∫ (ṗ − Πṗ)(q − Πq) dV (Π: element mean; see
 //! [`ElementKernel::stab`]) and the element block of the fixed-stress Schur approximation
 //! Ŝ = ∫ ∇L_m · (∂W/∂Grad p) ∇L_n + (shift/K_dr) L_m L_n dV, which stays spectrally close to
 //! the true Schur complement as Δt → 0 and as the conductivity → 0.
-//! Element dof order: u of node a, component i at 3a + i (0..30), then p of vertex m at 30 + m.
+//! Element dof order: u of node a, component c at NC a + c, then p of vertex m at NU + m
+//! (`CellShape`); arrays are sized for the largest family (`MAX_DOF`).
 
-use super::element::{tet10_geometry, Tabulation, TET10_EDGES};
+use super::cell::{p1_gradients, CellShape, MAX_DOF, MAX_NODES, MAX_VERTICES};
+use super::element::Tabulation;
 use super::equal_order;
 use super::point::{ij, History, PointFlux, PointModel, PointState, QpId};
 use crate::error::Result;
 use nalgebra::{Matrix3, Vector3};
+use std::marker::PhantomData;
 
-pub const NU: usize = 30;
-pub const NDOF: usize = 34;
+/// Local dofs of an element (the first `NDOF` of its family).
+pub type ElementDofs = [usize; MAX_DOF];
+/// An element matrix (the leading NDOF × NDOF block of its family).
+pub type ElementMatrix = [[f64; MAX_DOF]; MAX_DOF];
+
+/// θθ in the flattened index of a second-order tensor: where the hoop entries live.
+const THETA: usize = ij(1, 1);
 
 /// What the kernel needs of one element: its number (for messages), node coordinates, nodal
 /// values, the step size and the committed history of its points.
 #[derive(Debug, Clone, Copy)]
 pub struct ElementInput<'a> {
     pub elem: usize,
-    pub coords: [[f64; 3]; 10],
+    pub coords: [[f64; 3]; MAX_NODES],
     pub values: ElementValues,
     pub dt: f64,
     pub history: History<'a>,
 }
 
-/// Nodal values of one element.
+/// Nodal values of one element: u[a][c] is component c of node a (its family's components).
 #[derive(Debug, Clone, Copy)]
 pub struct ElementValues {
-    pub u: [[f64; 3]; 10],
-    pub udot: [[f64; 3]; 10],
-    pub p: [f64; 4],
-    pub pdot: [f64; 4],
+    pub u: [[f64; 3]; MAX_NODES],
+    pub udot: [[f64; 3]; MAX_NODES],
+    pub p: [f64; MAX_VERTICES],
+    pub pdot: [f64; MAX_VERTICES],
 }
 
-/// Physical gradients of the P1 (vertex) functions, exact on curved elements: the vertex
-/// function L_m equals N_m + ½ Σ N_mid over the mid-edge nodes of edges touching m, in
-/// reference coordinates, so its gradient follows from the P2 gradients.
-#[inline]
-pub fn p1_gradients(dn: &[[f64; 3]; 10]) -> [[f64; 3]; 4] {
-    let mut g = [[0.0; 3]; 4];
-    for (m, gm) in g.iter_mut().enumerate() {
-        *gm = dn[m];
-    }
-    for (e, &(a, b)) in TET10_EDGES.iter().enumerate() {
-        for d in 0..3 {
-            g[a][d] += 0.5 * dn[4 + e][d];
-            g[b][d] += 0.5 * dn[4 + e][d];
-        }
-    }
-    g
-}
-
-/// P1 values at a reference point: barycentric coordinates.
+/// P1 values at a reference point of a tetrahedron: barycentric coordinates.
 #[inline]
 pub fn p1_values(xi: &[f64; 3]) -> [f64; 4] {
-    [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]]
+    super::cell::Tet10::p1_values(xi)
 }
 
 /// Kinematics at one quadrature point.
 struct Point {
     w: f64,
-    n2: [f64; 10],
-    dn: [[f64; 3]; 10],
-    n1: [f64; 4],
-    g1: [[f64; 3]; 4],
+    /// The point's share of the cell's own measure (no 2πR), for the stabilisation's h.
+    w_cell: f64,
+    n2: [f64; MAX_NODES],
+    dn: [[f64; 3]; MAX_NODES],
+    /// 1/R on the meridian, 0 in 3-D.
+    inv_r: f64,
+    n1: [f64; MAX_VERTICES],
+    g1: [[f64; 3]; MAX_VERTICES],
     state: PointState,
 }
 
-fn point(
-    coords: &[[f64; 3]; 10],
-    tab: &Tabulation<10>,
+impl Point {
+    /// Σ_j T[(i, j)] ∂N_a/∂X_j (+ T_θθ N_a / R for the radial component on the meridian): a row
+    /// of a tensor T (flattened with `ij`, `t(ij)`) tested with the virtual gradient of N_a e_i.
+    #[inline]
+    fn test<C: CellShape>(&self, a: usize, i: usize, t: impl Fn(usize) -> f64) -> f64 {
+        let mut s = 0.0;
+        for j in 0..3 {
+            s += t(ij(i, j)) * self.dn[a][j];
+        }
+        if C::AXI && i == 0 {
+            s += t(THETA) * self.n2[a] * self.inv_r;
+        }
+        s
+    }
+}
+
+fn point<C: CellShape>(
+    coords: &[[f64; 3]; MAX_NODES],
+    tab: &Tabulation<MAX_NODES>,
     xi: &[f64; 3],
     q: usize,
     v: &ElementValues,
     dt: f64,
 ) -> Result<Point> {
-    let geo = tet10_geometry(coords, tab, q)?;
-    let dn = geo.dn_dx;
-    let g1 = p1_gradients(&dn);
-    let n1 = p1_values(xi);
+    let geo = C::point(coords, tab, q)?;
+    let dn = geo.dn;
+    let g1 = p1_gradients::<C>(&dn);
+    let n1 = C::p1_values(xi);
+    let n2 = tab.n[q];
     let mut grad_u = Matrix3::zeros();
     let mut grad_udot = Matrix3::zeros();
-    for a in 0..10 {
-        for i in 0..3 {
+    for a in 0..C::NN {
+        for c in 0..C::NC {
+            let i = C::AXES[c];
             for j in 0..3 {
-                grad_u[(i, j)] += v.u[a][i] * dn[a][j];
-                grad_udot[(i, j)] += v.udot[a][i] * dn[a][j];
+                grad_u[(i, j)] += v.u[a][c] * dn[a][j];
+                grad_udot[(i, j)] += v.udot[a][c] * dn[a][j];
+            }
+            if C::AXI && i == 0 {
+                grad_u[(1, 1)] += v.u[a][c] * n2[a] * geo.inv_r;
+                grad_udot[(1, 1)] += v.udot[a][c] * n2[a] * geo.inv_r;
             }
         }
     }
     let mut p = 0.0;
     let mut grad_p = Vector3::zeros();
-    for m in 0..4 {
+    for m in 0..C::NV {
         p += n1[m] * v.p[m];
         for j in 0..3 {
             grad_p[j] += g1[m][j] * v.p[m];
         }
     }
     Ok(Point {
-        w: tab.weights[q] * geo.jac_det,
-        n2: tab.n[q],
+        w: geo.w,
+        w_cell: geo.w_cell,
+        n2,
         dn,
+        inv_r: geo.inv_r,
         n1,
         g1,
         state: PointState { grad_u, grad_udot, p, grad_p, dt },
     })
 }
 
-/// What the element loops need besides the element itself.
-pub struct ElementKernel<'a> {
+/// What the element loops need besides the element itself, for cells of family `C`.
+pub struct ElementKernel<'a, C: CellShape> {
     pub model: &'a dyn PointModel,
-    pub tab: &'a Tabulation<10>,
+    pub tab: &'a Tabulation<MAX_NODES>,
     /// Reference coordinates of the quadrature points of `tab`.
     pub xi: &'a [[f64; 3]],
     /// c_s of the pressure stabilisation c_s ∫ (ṗ − Πṗ)(q − Πq) dV, Π the element mean.
@@ -135,8 +157,9 @@ pub struct ElementKernel<'a> {
     /// for poroelasticity, applied here to Taylor–Hood for monotonicity.
     pub stab: Stabilisation,
     /// Equal-order P1–P1: the displacement's mid-edge nodes tied to their edges' vertices
-    /// (`fem::equal_order`).
+    /// (`fem::equal_order`; tetrahedra only).
     pub equal_order: bool,
+    pub family: PhantomData<C>,
 }
 
 /// The pressure stabilisation of a run: c_s and how it fades once a step resolves the drainage.
@@ -165,12 +188,12 @@ impl Stabilisation {
         Stabilisation { c_s: c / m, fade, c_v: model.conductivity() * m }
     }
 
-    /// The weight for an element of (reference) volume `vol` in a step of `dt`; h is the edge of
-    /// the regular tetrahedron of that volume.
-    pub fn weight(&self, vol: f64, dt: f64) -> f64 {
+    /// The weight for a cell of (reference) measure `m` in a step of `dt`; h is the edge of the
+    /// regular cell of that volume (or area, on the meridian).
+    pub fn weight<C: CellShape>(&self, m: f64, dt: f64) -> f64 {
         match self.fade {
             Some(tau0) if dt > 0.0 => {
-                let h2 = (6.0 * std::f64::consts::SQRT_2 * vol).powf(2.0 / 3.0);
+                let h2 = C::h2(m);
                 let r = self.c_v * dt / (h2 * tau0);
                 self.c_s * (1.0 - r * r).max(0.0)
             }
@@ -179,41 +202,50 @@ impl Stabilisation {
     }
 }
 
-/// Element integrals of the projection stabilisation: volume, ∫ L_m, ∫ L_m L_n, ∫ ṗ, ∫ ṗ L_m.
+/// Element integrals of the projection stabilisation: volume, ∫ L_m, ∫ L_m L_n, ∫ ṗ, ∫ ṗ L_m,
+/// and the cell's own measure (volume, or area on the meridian) for its size.
 #[derive(Default)]
 struct Projection {
     vol: f64,
-    m: [f64; 4],
-    mm: [[f64; 4]; 4],
+    measure: f64,
+    m: [f64; MAX_VERTICES],
+    mm: [[f64; MAX_VERTICES]; MAX_VERTICES],
     ip: f64,
-    ipl: [f64; 4],
+    ipl: [f64; MAX_VERTICES],
 }
 
 impl Projection {
-    fn add(&mut self, pt: &Point, pdot: &[f64; 4]) {
-        let pd: f64 = (0..4).map(|i| pt.n1[i] * pdot[i]).sum();
+    fn add<C: CellShape>(&mut self, pt: &Point, pdot: &[f64; MAX_VERTICES]) {
+        let pd: f64 = (0..C::NV).map(|i| pt.n1[i] * pdot[i]).sum();
         self.vol += pt.w;
+        self.measure += pt.w_cell;
         self.ip += pt.w * pd;
-        for i in 0..4 {
+        for i in 0..C::NV {
             self.m[i] += pt.w * pt.n1[i];
             self.ipl[i] += pt.w * pd * pt.n1[i];
-            for j in 0..4 {
+            for j in 0..C::NV {
                 self.mm[i][j] += pt.w * pt.n1[i] * pt.n1[j];
             }
         }
     }
     /// c ∫ (ṗ − Πṗ) L_m = c (∫ ṗ L_m − ∫ ṗ ∫ L_m / V)
-    fn residual(&self, c: f64, r: &mut [f64; NDOF]) {
-        for i in 0..4 {
-            r[NU + i] += c * (self.ipl[i] - self.ip * self.m[i] / self.vol);
+    fn residual<C: CellShape>(&self, c: f64, r: &mut [f64; MAX_DOF]) {
+        for i in 0..C::NV {
+            r[C::NU + i] += c * (self.ipl[i] - self.ip * self.m[i] / self.vol);
         }
     }
     /// c shift (∫ L_m L_n − ∫ L_m ∫ L_n / V), into the Jacobian and the Schur block.
-    fn jacobian(&self, c: f64, shift: f64, k: &mut [[f64; NDOF]; NDOF], schur: &mut [[f64; 4]; 4]) {
-        for i in 0..4 {
-            for j in 0..4 {
+    fn jacobian<C: CellShape>(
+        &self,
+        c: f64,
+        shift: f64,
+        k: &mut ElementMatrix,
+        schur: &mut [[f64; MAX_VERTICES]; MAX_VERTICES],
+    ) {
+        for i in 0..C::NV {
+            for j in 0..C::NV {
                 let s = c * shift * (self.mm[i][j] - self.m[i] * self.m[j] / self.vol);
-                k[NU + i][NU + j] += s;
+                k[C::NU + i][C::NU + j] += s;
                 schur[i][j] += s;
             }
         }
@@ -224,9 +256,9 @@ impl Projection {
 /// the raw mass residual, and element averages of the output fields.
 pub struct ElementPost {
     /// The element residual (u rows: internal minus body force; p rows: mass balance).
-    pub r: [f64; NDOF],
+    pub r: [f64; MAX_DOF],
     /// u rows of the pressure part alone, ∫ P_p : Grad w (P_p = −p J F⁻ᵀ).
-    pub r_pressure: [f64; NU],
+    pub r_pressure: [f64; MAX_DOF],
     /// ∫ dV and ∫ J dV over the element (reference volume, current volume).
     pub volume: f64,
     pub volume_j: f64,
@@ -244,7 +276,7 @@ pub struct ElementPost {
     pub max_det_bp_dev: f64,
 }
 
-impl ElementKernel<'_> {
+impl<C: CellShape> ElementKernel<'_, C> {
     /// The history of point q out of the element's slice.
     #[inline]
     fn at_point<'h>(&self, h: History<'h>, q: usize) -> History<'h> {
@@ -260,7 +292,7 @@ impl ElementKernel<'_> {
         mut body: impl FnMut(QpId, &Point, History<'h>) -> Result<()>,
     ) -> Result<()> {
         for q in 0..self.tab.weights.len() {
-            let pt = point(&e.coords, self.tab, &self.xi[q], q, &e.values, e.dt)?;
+            let pt = point::<C>(&e.coords, self.tab, &self.xi[q], q, &e.values, e.dt)?;
             body(QpId { elem: e.elem, point: q }, &pt, self.at_point(e.history, q))?;
         }
         Ok(())
@@ -273,21 +305,21 @@ impl ElementKernel<'_> {
         at: QpId,
         pt: &Point,
         h: History,
-        pdot: &[f64; 4],
-        r: &mut [f64; NDOF],
+        pdot: &[f64; MAX_VERTICES],
+        r: &mut [f64; MAX_DOF],
         proj: &mut Projection,
     ) -> Result<()> {
         let f = self.model.eval(at, &pt.state, h)?;
-        add_residual(pt, &f, r);
-        proj.add(pt, pdot);
+        add_residual::<C>(pt, &f, r);
+        proj.add::<C>(pt, pdot);
         Ok(())
     }
 
     /// Residual, its pressure part and averaged fields of one element.
     pub fn post(&self, e: &ElementInput) -> Result<ElementPost> {
         let mut out = ElementPost {
-            r: [0.0; NDOF],
-            r_pressure: [0.0; NU],
+            r: [0.0; MAX_DOF],
+            r_pressure: [0.0; MAX_DOF],
             volume: 0.0,
             volume_j: 0.0,
             j: 0.0,
@@ -304,10 +336,10 @@ impl ElementKernel<'_> {
         self.for_points(e, |at, pt, hq| {
             self.add_point_residual(at, pt, hq, &e.values.pdot, &mut out.r, &mut proj)?;
             let pf = self.model.fields(at, &pt.state, hq)?;
-            for a in 0..10 {
-                for i in 0..3 {
-                    out.r_pressure[3 * a + i] +=
-                        pt.w * (0..3).map(|j| pf.pressure_stress[(i, j)] * pt.dn[a][j]).sum::<f64>();
+            let ps = |k: usize| pf.pressure_stress[(k / 3, k % 3)];
+            for a in 0..C::NN {
+                for c in 0..C::NC {
+                    out.r_pressure[C::NC * a + c] += pt.w * pt.test::<C>(a, C::AXES[c], ps);
                 }
             }
             out.volume += pt.w;
@@ -328,7 +360,7 @@ impl ElementKernel<'_> {
             Ok(())
         })?;
         if self.stab.c_s > 0.0 {
-            proj.residual(self.stab.weight(proj.vol, e.dt), &mut out.r);
+            proj.residual::<C>(self.stab.weight::<C>(proj.measure, e.dt), &mut out.r);
         }
         let v = out.volume;
         out.j /= v;
@@ -359,14 +391,14 @@ impl ElementKernel<'_> {
     }
 
     /// The element residual into `r` (zero on entry).
-    pub fn residual(&self, e: &ElementInput, r: &mut [f64; NDOF]) -> Result<()> {
+    pub fn residual(&self, e: &ElementInput, r: &mut [f64; MAX_DOF]) -> Result<()> {
         let mut proj = Projection::default();
         self.for_points(e, |at, pt, hq| self.add_point_residual(at, pt, hq, &e.values.pdot, r, &mut proj))?;
         if self.stab.c_s > 0.0 {
-            proj.residual(self.stab.weight(proj.vol, e.dt), r);
+            proj.residual::<C>(self.stab.weight::<C>(proj.measure, e.dt), r);
         }
         if self.equal_order {
-            equal_order::tie_residual(r, &e.values.u, self.tie_stiffness(proj.vol));
+            equal_order::tie_residual(r, &e.values.u, self.tie_stiffness(proj.measure));
         }
         Ok(())
     }
@@ -382,88 +414,97 @@ impl ElementKernel<'_> {
         &self,
         e: &ElementInput,
         shift: f64,
-        r: &mut [f64; NDOF],
-        k: &mut [[f64; NDOF]; NDOF],
-        schur: &mut [[f64; 4]; 4],
+        r: &mut [f64; MAX_DOF],
+        k: &mut ElementMatrix,
+        schur: &mut [[f64; MAX_VERTICES]; MAX_VERTICES],
     ) -> Result<()> {
         let mut proj = Projection::default();
         let inv_kdr = 1.0 / self.model.drained_bulk_modulus();
         self.for_points(e, |at, pt, hq| {
             let (f, t) = self.model.eval_tangent(at, &pt.state, hq, shift)?;
-            add_residual(pt, &f, r);
-            proj.add(pt, &e.values.pdot);
+            add_residual::<C>(pt, &f, r);
+            proj.add::<C>(pt, &e.values.pdot);
             let w = pt.w;
             let dn = &pt.dn;
-            // T_b[(ij), k] = Σ_l A[(ij),(kl)] ∂N_b/∂X_l, then K_ab[i][k] = Σ_j ∂N_a/∂X_j T_b[(ij), k].
-            for b in 0..10 {
+            // Column (b, kk) is the trial gradient e_k ⊗ ∇N_b (+ N_b / R in θθ for k = r):
+            // T_b[(ij), kk] = Σ_l A[(ij),(kl)] ∂N_b/∂X_l (+ A[(ij),θθ] N_b / R), then
+            // K_ab[i][kk] = Σ_j ∂N_a/∂X_j T_b[(ij), kk] (+ N_a / R T_b[θθ, kk] for i = r).
+            for b in 0..C::NN {
+                let hoop_b = pt.n2[b] * pt.inv_r;
                 let mut tb = [[0.0; 3]; 9];
-                let mut bb = [[0.0; 3]; 3]; // Σ_l ∂b_i/∂F_kl ∂N_b/∂X_l
-                let mut rb = [0.0; 3]; // Σ_l ∂ṡ/∂F_kl ∂N_b/∂X_l
-                let mut wb = [[0.0; 3]; 3]; // Σ_l ∂W_j/∂F_kl ∂N_b/∂X_l
-                for kk in 0..3 {
+                let mut bb = [[0.0; 3]; 3]; // ∂b_i/∂F : trial gradient
+                let mut rb = [0.0; 3]; // ∂ṡ/∂F : trial gradient
+                let mut wb = [[0.0; 3]; 3]; // ∂W_j/∂F : trial gradient
+                for kk in 0..C::NC {
+                    let k_ax = C::AXES[kk];
                     for l in 0..3 {
                         let d = dn[b][l];
                         for row in 0..9 {
-                            tb[row][kk] += t.dstress_du[(row, ij(kk, l))] * d;
+                            tb[row][kk] += t.dstress_du[(row, ij(k_ax, l))] * d;
                         }
                         for i in 0..3 {
-                            bb[i][kk] += t.dbody_du[(i, ij(kk, l))] * d;
-                            wb[i][kk] += t.dflux_du[(i, ij(kk, l))] * d;
+                            bb[i][kk] += t.dbody_du[(i, ij(k_ax, l))] * d;
+                            wb[i][kk] += t.dflux_du[(i, ij(k_ax, l))] * d;
                         }
-                        rb[kk] += t.drate_du[(kk, l)] * d;
+                        rb[kk] += t.drate_du[(k_ax, l)] * d;
+                    }
+                    if C::AXI && k_ax == 0 {
+                        for row in 0..9 {
+                            tb[row][kk] += t.dstress_du[(row, THETA)] * hoop_b;
+                        }
+                        for i in 0..3 {
+                            bb[i][kk] += t.dbody_du[(i, THETA)] * hoop_b;
+                            wb[i][kk] += t.dflux_du[(i, THETA)] * hoop_b;
+                        }
+                        rb[kk] += t.drate_du[(1, 1)] * hoop_b;
                     }
                 }
-                for a in 0..10 {
-                    for i in 0..3 {
-                        let row = &mut k[3 * a + i];
-                        for kk in 0..3 {
-                            let mut s = -pt.n2[a] * bb[i][kk];
-                            for j in 0..3 {
-                                s += dn[a][j] * tb[ij(i, j)][kk];
-                            }
-                            row[3 * b + kk] += w * s;
+                for a in 0..C::NN {
+                    for c in 0..C::NC {
+                        let i = C::AXES[c];
+                        let row = &mut k[C::NC * a + c];
+                        for kk in 0..C::NC {
+                            let s = pt.test::<C>(a, i, |x| tb[x][kk]) - pt.n2[a] * bb[i][kk];
+                            row[C::NC * b + kk] += w * s;
                         }
                     }
                 }
-                for m in 0..4 {
-                    for kk in 0..3 {
+                for m in 0..C::NV {
+                    for kk in 0..C::NC {
                         let mut s = pt.n1[m] * rb[kk];
                         for j in 0..3 {
                             s += pt.g1[m][j] * wb[j][kk];
                         }
-                        k[NU + m][3 * b + kk] += w * s;
+                        k[C::NU + m][C::NC * b + kk] += w * s;
                     }
                 }
             }
-            for a in 0..10 {
-                for i in 0..3 {
-                    let mut c = 0.0;
-                    for j in 0..3 {
-                        c += dn[a][j] * t.dstress_dp[(i, j)];
-                    }
-                    for m in 0..4 {
-                        k[3 * a + i][NU + m] += w * c * pt.n1[m];
+            for a in 0..C::NN {
+                for c in 0..C::NC {
+                    let cp = pt.test::<C>(a, C::AXES[c], |x| t.dstress_dp[(x / 3, x % 3)]);
+                    for m in 0..C::NV {
+                        k[C::NC * a + c][C::NU + m] += w * cp * pt.n1[m];
                     }
                 }
             }
-            for m in 0..4 {
+            for m in 0..C::NV {
                 let km = t.dflux_dgradp.transpose() * Vector3::from(pt.g1[m]);
-                for n in 0..4 {
+                for n in 0..C::NV {
                     let mut s = 0.0;
                     for j in 0..3 {
                         s += km[j] * pt.g1[n][j];
                     }
-                    k[NU + m][NU + n] += w * s;
+                    k[C::NU + m][C::NU + n] += w * s;
                     schur[m][n] += w * (s + shift * inv_kdr * pt.n1[m] * pt.n1[n]);
                 }
             }
             Ok(())
         })?;
         if self.stab.c_s > 0.0 {
-            proj.jacobian(self.stab.weight(proj.vol, e.dt), shift, k, schur);
+            proj.jacobian::<C>(self.stab.weight::<C>(proj.measure, e.dt), shift, k, schur);
         }
         if self.equal_order {
-            let s = self.tie_stiffness(proj.vol);
+            let s = self.tie_stiffness(proj.measure);
             equal_order::tie_residual(r, &e.values.u, s);
             equal_order::tie_jacobian(k, s);
         }
@@ -472,22 +513,62 @@ impl ElementKernel<'_> {
 }
 
 /// Adds the pointwise terms of one quadrature point to the element residual.
-fn add_residual(pt: &Point, f: &PointFlux, r: &mut [f64; NDOF]) {
+fn add_residual<C: CellShape>(pt: &Point, f: &PointFlux, r: &mut [f64; MAX_DOF]) {
     let w = pt.w;
-    for a in 0..10 {
-        for i in 0..3 {
-            let mut s = -f.body[i] * pt.n2[a];
-            for j in 0..3 {
-                s += f.stress[(i, j)] * pt.dn[a][j];
-            }
-            r[3 * a + i] += w * s;
+    for a in 0..C::NN {
+        for c in 0..C::NC {
+            let i = C::AXES[c];
+            let s = pt.test::<C>(a, i, |k| f.stress[(k / 3, k % 3)]) - f.body[i] * pt.n2[a];
+            r[C::NC * a + c] += w * s;
         }
     }
-    for m in 0..4 {
+    for m in 0..C::NV {
         let mut s = f.rate * pt.n1[m];
         for j in 0..3 {
             s += f.flux[j] * pt.g1[m][j];
         }
-        r[NU + m] += w * s;
+        r[C::NU + m] += w * s;
+    }
+}
+
+/// The element operations of a kernel, whatever its cell family: what the one element loop
+/// (`fem::assembly`) calls.
+pub trait CellKernel {
+    fn residual(&self, e: &ElementInput, r: &mut [f64; MAX_DOF]) -> Result<()>;
+    fn jacobian(
+        &self,
+        e: &ElementInput,
+        shift: f64,
+        r: &mut [f64; MAX_DOF],
+        k: &mut ElementMatrix,
+        schur: &mut [[f64; MAX_VERTICES]; MAX_VERTICES],
+    ) -> Result<()>;
+    fn post(&self, e: &ElementInput) -> Result<ElementPost>;
+    fn advance_history(&self, e: &ElementInput, out: &mut [f64]) -> Result<()>;
+    fn min_j(&self, e: &ElementInput) -> Result<f64>;
+}
+
+impl<C: CellShape> CellKernel for ElementKernel<'_, C> {
+    fn residual(&self, e: &ElementInput, r: &mut [f64; MAX_DOF]) -> Result<()> {
+        ElementKernel::residual(self, e, r)
+    }
+    fn jacobian(
+        &self,
+        e: &ElementInput,
+        shift: f64,
+        r: &mut [f64; MAX_DOF],
+        k: &mut ElementMatrix,
+        schur: &mut [[f64; MAX_VERTICES]; MAX_VERTICES],
+    ) -> Result<()> {
+        ElementKernel::jacobian(self, e, shift, r, k, schur)
+    }
+    fn post(&self, e: &ElementInput) -> Result<ElementPost> {
+        ElementKernel::post(self, e)
+    }
+    fn advance_history(&self, e: &ElementInput, out: &mut [f64]) -> Result<()> {
+        ElementKernel::advance_history(self, e, out)
+    }
+    fn min_j(&self, e: &ElementInput) -> Result<f64> {
+        ElementKernel::min_j(self, e)
     }
 }

@@ -1,6 +1,8 @@
 //! Finite elements: quadrature, reference shape functions and isoparametric maps, the
 //! Taylor–Hood dof map, and the element kernel of the u–p weak form.
 
+pub mod assembly;
+pub mod cell;
 pub mod dofmap;
 pub mod element;
 pub mod equal_order;
@@ -9,3 +11,4 @@ pub mod kernel;
 pub mod point;
 pub mod qp_store;
 pub mod quadrature;
+pub mod surface;

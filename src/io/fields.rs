@@ -4,7 +4,9 @@
 //! # Layout of `fields.h5`
 //! * `/mesh/coordinates`: `f64`, N×3, global node coordinates (row = global node id).
 //! * `/mesh/topology`: `i64`, M×10, global node ids of each quadratic tetrahedron **in VTK/XDMF order**
-//!   (see below), row = global cell id.
+//!   (see below), row = global cell id; M×6 for the 6-node triangles of a meridian (axisymmetric)
+//!   mesh, whose GMSH `Triangle6` order is VTK's `VTK_QUADRATIC_TRIANGLE` order (XDMF `Triangle_6`).
+//!   A meridian lies in the x–z plane, and its vector fields are written with a zero y component.
 //! * `/time`: `f64`, 1-D, extendible; `time[k]` is the time of step `k`.
 //! * `/step_mesh`: `i64`, 1-D, extendible: the mesh group step `k` uses, 0 for `/mesh`, g for
 //!   `/mesh_g` — a run resumed on another rank count numbers the nodes differently and writes
@@ -58,6 +60,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use hdf5_metno as hdf5;
+
+use crate::mesh::Family;
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -73,6 +77,16 @@ pub const H5_NAME: &str = "fields.h5";
 pub const XDMF_NAME: &str = "fields.xdmf";
 /// XDMF topology type written for 10-node tetrahedra (accepted by ParaView's XDMF 2 and XDMF 3 readers).
 pub const XDMF_TOPOLOGY_TYPE: &str = "Tetrahedron_10";
+/// XDMF topology type written for the 6-node triangles of a meridian mesh.
+pub const XDMF_TOPOLOGY_TYPE_TRI6: &str = "Triangle_6";
+
+/// The XDMF topology type and nodes per cell of a family.
+fn cell_type(family: Family) -> (&'static str, usize) {
+    match family {
+        Family::Tet10 => (XDMF_TOPOLOGY_TYPE, 10),
+        Family::Tri6 => (XDMF_TOPOLOGY_TYPE_TRI6, 6),
+    }
+}
 /// `xdmf[i] = gmsh[GMSH_TO_XDMF_TET10[i]]`: GMSH `Tetrahedron10` order to XDMF/VTK quadratic-tet
 /// order (the mid-nodes of edges (2,3) and (1,3) swap places). The permutation is its own inverse.
 pub const GMSH_TO_XDMF_TET10: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8];
@@ -90,8 +104,10 @@ pub struct OutputMesh<'a> {
     /// This rank writes cells `[cell_offset, cell_offset + cells.len())`.
     pub cell_offset: usize,
     /// Global node ids of each cell, GMSH `Tetrahedron10` order: 4 vertices, then mid-edge nodes on
-    /// edges (0,1),(1,2),(0,2),(0,3),(2,3),(1,3).
+    /// edges (0,1),(1,2),(0,2),(0,3),(2,3),(1,3); or GMSH `Triangle6` order in the first 6 slots.
     pub cells: &'a [[u32; 10]],
+    /// The cell family.
+    pub family: Family,
 }
 
 /// Where a field lives and how many components it has.
@@ -161,6 +177,8 @@ pub struct FieldFile {
     n_global_cells: usize,
     cell_offset: usize,
     n_local_cells: usize,
+    /// XDMF topology type and nodes per cell.
+    cell_type: (&'static str, usize),
     kinds: BTreeMap<String, FieldKind>,
     steps: Vec<StepRecord>,
     xdmf_grids: String,
@@ -278,7 +296,8 @@ fn write_mesh(file: &hdf5::File, comm: &SimpleCommunicator, path: &Path, mesh: &
     let made = (|| -> hdf5::Result<(hdf5::Dataset, hdf5::Dataset)> {
         let grp = file.create_group(&mesh_group(g))?;
         let xyz = grp.new_dataset::<f64>().shape([mesh.n_global_nodes, 3]).create("coordinates")?;
-        let topo = grp.new_dataset::<i64>().shape([mesh.n_global_cells, 10]).create("topology")?;
+        let topo =
+            grp.new_dataset::<i64>().shape([mesh.n_global_cells, cell_type(mesh.family).1]).create("topology")?;
         Ok((xyz, topo))
     })()
     .map_err(|e| h5err(path, "cannot create mesh datasets", e));
@@ -289,10 +308,22 @@ fn write_mesh(file: &hdf5::File, comm: &SimpleCommunicator, path: &Path, mesh: &
             xyz_ds.write_slice::<_, f64, _, _>(mesh.coords, (r, ..))?;
         }
         if !mesh.cells.is_empty() {
-            let topo: Vec<[i64; 10]> =
-                mesh.cells.iter().map(|c| std::array::from_fn(|i| i64::from(c[GMSH_TO_XDMF_TET10[i]]))).collect();
             let r = mesh.cell_offset..mesh.cell_offset + mesh.cells.len();
-            topo_ds.write_slice::<_, i64, _, _>(topo.as_slice(), (r, ..))?;
+            match mesh.family {
+                Family::Tet10 => {
+                    let topo: Vec<[i64; 10]> = mesh
+                        .cells
+                        .iter()
+                        .map(|c| std::array::from_fn(|i| i64::from(c[GMSH_TO_XDMF_TET10[i]])))
+                        .collect();
+                    topo_ds.write_slice::<_, i64, _, _>(topo.as_slice(), (r, ..))?;
+                }
+                Family::Tri6 => {
+                    let topo: Vec<[i64; 6]> =
+                        mesh.cells.iter().map(|c| std::array::from_fn(|i| i64::from(c[i]))).collect();
+                    topo_ds.write_slice::<_, i64, _, _>(topo.as_slice(), (r, ..))?;
+                }
+            }
         }
         Ok(())
     })()
@@ -471,6 +502,7 @@ impl FieldFile {
             n_global_cells: mesh.n_global_cells,
             cell_offset: mesh.cell_offset,
             n_local_cells: mesh.cells.len(),
+            cell_type: cell_type(mesh.family),
             kinds,
             steps,
             xdmf_grids: String::new(),
@@ -644,14 +676,15 @@ impl FieldFile {
     fn mesh_xml(&self, indent: &str, group: i64) -> String {
         let (n, m) = (self.n_global_nodes, self.n_global_cells);
         let g = mesh_group(group);
+        let (ty, npe) = self.cell_type;
         format!(
-            "{indent}<Topology TopologyType=\"{XDMF_TOPOLOGY_TYPE}\" NumberOfElements=\"{m}\" NodesPerElement=\"10\">\n\
+            "{indent}<Topology TopologyType=\"{ty}\" NumberOfElements=\"{m}\" NodesPerElement=\"{npe}\">\n\
              {indent}  {}\n\
              {indent}</Topology>\n\
              {indent}<Geometry GeometryType=\"XYZ\">\n\
              {indent}  {}\n\
              {indent}</Geometry>\n",
-            self.data_item(&format!("{m} 10"), "Int", &format!("/{g}/topology")),
+            self.data_item(&format!("{m} {npe}"), "Int", &format!("/{g}/topology")),
             self.data_item(&format!("{n} 3"), "Float", &format!("/{g}/coordinates")),
         )
     }

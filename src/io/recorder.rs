@@ -186,7 +186,14 @@ impl Recorder {
         crate::parallel::agree(world, written)?;
         if let (Some(ff), Some(post), true) = (self.fields.as_mut(), &post, write_fields) {
             let n = mesh.n_owned_nodes;
-            let uo: Vec<f64> = local[..3 * n].to_vec();
+            // Vectors with three components on both families ((u_r, 0, u_z) on the meridian).
+            let nc = dofs.nc;
+            let mut uo = vec![0.0; 3 * n];
+            for node in 0..n {
+                for (c, &a) in mesh.family.axes().iter().enumerate() {
+                    uo[3 * node + a] = local[nc * node + c];
+                }
+            }
             let mut p = vec![0.0; n];
             for (node, pv) in p.iter_mut().enumerate() {
                 let v = mesh.vertex_of_node[node];
@@ -199,7 +206,7 @@ impl Recorder {
                 let pb_ = local[dofs.p_local(mesh.vertex_of_node[b] as usize)];
                 p[m] = 0.5 * (pa + pb_);
             }
-            let rank = vec![world.rank() as f64; mesh.tets.len()];
+            let rank = vec![world.rank() as f64; mesh.cells.len()];
             let mut fields = vec![
                 Field { name: "u", kind: FieldKind::NodeVector, data: &uo },
                 Field { name: "p", kind: FieldKind::NodeScalar, data: &p },
@@ -231,7 +238,12 @@ fn integer_columns<'a>(cols: &[&'a str]) -> Vec<&'a str> {
 
 /// This rank's cells (global node ids) and owned node coordinates, for the fields file.
 fn output_mesh(mesh: &LocalMesh) -> (Vec<[u32; 10]>, Vec<[f64; 3]>) {
-    let cells = mesh.tets.iter().map(|t| std::array::from_fn(|a| mesh.node_global[t[a] as usize])).collect();
+    let nn = mesh.family.cell_nodes();
+    let cells = mesh
+        .cells
+        .iter()
+        .map(|t| std::array::from_fn(|a| if a < nn { mesh.node_global[t[a] as usize] } else { 0 }))
+        .collect();
     (cells, mesh.coords[..mesh.n_owned_nodes].to_vec())
 }
 
@@ -243,6 +255,7 @@ fn omesh<'a>(mesh: &LocalMesh, coords: &'a [[f64; 3]], cells: &'a [[u32; 10]]) -
         n_global_cells: mesh.n_global_elems,
         cell_offset: mesh.elem_offset,
         cells,
+        family: mesh.family,
     }
 }
 
@@ -250,9 +263,10 @@ fn omesh<'a>(mesh: &LocalMesh, coords: &'a [[f64; 3]], cells: &'a [[u32; 10]]) -
 fn mid_edge_nodes(mesh: &LocalMesh) -> Vec<(usize, usize, usize)> {
     let mut seen = vec![false; mesh.n_owned_nodes];
     let mut out = Vec::new();
-    for t in &mesh.tets {
-        for (e, &(a, b)) in crate::fem::element::TET10_EDGES.iter().enumerate() {
-            let m = t[4 + e] as usize;
+    let nv = mesh.family.cell_vertices();
+    for t in &mesh.cells {
+        for (e, &(a, b)) in mesh.family.edges().iter().enumerate() {
+            let m = t[nv + e] as usize;
             if m < mesh.n_owned_nodes && !seen[m] {
                 seen[m] = true;
                 out.push((m, t[a] as usize, t[b] as usize));

@@ -3,12 +3,14 @@
 //! for exact matrix preallocation. A pure function of (mesh, partition): every rank computes its own piece
 //! and the pieces agree without communication.
 
-use super::Mesh;
+use super::{Family, Mesh, MAX_CELL_NODES, MAX_FACE_NODES};
 use crate::error::{Error, Result};
 
 /// One rank's part of the mesh. See [`distribute`] for the numbering rules.
 #[derive(Debug, Clone, Default)]
 pub struct LocalMesh {
+    /// The element family (as the file's [`Mesh`]).
+    pub family: Family,
     pub rank: usize,
     pub nranks: usize,
     /// Coordinates of the local nodes (owned first, then ghosts).
@@ -32,17 +34,17 @@ pub struct LocalMesh {
     pub vertex_global: Vec<u32>,
     pub vertex_offset: usize,
     pub n_global_vertices: usize,
-    /// The tets of this part, in increasing original index, with local node ids.
-    pub tets: Vec<[u32; 10]>,
+    /// The cells of this part, in increasing original index, with local node ids (see [`Mesh::cells`]).
+    pub cells: Vec<[u32; MAX_CELL_NODES]>,
     /// Local tet -> tet index in the file's [`Mesh`].
-    pub tet_original: Vec<u32>,
+    pub cell_original: Vec<u32>,
     /// Local tet `i` has global (output) id `elem_offset + i`; ids are contiguous per rank.
     pub elem_offset: usize,
     pub n_global_elems: usize,
     /// Boundary faces whose tet is local (local node ids, outward).
-    pub faces: Vec<[u32; 6]>,
+    pub faces: Vec<[u32; MAX_FACE_NODES]>,
     /// Local face -> (local tet, local face index of that tet).
-    pub face_tet: Vec<(u32, u8)>,
+    pub face_cell: Vec<(u32, u8)>,
     /// Every physical surface of the file (even if empty here) -> local face indices.
     pub face_groups: Vec<(String, Vec<u32>)>,
     /// Every physical volume of the file -> local tet indices.
@@ -84,6 +86,16 @@ impl LocalMesh {
         owner_in(&self.vertex_ranges, g)
     }
 
+    /// The nodes of local cell e.
+    pub fn cell(&self, e: usize) -> &[u32] {
+        &self.cells[e][..self.family.cell_nodes()]
+    }
+
+    /// The nodes of local face f.
+    pub fn face(&self, f: usize) -> &[u32] {
+        &self.faces[f][..self.family.face_nodes()]
+    }
+
     /// Number of local nodes (owned + ghost).
     pub fn n_nodes(&self) -> usize {
         self.coords.len()
@@ -112,18 +124,18 @@ fn owner_in(ranges: &[usize], g: usize) -> usize {
 
 /// Rank `rank`'s piece of `mesh` partitioned by `part` (tet -> rank, all < `nranks`).
 ///
-/// * Node owner = the smallest part among the tets containing the node; rank r owns the global node ids
+/// * Node owner = the smallest part among the cells containing the node; rank r owns the global node ids
 ///   `node_ranges[r]..node_ranges[r + 1]`, assigned in increasing original node id. Vertices likewise.
-/// * Local nodes: owned (in global order), then ghosts (nodes of local tets owned elsewhere) by global id.
+/// * Local nodes: owned (in global order), then ghosts (nodes of local cells owned elsewhere) by global id.
 ///   Local vertices: owned, then ghosts, in the same order.
-/// * Local tets: those of part `rank` in increasing original index; global element ids are contiguous per
-///   rank (`elem_offset` = number of tets in lower parts).
+/// * Local cells: those of part `rank` in increasing original index; global element ids are contiguous per
+///   rank (`elem_offset` = number of cells in lower parts).
 pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Result<LocalMesh> {
     let err = |msg: String| Error::mesh("distribute", msg);
     let nn = mesh.coords.len();
-    let nt = mesh.tets.len();
+    let nt = mesh.cells.len();
     if part.len() != nt {
-        return Err(err(format!("partition has {} entries for {nt} tets", part.len())));
+        return Err(err(format!("partition has {} entries for {nt} cells", part.len())));
     }
     if rank >= nranks {
         return Err(err(format!("rank {rank} out of range (nranks = {nranks})")));
@@ -137,15 +149,16 @@ pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Resu
     let r32 = rank as u32;
 
     // Owners, per-rank counts and global numbering (identical on every rank).
+    let ncn = mesh.family.cell_nodes();
     let mut owner = vec![u32::MAX; nn];
-    for (tet, &p) in mesh.tets.iter().zip(part) {
-        for &n in tet {
+    for (tet, &p) in mesh.cells.iter().zip(part) {
+        for &n in &tet[..ncn] {
             let o = owner.get_mut(n as usize).ok_or_else(|| err(format!("tet references node {n} >= {nn}")))?;
             *o = (*o).min(p);
         }
     }
     if let Some(n) = owner.iter().position(|&o| o == u32::MAX) {
-        return Err(err(format!("node {n} belongs to no tetrahedron")));
+        return Err(err(format!("node {n} belongs to no cell")));
     }
     let mut node_ranges = vec![0usize; nranks + 1];
     let mut vertex_ranges = vec![0usize; nranks + 1];
@@ -172,8 +185,8 @@ pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Resu
         }
     }
 
-    // Local tets.
-    let tet_original: Vec<u32> = (0..nt as u32).filter(|&t| part[t as usize] == r32).collect();
+    // Local cells.
+    let cell_original: Vec<u32> = (0..nt as u32).filter(|&t| part[t as usize] == r32).collect();
     let elem_offset = part.iter().filter(|&&p| p < r32).count();
 
     // Local nodes: owned in original (= global) order, then ghosts sorted by global id.
@@ -181,8 +194,8 @@ pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Resu
     let mut node_original: Vec<u32> = (0..nn as u32).filter(|&n| owner[n as usize] == r32).collect();
     let n_owned_nodes = node_original.len();
     let mut ghosts: Vec<u32> = Vec::new();
-    for &t in &tet_original {
-        for &n in &mesh.tets[t as usize] {
+    for &t in &cell_original {
+        for &n in mesh.cell(t as usize) {
             if owner[n as usize] != r32 {
                 ghosts.push(n);
             }
@@ -215,33 +228,34 @@ pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Resu
         }
     }
 
-    let tets: Vec<[u32; 10]> =
-        tet_original.iter().map(|&t| mesh.tets[t as usize].map(|n| local_of[n as usize])).collect();
+    let relabel = |n: u32| if n == u32::MAX { n } else { local_of[n as usize] };
+    let cells: Vec<[u32; MAX_CELL_NODES]> =
+        cell_original.iter().map(|&t| mesh.cells[t as usize].map(relabel)).collect();
     let mut local_tet = vec![u32::MAX; nt];
-    for (l, &t) in tet_original.iter().enumerate() {
+    for (l, &t) in cell_original.iter().enumerate() {
         local_tet[t as usize] = l as u32;
     }
 
-    // Faces of local tets, in increasing global face index.
+    // Faces of local cells, in increasing global face index.
     let mut local_face = vec![u32::MAX; mesh.faces.len()];
     let mut faces = Vec::new();
-    let mut face_tet = Vec::new();
-    for (f, (face, &(t, lf))) in mesh.faces.iter().zip(&mesh.face_tet).enumerate() {
+    let mut face_cell = Vec::new();
+    for (f, (face, &(t, lf))) in mesh.faces.iter().zip(&mesh.face_cell).enumerate() {
         let lt = *local_tet.get(t as usize).ok_or_else(|| err(format!("face {f} references tet {t} >= {nt}")))?;
         if lt != u32::MAX {
             local_face[f] = faces.len() as u32;
-            faces.push(face.map(|n| local_of[n as usize]));
-            face_tet.push((lt, lf));
+            faces.push(face.map(relabel));
+            face_cell.push((lt, lf));
         }
     }
     let face_groups = map_groups(&mesh.face_groups, &local_face);
     let volume_groups = map_groups(&mesh.volume_groups, &local_tet);
     let point_groups = map_groups(&mesh.point_groups, &local_of);
 
-    // Neighbour graph of owned nodes over the whole mesh: owned node -> tets containing it -> their nodes.
+    // Neighbour graph of owned nodes over the whole mesh: owned node -> cells containing it -> their nodes.
     let mut tet_start = vec![0usize; n_owned_nodes + 1];
-    for tet in &mesh.tets {
-        for &n in tet {
+    for tet in &mesh.cells {
+        for &n in &tet[..ncn] {
             let l = local_of[n as usize] as usize;
             if l < n_owned_nodes {
                 tet_start[l + 1] += 1;
@@ -253,8 +267,8 @@ pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Resu
     }
     let mut fill = tet_start[..n_owned_nodes].to_vec();
     let mut tets_of = vec![0u32; tet_start[n_owned_nodes]];
-    for (t, tet) in mesh.tets.iter().enumerate() {
-        for &n in tet {
+    for (t, tet) in mesh.cells.iter().enumerate() {
+        for &n in &tet[..ncn] {
             let l = local_of[n as usize] as usize;
             if l < n_owned_nodes {
                 tets_of[fill[l]] = t as u32;
@@ -273,7 +287,7 @@ pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Resu
     for i in 0..n_owned_nodes {
         row.clear();
         for &t in &tets_of[tet_start[i]..tet_start[i + 1]] {
-            for &n in &mesh.tets[t as usize] {
+            for &n in mesh.cell(t as usize) {
                 if mark[n as usize] != i as u32 {
                     mark[n as usize] = i as u32;
                     row.push((gnode[n as usize], gvertex[n as usize]));
@@ -288,6 +302,7 @@ pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Resu
     let node_nbr_is_vertex: Vec<bool> = node_nbr_vertex_global.iter().map(|&v| v >= 0).collect();
 
     Ok(LocalMesh {
+        family: mesh.family,
         rank,
         nranks,
         coords,
@@ -303,12 +318,12 @@ pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Resu
         vertex_global,
         vertex_offset: vertex_ranges[rank],
         n_global_vertices: vertex_ranges[nranks],
-        tets,
-        tet_original,
+        cells,
+        cell_original,
         elem_offset,
         n_global_elems: nt,
         faces,
-        face_tet,
+        face_cell,
         face_groups,
         volume_groups,
         point_groups,

@@ -20,6 +20,10 @@ pub const SPHERE_QUARTER_GEO: &str = include_str!("../../meshes/sphere_quarter.g
 pub const COLUMN_GEO: &str = include_str!("../../meshes/column.geo");
 /// The block [0, L]³ with its six faces as groups (0-D verification).
 pub const BLOCK_GEO: &str = include_str!("../../meshes/block.geo");
+/// The meridian half-disc of the sphere (axisymmetric scenes).
+pub const SPHERE_MERIDIAN_GEO: &str = include_str!("../../meshes/sphere_meridian.geo");
+/// The meridian rectangle of a cylinder column (axisymmetric Terzaghi).
+pub const COLUMN_MERIDIAN_GEO: &str = include_str!("../../meshes/column_meridian.geo");
 
 fn gmsh_exe() -> OsString {
     std::env::var_os("GMSH").unwrap_or_else(|| "gmsh".into())

@@ -11,7 +11,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 use std::str::{FromStr, SplitAsciiWhitespace};
 
-use super::{face_key, tet_det, Mesh, TET10_EDGES, TET10_FLIP, TET_FACES};
+use super::{face_key, tet_det, Family, Mesh, TET10_EDGES, TET10_FLIP, TET_FACES};
 use crate::error::{Error, Result};
 
 /// Read a Gmsh MSH 4.1 ASCII file into a [`Mesh`].
@@ -197,27 +197,33 @@ impl TagMap {
 
 /// Everything read from the file, before compaction and promotion. Node references are file-order indices.
 #[derive(Default)]
-struct Raw {
-    phys_names: HashMap<(usize, i32), String>,
+pub(super) struct Raw {
+    pub(super) phys_names: HashMap<(usize, i32), String>,
     /// Per entity dimension: entity tag -> physical tags.
-    entity_phys: [HashMap<i32, Vec<i32>>; 4],
-    node_tags: Vec<u64>,
-    coords: Vec<[f64; 3]>,
+    pub(super) entity_phys: [HashMap<i32, Vec<i32>>; 4],
+    pub(super) node_tags: Vec<u64>,
+    pub(super) coords: Vec<[f64; 3]>,
     tag_map: Option<TagMap>,
     /// Tets: 4 or 10 nodes (unused slots u32::MAX), their element tags and entity tags.
-    tets: Vec<[u32; 10]>,
-    tet_tags: Vec<u64>,
-    tet_entity: Vec<i32>,
-    n_tet4: usize,
-    n_tet10: usize,
-    tris: Vec<[u32; 6]>,
-    tri_tags: Vec<u64>,
-    tri_entity: Vec<i32>,
-    n_tri3: usize,
-    n_tri6: usize,
+    pub(super) cells: Vec<[u32; 10]>,
+    pub(super) tet_tags: Vec<u64>,
+    pub(super) tet_entity: Vec<i32>,
+    pub(super) n_tet4: usize,
+    pub(super) n_tet10: usize,
+    pub(super) tris: Vec<[u32; 6]>,
+    pub(super) tri_tags: Vec<u64>,
+    pub(super) tri_entity: Vec<i32>,
+    pub(super) n_tri3: usize,
+    pub(super) n_tri6: usize,
+    /// Lines: 2 or 3 nodes (unused slot u32::MAX), their element tags and entity tags (the
+    /// boundary faces of a meridian mesh).
+    pub(super) lines: Vec<[u32; 3]>,
+    pub(super) line_tags: Vec<u64>,
+    pub(super) line_entity: Vec<i32>,
+    pub(super) n_line3: usize,
     /// Point elements: (node, entity tag, element tag).
-    points: Vec<(u32, i32, u64)>,
-    has_elements: bool,
+    pub(super) points: Vec<(u32, i32, u64)>,
+    pub(super) has_elements: bool,
 }
 
 /// Supported element types: gmsh type -> (dimension, nodes per element).
@@ -454,9 +460,6 @@ fn read_elements(lines: &mut Lines, raw: &mut Raw, text_len: usize) -> Result<()
         let entity = entity as i32;
         for _ in 0..n {
             let l = lines.next("elements")?;
-            if tdim == 1 {
-                continue; // lines carry nothing we use
-            }
             let mut t = Toks::new(l);
             let etag: u64 = t.get(lines, "an element tag")?;
             for slot in nodes.iter_mut().take(nn) {
@@ -468,6 +471,14 @@ fn read_elements(lines: &mut Lines, raw: &mut Raw, text_len: usize) -> Result<()
             t.finish(lines, "the element's node tags")?;
             match tdim {
                 0 => raw.points.push((nodes[0], entity, etag)),
+                1 => {
+                    let mut line = [u32::MAX; 3];
+                    line[..nn].copy_from_slice(&nodes[..nn]);
+                    raw.lines.push(line);
+                    raw.line_tags.push(etag);
+                    raw.line_entity.push(entity);
+                    raw.n_line3 += usize::from(nn == 3);
+                }
                 2 => {
                     let mut tri = [u32::MAX; 6];
                     tri[..nn].copy_from_slice(&nodes[..nn]);
@@ -483,7 +494,7 @@ fn read_elements(lines: &mut Lines, raw: &mut Raw, text_len: usize) -> Result<()
                 _ => {
                     let mut tet = [u32::MAX; 10];
                     tet[..nn].copy_from_slice(&nodes[..nn]);
-                    raw.tets.push(tet);
+                    raw.cells.push(tet);
                     raw.tet_tags.push(etag);
                     raw.tet_entity.push(entity);
                     if nn == 4 {
@@ -564,8 +575,15 @@ fn shape(l: &[f64; 4], n: usize) -> f64 {
 /// Compact, promote, orient, match faces and resolve groups.
 fn build(path: &Path, mut raw: Raw) -> Result<Mesh> {
     let err = |msg: String| Error::mesh(path, msg);
-    if raw.tets.is_empty() {
-        return Err(err("no tetrahedra (element types 4 or 11) in $Elements: generate with gmsh -3".into()));
+    if raw.cells.is_empty() {
+        if !raw.tris.is_empty() {
+            return super::meridian::build(path, raw);
+        }
+        return Err(err(
+            "no tetrahedra (element types 4 or 11) nor triangles (2 or 9) in $Elements: generate with gmsh -3 \
+             (or gmsh -2 for a meridian mesh)"
+                .into(),
+        ));
     }
     let linear = raw.n_tet4 > 0;
     if linear && raw.n_tet10 > 0 {
@@ -574,7 +592,7 @@ fn build(path: &Path, mut raw: Raw) -> Result<Mesh> {
     if (linear && raw.n_tri6 > 0) || (!linear && raw.n_tri3 > 0) {
         return Err(err(format!(
             "mixed linear/quadratic mesh: {} {} tets with {} tri3 and {} tri6",
-            raw.tets.len(),
+            raw.cells.len(),
             if linear { "linear" } else { "quadratic" },
             raw.n_tri3,
             raw.n_tri6
@@ -584,7 +602,7 @@ fn build(path: &Path, mut raw: Raw) -> Result<Mesh> {
 
     // Keep the nodes used by tets, in file order.
     let mut new_id = vec![u32::MAX; raw.coords.len()];
-    for tet in &raw.tets {
+    for tet in &raw.cells {
         for &n in &tet[..nv] {
             new_id[n as usize] = 0;
         }
@@ -596,14 +614,14 @@ fn build(path: &Path, mut raw: Raw) -> Result<Mesh> {
             coords.push(raw.coords[i]);
         }
     }
-    let mut tets = std::mem::take(&mut raw.tets);
+    let mut tets = std::mem::take(&mut raw.cells);
     for tet in &mut tets {
         for n in &mut tet[..nv] {
             *n = new_id[*n as usize];
         }
     }
     if linear {
-        promote(&mut tets, &mut coords).map_err(err)?;
+        promote(Family::Tet10, &mut tets, &mut coords).map_err(err)?;
     }
 
     // Positive orientation; a (near-)zero volume is an error (coordinates are finite, so no NaN here).
@@ -674,21 +692,21 @@ fn build(path: &Path, mut raw: Raw) -> Result<Mesh> {
             on_face[n as usize] = true;
         }
     }
-    let mut face_tet = vec![(u32::MAX, 0u8); unique.len()];
+    let mut face_cell = vec![(u32::MAX, 0u8); unique.len()];
     for (t, tet) in tets.iter().enumerate() {
         for (f, lf) in TET_FACES.iter().enumerate() {
             let (a, b, c) = (tet[lf[0]], tet[lf[1]], tet[lf[2]]);
             if on_face[a as usize] && on_face[b as usize] && on_face[c as usize] {
                 if let Some(&fi) = face_of_key.get(&face_key(a, b, c)) {
-                    if face_tet[fi as usize].0 == u32::MAX {
-                        face_tet[fi as usize] = (t as u32, f as u8);
+                    if face_cell[fi as usize].0 == u32::MAX {
+                        face_cell[fi as usize] = (t as u32, f as u8);
                     }
                 }
             }
         }
     }
     let mut faces: Vec<[u32; 6]> = Vec::with_capacity(unique.len());
-    for (&(i, ids), &(t, lf)) in unique.iter().zip(&face_tet) {
+    for (&(i, ids), &(t, lf)) in unique.iter().zip(&face_cell) {
         if t == u32::MAX {
             return Err(err(format!("{} is not a face of any tetrahedron", describe_tri(&raw, i, nt))));
         }
@@ -736,10 +754,11 @@ fn build(path: &Path, mut raw: Raw) -> Result<Mesh> {
         }
     }
     Ok(Mesh {
+        family: Family::Tet10,
         coords,
-        tets,
+        cells: tets,
         faces,
-        face_tet,
+        face_cell,
         volume_groups: named_groups(&raw.phys_names, 3, volume_groups),
         face_groups: named_groups(&raw.phys_names, 2, face_groups),
         point_groups: named_groups(&raw.phys_names, 0, point_groups),
@@ -757,14 +776,21 @@ fn norm(a: [f64; 3]) -> f64 {
     (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
-/// Insert one straight mid-edge node per distinct edge of a linear mesh (shared between tets).
+/// Insert one straight mid-edge node per distinct edge of a linear mesh (shared between cells): the
+/// mid-node of edge k of a cell goes to slot `family.cell_vertices() + k`.
 /// Edges are numbered in sorted (vertex, vertex) order so the result is deterministic.
-fn promote(tets: &mut [[u32; 10]], coords: &mut Vec<[f64; 3]>) -> std::result::Result<(), String> {
-    let mut edges: Vec<(u64, u32)> = Vec::with_capacity(tets.len() * 6);
-    for (t, tet) in tets.iter().enumerate() {
-        for (k, &(a, b)) in TET10_EDGES.iter().enumerate() {
+pub(super) fn promote(
+    family: Family,
+    cells: &mut [[u32; 10]],
+    coords: &mut Vec<[f64; 3]>,
+) -> std::result::Result<(), String> {
+    let (edges_of, nv) = (family.edges(), family.cell_vertices());
+    let ne = edges_of.len();
+    let mut edges: Vec<(u64, u32)> = Vec::with_capacity(cells.len() * ne);
+    for (t, tet) in cells.iter().enumerate() {
+        for (k, &(a, b)) in edges_of.iter().enumerate() {
             let (a, b) = (tet[a].min(tet[b]) as u64, tet[a].max(tet[b]) as u64);
-            edges.push(((a << 32) | b, (t * 6 + k) as u32));
+            edges.push(((a << 32) | b, (t * ne + k) as u32));
         }
     }
     edges.sort_unstable();
@@ -779,15 +805,15 @@ fn promote(tets: &mut [[u32; 10]], coords: &mut Vec<[f64; 3]>) -> std::result::R
             coords.push([0.5 * (xa[0] + xb[0]), 0.5 * (xa[1] + xb[1]), 0.5 * (xa[2] + xb[2])]);
             last = key;
         }
-        let (t, k) = (slot as usize / 6, slot as usize % 6);
-        tets[t][4 + k] = (coords.len() - 1) as u32;
+        let (t, k) = (slot as usize / ne, slot as usize % ne);
+        cells[t][nv + k] = (coords.len() - 1) as u32;
     }
     Ok(())
 }
 
 /// Turn physical tag -> members into (name, sorted members), including named groups that are empty;
 /// unnamed groups are called by their tag; groups sharing a name are merged.
-fn named_groups(
+pub(super) fn named_groups(
     names: &HashMap<(usize, i32), String>,
     dim: usize,
     mut groups: BTreeMap<i32, Vec<u32>>,

@@ -13,6 +13,9 @@ const FLIPPED_FACE: [u8; 4] = [0, 3, 2, 1];
 /// are extended by their reflections (a point group off the plane gains the mirror node).
 pub fn mirror(mesh: &Mesh, plane: &str) -> Result<Mesh> {
     let err = |msg: String| Error::Mesh { path: format!("mirror across \"{plane}\""), msg };
+    if mesh.family != super::Family::Tet10 {
+        return Err(err("only a tetrahedral mesh can be mirrored (a meridian mesh is already the whole body)".into()));
+    }
     let plane_faces = mesh.face_group(plane)?;
     let n = mesh.coords.len();
     let extent = mesh.coords.iter().flatten().map(|x| x.abs()).fold(0.0, f64::max);
@@ -45,26 +48,26 @@ pub fn mirror(mesh: &Mesh, plane: &str) -> Result<Mesh> {
             is_vertex.push(mesh.is_vertex[i]);
         }
     }
-    let nt = mesh.tets.len() as u32;
-    let mut tets = mesh.tets.clone();
+    let nt = mesh.cells.len() as u32;
+    let mut tets = mesh.cells.clone();
     // A reflection reverses orientation: swap vertices 1 and 2 to make the image positive again.
-    tets.extend(mesh.tets.iter().map(|t| TET10_FLIP.map(|p| image[t[p] as usize])));
+    tets.extend(mesh.cells.iter().map(|t| TET10_FLIP.map(|p| image[t[p] as usize])));
     // Faces: the originals except the plane's, then their images (outward from the image tets).
     let dropped: std::collections::BTreeSet<u32> = plane_faces.iter().copied().collect();
     let kept: Vec<u32> = (0..mesh.faces.len() as u32).filter(|f| !dropped.contains(f)).collect();
     let mut new_index = vec![u32::MAX; mesh.faces.len()];
-    let (mut faces, mut face_tet) = (Vec::new(), Vec::new());
+    let (mut faces, mut face_cell) = (Vec::new(), Vec::new());
     for &f in &kept {
         new_index[f as usize] = faces.len() as u32;
         faces.push(mesh.faces[f as usize]);
-        face_tet.push(mesh.face_tet[f as usize]);
+        face_cell.push(mesh.face_cell[f as usize]);
     }
     let nk = kept.len() as u32;
     for &f in &kept {
-        let (t, lf) = mesh.face_tet[f as usize];
+        let (t, lf) = mesh.face_cell[f as usize];
         let (ti, lfi) = (t + nt, FLIPPED_FACE[lf as usize]);
         faces.push(TET_FACES[lfi as usize].map(|p| tets[ti as usize][p]));
-        face_tet.push((ti, lfi));
+        face_cell.push((ti, lfi));
     }
     let volume_groups = mesh
         .volume_groups
@@ -92,7 +95,17 @@ pub fn mirror(mesh: &Mesh, plane: &str) -> Result<Mesh> {
             (name.clone(), g)
         })
         .collect();
-    Ok(Mesh { coords, tets, faces, face_tet, volume_groups, face_groups, point_groups, is_vertex })
+    Ok(Mesh {
+        family: mesh.family,
+        coords,
+        cells: tets,
+        faces,
+        face_cell,
+        volume_groups,
+        face_groups,
+        point_groups,
+        is_vertex,
+    })
 }
 
 #[cfg(test)]
@@ -119,24 +132,25 @@ mod tests {
         if det(&tet, &coords) < 0.0 {
             tet = TET10_FLIP.map(|p| tet[p]);
         }
-        let face_tet: Vec<(u32, u8)> = (0..4).map(|f| (0, f)).collect();
+        let face_cell: Vec<(u32, u8)> = (0..4).map(|f| (0, f)).collect();
         let faces: Vec<[u32; 6]> = (0..4).map(|f| TET_FACES[f].map(|p| tet[p])).collect();
         // The face with all vertices at x = 0 is the plane.
         let plane = (0..4u32).find(|&f| faces[f as usize][..3].iter().all(|&n| coords[n as usize][0] == 0.0)).unwrap();
         let mesh = Mesh {
+            family: crate::mesh::Family::Tet10,
             coords: coords.clone(),
-            tets: vec![tet],
+            cells: vec![tet],
             faces: faces.clone(),
-            face_tet,
+            face_cell,
             volume_groups: vec![("v".into(), vec![0])],
             face_groups: vec![("plane".into(), vec![plane]), ("all".into(), vec![0, 1, 2, 3])],
             point_groups: vec![("tip".into(), vec![3])],
             is_vertex: (0..10).map(|i| i < 4).collect(),
         };
         let m = mirror(&mesh, "plane").unwrap();
-        assert_eq!(m.tets.len(), 2);
+        assert_eq!(m.cells.len(), 2);
         assert_eq!(m.coords.len(), 10 + 4); // the 6 plane nodes are shared
-        assert!(det(&m.tets[0], &m.coords) > 0.0 && det(&m.tets[1], &m.coords) > 0.0);
+        assert!(det(&m.cells[0], &m.coords) > 0.0 && det(&m.cells[1], &m.coords) > 0.0);
         assert_eq!(m.faces.len(), 6);
         assert_eq!(m.face_groups.len(), 1);
         assert_eq!(m.face_groups[0].1.len(), 6);

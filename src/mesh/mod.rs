@@ -9,6 +9,7 @@
 pub mod dist;
 pub mod generate;
 pub mod gmsh;
+pub mod meridian;
 pub mod mirror;
 pub mod partition;
 pub mod source;
@@ -30,17 +31,120 @@ pub const TET_FACES: [[usize; 6]; 4] = [[0, 2, 1, 6, 5, 4], [0, 1, 3, 4, 9, 7], 
 /// (swap vertices 1 and 2; the mid-edge nodes follow their edges).
 pub(crate) const TET10_FLIP: [usize; 10] = [0, 2, 1, 3, 6, 5, 4, 7, 9, 8];
 
-/// The global mesh: quadratic tets, outward boundary faces and named physical groups.
+/// Nodes of a Triangle6 cell's sides as Line3 faces (vertex, vertex, mid-edge node), each ordered
+/// so that the outward normal of a positively oriented triangle is the tangent turned clockwise
+/// in the (x, z) plane (see [`Family::Tri6`]).
+pub const TRI6_SIDES: [[usize; 3]; 3] = [[0, 1, 3], [1, 2, 4], [2, 0, 5]];
+
+/// Mid-edge node `3 + k` of a Triangle6 sits on the edge between vertices `TRI6_EDGES[k]` (gmsh order).
+pub const TRI6_EDGES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
+
+pub const MAX_CELL_NODES: usize = 10;
+pub const MAX_FACE_NODES: usize = 6;
+
+/// The element family of a mesh, which also fixes its geometry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Family {
+    /// 3-D: 10-node tetrahedra with 6-node triangle faces; displacement (u_x, u_y, u_z).
+    #[default]
+    Tet10,
+    /// Axisymmetric: 6-node triangles of the meridian plane with 3-node line faces. The meridian
+    /// lies in the x–z plane (x = r ≥ 0, y = 0, z on the axis); displacement (u_r, u_z).
+    /// Positive orientation: counter-clockwise in (x, z), det [x1 − x0, x2 − x0] > 0 with rows (x, z).
+    Tri6,
+}
+
+impl Family {
+    /// Nodes per cell (P2).
+    pub const fn cell_nodes(self) -> usize {
+        match self {
+            Family::Tet10 => 10,
+            Family::Tri6 => 6,
+        }
+    }
+    /// Vertices per cell (P1 pressure nodes; the first nodes of a cell).
+    pub const fn cell_vertices(self) -> usize {
+        match self {
+            Family::Tet10 => 4,
+            Family::Tri6 => 3,
+        }
+    }
+    /// Nodes per boundary face (P2).
+    pub const fn face_nodes(self) -> usize {
+        match self {
+            Family::Tet10 => 6,
+            Family::Tri6 => 3,
+        }
+    }
+    /// Vertices per boundary face (the first nodes of a face).
+    pub const fn face_vertices(self) -> usize {
+        match self {
+            Family::Tet10 => 3,
+            Family::Tri6 => 2,
+        }
+    }
+    /// Displacement components per node.
+    pub const fn components(self) -> usize {
+        match self {
+            Family::Tet10 => 3,
+            Family::Tri6 => 2,
+        }
+    }
+    /// The Cartesian axis (0 = x or r, 1 = y, 2 = z) of each displacement component.
+    pub const fn axes(self) -> &'static [usize] {
+        match self {
+            Family::Tet10 => &[0, 1, 2],
+            Family::Tri6 => &[0, 2],
+        }
+    }
+    /// The displacement component along Cartesian `axis`, if the family has one.
+    pub fn component(self, axis: usize) -> Option<usize> {
+        self.axes().iter().position(|&a| a == axis)
+    }
+    /// Local faces of a cell (cell node positions, in face node order, outward).
+    pub fn cell_faces(self) -> &'static [&'static [usize]] {
+        const TET: [&[usize]; 4] = [&TET_FACES[0], &TET_FACES[1], &TET_FACES[2], &TET_FACES[3]];
+        const TRI: [&[usize]; 3] = [&TRI6_SIDES[0], &TRI6_SIDES[1], &TRI6_SIDES[2]];
+        match self {
+            Family::Tet10 => &TET,
+            Family::Tri6 => &TRI,
+        }
+    }
+    /// Edges of a cell (vertex pairs) in the order of its mid-edge nodes.
+    pub fn edges(self) -> &'static [(usize, usize)] {
+        match self {
+            Family::Tet10 => &TET10_EDGES,
+            Family::Tri6 => &TRI6_EDGES,
+        }
+    }
+    /// Whether the geometry is axisymmetric (weights 2πr, hoop strain u_r / r).
+    pub const fn axisymmetric(self) -> bool {
+        matches!(self, Family::Tri6)
+    }
+    /// Name of a cell, for messages.
+    pub const fn cell_name(self) -> &'static str {
+        match self {
+            Family::Tet10 => "tetrahedron",
+            Family::Tri6 => "triangle",
+        }
+    }
+}
+
+/// The global mesh: quadratic cells, outward boundary faces and named physical groups.
 #[derive(Debug, Clone, Default)]
 pub struct Mesh {
     /// Node coordinates, compact 0-based numbering.
     pub coords: Vec<[f64; 3]>,
-    /// Quadratic tets in gmsh Tetrahedron10 node order, all positively oriented.
-    pub tets: Vec<[u32; 10]>,
-    /// Boundary (tagged) triangles in Triangle6 order, each unique, outward from their tet.
-    pub faces: Vec<[u32; 6]>,
-    /// For each face: its tet and that tet's local face index (see [`TET_FACES`]).
-    pub face_tet: Vec<(u32, u8)>,
+    /// The element family: what a cell and a boundary face are.
+    pub family: Family,
+    /// Cells, positively oriented, in gmsh node order (Tetrahedron10, or Triangle6 of the meridian);
+    /// a cell uses the first [`Family::cell_nodes`] slots (the rest are `u32::MAX`).
+    pub cells: Vec<[u32; MAX_CELL_NODES]>,
+    /// Boundary (tagged) faces — Triangle6, or Line3 on the meridian — each unique, outward from
+    /// their cell; a face uses the first [`Family::face_nodes`] slots.
+    pub faces: Vec<[u32; MAX_FACE_NODES]>,
+    /// For each face: its cell and that cell's local face index (see [`Family::cell_faces`]).
+    pub face_cell: Vec<(u32, u8)>,
     /// Physical volume name -> tet indices (sorted).
     pub volume_groups: Vec<(String, Vec<u32>)>,
     /// Physical surface name -> face indices (sorted; a face may be in several groups).
@@ -67,7 +171,17 @@ impl Mesh {
         find_group(&self.volume_groups, name, "volume")
     }
 
-    /// Number of tet corner nodes (P1 pressure nodes).
+    /// The nodes of cell e.
+    pub fn cell(&self, e: usize) -> &[u32] {
+        &self.cells[e][..self.family.cell_nodes()]
+    }
+
+    /// The nodes of boundary face f.
+    pub fn face(&self, f: usize) -> &[u32] {
+        &self.faces[f][..self.family.face_nodes()]
+    }
+
+    /// Number of cell corner nodes (P1 pressure nodes).
     pub fn n_vertices(&self) -> usize {
         self.is_vertex.iter().filter(|&&v| v).count()
     }
@@ -96,14 +210,16 @@ pub(crate) fn face_key(a: u32, b: u32, c: u32) -> [u32; 3] {
     k
 }
 
-/// All tet faces, sorted, each packed in a `u128` as (sorted vertex triple, 4 * tet + local face) so that
-/// faces shared by two tets are adjacent entries (see [`unpack_face`]). Sorting packed integers (not
-/// hashing) keeps it deterministic, compact and fast. Needs fewer than 2^30 tets.
-pub(crate) fn sorted_tet_faces(tets: &[[u32; 10]]) -> Vec<u128> {
-    let mut v = Vec::with_capacity(tets.len() * 4);
-    for (t, tet) in tets.iter().enumerate() {
-        for (f, lf) in TET_FACES.iter().enumerate() {
-            let [a, b, c] = face_key(tet[lf[0]], tet[lf[1]], tet[lf[2]]);
+/// All cell faces, sorted, each packed in a `u128` as (sorted vertex key, 4 * cell + local face) so
+/// that faces shared by two cells are adjacent entries (see [`unpack_face`]). A line face's key is its
+/// vertex pair followed by `u32::MAX`. Sorting packed integers (not hashing) keeps it deterministic,
+/// compact and fast. Needs fewer than 2^30 cells.
+pub(crate) fn sorted_cell_faces(family: Family, cells: &[[u32; MAX_CELL_NODES]]) -> Vec<u128> {
+    let sides = family.cell_faces();
+    let mut v = Vec::with_capacity(cells.len() * sides.len());
+    for (t, cell) in cells.iter().enumerate() {
+        for (f, lf) in sides.iter().enumerate() {
+            let [a, b, c] = side_key(family, cell, lf);
             let id = (4 * t + f) as u128;
             v.push(((a as u128) << 96) | ((b as u128) << 64) | ((c as u128) << 32) | id);
         }
@@ -112,7 +228,15 @@ pub(crate) fn sorted_tet_faces(tets: &[[u32; 10]]) -> Vec<u128> {
     v
 }
 
-/// (sorted vertex triple, tet, local face) of an entry of [`sorted_tet_faces`].
+/// The orientation-free key of the side `lf` (local node positions) of a cell.
+pub(crate) fn side_key(family: Family, cell: &[u32], lf: &[usize]) -> [u32; 3] {
+    match family {
+        Family::Tet10 => face_key(cell[lf[0]], cell[lf[1]], cell[lf[2]]),
+        Family::Tri6 => face_key(cell[lf[0]], cell[lf[1]], u32::MAX),
+    }
+}
+
+/// (sorted vertex triple, tet, local face) of an entry of [`sorted_cell_faces`].
 pub(crate) fn unpack_face(k: u128) -> ([u32; 3], u32, u8) {
     let id = k as u32;
     ([(k >> 96) as u32, (k >> 64) as u32, (k >> 32) as u32], id / 4, (id % 4) as u8)

@@ -1,16 +1,17 @@
-//! Element partitioning with METIS k-way on the face-adjacency dual graph (tets sharing a triangle).
+//! Element partitioning with METIS k-way on the face-adjacency dual graph (tets sharing a triangle,
+//! meridian triangles sharing an edge).
 //!
 //! The dual graph is built here rather than with METIS' `part_dual`, which links elements sharing a node
 //! and so over-connects the graph. The result is deterministic: the graph is built by sorting, and METIS
 //! runs with a fixed seed.
 
-use super::{sorted_tet_faces, unpack_face, Mesh};
+use super::{sorted_cell_faces, unpack_face, Mesh};
 use crate::error::{Error, Result};
 use metis::Idx;
 
-/// Part (0..nparts) of each tet of `mesh`. Every part is non-empty.
+/// Part (0..nparts) of each cell of `mesh`. Every part is non-empty.
 pub fn partition(mesh: &Mesh, nparts: usize) -> Result<Vec<u32>> {
-    let n = mesh.tets.len();
+    let n = mesh.cells.len();
     let err = |msg: String| Error::mesh("partition", msg);
     if nparts == 0 {
         return Err(err("number of parts must be at least 1".into()));
@@ -19,7 +20,7 @@ pub fn partition(mesh: &Mesh, nparts: usize) -> Result<Vec<u32>> {
         return Ok(vec![0; n]);
     }
     if nparts > n {
-        return Err(err(format!("cannot split {n} tetrahedra into {nparts} non-empty parts")));
+        return Err(err(format!("cannot split {n} cells into {nparts} non-empty parts")));
     }
     let (xadj, adjncy) = dual_graph(mesh).map_err(err)?;
     let nparts_idx = Idx::try_from(nparts).map_err(|_| err(format!("too many parts: {nparts}")))?;
@@ -40,19 +41,19 @@ pub fn partition(mesh: &Mesh, nparts: usize) -> Result<Vec<u32>> {
     }
     if let Some(empty) = count.iter().position(|&c| c == 0) {
         return Err(err(format!(
-            "METIS left part {empty} of {nparts} empty ({n} tets): use fewer ranks or a finer mesh"
+            "METIS left part {empty} of {nparts} empty ({n} cells): use fewer ranks or a finer mesh"
         )));
     }
     Ok(out)
 }
 
-/// CSR dual graph (xadj, adjncy): tets are adjacent when they share a triangle.
+/// CSR dual graph (xadj, adjncy): cells are adjacent when they share a face.
 pub(crate) fn dual_graph(mesh: &Mesh) -> std::result::Result<(Vec<Idx>, Vec<Idx>), String> {
-    let n = mesh.tets.len();
+    let n = mesh.cells.len();
     if n >= 1 << 30 {
-        return Err(format!("mesh too large ({n} tets)"));
+        return Err(format!("mesh too large ({n} cells)"));
     }
-    let faces = sorted_tet_faces(&mesh.tets);
+    let faces = sorted_cell_faces(mesh.family, &mesh.cells);
     // Interior faces appear as two consecutive entries with the same vertex triple.
     let mut pairs: Vec<(u32, u32)> = Vec::new();
     let mut degree = vec![0usize; n];
@@ -60,7 +61,7 @@ pub(crate) fn dual_graph(mesh: &Mesh) -> std::result::Result<(Vec<Idx>, Vec<Idx>
         if w[0] >> 32 == w[1] >> 32 {
             if faces.get(i + 2).is_some_and(|&k| k >> 32 == w[0] >> 32) {
                 let (key, a, _) = unpack_face(w[0]);
-                return Err(format!("non-manifold mesh: triangle {key:?} is shared by 3 or more tets (first {a})"));
+                return Err(format!("non-manifold mesh: face {key:?} is shared by 3 or more cells (first {a})"));
             }
             let (a, b) = (unpack_face(w[0]).1, unpack_face(w[1]).1);
             pairs.push((a, b));
@@ -68,7 +69,7 @@ pub(crate) fn dual_graph(mesh: &Mesh) -> std::result::Result<(Vec<Idx>, Vec<Idx>
             degree[b as usize] += 1;
         }
     }
-    let too_large = || format!("dual graph too large for METIS ({n} tets)");
+    let too_large = || format!("dual graph too large for METIS ({n} cells)");
     let mut xadj: Vec<Idx> = Vec::with_capacity(n + 1);
     let mut acc = 0usize;
     xadj.push(0);

@@ -26,10 +26,11 @@ fn cache_dir() -> PathBuf {
 /// The `.msh` file of a scene: given, or generated from its `.geo` by rank 0 (cached).
 pub fn mesh_file(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<PathBuf> {
     let spec = &scene.scene.mesh;
-    if let Some(f) = &spec.file {
+    let (geo, file) = spec.source();
+    if let Some(f) = file {
         return Ok(scene.resolve(f));
     }
-    let geo = spec.geo.as_deref().unwrap_or_default();
+    let geo = geo.unwrap_or_default();
     let local = scene.resolve(geo);
     let (name, source) = if local.exists() {
         let text = std::fs::read_to_string(&local).map_err(|e| Error::io(&local, e))?;
@@ -71,9 +72,29 @@ fn define_constants(source: &str) -> Vec<&str> {
         .collect()
 }
 
-/// Reads the mesh file and applies the scene's reflections.
+/// Reads the mesh file and applies the scene's reflections; the mesh must be of the scene's
+/// geometry (tetrahedra for a solid, meridian triangles for an axisymmetric body).
 pub fn read_mesh(path: &Path, scene: &LoadedScene) -> Result<Mesh> {
     let mut mesh = gmsh::read(path)?;
+    let geometry = scene.scene.mesh.geometry;
+    if mesh.family != geometry.family() {
+        return Err(Error::mesh(
+            path,
+            format!(
+                "mesh.geometry = \"{}\" needs a mesh of {}, but this one has {} (set mesh.geometry, or mesh.meridian \
+                 for the meridian of a solid scene)",
+                toml::Value::try_from(geometry).map(|v| v.as_str().unwrap_or_default().to_string()).unwrap_or_default(),
+                match geometry.family() {
+                    crate::mesh::Family::Tet10 => "tetrahedra",
+                    crate::mesh::Family::Tri6 => "meridian triangles",
+                },
+                match mesh.family {
+                    crate::mesh::Family::Tet10 => "tetrahedra",
+                    crate::mesh::Family::Tri6 => "triangles",
+                },
+            ),
+        ));
+    }
     for plane in &scene.scene.mesh.mirror {
         mesh = crate::mesh::mirror::mirror(&mesh, plane)?;
     }

@@ -96,7 +96,7 @@ fn tet10_grads(xi: [f64; 3]) -> [[f64; 3]; 10] {
 fn jac_det(mesh: &Mesh, t: usize, xi: [f64; 3]) -> f64 {
     let g = tet10_grads(xi);
     let mut j = [[0.0; 3]; 3];
-    for (k, &n) in mesh.tets[t].iter().enumerate() {
+    for (k, &n) in mesh.cells[t].iter().enumerate() {
         let x = mesh.coords[n as usize];
         for c in 0..3 {
             for d in 0..3 {
@@ -112,7 +112,7 @@ fn jac_det(mesh: &Mesh, t: usize, xi: [f64; 3]) -> f64 {
 fn curved_volume(mesh: &Mesh) -> f64 {
     let q = keast4();
     let mut v = 0.0;
-    for t in 0..mesh.tets.len() {
+    for t in 0..mesh.cells.len() {
         for &(xi, w) in &q {
             let d = jac_det(mesh, t, xi);
             assert!(d > 0.0, "tet {t}: non-positive Jacobian {d}");
@@ -132,7 +132,7 @@ fn face_normal(mesh: &Mesh, f: usize) -> [f64; 3] {
 /// vertex flags, and the faces of a tagged closed boundary = the tet faces without neighbour.
 fn check_invariants(mesh: &Mesh) {
     assert_eq!(mesh.is_vertex.len(), mesh.coords.len());
-    for (t, tet) in mesh.tets.iter().enumerate() {
+    for (t, tet) in mesh.cells.iter().enumerate() {
         let x = |k: usize| mesh.coords[tet[k] as usize];
         assert!(tet_det(x(0), x(1), x(2), x(3)) > 0.0, "tet {t} negatively oriented");
         for &n in &tet[..4] {
@@ -142,10 +142,10 @@ fn check_invariants(mesh: &Mesh) {
             assert!(!mesh.is_vertex[n as usize]);
         }
     }
-    assert_eq!(mesh.faces.len(), mesh.face_tet.len());
+    assert_eq!(mesh.faces.len(), mesh.face_cell.len());
     let mut keys = BTreeSet::new();
-    for (f, (face, &(t, lf))) in mesh.faces.iter().zip(&mesh.face_tet).enumerate() {
-        let tet = mesh.tets[t as usize];
+    for (f, (face, &(t, lf))) in mesh.faces.iter().zip(&mesh.face_cell).enumerate() {
+        let tet = mesh.cells[t as usize];
         assert_eq!(*face, TET_FACES[lf as usize].map(|p| tet[p]), "face {f}");
         assert!(keys.insert(super::face_key(face[0], face[1], face[2])), "face {f} duplicated");
         // The opposite vertex lies behind the face.
@@ -157,13 +157,14 @@ fn check_invariants(mesh: &Mesh) {
         assert!(g.windows(2).all(|w| w[0] < w[1]) && g.iter().all(|&f| (f as usize) < mesh.faces.len()));
     }
     for (_, g) in &mesh.volume_groups {
-        assert!(g.windows(2).all(|w| w[0] < w[1]) && g.iter().all(|&t| (t as usize) < mesh.tets.len()));
+        assert!(g.windows(2).all(|w| w[0] < w[1]) && g.iter().all(|&t| (t as usize) < mesh.cells.len()));
     }
 }
 
 /// Boundary = tet faces without a neighbour, as sorted vertex triples.
 fn exterior_faces(mesh: &Mesh) -> BTreeSet<[u32; 3]> {
-    let f: Vec<([u32; 3], u32, u8)> = super::sorted_tet_faces(&mesh.tets).into_iter().map(super::unpack_face).collect();
+    let f: Vec<([u32; 3], u32, u8)> =
+        super::sorted_cell_faces(mesh.family, &mesh.cells).into_iter().map(super::unpack_face).collect();
     let mut out = BTreeSet::new();
     let mut i = 0;
     while i < f.len() {
@@ -273,8 +274,8 @@ fn gmsh_tet10_edge_order() {
                Physical Volume(\"box\") = {1};\nPhysical Surface(\"all\") = Surface{:};\n";
     let mesh = gen("box.geo", geo, &[], 2);
     check_invariants(&mesh);
-    assert!(mesh.tets.len() > 50);
-    for tet in &mesh.tets {
+    assert!(mesh.cells.len() > 50);
+    for tet in &mesh.cells {
         let x = |k: usize| mesh.coords[tet[k] as usize];
         for (k, &(a, b)) in TET10_EDGES.iter().enumerate() {
             assert!(close(x(4 + k), mid(x(a), x(b)), 1e-12), "mid-node {} not on edge {a}-{b}", 4 + k);
@@ -304,7 +305,7 @@ fn sphere_default() {
     assert_eq!(eq.len(), 1);
     let x = mesh.coords[eq[0] as usize];
     assert!(x[0].abs() < 1e-9 * r && (x[1] - r).abs() < 1e-9 * r && (x[2] - r).abs() < 1e-9 * r, "{x:?}");
-    assert_eq!(mesh.volume_groups[0].1.len(), mesh.tets.len());
+    assert_eq!(mesh.volume_groups[0].1.len(), mesh.cells.len());
     let c = [0.0, 0.0, r];
     let surf = mesh.face_group("surface").unwrap();
     assert_eq!(face_keys(&mesh, surf), exterior_faces(&mesh));
@@ -335,7 +336,7 @@ fn sphere_default() {
     let edge_len_near = |p: [f64; 3]| {
         let mut sum = 0.0;
         let mut cnt = 0;
-        for tet in &mesh.tets {
+        for tet in &mesh.cells {
             let x0 = mesh.coords[tet[0] as usize];
             if norm(sub(x0, p)) < 10.0 {
                 sum += norm(sub(mesh.coords[tet[1] as usize], x0));
@@ -355,7 +356,7 @@ fn sphere_default() {
     assert!(err.contains("\"centre\"") && err.contains("\"pole_bottom\"") && err.contains("\"pole_top\""), "{err}");
     eprintln!(
         "sphere default: {} tets, {} nodes, {} vertices, {} faces; volume rel. error {:.2e}; mid-node deviation {:.1e} R (chord {:.1e} R); mean edge near poles {near:.1}, {near_top:.1}, bulk {bulk:.1}",
-        mesh.tets.len(), mesh.coords.len(), mesh.n_vertices(), mesh.faces.len(), v / exact - 1.0, dev / r, chord / r
+        mesh.cells.len(), mesh.coords.len(), mesh.n_vertices(), mesh.faces.len(), v / exact - 1.0, dev / r, chord / r
     );
 }
 
@@ -372,7 +373,7 @@ fn sphere_parameters_from_command_line() {
     assert!(close(mesh.coords[pt[0] as usize], [0.0, 0.0, 2.0 * r], 1e-9 * r));
     let coarse = gen("sphere.geo", SPHERE_GEO, &[("h", 40.0), ("h_pole", 40.0)], 2);
     let default = gen("sphere.geo", SPHERE_GEO, &[], 2);
-    assert!(coarse.tets.len() * 2 < default.tets.len(), "{} vs {}", coarse.tets.len(), default.tets.len());
+    assert!(coarse.cells.len() * 2 < default.cells.len(), "{} vs {}", coarse.cells.len(), default.cells.len());
 }
 
 #[test]
@@ -425,7 +426,7 @@ fn sphere_quarter_default() {
     }
     eprintln!(
         "quarter default: {} tets, {} nodes; volume rel. error {:.2e}; mid-node deviation {:.1e} R",
-        mesh.tets.len(),
+        mesh.cells.len(),
         mesh.coords.len(),
         v / exact - 1.0,
         dev / r
@@ -439,7 +440,7 @@ fn column_default_and_graded() {
     let (h, w) = (1.0, 0.1);
     assert_eq!(group_names(&mesh.volume_groups), ["column"]);
     assert_eq!(group_names(&mesh.face_groups), ["top", "bottom", "sides"]);
-    assert!((300..5000).contains(&mesh.tets.len()), "{} tets", mesh.tets.len());
+    assert!((300..5000).contains(&mesh.cells.len()), "{} tets", mesh.cells.len());
     let v = curved_volume(&mesh);
     assert!((v - w * w * h).abs() < 1e-12, "column volume {v}");
     let mut all = BTreeSet::new();
@@ -466,7 +467,7 @@ fn column_default_and_graded() {
         all.extend(face_keys(&mesh, g));
     }
     assert_eq!(all, exterior_faces(&mesh));
-    eprintln!("column default: {} tets, {} nodes", mesh.tets.len(), mesh.coords.len());
+    eprintln!("column default: {} tets, {} nodes", mesh.cells.len(), mesh.coords.len());
 
     // Grading: h_top = h/4 gives more, thinner layers at the top.
     let graded = gen("column.geo", COLUMN_GEO, &[("h_top", 0.1 / 12.0)], 2);
@@ -495,9 +496,9 @@ fn tet4_promotion() {
     // Same vertices; mid-nodes are straight midpoints, one per distinct edge.
     assert_eq!(lin.n_vertices(), quad.n_vertices());
     assert_eq!(lin.coords.len(), quad.coords.len());
-    assert_eq!(lin.tets.len(), quad.tets.len());
+    assert_eq!(lin.cells.len(), quad.cells.len());
     let mut edges = BTreeSet::new();
-    for tet in &lin.tets {
+    for tet in &lin.cells {
         let x = |k: usize| lin.coords[tet[k] as usize];
         for (k, &(a, b)) in TET10_EDGES.iter().enumerate() {
             assert!(close(x(4 + k), mid(x(a), x(b)), 1e-12));
@@ -531,20 +532,20 @@ fn handwritten_linear_mesh() {
     let dir = scratch_dir();
     let mesh = read(&write(&dir, "two.msh", TWO_TETS)).unwrap();
     check_invariants(&mesh);
-    assert_eq!(mesh.tets.len(), 2);
+    assert_eq!(mesh.cells.len(), 2);
     assert_eq!(mesh.n_vertices(), 5);
     assert_eq!(mesh.coords.len(), 5 + 9); // 9 distinct edges
                                           // Sparse node tags 10..50 were compacted in file order.
     assert_eq!(mesh.coords[..5], [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]]);
     // The second tet was flipped to a positive orientation.
-    assert_eq!(mesh.tets[1][..4], [4, 2, 1, 3]);
+    assert_eq!(mesh.cells[1][..4], [4, 2, 1, 3]);
     assert_eq!(mesh.volume_group("body").unwrap(), [0, 1]);
     let b = mesh.face_group("bottom").unwrap();
     assert_eq!(b.len(), 1);
     assert_eq!(face_normal(&mesh, b[0] as usize), [0.0, 0.0, -1.0]);
     // The interior face is attached to the lower-numbered tet, outward from it.
     let inner = mesh.face_group("inner").unwrap();
-    assert_eq!(mesh.face_tet[inner[0] as usize].0, 0);
+    assert_eq!(mesh.face_cell[inner[0] as usize].0, 0);
     let n = face_normal(&mesh, inner[0] as usize);
     assert!(dot(n, [1.0, 1.0, 1.0]) > 0.0);
     let _ = std::fs::remove_dir_all(dir);
@@ -637,7 +638,7 @@ fn malformed_inputs_are_errors() {
 
     // Unknown sections are skipped; an unterminated one is an error.
     let extra = TWO_TETS.replace("$Nodes", "$Periodic\n0\n$EndPeriodic\n$NodeData\n1\n\"p\"\n$EndNodeData\n$Nodes");
-    assert_eq!(read(&write(&dir, "extra.msh", &extra)).unwrap().tets.len(), 2);
+    assert_eq!(read(&write(&dir, "extra.msh", &extra)).unwrap().cells.len(), 2);
     let e = read_err(&dir, "open.msh", &TWO_TETS.replace("$Nodes", "$Periodic\n0\n$Nodes"));
     assert!(e.contains("$Periodic") && e.contains("never closed"), "{e}");
 
@@ -669,7 +670,7 @@ fn malformed_inputs_are_errors() {
         match read(&write(&dir, "fuzz.msh", &l.join("\n"))) {
             Ok(m) => {
                 ok += 1;
-                assert!(m.tets.iter().flatten().all(|&n| (n as usize) < m.coords.len()));
+                assert!(m.cells.iter().flatten().all(|&n| (n as usize) < m.coords.len()));
             }
             Err(Error::Mesh { msg, .. }) => {
                 failed += 1;
@@ -748,17 +749,17 @@ fn cache_and_generation_errors() {
 fn dual_graph_is_face_adjacency() {
     let mesh = gen("sphere_quarter.geo", SPHERE_QUARTER_GEO, &[], 2);
     let (xadj, adj) = dual_graph(&mesh).unwrap();
-    assert_eq!(xadj.len(), mesh.tets.len() + 1);
+    assert_eq!(xadj.len(), mesh.cells.len() + 1);
     // Each interior face is one undirected edge: 4 nt = 2 edges + exterior faces.
-    assert_eq!(4 * mesh.tets.len(), adj.len() + exterior_faces(&mesh).len());
-    for t in 0..mesh.tets.len() {
+    assert_eq!(4 * mesh.cells.len(), adj.len() + exterior_faces(&mesh).len());
+    for t in 0..mesh.cells.len() {
         let row = &adj[xadj[t] as usize..xadj[t + 1] as usize];
         assert!(row.len() <= 4);
         for &u in row {
             let back = &adj[xadj[u as usize] as usize..xadj[u as usize + 1] as usize];
             assert!(back.contains(&(t as i32)));
-            let a: BTreeSet<u32> = mesh.tets[t][..4].iter().copied().collect();
-            assert_eq!(mesh.tets[u as usize][..4].iter().filter(|n| a.contains(n)).count(), 3);
+            let a: BTreeSet<u32> = mesh.cells[t][..4].iter().copied().collect();
+            assert_eq!(mesh.cells[u as usize][..4].iter().filter(|n| a.contains(n)).count(), 3);
         }
     }
 }
@@ -766,15 +767,15 @@ fn dual_graph_is_face_adjacency() {
 #[test]
 fn partition_parts_nonempty_and_deterministic() {
     let mesh = gen("sphere.geo", SPHERE_GEO, &[], 2);
-    assert_eq!(partition(&mesh, 1).unwrap(), vec![0; mesh.tets.len()]);
+    assert_eq!(partition(&mesh, 1).unwrap(), vec![0; mesh.cells.len()]);
     for np in [2usize, 3] {
         let p = partition(&mesh, np).unwrap();
-        assert_eq!(p.len(), mesh.tets.len());
+        assert_eq!(p.len(), mesh.cells.len());
         let mut count = vec![0usize; np];
         for &q in &p {
             count[q as usize] += 1;
         }
-        let ideal = mesh.tets.len() / np;
+        let ideal = mesh.cells.len() / np;
         for &c in &count {
             assert!(c > 0 && c < ideal * 13 / 10, "unbalanced {count:?}");
         }
@@ -796,7 +797,7 @@ fn check_distribution(mesh: &Mesh, part: &[u32], nranks: usize) -> Vec<LocalMesh
     let mut owned_globals = BTreeSet::new();
     let mut n_elems = 0;
     for (r, l) in locals.iter().enumerate() {
-        assert_eq!((l.rank, l.nranks, l.n_global_nodes, l.n_global_elems), (r, nranks, nn, mesh.tets.len()));
+        assert_eq!((l.rank, l.nranks, l.n_global_nodes, l.n_global_elems), (r, nranks, nn, mesh.cells.len()));
         assert_eq!(l.n_global_vertices, mesh.n_vertices());
         assert_eq!(l.node_ranges, locals[0].node_ranges);
         assert_eq!(l.vertex_ranges, locals[0].vertex_ranges);
@@ -806,7 +807,7 @@ fn check_distribution(mesh: &Mesh, part: &[u32], nranks: usize) -> Vec<LocalMesh
             (l.vertex_ranges[r], l.vertex_ranges[r + 1])
         );
         assert_eq!(l.elem_offset, n_elems);
-        n_elems += l.tets.len();
+        n_elems += l.cells.len();
         for i in 0..l.coords.len() {
             let o = l.node_original[i] as usize;
             assert_eq!(l.coords[i], mesh.coords[o]);
@@ -841,23 +842,23 @@ fn check_distribution(mesh: &Mesh, part: &[u32], nranks: usize) -> Vec<LocalMesh
         assert!(l.node_original[..l.n_owned_nodes].windows(2).all(|w| w[0] < w[1]));
         assert!(l.vertex_global[l.n_owned_vertices..].windows(2).all(|w| w[0] < w[1]));
         // Local tets reproduce the original ones.
-        assert!(l.tet_original.windows(2).all(|w| w[0] < w[1]));
-        for (lt, &t) in l.tet_original.iter().enumerate() {
+        assert!(l.cell_original.windows(2).all(|w| w[0] < w[1]));
+        for (lt, &t) in l.cell_original.iter().enumerate() {
             assert_eq!(part[t as usize] as usize, r);
             for k in 0..10 {
-                assert_eq!(l.coords[l.tets[lt][k] as usize], mesh.coords[mesh.tets[t as usize][k] as usize]);
+                assert_eq!(l.coords[l.cells[lt][k] as usize], mesh.coords[mesh.cells[t as usize][k] as usize]);
             }
         }
         // Faces: outward, same nodes as globally.
         for (lf, face) in l.faces.iter().enumerate() {
-            let (lt, f) = l.face_tet[lf];
-            assert_eq!(*face, TET_FACES[f as usize].map(|p| l.tets[lt as usize][p]));
+            let (lt, f) = l.face_cell[lf];
+            assert_eq!(*face, TET_FACES[f as usize].map(|p| l.cells[lt as usize][p]));
         }
         assert_eq!(group_names(&l.face_groups), group_names(&mesh.face_groups));
         assert_eq!(group_names(&l.volume_groups), group_names(&mesh.volume_groups));
         assert_eq!(group_names(&l.point_groups), group_names(&mesh.point_groups));
     }
-    assert_eq!(n_elems, mesh.tets.len());
+    assert_eq!(n_elems, mesh.cells.len());
     assert!(owned_count.iter().all(|&c| c == 1), "a node is not owned exactly once");
     assert_eq!(owned_globals.len(), nn);
     assert_eq!(*owned_globals.iter().next_back().unwrap() as usize, nn - 1);
@@ -876,7 +877,7 @@ fn check_distribution(mesh: &Mesh, part: &[u32], nranks: usize) -> Vec<LocalMesh
 
     // Neighbour CSR = union over the whole mesh, by brute force.
     let mut nbr: Vec<BTreeSet<u32>> = vec![BTreeSet::new(); nn];
-    for tet in &mesh.tets {
+    for tet in &mesh.cells {
         for &a in tet {
             for &b in tet {
                 nbr[a as usize].insert(global_of[b as usize]);
@@ -921,9 +922,9 @@ fn distribute_two_and_three_ranks() {
         }
     }
     // An arbitrary (non-METIS) partition, with rank 1 empty, also works.
-    let part: Vec<u32> = (0..mesh.tets.len()).map(|t| if t % 3 == 0 { 0 } else { 2 }).collect();
+    let part: Vec<u32> = (0..mesh.cells.len()).map(|t| if t % 3 == 0 { 0 } else { 2 }).collect();
     let locals = check_distribution(&mesh, &part, 3);
-    assert_eq!((locals[1].tets.len(), locals[1].n_owned_nodes), (0, 0));
+    assert_eq!((locals[1].cells.len(), locals[1].n_owned_nodes), (0, 0));
     assert!(distribute(&mesh, &part, 2, 0).is_err());
     assert!(distribute(&mesh, &part, 3, 3).is_err());
     assert!(distribute(&mesh, &part[1..], 3, 0).is_err());

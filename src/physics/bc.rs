@@ -1,13 +1,13 @@
 //! Boundary conditions by physical group: constraints (prescribed u components, rollers on
-//! axis-aligned planes, prescribed p) and surface loads integrated once into the external load
+//! axis-aligned planes — the meridian's axis, x = 0, is one — prescribed p) and surface loads integrated once into the external load
 //! vector: F_ext,u = ∫_Γ t̄ · w dA (reference-configuration traction) and
 //! F_ext,p = −∫_Γ q̄ q dA (prescribed outward flux).
 
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
-use crate::fem::element::{tabulate_tri6, tri6_surface};
-use crate::fem::quadrature;
+use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
+use crate::mesh::Family;
 use crate::scene::BoundaryCondition;
 
 /// A constrained local dof and its value.
@@ -55,7 +55,7 @@ fn missing(mesh: &LocalMesh, name: &str, context: &str, kind: &str) -> Error {
 pub fn group_nodes(mesh: &LocalMesh, name: &str, context: &str) -> Result<Vec<usize>> {
     if let Some((_, faces)) = mesh.face_groups.iter().find(|(n, _)| n == name) {
         let mut nodes: Vec<usize> =
-            faces.iter().flat_map(|&f| mesh.faces[f as usize].iter().map(|&n| n as usize)).collect();
+            faces.iter().flat_map(|&f| mesh.face(f as usize).iter().map(|&n| n as usize)).collect();
         nodes.sort_unstable();
         nodes.dedup();
         return Ok(nodes);
@@ -66,16 +66,43 @@ pub fn group_nodes(mesh: &LocalMesh, name: &str, context: &str) -> Result<Vec<us
     Err(missing(mesh, name, context, "a surface or point"))
 }
 
-/// Straight-facet normal of a face from its three vertices (orientation is outward).
+/// Straight-facet normal of a face from its vertices (orientation is outward).
 fn facet_normal(mesh: &LocalMesh, f: usize) -> [f64; 3] {
-    let n = &mesh.faces[f];
+    let n = mesh.face(f);
     let x = |i: usize| mesh.coords[n[i] as usize];
-    let (a, b, c) = (x(0), x(1), x(2));
-    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-    let m = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let m = match mesh.family {
+        Family::Tet10 => {
+            let (a, b, c) = (x(0), x(1), x(2));
+            let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+            [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+        }
+        // A side of a counter-clockwise meridian triangle: the tangent turned clockwise.
+        Family::Tri6 => [x(1)[2] - x(0)[2], 0.0, x(0)[0] - x(1)[0]],
+    };
     let l = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
     [m[0] / l, m[1] / l, m[2] / l]
+}
+
+/// The displacement component along Cartesian `axis`, or an error naming the geometry.
+fn component(mesh: &LocalMesh, axis: usize, ctx: &str) -> Result<usize> {
+    mesh.family.component(axis).ok_or_else(|| Error::Scene {
+        path: ctx.to_string(),
+        msg: format!(
+            "an axisymmetric (meridian) model has no {} displacement: its components are u_r (x) and u_z (z)",
+            ["x", "y", "z"][axis]
+        ),
+    })
+}
+
+/// u_r = 0 on the axis (the nodes of a meridian mesh at x = r = 0): the regularity of the hoop
+/// strain u_r / R, part of the axisymmetric formulation rather than a boundary condition.
+fn axis_constraints(mesh: &LocalMesh, dofs: &DofMap) -> Vec<Constraint> {
+    let scale = mesh.coords.iter().map(|x| x[0].abs().max(x[2].abs())).fold(0.0, f64::max);
+    (0..mesh.coords.len())
+        .filter(|&n| mesh.coords[n][0].abs() <= 1e-9 * scale)
+        .map(|n| Constraint { local: dofs.u_local(n, 0), value: 0.0 })
+        .collect()
 }
 
 /// Constraints and external loads of this rank's part. Constraints on nodes of this rank's
@@ -88,33 +115,41 @@ pub fn build(
 ) -> Result<(Vec<Constraint>, Vec<f64>)> {
     let mut cons = Vec::new();
     let mut ext = vec![0.0; dofs.n_local()];
-    let q = quadrature::tri(5);
-    let tab = tabulate_tri6(&q);
+    let rule = FaceRule::new(mesh.family);
+    let nc = dofs.nc;
+    if mesh.family.axisymmetric() {
+        cons.extend(axis_constraints(mesh, dofs));
+    }
     for (i, bc) in bcs.iter().enumerate() {
+        if bc.geometry.is_some_and(|g| g.family() != mesh.family) {
+            continue;
+        }
         let ctx = format!("{context}: bc #{} (group \"{}\")", i + 1, bc.group);
         if let Some(d) = &bc.displacement {
             let nodes = group_nodes(mesh, &bc.group, &ctx)?;
             for (comp, v) in d {
-                let c = match comp.as_str() {
+                let axis = match comp.as_str() {
                     "x" => 0,
                     "y" => 1,
                     _ => 2,
                 };
+                let c = component(mesh, axis, &ctx)?;
                 cons.extend(nodes.iter().map(|&n| Constraint { local: dofs.u_local(n, c), value: *v }));
             }
         }
         if bc.roller == Some(true) {
             for &f in face_group(mesh, &bc.group, &ctx)? {
                 let n = facet_normal(mesh, f as usize);
-                let c = (0..3).find(|&c| n[c].abs() > 0.999).ok_or_else(|| Error::Scene {
+                let axis = (0..3).find(|&c| n[c].abs() > 0.999).ok_or_else(|| Error::Scene {
                     path: ctx.clone(),
                     msg: format!(
                         "roller needs faces normal to x, y or z; face with normal ({:.3}, {:.3}, {:.3}) is not",
                         n[0], n[1], n[2]
                     ),
                 })?;
+                let c = component(mesh, axis, &ctx)?;
                 cons.extend(
-                    mesh.faces[f as usize]
+                    mesh.face(f as usize)
                         .iter()
                         .map(|&n| Constraint { local: dofs.u_local(n as usize, c), value: 0.0 }),
                 );
@@ -130,19 +165,17 @@ pub fn build(
         }
         if let Some(t) = &bc.traction {
             for &f in face_group(mesh, &bc.group, &ctx)? {
-                let nodes = mesh.faces[f as usize];
-                let coords: [[f64; 3]; 6] = std::array::from_fn(|a| mesh.coords[nodes[a] as usize]);
-                for qp in 0..q.weights.len() {
-                    let s = tri6_surface(&coords, &tab, qp);
+                let nodes = mesh.face(f as usize);
+                let coords: Vec<[f64; 3]> = nodes.iter().map(|&n| mesh.coords[n as usize]).collect();
+                for p in rule.points(&coords) {
                     let tv = match (t.normal, t.vector) {
-                        (Some(v), _) => [v * s.normal[0], v * s.normal[1], v * s.normal[2]],
+                        (Some(v), _) => [v * p.normal[0], v * p.normal[1], v * p.normal[2]],
                         (_, Some(v)) => v,
                         _ => [0.0; 3],
                     };
-                    let w = tab.weights[qp] * s.da;
-                    for a in 0..6 {
-                        for c in 0..3 {
-                            ext[dofs.u_local(nodes[a] as usize, c)] += w * tv[c] * tab.n[qp][a];
+                    for (a, &node) in nodes.iter().enumerate() {
+                        for (c, &axis) in mesh.family.axes().iter().enumerate() {
+                            ext[nc * node as usize + c] += p.w * tv[axis] * p.n[a];
                         }
                     }
                 }
@@ -150,15 +183,12 @@ pub fn build(
         }
         if let Some(flux) = bc.flux {
             for &f in face_group(mesh, &bc.group, &ctx)? {
-                let nodes = mesh.faces[f as usize];
-                let coords: [[f64; 3]; 6] = std::array::from_fn(|a| mesh.coords[nodes[a] as usize]);
-                for qp in 0..q.weights.len() {
-                    let s = tri6_surface(&coords, &tab, qp);
-                    let xi = q.points[qp];
-                    let l = [1.0 - xi[0] - xi[1], xi[0], xi[1]];
-                    for m in 0..3 {
+                let nodes = mesh.face(f as usize);
+                let coords: Vec<[f64; 3]> = nodes.iter().map(|&n| mesh.coords[n as usize]).collect();
+                for p in rule.points(&coords) {
+                    for m in 0..mesh.family.face_vertices() {
                         let v = mesh.vertex_of_node[nodes[m] as usize] as usize;
-                        ext[dofs.p_local(v)] -= tab.weights[qp] * s.da * flux * l[m];
+                        ext[dofs.p_local(v)] -= p.w * flux * p.l[m];
                     }
                 }
             }

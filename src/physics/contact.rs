@@ -35,8 +35,7 @@
 //! fully implicit form, differentiated exactly.
 
 use crate::fem::dofmap::DofMap;
-use crate::fem::element::{tabulate_tri6, tri6_surface};
-use crate::fem::quadrature;
+use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
 pub use crate::scene::DrainageGap;
 
@@ -131,23 +130,20 @@ impl Plates {
         gap: DrainageGap,
     ) -> Plates {
         let mut nodes: Vec<usize> =
-            faces.iter().flat_map(|&f| mesh.faces[f as usize].iter().map(|&n| n as usize)).collect();
+            faces.iter().flat_map(|&f| mesh.face(f as usize).iter().map(|&n| n as usize)).collect();
         nodes.sort_unstable();
         nodes.dedup();
         let z_ref = nodes.iter().map(|&n| mesh.coords[n][2]).collect();
-        // ∫ L_m dA of every vertex over this rank's faces (P1 on the curved tri6 faces).
-        let q = quadrature::tri(2);
-        let tab = tabulate_tri6(&q);
+        // ∫ L_m dA of every vertex over this rank's faces (P1 on the curved faces; whole-body
+        // areas on the meridian).
+        let rule = FaceRule::with_degree(mesh.family, 2);
         let mut area = std::collections::BTreeMap::<usize, f64>::new();
         for &f in faces {
-            let fnodes = &mesh.faces[f as usize];
-            let coords: [[f64; 3]; 6] = std::array::from_fn(|a| mesh.coords[fnodes[a] as usize]);
-            for k in 0..q.weights.len() {
-                let da = tri6_surface(&coords, &tab, k).da * q.weights[k];
-                let xi = q.points[k];
-                let l = [1.0 - xi[0] - xi[1], xi[0], xi[1]];
-                for m in 0..3 {
-                    *area.entry(fnodes[m] as usize).or_default() += l[m] * da;
+            let fnodes = mesh.face(f as usize);
+            let coords: Vec<[f64; 3]> = fnodes.iter().map(|&n| mesh.coords[n as usize]).collect();
+            for p in rule.points(&coords) {
+                for m in 0..mesh.family.face_vertices() {
+                    *area.entry(fnodes[m] as usize).or_default() += p.l[m] * p.w;
                 }
             }
         }
@@ -175,7 +171,7 @@ impl Plates {
     pub fn fill_bounds(&self, t: f64, dofs: &DofMap, lo: &mut [f64], hi: &mut [f64]) {
         let zl = self.z_lower(t);
         for (k, &n) in self.nodes.iter().enumerate() {
-            if let Some(i) = dofs.local_to_owned(dofs.u_local(n, 2)) {
+            if let Some(i) = dofs.local_to_owned(dofs.uz_local(n)) {
                 lo[i] = zl - self.z_ref[k];
                 hi[i] = if Some(n) == self.anchor { lo[i] } else { self.z_upper - self.z_ref[k] };
             }
@@ -194,7 +190,7 @@ impl Plates {
     pub fn predict(&self, t0: f64, t1: f64, dofs: &DofMap, x0: &[f64], x: &mut [f64]) {
         let (z0, z1) = (self.z_lower(t0), self.z_lower(t1));
         for (k, &n) in self.nodes.iter().enumerate() {
-            if let Some(i) = dofs.local_to_owned(dofs.u_local(n, 2)) {
+            if let Some(i) = dofs.local_to_owned(dofs.uz_local(n)) {
                 // Nodes on the plate or within the seal distance keep their gap.
                 if self.z_ref[k] + x0[i] <= z0 + self.seal_gap.max(self.tol) {
                     x[i] = x0[i] + z1 - z0;
@@ -206,16 +202,20 @@ impl Plates {
     /// The isochoric affine guess for a step from t0 to t1: the plates' relative motion as a
     /// uniform vertical compression between them, with the lateral expansion that keeps the
     /// volume (J) of every element to first order, on the state `x0` (owned entries, u of the
-    /// owned nodes first; `coords` their reference positions). Short steps load the mixture
-    /// almost undrained, so this guess respects J > Φs where an extrapolated compaction rate
-    /// overshoots it.
-    pub fn predict_isochoric(&self, t0: f64, t1: f64, coords: &[[f64; 3]], x0: &[f64], x: &mut [f64]) {
+    /// owned nodes first, `axes` per node: the Cartesian axis of each component; `coords` their
+    /// reference positions). Short steps load the mixture almost undrained, so this guess
+    /// respects J > Φs where an extrapolated compaction rate overshoots it.
+    pub fn predict_isochoric(&self, t0: f64, t1: f64, coords: &[[f64; 3]], axes: &[usize], x0: &[f64], x: &mut [f64]) {
         let (z0, z1) = (self.z_lower(t0), self.z_lower(t1));
+        let nc = axes.len();
         for (n, c) in coords.iter().enumerate() {
-            let cur = [c[0] + x0[3 * n], c[1] + x0[3 * n + 1], c[2] + x0[3 * n + 2]];
+            let mut cur = *c;
+            for (k, &a) in axes.iter().enumerate() {
+                cur[a] += x0[nc * n + k];
+            }
             let du = isochoric_increment(cur, z0, z1, self.z_upper);
-            for k in 0..3 {
-                x[3 * n + k] = x0[3 * n + k] + du[k];
+            for (k, &a) in axes.iter().enumerate() {
+                x[nc * n + k] = x0[nc * n + k] + du[a];
             }
         }
     }
@@ -234,7 +234,7 @@ impl Plates {
 
     /// Contact state of every contact-surface node (same order as `nodes`).
     pub fn states(&self, dofs: &DofMap, u_local: &[f64], t: f64) -> Vec<Touch> {
-        self.nodes.iter().zip(&self.z_ref).map(|(&n, &z)| self.touch(z, u_local[dofs.u_local(n, 2)], t)).collect()
+        self.nodes.iter().zip(&self.z_ref).map(|(&n, &z)| self.touch(z, u_local[dofs.uz_local(n)], t)).collect()
     }
 
     /// Drainage of every local contact-surface vertex with its gap in the state `u_local` (local
@@ -248,7 +248,7 @@ impl Plates {
         self.vertices
             .iter()
             .map(|&(n, a)| {
-                let uz = dofs.u_local(n, 2);
+                let uz = dofs.uz_local(n);
                 let z = mesh.coords[n][2] + u_local[uz];
                 // Gap to the nearer plate and its derivative with respect to u_z.
                 let (g, dg) = if z - zl <= self.z_upper - z { (z - zl, 1.0) } else { (self.z_upper - z, -1.0) };

@@ -16,8 +16,7 @@ use super::probe::{Probe, Quantity};
 use super::problem::Post;
 use crate::error::Result;
 use crate::fem::dofmap::DofMap;
-use crate::fem::element::{tabulate_tri6, tri6};
-use crate::fem::quadrature;
+use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
 use crate::parallel::{max, sum};
 use mpi::topology::SimpleCommunicator;
@@ -47,7 +46,8 @@ pub const COLUMNS: [&str; 17] = [
 ];
 
 pub struct Experiment {
-    /// Full-sphere equivalent factor: 4π R³/3 over the meshed volume (4 for a quarter).
+    /// Full-sphere equivalent factor: 4π R³/3 over the meshed volume (4 for a quarter, 1 for the
+    /// meridian, whose volume integrals already carry 2πR).
     pub symmetry: f64,
     probe_p: Probe,
     probe_porosity: Option<Probe>,
@@ -112,14 +112,21 @@ impl Experiment {
     ) -> Observation {
         let local = &post.local;
         let states = plates.states(dofs, local, t);
-        let pos = |n: usize| -> [f64; 3] { std::array::from_fn(|d| mesh.coords[n][d] + local[dofs.u_local(n, d)]) };
+        let axes = mesh.family.axes();
+        let pos = |n: usize| -> [f64; 3] {
+            let mut x = mesh.coords[n];
+            for (c, &a) in axes.iter().enumerate() {
+                x[a] += local[dofs.u_local(n, c)];
+            }
+            x
+        };
         let (mut f_up, mut fp_up, mut f_lo) = (0.0, 0.0, 0.0);
         let (mut r_up, mut r_lo, mut n_up, mut n_lo) = (0.0f64, 0.0f64, 0.0, 0.0);
         let mut node_contact = vec![0.0; mesh.n_owned_nodes];
         for (k, &n) in plates.nodes.iter().enumerate() {
             let x = pos(n);
             let r = (x[0] * x[0] + x[1] * x[1]).sqrt();
-            let owned = dofs.local_to_owned(dofs.u_local(n, 2));
+            let owned = dofs.local_to_owned(dofs.uz_local(n));
             match states[k] {
                 Touch::Upper => {
                     r_up = r_up.max(r);
@@ -182,25 +189,20 @@ impl Experiment {
     }
 
     /// Largest distance by which the quadratic contact surface enters a plate, sampled at the
-    /// nodes and at the 7 interior points of a degree-5 rule on every face.
+    /// nodes and at the interior points of a degree-5 rule on every face (7 on a triangle, 3 on
+    /// a meridian line).
     fn max_penetration(&self, plates: &Plates, mesh: &LocalMesh, dofs: &DofMap, local: &[f64], t: f64) -> f64 {
-        let q = quadrature::tri(5);
-        let tab = tabulate_tri6(&q);
-        let mut pts: Vec<[f64; 6]> = tab.n.clone();
-        for a in 0..6 {
-            let xi = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5]][a];
-            pts.push(tri6(&xi).0);
-        }
+        let nf = mesh.family.face_nodes();
         let (zl, zu) = (plates.z_lower(t), plates.z_upper);
+        let rule = FaceRule::new(mesh.family);
         let mut pen = 0.0f64;
         for &f in &self.faces {
-            let nodes = &mesh.faces[f as usize];
-            let z: [f64; 6] = std::array::from_fn(|a| {
-                let n = nodes[a] as usize;
-                mesh.coords[n][2] + local[dofs.u_local(n, 2)]
-            });
-            for w in &pts {
-                let zq: f64 = (0..6).map(|a| w[a] * z[a]).sum();
+            let nodes = mesh.face(f as usize);
+            let z: Vec<f64> =
+                nodes.iter().map(|&n| mesh.coords[n as usize][2] + local[dofs.uz_local(n as usize)]).collect();
+            let coords: Vec<[f64; 3]> = nodes.iter().map(|&n| mesh.coords[n as usize]).collect();
+            let inner = rule.points(&coords).into_iter().map(|p| (0..nf).map(|a| p.n[a] * z[a]).sum::<f64>());
+            for zq in inner.chain(z.iter().copied()) {
                 pen = pen.max(zl - zq).max(zq - zu);
             }
         }

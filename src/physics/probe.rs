@@ -1,13 +1,16 @@
 //! Scalar observables for `history.csv`: a field at a reference point (located once, by
 //! inverting the isoparametric map of the containing element), or a field's mean over a
 //! surface group, ∫_Γ f dA / ∫_Γ dA. Values are reduced over ranks.
+//!
+//! On a meridian mesh a point (x, y, z) is the point (√(x² + y²), z) of the meridian, "ux" is the
+//! radial displacement u_r, and surface means are over the surface of revolution.
 
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
-use crate::fem::element::{tabulate_tri6, tet10, tri6_surface, Tabulation};
-use crate::fem::kernel::p1_values;
-use crate::fem::quadrature;
+use crate::fem::element::{tet10, tri6};
+use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
+use crate::mesh::Family;
 use crate::scene::Probe as ProbeSpec;
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
@@ -48,13 +51,54 @@ pub struct Probe {
     at: Where,
 }
 
-/// Reference coordinates of X in element `e` if it lies inside (Newton on the isoparametric map).
+/// P2 values and reference gradients of a cell family at ξ (the first `cell_nodes` entries).
+fn shapes(family: Family, xi: &[f64; 3]) -> ([f64; 10], [[f64; 3]; 10]) {
+    match family {
+        Family::Tet10 => tet10(xi),
+        Family::Tri6 => {
+            let (n, dn) = tri6(&[xi[0], xi[1]]);
+            (
+                std::array::from_fn(|a| if a < 6 { n[a] } else { 0.0 }),
+                std::array::from_fn(|a| if a < 6 { [dn[a][0], dn[a][1], 0.0] } else { [0.0; 3] }),
+            )
+        }
+    }
+}
+
+/// P1 values (barycentric coordinates) of a cell family at ξ.
+fn p1(family: Family, xi: &[f64; 3]) -> [f64; 4] {
+    match family {
+        Family::Tet10 => [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]],
+        Family::Tri6 => [1.0 - xi[0] - xi[1], xi[0], xi[1], 0.0],
+    }
+}
+
+/// The point of the mesh's space that stands for the reference point x: itself in 3-D, its
+/// meridian point (√(x² + y²), 0, z) on a meridian mesh.
+pub fn mesh_point(family: Family, x: [f64; 3]) -> [f64; 3] {
+    match family {
+        Family::Tet10 => x,
+        Family::Tri6 => [x[0].hypot(x[1]), 0.0, x[2]],
+    }
+}
+
+/// The Cartesian axes a family's reference coordinates span (x, y, z; or x and z).
+fn spanned(family: Family) -> &'static [usize] {
+    match family {
+        Family::Tet10 => &[0, 1, 2],
+        Family::Tri6 => &[0, 2],
+    }
+}
+
+/// Reference coordinates of X (a point of the mesh's space, [`mesh_point`]) in element `e` if it
+/// lies inside (Newton on the isoparametric map).
 pub fn locate_in_element(mesh: &LocalMesh, e: usize, x: [f64; 3]) -> Option<[f64; 3]> {
-    let t = &mesh.tets[e];
+    let fam = mesh.family;
+    let t = mesh.cell(e);
     let c = |i: usize| mesh.coords[t[i] as usize];
-    // Quick reject by the vertex bounding box, padded for curved faces.
+    // Quick reject by the node bounding box, padded for curved faces.
     let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
-    for a in 0..10 {
+    for a in 0..t.len() {
         for d in 0..3 {
             lo[d] = lo[d].min(c(a)[d]);
             hi[d] = hi[d].max(c(a)[d]);
@@ -64,28 +108,31 @@ pub fn locate_in_element(mesh: &LocalMesh, e: usize, x: [f64; 3]) -> Option<[f64
     if (0..3).any(|d| x[d] < lo[d] - pad || x[d] > hi[d] + pad) {
         return None;
     }
-    let mut xi = [0.25; 3];
+    let axes = spanned(fam);
+    let dim = axes.len();
+    let mut xi = if dim == 3 { [0.25; 3] } else { [1.0 / 3.0, 1.0 / 3.0, 0.0] };
     for _ in 0..20 {
-        let (n, dn) = tet10(&xi);
-        let mut r = x;
-        let mut jm = nalgebra::Matrix3::<f64>::zeros();
-        for a in 0..10 {
-            for d in 0..3 {
-                r[d] -= n[a] * c(a)[d];
-                for k in 0..3 {
-                    jm[(d, k)] += c(a)[d] * dn[a][k];
+        let (n, dn) = shapes(fam, &xi);
+        let mut r = nalgebra::DVector::<f64>::zeros(dim);
+        let mut jm = nalgebra::DMatrix::<f64>::zeros(dim, dim);
+        for (row, &d) in axes.iter().enumerate() {
+            r[row] = x[d];
+            for a in 0..t.len() {
+                r[row] -= n[a] * c(a)[d];
+                for k in 0..dim {
+                    jm[(row, k)] += c(a)[d] * dn[a][k];
                 }
             }
         }
-        let step = jm.try_inverse()? * nalgebra::Vector3::from(r);
-        for k in 0..3 {
+        let step = jm.try_inverse()? * r;
+        for k in 0..dim {
             xi[k] += step[k];
         }
         if step.norm() < 1e-13 {
             break;
         }
     }
-    let l = p1_values(&xi);
+    let l = p1(fam, &xi);
     (l.iter().all(|&v| v >= -1e-9)).then_some(xi)
 }
 
@@ -111,8 +158,20 @@ impl Probe {
             path: context.into(),
             msg: format!("probe \"{}\": unknown field {}", spec.name, spec.field),
         })?;
+        if let Quantity::Displacement(axis) = quantity {
+            if mesh.family.component(axis).is_none() {
+                return Err(Error::Scene {
+                    path: context.into(),
+                    msg: format!(
+                        "probe \"{}\": an axisymmetric model has no {} (use ux for u_r)",
+                        spec.name, spec.field
+                    ),
+                });
+            }
+        }
         let at = if let Some(x) = spec.point {
-            let found = (0..mesh.tets.len()).find_map(|e| locate_in_element(mesh, e, x).map(|xi| (e, xi)));
+            let x = mesh_point(mesh.family, x);
+            let found = (0..mesh.cells.len()).find_map(|e| locate_in_element(mesh, e, x).map(|xi| (e, xi)));
             let mine = if found.is_some() { world.rank() } else { world.size() };
             let mut owner = 0;
             world.all_reduce_into(&mine, &mut owner, SystemOperation::min());
@@ -136,16 +195,18 @@ impl Probe {
     pub fn value(&self, mesh: &LocalMesh, dofs: &DofMap, local: &[f64], world: &SimpleCommunicator) -> f64 {
         let v = match &self.at {
             Where::Point(Some((e, xi))) => {
-                let t = &mesh.tets[*e];
+                let t = mesh.cell(*e);
                 match self.quantity {
-                    Quantity::Pressure => p1_values(xi)
+                    Quantity::Pressure => p1(mesh.family, xi)
                         .iter()
+                        .take(mesh.family.cell_vertices())
                         .enumerate()
                         .map(|(m, l)| l * local[dofs.p_local(mesh.vertex_of_node[t[m] as usize] as usize)])
                         .sum(),
-                    Quantity::Displacement(c) => {
-                        let (n, _) = tet10(xi);
-                        (0..10).map(|a| n[a] * local[dofs.u_local(t[a] as usize, c)]).sum()
+                    Quantity::Displacement(axis) => {
+                        let c = mesh.family.component(axis).unwrap_or(0);
+                        let (n, _) = shapes(mesh.family, xi);
+                        (0..t.len()).map(|a| n[a] * local[dofs.u_local(t[a] as usize, c)]).sum()
                     }
                     Quantity::Porosity(phi_s) => {
                         1.0 - phi_s / deformation_gradient(mesh, dofs, *e, xi, local).determinant()
@@ -155,12 +216,18 @@ impl Probe {
             Where::Point(None) => 0.0,
             Where::Group(faces, area) => {
                 let q = self.quantity;
+                let c = match q {
+                    Quantity::Displacement(axis) => mesh.family.component(axis).unwrap_or(0),
+                    _ => 0,
+                };
                 integrate(mesh, faces, |(nodes, n, l)| match q {
-                    Quantity::Pressure => (0..3)
+                    Quantity::Pressure => (0..mesh.family.face_vertices())
                         .map(|m| l[m] * local[dofs.p_local(mesh.vertex_of_node[nodes[m] as usize] as usize)])
                         .sum(),
                     Quantity::Porosity(_) => f64::NAN,
-                    Quantity::Displacement(c) => (0..6).map(|a| n[a] * local[dofs.u_local(nodes[a] as usize, c)]).sum(),
+                    Quantity::Displacement(_) => {
+                        (0..nodes.len()).map(|a| n[a] * local[dofs.u_local(nodes[a] as usize, c)]).sum()
+                    }
                 }) / area
             }
         };
@@ -172,7 +239,8 @@ impl Probe {
     }
 }
 
-/// F = I + Grad u at reference coordinates ξ of local element e (isoparametric map).
+/// F = I + Grad u at reference coordinates ξ of local element e (isoparametric map; with the
+/// hoop stretch 1 + u_r / R on the meridian).
 pub fn deformation_gradient(
     mesh: &LocalMesh,
     dofs: &DofMap,
@@ -180,44 +248,67 @@ pub fn deformation_gradient(
     xi: &[f64; 3],
     local: &[f64],
 ) -> nalgebra::Matrix3<f64> {
-    let t = &mesh.tets[e];
-    let (_, dn) = tet10(xi);
-    let mut jm = nalgebra::Matrix3::<f64>::zeros();
-    for a in 0..10 {
+    let fam = mesh.family;
+    let t = mesh.cell(e);
+    let (n, dn) = shapes(fam, xi);
+    let axes = spanned(fam);
+    // jm[(d, k)] = ∂x_d/∂ξ_k over the spanned axes (identity elsewhere, so its inverse is too).
+    let mut jm = nalgebra::Matrix3::<f64>::identity();
+    for &d in axes {
+        for (k, _) in axes.iter().enumerate() {
+            jm[(d, k)] = 0.0;
+        }
+    }
+    for a in 0..t.len() {
         let x = mesh.coords[t[a] as usize];
-        for d in 0..3 {
-            for k in 0..3 {
+        for &d in axes {
+            for k in 0..axes.len() {
                 jm[(d, k)] += x[d] * dn[a][k];
             }
         }
     }
-    let jinv = jm.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros);
+    // Columns of jm are indexed by ξ_k; map them onto the spanned axes.
+    let mut jx = nalgebra::Matrix3::<f64>::identity();
+    for (k, &ak) in axes.iter().enumerate() {
+        for &d in axes {
+            jx[(d, ak)] = jm[(d, k)];
+        }
+    }
+    let jinv = jx.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros);
     let mut f = nalgebra::Matrix3::<f64>::identity();
-    for a in 0..10 {
-        // ∇_X N_a = J⁻ᵀ ∇_ξ N_a
-        let g = jinv.transpose() * nalgebra::Vector3::from(dn[a]);
-        for i in 0..3 {
-            let ui = local[dofs.u_local(t[a] as usize, i)];
+    let mut r = 0.0;
+    for a in 0..t.len() {
+        let x = mesh.coords[t[a] as usize];
+        r += n[a] * x[0];
+        // ∇_X N_a = J⁻ᵀ ∇_ξ N_a, with ∇_ξ placed on the spanned axes.
+        let mut g_ref = nalgebra::Vector3::zeros();
+        for (k, &ak) in axes.iter().enumerate() {
+            g_ref[ak] = dn[a][k];
+        }
+        let g = jinv.transpose() * g_ref;
+        for (c, &i) in fam.axes().iter().enumerate() {
+            let ui = local[dofs.u_local(t[a] as usize, c)];
             for j in 0..3 {
                 f[(i, j)] += ui * g[j];
             }
         }
     }
+    if fam.axisymmetric() {
+        let ur: f64 = (0..t.len()).map(|a| n[a] * local[dofs.u_local(t[a] as usize, 0)]).sum();
+        f[(1, 1)] += ur / r;
+    }
     f
 }
 
 /// ∫ over local faces of f(face nodes, P2 face shape values, P1 face shape values).
-fn integrate(mesh: &LocalMesh, faces: &[u32], f: impl Fn((&[u32; 6], &[f64; 6], [f64; 3])) -> f64) -> f64 {
-    let q = quadrature::tri(5);
-    let tab: Tabulation<6> = tabulate_tri6(&q);
+fn integrate(mesh: &LocalMesh, faces: &[u32], f: impl Fn((&[u32], &[f64; 6], [f64; 3])) -> f64) -> f64 {
+    let rule = FaceRule::new(mesh.family);
     let mut sum = 0.0;
     for &fi in faces {
-        let nodes = &mesh.faces[fi as usize];
-        let coords: [[f64; 3]; 6] = std::array::from_fn(|a| mesh.coords[nodes[a] as usize]);
-        for qp in 0..q.weights.len() {
-            let s = tri6_surface(&coords, &tab, qp);
-            let xi = q.points[qp];
-            sum += tab.weights[qp] * s.da * f((nodes, &tab.n[qp], [1.0 - xi[0] - xi[1], xi[0], xi[1]]));
+        let nodes = mesh.face(fi as usize);
+        let coords: Vec<[f64; 3]> = nodes.iter().map(|&n| mesh.coords[n as usize]).collect();
+        for p in rule.points(&coords) {
+            sum += p.w * f((nodes, &p.n, p.l));
         }
     }
     sum

@@ -1,6 +1,6 @@
-//! The discrete u–p problem F(t, U, U̇) = 0 that TS integrates: element loops over the local
-//! tetrahedra (kernel in `fem::kernel`), surface loads, and constraint rows, assembled into
-//! PETSc vectors and matrices.
+//! The discrete u–p problem F(t, U, U̇) = 0 that TS integrates: the element loop over the local
+//! cells (`fem::assembly`, either family), surface loads, drainage and constraint rows, assembled
+//! into PETSc vectors and matrices.
 //!
 //! Constraints (prescribed u components or p) replace their rows by s (U_i − g_i) with a scale s
 //! comparable to the neighbouring diagonal; their columns are dropped from the Jacobian so the
@@ -15,14 +15,18 @@
 use super::bc::Constraint;
 use super::contact::{DrainageGap, Plates};
 use crate::error::{Error, Result};
+pub use crate::fem::assembly::Discretization;
+use crate::fem::assembly::HistoryUse;
+use crate::fem::cell::{MAX_DOF, MAX_NODES};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::Tabulation;
 use crate::fem::equal_order;
 use crate::fem::insert::{ElementInserter, GhostRows};
-use crate::fem::kernel::{ElementInput, ElementKernel, ElementValues, Stabilisation, NDOF, NU};
-use crate::fem::point::{History, PointModel};
+use crate::fem::kernel::Stabilisation;
+use crate::fem::point::PointModel;
 use crate::fem::qp_store::QpStore;
 use crate::mesh::dist::LocalMesh;
+use crate::mesh::Family;
 use crate::petsc::{IndexSet, Int, Mat, Scatter, TsProblem, TsRef, Vector};
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
@@ -38,26 +42,6 @@ pub struct Timers {
     pub jacobian_n: usize,
     /// Committing the per-point history of accepted steps.
     pub history_s: f64,
-}
-
-/// What the element loops read: mesh, dofs, model, quadrature, constraint flags.
-pub struct Discretization {
-    pub mesh: LocalMesh,
-    pub dofs: DofMap,
-    pub model: Box<dyn PointModel>,
-    pub tab: Tabulation<10>,
-    pub xi: Vec<[f64; 3]>,
-    /// Per local dof: fixed by a constraint.
-    pub constrained: Vec<bool>,
-    /// The pressure stabilisation (see `fem::kernel::ElementKernel::stab`).
-    pub stab: Stabilisation,
-    /// Committed per-point history of the model (empty when it has none).
-    pub history: QpStore,
-    /// Equal-order P1–P1 instead of Taylor–Hood (`fem::equal_order`).
-    pub equal_order: bool,
-    /// Whether the history evolves in the steps being solved (false while settling before t = 0,
-    /// where B_p(X, 0⁻) = I holds by definition).
-    pub evolve: bool,
 }
 
 pub struct PoroProblem {
@@ -135,7 +119,7 @@ impl PoroProblem {
         mesh: LocalMesh,
         dofs: DofMap,
         model: Box<dyn PointModel>,
-        tab: Tabulation<10>,
+        tab: Tabulation<MAX_NODES>,
         xi: Vec<[f64; 3]>,
         constraints: Vec<Constraint>,
         external: Vec<f64>,
@@ -156,7 +140,7 @@ impl PoroProblem {
         }
         let owned: Vec<Constraint> = constraints.into_iter().filter(|c| dofs.is_owned(c.local)).collect();
         let h = mean_element_size(&world, &mesh);
-        let history = QpStore::new(mesh.tets.len(), xi.len(), model.history_len(), |v| model.initial_history(v));
+        let history = QpStore::new(mesh.cells.len(), xi.len(), model.history_len(), |v| model.initial_history(v));
         Ok(PoroProblem {
             world,
             disc: Discretization {
@@ -206,7 +190,7 @@ impl PoroProblem {
     }
 
     fn scale_of(&self, local: usize, scales: (f64, f64)) -> f64 {
-        if local < 3 * self.disc.dofs.n_nodes {
+        if local < self.disc.dofs.n_u_local() {
             scales.0
         } else {
             scales.1
@@ -272,20 +256,7 @@ impl PoroProblem {
             let mut fl = self.f_loc.write()?;
             fl.iter_mut().for_each(|x| *x = 0.0);
             let disc = &self.disc;
-            let kernel = disc.kernel();
-            let mut run = || -> Result<()> {
-                for e in 0..disc.mesh.tets.len() {
-                    let d = disc.element_dofs(e);
-                    let input = disc.gather(e, &d, &ul, &udl, dt, disc.step_history(e));
-                    let mut r = [0.0; NDOF];
-                    kernel.residual(&input, &mut r).map_err(|err| locate(err, e, &disc.mesh))?;
-                    for k in 0..NDOF {
-                        fl[d[k]] += r[k];
-                    }
-                }
-                Ok(())
-            };
-            let res = run();
+            let res = disc.add_residual(&ul, &udl, dt, &mut fl);
             // Drainage through the surface off the plates: outflow c(g) p (contact module).
             if let Some(pl) = &self.plates {
                 for d in pl.drainage(&disc.mesh, &disc.dofs, self.predicted.as_deref().unwrap_or(&ul), t) {
@@ -361,19 +332,20 @@ impl PoroProblem {
                     })
                 }),
                 None => {
-                    let mut rows = [0 as Int; NDOF];
-                    let mut sorted = vec![0.0; NDOF * NDOF];
+                    let n = disc.ndof();
+                    let mut rows = [0 as Int; MAX_DOF];
+                    let mut sorted = vec![0.0; n * n];
                     disc.jacobian_loop(&ul, &udl, dt, shift, schur, |_, d, k| {
                         // Increasing global indices let PETSc merge each row in one pass.
-                        let mut order: [usize; NDOF] = std::array::from_fn(|a| a);
+                        let mut order: Vec<usize> = (0..n).collect();
                         order.sort_unstable_by_key(|&a| disc.dofs.l2g[d[a]]);
                         for (a, &o) in order.iter().enumerate() {
                             rows[a] = disc.dofs.l2g[d[o]];
                             for (b, &c) in order.iter().enumerate() {
-                                sorted[a * NDOF + b] = k[o][c];
+                                sorted[a * n + b] = k[o][c];
                             }
                         }
-                        jac.add_values(&rows, &rows, &sorted)
+                        jac.add_values(&rows[..n], &rows[..n], &sorted)
                     })
                 }
             }
@@ -393,7 +365,7 @@ impl PoroProblem {
                 }
                 let dc_du = if gaps.is_some() { 0.0 } else { d.d_conductance * ul[d.p] };
                 jac.add_values(&[l2g[d.p]], &[l2g[d.p], l2g[d.uz]], &[d.conductance, dc_du])?;
-                let gv = self.disc.mesh.vertex_global[d.p - 3 * self.disc.dofs.n_nodes] as Int;
+                let gv = self.disc.mesh.vertex_global[d.p - self.disc.dofs.n_u_local()] as Int;
                 if needed {
                     self.schur.add_values(&[gv], &[gv], &[d.conductance])?;
                 }
@@ -404,8 +376,8 @@ impl PoroProblem {
             let g = self.disc.dofs.l2g[l];
             let s = self.scale_of(l, scales);
             jac.add_values(&[g], &[g], &[s])?;
-            if l >= 3 * self.disc.dofs.n_nodes {
-                let lv = l - 3 * self.disc.dofs.n_nodes;
+            if l >= self.disc.dofs.n_u_local() {
+                let lv = l - self.disc.dofs.n_u_local();
                 let gv = self.disc.mesh.vertex_global[lv] as Int;
                 if needed {
                     self.schur.add_values(&[gv], &[gv], &[s])?;
@@ -418,8 +390,9 @@ impl PoroProblem {
         }
         if self.inserter.is_none() {
             let disc = &self.disc;
-            self.inserter =
-                Some(ElementInserter::build(jac, &disc.dofs, disc.mesh.tets.len(), |e| disc.element_dofs(e))?);
+            self.inserter = Some(ElementInserter::build(jac, &disc.dofs, disc.family(), disc.mesh.cells.len(), |e| {
+                disc.element_dofs(e)
+            })?);
         }
         self.assembled_shift = Some(shift);
         Ok(())
@@ -492,20 +465,8 @@ impl PoroProblem {
         let t0 = Instant::now();
         self.load_state(u, &rate(u, prev, dt)?)?;
         let outcome = {
-            let ul = self.u_loc.read()?;
-            let udl = self.udot_loc.read()?;
-            let disc = &mut self.disc;
-            let mut next = vec![0.0; disc.history.len() * disc.xi.len()];
-            let mut run = || -> Result<()> {
-                for e in 0..disc.mesh.tets.len() {
-                    let d = disc.element_dofs(e);
-                    let input = disc.gather(e, &d, &ul, &udl, dt, disc.step_history(e));
-                    disc.kernel().advance_history(&input, &mut next).map_err(|err| locate(err, e, &disc.mesh))?;
-                    disc.history.element_mut(e).copy_from_slice(&next);
-                }
-                Ok(())
-            };
-            run()
+            let (ul, udl) = (self.u_loc.read()?, self.udot_loc.read()?);
+            self.disc.advanced_history(&ul, &udl, dt).map(|next| self.disc.history = next)
         };
         self.timers.history_s += t0.elapsed().as_secs_f64();
         self.collective(outcome)
@@ -514,7 +475,7 @@ impl PoroProblem {
     /// Reactions, their pressure part and cell fields at the state (U, U̇) of a step of size dt.
     pub fn post_process(&mut self, dt: f64, u: &Vector, udot: &Vector) -> Result<Post> {
         self.load_state(u, udot)?;
-        let n_el = self.disc.mesh.tets.len();
+        let n_el = self.disc.mesh.cells.len();
         let mut post = Post {
             local: self.u_loc.read()?.to_vec(),
             reaction: Vec::new(),
@@ -542,18 +503,15 @@ impl PoroProblem {
             fl.iter_mut().for_each(|x| *x = 0.0);
             pl.iter_mut().for_each(|x| *x = 0.0);
             let disc = &self.disc;
-            let kernel = disc.kernel();
+            let (kernel, n, nu) = (disc.kernel(), disc.ndof(), disc.dofs.nc * disc.family().cell_nodes());
             let mut run = || -> Result<()> {
-                for e in 0..n_el {
-                    let d = disc.element_dofs(e);
-                    // The end-of-step history is already committed: hold it.
-                    let h = History { committed: disc.history.element(e), evolve: false };
-                    let input = disc.gather(e, &d, &post.local, &udl, dt, h);
-                    let ep = kernel.post(&input).map_err(|err| locate(err, e, &disc.mesh))?;
-                    for k in 0..NDOF {
+                // The end-of-step history is already committed: hold it.
+                disc.each_element(&post.local, &udl, dt, HistoryUse::Held, |_, d, input| {
+                    let ep = kernel.post(input)?;
+                    for k in 0..n {
                         fl[d[k]] += ep.r[k];
                     }
-                    for k in 0..NU {
+                    for k in 0..nu {
                         pl[d[k]] += ep.r_pressure[k];
                     }
                     post.cell_j.push(ep.j);
@@ -572,8 +530,8 @@ impl PoroProblem {
                     if with_history {
                         post.cell_norm_ep.push(ep.norm_ep);
                     }
-                }
-                Ok(())
+                    Ok(())
+                })
             };
             let r = run();
             for (x, ext) in fl.iter_mut().zip(&self.external) {
@@ -616,127 +574,8 @@ impl PoroProblem {
     fn compaction_admissible(&mut self, x: &Vector) -> Result<bool> {
         let Some(phi_s) = self.disc.model.solid_fraction() else { return Ok(true) };
         self.scatter.forward(x, &mut self.u_loc)?;
-        let ul = self.u_loc.read()?;
-        let disc = &self.disc;
-        let kernel = disc.kernel();
-        let mut ok = true;
-        for e in 0..disc.mesh.tets.len() {
-            let d = disc.element_dofs(e);
-            let input = disc.gather(e, &d, &ul, &ul, 1.0, disc.step_history(e));
-            if kernel.min_j(&input).map_or(true, |j| j <= phi_s) {
-                ok = false;
-                break;
-            }
-        }
+        let ok = self.disc.min_j(&self.u_loc.read()?).is_ok_and(|j| j > phi_s);
         Ok(crate::parallel::all(&self.world, ok))
-    }
-}
-
-impl Discretization {
-    fn kernel(&self) -> ElementKernel<'_> {
-        ElementKernel {
-            model: self.model.as_ref(),
-            tab: &self.tab,
-            xi: &self.xi,
-            stab: self.stab,
-            equal_order: self.equal_order,
-        }
-    }
-
-    /// The committed history of element e as the step being solved sees it.
-    #[inline]
-    fn step_history(&self, e: usize) -> History<'_> {
-        History { committed: self.history.element(e), evolve: self.evolve }
-    }
-
-    /// Element loop of the Jacobian: element matrices (constrained rows and columns zeroed,
-    /// so the pattern stays fixed) go to `sink`, Schur blocks into `schur` if given.
-    fn jacobian_loop(
-        &self,
-        ul: &[f64],
-        udl: &[f64],
-        dt: f64,
-        shift: f64,
-        mut schur: Option<&mut Mat>,
-        mut sink: impl FnMut(usize, &[usize; NDOF], &[[f64; NDOF]; NDOF]) -> Result<()>,
-    ) -> Result<()> {
-        let kernel = self.kernel();
-        let mut k = Box::new([[0.0; NDOF]; NDOF]);
-        let mut prows = [0 as Int; 4];
-        for e in 0..self.mesh.tets.len() {
-            let d = self.element_dofs(e);
-            let input = self.gather(e, &d, ul, udl, dt, self.step_history(e));
-            let mut r = [0.0; NDOF];
-            *k = [[0.0; NDOF]; NDOF];
-            let mut s = [[0.0; 4]; 4];
-            kernel.jacobian(&input, shift, &mut r, &mut k, &mut s).map_err(|err| locate(err, e, &self.mesh))?;
-            for a in 0..NDOF {
-                if self.constrained[d[a]] {
-                    k[a] = [0.0; NDOF];
-                    for row in k.iter_mut() {
-                        row[a] = 0.0;
-                    }
-                }
-            }
-            sink(e, &d, &k)?;
-            for m in 0..4 {
-                let lv = self.mesh.vertex_of_node[self.mesh.tets[e][m] as usize] as usize;
-                prows[m] = self.mesh.vertex_global[lv] as Int;
-                if self.constrained[d[NU + m]] {
-                    s[m] = [0.0; 4];
-                    for row in s.iter_mut() {
-                        row[m] = 0.0;
-                    }
-                }
-            }
-            if let Some(sm) = schur.as_deref_mut() {
-                sm.add_values(&prows, &prows, s.as_flattened())?;
-            }
-        }
-        Ok(())
-    }
-
-    /// Local dof indices of element e in kernel order.
-    #[inline]
-    fn element_dofs(&self, e: usize) -> [usize; NDOF] {
-        let t = &self.mesh.tets[e];
-        let mut d = [0usize; NDOF];
-        for a in 0..10 {
-            for c in 0..3 {
-                d[3 * a + c] = self.dofs.u_local(t[a] as usize, c);
-            }
-        }
-        for m in 0..4 {
-            d[NU + m] = self.dofs.p_local(self.mesh.vertex_of_node[t[m] as usize] as usize);
-        }
-        d
-    }
-
-    /// The kernel's input for element e: coordinates, values of U and U̇, step size, history.
-    fn gather<'h>(
-        &self,
-        e: usize,
-        dofs: &[usize; NDOF],
-        u: &[f64],
-        udot: &[f64],
-        dt: f64,
-        history: History<'h>,
-    ) -> ElementInput<'h> {
-        let t = &self.mesh.tets[e];
-        let mut coords = [[0.0; 3]; 10];
-        let mut v = ElementValues { u: [[0.0; 3]; 10], udot: [[0.0; 3]; 10], p: [0.0; 4], pdot: [0.0; 4] };
-        for a in 0..10 {
-            coords[a] = self.mesh.coords[t[a] as usize];
-            for c in 0..3 {
-                v.u[a][c] = u[dofs[3 * a + c]];
-                v.udot[a][c] = udot[dofs[3 * a + c]];
-            }
-        }
-        for m in 0..4 {
-            v.p[m] = u[dofs[NU + m]];
-            v.pdot[m] = udot[dofs[NU + m]];
-        }
-        ElementInput { elem: e, coords, values: v, dt, history }
     }
 }
 
@@ -770,14 +609,6 @@ fn sync_constraints(
     Ok((0..n_local).filter(|&l| f[l] > 0.0).map(|l| Constraint { local: l, value: v[l] / f[l] }).collect())
 }
 
-/// Fills in the element of a material domain error.
-fn locate(err: Error, e: usize, mesh: &LocalMesh) -> Error {
-    match err {
-        Error::Domain { point, j, msg, .. } => Error::Domain { cell: mesh.tet_original[e] as usize, point, j, msg },
-        other => other,
-    }
-}
-
 /// The backward-Euler rate (u − prev) / dt of a step.
 pub fn rate(u: &Vector, prev: &Vector, dt: f64) -> Result<Vector> {
     let mut r = u.copy()?;
@@ -786,20 +617,18 @@ pub fn rate(u: &Vector, prev: &Vector, dt: f64) -> Result<Vector> {
     Ok(r)
 }
 
-/// Mean edge-length scale (volume^(1/3) of the vertex tetrahedra), over all ranks.
+/// Mean edge-length scale (volume^(1/3) of the vertex tetrahedra, area^(1/2) of the vertex
+/// triangles on the meridian), over all ranks.
 pub fn mean_element_size(world: &SimpleCommunicator, mesh: &LocalMesh) -> f64 {
     let mut sum = 0.0;
-    for t in &mesh.tets {
+    for t in &mesh.cells {
         let x = |i: usize| mesh.coords[t[i] as usize];
-        let (a, b, c, d) = (x(0), x(1), x(2), x(3));
-        let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let e3 = [d[0] - a[0], d[1] - a[1], d[2] - a[2]];
-        let det = e1[0] * (e2[1] * e3[2] - e2[2] * e3[1]) - e1[1] * (e2[0] * e3[2] - e2[2] * e3[0])
-            + e1[2] * (e2[0] * e3[1] - e2[1] * e3[0]);
-        sum += (det.abs() / 6.0).cbrt();
+        sum += match mesh.family {
+            Family::Tet10 => (crate::mesh::tet_det(x(0), x(1), x(2), x(3)).abs() / 6.0).cbrt(),
+            Family::Tri6 => (crate::mesh::meridian::area2(x(0), x(1), x(2)).abs() / 2.0).sqrt(),
+        };
     }
-    let local = [sum, mesh.tets.len() as f64];
+    let local = [sum, mesh.cells.len() as f64];
     let mut global = [0.0; 2];
     world.all_reduce_into(&local[..], &mut global[..], SystemOperation::sum());
     if global[1] > 0.0 {
@@ -937,7 +766,14 @@ impl TsProblem for PoroProblem {
             let mut affine = x.duplicate()?;
             affine.copy_from(&start)?;
             let n = self.disc.dofs.n_owned_nodes;
-            pl.predict_isochoric(t0, t1, &self.disc.mesh.coords[..n], &x0, &mut affine.write()?);
+            pl.predict_isochoric(
+                t0,
+                t1,
+                &self.disc.mesh.coords[..n],
+                self.disc.family().axes(),
+                &x0,
+                &mut affine.write()?,
+            );
             pl.predict(t0, t1, &self.disc.dofs, &x0, &mut affine.write()?);
             if self.compaction_admissible(&affine)? {
                 x.copy_from(&affine)?;

@@ -61,6 +61,43 @@ pub struct MeshSpec {
     /// mirrored across `["symmetry_x", "symmetry_y"]` is a full sphere with the same elements.
     #[serde(default)]
     pub mirror: Vec<String>,
+    /// The body's geometry: `solid` (3-D, tetrahedra) or `axisymmetric` (a body of revolution
+    /// about the z axis, meshed on its meridian in the x–z plane with triangles).
+    #[serde(default)]
+    pub geometry: Geometry,
+    /// The `.geo` of the body's meridian, used instead of `geo` when `geometry = "axisymmetric"`
+    /// (with the same `params`): so one override switches a scene to its meridian.
+    #[serde(default)]
+    pub meridian: Option<String>,
+}
+
+/// The geometry of a scene's body (see [`MeshSpec::geometry`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Geometry {
+    #[default]
+    Solid,
+    Axisymmetric,
+}
+
+impl Geometry {
+    /// The mesh family this geometry is discretised with.
+    pub fn family(self) -> crate::mesh::Family {
+        match self {
+            Geometry::Solid => crate::mesh::Family::Tet10,
+            Geometry::Axisymmetric => crate::mesh::Family::Tri6,
+        }
+    }
+}
+
+impl MeshSpec {
+    /// The `.geo` source and `.msh` file the geometry uses (one of the two is set).
+    pub fn source(&self) -> (Option<&str>, Option<&str>) {
+        match (self.geometry, &self.meridian) {
+            (Geometry::Axisymmetric, Some(m)) => (Some(m.as_str()), None),
+            _ => (self.geo.as_deref(), self.file.as_deref()),
+        }
+    }
 }
 
 /// Constitutive model of the solid skeleton and the fluid flow. (Parsed once per run, so the
@@ -181,6 +218,10 @@ pub struct BoundaryCondition {
     /// Prescribed outward fluid flux Q·N (µm/s); zero flux is the default and needs no entry.
     #[serde(default)]
     pub flux: Option<f64>,
+    /// Only in this geometry (e.g. the quarter's symmetry rollers: `geometry = "solid"`); both if
+    /// absent.
+    #[serde(default)]
+    pub geometry: Option<Geometry>,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -441,6 +482,8 @@ pub const BUILTIN_GEO: &[(&str, &str)] = &[
     ("sphere_quarter.geo", crate::mesh::generate::SPHERE_QUARTER_GEO),
     ("column.geo", crate::mesh::generate::COLUMN_GEO),
     ("block.geo", crate::mesh::generate::BLOCK_GEO),
+    ("sphere_meridian.geo", crate::mesh::generate::SPHERE_MERIDIAN_GEO),
+    ("column_meridian.geo", crate::mesh::generate::COLUMN_MERIDIAN_GEO),
 ];
 
 impl LoadedScene {
@@ -494,6 +537,10 @@ impl LoadedScene {
             (Some(_), Some(_)) => return Err(self.err("[mesh]: give either `geo` or `file`, not both")),
             (None, None) => return Err(self.err("[mesh]: give `geo` (a .geo source) or `file` (a .msh mesh)")),
             _ => {}
+        }
+        if s.mesh.geometry == Geometry::Axisymmetric && !s.mesh.mirror.is_empty() {
+            return Err(self
+                .err("[mesh]: mirror is for solid (3-D) meshes; an axisymmetric meridian is already the whole body"));
         }
         for (k, v) in &s.mesh.params {
             if !v.is_finite() {

@@ -19,8 +19,13 @@ use mpi::traits::*;
 /// inactive sizes of lower ranks). The reduced u set is no longer a multiple of 3 (contact u_z
 /// dofs are removed), so instead of `MatNullSpaceCreateRigidBody` the six rigid-body modes are
 /// restricted to the free u dofs, orthonormalised, and attached as "nearnullspace".
+///
+/// On the meridian (u_r, u_z per node) the only rigid motion is the translation along the axis:
+/// the near-null space is that one vector, and the u block has block size 2.
 pub struct Fields {
     world: SimpleCommunicator,
+    /// Displacement components per node (3, or 2 on the meridian).
+    nc: usize,
     u_range: (usize, usize),
     p_range: (usize, usize),
     /// Owned node coordinates, centred on the global centroid (better conditioned modes).
@@ -35,8 +40,9 @@ impl Fields {
         let comm = world.as_raw();
         let (u0, u1) = dofs.u_range();
         let (p0, p1) = dofs.p_range();
+        let nc = dofs.nc;
         let mut u = IndexSet::stride(comm, u1 - u0, u0, 1)?;
-        u.set_block_size(3)?;
+        u.set_block_size(nc)?;
         let p = IndexSet::stride(comm, p1 - p0, p0, 1)?;
         let n = dofs.n_owned_nodes;
         let mut sum = [0.0f64; 4];
@@ -51,11 +57,19 @@ impl Fields {
         let c: [f64; 3] = std::array::from_fn(|d| tot[d] / tot[3].max(1.0));
         let coords: Vec<[f64; 3]> = mesh.coords[..n].iter().map(|x| [x[0] - c[0], x[1] - c[1], x[2] - c[2]]).collect();
         // Rigid-body modes of the full u block.
-        let mut cv = Vector::mpi(comm, 3 * n)?;
-        cv.set_block_size(3)?;
-        cv.write()?.copy_from_slice(coords.as_flattened());
-        let near_null = NullSpace::rigid_body(&cv)?;
-        Ok(Fields { world: world.duplicate(), u_range: (u0, u1), p_range: (p0, p1), coords, u, p, near_null })
+        let near_null = if nc == 3 {
+            let mut cv = Vector::mpi(comm, 3 * n)?;
+            cv.set_block_size(3)?;
+            cv.write()?.copy_from_slice(coords.as_flattened());
+            NullSpace::rigid_body(&cv)?
+        } else {
+            let mut v = Vector::mpi(comm, nc * n)?;
+            v.write()?.iter_mut().enumerate().for_each(|(i, x)| *x = f64::from(u8::from(i % nc == nc - 1)));
+            let mut modes = vec![v];
+            super::orthonormalise(&mut modes)?;
+            NullSpace::from_vectors(comm, &modes)?
+        };
+        Ok(Fields { world: world.duplicate(), nc, u_range: (u0, u1), p_range: (p0, p1), coords, u, p, near_null })
     }
 
     /// The fields of the reduced system solving for the dofs in `inactive`.
@@ -79,14 +93,21 @@ impl Fields {
                 p_red.push(r);
             }
         }
-        // Six rigid-body modes on the free u dofs: translations e_c, rotations e_k × x.
-        let mut modes = Vec::with_capacity(6);
-        for m in 0..6 {
+        // Six rigid-body modes on the free u dofs: translations e_c, rotations e_k × x (on the
+        // meridian: the translation along z alone).
+        let nc = self.nc;
+        let n_modes = if nc == 3 { 6 } else { 1 };
+        let mut modes = Vec::with_capacity(n_modes);
+        for m in 0..n_modes {
             let mut v = Vector::mpi(comm, u_full.len())?;
             {
                 let mut w = v.write()?;
                 for (i, &l) in u_full.iter().enumerate() {
-                    let (node, c) = (l / 3, l % 3);
+                    let (node, c) = (l / nc, l % nc);
+                    if nc != 3 {
+                        w[i] = f64::from(u8::from(c == nc - 1));
+                        continue;
+                    }
                     let x = self.coords[node];
                     w[i] = match m {
                         0..=2 => f64::from(c == m),
@@ -117,7 +138,7 @@ impl FieldDecomposition for Fields {
             return self.restricted(&is);
         }
         let mut u = IndexSet::stride_like(&self.u)?;
-        u.set_block_size(3)?;
+        u.set_block_size(self.nc)?;
         u.compose("nearnullspace", &self.near_null)?;
         let p = IndexSet::stride_like(&self.p)?;
         Ok(vec![("u".into(), u), ("p".into(), p)])

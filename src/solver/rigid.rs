@@ -58,6 +58,10 @@ impl FreeRigidModes {
         mesh: &LocalMesh,
         constrained_u: &[usize],
     ) -> Option<FreeRigidModes> {
+        // The meridian has none of these motions (its only rigid motion, along z, the plates block).
+        if mesh.family.axisymmetric() {
+            return None;
+        }
         let scale = mesh.coords.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-300);
         let blocked_here: Vec<f64> = (0..3)
             .map(|m| {

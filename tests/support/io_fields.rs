@@ -155,6 +155,7 @@ fn run(
         n_global_cells: nc,
         cell_offset: c0,
         cells: &m.cells[c0..c1],
+        family: poroplast::mesh::Family::Tet10,
     };
     println!("rank {rank}: nodes [{n0},{n1}) cells [{c0},{c1})");
     let mut ff = match FieldFile::create(dir, world, &mesh) {
@@ -239,6 +240,7 @@ fn bench(world: &mpi::topology::SimpleCommunicator, dir: &Path, n: usize) -> i32
         n_global_cells: nc,
         cell_offset: c0,
         cells: &cells,
+        family: poroplast::mesh::Family::Tet10,
     };
     world.barrier();
     let t0 = Instant::now();

@@ -1,0 +1,248 @@
+//! The one element loop over the local cells, for both cell families: gathers each element's
+//! coordinates, nodal values and history, calls the family's kernel (`fem::kernel`, through
+//! [`CellKernel`]) and scatters the result. Residual, Jacobian, history commit, post-processing
+//! and the compaction check are bodies of this loop.
+
+use super::cell::{CellShape, Tet10, Tri6Axi, MAX_DOF, MAX_NODES, MAX_VERTICES};
+use super::dofmap::DofMap;
+use super::element::Tabulation;
+use super::kernel::{
+    CellKernel, ElementDofs, ElementInput, ElementKernel, ElementMatrix, ElementValues, Stabilisation,
+};
+use super::point::{History, PointModel};
+use super::qp_store::QpStore;
+use crate::error::{Error, Result};
+use crate::mesh::dist::LocalMesh;
+use crate::mesh::Family;
+use crate::petsc::{Int, Mat};
+use std::marker::PhantomData;
+
+/// What the element loops read: mesh, dofs, model, quadrature, constraint flags.
+pub struct Discretization {
+    pub mesh: LocalMesh,
+    pub dofs: DofMap,
+    pub model: Box<dyn PointModel>,
+    /// Cell functions at the quadrature points (`element::tabulate_cell`).
+    pub tab: Tabulation<MAX_NODES>,
+    pub xi: Vec<[f64; 3]>,
+    /// Per local dof: fixed by a constraint.
+    pub constrained: Vec<bool>,
+    /// The pressure stabilisation (see `fem::kernel::ElementKernel::stab`).
+    pub stab: Stabilisation,
+    /// Committed per-point history of the model (empty when it has none).
+    pub history: QpStore,
+    /// Equal-order P1–P1 instead of Taylor–Hood (`fem::equal_order`; tetrahedra only).
+    pub equal_order: bool,
+    /// Whether the history evolves in the steps being solved (false while settling before t = 0,
+    /// where B_p(X, 0⁻) = I holds by definition).
+    pub evolve: bool,
+}
+
+/// Whose history an element sees.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum HistoryUse {
+    /// The step being solved: evolves from the committed state (unless `evolve` is off).
+    Step,
+    /// Held at the committed state (post-processing of a committed step).
+    Held,
+}
+
+impl Discretization {
+    pub fn family(&self) -> Family {
+        self.mesh.family
+    }
+
+    /// Dofs of an element.
+    pub fn ndof(&self) -> usize {
+        let f = self.family();
+        f.components() * f.cell_nodes() + f.cell_vertices()
+    }
+
+    /// The kernel of the mesh's cell family.
+    pub fn kernel(&self) -> Box<dyn CellKernel + '_> {
+        fn make<'a, C: CellShape>(d: &'a Discretization) -> Box<dyn CellKernel + 'a> {
+            Box::new(ElementKernel::<C> {
+                model: d.model.as_ref(),
+                tab: &d.tab,
+                xi: &d.xi,
+                stab: d.stab,
+                equal_order: d.equal_order,
+                family: PhantomData,
+            })
+        }
+        match self.family() {
+            Family::Tet10 => make::<Tet10>(self),
+            Family::Tri6 => make::<Tri6Axi>(self),
+        }
+    }
+
+    /// The one element loop: element e's local dofs and kernel input at the local state (u, u̇)
+    /// of a step of size dt go to `body`; an error names the cell of the file.
+    pub fn each_element(
+        &self,
+        u: &[f64],
+        udot: &[f64],
+        dt: f64,
+        history: HistoryUse,
+        mut body: impl FnMut(usize, &ElementDofs, &ElementInput) -> Result<()>,
+    ) -> Result<()> {
+        let evolve = self.evolve && history == HistoryUse::Step;
+        for e in 0..self.mesh.cells.len() {
+            let d = self.element_dofs(e);
+            let h = History { committed: self.history.element(e), evolve };
+            let input = self.gather(e, &d, u, udot, dt, h);
+            body(e, &d, &input).map_err(|err| locate(err, e, &self.mesh))?;
+        }
+        Ok(())
+    }
+
+    /// Adds the element residuals at (u, u̇) into `f` (local layout).
+    pub fn add_residual(&self, u: &[f64], udot: &[f64], dt: f64, f: &mut [f64]) -> Result<()> {
+        let (kernel, n) = (self.kernel(), self.ndof());
+        self.each_element(u, udot, dt, HistoryUse::Step, |_, d, input| {
+            let mut r = [0.0; MAX_DOF];
+            kernel.residual(input, &mut r)?;
+            for k in 0..n {
+                f[d[k]] += r[k];
+            }
+            Ok(())
+        })
+    }
+
+    /// Element loop of the Jacobian: element matrices (constrained rows and columns zeroed,
+    /// so the pattern stays fixed) go to `sink`, Schur blocks into `schur` if given.
+    pub fn jacobian_loop(
+        &self,
+        ul: &[f64],
+        udl: &[f64],
+        dt: f64,
+        shift: f64,
+        mut schur: Option<&mut Mat>,
+        mut sink: impl FnMut(usize, &ElementDofs, &ElementMatrix) -> Result<()>,
+    ) -> Result<()> {
+        let (kernel, n, nv) = (self.kernel(), self.ndof(), self.family().cell_vertices());
+        let nu = n - nv;
+        let mut k = Box::new([[0.0; MAX_DOF]; MAX_DOF]);
+        let mut prows = [0 as Int; MAX_VERTICES];
+        self.each_element(ul, udl, dt, HistoryUse::Step, |e, d, input| {
+            let mut r = [0.0; MAX_DOF];
+            for row in k.iter_mut().take(n) {
+                *row = [0.0; MAX_DOF];
+            }
+            let mut s = [[0.0; MAX_VERTICES]; MAX_VERTICES];
+            kernel.jacobian(input, shift, &mut r, &mut k, &mut s)?;
+            for a in 0..n {
+                if self.constrained[d[a]] {
+                    k[a] = [0.0; MAX_DOF];
+                    for row in k.iter_mut().take(n) {
+                        row[a] = 0.0;
+                    }
+                }
+            }
+            sink(e, d, &k)?;
+            let cell = &self.mesh.cells[e];
+            for m in 0..nv {
+                let lv = self.mesh.vertex_of_node[cell[m] as usize] as usize;
+                prows[m] = self.mesh.vertex_global[lv] as Int;
+                if self.constrained[d[nu + m]] {
+                    s[m] = [0.0; MAX_VERTICES];
+                    for row in s.iter_mut() {
+                        row[m] = 0.0;
+                    }
+                }
+            }
+            if let Some(sm) = schur.as_deref_mut() {
+                let block: Vec<f64> = s[..nv].iter().flat_map(|row| row[..nv].iter().copied()).collect();
+                sm.add_values(&prows[..nv], &prows[..nv], &block)?;
+            }
+            Ok(())
+        })
+    }
+
+    /// The end-of-step history of every point at the accepted state (u, u̇) of a step of size dt.
+    pub fn advanced_history(&self, u: &[f64], udot: &[f64], dt: f64) -> Result<QpStore> {
+        let kernel = self.kernel();
+        let mut next = self.history.clone();
+        self.each_element(u, udot, dt, HistoryUse::Step, |e, _, input| {
+            kernel.advance_history(input, next.element_mut(e))
+        })?;
+        Ok(next)
+    }
+
+    /// The smallest J = det F over this rank's points in the state `u`.
+    pub fn min_j(&self, u: &[f64]) -> Result<f64> {
+        let kernel = self.kernel();
+        let mut m = f64::INFINITY;
+        self.each_element(u, u, 1.0, HistoryUse::Step, |_, _, input| {
+            m = m.min(kernel.min_j(input)?);
+            Ok(())
+        })?;
+        Ok(m)
+    }
+
+    /// The committed history of element e as the step being solved sees it.
+    #[inline]
+    pub fn step_history(&self, e: usize) -> History<'_> {
+        History { committed: self.history.element(e), evolve: self.evolve }
+    }
+
+    /// Local dof indices of element e in kernel order (the first `ndof()` entries).
+    #[inline]
+    pub fn element_dofs(&self, e: usize) -> ElementDofs {
+        let f = self.family();
+        let (nn, nv, nc) = (f.cell_nodes(), f.cell_vertices(), f.components());
+        let t = &self.mesh.cells[e];
+        let mut d = [0usize; MAX_DOF];
+        for a in 0..nn {
+            for c in 0..nc {
+                d[nc * a + c] = self.dofs.u_local(t[a] as usize, c);
+            }
+        }
+        for m in 0..nv {
+            d[nc * nn + m] = self.dofs.p_local(self.mesh.vertex_of_node[t[m] as usize] as usize);
+        }
+        d
+    }
+
+    /// The kernel's input for element e: coordinates, values of U and U̇, step size, history.
+    fn gather<'h>(
+        &self,
+        e: usize,
+        dofs: &ElementDofs,
+        u: &[f64],
+        udot: &[f64],
+        dt: f64,
+        history: History<'h>,
+    ) -> ElementInput<'h> {
+        let f = self.family();
+        let (nn, nv, nc) = (f.cell_nodes(), f.cell_vertices(), f.components());
+        let t = &self.mesh.cells[e];
+        let mut coords = [[0.0; 3]; MAX_NODES];
+        let mut v = ElementValues {
+            u: [[0.0; 3]; MAX_NODES],
+            udot: [[0.0; 3]; MAX_NODES],
+            p: [0.0; MAX_VERTICES],
+            pdot: [0.0; MAX_VERTICES],
+        };
+        for a in 0..nn {
+            coords[a] = self.mesh.coords[t[a] as usize];
+            for c in 0..nc {
+                v.u[a][c] = u[dofs[nc * a + c]];
+                v.udot[a][c] = udot[dofs[nc * a + c]];
+            }
+        }
+        for m in 0..nv {
+            v.p[m] = u[dofs[nc * nn + m]];
+            v.pdot[m] = udot[dofs[nc * nn + m]];
+        }
+        ElementInput { elem: e, coords, values: v, dt, history }
+    }
+}
+
+/// Fills in the cell of a material domain error.
+pub fn locate(err: Error, e: usize, mesh: &LocalMesh) -> Error {
+    match err {
+        Error::Domain { point, j, msg, .. } => Error::Domain { cell: mesh.cell_original[e] as usize, point, j, msg },
+        other => other,
+    }
+}

@@ -1,0 +1,221 @@
+//! The meridian (axisymmetric) mesh from a 2-D Gmsh file: 6-node triangles in the x–z plane
+//! (x = r ≥ 0, y = 0) with 3-node line faces; linear meshes are promoted with straight mid-edge
+//! nodes. The same rules as the tetrahedral build (`gmsh::build`): only nodes used by cells are
+//! kept, in file order; cells are oriented positively (counter-clockwise in (x, z)); a tagged line is
+//! attached to the lowest-numbered cell having it as a side, outward from it; physical surfaces
+//! name cell groups, physical curves face groups.
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+
+use super::gmsh::{named_groups, promote, Raw};
+use super::{face_key, Family, Mesh, TRI6_SIDES};
+use crate::error::{Error, Result};
+
+/// Node permutation that turns a clockwise Triangle6 counter-clockwise (swap vertices 1 and 2; the
+/// mid-edge nodes follow their edges).
+const TRI6_FLIP: [usize; 6] = [0, 2, 1, 5, 4, 3];
+
+/// Twice the signed area of the straight triangle in the (x, z) plane.
+pub(crate) fn area2(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+    (b[0] - a[0]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[0] - a[0])
+}
+
+/// Where the P2 map of a counter-clockwise Triangle6 (straight doubled area `det0`) folds: the
+/// first of its nodes and centroid with det J ≤ 1e-8 det0, with that det; None if nowhere.
+fn tri6_fold(x: &[[f64; 3]; 6], det0: f64) -> Option<([f64; 3], f64)> {
+    let mut points: Vec<[f64; 2]> = vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5]];
+    points.push([1.0 / 3.0; 2]);
+    for xi in points {
+        let (n, dn) = crate::fem::element::tri6(&xi);
+        let (mut j, mut at) = ([[0.0; 2]; 2], [0.0; 3]);
+        for a in 0..6 {
+            for (r, &c) in [0, 2].iter().enumerate() {
+                for k in 0..2 {
+                    j[r][k] += x[a][c] * dn[a][k];
+                }
+            }
+            for c in 0..3 {
+                at[c] += n[a] * x[a][c];
+            }
+        }
+        let d = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+        if d <= 1e-8 * det0 {
+            return Some((at, d));
+        }
+    }
+    None
+}
+
+/// Compact, promote, orient, match faces and resolve groups of a triangle mesh.
+pub(super) fn build(path: &Path, raw: Raw) -> Result<Mesh> {
+    let err = |msg: String| Error::mesh(path, msg);
+    let linear = raw.n_tri3 > 0;
+    if linear && raw.n_tri6 > 0 {
+        return Err(err(format!("mixed linear/quadratic mesh: {} tri3 and {} tri6", raw.n_tri3, raw.n_tri6)));
+    }
+    if (linear && raw.n_line3 > 0) || (!linear && raw.n_line3 < raw.lines.len()) {
+        return Err(err(format!(
+            "mixed linear/quadratic mesh: {} triangles with {} line3 of {} lines",
+            if linear { "linear" } else { "quadratic" },
+            raw.n_line3,
+            raw.lines.len()
+        )));
+    }
+    let (nn, nl) = if linear { (3, 2) } else { (6, 3) };
+
+    // Keep the nodes used by triangles, in file order.
+    let mut new_id = vec![u32::MAX; raw.coords.len()];
+    for tri in &raw.tris {
+        for &n in &tri[..nn] {
+            new_id[n as usize] = 0;
+        }
+    }
+    let mut coords = Vec::with_capacity(raw.coords.len());
+    for (i, id) in new_id.iter_mut().enumerate() {
+        if *id == 0 {
+            *id = coords.len() as u32;
+            coords.push(raw.coords[i]);
+        }
+    }
+    // The meridian lies in the x–z plane with x = r ≥ 0.
+    let scale = coords.iter().flat_map(|x| x.iter()).fold(0.0f64, |m, v| m.max(v.abs())).max(f64::MIN_POSITIVE);
+    if let Some(x) = coords.iter().find(|x| x[1].abs() > 1e-9 * scale || x[0] < -1e-9 * scale) {
+        return Err(err(format!(
+            "no tetrahedra, so the triangles are read as the meridian of an axisymmetric body: it must lie in the x–z plane \
+             (y = 0) with x = r ≥ 0, but has a node at ({:.6e}, {:.6e}, {:.6e})",
+            x[0], x[1], x[2]
+        )));
+    }
+    let mut cells: Vec<[u32; 10]> = raw
+        .tris
+        .iter()
+        .map(|tri| {
+            let mut c = [u32::MAX; 10];
+            for k in 0..nn {
+                c[k] = new_id[tri[k] as usize];
+            }
+            c
+        })
+        .collect();
+    if linear {
+        promote(Family::Tri6, &mut cells, &mut coords).map_err(err)?;
+    }
+
+    for (t, cell) in cells.iter_mut().enumerate() {
+        let x = |k: usize| coords[cell[k] as usize];
+        let det = area2(x(0), x(1), x(2));
+        let len = |a: [f64; 3], b: [f64; 3]| ((a[0] - b[0]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+        if det.abs() <= 1e-12 * len(x(0), x(1)) * len(x(0), x(2)) {
+            return Err(err(format!(
+                "triangle {} (element tag) is degenerate: area {:.3e}",
+                raw.tri_tags[t],
+                det / 2.0
+            )));
+        }
+        if det < 0.0 {
+            let old = *cell;
+            for (k, &src) in TRI6_FLIP.iter().enumerate() {
+                cell[k] = old[src];
+            }
+        }
+        let xs: [[f64; 3]; 6] = std::array::from_fn(|k| coords[cell[k] as usize]);
+        if let Some((at, d)) = tri6_fold(&xs, det.abs()) {
+            return Err(err(format!(
+                "triangle {} (element tag) is tangled: det of its curved map is {d:.3e} at ({:.6}, {:.6}) \
+                 (its mid-edge nodes fold it over)",
+                raw.tri_tags[t], at[0], at[2]
+            )));
+        }
+    }
+
+    // Tagged lines, deduplicated by vertex pair in file order, attached to the first cell side.
+    let mut face_of_key: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut unique: Vec<(usize, [u32; 3])> = Vec::new();
+    let mut face_groups: BTreeMap<i32, Vec<u32>> = BTreeMap::new();
+    let describe = |i: usize| {
+        let tags: Vec<String> = raw.lines[i][..nl].iter().map(|&n| raw.node_tags[n as usize].to_string()).collect();
+        format!("boundary line {} (element tag; node tags {})", raw.line_tags[i], tags.join(" "))
+    };
+    for (i, line) in raw.lines.iter().enumerate() {
+        let Some(phys) = raw.entity_phys[1].get(&raw.line_entity[i]) else { continue };
+        let mut ids = [u32::MAX; 3];
+        for k in 0..nl {
+            ids[k] = new_id[line[k] as usize];
+        }
+        if ids[..nl].contains(&u32::MAX) {
+            return Err(err(format!("{} uses a node of no triangle", describe(i))));
+        }
+        let key = face_key(ids[0], ids[1], u32::MAX);
+        let fi = *face_of_key.entry(key).or_insert_with(|| {
+            unique.push((i, ids));
+            unique.len() as u32 - 1
+        });
+        for &p in phys {
+            face_groups.entry(p).or_default().push(fi);
+        }
+    }
+    let mut face_cell = vec![(u32::MAX, 0u8); unique.len()];
+    for (t, cell) in cells.iter().enumerate() {
+        for (f, side) in TRI6_SIDES.iter().enumerate() {
+            if let Some(&fi) = face_of_key.get(&face_key(cell[side[0]], cell[side[1]], u32::MAX)) {
+                if face_cell[fi as usize].0 == u32::MAX {
+                    face_cell[fi as usize] = (t as u32, f as u8);
+                }
+            }
+        }
+    }
+    let mut faces: Vec<[u32; 6]> = Vec::with_capacity(unique.len());
+    for (&(i, ids), &(t, lf)) in unique.iter().zip(&face_cell) {
+        if t == u32::MAX {
+            return Err(err(format!("{} is not a side of any triangle", describe(i))));
+        }
+        let side = TRI6_SIDES[lf as usize].map(|p| cells[t as usize][p]);
+        if !linear && ids[2] != side[2] {
+            return Err(err(format!(
+                "{}: its mid-edge node differs from that of triangle {} (non-conforming mesh)",
+                describe(i),
+                raw.tri_tags[t as usize]
+            )));
+        }
+        faces.push([side[0], side[1], side[2], u32::MAX, u32::MAX, u32::MAX]);
+    }
+
+    let mut volume_groups: BTreeMap<i32, Vec<u32>> = BTreeMap::new();
+    for (t, e) in raw.tri_entity.iter().enumerate() {
+        for &p in raw.entity_phys[2].get(e).map_or(&[][..], |v| v) {
+            volume_groups.entry(p).or_default().push(t as u32);
+        }
+    }
+    let mut point_groups: BTreeMap<i32, Vec<u32>> = BTreeMap::new();
+    for &(n, e, etag) in &raw.points {
+        let Some(phys) = raw.entity_phys[0].get(&e) else { continue };
+        let id = new_id[n as usize];
+        if id == u32::MAX {
+            return Err(err(format!(
+                "physical point element {etag} (node tag {}) is not a node of any triangle",
+                raw.node_tags[n as usize]
+            )));
+        }
+        for &p in phys {
+            point_groups.entry(p).or_default().push(id);
+        }
+    }
+    let mut is_vertex = vec![false; coords.len()];
+    for cell in &cells {
+        for &n in &cell[..3] {
+            is_vertex[n as usize] = true;
+        }
+    }
+    Ok(Mesh {
+        family: Family::Tri6,
+        coords,
+        cells,
+        faces,
+        face_cell,
+        volume_groups: named_groups(&raw.phys_names, 2, volume_groups),
+        face_groups: named_groups(&raw.phys_names, 1, face_groups),
+        point_groups: named_groups(&raw.phys_names, 0, point_groups),
+        is_vertex,
+    })
+}
