@@ -22,7 +22,7 @@ const COARSE: &[(&str, &str)] = &[
 const MIRRORED: &[(&str, &str)] = &[
     ("r_pole = 50.0 }", "r_pole = 50.0 }\nmirror = [\"symmetry_x\", \"symmetry_y\"]"),
     (
-        "[[bc]]\ngroup = \"symmetry_x\"\nroller = true\n\n[[bc]]\ngroup = \"symmetry_y\"\nroller = true\n",
+        "[[bc]]\ngroup = \"symmetry_x\"\nroller = true\ngeometry = \"solid\"\n\n[[bc]]\ngroup = \"symmetry_y\"\nroller = true\ngeometry = \"solid\"\n",
         "[[bc]]\ngroup = \"pole_bottom\"\ndisplacement = { x = 0.0, y = 0.0 }\n\n\
          [[bc]]\ngroup = \"pole_top\"\ndisplacement = { x = 0.0, y = 0.0 }\n\n\
          [[bc]]\ngroup = \"equator_y\"\ndisplacement = { x = 0.0 }\n",
@@ -155,7 +155,7 @@ fn full_sphere_with_free_rigid_modes_agrees() {
     let free: &[(&str, &str)] = &[
         MIRRORED[0],
         (
-            "[[bc]]\ngroup = \"symmetry_x\"\nroller = true\n\n[[bc]]\ngroup = \"symmetry_y\"\nroller = true\n",
+            "[[bc]]\ngroup = \"symmetry_x\"\nroller = true\ngeometry = \"solid\"\n\n[[bc]]\ngroup = \"symmetry_y\"\nroller = true\ngeometry = \"solid\"\n",
             "[[bc]]\ngroup = \"pole_bottom\"\ndisplacement = { x = 0.0, y = 0.0 }\n\n\
              [[bc]]\ngroup = \"pole_top\"\ndisplacement = { x = 0.0, y = 0.0 }\n",
         ),
