@@ -286,3 +286,22 @@ fn resume_refuses_what_it_cannot_continue_and_restarts_what_never_checkpointed()
     rerun("0");
     assert!(!run.join("checkpoints").exists(), "the earlier run's checkpoints were left behind");
 }
+
+/// The same on the meridian (`mesh.geometry = axisymmetric`, finer so that the run outlasts the
+/// signal): killed after the checkpoint of step 10 and resumed, the history of the uninterrupted
+/// run to 1e-10.
+#[test]
+fn a_killed_meridian_run_resumes_to_the_uninterrupted_history() {
+    let d = scratch("restart_meridian");
+    let meridian = ["mesh.geometry=axisymmetric", "mesh.params.h=10", "mesh.params.h_pole=3"];
+    let reference = d.join("reference");
+    assert!(spawn_with(1, &reference, &meridian).wait().unwrap().success(), "the reference run failed");
+    let a = History::read(&reference);
+    let killed = d.join("killed");
+    let mut child = running(1, &killed, &meridian, 10);
+    signal_group(&child, "-KILL");
+    child.wait().unwrap();
+    assert!(History::read(&killed).rows.len() < a.rows.len(), "the run ended before the kill");
+    resume(1, &killed);
+    assert_same_history(&a, &History::read(&killed), 1e-10, "meridian, kill -9, resumed");
+}
