@@ -3,24 +3,35 @@
 
 Usage: check_fields.py RUN_DIR [--steps K] [--expect expect.json] [--straight-edges]
 
+The cell family is "family" of the --expect file ("Tet10" when absent), or without --expect the
+width of /mesh/topology (10: Tet10, 6: Tri6):
+  * Tet10: 10-node tetrahedra; XDMF topology Tetrahedron_10, /mesh/topology M x 10 in VTK order
+    (GMSH Tetrahedron10 order with nodes 8 and 9 swapped); VTK edges (0,1),(1,2),(0,2),(0,3),(1,3),(2,3)
+    carry the mid-edge nodes 4..9;
+  * Tri6: 6-node triangles of an axisymmetric meridian in the x-z plane (every y = 0); XDMF topology
+    Triangle_6, /mesh/topology M x 6 in GMSH Triangle6 order written unchanged (= VTK's
+    quadratic-triangle order); edges (0,1),(1,2),(2,0) carry the mid-edge nodes 3..5.
 Always checked:
   * fields.xdmf parses (xml.etree); no fields.xdmf.tmp left behind;
   * its root grid is a Uniform mesh grid (no step yet) or a Temporal collection of Uniform grids,
-    each with a Time, a Tetrahedron_10 topology (NodesPerElement 10), an XYZ geometry and
-    Scalar/Vector attributes centred on Node or Cell;
+    each with a Time, the family's topology (Tetrahedron_10 with NodesPerElement 10, or Triangle_6
+    with NodesPerElement 6), an XYZ geometry and Scalar/Vector attributes centred on Node or Cell;
   * every DataItem is Format="HDF", names an existing dataset of fields.h5 whose shape equals the
     declared Dimensions and whose type matches NumberType/Precision; element/node counts agree;
-  * fields.h5: /mesh/coordinates (N x 3, float64, finite), /mesh/topology (M x 10, int64, ids in
-    [0, N), ten distinct ids per cell, every node used), /time (one value per step grid, equal to
-    the XDMF Time values, strictly increasing), every /fields/<name>/<kkkkkk> dataset referenced by
-    step k of the XDMF.
+  * fields.h5: /mesh/coordinates (N x 3, float64, finite; y = 0 for Tri6), /mesh/topology (M x 10
+    or M x 6, int64, ids in [0, N), distinct ids within each cell, every node used), /time (one
+    value per step grid, equal to the XDMF Time values, strictly increasing), every
+    /fields/<name>/<kkkkkk> dataset referenced by step k of the XDMF; vector fields have 3
+    components for both families.
 Optional:
   --steps K          the number of steps must be K;
-  --straight-edges   mid-edge nodes must sit at the middle of the VTK-order edges
-                     (0,1),(1,2),(0,2),(0,3),(1,3),(2,3) -- true for straight-sided meshes, and the
-                     test that the GMSH -> VTK node reordering was applied;
-  --expect FILE      JSON with "coordinates", "topology_gmsh" (GMSH order), "time" and "steps":
-                     [{name: {"kind": ..., "values": [...]}}]; all compared exactly.
+  --straight-edges   mid-edge nodes must sit at the middle of the family's VTK-order edges (above)
+                     -- true for straight-sided meshes, and for Tet10 the test that the
+                     GMSH -> VTK node reordering was applied;
+  --expect FILE      JSON with "family" (optional), "coordinates", "topology_gmsh" (GMSH order,
+                     rows of 10 or 6 ids), "time" and "steps": [{name: {"kind": ..., "values":
+                     [...]}}]; all compared exactly (topology: GMSH order with nodes 8, 9 swapped
+                     for Tet10, unchanged for Tri6).
 Prints "check_fields: OK ..." and exits 0, or lists every problem found and exits 1.
 """
 import argparse
@@ -34,6 +45,14 @@ import numpy as np
 
 VTK_EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
 GMSH_TO_VTK = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]
+# Per family: XDMF TopologyType, nodes per cell, vertices per cell, VTK-order edges of the mid-edge
+# nodes (node n_vertices + k on edge k), and the GMSH -> VTK permutation (vtk[i] = gmsh[perm[i]]).
+FAMILIES = {
+    "Tet10": {"topology": "Tetrahedron_10", "npe": 10, "nv": 4, "edges": VTK_EDGES, "gmsh_to_vtk": GMSH_TO_VTK},
+    "Tri6": {"topology": "Triangle_6", "npe": 6, "nv": 3, "edges": [(0, 1), (1, 2), (2, 0)],
+             "gmsh_to_vtk": [0, 1, 2, 3, 4, 5]},
+}
+FAMILY_OF_WIDTH = {f["npe"]: name for name, f in FAMILIES.items()}
 DTYPES = {("Float", "8"): np.float64, ("Float", "4"): np.float32, ("Int", "8"): np.int64,
           ("Int", "4"): np.int32, ("UInt", "8"): np.uint64, ("UInt", "4"): np.uint32}
 
@@ -42,6 +61,8 @@ class Checker:
     def __init__(self, run_dir):
         self.dir = run_dir
         self.errors = []
+        self.family = "Tet10"
+        self.fam = FAMILIES["Tet10"]
 
     def err(self, msg):
         self.errors.append(msg)
@@ -91,10 +112,10 @@ class Checker:
             self.err(f"{where}: needs one Topology and one Geometry")
             return {}
         t = topo[0]
-        if t.get("TopologyType") != "Tetrahedron_10":
-            self.err(f"{where}: TopologyType {t.get('TopologyType')!r}, expected Tetrahedron_10")
-        if t.get("NodesPerElement") not in (None, "10"):
-            self.err(f"{where}: NodesPerElement {t.get('NodesPerElement')!r}")
+        if t.get("TopologyType") != self.fam["topology"]:
+            self.err(f"{where}: TopologyType {t.get('TopologyType')!r}, expected {self.fam['topology']}")
+        if t.get("NodesPerElement") not in (None, str(self.fam["npe"])):
+            self.err(f"{where}: NodesPerElement {t.get('NodesPerElement')!r}, expected {self.fam['npe']}")
         if t.get("NumberOfElements") != str(n_cells):
             self.err(f"{where}: NumberOfElements {t.get('NumberOfElements')!r}, mesh has {n_cells}")
         r = self.data_item(t, where + "/Topology", h5)
@@ -147,27 +168,42 @@ class Checker:
             return None
         if xyz.ndim != 2 or xyz.shape[1] != 3 or xyz.dtype != np.float64:
             self.err(f"/mesh/coordinates: shape {xyz.shape} dtype {xyz.dtype}")
-        if topo.ndim != 2 or topo.shape[1] != 10 or topo.dtype != np.int64:
-            self.err(f"/mesh/topology: shape {topo.shape} dtype {topo.dtype}")
+        expect = None
+        if args.expect:
+            with open(args.expect) as f:
+                expect = json.load(f)
+            self.family = expect.get("family", "Tet10")
+        elif topo.ndim == 2 and topo.shape[1] in FAMILY_OF_WIDTH:
+            self.family = FAMILY_OF_WIDTH[topo.shape[1]]
+        if self.family not in FAMILIES:
+            self.err(f"unknown family {self.family!r} (expected one of {sorted(FAMILIES)})")
+            return None
+        self.fam = FAMILIES[self.family]
+        npe = self.fam["npe"]
+        if topo.ndim != 2 or topo.shape[1] != npe or topo.dtype != np.int64:
+            self.err(f"/mesh/topology: shape {topo.shape} dtype {topo.dtype}, expected M x {npe} int64 for {self.family}")
             return None
         n, m = xyz.shape[0], topo.shape[0]
         if not np.all(np.isfinite(xyz)):
             self.err("/mesh/coordinates has non-finite values")
+        if self.family == "Tri6" and xyz.ndim == 2 and xyz.shape[1] == 3 and np.any(xyz[:, 1] != 0):
+            self.err(f"/mesh/coordinates: {int((xyz[:, 1] != 0).sum())} nodes of the Tri6 meridian have y != 0")
         if topo.size and (topo.min() < 0 or topo.max() >= n):
             self.err(f"/mesh/topology ids outside [0, {n})")
             return None
-        if any(len(set(row)) != 10 for row in topo.tolist()):
+        if any(len(set(row)) != npe for row in topo.tolist()):
             self.err("/mesh/topology: a cell repeats a node")
         used = np.zeros(n, bool)
         used[topo.ravel()] = True
         if not used.all():
             self.err(f"{int((~used).sum())} nodes belong to no cell")
         if args.straight_edges and n:
-            for k, (a, b) in enumerate(VTK_EDGES):
+            nv = self.fam["nv"]
+            for k, (a, b) in enumerate(self.fam["edges"]):
                 mid = 0.5 * (xyz[topo[:, a]] + xyz[topo[:, b]])
-                bad = np.abs(xyz[topo[:, 4 + k]] - mid).max(axis=1) > 1e-12 * (1 + np.abs(mid).max())
+                bad = np.abs(xyz[topo[:, nv + k]] - mid).max(axis=1) > 1e-12 * (1 + np.abs(mid).max())
                 if bad.any():
-                    self.err(f"node {4 + k} of {int(bad.sum())} cells is not at the middle of VTK edge {(a, b)}")
+                    self.err(f"node {nv + k} of {int(bad.sum())} cells is not at the middle of VTK edge {(a, b)}")
         # Grids.
         domains = root.findall("Domain")
         grids = domains[0].findall("Grid") if len(domains) == 1 else []
@@ -217,19 +253,25 @@ class Checker:
             self.err(f"{p} is not referenced by the XDMF")
         if args.steps is not None and len(steps) != args.steps:
             self.err(f"{len(steps)} steps, expected {args.steps}")
-        if args.expect:
-            self.expect(args.expect, xyz, topo, times, steps)
+        if expect is not None:
+            self.expect(expect, xyz, topo, times, steps)
         h5.close()
         return n, m, len(steps), len(stored)
 
-    def expect(self, path, xyz, topo, times, steps):
-        with open(path) as f:
-            e = json.load(f)
+    def expect(self, e, xyz, topo, times, steps):
         if not np.array_equal(xyz, np.array(e["coordinates"], float).reshape(-1, 3)):
             self.err("coordinates differ from expected")
-        gm = np.array(e["topology_gmsh"], np.int64).reshape(-1, 10)
-        if not np.array_equal(topo, gm[:, GMSH_TO_VTK]):
-            self.err(f"topology differs from expected GMSH topology with nodes 8, 9 swapped:\n{topo}\nvs\n{gm}")
+        npe = self.fam["npe"]
+        rows = e["topology_gmsh"]
+        gm = np.array(rows, np.int64).reshape(-1, npe) if all(len(r) == npe for r in rows) else None
+        if gm is None:
+            self.err(f"expect.json: topology_gmsh rows of {sorted({len(r) for r in rows})} ids, "
+                     f"expected {npe} for {self.family}")
+        elif self.family == "Tet10":
+            if not np.array_equal(topo, gm[:, GMSH_TO_VTK]):
+                self.err(f"topology differs from expected GMSH topology with nodes 8, 9 swapped:\n{topo}\nvs\n{gm}")
+        elif not np.array_equal(topo, gm[:, self.fam["gmsh_to_vtk"]]):
+            self.err(f"topology differs from expected GMSH {self.family} topology (written unchanged):\n{topo}\nvs\n{gm}")
         if times is not None and not np.array_equal(times, np.array(e["time"], float)):
             self.err(f"time {times.tolist()} differs from expected {e['time']}")
         if len(e["steps"]) != len(steps):
@@ -266,7 +308,7 @@ def main():
             print("check_fields: ERROR:", e)
         sys.exit(1)
     n, m, k, f = r
-    print(f"check_fields: OK {args.run_dir}: {n} nodes, {m} cells, {k} steps, {f} field datasets")
+    print(f"check_fields: OK {args.run_dir}: {c.family}, {n} nodes, {m} cells, {k} steps, {f} field datasets")
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 //! Runs `tests/support/io_fields.rs` (the `io_fields` example target) under `mpirun` (1, 2 and 3 ranks, with empty pieces, a crash and
-//! argument errors) and checks the output with `scripts/check_fields.py` (h5py + numpy), and, where
-//! `pvpython` is installed, with ParaView's own XDMF readers (`scripts/check_paraview.py`).
+//! argument errors; 10-node tetrahedra, and 6-node triangles of a meridian) and checks the output
+//! with `scripts/check_fields.py` (h5py + numpy), and, where `pvpython` is installed, with
+//! ParaView's own XDMF readers (`scripts/check_paraview.py`).
 //!
 //! Environment: `POROPLAST_PYTHON` picks the Python (else the first of `python3`, `/usr/bin/python3`
 //! that imports h5py and numpy); `POROPLAST_SKIP_MPI_TESTS=1` skips these tests (for machines without
@@ -121,12 +122,9 @@ fn run_case(name: &str, ranks: usize, case: &str) -> PathBuf {
     dir
 }
 
-#[test]
-fn two_ranks_split_and_paraview() {
-    if skip() {
-        return;
-    }
-    let dir = run_case("split2", 2, "split");
+/// Opens `dir` with each of ParaView's three XDMF readers (`scripts/check_paraview.py`, one reader
+/// per `pvpython` process), unless `POROPLAST_NO_PARAVIEW=1` or `pvpython` is missing (then a warning).
+fn paraview_check(dir: &Path) {
     let no_pv = std::env::var("POROPLAST_NO_PARAVIEW").is_ok_and(|v| v == "1");
     let has_pv = Command::new("pvpython").arg("--version").output().is_ok_and(|o| o.status.success());
     if no_pv || !has_pv {
@@ -139,14 +137,44 @@ fn two_ranks_split_and_paraview() {
     }
     for reader in ["XDMFReader", "Xdmf3ReaderS", "Xdmf3ReaderT"] {
         let mut c = Command::new("pvpython");
-        c.arg(format!("{MANIFEST}/scripts/check_paraview.py")).arg(&dir).arg(reader);
+        c.arg(format!("{MANIFEST}/scripts/check_paraview.py")).arg(dir).arg(reader);
         let o = run_limited(c, Duration::from_secs(300));
         assert!(
             o.status.success() && String::from_utf8_lossy(&o.stdout).contains("check_paraview: OK"),
-            "ParaView {reader} check failed\n{}",
+            "ParaView {reader} check failed on {}\n{}",
+            dir.display(),
             text(&o)
         );
     }
+}
+
+#[test]
+fn two_ranks_split_and_paraview() {
+    if skip() {
+        return;
+    }
+    let dir = run_case("split2", 2, "split");
+    paraview_check(&dir);
+}
+
+#[test]
+fn two_ranks_meridian_and_paraview() {
+    if skip() {
+        return;
+    }
+    // check_fields.py with expect.json ("family": "Tri6"), then without it: the family is then
+    // inferred from the width of /mesh/topology.
+    let dir = run_case("meridian2", 2, "meridian");
+    let mut c = Command::new(python());
+    c.arg(format!("{MANIFEST}/scripts/check_fields.py")).arg(&dir).args(["--steps", "3", "--straight-edges"]);
+    let o = run_limited(c, Duration::from_secs(120));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success() && out.contains("check_fields: OK") && out.contains(": Tri6, 9 nodes, 2 cells, 3 steps"),
+        "check_fields.py (inferred)\n{}",
+        text(&o)
+    );
+    paraview_check(&dir);
 }
 
 #[test]

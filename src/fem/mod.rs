@@ -12,3 +12,6 @@ pub mod point;
 pub mod qp_store;
 pub mod quadrature;
 pub mod surface;
+
+#[cfg(test)]
+mod mms_tests;

@@ -1,15 +1,20 @@
-//! Test driver for `io::fields` under `mpirun`: writes a small two-tetrahedron mesh split across the
-//! ranks over three steps (plus `expect.json` with the values the file must hold), or times a large write.
+//! Test driver for `io::fields` under `mpirun`: writes a small two-cell mesh split across the ranks
+//! over three steps (plus `expect.json` with the values the file must hold), or times a large write.
 //!
 //! Usage: `mpirun -n P io_fields DIR CASE [--abort-after K]`
-//! * CASE `split`: nodes and cells spread evenly; `nocells-last`: the last rank owns nodes but no
-//!   cells; `empty-last`: the last rank owns nothing; `bad-len` / `bad-names`: at step 1 the last
-//!   rank passes a wrong data length / a different field name, every rank must get `Err` (exit 3);
-//!   `bad-mesh`: the last rank's nodes overlap the previous rank's, `create` fails everywhere (exit 2).
+//! * CASE `split`: two 10-node tetrahedra, nodes and cells spread evenly; `meridian`: the same with
+//!   two 6-node triangles in the x–z plane (`Family::Tri6`, an axisymmetric meridian);
+//!   `nocells-last`: the last rank owns nodes but no cells; `empty-last`: the last rank owns
+//!   nothing; `bad-len` / `bad-names`: at step 1 the last rank passes a wrong data length / a
+//!   different field name, every rank must get `Err` (exit 3); `bad-mesh`: the last rank's nodes
+//!   overlap the previous rank's, `create` fails everywhere (exit 2).
 //! * `--abort-after K`: `MPI_Abort` right after K steps, leaving the file open (a crashed run).
 //! * `--pause-after K`: after K steps rank 0 creates `DIR/paused` and all ranks wait (at most 60 s)
 //!   for `DIR/resume` to appear, so a test can read the files of a run that is still going.
 //! * `mpirun -n P io_fields DIR bench N`: times steps of one node-vector field on N nodes.
+//!
+//! `expect.json` holds `"family"` (`"Tet10"` or `"Tri6"`), `"coordinates"`, `"topology_gmsh"` (rows
+//! of 10 or 6 global node ids in GMSH order), `"time"` and `"steps"`.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -18,49 +23,75 @@ use std::time::Instant;
 use mpi::collective::SystemOperation;
 use mpi::traits::*;
 use poroplast::io::fields::{Field, FieldFile, FieldKind, OutputMesh};
+use poroplast::mesh::Family;
 
 /// GMSH Tetrahedron10 edges, as local vertex pairs.
 const GMSH_EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (0, 2), (0, 3), (2, 3), (1, 3)];
+/// GMSH Triangle6 edges, as local vertex pairs (also the VTK quadratic-triangle order).
+const GMSH_TRI6_EDGES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
 
 struct Mesh {
     coords: Vec<[f64; 3]>,
+    /// GMSH order; a Tri6 cell uses the first 6 slots, the others are 0.
     cells: Vec<[u32; 10]>,
+    family: Family,
+}
+
+/// A quadratic mesh of straight-sided cells on `verts`: each cell lists its vertices, its mid-edge
+/// nodes on `edges` follow (GMSH order; shared edges share their node). The numbering is shuffled
+/// so that vertices are not simply first.
+fn quadratic(verts: &[[f64; 3]], cell_verts: &[&[usize]], edges: &[(usize, usize)], family: Family) -> Mesh {
+    let (nv, npe) = (family.cell_vertices(), family.cell_nodes());
+    assert_eq!(nv + edges.len(), npe);
+    let mut coords: Vec<[f64; 3]> = verts.to_vec();
+    let mut edge_ids: Vec<((usize, usize), usize)> = Vec::new();
+    let mut cells = Vec::new();
+    for &t in cell_verts {
+        let mut c = [0usize; 10];
+        c[..nv].copy_from_slice(t);
+        for (e, &(a, b)) in edges.iter().enumerate() {
+            let key = (t[a].min(t[b]), t[a].max(t[b]));
+            let id = match edge_ids.iter().find(|(k, _)| *k == key) {
+                Some(&(_, id)) => id,
+                None => {
+                    let (p, q) = (verts[key.0], verts[key.1]);
+                    coords.push([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), 0.5 * (p[2] + q[2])]);
+                    edge_ids.push((key, coords.len() - 1));
+                    coords.len() - 1
+                }
+            };
+            c[nv + e] = id;
+        }
+        cells.push(c);
+    }
+    let n = coords.len();
+    let perm = |i: usize| (i * 5 + 3) % n;
+    assert_ne!(n % 5, 0, "the shuffle needs gcd(5, n) = 1");
+    let mut shuffled = vec![[0.0; 3]; n];
+    for (i, x) in coords.iter().enumerate() {
+        shuffled[perm(i)] = *x;
+    }
+    let cells = cells.iter().map(|c| std::array::from_fn(|k| if k < npe { perm(c[k]) as u32 } else { 0 })).collect();
+    Mesh { coords: shuffled, cells, family }
 }
 
 /// Two positively oriented quadratic tets sharing a face; 14 nodes, numbered in a shuffled order.
 fn two_tets() -> Mesh {
     let verts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]];
-    let tets = [[0usize, 1, 2, 3], [1, 4, 2, 3]];
-    let mut coords: Vec<[f64; 3]> = verts.to_vec();
-    let mut edges: Vec<(usize, usize)> = Vec::new();
-    let mut cells = Vec::new();
-    for t in tets {
-        let mut c = [0usize; 10];
-        c[..4].copy_from_slice(&t);
-        for (e, &(a, b)) in GMSH_EDGES.iter().enumerate() {
-            let key = (t[a].min(t[b]), t[a].max(t[b]));
-            let id = match edges.iter().position(|&k| k == key) {
-                Some(i) => 5 + i,
-                None => {
-                    edges.push(key);
-                    let (p, q) = (verts[key.0], verts[key.1]);
-                    coords.push([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), 0.5 * (p[2] + q[2])]);
-                    coords.len() - 1
-                }
-            };
-            c[4 + e] = id;
-        }
-        cells.push(c);
+    quadratic(&verts, &[&[0, 1, 2, 3], &[1, 4, 2, 3]], &GMSH_EDGES, Family::Tet10)
+}
+
+/// Two 6-node triangles of a meridian (x = r ≥ 0, y = 0, z) sharing the edge between vertices 1
+/// and 2, both counter-clockwise in (x, z); 9 nodes, numbered in a shuffled order.
+fn two_triangles() -> Mesh {
+    let verts = [[0.25, 0.0, 0.0], [1.0, 0.0, 0.0], [0.25, 0.0, 1.0], [1.0, 0.0, 1.5]];
+    let tris: [&[usize]; 2] = [&[0, 1, 2], &[1, 3, 2]];
+    for t in tris {
+        let (a, b, c) = (verts[t[0]], verts[t[1]], verts[t[2]]);
+        let det = (b[0] - a[0]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[0] - a[0]);
+        assert!(det > 0.0, "triangle {t:?} is not counter-clockwise in (x, z)");
     }
-    // Shuffle the numbering so that vertices are not simply first.
-    let n = coords.len();
-    let perm = |i: usize| (i * 5 + 3) % n;
-    let mut shuffled = vec![[0.0; 3]; n];
-    for (i, x) in coords.iter().enumerate() {
-        shuffled[perm(i)] = *x;
-    }
-    let cells = cells.iter().map(|c| std::array::from_fn(|k| perm(c[k]) as u32)).collect();
-    Mesh { coords: shuffled, cells }
+    quadratic(&verts, &tris, &GMSH_TRI6_EDGES, Family::Tri6)
 }
 
 /// `[lo, hi)` of part `i` of `n` items split into `parts`.
@@ -106,11 +137,12 @@ fn f(x: f64) -> String {
 
 fn write_expect(dir: &Path, m: &Mesh, steps: usize) {
     let mut s = String::from("{\n");
+    let _ = writeln!(s, "\"family\": \"{:?}\",", m.family);
     let _ = writeln!(s, "\"coordinates\": {},", json_list(m.coords.iter().map(|x| json_list(x.iter().map(|&v| f(v))))));
     let _ = writeln!(
         s,
         "\"topology_gmsh\": {},",
-        json_list(m.cells.iter().map(|c| json_list(c.iter().map(|v| v.to_string()))))
+        json_list(m.cells.iter().map(|c| json_list(c[..m.family.cell_nodes()].iter().map(|v| v.to_string()))))
     );
     let _ = writeln!(s, "\"time\": {},", json_list(times()[..steps].iter().map(|&t| f(t))));
     let mut steps_json = Vec::new();
@@ -136,7 +168,7 @@ fn run(
     pause_after: Option<usize>,
 ) -> i32 {
     let (rank, size) = (world.rank() as usize, world.size() as usize);
-    let m = two_tets();
+    let m = if case == "meridian" { two_triangles() } else { two_tets() };
     let (n, nc) = (m.coords.len(), m.cells.len());
     let (node_parts, cell_parts) = match case {
         "nocells-last" if size > 1 => (size, size - 1),
@@ -155,7 +187,7 @@ fn run(
         n_global_cells: nc,
         cell_offset: c0,
         cells: &m.cells[c0..c1],
-        family: poroplast::mesh::Family::Tet10,
+        family: m.family,
     };
     println!("rank {rank}: nodes [{n0},{n1}) cells [{c0},{c1})");
     let mut ff = match FieldFile::create(dir, world, &mesh) {
@@ -240,7 +272,7 @@ fn bench(world: &mpi::topology::SimpleCommunicator, dir: &Path, n: usize) -> i32
         n_global_cells: nc,
         cell_offset: c0,
         cells: &cells,
-        family: poroplast::mesh::Family::Tet10,
+        family: Family::Tet10,
     };
     world.barrier();
     let t0 = Instant::now();
