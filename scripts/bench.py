@@ -16,7 +16,9 @@ the time.
 
 Cases: default (the `reference` scene), remodel (remodel_40), fine (reference at h = 10 µm,
 h_pole = 4 µm), graded (reference on a surface-graded mesh, h_surf = 5 µm, the stabilisation
-faded; 47 613 dofs), full (reference_full), cryer100k (cryer at h = 6.5 µm, 85k dofs), relaxation.
+faded; 47 613 dofs), full (reference_full), cryer100k (cryer at h = 6.5 µm, 85k dofs), relaxation;
+on the meridian: axi (reference), axi_fine (reference with h = 5, surface and poles at 1 µm, the
+finest level of scripts/references.py), axi_remodel (remodel_155).
 The large ones (fine, graded, full, cryer100k) take minutes per run on 2 cores.
 """
 import argparse
@@ -38,6 +40,12 @@ CASES = {   # shipped scene, --set overrides
                                 "fem.stabilisation_fade=0.03"]),
     "cryer100k": ("cryer", ["mesh.params.h=6.5", "mesh.params.h_pole=6.5"]),   # 85 440 dofs
     "relaxation": ("relaxation", []),
+    # The meridian (axisymmetric) model: the reference scene's own mesh parameters, and the finest
+    # level of the converged references (scripts/references.py: surface and poles at 1 um).
+    "axi": ("reference", ["mesh.geometry=axisymmetric"]),
+    "axi_fine": ("reference", ["mesh.geometry=axisymmetric", "mesh.params.h=5", "mesh.params.h_pole=1",
+                               "mesh.params.h_surf=1", "mesh.params.w_surf=30"]),
+    "axi_remodel": ("remodel_155", ["mesh.geometry=axisymmetric"]),
 }
 # -log_view events: PC setup (AMG hierarchies, factorisations), Krylov solves, submatrix copies
 # (the fieldsplit blocks and, with contact, the VI solver's reduced system).

@@ -33,7 +33,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import study  # noqa: E402
 
-SIZES = ("h_pole", "h_edge")   # mesh sizes besides h, scaled with it
+SIZES = ("h_pole", "h_edge", "h_surf")   # mesh sizes besides h, scaled with it
 from _runner import refined_steps, scene_values  # noqa: E402
 
 

@@ -1,0 +1,73 @@
+"""Converged references of the experiment, on the meridian: one command.
+
+For each reference case (a shipped scene and its observables) this runs
+`scripts/convergence_study.py` on the axisymmetric model (`--set mesh.geometry=axisymmetric`):
+four surface-graded mesh levels with every size scaled together — bulk h, and the surface and
+pole sizes at h/5 (h_surf, h_pole; the grading depth w_surf = 30 µm stays) — down to 1 µm at the
+surface, times three or more time-step levels (every step scaled, `_runner.refined_steps`), then
+Richardson extrapolation with error bars (convergence_study.py's docstring says how). Completed
+cases are kept, so an interrupted run continues.
+
+Writes REFDIR/<case>/ (the studies) and REFDIR/references.csv: case, observable, extrapolated
+value, error bar (also relative), observed orders, the finest run's value. Prints the table.
+
+    python3 scripts/references.py [--dir studies/references] [--cases reference remodel_40 ...]
+        [--h 14.142,10,7.071,5] [--dt-scale 1,0.5,0.25] [--ranks 2]
+
+Cost on this project's 2-core machine: see docs/studies.md (the elastic case, 12 runs, about
+ten minutes; a remodelling case about three times that).
+"""
+import argparse
+import csv
+import subprocess
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+# name -> (scene, observables): the values the paper reports or the issue asks for.
+CASES = {
+    "reference": ("reference", ["max:force_total_mg", "force_total_mg@35", "zero:force_total_mg",
+                                "last:height/width", "probe_p@5"]),
+    "remodel_40": ("remodel_40", ["max:force_total_mg", "force_total_mg@35", "last:height/width"]),
+    "remodel_155": ("remodel_155", ["zero:probe_p", "max:force_total_mg", "probe_p@5", "probe_p@30"]),
+}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--dir", default="studies/references")
+    ap.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
+    ap.add_argument("--h", default="14.142,10,7.071,5", help="bulk sizes, coarse to fine (surface and poles at h/5)")
+    ap.add_argument("--dt-scale", default="1,0.5,0.25", help="time-step scales, coarse to fine")
+    ap.add_argument("--ranks", type=int, default=2)
+    a = ap.parse_args()
+    root = Path(a.dir)
+    rows = []
+    for name in a.cases:
+        scene, observe = CASES[name]
+        # Sizes given at the scene's h (20): h_pole = h_surf = 4 there, scaled with h per level.
+        cmd = [sys.executable, str(HERE / "convergence_study.py"), scene, "--h", a.h, "--dt-scale", a.dt_scale,
+               "--dir", str(root / name), "--ranks", str(a.ranks),
+               "--set", "mesh.geometry=axisymmetric", "--set", "mesh.params.h_pole=4",
+               "--set", "mesh.params.h_surf=4", "--set", "mesh.params.w_surf=30", "--observe", *observe]
+        print("references:", " ".join(cmd), flush=True)
+        subprocess.run(cmd, check=True)
+        with open(root / name / "convergence.csv") as f:
+            for r in csv.DictReader(f):
+                ext, bar = float(r["extrapolated"]), float(r["error_bar"])
+                rows.append({"case": name, "observable": r["observable"], "extrapolated": ext, "error_bar": bar,
+                             "relative_bar": bar / abs(ext) if ext else float("nan"), "p_h": r["p_h"],
+                             "p_t": r["p_t"], "finest": r["finest"]})
+    with open(root / "references.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"\n{'case':12} {'observable':22} {'value':>12} {'± bar':>10} {'rel.':>8} {'p_h':>6} {'p_t':>6}")
+    for r in rows:
+        print(f"{r['case']:12} {r['observable']:22} {r['extrapolated']:12.6g} {r['error_bar']:10.2g} "
+              f"{100 * r['relative_bar']:7.3f}% {float(r['p_h']):6.2f} {float(r['p_t']):6.2f}")
+
+
+if __name__ == "__main__":
+    main()
