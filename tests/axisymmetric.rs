@@ -106,21 +106,6 @@ fn meridian_jacobian_matches_central_differences() {
     assert!(pb < 1e-4 && pb < 0.2 * pa, "p rows do not shrink with ε: {pa:e} → {pb:e}");
 }
 
-/// The errors printed by `-poroplast_check_jacobian`.
-fn jacobian_errors(stdout: &str) -> Vec<(f64, f64)> {
-    stdout
-        .lines()
-        .filter(|l| l.starts_with("jacobian check:"))
-        .map(|l| {
-            let num = |key: &str| -> f64 {
-                let rest = &l[l.find(key).unwrap() + key.len()..];
-                rest.split([',', ' ']).find(|s| !s.is_empty()).unwrap().parse().unwrap()
-            };
-            (num("u rows "), num("p rows "))
-        })
-        .collect()
-}
-
 /// The reference experiment on its meridian, shortened (ramp 2 s, release by 10 s, rest to 12 s),
 /// on 1 and 2 ranks: the same steps, and every observable equal to 1e-10 of its scale (the
 /// factorised Newton solves are exact to round-off on both).

@@ -228,21 +228,6 @@ fn long_hold_reaches_the_drained_static_force() {
     assert!((plateau - fd).abs() < 0.01 * fd, "plateau {plateau} mg vs drained static {fd} mg");
 }
 
-/// Parses `jacobian check: ... u rows X, p rows Y` lines.
-fn jacobian_errors(stdout: &str) -> Vec<(f64, f64)> {
-    stdout
-        .lines()
-        .filter(|l| l.starts_with("jacobian check:"))
-        .map(|l| {
-            let num = |key: &str| -> f64 {
-                let s = &l[l.find(key).unwrap() + key.len()..];
-                s.trim_start().split([',', ' ']).next().unwrap().parse().unwrap()
-            };
-            (num("u rows"), num("p rows"))
-        })
-        .collect()
-}
-
 /// A soft aggregate (µ = 3 kPa) on the default mesh: full Newton steps of the gravity settling
 /// overshoot at the point contact (J < Φs); the active-set Newton halves such steps (before it
 /// did, the driver had to retry the settling with backtracking), and the settled state carries

@@ -315,8 +315,32 @@ impl<C: CellShape> ElementKernel<'_, C> {
         Ok(())
     }
 
+    /// The tie rows' scale for an element of volume `vol`: P-wave modulus × size.
+    fn tie_stiffness(&self, vol: f64) -> f64 {
+        self.model.p_wave_modulus() * vol.cbrt()
+    }
+}
+
+/// The element operations of a kernel, whatever its cell family: what the one element loop
+/// (`fem::assembly`) calls.
+pub trait CellKernel {
+    fn residual(&self, e: &ElementInput, r: &mut [f64; MAX_DOF]) -> Result<()>;
+    fn jacobian(
+        &self,
+        e: &ElementInput,
+        shift: f64,
+        r: &mut [f64; MAX_DOF],
+        k: &mut ElementMatrix,
+        schur: &mut [[f64; MAX_VERTICES]; MAX_VERTICES],
+    ) -> Result<()>;
+    fn post(&self, e: &ElementInput) -> Result<ElementPost>;
+    fn advance_history(&self, e: &ElementInput, out: &mut [f64]) -> Result<()>;
+    fn min_j(&self, e: &ElementInput) -> Result<f64>;
+}
+
+impl<C: CellShape> CellKernel for ElementKernel<'_, C> {
     /// Residual, its pressure part and averaged fields of one element.
-    pub fn post(&self, e: &ElementInput) -> Result<ElementPost> {
+    fn post(&self, e: &ElementInput) -> Result<ElementPost> {
         let mut out = ElementPost {
             r: [0.0; MAX_DOF],
             r_pressure: [0.0; MAX_DOF],
@@ -373,7 +397,7 @@ impl<C: CellShape> ElementKernel<'_, C> {
 
     /// The end-of-step history of every point of the element (the model's update at the
     /// converged state), into `out` (the element's slice of the store).
-    pub fn advance_history(&self, e: &ElementInput, out: &mut [f64]) -> Result<()> {
+    fn advance_history(&self, e: &ElementInput, out: &mut [f64]) -> Result<()> {
         let n = self.model.history_len();
         self.for_points(e, |at, pt, hq| {
             self.model.advance_history(at, &pt.state, hq, &mut out[at.point * n..(at.point + 1) * n])
@@ -381,7 +405,7 @@ impl<C: CellShape> ElementKernel<'_, C> {
     }
 
     /// The smallest J = det F over the element's points (kinematics only, no material law).
-    pub fn min_j(&self, e: &ElementInput) -> Result<f64> {
+    fn min_j(&self, e: &ElementInput) -> Result<f64> {
         let mut m = f64::INFINITY;
         self.for_points(e, |_, pt, _| {
             m = m.min((Matrix3::identity() + pt.state.grad_u).determinant());
@@ -391,7 +415,7 @@ impl<C: CellShape> ElementKernel<'_, C> {
     }
 
     /// The element residual into `r` (zero on entry).
-    pub fn residual(&self, e: &ElementInput, r: &mut [f64; MAX_DOF]) -> Result<()> {
+    fn residual(&self, e: &ElementInput, r: &mut [f64; MAX_DOF]) -> Result<()> {
         let mut proj = Projection::default();
         self.for_points(e, |at, pt, hq| self.add_point_residual(at, pt, hq, &e.values.pdot, r, &mut proj))?;
         if self.stab.c_s > 0.0 {
@@ -403,14 +427,9 @@ impl<C: CellShape> ElementKernel<'_, C> {
         Ok(())
     }
 
-    /// The tie rows' scale for an element of volume `vol`: P-wave modulus × size.
-    fn tie_stiffness(&self, vol: f64) -> f64 {
-        self.model.p_wave_modulus() * vol.cbrt()
-    }
-
     /// The element residual, Jacobian (row-major NDOF × NDOF) and Schur block into `r`, `k` and
     /// `schur` (zero on entry).
-    pub fn jacobian(
+    fn jacobian(
         &self,
         e: &ElementInput,
         shift: f64,
@@ -528,47 +547,5 @@ fn add_residual<C: CellShape>(pt: &Point, f: &PointFlux, r: &mut [f64; MAX_DOF])
             s += f.flux[j] * pt.g1[m][j];
         }
         r[C::NU + m] += w * s;
-    }
-}
-
-/// The element operations of a kernel, whatever its cell family: what the one element loop
-/// (`fem::assembly`) calls.
-pub trait CellKernel {
-    fn residual(&self, e: &ElementInput, r: &mut [f64; MAX_DOF]) -> Result<()>;
-    fn jacobian(
-        &self,
-        e: &ElementInput,
-        shift: f64,
-        r: &mut [f64; MAX_DOF],
-        k: &mut ElementMatrix,
-        schur: &mut [[f64; MAX_VERTICES]; MAX_VERTICES],
-    ) -> Result<()>;
-    fn post(&self, e: &ElementInput) -> Result<ElementPost>;
-    fn advance_history(&self, e: &ElementInput, out: &mut [f64]) -> Result<()>;
-    fn min_j(&self, e: &ElementInput) -> Result<f64>;
-}
-
-impl<C: CellShape> CellKernel for ElementKernel<'_, C> {
-    fn residual(&self, e: &ElementInput, r: &mut [f64; MAX_DOF]) -> Result<()> {
-        ElementKernel::residual(self, e, r)
-    }
-    fn jacobian(
-        &self,
-        e: &ElementInput,
-        shift: f64,
-        r: &mut [f64; MAX_DOF],
-        k: &mut ElementMatrix,
-        schur: &mut [[f64; MAX_VERTICES]; MAX_VERTICES],
-    ) -> Result<()> {
-        ElementKernel::jacobian(self, e, shift, r, k, schur)
-    }
-    fn post(&self, e: &ElementInput) -> Result<ElementPost> {
-        ElementKernel::post(self, e)
-    }
-    fn advance_history(&self, e: &ElementInput, out: &mut [f64]) -> Result<()> {
-        ElementKernel::advance_history(self, e, out)
-    }
-    fn min_j(&self, e: &ElementInput) -> Result<f64> {
-        ElementKernel::min_j(self, e)
     }
 }

@@ -726,41 +726,67 @@ fn build(path: &Path, mut raw: Raw) -> Result<Mesh> {
         faces.push(face);
     }
 
+    let parts = Parts { coords, cells: tets, faces, face_cell, face_groups, new_id };
+    finish(path, &raw, Family::Tet10, &raw.tet_entity, parts)
+}
+
+/// A mesh's compacted nodes, oriented cells, attached faces and face groups, before the rest.
+pub(super) struct Parts {
+    pub(super) coords: Vec<[f64; 3]>,
+    pub(super) cells: Vec<[u32; 10]>,
+    pub(super) faces: Vec<[u32; 6]>,
+    pub(super) face_cell: Vec<(u32, u8)>,
+    /// Physical tag -> face indices.
+    pub(super) face_groups: BTreeMap<i32, Vec<u32>>,
+    /// File-order node -> compact node id (u32::MAX: not a node of any cell).
+    pub(super) new_id: Vec<u32>,
+}
+
+/// The mesh from its parts: cell groups (from the cells' entities `cell_entity`), point groups,
+/// named face groups and the vertex flags, for a mesh of `family`.
+pub(super) fn finish(path: &Path, raw: &Raw, family: Family, cell_entity: &[i32], p: Parts) -> Result<Mesh> {
+    let dim = match family {
+        Family::Tet10 => 3,
+        Family::Tri6 => 2,
+    };
     let mut volume_groups: BTreeMap<i32, Vec<u32>> = BTreeMap::new();
-    for (t, e) in raw.tet_entity.iter().enumerate() {
-        for &p in raw.entity_phys[3].get(e).map_or(&[][..], |v| v) {
-            volume_groups.entry(p).or_default().push(t as u32);
+    for (t, e) in cell_entity.iter().enumerate() {
+        for &g in raw.entity_phys[dim].get(e).map_or(&[][..], |v| v) {
+            volume_groups.entry(g).or_default().push(t as u32);
         }
     }
     let mut point_groups: BTreeMap<i32, Vec<u32>> = BTreeMap::new();
     for &(n, e, etag) in &raw.points {
         let Some(phys) = raw.entity_phys[0].get(&e) else { continue };
-        let id = new_id[n as usize];
+        let id = p.new_id[n as usize];
         if id == u32::MAX {
-            return Err(err(format!(
-                "physical point element {etag} (node tag {}) is not a node of any tetrahedron",
-                raw.node_tags[n as usize]
-            )));
+            return Err(Error::mesh(
+                path,
+                format!(
+                    "physical point element {etag} (node tag {}) is not a node of any {}",
+                    raw.node_tags[n as usize],
+                    family.cell_name()
+                ),
+            ));
         }
-        for &p in phys {
-            point_groups.entry(p).or_default().push(id);
+        for &g in phys {
+            point_groups.entry(g).or_default().push(id);
         }
     }
-
-    let mut is_vertex = vec![false; coords.len()];
-    for tet in &tets {
-        for &n in &tet[..4] {
+    let mut is_vertex = vec![false; p.coords.len()];
+    for cell in &p.cells {
+        for &n in &cell[..family.cell_vertices()] {
             is_vertex[n as usize] = true;
         }
     }
     Ok(Mesh {
-        family: Family::Tet10,
-        coords,
-        cells: tets,
-        faces,
-        face_cell,
-        volume_groups: named_groups(&raw.phys_names, 3, volume_groups),
-        face_groups: named_groups(&raw.phys_names, 2, face_groups),
+        family,
+        coords: p.coords,
+        cells: p.cells,
+        faces: p.faces,
+        face_cell: p.face_cell,
+        volume_groups: named_groups(&raw.phys_names, dim, volume_groups),
+        face_groups: named_groups(&raw.phys_names, dim - 1, p.face_groups),
         point_groups: named_groups(&raw.phys_names, 0, point_groups),
         is_vertex,
     })

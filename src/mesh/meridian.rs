@@ -8,7 +8,7 @@
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
-use super::gmsh::{named_groups, promote, Raw};
+use super::gmsh::{finish, promote, Parts, Raw};
 use super::{face_key, Family, Mesh, TRI6_SIDES};
 use crate::error::{Error, Result};
 
@@ -181,41 +181,6 @@ pub(super) fn build(path: &Path, raw: Raw) -> Result<Mesh> {
         faces.push([side[0], side[1], side[2], u32::MAX, u32::MAX, u32::MAX]);
     }
 
-    let mut volume_groups: BTreeMap<i32, Vec<u32>> = BTreeMap::new();
-    for (t, e) in raw.tri_entity.iter().enumerate() {
-        for &p in raw.entity_phys[2].get(e).map_or(&[][..], |v| v) {
-            volume_groups.entry(p).or_default().push(t as u32);
-        }
-    }
-    let mut point_groups: BTreeMap<i32, Vec<u32>> = BTreeMap::new();
-    for &(n, e, etag) in &raw.points {
-        let Some(phys) = raw.entity_phys[0].get(&e) else { continue };
-        let id = new_id[n as usize];
-        if id == u32::MAX {
-            return Err(err(format!(
-                "physical point element {etag} (node tag {}) is not a node of any triangle",
-                raw.node_tags[n as usize]
-            )));
-        }
-        for &p in phys {
-            point_groups.entry(p).or_default().push(id);
-        }
-    }
-    let mut is_vertex = vec![false; coords.len()];
-    for cell in &cells {
-        for &n in &cell[..3] {
-            is_vertex[n as usize] = true;
-        }
-    }
-    Ok(Mesh {
-        family: Family::Tri6,
-        coords,
-        cells,
-        faces,
-        face_cell,
-        volume_groups: named_groups(&raw.phys_names, 2, volume_groups),
-        face_groups: named_groups(&raw.phys_names, 1, face_groups),
-        point_groups: named_groups(&raw.phys_names, 0, point_groups),
-        is_vertex,
-    })
+    let parts = Parts { coords, cells, faces, face_cell, face_groups, new_id };
+    finish(path, &raw, Family::Tri6, &raw.tri_entity, parts)
 }

@@ -79,3 +79,18 @@ impl History {
         self.rows.iter().map(|r| r[i]).collect()
     }
 }
+
+/// Parses `jacobian check: ... u rows X, p rows Y` lines.
+pub fn jacobian_errors(stdout: &str) -> Vec<(f64, f64)> {
+    stdout
+        .lines()
+        .filter(|l| l.starts_with("jacobian check:"))
+        .map(|l| {
+            let num = |key: &str| -> f64 {
+                let s = &l[l.find(key).unwrap() + key.len()..];
+                s.trim_start().split([',', ' ']).next().unwrap().parse().unwrap()
+            };
+            (num("u rows"), num("p rows"))
+        })
+        .collect()
+}
