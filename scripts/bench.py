@@ -17,7 +17,7 @@ the time.
 Cases: default (the `reference` scene), remodel (remodel_40), fine (reference at h = 10 µm,
 h_pole = 4 µm), graded (reference on a surface-graded mesh, h_surf = 5 µm, the stabilisation
 faded; 47 613 dofs), full (reference_full), cryer100k (cryer at h = 6.5 µm, 85k dofs), relaxation;
-on the meridian: axi (reference), axi_fine (reference with h = 5, surface and poles at 1 µm, the
+on the meridian: axi (reference_axi, the meridian's default mesh), axi_fine (reference with h = 5, surface and poles at 1 µm, the
 finest level of scripts/references.py), axi_remodel (remodel_155).
 The large ones (fine, graded, full, cryer100k) take minutes per run on 2 cores.
 """
@@ -42,7 +42,7 @@ CASES = {   # shipped scene, --set overrides
     "relaxation": ("relaxation", []),
     # The meridian (axisymmetric) model: the reference scene's own mesh parameters, and the finest
     # level of the converged references (scripts/references.py: surface and poles at 1 um).
-    "axi": ("reference", ["mesh.geometry=axisymmetric"]),
+    "axi": ("reference_axi", []),
     "axi_fine": ("reference", ["mesh.geometry=axisymmetric", "mesh.params.h=5", "mesh.params.h_pole=1",
                                "mesh.params.h_surf=1", "mesh.params.w_surf=30"]),
     "axi_remodel": ("remodel_155", ["mesh.geometry=axisymmetric"]),

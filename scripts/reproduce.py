@@ -5,8 +5,11 @@ variants of remodel_405 (lambda_p = 0.1, 0.5 (MPa s)^-1; sigma_y = 1, 4 kPa) on 
 then draws the probe curves (Figs 4, 11), the force sweeps (Figs 7-9) and mid-plane sections
 (Figs 3, 5-6, 11c) into <out>/figures/, and writes <out>/summary.csv (also printed).
 A case whose <out>/<case>/timings.txt exists is not run again, so an interrupted study resumes.
+With --axisymmetric every case runs on its meridian (`--set mesh.geometry=axisymmetric`; the
+section figures then show the meridian itself, mirrored), by default into runs/reproduce_axi.
 
     python3 scripts/reproduce.py [--out runs/reproduce] [--only NAME ...] [--plots-only] [--docs]
+                                 [--axisymmetric]
 """
 import argparse
 import csv
@@ -49,6 +52,8 @@ CASES = {
 T_RAMP = 5.0
 PROBE = (40.0, 0.0, 190.0)       # X_U, um
 VTK_EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]   # mid-edge nodes 4..9 of a tet10
+TRI6_EDGES = [(0, 1), (1, 2), (2, 0)]                            # mid-edge nodes 3..5 of a tri6
+EXTRA_SETS = []   # --set overrides of every case (--axisymmetric)
 
 
 def fmt_s(s):
@@ -64,7 +69,7 @@ def run_command(case, out):
         sets = sets + [f'name="{case}"', f'description="{base} with {what} (scripts/reproduce.py)"',
                        "output.fields_every=1000"]
     cmd = ["mpirun", "-n", "2", str(BIN), "run", base, "--out", str(out / case), "--force", "-q"]
-    for s in sets:
+    for s in sets + EXTRA_SETS:
         cmd += ["--set", s]
     return cmd
 
@@ -263,7 +268,7 @@ def zone_stats(dirs):
         return
     with h5py.File(dirs["remodel_40"] / "fields.h5", "r") as f:
         X, top, T = f["/mesh/coordinates"][:], f["/mesh/topology"][:], f["/time"][:]
-        c = X[top[:, :4]].mean(1)
+        c = X[top[:, :4 if top.shape[1] == 10 else 3]].mean(1)
         r, z = np.hypot(c[:, 0], c[:, 1]), c[:, 2]
         centre, contact = (r < 30) & (abs(z - 100) < 30), (r < 40) & ((z > 170) | (z < 30))
         for want in (5, 15, 35, 40, 60):
@@ -275,8 +280,9 @@ def zone_stats(dirs):
 
 
 class Section:
-    """The mid-plane y = 0 of a run's fields.h5: the faces there of cells with 3 vertices on it,
-    each split in 4 triangles through its mid-edge nodes so that deformed boundaries curve."""
+    """The mid-plane y = 0 of a run's fields.h5: the faces there of cells with 3 vertices on it
+    (every cell of a meridian run), each split in 4 triangles through its mid-edge nodes so that
+    deformed boundaries curve."""
 
     def __init__(self, case, d):
         self.case = case
@@ -284,11 +290,13 @@ class Section:
         self.X = self.f["/mesh/coordinates"][:]
         top = self.f["/mesh/topology"][:]
         self.times = self.f["/time"][:]
-        on = np.abs(self.X[top[:, :4], 1]) < 1e-9
+        meridian = top.shape[1] == 6
+        nv, edges = (3, TRI6_EDGES) if meridian else (4, VTK_EDGES)
+        on = np.abs(self.X[top[:, :nv], 1]) < 1e-9
         tris, owner = [], []
         for c in np.nonzero(on.sum(1) == 3)[0]:
             a, b, e = np.nonzero(on[c])[0]
-            mid = {frozenset(pair): top[c, 4 + k] for k, pair in enumerate(VTK_EDGES)}
+            mid = {frozenset(pair): top[c, nv + k] for k, pair in enumerate(edges)}
             ab, be, ea = mid[frozenset((a, b))], mid[frozenset((b, e))], mid[frozenset((e, a))]
             A, B, E = top[c, [a, b, e]]
             tris += [(A, ab, ea), (ab, B, be), (ea, be, E), (ab, be, ea)]
@@ -376,7 +384,12 @@ def main():
     ap.add_argument("--plots-only", action="store_true", help="no runs: figures and summary from existing runs")
     ap.add_argument("--docs", action="store_true", help="also copy the figures to docs/figures/")
     ap.add_argument("--dirs", nargs="+", default=[], metavar="CASE=DIR", help=argparse.SUPPRESS)  # for testing
+    ap.add_argument("--axisymmetric", action="store_true", help="every case on its meridian (seconds per case)")
     a = ap.parse_args()
+    if a.axisymmetric:
+        EXTRA_SETS.append("mesh.geometry=axisymmetric")
+        if a.out == "runs/reproduce":
+            a.out = "runs/reproduce_axi"
     out = Path(a.out) if Path(a.out).is_absolute() else ROOT / a.out
     out.mkdir(parents=True, exist_ok=True)
     if not a.plots_only:
@@ -409,8 +422,9 @@ def main():
     if a.docs:
         dst = ROOT / "docs" / "figures"
         dst.mkdir(parents=True, exist_ok=True)
+        suffix = "_axi" if a.axisymmetric else ""   # the meridian's figures beside the 3-D ones
         for png in sorted((out / "figures").glob("*.png")):
-            shutil.copy(png, dst / png.name)
+            shutil.copy(png, dst / (png.stem + suffix + png.suffix))
         print(f"copied figures to {dst}")
 
 

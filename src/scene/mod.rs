@@ -474,6 +474,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("remodel_405", include_str!("../../meshes/scenes/remodel_405.toml")),
     ("remodel_155_c2", include_str!("../../meshes/scenes/remodel_155_c2.toml")),
     ("elastic_155", include_str!("../../meshes/scenes/elastic_155.toml")),
+    ("reference_axi", include_str!("../../meshes/scenes/reference_axi.toml")),
 ];
 
 /// The `.geo` sources shipped inside the binary.
