@@ -168,3 +168,23 @@ fn meridian_experiment_matches_the_quarter() {
     let weight = 1e-9 * at(&a, "fluid_volume", 0.0);
     assert!((settled - weight).abs() < 1e-3 * weight, "settled {settled} mg vs weight {weight} mg");
 }
+
+/// Pole elements of 0.375 µm: the whole weight on one contact node at once compacts it below Φs,
+/// so the settling applies the weight in stages (and says so); the settled state carries exactly
+/// the weight (lower-plate force = ϱ g ∫ J dV, to 1e-3; measured 3e-10).
+#[test]
+fn fine_poles_settle_in_stages() {
+    let dir = scratch("axi_settle_stages");
+    let sets = ["mesh.params.h=20", "mesh.params.h_pole=0.375", "mesh.params.r_pole=20", "time.t_end=0.02"];
+    let mut args = vec!["run", "reference", "--out", dir.to_str().unwrap(), "-q", "--set", AXI];
+    for s in &sets {
+        args.extend(["--set", s]);
+    }
+    let out = poroplast(1, &args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("settling with the whole weight at once failed"), "{stderr}");
+    let h = History::read(&dir);
+    let (lower, weight) = (h.col("force_lower_mg")[0], 1e-9 * h.col("fluid_volume")[0]);
+    assert!((lower - weight).abs() < 1e-3 * weight, "settled {lower} mg vs weight {weight} mg");
+}

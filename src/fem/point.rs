@@ -148,4 +148,7 @@ pub trait PointModel {
     fn is_linear(&self) -> bool {
         false
     }
+    /// Scales the model's gravity to `factor` times the scene's (a load continuation for the
+    /// settling under gravity); nothing for models without gravity.
+    fn set_gravity_factor(&mut self, _factor: f64) {}
 }

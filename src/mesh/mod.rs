@@ -121,6 +121,13 @@ impl Family {
     pub const fn axisymmetric(self) -> bool {
         matches!(self, Family::Tri6)
     }
+    /// Short plural of the cells, for logs.
+    pub const fn cells_name(self) -> &'static str {
+        match self {
+            Family::Tet10 => "tets",
+            Family::Tri6 => "meridian triangles",
+        }
+    }
     /// Name of a cell, for messages.
     pub const fn cell_name(self) -> &'static str {
         match self {

@@ -66,6 +66,8 @@ pub struct Biphasic {
     rho_s_g: Vector3<f64>,
     /// ϱf a_g in kPa/µm.
     rho_f_g: Vector3<f64>,
+    /// (ϱs a_g, ϱf a_g) of the scene: the two above are these times the gravity factor.
+    weights: (Vector3<f64>, Vector3<f64>),
     /// Drained bulk modulus of the mixture at the reference state (kPa).
     k_drained: f64,
     /// Drained P-wave modulus of the mixture at the reference state (kPa).
@@ -138,6 +140,7 @@ impl Biphasic {
             phi_s,
             rho_s_g: a_g * rho_s_kg_m3,
             rho_f_g: a_g * rho_f_kg_m3,
+            weights: (a_g * rho_s_kg_m3, a_g * rho_f_kg_m3),
             k_drained,
             m_drained,
             remodel: None,
@@ -291,6 +294,10 @@ impl Biphasic {
 }
 
 impl PointModel for Biphasic {
+    fn set_gravity_factor(&mut self, factor: f64) {
+        self.rho_s_g = self.weights.0 * factor;
+        self.rho_f_g = self.weights.1 * factor;
+    }
     fn fields(&self, at: QpId, s: &PointState, h: History) -> Result<PointFields> {
         self.point_fields(at, s, h)
     }
