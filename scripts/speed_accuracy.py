@@ -7,7 +7,12 @@ the same extrapolated value. Prints the front and the cheapest case within a tar
 
     python3 scripts/speed_accuracy.py studies/conv_reference --observable force_total_mg@35 \\
         [--default-h 20 --default-dt 1] [--target 0.01] [--variants studies/solvers_reference] \\
-        [--out docs/figures/speed_accuracy.png]
+        [--reference STUDY] [--also [LABEL=]STUDY ...] [--out docs/figures/speed_accuracy.png]
+
+--reference STUDY takes the converged value from another convergence study (e.g. the meridian's,
+`scripts/references.py`) instead of the study's own extrapolation; --also STUDY puts another
+convergence study's cases on the same chart (e.g. the meridian's beside the 3-D one), errors
+against the same value.
 """
 import argparse
 import csv
@@ -29,13 +34,9 @@ def name(p):
     return p["label"] if "label" in p else f"h = {p['h']:g}, dt x {p['dt']:g}"
 
 
-def read_variants(vdir, study, observable):
+def read_variants(vdir, ref, observable):
     """The variant study's cases as points: wall time, and the error of `observable` against the
-    convergence study's extrapolated value (convergence.csv)."""
-    ref = next((float(r["extrapolated"]) for r in csv.DictReader(open(study / "convergence.csv"))
-                if r["observable"] == observable), None)
-    if ref is None:
-        raise SystemExit(f"speed_accuracy.py: {observable} is not in {study / 'convergence.csv'}")
+    converged value `ref`."""
     rows = list(csv.DictReader(open(vdir / "summary.csv")))
     if rows and observable not in rows[0]:
         raise SystemExit(f"speed_accuracy.py: {observable} is not in {vdir / 'summary.csv'}")
@@ -50,6 +51,25 @@ def read_variants(vdir, study, observable):
     return out
 
 
+def extrapolated(study, observable):
+    """A convergence study's extrapolated value of `observable` (convergence.csv)."""
+    v = next((float(r["extrapolated"]) for r in csv.DictReader(open(study / "convergence.csv"))
+              if r["observable"] == observable), None)
+    if v is None:
+        raise SystemExit(f"speed_accuracy.py: {observable} is not in {study / 'convergence.csv'}")
+    return v
+
+
+def study_points(study, observable, ref):
+    """A convergence study's cases (summary.csv) as points: wall time, error against `ref`."""
+    rows = [r for r in csv.DictReader(open(study / "summary.csv")) if r["status"] == "ok"]
+    if rows and observable not in rows[0]:
+        raise SystemExit(f"speed_accuracy.py: {observable} is not in {study / 'summary.csv'}")
+    pts = [{"h": float(r["h"]), "dt": float(r["dt_scale"]), "wall_s": float(r["wall_s"]),
+            "error": abs(float(r[observable]) - ref) / abs(ref)} for r in rows]
+    return [p for p in pts if math.isfinite(p["error"]) and math.isfinite(p["wall_s"])]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("study")
@@ -59,17 +79,24 @@ def main():
     ap.add_argument("--target", type=float, default=0.01, help="relative error a user asks for")
     ap.add_argument("--variants", action="append", default=[], metavar="STUDY",
                     help="a study.py directory of solver/time-stepping variants at one discretisation (repeatable)")
+    ap.add_argument("--reference", default=None, metavar="STUDY",
+                    help="take the converged value from this convergence study (default: the study's own)")
+    ap.add_argument("--also", action="append", default=[], metavar="[LABEL=]STUDY",
+                    help="another convergence study's cases on the same chart (repeatable)")
     ap.add_argument("--out", default=None)
     a = ap.parse_args()
     study = Path(a.study)
-    rows = list(csv.DictReader(open(study / "errors.csv")))
-    if a.observable not in rows[0]:
-        raise SystemExit(f"speed_accuracy.py: {a.observable} is not in {study / 'errors.csv'}")
-    pts = [{"h": float(r["h"]), "dt": float(r["dt_scale"]), "wall_s": float(r["wall_s"]),
-            "error": float(r[a.observable])} for r in rows]
-    pts = [p for p in pts if math.isfinite(p["error"]) and math.isfinite(p["wall_s"])]
-    variants = [v for d in a.variants for v in read_variants(Path(d), study, a.observable)]
-    front = pareto(pts + variants)
+    ref = extrapolated(Path(a.reference) if a.reference else study, a.observable)
+    pts = study_points(study, a.observable, ref)
+    others = {}
+    for spec in a.also:   # LABEL=STUDY or STUDY
+        label, _, d = spec.rpartition("=")
+        others[label or Path(d).name] = study_points(Path(d), a.observable, ref)
+    variants = [v for d in a.variants for v in read_variants(Path(d), ref, a.observable)]
+    for label, extra in others.items():
+        for p in extra:
+            p["label"] = f"{label}: h = {p['h']:g}, dt x {p['dt']:g}"
+    front = pareto(pts + variants + [p for extra in others.values() for p in extra])
     default = next((p for p in pts if p["h"] == a.default_h and p["dt"] == a.default_dt), None)
     print(f"{a.observable}: error against the extrapolated value; Pareto front (case, wall s, error):")
     for p in front:
@@ -81,7 +108,7 @@ def main():
         on = any(p is default for p in front)
         print(f"default (h = {a.default_h:g}, dt x {a.default_dt:g}): {default['wall_s']:.1f} s, "
               f"{default['error']:.2e} ({'on' if on else 'off'} the front)")
-    ok = [p for p in pts + variants if p["error"] <= a.target]
+    ok = [p for p in pts + variants + [p for extra in others.values() for p in extra] if p["error"] <= a.target]
     if ok:
         c = min(ok, key=lambda p: p["wall_s"])
         print(f"cheapest within {a.target:g}: {name(c)}, {c['wall_s']:.1f} s ({c['error']:.2e})")
@@ -95,6 +122,11 @@ def main():
     for h in sorted({p["h"] for p in pts}, reverse=True):
         sel = sorted((p for p in pts if p["h"] == h), key=lambda p: p["wall_s"])
         ax.loglog([p["wall_s"] for p in sel], [max(p["error"], 1e-6) for p in sel], "o-", alpha=0.7, label=f"h = {h:g} um")
+    for label, extra in others.items():
+        for h in sorted({p["h"] for p in extra}, reverse=True):
+            sel = sorted((p for p in extra if p["h"] == h), key=lambda p: p["wall_s"])
+            ax.loglog([p["wall_s"] for p in sel], [max(p["error"], 1e-6) for p in sel], "s--", mfc="none",
+                      alpha=0.8, label=f"{label}: h = {h:g} um")
     for v, marker in zip(variants, "sD^vP<>Xhp" * 3):
         ax.loglog([v["wall_s"]], [max(v["error"], 1e-6)], marker, ms=7, mfc="none", label=v["label"])
     ax.loglog([p["wall_s"] for p in front], [max(p["error"], 1e-6) for p in front], "k--", lw=1, label="Pareto front")

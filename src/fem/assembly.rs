@@ -180,12 +180,6 @@ impl Discretization {
         Ok(m)
     }
 
-    /// The committed history of element e as the step being solved sees it.
-    #[inline]
-    pub fn step_history(&self, e: usize) -> History<'_> {
-        History { committed: self.history.element(e), evolve: self.evolve }
-    }
-
     /// Local dof indices of element e in kernel order (the first `ndof()` entries).
     #[inline]
     pub fn element_dofs(&self, e: usize) -> ElementDofs {
