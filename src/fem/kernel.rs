@@ -52,12 +52,6 @@ pub struct ElementValues {
     pub pdot: [f64; MAX_VERTICES],
 }
 
-/// P1 values at a reference point of a tetrahedron: barycentric coordinates.
-#[inline]
-pub fn p1_values(xi: &[f64; 3]) -> [f64; 4] {
-    super::cell::Tet10::p1_values(xi)
-}
-
 /// Kinematics at one quadrature point.
 struct Point {
     w: f64,
