@@ -241,12 +241,10 @@ fn straight_volume(mesh: &LocalMesh) -> f64 {
         .iter()
         .map(|t| {
             let x = |i: usize| mesh.coords[t[i] as usize];
+            let m = crate::mesh::straight_measure(mesh.family, x);
             match mesh.family {
-                Family::Tet10 => crate::mesh::tet_det(x(0), x(1), x(2), x(3)).abs() / 6.0,
-                Family::Tri6 => {
-                    let r = (x(0)[0] + x(1)[0] + x(2)[0]) / 3.0;
-                    std::f64::consts::PI * r * crate::mesh::meridian::area2(x(0), x(1), x(2)).abs()
-                }
+                Family::Tet10 => m,
+                Family::Tri6 => 2.0 * std::f64::consts::PI * (x(0)[0] + x(1)[0] + x(2)[0]) / 3.0 * m,
             }
         })
         .sum()

@@ -11,7 +11,7 @@
 //! first [`CellShape::NN`], [`CellShape::NV`], [`CellShape::NC`] entries. The kernel is generic
 //! over the family, so these are constants of the compiled loops.
 
-use super::element::{tet10_geometry, Tabulation, TET10_EDGES, TRI6_EDGES};
+use super::element::{tet10, tet10_geometry, tri6, Tabulation, TET10_EDGES, TRI6_EDGES};
 use crate::error::{Error, Result};
 use crate::mesh::Family;
 
@@ -82,7 +82,7 @@ impl CellShape for Tet10 {
 
     #[inline]
     fn p1_values(xi: &[f64; 3]) -> [f64; MAX_VERTICES] {
-        [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]]
+        p1_values(Family::Tet10, xi)
     }
 
     fn h2(vol: f64) -> f64 {
@@ -131,11 +131,35 @@ impl CellShape for Tri6Axi {
 
     #[inline]
     fn p1_values(xi: &[f64; 3]) -> [f64; MAX_VERTICES] {
-        [1.0 - xi[0] - xi[1], xi[0], xi[1], 0.0]
+        p1_values(Family::Tri6, xi)
     }
 
     fn h2(area: f64) -> f64 {
         4.0 * area / 3f64.sqrt()
+    }
+}
+
+/// P1 values (barycentric coordinates) of a family's cell at the reference point ξ.
+#[inline]
+pub fn p1_values(family: Family, xi: &[f64; 3]) -> [f64; MAX_VERTICES] {
+    match family {
+        Family::Tet10 => [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]],
+        Family::Tri6 => [1.0 - xi[0] - xi[1], xi[0], xi[1], 0.0],
+    }
+}
+
+/// P2 values and reference gradients of a family's cell at ξ, in the 10-slot layout (a
+/// triangle's 6 functions first, the other slots zero; its gradients (∂/∂ξ, ∂/∂η, 0)).
+pub fn p2_values(family: Family, xi: &[f64; 3]) -> ([f64; MAX_NODES], [[f64; 3]; MAX_NODES]) {
+    match family {
+        Family::Tet10 => tet10(xi),
+        Family::Tri6 => {
+            let (n, dn) = tri6(&[xi[0], xi[1]]);
+            (
+                std::array::from_fn(|a| if a < 6 { n[a] } else { 0.0 }),
+                std::array::from_fn(|a| if a < 6 { [dn[a][0], dn[a][1], 0.0] } else { [0.0; 3] }),
+            )
+        }
     }
 }
 

@@ -82,20 +82,10 @@ pub fn tabulate_tri6(q: &Quadrature) -> Tabulation<6> {
 }
 
 /// The cell functions of a family at every point of a rule, in the kernel's 10-slot layout
-/// (a triangle's 6 functions first, the other slots zero).
+/// (`cell::p2_values`).
 pub fn tabulate_cell(family: crate::mesh::Family, q: &Quadrature) -> Tabulation<10> {
-    match family {
-        crate::mesh::Family::Tet10 => tabulate_tet10(q),
-        crate::mesh::Family::Tri6 => {
-            let t = tabulate_tri6(q);
-            let pad = |v: &[f64; 6]| std::array::from_fn(|a| if a < 6 { v[a] } else { 0.0 });
-            Tabulation {
-                n: t.n.iter().map(pad).collect(),
-                dn: t.dn.iter().map(|d| std::array::from_fn(|a| if a < 6 { d[a] } else { [0.0; 3] })).collect(),
-                weights: t.weights,
-            }
-        }
-    }
+    let (n, dn) = q.points.iter().map(|p| super::cell::p2_values(family, p)).unzip();
+    Tabulation { n, dn, weights: q.weights.clone() }
 }
 
 /// The isoparametric map of a 10-node tet at one quadrature point.
@@ -177,10 +167,7 @@ pub fn tri6_surface(coords: &[[f64; 3]; 6], tab: &Tabulation<6>, q: usize) -> Su
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::cell::{p1_gradients as p1_grads, Tet10};
-    fn p1_gradients(dn: &[[f64; 3]; 10]) -> [[f64; 3]; 4] {
-        p1_grads::<Tet10>(dn)
-    }
+    use crate::fem::cell::{p1_gradients, Tet10};
     use crate::fem::quadrature;
 
     const REF: [[f64; 3]; 4] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
@@ -256,7 +243,7 @@ mod tests {
                 assert!((gd - ge[d]).abs() < 1e-11, "{gd} vs {}", ge[d]);
             }
             // P1 gradients: L_m is linear with L_m(v_n) = δ_mn.
-            let g1 = p1_gradients(&geo.dn_dx);
+            let g1 = p1_gradients::<Tet10>(&geo.dn_dx);
             for m in 0..4 {
                 for n in 0..4 {
                     let dot: f64 = (0..3).map(|d| g1[m][d] * (v[n][d] - v[0][d])).sum();

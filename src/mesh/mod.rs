@@ -249,6 +249,15 @@ pub(crate) fn unpack_face(k: u128) -> ([u32; 3], u32, u8) {
     ([(k >> 96) as u32, (k >> 64) as u32, (k >> 32) as u32], id / 4, (id % 4) as u8)
 }
 
+/// The measure of a cell's straight (vertex) simplex, vertex i at `x(i)`: the volume of a
+/// tetrahedron, the area of a meridian triangle.
+pub fn straight_measure(family: Family, x: impl Fn(usize) -> [f64; 3]) -> f64 {
+    match family {
+        Family::Tet10 => tet_det(x(0), x(1), x(2), x(3)).abs() / 6.0,
+        Family::Tri6 => meridian::area2(x(0), x(1), x(2)).abs() / 2.0,
+    }
+}
+
 /// Determinant of [b - a, c - a, d - a] (6 x signed volume of the straight tet).
 pub(crate) fn tet_det(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> f64 {
     let u = sub(b, a);

@@ -6,8 +6,8 @@
 //! radial displacement u_r, and surface means are over the surface of revolution.
 
 use crate::error::{Error, Result};
+use crate::fem::cell::{p1_values as p1, p2_values as shapes};
 use crate::fem::dofmap::DofMap;
-use crate::fem::element::{tet10, tri6};
 use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
 use crate::mesh::Family;
@@ -51,42 +51,12 @@ pub struct Probe {
     at: Where,
 }
 
-/// P2 values and reference gradients of a cell family at ξ (the first `cell_nodes` entries).
-fn shapes(family: Family, xi: &[f64; 3]) -> ([f64; 10], [[f64; 3]; 10]) {
-    match family {
-        Family::Tet10 => tet10(xi),
-        Family::Tri6 => {
-            let (n, dn) = tri6(&[xi[0], xi[1]]);
-            (
-                std::array::from_fn(|a| if a < 6 { n[a] } else { 0.0 }),
-                std::array::from_fn(|a| if a < 6 { [dn[a][0], dn[a][1], 0.0] } else { [0.0; 3] }),
-            )
-        }
-    }
-}
-
-/// P1 values (barycentric coordinates) of a cell family at ξ.
-fn p1(family: Family, xi: &[f64; 3]) -> [f64; 4] {
-    match family {
-        Family::Tet10 => [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]],
-        Family::Tri6 => [1.0 - xi[0] - xi[1], xi[0], xi[1], 0.0],
-    }
-}
-
 /// The point of the mesh's space that stands for the reference point x: itself in 3-D, its
 /// meridian point (√(x² + y²), 0, z) on a meridian mesh.
 pub fn mesh_point(family: Family, x: [f64; 3]) -> [f64; 3] {
     match family {
         Family::Tet10 => x,
         Family::Tri6 => [x[0].hypot(x[1]), 0.0, x[2]],
-    }
-}
-
-/// The Cartesian axes a family's reference coordinates span (x, y, z; or x and z).
-fn spanned(family: Family) -> &'static [usize] {
-    match family {
-        Family::Tet10 => &[0, 1, 2],
-        Family::Tri6 => &[0, 2],
     }
 }
 
@@ -108,7 +78,7 @@ pub fn locate_in_element(mesh: &LocalMesh, e: usize, x: [f64; 3]) -> Option<[f64
     if (0..3).any(|d| x[d] < lo[d] - pad || x[d] > hi[d] + pad) {
         return None;
     }
-    let axes = spanned(fam);
+    let axes = fam.axes();
     let dim = axes.len();
     let mut xi = if dim == 3 { [0.25; 3] } else { [1.0 / 3.0, 1.0 / 3.0, 0.0] };
     for _ in 0..20 {
@@ -251,7 +221,7 @@ pub fn deformation_gradient(
     let fam = mesh.family;
     let t = mesh.cell(e);
     let (n, dn) = shapes(fam, xi);
-    let axes = spanned(fam);
+    let axes = fam.axes();
     // jm[(d, k)] = ∂x_d/∂ξ_k over the spanned axes (identity elsewhere, so its inverse is too).
     let mut jm = nalgebra::Matrix3::<f64>::identity();
     for &d in axes {

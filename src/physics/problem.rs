@@ -623,9 +623,10 @@ pub fn mean_element_size(world: &SimpleCommunicator, mesh: &LocalMesh) -> f64 {
     let mut sum = 0.0;
     for t in &mesh.cells {
         let x = |i: usize| mesh.coords[t[i] as usize];
+        let m = crate::mesh::straight_measure(mesh.family, x);
         sum += match mesh.family {
-            Family::Tet10 => (crate::mesh::tet_det(x(0), x(1), x(2), x(3)).abs() / 6.0).cbrt(),
-            Family::Tri6 => (crate::mesh::meridian::area2(x(0), x(1), x(2)).abs() / 2.0).sqrt(),
+            Family::Tet10 => m.cbrt(),
+            Family::Tri6 => m.sqrt(),
         };
     }
     let local = [sum, mesh.cells.len() as f64];
