@@ -64,7 +64,7 @@ impl Fields {
             NullSpace::rigid_body(&cv)?
         } else {
             let mut v = Vector::mpi(comm, nc * n)?;
-            v.write()?.iter_mut().enumerate().for_each(|(i, x)| *x = f64::from(u8::from(i % nc == nc - 1)));
+            v.write()?.iter_mut().enumerate().for_each(|(i, x)| *x = mode(nc, 0, i % nc, coords[i / nc]));
             let mut modes = vec![v];
             super::orthonormalise(&mut modes)?;
             NullSpace::from_vectors(comm, &modes)?
@@ -103,18 +103,7 @@ impl Fields {
             {
                 let mut w = v.write()?;
                 for (i, &l) in u_full.iter().enumerate() {
-                    let (node, c) = (l / nc, l % nc);
-                    if nc != 3 {
-                        w[i] = f64::from(u8::from(c == nc - 1));
-                        continue;
-                    }
-                    let x = self.coords[node];
-                    w[i] = match m {
-                        0..=2 => f64::from(c == m),
-                        3 => [0.0, -x[2], x[1]][c],
-                        4 => [x[2], 0.0, -x[0]][c],
-                        _ => [-x[1], x[0], 0.0][c],
-                    };
+                    w[i] = mode(nc, m, l % nc, self.coords[l / nc]);
                 }
             }
             modes.push(v);
@@ -124,6 +113,21 @@ impl Fields {
         u.compose("nearnullspace", &NullSpace::from_vectors(comm, &modes)?)?;
         let p = IndexSet::general(comm, &p_red)?;
         Ok(vec![("u".into(), u), ("p".into(), p)])
+    }
+}
+
+/// Rigid-body mode m at displacement component c of a node at (centred) x: in 3-D (nc = 3) the
+/// translations e_c (m < 3) and the rotations e_k × x; on the meridian (nc = 2, components
+/// u_r, u_z) the translation along z, its one mode.
+fn mode(nc: usize, m: usize, c: usize, x: [f64; 3]) -> f64 {
+    if nc != 3 {
+        return f64::from(u8::from(c == nc - 1));
+    }
+    match m {
+        0..=2 => f64::from(u8::from(c == m)),
+        3 => [0.0, -x[2], x[1]][c],
+        4 => [x[2], 0.0, -x[0]][c],
+        _ => [-x[1], x[0], 0.0][c],
     }
 }
 
