@@ -433,7 +433,7 @@ impl PoroProblem {
     /// steps.
     pub fn step_error(&self, prev: &Vector, u: &Vector, dt: f64, tol: f64) -> Result<Option<f64>> {
         let Some((v, dt_prev)) = &self.velocity else { return Ok(None) };
-        let nu = 3 * self.disc.dofs.n_owned_nodes;
+        let nu = self.disc.dofs.n_u_owned();
         let w = dt / (dt + dt_prev);
         // Per field (u, p): Σ e², number of dofs, and max |x| over this rank's dofs.
         let (mut sums, mut maxs) = ([0.0f64; 4], [0.0f64; 2]);
