@@ -18,7 +18,9 @@ Cases: default (the `reference` scene), remodel (remodel_40), fine (reference at
 h_pole = 4 µm), graded (reference on a surface-graded mesh, h_surf = 5 µm, the stabilisation
 faded; 47 613 dofs), full (reference_full), cryer100k (cryer at h = 6.5 µm, 85k dofs), relaxation;
 on the meridian: axi (reference_axi, the meridian's default mesh), axi_fine (reference with h = 5, surface and poles at 1 µm, the
-finest level of scripts/references.py), axi_remodel (remodel_155).
+finest level of scripts/references.py), axi_remodel (remodel_155), axi_converged (the converged level of the
+whole experiment: h = 10, surface and poles at 2 µm, no stabilisation, ⅛ of the steps). For the
+reference scenes the accuracy line gives each value's error against the converged values (CONVERGED).
 The large ones (fine, graded, full, cryer100k) take minutes per run on 2 cores.
 """
 import argparse
@@ -46,7 +48,15 @@ CASES = {   # shipped scene, --set overrides
     "axi_fine": ("reference", ["mesh.geometry=axisymmetric", "mesh.params.h=5", "mesh.params.h_pole=1",
                                "mesh.params.h_surf=1", "mesh.params.w_surf=30"]),
     "axi_remodel": ("remodel_155", ["mesh.geometry=axisymmetric"]),
+    # The converged level of the whole experiment (docs/performance.md): h = 10 with surface and
+    # poles at 2 um, no stabilisation (it is the largest error on these meshes), 1/8 of the steps.
+    "axi_converged": ("reference", ["mesh.geometry=axisymmetric", "mesh.params.h=10", "mesh.params.h_pole=2",
+                                    "mesh.params.h_surf=2", "mesh.params.w_surf=30", "fem.stabilisation=0",
+                                    "time.dt=0.0025", "time.dt_max=0.25", "time.growth=1.0333"]),
 }
+# The converged values of the elastic experiment (the reference scenes; scripts/references.py,
+# docs/studies.md): each case's error against them is printed beside its time.
+CONVERGED = {"peak_F_mg": 17.584, "F35_mg": 12.7557, "p5_kPa": 10.325}
 # -log_view events: PC setup (AMG hierarchies, factorisations), Krylov solves, submatrix copies
 # (the fieldsplit blocks and, with contact, the VI solver's reduced system).
 EVENTS = {"pc_setup": "PCSetUp", "ksp_solve": "KSPSolve", "factor": "MatLUFactorNum", "submatrix": "MatCreateSubMat"}
@@ -159,8 +169,10 @@ def main():
             print(f"{label:>14} np={n}: " + "  ".join(
                 f"{k} {row[k]:.4g}" for k in cols if row.get(k) is not None) + f"  speed-up {base / row['wall']:.2f}")
             if obs:
-                print(f"{'':>14}       accuracy: " + "  ".join(f"{k} {v:.6g}" for k, v in obs.items() if v is not None),
-                      flush=True)
+                err = lambda k, v: f" ({100 * (v / CONVERGED[k] - 1):+.2f}%)" if scene.startswith("reference") \
+                    and k in CONVERGED else ""
+                print(f"{'':>14}       accuracy: " + "  ".join(f"{k} {v:.6g}{err(k, v)}" for k, v in obs.items()
+                                                             if v is not None), flush=True)
         if not a.no_halved and obs:
             # Accuracy not traded away silently: the same case with halved steps and tolerances.
             h = run_once(scene, halved(scene, ov), max(a.ranks), work / f"{label.replace(' ', '_')}-halved",

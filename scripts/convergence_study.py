@@ -67,6 +67,28 @@ def correction(q_coarse, q_fine, ratio, p):
     return (q_fine - q_coarse) / (ratio ** p - 1)
 
 
+def extrapolate(qh, qt, q_junction, hs, ss, formal_h, formal_t):
+    """Richardson on the mesh sequence qh (levels hs, at the step level S) and the step sequence qt
+    (levels ss, on the mesh H), with q_junction = Q(H, S): Q*, its error bar, the observed orders
+    and which orders were used (see the module docs)."""
+    p_h = solve_order(qh[-3:], (hs[-3] / hs[-2], hs[-2] / hs[-1]))
+    p_t = solve_order(qt[-3:], (ss[-3] / ss[-2], ss[-2] / ss[-1]))
+    ok = lambda p: 0.5 <= p <= 4.0  # NaN is not
+    use_h, use_t = (p_h if ok(p_h) else formal_h), (p_t if ok(p_t) else formal_t)
+    c_h = correction(qh[-2], qh[-1], hs[-2] / hs[-1], use_h)
+    c_t = correction(qt[-2], qt[-1], ss[-2] / ss[-1], use_t)
+    extrap = (qh[-1] + c_h) + (qt[-1] + c_t) - q_junction
+    fs_h, fs_t = (1.25 if ok(p_h) else 3.0), (1.25 if ok(p_t) else 3.0)
+    bar = fs_h * abs(c_h) + fs_t * abs(c_t)
+    if not ok(p_h):
+        bar = max(bar, abs(qh[-1] - qh[-2]))
+    if not ok(p_t):
+        bar = max(bar, abs(qt[-1] - qt[-2]))
+    return {"extrapolated": extrap, "error_bar": bar, "p_h": p_h, "p_t": p_t,
+            "order_h": "observed" if ok(p_h) else "formal", "order_t": "observed" if ok(p_t) else "formal",
+            "finest": qh[-1]}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("scene")
@@ -133,24 +155,8 @@ def main():
     rows = []
     for o in a.observe:
         q = lambda h, s: results[(h, s)].get(o, float("nan")) if results[(h, s)]["status"] == "ok" else float("nan")
-        qh = [q(h, S) for h in hs]
-        qt = [q(H, s) for s in ss]
-        p_h = solve_order(qh[-3:], (hs[-3] / hs[-2], hs[-2] / hs[-1]))
-        p_t = solve_order(qt[-3:], (ss[-3] / ss[-2], ss[-2] / ss[-1]))
-        ok = lambda p: 0.5 <= p <= 4.0  # NaN is not
-        use_h, use_t = (p_h if ok(p_h) else a.formal_h), (p_t if ok(p_t) else a.formal_t)
-        c_h = correction(qh[-2], qh[-1], hs[-2] / hs[-1], use_h)
-        c_t = correction(qt[-2], qt[-1], ss[-2] / ss[-1], use_t)
-        extrap = (qh[-1] + c_h) + (qt[-1] + c_t) - q(H, S)
-        fs_h, fs_t = (1.25 if ok(p_h) else 3.0), (1.25 if ok(p_t) else 3.0)
-        bar = fs_h * abs(c_h) + fs_t * abs(c_t)
-        if not ok(p_h):
-            bar = max(bar, abs(qh[-1] - qh[-2]))
-        if not ok(p_t):
-            bar = max(bar, abs(qt[-1] - qt[-2]))
-        rows.append({"observable": o, "extrapolated": extrap, "error_bar": bar, "p_h": p_h, "p_t": p_t,
-                     "order_h": "observed" if ok(p_h) else "formal", "order_t": "observed" if ok(p_t) else "formal",
-                     "finest": qh[-1]})
+        rows.append({"observable": o, **extrapolate([q(h, S) for h in hs], [q(H, s) for s in ss], q(H, S), hs, ss,
+                                                     a.formal_h, a.formal_t)})
     with open(root / "convergence.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()

@@ -1,7 +1,8 @@
 """Parameter studies as batch jobs.
 
 One scene, a grid of `--set` overrides: every combination is a case, run under mpirun (2 ranks
-by default) into its own directory. A case that completed is skipped, so an interrupted study
+by default) into its own directory. A case that completed with the same scene, `--set` values and
+PETSc options is skipped (another `--set` runs it again), so an interrupted study
 continues where it stopped (a failed case is tried again). Writes
 
   STUDY/summary.csv      one row per case: the overrides, status, wall time, steps, step cuts,
@@ -108,10 +109,26 @@ def timings(path):
     return out
 
 
-def completed(case_dir):
-    """The recorded result of a case that completed, or None."""
+def signature(scene, overrides, sets, petsc):
+    """What a case ran: the scene, every --set, the PETSc options (not the rank count)."""
+    return [scene, *(f"{k}={v}" for k, v in list(sets) + list(overrides)), *petsc]
+
+
+def completed(case_dir, sig=None, observables=()):
+    """The recorded result of a case that completed with the signature `sig`, or None. A result
+    recorded before signatures were kept is taken as it is. Observables it lacks are read from
+    its history.csv."""
     done = case_dir / "case.json"
-    return json.loads(done.read_text()) if done.exists() else None
+    if not done.exists():
+        return None
+    result = json.loads(done.read_text())
+    if sig is not None and result.get("signature", sig) != sig:
+        return None
+    missing = [o for o in observables if o not in result]
+    if missing and result.get("status") == "ok" and (case_dir / "run" / "history.csv").exists():
+        h = history(case_dir / "run" / "history.csv")
+        result.update({o: observe(h, o) for o in missing})
+    return result
 
 
 def run_case(scene, overrides, sets, case_dir, ranks, petsc, observables=()):
@@ -135,6 +152,7 @@ def run_case(scene, overrides, sets, case_dir, ranks, petsc, observables=()):
     result = {"status": "ok", **{c: tm.get(k, float("nan")) for c, k in COUNTERS.items()}}
     h = history(case_dir / "run" / "history.csv")
     result.update({o: observe(h, o) for o in observables})
+    result["signature"] = signature(scene, overrides, sets, petsc)
     (case_dir / "case.json").write_text(json.dumps(result, indent=1))
     return result
 
@@ -145,12 +163,13 @@ def run_cases(scene, cases, sets, root, ranks, petsc, observables=(), label=None
     per case, in order. `label(case)` names a case in the progress lines."""
     label = label or (lambda case: " ".join(f"{k}={v}" for k, v in case) or "(base scene)")
     dirs = [root / "cases" / slug(c) for c in cases]
-    todo = sum(1 for d in dirs if completed(d) is None)
+    done = lambda d, c: completed(d, signature(scene, c, sets, petsc), observables)
+    todo = sum(1 for d, c in zip(dirs, cases) if done(d, c) is None)
     print(f"{root}: {len(cases)} cases, {len(cases) - todo} already complete, {todo} to run "
           f"on {ranks} rank(s)", flush=True)
     out, ran, t0 = [], 0, time.time()
     for n, (case, cdir) in enumerate(zip(cases, dirs), 1):
-        result = completed(cdir)
+        result = done(cdir, case)
         if result is not None:
             print(f"[{n}/{len(cases)}] {label(case)}: complete, skipped", flush=True)
         else:

@@ -102,6 +102,13 @@ fn a_study_runs_its_grid_and_continues_where_it_stopped() {
     let (_, out) = study(&args);
     assert!(out.contains("4 cases, 2 already complete, 2 to run"), "{out}");
     assert_eq!(out.matches("complete, skipped").count(), 2, "{out}");
+    // Another --set for the same cases runs them again (a case is complete for what it ran).
+    let changed: Vec<&str> = args.iter().map(|a| if *a == "time.t_end=0.004" { "time.t_end=0.003" } else { a }).collect();
+    let (_, out) = study(&changed);
+    assert!(out.contains("4 cases, 0 already complete, 4 to run"), "{out}");
+    let rows = csv_rows(&std::fs::read_to_string(d.join("summary.csv")).unwrap());
+    let ok: Vec<f64> = rows.iter().filter(|r| r["status"] == "ok").map(|r| r["last:time"].parse().unwrap()).collect();
+    assert_eq!(ok, [0.003, 0.003], "{rows:?}");
 }
 
 #[test]
@@ -120,9 +127,11 @@ fn study_observables_are_read_from_the_history() {
     python_ok(code);
 }
 
-/// The convergence study end to end on a tiny case (Terzaghi, 3 meshes × 3 step levels): it
-/// writes its tables with one row per observable; and its order estimate and Richardson
-/// correction recover a known C h^p error.
+/// The convergence study end to end on a tiny case (Terzaghi, 3 meshes at the finest steps and 3
+/// step levels on the finest mesh: 5 runs): it writes its tables with one row per observable;
+/// its order estimate and Richardson correction recover a known C h^p error, and its cross
+/// design (mesh levels at one step level, step levels on another mesh) recovers Q* exactly
+/// from additive errors 2e-3 h² + 0.3 Δt-scale.
 #[test]
 fn convergence_study_extrapolates() {
     let dir = scratch("convergence_study");
@@ -140,7 +149,7 @@ fn convergence_study_extrapolates() {
     let rows = csv_rows(&conv);
     assert_eq!(rows.len(), 2, "{conv}");
     assert!(rows.iter().all(|r| r["finest"].parse::<f64>().unwrap().is_finite()), "{conv}");
-    assert_eq!(std::fs::read_to_string(d.join("errors.csv")).unwrap().lines().count(), 10);
+    assert_eq!(std::fs::read_to_string(d.join("errors.csv")).unwrap().lines().count(), 6);
     let code = "import convergence_study as c\n\
         q = [1 + 2 * h**1.5 for h in (3.0, 2.0, 1.5)]\n\
         p = c.solve_order(q, (1.5, 2 / 1.5))\n\
@@ -148,6 +157,9 @@ fn convergence_study_extrapolates() {
         assert abs(q[2] + c.correction(q[1], q[2], 2 / 1.5, p) - 1.0) < 1e-9\n\
         import math\n\
         assert math.isnan(c.solve_order([1.0, 2.0, 1.5], (2.0, 2.0)))\n\
+        hs, ss, Q = [20.0, 15.0, 10.0, 5.0], [1.0, 0.5, 0.25, 0.125], lambda h, s: 1 + 2e-3 * h**2 + 0.3 * s\n\
+        r = c.extrapolate([Q(h, 0.5) for h in hs], [Q(10.0, s) for s in ss], Q(10.0, 0.5), hs, ss, 2, 1)\n\
+        assert abs(r['extrapolated'] - 1) < 1e-12 and abs(r['p_h'] - 2) < 1e-6 and abs(r['p_t'] - 1) < 1e-6, r\n\
         import speed_accuracy as s\n\
         pts = [dict(wall_s=w, error=e) for w, e in [(1, 0.1), (2, 0.2), (3, 0.01), (4, 0.05), (5, 0.001)]]\n\
         assert [(p['wall_s'], p['error']) for p in s.pareto(pts)] == [(1, 0.1), (3, 0.01), (5, 0.001)]\n\
