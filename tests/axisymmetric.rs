@@ -132,7 +132,7 @@ fn meridian_one_and_two_ranks_agree() {
 
 /// The whole reference experiment on the meridian's default mesh (655 dofs) against the 3-D
 /// quarter's shipped mesh (5 343 dofs), two independent discretisations of the same equations:
-/// measured peak 17.50 against 17.33 mg (converged: 17.584 mg), F(35 s) 12.74 against 12.61 mg,
+/// measured peak 17.50 against 17.33 mg (converged: 17.586 mg), F(35 s) 12.74 against 12.61 mg,
 /// and the same shape and fluid volume to 0.3%.
 /// The meridian's own convergence is in docs/verification.md.
 #[test]
@@ -160,7 +160,7 @@ fn meridian_experiment_matches_the_quarter() {
         println!("{col} at {t} s: meridian {x:.5}, quarter {y:.5}");
         assert!((x / y - 1.0).abs() < tol, "{col} at {t} s: meridian {x} vs quarter {y}");
     }
-    // The meridian's peak within its own mesh error of the converged value (measured −0.49%).
+    // The meridian's peak within its own mesh error of the converged value (measured −0.50%).
     let peak = a.col("force_total_mg").iter().cloned().fold(0.0, f64::max);
     assert!((peak / CONVERGED_PEAK - 1.0).abs() < 0.03, "meridian peak {peak} mg");
     // The meridian's forces are whole-sphere values without a symmetry factor, like the quarter's.
@@ -213,17 +213,17 @@ fn meridian_fieldsplit_matches_direct() {
 }
 
 /// The converged elastic experiment, from the meridian's references (scripts/references.py,
-/// docs/studies.md: Richardson on four mesh and four step levels): peak 17.584 ± 0.018 mg,
-/// F(35 s) 12.756 ± 0.004 mg.
-const CONVERGED_PEAK: f64 = 17.584;
-const CONVERGED_F35: f64 = 12.756;
+/// docs/studies.md: Richardson on four mesh and four step levels): peak 17.5855 ± 0.0032 mg,
+/// F(35 s) 12.7546 ± 0.0048 mg.
+const CONVERGED_PEAK: f64 = 17.5855;
+const CONVERGED_F35: f64 = 12.7546;
 
 /// The 3-D quarter against the meridian's converged values, at three matching mesh levels
 /// (h = 25, 20, 15 with the poles at 0.3 h; the scene's faded stabilisation and steps; to 35 s):
-/// the peak's error shrinks at each level (measured −2.67%, −1.43%, −0.97%), and the 3-D
+/// the peak's error shrinks at each level (measured −2.68%, −1.44%, −0.98%), and the 3-D
 /// Richardson estimate from these levels (order 2, these meshes are not in the asymptotic range;
 /// bar 3 × the correction) contains the converged value (measured 17.52 ± 0.32 mg). F(35 s) is
-/// within 2.5% at every level and 1.5% from h = 20 (measured −2.37%, −1.17%, −1.38%: at the
+/// within 2.5% at every level and 1.5% from h = 20 (measured −2.36%, −1.16%, −1.37%: at the
 /// default steps the step error, +0.6% on the meridian, offsets part of the mesh error).
 #[test]
 fn quarter_levels_approach_the_converged_meridian() {
