@@ -39,8 +39,8 @@ CASES = {
     # the whole-experiment study's peak).
     "reference_peak": ("reference", ["max:force_total_mg", "probe_p@5"], ["time.t_end=5"],
                        "0.125,0.0625,0.03125", 5, 0.03125),
-    "remodel_40": ("remodel_40", ["max:force_total_mg", "force_total_mg@35", "last:height/width"], [], STEPS, 10,
-                   0.25),
+    "remodel_40": ("remodel_40", ["max:force_total_mg", "force_total_mg@35", "last:height/width"], [],
+                   STEPS + ",0.015625", 10, 0.25),
     # The crossing is near 42 s: the runs stop at 60 s.
     "remodel_155": ("remodel_155", ["zero:probe_p", "max:force_total_mg", "probe_p@5", "probe_p@30"],
                     ["time.t_end=60"], STEPS + ",0.015625", 10, 0.25),
