@@ -144,6 +144,12 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     fails(&earlier, &["run", "reference", "--set", "plates.radius=120"], "plates.radius = 120");
     fails(&earlier, &["run", "reference", "--set", "plates.anchor=\"surface\""], "\"surface\" is not a point group");
     fails(&earlier, &["run", "reference", "--set", "plates.group=\"skin\""], "physical group \"skin\" not found");
+    fails(
+        &earlier,
+        &["run", "reference", "--set", "plates.probe_point=[0.0, 0.0, 300.0]"],
+        "probe \"probe_p\": point [0.0, 0.0, 300.0] is outside the mesh",
+    );
+    fails(&earlier, &["run", "reference", "--set", "plates.probe_point=[0.0, nan, 1.0]"], "plates.probe_point = NaN");
     // A quadratic tetrahedron whose mid-edge node folds it over.
     let tangled = dir.join("tangled.msh");
     std::fs::write(&tangled, TANGLED_TET10).unwrap();

@@ -117,14 +117,18 @@ fn compression_release_protocol() {
 
 /// Runs the coarse quarter model and a full sphere from `full_edits` on 2 ranks, and asserts that
 /// they take the same steps and give the same results (reported for the full sphere) to solver
-/// tolerance.
+/// tolerance. Both with the constant stabilisation: with the scene's faded one, the free-rotation
+/// full sphere (direct preset) needs one step cut near the end of the release that the quarter
+/// does not (measured: 9.49 → 10 s split in three), so the rows no longer pair up; what these
+/// runs check, the symmetry reduction and the rigid modes, does not depend on the stabilisation.
 fn assert_full_matches_quarter(name: &str, full_edits: &[(&str, &str)], petsc: &[&str]) {
     let dir = scratch(name);
-    let q = coarse_scene(&dir, &[]);
+    const CONSTANT: (&str, &str) = ("stabilisation_fade = 0.03", "stabilisation_fade = 1e9");
+    let q = coarse_scene(&dir, &[CONSTANT]);
     run_in(2, &q, &dir.join("quarter"), &[]);
     let full_dir = dir.join("full-scene");
     std::fs::create_dir_all(&full_dir).unwrap();
-    let edits: Vec<(&str, &str)> = COARSE.iter().chain(full_edits).copied().collect();
+    let edits: Vec<(&str, &str)> = COARSE.iter().chain(full_edits).chain([&CONSTANT]).copied().collect();
     let full = scene_variant("reference", &full_dir, &edits);
     run_in(2, &full, &dir.join("full"), petsc);
     let (hq, hf) = (History::read(&dir.join("quarter")), History::read(&dir.join("full")));

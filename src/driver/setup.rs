@@ -344,7 +344,7 @@ impl<'w> Run<'w> {
                 let mesh = &ts.problem().disc.mesh;
                 let volume = crate::parallel::sum(world, straight_volume(mesh));
                 let phi = ts.problem().disc.model.solid_fraction();
-                Some(Experiment::new(mesh, faces, ps.radius, volume, phi, world, &scene.source)?)
+                Some(Experiment::new(mesh, faces, ps.radius, ps.probe_point, volume, phi, world, &scene.source)?)
             }
             _ => None,
         };

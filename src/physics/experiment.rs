@@ -5,7 +5,7 @@
 //!   pressure part (nodal forces of −p J F⁻ᵀ) and the constitutive rest; upper plate positive
 //!   in compression, full-sphere equivalent, normalised by 9.81 m/s² in mg (1 nN = 1.0194e-4 mg);
 //! * contact radii, height and width of the current shape;
-//! * pressure and porosity at the material point X_U = (0.4 R, 0, 1.9 R);
+//! * pressure and porosity at the material point X_U = (0.4 R, 0, 1.9 R) (`plates.probe_point`);
 //! * fluid (mixture) volume ∫ J dV and the outflow through the drained surface, Σ c(g) p
 //!   (the drainage term of the mass balance, so the volume change equals the integrated outflow
 //!   exactly at convergence);
@@ -65,11 +65,14 @@ pub struct Observation {
 }
 
 impl Experiment {
-    /// Sets up probes (collective). `volume` is the meshed reference volume (all ranks).
+    /// Sets up probes (collective) at `probe_point` (default X_U). `volume` is the meshed
+    /// reference volume (all ranks).
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         mesh: &LocalMesh,
         faces: Vec<u32>,
         radius: f64,
+        probe_point: Option<[f64; 3]>,
         volume: f64,
         solid_fraction: Option<f64>,
         world: &SimpleCommunicator,
@@ -77,7 +80,7 @@ impl Experiment {
     ) -> Result<Experiment> {
         let sphere = 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
         let symmetry = (sphere / volume).round().max(1.0);
-        let x_u = [0.4 * radius, 0.0, 1.9 * radius];
+        let x_u = probe_point.unwrap_or([0.4 * radius, 0.0, 1.9 * radius]);
         let probe_p = Probe::at_point("probe_p", Quantity::Pressure, x_u, mesh, world, context)?;
         let probe_porosity = match solid_fraction {
             Some(phi) => Some(Probe::at_point("probe_porosity", Quantity::Porosity(phi), x_u, mesh, world, context)?),

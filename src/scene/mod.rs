@@ -374,6 +374,10 @@ pub struct PlatesSpec {
     /// Newton iterate's (fully implicit; numerics.md, "Drainage that follows contact").
     #[serde(default)]
     pub drainage_gap: DrainageGap,
+    /// The material point X_U of the `probe_p` and `probe_porosity` columns (reference
+    /// coordinates, µm; default the paper's (0.4 R, 0, 1.9 R), 1.5 µm under the surface).
+    #[serde(default)]
+    pub probe_point: Option<[f64; 3]>,
 }
 
 /// The gap that sets a surface vertex's drainage conductance during a step.
@@ -725,6 +729,9 @@ impl LoadedScene {
             positive(self, "plates.drainage_penalty", p.drainage_penalty)?;
             if let Some(g) = p.seal_gap {
                 positive(self, "plates.seal_gap", g)?;
+            }
+            for x in p.probe_point.iter().flatten() {
+                finite(self, "plates.probe_point", *x)?;
             }
         }
         if let Some(v) = &s.verification {
