@@ -235,16 +235,32 @@ fn quarter_levels_approach_the_converged_meridian() {
         let (hs, hp) = (format!("mesh.params.h={h}"), format!("mesh.params.h_pole={}", 0.3 * h));
         run_ok(
             2,
-            &["run", &scene("reference"), "--out", out.to_str().unwrap(), "-q", "--set", &hs, "--set", &hp,
-              "--set", "time.t_end=35", "--set", "output.fields=false"],
+            &[
+                "run",
+                &scene("reference"),
+                "--out",
+                out.to_str().unwrap(),
+                "-q",
+                "--set",
+                &hs,
+                "--set",
+                &hp,
+                "--set",
+                "time.t_end=35",
+                "--set",
+                "output.fields=false",
+            ],
         );
         let hist = History::read(&out);
         let peak = hist.col("force_total_mg").iter().cloned().fold(0.0, f64::max);
         let (t, f) = (hist.col("time"), hist.col("force_total_mg"));
         assert!((t[t.len() - 1] - 35.0).abs() < 1e-9, "the run ends at 35 s");
         let f35 = f[f.len() - 1];
-        println!("h = {h}: peak {peak:.4} mg ({:+.2}%), F(35 s) {f35:.4} mg ({:+.2}%)",
-                 100.0 * (peak / CONVERGED_PEAK - 1.0), 100.0 * (f35 / CONVERGED_F35 - 1.0));
+        println!(
+            "h = {h}: peak {peak:.4} mg ({:+.2}%), F(35 s) {f35:.4} mg ({:+.2}%)",
+            100.0 * (peak / CONVERGED_PEAK - 1.0),
+            100.0 * (f35 / CONVERGED_F35 - 1.0)
+        );
         let tol = if h <= 20.0 { 0.015 } else { 0.025 };
         assert!((f35 / CONVERGED_F35 - 1.0).abs() < tol, "h = {h}: F(35 s) {f35} mg");
         peaks.push(peak);

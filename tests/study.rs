@@ -103,7 +103,8 @@ fn a_study_runs_its_grid_and_continues_where_it_stopped() {
     assert!(out.contains("4 cases, 2 already complete, 2 to run"), "{out}");
     assert_eq!(out.matches("complete, skipped").count(), 2, "{out}");
     // Another --set for the same cases runs them again (a case is complete for what it ran).
-    let changed: Vec<&str> = args.iter().map(|a| if *a == "time.t_end=0.004" { "time.t_end=0.003" } else { a }).collect();
+    let changed: Vec<&str> =
+        args.iter().map(|a| if *a == "time.t_end=0.004" { "time.t_end=0.003" } else { a }).collect();
     let (_, out) = study(&changed);
     assert!(out.contains("4 cases, 0 already complete, 4 to run"), "{out}");
     let rows = csv_rows(&std::fs::read_to_string(d.join("summary.csv")).unwrap());
