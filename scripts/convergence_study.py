@@ -1,10 +1,10 @@
 """Convergence study on 2 ranks: mesh levels × time-step levels, Richardson extrapolation.
 
-Runs a scene on the mesh levels at one step level and on the step levels on one mesh (a cross;
---full: every combination) of mesh size h (mesh.params.h, with the other sizes —
-h_pole, h_edge, from the scene or --set — scaled in proportion) and time-step scale s (every
-step scaled by s: time.dt, time.dt_max and time.error_tolerance multiplied by s, time.growth raised
-to the power s; `_runner.refined_steps`), as batch jobs through `scripts/study.py`'s runner (completed cases are skipped, so an
+Runs a scene at mesh sizes h (mesh.params.h, with the other sizes — h_pole, h_edge, from the
+scene or --set — scaled in proportion) and time-step scales s (every step scaled by s: time.dt,
+time.dt_max and time.error_tolerance multiplied by s, time.growth raised to the power s;
+`_runner.refined_steps`): each mesh level at one step level and each step level on one mesh (a
+cross; --full: every combination), as batch jobs through `scripts/study.py`'s runner (completed cases are skipped, so an
 interrupted study continues). For each observable it estimates
 
   * the observed orders p_h (from the three finest meshes, at the steps --mesh-steps, default the
