@@ -3,7 +3,7 @@
 //! Why a DM: in PETSc 3.18 the index sets given with `PCFieldSplitSetIS` are freed when SNESVI
 //! (vinewtonrsls) resets the KSP after the active set changes, and fieldsplit then fails. A DM
 //! field decomposition is asked again after every reset, so the callback can return the sets
-//! restricted to the current inactive set (see `../shared/petsc-notes.md`, workaround A).
+//! restricted to the current inactive set (checked against PETSc 3.18's `src/snes/impls/vi/rs/virs.c`).
 
 use super::{check, ffi, petsc_malloc, IndexSet, Int, Snes, Vector};
 use crate::error::Result;
