@@ -9,6 +9,13 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 BIN = Path(os.environ.get("POROPLAST_BIN", ROOT / "target" / "release" / "poroplast"))
 
+# The converged level of the plates experiment (docs/performance.md): the meridian at h = 10 um
+# with the surface and the poles at 2 um, no pressure stabilisation (its error is the largest on
+# such meshes); with 1/8 of the scene's steps (`refined_steps(..., 0.125)`), every force within
+# 0.1% of the converged value.
+CONVERGED_LEVEL = ["mesh.geometry=axisymmetric", "mesh.params.h=10", "mesh.params.h_pole=2", "mesh.params.h_surf=2",
+                   "mesh.params.w_surf=30", "fem.stabilisation=0"]
+
 
 def env():
     e = dict(os.environ)

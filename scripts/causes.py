@@ -20,12 +20,11 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import study  # noqa: E402
-from _runner import refined_steps, scene_values  # noqa: E402
+from _runner import CONVERGED_LEVEL, refined_steps, scene_values  # noqa: E402
 
 SCENE = "remodel_155"
-BASE = [("mesh.geometry", "axisymmetric"), ("mesh.params.h", "10"), ("mesh.params.h_pole", "2"),
-        ("mesh.params.h_surf", "2"), ("mesh.params.w_surf", "30"), ("fem.stabilisation", "0"),
-        ("time.t_end", "60"), ("output.fields", "false"), ("output.fields_at", "[]")]
+BASE = [tuple(s.split("=", 1)) for s in CONVERGED_LEVEL] + [("time.t_end", "60"), ("output.fields", "false"),
+                                                            ("output.fields_at", "[]")]
 OBSERVE = ["zero:probe_p", "max:force_total_mg", "max:force_constitutive_mg", "probe_p@30"]
 
 # X_U = (0.4 R, 0, 1.9 R) of the sphere of R = 100 µm centred at z = R: its outward normal n and
@@ -67,17 +66,17 @@ VARIANTS = {
 
 def scene_text(edits, out):
     """The shipped scene with lines starting with `old` replaced by `new` (None: dropped)."""
-    src = Path(__file__).resolve().parent.parent / "meshes" / "scenes" / f"{SCENE}.toml"
+    src = (Path(__file__).resolve().parent.parent / "meshes" / "scenes" / f"{SCENE}.toml").read_text().splitlines()
+    missing = [old for old, _ in edits if not any(line.startswith(old) for line in src)]
+    if missing:
+        sys.exit(f"causes.py: {SCENE}.toml has no line starting with {missing}")
     lines = []
-    for line in src.read_text().splitlines():
+    for line in src:
         hit = next((e for e in edits if line.startswith(e[0])), None)
         if hit is None:
             lines.append(line)
         elif hit[1] is not None:
             lines.append(hit[1])
-    missing = [old for old, _ in edits if not any(l.startswith(old) for l in src.read_text().splitlines())]
-    if missing:
-        sys.exit(f"causes.py: {SCENE}.toml has no line starting with {missing}")
     out.write_text("\n".join(lines) + "\n")
     return str(out)
 
