@@ -114,7 +114,7 @@ def signature(scene, overrides, sets, petsc):
     return [scene, *(f"{k}={v}" for k, v in list(sets) + list(overrides)), *petsc]
 
 
-def completed(case_dir, sig=None, observables=()):
+def completed(case_dir, sig, observables=()):
     """The recorded result of a case that completed with the signature `sig`, or None. A result
     recorded before signatures were kept is taken as it is. Observables it lacks are read from
     its history.csv."""
@@ -122,7 +122,7 @@ def completed(case_dir, sig=None, observables=()):
     if not done.exists():
         return None
     result = json.loads(done.read_text())
-    if sig is not None and result.get("signature", sig) != sig:
+    if result.get("signature", sig) != sig:
         return None
     missing = [o for o in observables if o not in result]
     if missing and result.get("status") == "ok" and (case_dir / "run" / "history.csv").exists():
@@ -163,13 +163,12 @@ def run_cases(scene, cases, sets, root, ranks, petsc, observables=(), label=None
     per case, in order. `label(case)` names a case in the progress lines."""
     label = label or (lambda case: " ".join(f"{k}={v}" for k, v in case) or "(base scene)")
     dirs = [root / "cases" / slug(c) for c in cases]
-    done = lambda d, c: completed(d, signature(scene, c, sets, petsc), observables)
-    todo = sum(1 for d, c in zip(dirs, cases) if done(d, c) is None)
+    prior = [completed(d, signature(scene, c, sets, petsc), observables) for d, c in zip(dirs, cases)]
+    todo = sum(1 for r in prior if r is None)
     print(f"{root}: {len(cases)} cases, {len(cases) - todo} already complete, {todo} to run "
           f"on {ranks} rank(s)", flush=True)
     out, ran, t0 = [], 0, time.time()
-    for n, (case, cdir) in enumerate(zip(cases, dirs), 1):
-        result = done(cdir, case)
+    for n, (case, cdir, result) in enumerate(zip(cases, dirs, prior), 1):
         if result is not None:
             print(f"[{n}/{len(cases)}] {label(case)}: complete, skipped", flush=True)
         else:
