@@ -43,6 +43,8 @@ def _point(d, s):
 ALPHA_PRINTED = [0.125, 0.78, 0.11]
 ALPHA_RESCALED = [20.0 / (2 * (1.0 - 0.11)), 0.78, 0.11]
 
+C2 = [("material.k0", "2.5779"), ("material.permeability_c", "2")]
+
 # name -> (what it changes, --set overrides, scene-text edits (old line start -> new line or None))
 VARIANTS = {
     "base": ("the converged level (Table 1, (56)'s α's from µ = 20 kPa, ν = 0.2)", [], []),
@@ -61,6 +63,26 @@ VARIANTS = {
     "seal_gap_025": ("seal gap 1 → 0.25 µm", [("plates.seal_gap", "0.25")], []),
     "gravity_off": ("no gravity", [("material.gravity", "[0.0, 0.0, 0.0]")], []),
     "penalty_off": ("no compaction penalty", [], [("penalty = ", None)]),
+    # The paper's slightly permeable plates as a Robin outflow k_β / L through the contact area
+    # (src/physics/contact.rs): Table 1's k_β with L = 100 µm (the plates' thickness is not given;
+    # Fig 2 draws them about as thick as the aggregate), then 100 times the conductance (L = 1 µm),
+    # then plates as permeable as the aggregate (k_β = k0, 10⁴ times Table 1's).
+    "plates_permeable": ("permeable plates, k_β = 3.7729e-7 mm⁴/(N s) (Table 1), L = 100 µm",
+                         [("plates.permeability", "3.7729e-4"), ("plates.thickness", "100")], []),
+    "plates_permeable_thin": ("permeable plates, Table 1's k_β, L = 1 µm (100× the conductance)",
+                              [("plates.permeability", "3.7729e-4"), ("plates.thickness", "1")], []),
+    "plates_as_aggregate": ("permeable plates, k_β = k0 of the aggregate (10⁴× Table 1's), L = 100 µm",
+                            [("plates.permeability", "3.7729"), ("plates.thickness", "100")], []),
+    # The other gaps' cases (Fig 11: c = 2 crosses at 28 s; Figs 7b-8b: λp = 0.1 raises the peaks)
+    # with and without the one cause that moves the crossing.
+    "c2": ("Fig 11's permeability: c = 2, k0 = 2.5779e-3 mm⁴/(N s)", C2, []),
+    "c2_40a": ("c = 2 with (40a)", C2 + [("material.remodelling.form", '"40a"')], []),
+    "lambda_01": ("λp = 0.1 (MPa s)⁻¹", [("material.remodelling.lambda_p", "0.0001")], []),
+    "lambda_01_40a": ("λp = 0.1 (MPa s)⁻¹ with (40a)",
+                      [("material.remodelling.lambda_p", "0.0001"), ("material.remodelling.form", '"40a"')], []),
+    "lambda_01_alpha_rescaled": ("λp = 0.1 (MPa s)⁻¹ with α1, α2 as printed, α0 for µ = 20 kPa",
+                                 [("material.remodelling.lambda_p", "0.0001")],
+                                 [("mu = ", None), ("nu = ", f"alpha = {ALPHA_RESCALED}")]),
 }
 
 

@@ -10,7 +10,11 @@ isotropic and the remodelling-dependent permeability). Prints the table it plots
 import argparse
 import csv
 import math
+import sys
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import labels  # noqa: E402
 
 
 def series(study, x, observable, where):
@@ -20,7 +24,7 @@ def series(study, x, observable, where):
     missing = [c for c in (x, observable) if rows and c not in rows[0]]
     if missing:
         raise SystemExit(f"compare_studies.py: {study}/summary.csv has no column {missing[0]}")
-    pts = sorted((float(r[x]), float(r[observable])) for r in rows if r["status"] == "ok")
+    pts = sorted((float(r[x]) * labels.axis_factor(x), float(r[observable])) for r in rows if r["status"] == "ok")
     return [p for p in pts if math.isfinite(p[1])]
 
 
@@ -55,8 +59,8 @@ def main():
     fig, ax = plt.subplots(figsize=(5.5, 3.8))
     for (label, pts), marker in zip(data, "osD^v<>" * 3):
         ax.plot([p[0] for p in pts], [p[1] for p in pts], marker + "-", label=label)
-    ax.set_xlabel(a.xlabel or a.x)
-    ax.set_ylabel(a.ylabel or a.observable)
+    ax.set_xlabel(a.xlabel or labels.key(a.x))
+    ax.set_ylabel(a.ylabel or labels.observable(a.observable))
     if a.title:
         ax.set_title(a.title, fontsize=9)
     ax.grid(alpha=0.3)

@@ -89,6 +89,54 @@ def extrapolate(qh, qt, q_junction, hs, ss, formal_h, formal_t):
             "finest": qh[-1]}
 
 
+def cross(scene, hs, ss, sets, H, S, full=False):
+    """The cases of a study: (h, s, overrides) for each mesh level at the steps S and each step
+    level on the mesh H (every combination with `full`). `sets` are the study's --set values
+    ("KEY=VALUE"); sizes and time keys among them are scaled per level, the rest returned as the
+    fixed (key, value) overrides of every case."""
+    t = scene_values(scene)
+    params = t.get("mesh", {}).get("params", {})
+    h0 = params.get("h")
+    if h0 is None:
+        sys.exit("convergence_study.py: the scene's mesh has no params.h")
+    given = {}                                                 # time.* overrides, scaled per level
+    sizes = {k: v for k, v in params.items() if k in SIZES}   # scaled with h
+    for s in sets:
+        k, v = s.split("=", 1)
+        if k.startswith("time."):
+            given[k] = v
+        if k.startswith("mesh.params.") and k[12:] in SIZES:
+            sizes[k[12:]] = float(v)
+    scaled = ("time.dt=", "time.dt_max=", "time.error_tolerance=", "time.growth=",
+              *(f"mesh.params.{k}=" for k in SIZES))
+    fixed = [tuple(s.split("=", 1)) for s in sets if not s.startswith(scaled)]
+    cases = []
+    for h in hs:
+        for s in ss:
+            if not (full or h == H or s == S):
+                continue
+            ov = [("mesh.params.h", f"{h:g}")]
+            ov += [(f"mesh.params.{k}", f"{v * h / h0:g}") for k, v in sizes.items()]
+            ov += [(k, f"{v:g}") for k, v in refined_steps(t["time"], given, s)]
+            cases.append((h, s, ov))
+    return cases, fixed
+
+
+def run_study(scene, hs, ss, sets, root, ranks, observe, H, S, full=False):
+    """Runs the study's cases (completed ones are skipped): {(h, s): (case dir, result)}."""
+    cases, fixed = cross(scene, hs, ss, sets, H, S, full)
+    names = {tuple(ov): f"h = {h:g}, dt x {s:g}" for h, s, ov in cases}
+    ran = study.run_cases(scene, [ov for _, _, ov in cases], fixed, Path(root), ranks, [], observe,
+                          label=lambda ov: names[tuple(ov)])
+    return {(h, s): r for (h, s, _), r in zip(cases, ran)}
+
+
+def converge(values, hs, ss, H, S, formal_h=2.0, formal_t=1.0):
+    """Extrapolates one observable from {(h, s): value} (NaN for a failed case) of a cross."""
+    q = lambda h, s: values.get((h, s), float("nan"))
+    return extrapolate([q(h, S) for h in hs], [q(H, s) for s in ss], q(H, S), hs, ss, formal_h, formal_t)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("scene")
@@ -112,38 +160,10 @@ def main():
     S = ss[-1] if a.mesh_steps is None else a.mesh_steps
     if H not in hs or S not in ss:
         sys.exit(f"convergence_study.py: --time-mesh {H:g} must be one of --h and --mesh-steps {S:g} one of --dt-scale")
-    t = scene_values(a.scene)
-    params = t.get("mesh", {}).get("params", {})
-    h0 = params.get("h")
-    if h0 is None:
-        sys.exit("convergence_study.py: the scene's mesh has no params.h")
-    given = {}                                                 # time.* overrides, scaled per level
-    sizes = {k: v for k, v in params.items() if k in SIZES}   # scaled with h
-    for s in a.set:
-        k, v = s.split("=", 1)
-        if k.startswith("time."):
-            given[k] = v
-        if k.startswith("mesh.params.") and k[12:] in SIZES:
-            sizes[k[12:]] = float(v)
-
     root = Path(a.dir)
     root.mkdir(parents=True, exist_ok=True)
-    scaled = ("time.dt=", "time.dt_max=", "time.error_tolerance=", "time.growth=",
-              *(f"mesh.params.{k}=" for k in SIZES))
-    sets = [tuple(s.split("=", 1)) for s in a.set if not s.startswith(scaled)]
-    cases = []
-    for h in hs:
-        for s in ss:
-            if not (a.full or h == H or s == S):
-                continue
-            ov = [("mesh.params.h", f"{h:g}")]
-            ov += [(f"mesh.params.{k}", f"{v * h / h0:g}") for k, v in sizes.items()]
-            ov += [(k, f"{v:g}") for k, v in refined_steps(t["time"], given, s)]
-            cases.append((h, s, ov))
-    names = {tuple(ov): f"h = {h:g}, dt x {s:g}" for h, s, ov in cases}
-    ran = study.run_cases(a.scene, [ov for _, _, ov in cases], sets, root, a.ranks, [], a.observe,
-                          label=lambda ov: names[tuple(ov)])
-    results = {(h, s): r for (h, s, _), (_, r) in zip(cases, ran)}
+    results = {k: r for k, (_, r) in run_study(a.scene, hs, ss, a.set, root, a.ranks, a.observe, H, S,
+                                                a.full).items()}
 
     with open(root / "summary.csv", "w", newline="") as f:
         cols = ["h", "dt_scale", "status"] + list(study.COUNTERS) + a.observe
@@ -152,11 +172,8 @@ def main():
         for (h, s), r in results.items():
             w.writerow({"h": h, "dt_scale": s, **{k: r.get(k, float("nan")) for k in cols[2:]}})
 
-    rows = []
-    for o in a.observe:
-        q = lambda h, s: results[(h, s)].get(o, float("nan")) if results[(h, s)]["status"] == "ok" else float("nan")
-        rows.append({"observable": o, **extrapolate([q(h, S) for h in hs], [q(H, s) for s in ss], q(H, S), hs, ss,
-                                                     a.formal_h, a.formal_t)})
+    ok = lambda o: {k: r.get(o, float("nan")) for k, r in results.items() if r["status"] == "ok"}
+    rows = [{"observable": o, **converge(ok(o), hs, ss, H, S, a.formal_h, a.formal_t)} for o in a.observe]
     with open(root / "convergence.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()

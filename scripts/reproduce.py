@@ -9,7 +9,7 @@ With --axisymmetric every case runs on its meridian (`--set mesh.geometry=axisym
 section figures then show the meridian itself, mirrored), by default into runs/reproduce_axi.
 
     python3 scripts/reproduce.py [--out runs/reproduce] [--only NAME ...] [--plots-only] [--docs]
-                                 [--axisymmetric]
+                                 [--axisymmetric] [--ranks 2] [--converged DIR] [--references CSV]
 """
 import argparse
 import csv
@@ -26,6 +26,7 @@ import matplotlib.pyplot as plt
 import matplotlib.tri as mtri
 from matplotlib.colors import TwoSlopeNorm
 
+import observables
 from _runner import ROOT, BIN, env
 
 # case -> (builtin scene, `--set` overrides, t_end of the loading in s)
@@ -48,12 +49,22 @@ CASES = {
     "remodel_155_40a": ("remodel_155", [f'{R405}.form="40a"'], 155.0),
     "remodel_155_h25": ("remodel_155", [f"mesh.params.{k}={v}" for k, v in
                                         dict(R=100.0, h=25.0, h_pole=8.0, r_pole=50.0).items()], 155.0),
+    # R = 900 µm (the paper: no syringe effect), every length scaled by 9, X_U = (360, 0, 1710) µm
+    "remodel_155_R900": ("remodel_155", [f"mesh.params.{k}={v}" for k, v in
+                                         dict(R=900.0, h=180.0, h_pole=54.0, r_pole=450.0).items()]
+                         + ["plates.radius=900.0", "plates.probe_point=[360.0, 0.0, 1710.0]"], 155.0),
+    # Fig 11a: H/W after 60 s of rest, k0 = 2.5779e-3 isotropic against c = 2, before and after 1 min
+    **{f"hw_{t}{'_c2' if c2 else ''}": ("remodel_40", [f"plates.t_end={t}.0", f"time.t_end={t + 60}.0",
+                                                       "material.k0=2.5779", "output.fields_at=[]",
+                                                       *(["material.permeability_c=2.0"] if c2 else [])], t + 60.0)
+       for t in (10, 65) for c2 in (False, True)},
 }
 T_RAMP = 5.0
 PROBE = (40.0, 0.0, 190.0)       # X_U, um
 VTK_EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]   # mid-edge nodes 4..9 of a tet10
 TRI6_EDGES = [(0, 1), (1, 2), (2, 0)]                            # mid-edge nodes 3..5 of a tri6
 EXTRA_SETS = []   # --set overrides of every case (--axisymmetric)
+RANKS = [2]       # MPI ranks per case (--ranks)
 
 
 def fmt_s(s):
@@ -68,7 +79,7 @@ def run_command(case, out):
         what = ", ".join(sets).replace('"', "'")
         sets = sets + [f'name="{case}"', f'description="{base} with {what} (scripts/reproduce.py)"',
                        "output.fields_every=1000"]
-    cmd = ["mpirun", "-n", "2", str(BIN), "run", base, "--out", str(out / case), "--force", "-q"]
+    cmd = ["mpirun", "-n", str(RANKS[0]), str(BIN), "run", base, "--out", str(out / case), "--force", "-q"]
     for s in sets + EXTRA_SETS:
         cmd += ["--set", s]
     return cmd
@@ -262,21 +273,118 @@ def fig_soft(dirs, out):
 
 
 def zone_stats(dirs):
-    """remodel_40: σ_VM and ‖E_p‖ in the centre vs next to the contact zones (Figs 5-6 text):
-    cells with centroid r < 30, |z - R| < 30 µm vs r < 40, z < 30 or z > 170 µm (reference)."""
-    if not have(dirs, ["remodel_40"], "fields.h5"):
-        return
-    with h5py.File(dirs["remodel_40"] / "fields.h5", "r") as f:
-        X, top, T = f["/mesh/coordinates"][:], f["/mesh/topology"][:], f["/time"][:]
-        c = X[top[:, :4 if top.shape[1] == 10 else 3]].mean(1)
-        r, z = np.hypot(c[:, 0], c[:, 1]), c[:, 2]
-        centre, contact = (r < 30) & (abs(z - 100) < 30), (r < 40) & ((z > 170) | (z < 30))
-        for want in (5, 15, 35, 40, 60):
-            k = int(np.argmin(abs(T - want)))
-            vm, ep = f[f"/fields/von_mises/{k:06d}"][:], f[f"/fields/norm_ep/{k:06d}"][:]
-            print(f"  t = {T[k]:6.2f} s: σ_VM max {vm.max():5.2f} kPa at (r, z) = ({r[vm.argmax()]:.0f}, "
-                  f"{z[vm.argmax()]:.0f}) µm; mean centre {vm[centre].mean():5.2f}, contact zones "
-                  f"{vm[contact].mean():5.2f} kPa; ‖E_p‖ centre {ep[centre].mean():.3f}, contact {ep[contact].mean():.3f}")
+    """remodel_40: σ_VM and ‖E_p‖ in the centre vs next to the contact zones (Figs 5-6 text;
+    volume means over the regions of scripts/observables.py), and remodel_405's positive-pressure
+    region (Fig 3)."""
+    if have(dirs, ["remodel_40"], "fields.h5"):
+        run = dirs["remodel_40"]
+        f = observables.fields(run)
+        for t in (5, 15, 35, 40, 60):
+            vm = f.at("von_mises", t)
+            zm = lambda name, zone: observables.zone_mean(run, name, zone, t)
+            print(f"  t = {t:3d} s: σ_VM max {vm.max():5.2f} kPa at (r, z) = ({f.r[vm.argmax()]:.0f}, "
+                  f"{f.z[vm.argmax()]:.0f}) µm; mean centre {zm('von_mises', 'centre'):5.2f}, contact zones "
+                  f"{zm('von_mises', 'contact'):5.2f} kPa; ‖E_p‖ centre {zm('norm_ep', 'centre'):.3f}, "
+                  f"contact {zm('norm_ep', 'contact'):.3f}")
+        t, before, after = observables.detachment(run, 35.0)
+        print(f"  upper detachment after t = {t:.3f} s: largest σ_VM {before:.2f} kPa before, {after:.2f} kPa after")
+    if have(dirs, ["remodel_405"], "fields.h5"):
+        for t in (35.0, 45.0, 60.0):
+            share, where = observables.bubble(dirs["remodel_405"], t)
+            print(f"  remodel_405, t = {t:g} s: p > 0 in {100 * share:.1f}% of the volume, p⁺-weighted mean "
+                  f"distance from the centre {where:.3f} R")
+
+
+# The numbers the paper reports, each with its converged meridian value (scripts/references.py:
+# (case, observable), or a combined value's name) and the 3-D default's (a function of the runs).
+def _diff(dirs, a, b, key):
+    sa, sb = (summarise(c, dirs[c]) if (dirs[c] / "history.csv").exists() else {} for c in (a, b))
+    return None if sa.get(key) is None or sb.get(key) is None else sa[key] - sb[key]
+
+
+def _ratio(dirs, a, b, key):
+    sa, sb = (summarise(c, dirs[c]) if (dirs[c] / "history.csv").exists() else {} for c in (a, b))
+    return None if not sa.get(key) or not sb.get(key) else sa[key] / sb[key]
+
+
+def _summary(dirs, case, key):
+    return summarise(case, dirs[case]).get(key) if (dirs[case] / "history.csv").exists() else None
+
+
+def _hw(dirs, case):
+    h = read_history(dirs[case]) if (dirs[case] / "history.csv").exists() else None
+    return None if h is None else h["height"][-1] / h["width"][-1]
+
+
+def _fields(dirs, case, f):
+    return f(dirs[case]) if (dirs[case] / "fields.h5").exists() else None
+
+
+REPORTED = [
+    ("syringe effect: p(X_U) crosses zero (s)", "≈ 40", ("remodel_155", "zero:probe_p"),
+     lambda d: _summary(d, "remodel_155", "t_p_neg_s")),
+    ("c = 2: p(X_U) crosses zero (s)", "28", ("remodel_155_c2", "zero:probe_p"),
+     lambda d: _summary(d, "remodel_155_c2", "t_p_neg_s")),
+    ("c = 2 over isotropic: p(X_U, 30 s)", "≈ 0.25", "c = 2 over isotropic, p(X_U, 30 s)",
+     lambda d: _ratio(d, "remodel_155_c2", "remodel_155", "p_XU_30")),
+    ("λp 1 → 0.1: constitutive-force peak change (mg)", "+≈ 4", "λp 1 → 0.1: constitutive-force peak change (mg)",
+     lambda d: _diff(d, "lambda_0.1", "remodel_405", "peak_Fc_mg")),
+    ("λp 1 → 0.1: total-force peak change (mg)", "+≈ 2", "λp 1 → 0.1: total-force peak change (mg)",
+     lambda d: _diff(d, "lambda_0.1", "remodel_405", "peak_F_mg")),
+    ("largest σ_VM, last step in upper contact (kPa)", "≈ 4.0", ("remodel_40", "vm_max_before_detach"),
+     lambda d: _fields(d, "remodel_40", lambda r: observables.detachment(r, 35.0)[1])),
+    ("largest σ_VM, first step after the detachment (kPa)", "≈ 3.5", ("remodel_40", "vm_max_after_detach"),
+     lambda d: _fields(d, "remodel_40", lambda r: observables.detachment(r, 35.0)[2])),
+    ("mean σ_VM in the contact zones at 35 s (kPa)", "", ("remodel_40", "vm_contact@35"),
+     lambda d: _fields(d, "remodel_40", lambda r: observables.zone_mean(r, "von_mises", "contact", 35.0))),
+    ("mean σ_VM in the contact zones at 40 s (kPa)", "", ("remodel_40", "vm_contact@40"),
+     lambda d: _fields(d, "remodel_40", lambda r: observables.zone_mean(r, "von_mises", "contact", 40.0))),
+    ("σ_VM contact zones over centre at 40 s", "≈ 10", ("remodel_40", "vm_contact/centre@40"),
+     lambda d: _fields(d, "remodel_40", lambda r: observables.zone_ratio(r, "von_mises", 40.0))),
+    ("‖E_p‖ contact zones over centre (frozen, 60 s)", "≈ 0 (\"almost none\")", ("remodel_40", "ep_contact/centre@60"),
+     lambda d: _fields(d, "remodel_40", lambda r: observables.zone_ratio(r, "norm_ep", 60.0))),
+    ("H/W after 60 s rest, c = 2 minus isotropic, 10 s compression", "< 0", "H/W c = 2 minus isotropic, 10 s compression",
+     lambda d: None if None in (_hw(d, "hw_10_c2"), _hw(d, "hw_10")) else _hw(d, "hw_10_c2") - _hw(d, "hw_10")),
+    ("H/W after 60 s rest, c = 2 minus isotropic, 65 s compression", "> 0", "H/W c = 2 minus isotropic, 65 s compression",
+     lambda d: None if None in (_hw(d, "hw_65_c2"), _hw(d, "hw_65")) else _hw(d, "hw_65_c2") - _hw(d, "hw_65")),
+    ("no remodelling: 95% of the hold's force relaxation done at (s)", "\"soon after the ramp\"",
+     ("reference_405", "settle95:force_total_mg"),
+     lambda d: _fields(d, "reference_405", lambda r: observables.settle_time(r, "force_total_mg", 5.0, 400.0, 0.05))),
+    *[(f"p > 0 share of the volume at {t} s", "bubble from 35 s", ("remodel_155", f"bubble_share@{t}"),
+       (lambda t: lambda d: _fields(d, "remodel_405", lambda r: observables.bubble(r, float(t))[0]))(t)) for t in (35, 45, 60)],
+    *[(f"p⁺-weighted distance from the centre at {t} s (R)", "travels outward", ("remodel_155", f"bubble_where@{t}"),
+       (lambda t: lambda d: _fields(d, "remodel_405", lambda r: observables.bubble(r, float(t))[1]))(t)) for t in (35, 45, 60)],
+    ("R = 900 µm: p(X_U) crosses zero (s)", "no crossing", ("remodel_155_R900", "zero:probe_p"),
+     lambda d: _summary(d, "remodel_155_R900", "t_p_neg_s")),
+    ("R = 900 µm: lowest p(X_U) in the hold (kPa)", "≥ 0", ("remodel_155_R900", "min_hold:probe_p"),
+     lambda d: _summary(d, "remodel_155_R900", "p_min_hold")),
+]
+
+
+def reported(dirs, out, refs, label):
+    """The table of reported numbers: paper, converged ± bar (refs: references.csv), and this set of
+    runs' value (`label`: the 3-D default, or the meridian's); printed as markdown and written to
+    <out>/reported.csv."""
+    conv = {}
+    if refs and Path(refs).exists():
+        for r in csv.DictReader(open(refs)):
+            conv[(r["case"], r["observable"])] = (float(r["extrapolated"]), float(r["error_bar"]))
+            if r["case"] == "combined":
+                conv[r["observable"]] = conv[(r["case"], r["observable"])]
+    fmt = lambda v: "—" if v is None or v != v else f"{v:.4g}"
+    rows = []
+    for what, paper, key, three_d in REPORTED:
+        v, bar = conv.get(key, (None, None))
+        rows.append({"quantity": what, "paper": paper, "converged": v, "error_bar": bar, label: three_d(dirs)})
+    with open(out / "reported.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"\n| quantity | paper | converged (meridian) | {label} |\n|---|---|---|---|")
+    for r in rows:
+        c = "—" if r["converged"] is None else f"{fmt(r['converged'])} ± {r['error_bar']:.2g}"
+        print(f"| {r['quantity']} | {r['paper']} | {c} | {fmt(r[label])} |")
+    print(f"wrote {out / 'reported.csv'}")
 
 
 class Section:
@@ -340,14 +448,15 @@ def fig_midplane(dirs, out):
     s, ts = Section("remodel_40", dirs["remodel_40"]), [5.0, 15.0, 35.0, 40.0, 60.0]
     ks = [s.index(t) for t in ts]
     print("  remodel_40 times used: " + ", ".join(f"{tt:.4g}" for _, tt in ks))
-    fig, ax = plt.subplots(2, 5, figsize=(20, 7), sharex=True, sharey=True, layout="constrained")
+    fig, ax = plt.subplots(2, 5, figsize=(21, 7.5), sharex=True, sharey=True, layout="constrained")
     for r, (name, lab, cmap) in enumerate([("norm_ep", "‖E_p‖ [-]", "viridis"), ("von_mises", "σ_VM [kPa]", "magma")]):
-        vmax = max(s.field(name, k).max() for k, _ in ks)
         for c, (k, tt) in enumerate(ks):
-            m = s.draw(ax[r, c], name, k, cmap=cmap, vmin=0, vmax=vmax)
+            # A colour scale per time: after the release σ_VM is ten times lower than at the
+            # peak, and its inversion (highest next to the former contacts) must stay visible.
+            m = s.draw(ax[r, c], name, k, cmap=cmap, vmin=0, vmax=s.field(name, k).max())
             ax[r, c].set_title(f"{lab.split(' ')[0]}, t = {tt:.4g} s")
-        fig.colorbar(m, ax=ax[r, :].tolist(), label=lab)
-    fig.suptitle("Figs 5-6: remodel_40, mid-plane y = 0 (deformed)")
+            fig.colorbar(m, ax=ax[r, c], label=lab, shrink=0.8)
+    fig.suptitle("Figs 5-6: remodel_40, mid-plane y = 0 (deformed); each panel has its own colour scale")
     save(fig, out, "fig5_6_midplane.png")
 
 
@@ -385,7 +494,13 @@ def main():
     ap.add_argument("--docs", action="store_true", help="also copy the figures to docs/figures/")
     ap.add_argument("--dirs", nargs="+", default=[], metavar="CASE=DIR", help=argparse.SUPPRESS)  # for testing
     ap.add_argument("--axisymmetric", action="store_true", help="every case on its meridian (seconds per case)")
+    ap.add_argument("--converged", metavar="DIR", help="also the converged meridian studies (scripts/references.py "
+                    "--cases all, scripts/causes.py) into DIR (about 3 h on 2 ranks; completed cases are kept)")
+    ap.add_argument("--references", metavar="CSV", help="references.csv for the table of reported numbers "
+                    "(default: DIR/references.csv of --converged, else studies/references/references.csv)")
+    ap.add_argument("--ranks", type=int, default=2, help="MPI ranks per case (default 2)")
     a = ap.parse_args()
+    RANKS[0] = a.ranks
     if a.axisymmetric:
         EXTRA_SETS.append("mesh.geometry=axisymmetric")
         if a.out == "runs/reproduce":
@@ -397,6 +512,14 @@ def main():
     dirs = {c: out / c for c in CASES}
     dirs.update({k: Path(v) for k, v in (x.split("=", 1) for x in a.dirs)})
     write_summary(dirs, out)
+    refs = a.references
+    if a.converged:
+        here = Path(__file__).resolve().parent
+        subprocess.run(["python3", str(here / "references.py"), "--dir", a.converged, "--cases", "all"], check=True)
+        subprocess.run(["python3", str(here / "causes.py"), "--dir", str(Path(a.converged) / "causes")], check=True)
+        refs = refs or str(Path(a.converged) / "references.csv")
+    reported(dirs, out, refs or str(ROOT / "studies" / "references" / "references.csv"),
+             "meridian, scene mesh" if a.axisymmetric else "3-D default")
     (out / "figures").mkdir(exist_ok=True)
     print("\nfigures:")
     steps = [("fig4_probe", lambda: fig_probe(dirs, out, "remodel_155", "elastic_155", "fig4_probe.png",

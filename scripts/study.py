@@ -35,6 +35,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import labels  # noqa: E402
 from _runner import BIN, env  # noqa: E402
 
 DEFAULT_OBSERVE = ["max:force_total_mg", "force_total_mg@35", "probe_p@5", "probe_p@30", "zero:probe_p",
@@ -189,7 +190,7 @@ def plot(rows, keys, observables, study):
     import matplotlib.pyplot as plt
     x_key, others = keys[0], keys[1:]
     try:
-        xs = sorted({float(r[x_key]) for r in rows})
+        xs = sorted({float(r[x_key]) * labels.axis_factor(x_key) for r in rows})
     except ValueError:
         return []
     files = []
@@ -197,14 +198,14 @@ def plot(rows, keys, observables, study):
         fig, ax = plt.subplots(figsize=(5.5, 3.8))
         groups = sorted({tuple(r[k] for k in others) for r in rows})
         for g in groups:
-            pts = [(float(r[x_key]), r[obs]) for r in rows
+            pts = [(float(r[x_key]) * labels.axis_factor(x_key), r[obs]) for r in rows
                    if tuple(r[k] for k in others) == g and r["status"] == "ok" and not math.isnan(r[obs])]
             pts.sort()
             if pts:
-                label = ", ".join(f"{k} = {v}" for k, v in zip(others, g)) or None
+                label = ", ".join(labels.value(k, v) for k, v in zip(others, g)) or None
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=label)
-        ax.set_xlabel(x_key)
-        ax.set_ylabel(obs)
+        ax.set_xlabel(labels.key(x_key))
+        ax.set_ylabel(labels.observable(obs))
         ax.grid(alpha=0.3)
         if others and groups:
             ax.legend(fontsize=7)
@@ -232,9 +233,9 @@ def plot_curves(cases, study, columns):
                 continue
             h = history(cdir / "run" / "history.csv")
             if col in h:
-                ax.plot(h["time"], h[col], label=", ".join(f"{k.split('.')[-1]} = {v}" for k, v in case) or "base")
+                ax.plot(h["time"], h[col], label=", ".join(labels.value(k, v) for k, v in case) or "base")
         ax.set_xlabel("time (s)")
-        ax.set_ylabel(col)
+        ax.set_ylabel(labels.column(col))
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
         fig.tight_layout()

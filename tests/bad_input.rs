@@ -150,6 +150,33 @@ fn bad_input_is_reported_and_earlier_results_survive() {
         "probe \"probe_p\": point [0.0, 0.0, 300.0] is outside the mesh",
     );
     fails(&earlier, &["run", "reference", "--set", "plates.probe_point=[0.0, nan, 1.0]"], "plates.probe_point = NaN");
+    // Permeable plates need a thickness, a non-negative permeability, and drainage.
+    fails(
+        &earlier,
+        &["run", "reference", "--set", "plates.permeability=3.7729e-4"],
+        "plates.permeability needs plates.thickness",
+    );
+    fails(&earlier, &["run", "reference", "--set", "plates.thickness=100"], "plates.thickness is only used with");
+    let both = ["--set", "plates.permeability=-1", "--set", "plates.thickness=100"];
+    fails(
+        &earlier,
+        &["run", "reference", both[0], both[1], both[2], both[3]],
+        "plates.permeability = -1: must be >= 0",
+    );
+    fails(
+        &earlier,
+        &[
+            "run",
+            "reference",
+            "--set",
+            "plates.permeability=1e-4",
+            "--set",
+            "plates.thickness=100",
+            "--set",
+            "plates.drainage=false",
+        ],
+        "plates.drainage = false seals",
+    );
     // A quadratic tetrahedron whose mid-edge node folds it over.
     let tangled = dir.join("tangled.msh");
     std::fs::write(&tangled, TANGLED_TET10).unwrap();

@@ -17,7 +17,7 @@ use crate::mesh::Family;
 use crate::parallel::{agree, broadcast_vec};
 use crate::petsc::{options, DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
-use crate::physics::contact::{PlateHistory, Plates, DEFAULT_SEAL_GAP};
+use crate::physics::contact::{Drainage, PlateHistory, Plates, DEFAULT_SEAL_GAP};
 use crate::physics::experiment::Experiment;
 use crate::physics::factory::{ellipticity_warning, model_of};
 use crate::physics::probe::Probe;
@@ -115,9 +115,15 @@ fn plates(
     let history = PlateHistory { u_max: ps.compression * 2.0 * ps.radius, t_ramp: ps.t_ramp, t_end: ps.t_end };
     // Free-surface drainage conductance: γ k0 / h (a stiff Robin condition, p ≈ 0).
     let beta_max = ps.drainage_penalty * model.conductivity() / mean_element_size(world, local);
-    let seal_gap = ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * ps.radius);
-    let plates =
-        Plates::new(history, ps.radius, local, &faces, anchor, ps.drainage, beta_max, seal_gap, ps.drainage_gap);
+    let drain = Drainage {
+        on: ps.drainage,
+        beta_max,
+        // The paper's slightly permeable plates: a Robin outflow k_β / L through the contact area.
+        beta_plate: ps.permeability.zip(ps.thickness).map_or(0.0, |(k, l)| k / l),
+        seal_gap: ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * ps.radius),
+        gap: ps.drainage_gap,
+    };
+    let plates = Plates::new(history, ps.radius, local, &faces, anchor, drain);
     Ok(Some((plates, faces)))
 }
 

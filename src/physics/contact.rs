@@ -11,7 +11,12 @@
 //! Fluid: the surface drains into the bath where it is off the plates and is sealed where it
 //! touches them. The outward flux through a surface vertex m is Q·N = β(g_m) p_m (lumped on
 //! its share A_m of the surface), with g_m the vertex's gap to the nearer plate and
-//! β(g) = β_max S(g / g_s), S the smoothstep from 0 (g ≤ 0, sealed) to 1 (g ≥ g_s, free).
+//! β(g) = β_c + (β_max − β_c) S(g / g_s), S the smoothstep from 0 (g ≤ 0, in contact) to 1
+//! (g ≥ g_s, free). β_c is the plates' own conductance: 0 for impermeable plates (sealed
+//! contact, the default), or k_β / L for the paper's slightly permeable plates (permeability
+//! k_β, thickness L), a Robin outflow through the contact area into plates drained at their far
+//! face — an upper bound on what a closed porous plate can take (the paper's plates are
+//! impermeable on their other faces, so fluid entering them can only move sideways).
 //! β_max = γ k0 / h (γ = 100 by default) makes the free surface a stiff Robin condition,
 //! p ≈ 0 (51a); g_s is the seal distance, default 0.01 R (1 µm, below the gap of the first
 //! vertex outside the contact edge on the default meshes, ≈ 5 µm). The paper's COMSOL contact
@@ -92,24 +97,33 @@ pub struct Plates {
     /// Local nodes of the contact surface and their reference heights.
     pub nodes: Vec<usize>,
     z_ref: Vec<f64>,
-    /// Drain the surface out of contact — off for a sealed aggregate.
-    pub drainage: bool,
+    /// How the surface drains (module docs).
+    pub drain: Drainage,
     /// Local contact-surface vertices with their share ∫ L_m dA of this rank's faces.
     vertices: Vec<(usize, f64)>,
-    /// β_max (µm³/(nN s) per µm² of surface, i.e. conductance per area).
-    pub beta_max: f64,
     /// Local node (if here) of the bottom pole, which stays on the lower plate (see `new`).
     anchor: Option<usize>,
-    /// Seal distance g_s: drainage opens fully over this gap (see the module docs).
-    pub seal_gap: f64,
-    /// Whose gap sets the conductance within a step (see the module docs).
-    pub gap: DrainageGap,
     tol: f64,
+}
+
+/// The drainage of the contact surface (module docs); conductances per area in µm³/(nN s) per µm².
+#[derive(Debug, Clone, Copy)]
+pub struct Drainage {
+    /// Drain the surface at all — off for a sealed aggregate.
+    pub on: bool,
+    /// β_max, the free surface's conductance.
+    pub beta_max: f64,
+    /// β_c, the plates' conductance where the surface touches them (0: impermeable).
+    pub beta_plate: f64,
+    /// Seal distance g_s: the conductance opens fully over this gap.
+    pub seal_gap: f64,
+    /// Whose gap sets the conductance within a step.
+    pub gap: DrainageGap,
 }
 
 impl Plates {
     /// `faces`: local faces of the contact surface; `anchor`: the local node of the bottom
-    /// pole, if on this rank; `beta_max` and `seal_gap` of the drainage (module docs).
+    /// pole, if on this rank; `drain` the surface's drainage (module docs).
     ///
     /// The anchor's contact is bilateral (bounds lo = hi = u(t)): gravity keeps the aggregate on
     /// the lower plate throughout, but when the upper contact opens on release, the vertical
@@ -117,17 +131,13 @@ impl Plates {
     /// any Newton iterate that frees it makes the Jacobian singular. Pinning the pole removes
     /// that mode without changing the converged solution as long as its reaction stays
     /// compressive (reported as `force_lower_mg`).
-    #[allow(clippy::too_many_arguments)]
     pub fn new(
         history: PlateHistory,
         radius: f64,
         mesh: &LocalMesh,
         faces: &[u32],
         anchor: Option<usize>,
-        drainage: bool,
-        beta_max: f64,
-        seal_gap: f64,
-        gap: DrainageGap,
+        drain: Drainage,
     ) -> Plates {
         let mut nodes: Vec<usize> =
             faces.iter().flat_map(|&f| mesh.face(f as usize).iter().map(|&n| n as usize)).collect();
@@ -152,11 +162,8 @@ impl Plates {
             z_upper: 2.0 * radius,
             nodes,
             z_ref,
-            drainage,
+            drain,
             vertices: area.into_iter().collect(),
-            beta_max,
-            seal_gap,
-            gap,
             anchor,
             tol: AT_BOUND * radius,
         }
@@ -192,7 +199,7 @@ impl Plates {
         for (k, &n) in self.nodes.iter().enumerate() {
             if let Some(i) = dofs.local_to_owned(dofs.uz_local(n)) {
                 // Nodes on the plate or within the seal distance keep their gap.
-                if self.z_ref[k] + x0[i] <= z0 + self.seal_gap.max(self.tol) {
+                if self.z_ref[k] + x0[i] <= z0 + self.drain.seal_gap.max(self.tol) {
                     x[i] = x0[i] + z1 - z0;
                 }
             }
@@ -241,7 +248,8 @@ impl Plates {
     /// layout) at time t: its p dof, u_z dof, conductance c = β(g) A (outflow c p) and dc/du_z.
     /// Empty without drainage.
     pub fn drainage(&self, mesh: &LocalMesh, dofs: &DofMap, u_local: &[f64], t: f64) -> Vec<Drain> {
-        if !self.drainage {
+        let d = &self.drain;
+        if !d.on {
             return Vec::new();
         }
         let zl = self.z_lower(t);
@@ -252,12 +260,13 @@ impl Plates {
                 let z = mesh.coords[n][2] + u_local[uz];
                 // Gap to the nearer plate and its derivative with respect to u_z.
                 let (g, dg) = if z - zl <= self.z_upper - z { (z - zl, 1.0) } else { (self.z_upper - z, -1.0) };
-                let (s, ds) = smoothstep(g / self.seal_gap);
+                let (s, ds) = smoothstep(g / d.seal_gap);
+                let (c, dc) = conductance(d.beta_plate, d.beta_max, s, ds);
                 Drain {
                     p: dofs.p_local(mesh.vertex_of_node[n] as usize),
                     uz,
-                    conductance: self.beta_max * a * s,
-                    d_conductance: self.beta_max * a * ds * dg / self.seal_gap,
+                    conductance: a * c,
+                    d_conductance: a * dc * dg / d.seal_gap,
                 }
             })
             .collect()
@@ -271,6 +280,12 @@ pub struct Drain {
     pub uz: usize,
     pub conductance: f64,
     pub d_conductance: f64,
+}
+
+/// β = β_c + (β_max − β_c) S and dβ/dx for the smoothstep value S(x) and S'(x): from the plates'
+/// conductance in contact to the free surface's.
+fn conductance(beta_plate: f64, beta_max: f64, s: f64, ds: f64) -> (f64, f64) {
+    (beta_plate + (beta_max - beta_plate) * s, (beta_max - beta_plate) * ds)
 }
 
 /// S(x) = 3x² − 2x³ on [0, 1], 0 below, 1 above, and S'(x).
@@ -331,6 +346,26 @@ mod tests {
             assert!((fd - smoothstep(x).1).abs() < 1e-8);
         }
         assert!(smoothstep(1e-9).1 < 1e-8 && smoothstep(1.0 - 1e-9).1 < 1e-8);
+    }
+
+    #[test]
+    fn plate_conductance_in_contact_opens_to_the_free_surfaces() {
+        let (bc, bm) = (3.7729e-6, 18.9);
+        // In contact (S = 0) the plates' conductance, free (S = 1) the surface's; impermeable
+        // plates seal.
+        assert_eq!(conductance(bc, bm, 0.0, 0.0), (bc, 0.0));
+        assert_eq!(conductance(bc, bm, 1.0, 0.0).0, bm);
+        assert_eq!(conductance(0.0, bm, 0.0, 0.0).0, 0.0);
+        // dβ/dx by central differences through the smoothstep.
+        for x in [0.2, 0.5, 0.8] {
+            let h = 1e-6;
+            let at = |x: f64| {
+                let (s, ds) = smoothstep(x);
+                conductance(bc, bm, s, ds)
+            };
+            let fd = (at(x + h).0 - at(x - h).0) / (2.0 * h);
+            assert!((fd - at(x).1).abs() < 1e-6 * bm);
+        }
     }
 
     #[test]

@@ -756,7 +756,7 @@ impl TsProblem for PoroProblem {
         }
         pl.predict(t0, t1, &self.disc.dofs, &x0, &mut x.write()?);
         // The drainage gaps are the extrapolation's, whatever guess the Newton solve starts from.
-        if pl.gap == DrainageGap::Predicted {
+        if pl.drain.gap == DrainageGap::Predicted {
             self.scatter.forward(x, &mut self.u_loc)?;
             let predicted = self.predicted.get_or_insert_with(Vec::new);
             predicted.clear();

@@ -374,6 +374,14 @@ pub struct PlatesSpec {
     /// Newton iterate's (fully implicit; numerics.md, "Drainage that follows contact").
     #[serde(default)]
     pub drainage_gap: DrainageGap,
+    /// The plates' permeability k_β (µm⁴/(nN s); the paper's Table 1: 3.7729e-4): fluid leaves
+    /// through the contact area with the conductance k_β / `thickness` (a Robin outflow; the
+    /// plates are impermeable when it is omitted).
+    #[serde(default)]
+    pub permeability: Option<f64>,
+    /// The plates' thickness L (µm) that the outflow through them crosses (with `permeability`).
+    #[serde(default)]
+    pub thickness: Option<f64>,
     /// The material point X_U of the `probe_p` and `probe_porosity` columns (reference
     /// coordinates, µm; default the paper's (0.4 R, 0, 1.9 R), 1.5 µm under the surface).
     #[serde(default)]
@@ -729,6 +737,30 @@ impl LoadedScene {
             positive(self, "plates.drainage_penalty", p.drainage_penalty)?;
             if let Some(g) = p.seal_gap {
                 positive(self, "plates.seal_gap", g)?;
+            }
+            match (p.permeability, p.thickness) {
+                (Some(k), Some(l)) => {
+                    if !(k.is_finite() && k >= 0.0) {
+                        return Err(self.err(format!("plates.permeability = {k}: must be >= 0")));
+                    }
+                    positive(self, "plates.thickness", l)?;
+                    if !p.drainage && k > 0.0 {
+                        return Err(self.err(
+                            "plates.permeability: the plates drain the contact area, but plates.drainage = false seals the \
+                             aggregate (drop one of them)"
+                                .to_string(),
+                        ));
+                    }
+                }
+                (Some(_), None) => {
+                    return Err(
+                        self.err("plates.permeability needs plates.thickness (µm), the plates' thickness".to_string())
+                    )
+                }
+                (None, Some(_)) => {
+                    return Err(self.err("plates.thickness is only used with plates.permeability: set both".to_string()))
+                }
+                (None, None) => {}
             }
             for x in p.probe_point.iter().flatten() {
                 finite(self, "plates.probe_point", *x)?;

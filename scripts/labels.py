@@ -1,0 +1,80 @@
+"""Figure labels in the units the docs use (kPa, (MPa s)⁻¹, mm⁴/(N s), µm, mg), not raw scene
+keys: a scene key and its value, a history column, an observable of `study.py`."""
+
+# scene key -> (symbol, unit, factor from the scene's unit to the unit shown)
+KEYS = {
+    "material.remodelling.lambda_p": ("λp", "(MPa s)⁻¹", 1e3),    # scene: (kPa s)⁻¹
+    "material.remodelling.sigma_y": ("σy", "kPa", 1.0),
+    "material.remodelling.form": ("flow rule", "", None),
+    "material.k0": ("k0", "mm⁴/(N s)", 1e-3),                      # scene: µm⁴/(nN s)
+    "material.permeability_c": ("c", "", 1.0),
+    "material.mu": ("µ", "kPa", 1.0),
+    "material.nu": ("ν", "", 1.0),
+    "plates.compression": ("ũ_max", "", 1.0),
+    "plates.t_end": ("t_end", "s", 1.0),
+    "plates.radius": ("R", "µm", 1.0),
+    "plates.seal_gap": ("seal gap", "µm", 1.0),
+    "mesh.params.R": ("R", "µm", 1.0),
+    "mesh.params.h": ("h", "µm", 1.0),
+    "time.t_end": ("end of the run", "s", 1.0),
+    "fem.stabilisation": ("stabilisation c", "", 1.0),
+}
+# history column -> label with its unit
+COLUMNS = {
+    "force_total_mg": "total force (mg)",
+    "force_constitutive_mg": "constitutive force (mg)",
+    "force_pressure_mg": "pressure force (mg)",
+    "probe_p": "p(X_U) (kPa)",
+    "probe_porosity": "porosity at X_U",
+    "height": "height (µm)",
+    "width": "width (µm)",
+    "height/width": "H/W",
+    "max_von_mises": "largest σ_VM (kPa)",
+    "max_norm_ep": "largest ‖E_p‖",
+    "contact_radius_upper": "upper contact radius (µm)",
+}
+
+
+def _number(v):
+    return f"{v:.5g}"
+
+
+def value(key, v):
+    """`key = v` in the text's units, e.g. material.remodelling.lambda_p = 0.001 -> λp = 1 (MPa s)⁻¹."""
+    if key not in KEYS:
+        return f"{key.split('.')[-1]} = {v}"
+    sym, unit, factor = KEYS[key]
+    try:
+        shown = _number(float(v) * factor) if factor is not None else str(v).strip('"')
+    except ValueError:
+        shown = str(v).strip('"')
+    return f"{sym} = {shown}" + (f" {unit}" if unit else "")
+
+
+def key(k):
+    """An axis label for a scene key, e.g. plates.t_end -> t_end (s)."""
+    if k not in KEYS:
+        return k
+    sym, unit, _ = KEYS[k]
+    return f"{sym} ({unit})" if unit else sym
+
+
+def axis_factor(k):
+    """The factor that turns the key's scene values into the values shown on an axis."""
+    return KEYS.get(k, (None, None, 1.0))[2] or 1.0
+
+
+def column(c):
+    return COLUMNS.get(c, c)
+
+
+def observable(spec):
+    """A study.py observable, e.g. max:force_total_mg -> peak of total force (mg)."""
+    kinds = {"max": "peak of ", "min": "minimum of ", "last": "final ", "zero": "zero crossing (s) of "}
+    if ":" in spec:
+        kind, col = spec.split(":", 1)
+        if kind == "zero":
+            return f"time (s) at which {column(col).split(' (')[0]} crosses 0"
+        return kinds.get(kind, kind + " ") + column(col)
+    col, _, t = spec.partition("@")
+    return f"{column(col)} at t = {t} s" if t else column(col)
