@@ -31,6 +31,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import numpy as np  # noqa: E402
 import study  # noqa: E402
+import labels  # noqa: E402
 
 
 class Model:
@@ -153,10 +154,10 @@ def plot(a, data, h, result, keys):
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     ax.plot(h["time"], h[a.column], "-", label="fit: " + ", ".join(
-        f"{k.split('.')[-1]} = {result[k]['value']:.4g}" for k in keys))
+        labels.value(k, result[k]['value']) for k in keys))
     ax.plot([t for t, _ in data], [v for _, v in data], "o", ms=3, label="data")
     ax.set_xlabel("t (s)")
-    ax.set_ylabel(a.column)
+    ax.set_ylabel(labels.column(a.column))
     ax.set_title(f"{a.scene}: rms residual {result['rms']:.3g}")
     ax.legend(fontsize=8)
     fig.tight_layout()

@@ -205,13 +205,13 @@ def plot(root, hs, ss, results, observe, ref):
         for s in ss:
             x = [h for h in hs if (h, s) in results]
             if len(x) > 1:
-                ax1.loglog(x, [err(h, s) for h in x], "o-", label=f"dt x {s:g}")
+                ax1.loglog(x, [err(h, s) for h in x], "o-", label=f"steps × {s:g}")
         for h in hs:
             x = [s for s in ss if (h, s) in results]
             if len(x) > 1:
-                ax2.loglog(x, [err(h, s) for s in x], "s-", label=f"h = {h:g}")
-        ax1.set_xlabel("h (um)")
-        ax2.set_xlabel("dt scale")
+                ax2.loglog(x, [err(h, s) for s in x], "s-", label=f"h = {h:g} µm")
+        ax1.set_xlabel("h (µm)")
+        ax2.set_xlabel("step scale (× the scene's steps)")
         for ax in (ax1, ax2):
             ax.set_ylabel(f"relative error of {o}")
             ax.grid(alpha=0.3, which="both")

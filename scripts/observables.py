@@ -95,17 +95,22 @@ def zone_ratio(run, name, t):
 
 
 def bubble(run, t):
-    """The positive-pressure region at t: its share of the volume, and the p⁺-weighted mean
-    distance of its cells from the aggregate's centre, relative to R (reference coordinates)."""
+    """The positive-pressure region at t: its share of the volume, the p⁺-weighted mean distance
+    of its cells from the aggregate's centre (relative to R) and their p⁺-weighted mean polar
+    angle from the axis (degrees; 0 at the poles, where the plates touch, 90 at the equator),
+    in reference coordinates."""
     f = fields(run)
     p = f.cell_pressure(t)
+    nan = float("nan")
     if p is None:
-        return float("nan"), float("nan")
-    pos = np.clip(p, 0, None)
+        return nan, nan, nan
+    pos = np.clip(p, 0, None) * f.w
     rho = np.hypot(f.r, f.z - f.radius) / f.radius
+    angle = np.degrees(np.arctan2(f.r, abs(f.z - f.radius)))
     share = float(f.w[p > 0].sum() / f.w.sum())
-    where = float((pos * f.w * rho).sum() / (pos * f.w).sum()) if pos.any() else float("nan")
-    return share, where
+    if not pos.any():
+        return share, nan, nan
+    return share, float((pos * rho).sum() / pos.sum()), float((pos * angle).sum() / pos.sum())
 
 
 def detachment(run, after):
@@ -156,10 +161,12 @@ DERIVED = {
     "vm_max_after_detach": lambda run: detachment(run, 35.0)[2],
     **{f"bubble_share@{t:g}": (lambda t: lambda run: bubble(run, t)[0])(t) for t in (35.0, 45.0, 60.0)},
     **{f"bubble_where@{t:g}": (lambda t: lambda run: bubble(run, t)[1])(t) for t in (35.0, 45.0, 60.0)},
+    **{f"bubble_angle@{t:g}": (lambda t: lambda run: bubble(run, t)[2])(t) for t in (35.0, 45.0, 60.0)},
     # the no-remodelling hold (405 s): when 90% / 95% of the force's relaxation from the peak
     # (5 s) to the end of the hold (400 s) has happened
     "settle90:force_total_mg": lambda run: settle_time(run, "force_total_mg", 5.0, 400.0, 0.10),
     "settle95:force_total_mg": lambda run: settle_time(run, "force_total_mg", 5.0, 400.0, 0.05),
-    "min_hold:probe_p": lambda run: hold_min(run, "probe_p", 5.0, 150.0),
+    "min_hold:probe_p": lambda run: hold_min(run, "probe_p", 5.0, 150.0),     # t_end = 155 s
+    "min_hold405:probe_p": lambda run: hold_min(run, "probe_p", 5.0, 400.0),  # t_end = 405 s
     "t_max:force_constitutive_mg": lambda run: peak_time(run, "force_constitutive_mg"),
 }

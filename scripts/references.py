@@ -44,7 +44,7 @@ def case(scene, observe, sets=(), steps=STEPS, time_mesh=10, mesh_steps=0.25, me
 VM = ["vm_centre@35", "vm_contact@35", "vm_centre@40", "vm_contact@40", "vm_centre@60", "vm_contact@60",
       "vm_contact/centre@40", "vm_contact/centre@60", "ep_centre@60", "ep_contact@60", "ep_contact/centre@60",
       "detach_t", "vm_max_before_detach", "vm_max_after_detach", "max:max_von_mises"]
-BUBBLE = [f"bubble_{k}@{t}" for t in (35, 45, 60) for k in ("share", "where")]
+BUBBLE = [f"bubble_{k}@{t}" for t in (35, 45, 60) for k in ("share", "where", "angle")]
 HW = lambda t_end, c2: case("remodel_40", ["last:height/width"],
                             [f"plates.t_end={t_end}", f"time.t_end={t_end + 60}", "material.k0=2.5779",
                              *(["material.permeability_c=2"] if c2 else [])],
@@ -73,7 +73,7 @@ CASES = {
                        [f"{R405}.lambda_p=0.0001", "time.t_end=60"], LIGHT_STEPS, mesh=LIGHT_MESH),
     # Without remodelling: does the force plateau soon after the ramp?
     "reference_405": case("reference_405", ["max:force_total_mg", "force_total_mg@60", "force_total_mg@400",
-                                            "settle90:force_total_mg", "settle95:force_total_mg"],
+                                            "settle90:force_total_mg", "settle95:force_total_mg", "min_hold405:probe_p"],
                           steps=LIGHT_STEPS, mesh=LIGHT_MESH),
     # R = 900 µm (the paper: no syringe effect), every length scaled by 9, X_U = (360, 0, 1710) µm.
     "remodel_155_R900": case("remodel_155", ["zero:probe_p", "min_hold:probe_p", "probe_p@150", "probe_p@30",

@@ -258,7 +258,9 @@ def fig_soft(dirs, out):
     for col, lab in (("force_total_mg", "total"), ("force_constitutive_mg", "constitutive"),
                      ("force_pressure_mg", "pressure")):
         ax[0].plot(h["time"], h[col], label=lab)
-    failed = "" if (dirs["mu3_nu0.45"] / "timings.txt").exists() else f"\nrun FAILED at t = {h['time'][-1]:.2f} s"
+    # The same time as summary.csv's t_last_s, which the text quotes: the last converged step.
+    failed = "" if (dirs["mu3_nu0.45"] / "timings.txt").exists() else \
+        f"\nrun failed: last converged step at t = {h['time'][-1]:.2f} s"
     ax[0].set(xlim=(0, 160), xlabel="time t [s]", ylabel="force on the upper plate [mg]",
               title="µ = 3 kPa, ν = 0.45, λp = 1 (MPa s)⁻¹ (Forgacs)" + failed)
     for case, style in (("remodel_155", "-"), ("mu3_nu0.2", "--")):
@@ -290,9 +292,9 @@ def zone_stats(dirs):
         print(f"  upper detachment after t = {t:.3f} s: largest σ_VM {before:.2f} kPa before, {after:.2f} kPa after")
     if have(dirs, ["remodel_405"], "fields.h5"):
         for t in (35.0, 45.0, 60.0):
-            share, where = observables.bubble(dirs["remodel_405"], t)
+            share, where, angle = observables.bubble(dirs["remodel_405"], t)
             print(f"  remodel_405, t = {t:g} s: p > 0 in {100 * share:.1f}% of the volume, p⁺-weighted mean "
-                  f"distance from the centre {where:.3f} R")
+                  f"distance from the centre {where:.3f} R at {angle:.0f}° from the axis")
 
 
 # The numbers the paper reports, each with its converged meridian value (scripts/references.py:
@@ -354,6 +356,10 @@ REPORTED = [
        (lambda t: lambda d: _fields(d, "remodel_405", lambda r: observables.bubble(r, float(t))[0]))(t)) for t in (35, 45, 60)],
     *[(f"p⁺-weighted distance from the centre at {t} s (R)", "travels outward", ("remodel_155", f"bubble_where@{t}"),
        (lambda t: lambda d: _fields(d, "remodel_405", lambda r: observables.bubble(r, float(t))[1]))(t)) for t in (35, 45, 60)],
+    *[(f"p⁺-weighted angle from the axis at {t} s (°)", "", ("remodel_155", f"bubble_angle@{t}"),
+       (lambda t: lambda d: _fields(d, "remodel_405", lambda r: observables.bubble(r, float(t))[2]))(t)) for t in (35, 45, 60)],
+    ("no remodelling: lowest p(X_U) in the hold (kPa)", "≥ 0", ("reference_405", "min_hold405:probe_p"),
+     lambda d: _fields(d, "reference_405", lambda r: observables.hold_min(r, "probe_p", 5.0, 400.0))),
     ("R = 900 µm: p(X_U) crosses zero (s)", "no crossing", ("remodel_155_R900", "zero:probe_p"),
      lambda d: _summary(d, "remodel_155_R900", "t_p_neg_s")),
     ("R = 900 µm: lowest p(X_U) in the hold (kPa)", "≥ 0", ("remodel_155_R900", "min_hold:probe_p"),

@@ -17,7 +17,11 @@ against the same value.
 import argparse
 import csv
 import math
+import sys
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import labels  # noqa: E402
 
 
 def pareto(points):
@@ -31,7 +35,7 @@ def pareto(points):
 
 
 def name(p):
-    return p["label"] if "label" in p else f"h = {p['h']:g}, dt x {p['dt']:g}"
+    return p["label"] if "label" in p else f"h = {p['h']:g} µm, steps × {p['dt']:g}"
 
 
 def read_variants(vdir, ref, observable):
@@ -45,7 +49,7 @@ def read_variants(vdir, ref, observable):
     for r in rows:
         if r["status"] != "ok":
             continue
-        label = ", ".join(f"{k.split('.')[-1]} = {r[k]}" for k in keys if r[k] != "") or "(base scene)"
+        label = ", ".join(labels.value(k, r[k]) for k in keys if r[k] != "") or "(base scene)"
         out.append({"label": label, "wall_s": float(r["wall_s"]), "error": abs(float(r[observable]) - ref) / abs(ref),
                     "steps": float(r["steps"]), "newton": float(r["newton_its"]), "krylov": float(r["ksp_its"])})
     return out
@@ -95,7 +99,7 @@ def main():
     variants = [v for d in a.variants for v in read_variants(Path(d), ref, a.observable)]
     for label, extra in others.items():
         for p in extra:
-            p["label"] = f"{label}: h = {p['h']:g}, dt x {p['dt']:g}"
+            p["label"] = f"{label}: h = {p['h']:g} µm, steps × {p['dt']:g}"
     front = pareto(pts + variants + [p for extra in others.values() for p in extra])
     default = next((p for p in pts if p["h"] == a.default_h and p["dt"] == a.default_dt), None)
     print(f"{a.observable}: error against the extrapolated value; Pareto front (case, wall s, error):")
@@ -121,12 +125,12 @@ def main():
     fig, ax = plt.subplots(figsize=(6, 4))
     for h in sorted({p["h"] for p in pts}, reverse=True):
         sel = sorted((p for p in pts if p["h"] == h), key=lambda p: p["wall_s"])
-        ax.loglog([p["wall_s"] for p in sel], [max(p["error"], 1e-6) for p in sel], "o-", alpha=0.7, label=f"h = {h:g} um")
+        ax.loglog([p["wall_s"] for p in sel], [max(p["error"], 1e-6) for p in sel], "o-", alpha=0.7, label=f"h = {h:g} µm")
     for label, extra in others.items():
         for h in sorted({p["h"] for p in extra}, reverse=True):
             sel = sorted((p for p in extra if p["h"] == h), key=lambda p: p["wall_s"])
             ax.loglog([p["wall_s"] for p in sel], [max(p["error"], 1e-6) for p in sel], "s--", mfc="none",
-                      alpha=0.8, label=f"{label}: h = {h:g} um")
+                      alpha=0.8, label=f"{label}: h = {h:g} µm")
     for v, marker in zip(variants, "sD^vP<>Xhp" * 3):
         ax.loglog([v["wall_s"]], [max(v["error"], 1e-6)], marker, ms=7, mfc="none", label=v["label"])
     ax.loglog([p["wall_s"] for p in front], [max(p["error"], 1e-6) for p in front], "k--", lw=1, label="Pareto front")
@@ -137,7 +141,7 @@ def main():
     ax.set_ylabel(f"relative error of {a.observable}")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=7)
-    ax.set_title("points along a line: dt x 1, 1/2, 1/4, 1/8 (left to right)", fontsize=8)
+    ax.set_title("points along a line: steps × 1, 1/2, 1/4, 1/8 (left to right)", fontsize=8)
     fig.tight_layout()
     out = Path(a.out) if a.out else study / f"speed_accuracy_{a.observable.replace(':', '_').replace('@', '_at_').replace('/', '_over_')}.png"
     fig.savefig(out, dpi=120)
