@@ -157,11 +157,6 @@ impl Biphasic {
         self.phi_s
     }
 
-    /// ϱs a_g in kPa/µm.
-    pub fn solid_weight(&self) -> Vector3<f64> {
-        self.rho_s_g
-    }
-
     /// ϱf a_g in kPa/µm.
     pub fn fluid_weight(&self) -> Vector3<f64> {
         self.rho_f_g
