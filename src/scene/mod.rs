@@ -436,8 +436,9 @@ pub struct SolverSpec {
 #[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FemSpec {
-    /// Degree of the tetrahedral quadrature rule (default 2 for the linear model: exact on
-    /// straight elements).
+    /// Degree of the quadrature rule (default 2 for the linear model, exact on straight
+    /// elements; 3 for the finite-strain models). On a meridian mesh the triangle rule is one
+    /// degree higher (dV = 2πR dA).
     #[serde(default)]
     pub quadrature_degree: Option<usize>,
     /// c of the pressure stabilisation (c / (λ + 2µ)) ∫ (ṗ − Πṗ)(q − Πq) that keeps the
