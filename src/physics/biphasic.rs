@@ -427,7 +427,9 @@ fn dcof(f: &Matrix3<f64>) -> Tangent {
     a
 }
 
-/// Tests 1–6 of the brief plus closed forms for the output fields and the cofactor helpers.
+/// The model's defining properties, tests 1–6: a consistent tangent, the linear small-strain
+/// limit, the exact rate of J, objectivity, domain errors at inadmissible states, and gravity at
+/// the reference state; plus closed forms for the output fields and the cofactor helpers.
 #[cfg(test)]
 mod tests {
     use super::super::linear::LinearPoroelastic;
