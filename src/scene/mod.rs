@@ -29,7 +29,7 @@ pub struct Scene {
     pub probe: Vec<Probe>,
     #[serde(default)]
     pub verification: Option<Verification>,
-    /// Rigid plates squeezing the aggregate (contact, drainage, loading history).
+    /// Rigid plates squeezing the aggregate (contact, drainage, loading).
     #[serde(default)]
     pub plates: Option<PlatesSpec>,
     #[serde(default)]
