@@ -358,7 +358,7 @@ impl<'w> Run<'w> {
             probes,
             experiment,
             exact: exact_columns(scene)?,
-            remodelling: !ts.problem().disc.history.is_empty(),
+            remodelling: !ts.problem().disc.qp_state.is_empty(),
             fields: s.output.fields,
         };
         let settle = s.plates.is_some()

@@ -23,7 +23,7 @@ pub struct Observers {
     pub experiment: Option<Experiment>,
     /// Exact-solution columns of a verification scene.
     pub exact: Vec<(String, ExactFn)>,
-    /// Whether the model keeps per-point history (remodelling): its summary is recorded.
+    /// Whether the model keeps qp state (remodelling): its summary is recorded.
     pub remodelling: bool,
     /// Write fields at all.
     pub fields: bool,

@@ -9,7 +9,7 @@ use nalgebra::Matrix3;
 
 /// Holmes–Mow parameters; energy per unit reference volume of mixture (hence the factor Φs).
 /// Every method takes the remodelling metric B_p, which the caller keeps symmetric positive
-/// definite with det 1 (not checked here: it is a history variable, checked where updated).
+/// definite with det 1 (not checked here: it is a qp-state variable, checked where updated).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HolmesMow {
     /// Referential solid fraction Φs.

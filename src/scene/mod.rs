@@ -139,7 +139,7 @@ pub enum Material {
         /// Compaction penalty U(J) (model.md (33)); none if absent.
         #[serde(default)]
         penalty: Option<PenaltySpec>,
-        /// Visco-plastic remodelling of B_p (model.md §4); none if absent (B_p = I, no history).
+        /// Visco-plastic remodelling of B_p (model.md §4); none if absent (B_p = I, no qp state).
         #[serde(default)]
         remodelling: Option<RemodellingSpec>,
         /// Densities (kg/m³).
