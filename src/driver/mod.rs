@@ -409,7 +409,7 @@ impl<'w> Run<'w> {
             Ok(())
         };
         agree(self.world, written)?;
-        let obs = self.observers.take().expect("the run directory opens once");
+        let obs = self.take_observers(dir)?;
         Recorder::create(self.world, dir, &self.ts.problem().disc.mesh, obs)
     }
 
@@ -419,14 +419,24 @@ impl<'w> Run<'w> {
         // The options given to `resume` join the record, for the next resume.
         let written = if self.rank0() { self.write_record(dir) } else { Ok(()) };
         agree(self.world, written)?;
-        let obs = self.observers.take().expect("the run directory opens once");
-        let counts = self.resumed.expect("resuming");
+        let obs = self.take_observers(dir)?;
+        let counts = self.resumed.ok_or_else(|| {
+            Error::io(dir, "the run directory was reopened for a resume, but no checkpoint was loaded")
+        })?;
         let backup = state::fields_backup(dir);
         let (rec, warning) = Recorder::reopen(self.world, dir, &self.ts.problem().disc.mesh, obs, counts, &backup)?;
         if let Some(w) = warning {
             self.warn(&w);
         }
         Ok(rec)
+    }
+
+    /// The probes, experiment and exact columns, for the recorder of the run directory `dir`
+    /// (which opens once per run).
+    fn take_observers(&mut self, dir: &Path) -> Result<Observers> {
+        self.observers
+            .take()
+            .ok_or_else(|| Error::io(dir, "the run directory was opened a second time in the same run"))
     }
 
     /// `run.toml`: how to set this run up again (rank 0).
