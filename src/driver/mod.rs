@@ -167,7 +167,7 @@ impl RunRecord {
         let path = dir.join("scene.toml");
         let was = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
         let body = was.split_once('\n').map_or("", |(_, b)| b);
-        if body != scene.to_toml() {
+        if body != scene.to_toml()? {
             return Err(Error::io(
                 &path,
                 format!("{} no longer resolves to this run's scene (was it edited?): cannot resume", scene.source),
@@ -400,7 +400,7 @@ impl<'w> Run<'w> {
                 if status.exists() {
                     std::fs::remove_file(&status).map_err(|e| Error::io(&status, e))?;
                 }
-                let scene = format!("# resolved from {}\n{}", self.scene.source, self.scene.to_toml());
+                let scene = format!("# resolved from {}\n{}", self.scene.source, self.scene.to_toml()?);
                 rundir::write_text(dir, "scene.toml", &scene)?;
                 rundir::write_text(dir, "petsc_options.txt", &(options + "\n"))?;
                 self.write_record(dir)
@@ -441,7 +441,8 @@ impl<'w> Run<'w> {
 
     /// `run.toml`: how to set this run up again (rank 0).
     fn write_record(&self, dir: &Path) -> Result<()> {
-        let record = toml::to_string(&RunRecord::of(&self.args)).unwrap_or_default();
+        let record = toml::to_string(&RunRecord::of(&self.args))
+            .map_err(|e| Error::io(dir.join(RunRecord::FILE), format!("cannot write the run record: {e}")))?;
         rundir::write_text(
             dir,
             RunRecord::FILE,

@@ -842,8 +842,9 @@ impl LoadedScene {
     }
 
     /// The scene as TOML (for the run directory).
-    pub fn to_toml(&self) -> String {
-        toml::to_string_pretty(&self.scene).unwrap_or_default()
+    pub fn to_toml(&self) -> Result<String> {
+        toml::to_string_pretty(&self.scene)
+            .map_err(|e| self.err(format!("cannot write the resolved scene as TOML: {e}")))
     }
 }
 
