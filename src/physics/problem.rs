@@ -327,8 +327,7 @@ impl PoroProblem {
             match &self.inserter {
                 Some(ins) => jac.with_local_csr(|csr| {
                     disc.jacobian_loop(&ul, &udl, dt, shift, schur, |e, d, k| {
-                        ins.add(csr, e, d, &disc.dofs.l2g, k, ghosts);
-                        Ok(())
+                        ins.add(csr, e, d, &disc.dofs.l2g, k, ghosts)
                     })
                 }),
                 None => {
