@@ -208,8 +208,7 @@ impl PoroProblem {
             plates.fill_bounds(0.0, &self.disc.dofs, &mut l, &mut h);
         }
         self.plates = Some(plates);
-        self.bounds = Some((lo, hi));
-        let (lo, hi) = self.bounds.as_ref().expect("just set");
+        let (lo, hi) = self.bounds.insert((lo, hi));
         Ok((lo, hi))
     }
 
