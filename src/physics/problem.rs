@@ -47,8 +47,8 @@ pub struct Timers {
 pub struct PoroProblem {
     pub world: SimpleCommunicator,
     pub disc: Discretization,
-    /// Owned constrained dofs with their values.
-    constraints: Vec<Constraint>,
+    /// Owned constrained dofs with their values, each with its position among the owned dofs.
+    constraints: Vec<(usize, Constraint)>,
     /// External loads (traction, prescribed flux) in the local layout, already integrated.
     external: Vec<f64>,
     scatter: Scatter,
@@ -138,7 +138,8 @@ impl PoroProblem {
         for c in &constraints {
             constrained[c.local] = true;
         }
-        let owned: Vec<Constraint> = constraints.into_iter().filter(|c| dofs.is_owned(c.local)).collect();
+        let owned: Vec<(usize, Constraint)> =
+            constraints.into_iter().filter_map(|c| dofs.local_to_owned(c.local).map(|i| (i, c))).collect();
         let h = mean_element_size(&world, &mesh);
         let qp_state = QpStore::new(mesh.cells.len(), xi.len(), model.qp_state_len(), |v| model.initial_qp_state(v));
         Ok(PoroProblem {
@@ -278,8 +279,7 @@ impl PoroProblem {
         {
             let ul = self.u_loc.read()?;
             let mut fw = f.write()?;
-            for c in &self.constraints {
-                let i = self.disc.dofs.local_to_owned(c.local).expect("owned constraint");
+            for &(i, ref c) in &self.constraints {
                 fw[i] = self.scale_of(c.local, scales) * (ul[c.local] - c.value);
             }
         }
@@ -369,7 +369,7 @@ impl PoroProblem {
                 }
             }
         }
-        let rows: Vec<usize> = self.constraints.iter().map(|c| c.local).collect();
+        let rows: Vec<usize> = self.constraints.iter().map(|(_, c)| c.local).collect();
         for l in rows {
             let g = self.disc.dofs.l2g[l];
             let s = self.scale_of(l, scales);
