@@ -285,7 +285,10 @@ impl RunState {
         for b in buf.iter_mut() {
             crate::parallel::broadcast_vec(world, 0, b);
         }
-        let counters = Counters::from_slice(&buf[0]).expect("checked on rank 0");
+        // Rank 0 checked the counters before the broadcast; this catches a broken broadcast.
+        let counters = Counters::from_slice(&buf[0]).ok_or_else(|| {
+            Error::io(path, "checkpoint: the counters received from rank 0 are not in a known format")
+        })?;
         let velocity = if buf[2].is_empty() { None } else { Some((std::mem::take(&mut buf[2]), buf[3][0])) };
         Ok(Checkpoint::Read(RunState {
             counters,
