@@ -125,6 +125,13 @@ fn bad_input_is_reported_and_earlier_results_survive() {
         "--set material.mu=soft: invalid type: string \"soft\"",
     );
     fails(&earlier, &["run", &ok, "--set", "material.nu=0.5"], "material.nu = 0.5");
+    // Overrides are applied together, then checked: the second completes the table the first
+    // starts (the reference scene has no remodelling).
+    fails(
+        &earlier,
+        &["run", "reference", "--set", "material.remodelling.lambda_p=-1", "--set", "material.remodelling.sigma_y=2"],
+        "material.remodelling.lambda_p = -1: must be finite and >= 0",
+    );
     fails(&earlier, &["run", &ok, "--set", "time.dt"], "--set time.dt: expected KEY=VALUE");
     fails(&earlier, &["run", &ok, "--set", "fem.stabilisation_fade=0"], "fem.stabilisation_fade = 0: must be positive");
     fails(&earlier, &["run", &ok, "--set", "time.dt_min=1e3"], "time.dt_min = 1000: must be below the first step");

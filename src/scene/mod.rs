@@ -521,17 +521,19 @@ impl LoadedScene {
             });
         };
         let scene_err = |msg: String| Error::Scene { path: source.clone(), msg };
-        let mut scene: Scene = toml::from_str(&text).map_err(|e| scene_err(toml_message(&text, &e)))?;
-        if !overrides.is_empty() {
-            // Applied one at a time, so that a value the scene rejects is blamed on its override.
-            let mut table: toml::Table = toml::from_str(&text).map_err(|e| scene_err(toml_message(&text, &e)))?;
+        let mut scene: Scene = if overrides.is_empty() {
+            toml::from_str(&text).map_err(|e| scene_err(toml_message(&text, &e)))?
+        } else {
+            // All overrides first, then the scene is read once: one override may need another
+            // (a new `remodelling` table needs both its fields), so the scene half-way through
+            // them need not be valid. A value the scene rejects is then blamed on its override.
+            let file: toml::Table = toml::from_str(&text).map_err(|e| scene_err(toml_message(&text, &e)))?;
+            let mut table = file.clone();
             for spec in overrides {
                 overrides::apply(&mut table, spec).map_err(scene_err)?;
-                scene = toml::Value::Table(table.clone())
-                    .try_into()
-                    .map_err(|e: toml::de::Error| scene_err(format!("--set {spec}: {}", plain(e.message().trim()))))?;
             }
-        }
+            from_table(&table).map_err(|e| scene_err(override_message(&text, &file, overrides, &e)))?
+        };
         if scene.name.is_empty() {
             scene.name = stem;
         }
@@ -845,6 +847,35 @@ impl LoadedScene {
     pub fn to_toml(&self) -> Result<String> {
         toml::to_string_pretty(&self.scene)
             .map_err(|e| self.err(format!("cannot write the resolved scene as TOML: {e}")))
+    }
+}
+
+/// The scene of a TOML table (the file with `--set` overrides applied).
+fn from_table(table: &toml::Table) -> std::result::Result<Scene, toml::de::Error> {
+    toml::Value::Table(table.clone()).try_into()
+}
+
+/// The message of a scene that cannot be read once its overrides are applied: "--set SPEC:
+/// message" for the override without which the error goes away or changes (the last such), else
+/// the scene file's own error (`toml_message`).
+fn override_message(text: &str, file: &toml::Table, specs: &[String], e: &toml::de::Error) -> String {
+    let msg = plain(e.message().trim());
+    for skip in (0..specs.len()).rev() {
+        let mut t = file.clone();
+        for (_, spec) in specs.iter().enumerate().filter(|(i, _)| *i != skip) {
+            // An override that no longer applies without the skipped one changes the error too.
+            if overrides::apply(&mut t, spec).is_err() {
+                return format!("--set {}: {msg}", specs[skip]);
+            }
+        }
+        let same = matches!(from_table(&t), Err(e2) if plain(e2.message().trim()) == msg);
+        if !same {
+            return format!("--set {}: {msg}", specs[skip]);
+        }
+    }
+    match toml::from_str::<Scene>(text) {
+        Err(fe) => toml_message(text, &fe),
+        Ok(_) => format!("with the overrides --set {}: {msg}", specs.join(" --set ")),
     }
 }
 
