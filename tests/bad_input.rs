@@ -55,6 +55,22 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     fails(&earlier, &["run", &s], "line");
     let s = variant("missing_group", &[("group = \"top\"\npressure", "group = \"lid\"\npressure")]);
     fails(&earlier, &["run", &s], "physical group \"lid\" not found");
+    // A .geo with a syntax error: gmsh's own complaint (file and line), whether the error hides
+    // its parameters (a DefineConstant gmsh cannot read) or only stops the meshing.
+    for (name, geo) in [
+        ("broken_params", "DefineConstant H = 100;\nBox(1) = {0, 0, 0, 1, 1, 1};\n"),
+        (
+            "broken_body",
+            "DefineConstant[ H = 100 ];\nDefineConstant[ W = 20 ];\nDefineConstant[ h = 10 ];\nBox(1) = {0, 0, 0, W, W, H;\n",
+        ),
+    ] {
+        let d = dir.join(name);
+        std::fs::create_dir_all(&d).unwrap();
+        std::fs::write(d.join("broken.geo"), geo).unwrap();
+        let s = scene_variant("terzaghi", &d, &[("geo = \"column.geo\"", "geo = \"broken.geo\"")]);
+        let line = if name == "broken_params" { 1 } else { 4 };
+        fails(&earlier, &["run", &s], &format!("broken.geo', line {line}: syntax error"));
+    }
     // Non-physical parameters.
     let s = variant("nu", &[("nu = 0.2", "nu = 0.5")]);
     fails(&earlier, &["run", &s], "material.nu = 0.5");
