@@ -87,6 +87,11 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     fails(&earlier, &["run", &s], "unknown field `viscosity`");
     let s = variant("topkey", &[("name = \"terzaghi\"", "name = \"terzaghi\"\ngravity = true")]);
     fails(&earlier, &["run", &s], "unknown field `gravity`");
+    // A wrong type in the tagged [material] table, which has another list (gravity): the key.
+    let d = dir.join("phi_s_list");
+    std::fs::create_dir_all(&d).unwrap();
+    let s = scene_variant("reference", &d, &[("phi_s = 0.6", "phi_s = [0.6]")]);
+    fails(&earlier, &["run", &s], "(`phi_s = [0.6]`): material.phi_s: invalid type: sequence, expected a number");
     // Unknown PETSc option (command line and scene).
     fails(&earlier, &["run", &ok, "--", "-ksp_rtoll", "1e-5"], "-ksp_rtoll");
     let s = variant("petsc", &[("[time]", "[petsc]\nsnes_monitorr = true\n\n[time]")]);
