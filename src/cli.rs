@@ -1,5 +1,8 @@
-//! Command line: `poroplast run [SCENE] [--set KEY=VALUE ...] [--out DIR] [--force] [-- PETSC
-//! OPTIONS]`, `poroplast check SCENE [--set KEY=VALUE ...] [-- PETSC OPTIONS]`, `poroplast scenes`, `poroplast show NAME`.
+//! Command line:
+//! - `poroplast run [SCENE] [--set KEY=VALUE ...] [--out DIR] [--force] [-q] [-- PETSC OPTIONS]`
+//! - `poroplast resume DIR [-q] [-- PETSC OPTIONS]` (continue from the last checkpoint)
+//! - `poroplast check SCENE [--set KEY=VALUE ...] [-- PETSC OPTIONS]`
+//! - `poroplast scenes`, `poroplast show NAME`
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;

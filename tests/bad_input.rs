@@ -55,6 +55,22 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     fails(&earlier, &["run", &s], "line");
     let s = variant("missing_group", &[("group = \"top\"\npressure", "group = \"lid\"\npressure")]);
     fails(&earlier, &["run", &s], "physical group \"lid\" not found");
+    // A .geo with a syntax error: gmsh's own complaint (file and line), whether the error hides
+    // its parameters (a DefineConstant gmsh cannot read) or only stops the meshing.
+    for (name, geo) in [
+        ("broken_params", "DefineConstant H = 100;\nBox(1) = {0, 0, 0, 1, 1, 1};\n"),
+        (
+            "broken_body",
+            "DefineConstant[ H = 100 ];\nDefineConstant[ W = 20 ];\nDefineConstant[ h = 10 ];\nBox(1) = {0, 0, 0, W, W, H;\n",
+        ),
+    ] {
+        let d = dir.join(name);
+        std::fs::create_dir_all(&d).unwrap();
+        std::fs::write(d.join("broken.geo"), geo).unwrap();
+        let s = scene_variant("terzaghi", &d, &[("geo = \"column.geo\"", "geo = \"broken.geo\"")]);
+        let line = if name == "broken_params" { 1 } else { 4 };
+        fails(&earlier, &["run", &s], &format!("broken.geo', line {line}: syntax error"));
+    }
     // Non-physical parameters.
     let s = variant("nu", &[("nu = 0.2", "nu = 0.5")]);
     fails(&earlier, &["run", &s], "material.nu = 0.5");
@@ -71,6 +87,11 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     fails(&earlier, &["run", &s], "unknown field `viscosity`");
     let s = variant("topkey", &[("name = \"terzaghi\"", "name = \"terzaghi\"\ngravity = true")]);
     fails(&earlier, &["run", &s], "unknown field `gravity`");
+    // A wrong type in the tagged [material] table, which has another list (gravity): the key.
+    let d = dir.join("phi_s_list");
+    std::fs::create_dir_all(&d).unwrap();
+    let s = scene_variant("reference", &d, &[("phi_s = 0.6", "phi_s = [0.6]")]);
+    fails(&earlier, &["run", &s], "(`phi_s = [0.6]`): material.phi_s: invalid type: sequence, expected a number");
     // Unknown PETSc option (command line and scene).
     fails(&earlier, &["run", &ok, "--", "-ksp_rtoll", "1e-5"], "-ksp_rtoll");
     let s = variant("petsc", &[("[time]", "[petsc]\nsnes_monitorr = true\n\n[time]")]);
@@ -125,6 +146,13 @@ fn bad_input_is_reported_and_earlier_results_survive() {
         "--set material.mu=soft: invalid type: string \"soft\"",
     );
     fails(&earlier, &["run", &ok, "--set", "material.nu=0.5"], "material.nu = 0.5");
+    // Overrides are applied together, then checked: the second completes the table the first
+    // starts (the reference scene has no remodelling).
+    fails(
+        &earlier,
+        &["run", "reference", "--set", "material.remodelling.lambda_p=-1", "--set", "material.remodelling.sigma_y=2"],
+        "material.remodelling.lambda_p = -1: must be finite and >= 0",
+    );
     fails(&earlier, &["run", &ok, "--set", "time.dt"], "--set time.dt: expected KEY=VALUE");
     fails(&earlier, &["run", &ok, "--set", "fem.stabilisation_fade=0"], "fem.stabilisation_fade = 0: must be positive");
     fails(&earlier, &["run", &ok, "--set", "time.dt_min=1e3"], "time.dt_min = 1000: must be below the first step");

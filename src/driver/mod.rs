@@ -81,7 +81,7 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
     with_petsc(&petsc_args(&scene, &args.petsc), || {
         let mut run = Run::setup(world, &scene, &args)?;
         run.lock = Some(lock);
-        let per_elem = run.ts.problem().disc.history.element(0).len();
+        let per_elem = run.ts.problem().disc.qp_state.element(0).len();
         let fingerprint = state::mesh_fingerprint(world, &run.ts.problem().disc.mesh);
         // The last checkpoint that can be read (a damaged one is passed over, with a warning).
         let mut found = None;
@@ -167,7 +167,7 @@ impl RunRecord {
         let path = dir.join("scene.toml");
         let was = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
         let body = was.split_once('\n').map_or("", |(_, b)| b);
-        if body != scene.to_toml() {
+        if body != scene.to_toml()? {
             return Err(Error::io(
                 &path,
                 format!("{} no longer resolves to this run's scene (was it edited?): cannot resume", scene.source),
@@ -400,7 +400,7 @@ impl<'w> Run<'w> {
                 if status.exists() {
                     std::fs::remove_file(&status).map_err(|e| Error::io(&status, e))?;
                 }
-                let scene = format!("# resolved from {}\n{}", self.scene.source, self.scene.to_toml());
+                let scene = format!("# resolved from {}\n{}", self.scene.source, self.scene.to_toml()?);
                 rundir::write_text(dir, "scene.toml", &scene)?;
                 rundir::write_text(dir, "petsc_options.txt", &(options + "\n"))?;
                 self.write_record(dir)
@@ -409,7 +409,7 @@ impl<'w> Run<'w> {
             Ok(())
         };
         agree(self.world, written)?;
-        let obs = self.observers.take().expect("the run directory opens once");
+        let obs = self.take_observers(dir)?;
         Recorder::create(self.world, dir, &self.ts.problem().disc.mesh, obs)
     }
 
@@ -419,8 +419,10 @@ impl<'w> Run<'w> {
         // The options given to `resume` join the record, for the next resume.
         let written = if self.rank0() { self.write_record(dir) } else { Ok(()) };
         agree(self.world, written)?;
-        let obs = self.observers.take().expect("the run directory opens once");
-        let counts = self.resumed.expect("resuming");
+        let obs = self.take_observers(dir)?;
+        let counts = self.resumed.ok_or_else(|| {
+            Error::io(dir, "the run directory was reopened for a resume, but no checkpoint was loaded")
+        })?;
         let backup = state::fields_backup(dir);
         let (rec, warning) = Recorder::reopen(self.world, dir, &self.ts.problem().disc.mesh, obs, counts, &backup)?;
         if let Some(w) = warning {
@@ -429,9 +431,18 @@ impl<'w> Run<'w> {
         Ok(rec)
     }
 
+    /// The probes, experiment and exact columns, for the recorder of the run directory `dir`
+    /// (which opens once per run).
+    fn take_observers(&mut self, dir: &Path) -> Result<Observers> {
+        self.observers
+            .take()
+            .ok_or_else(|| Error::io(dir, "the run directory was opened a second time in the same run"))
+    }
+
     /// `run.toml`: how to set this run up again (rank 0).
     fn write_record(&self, dir: &Path) -> Result<()> {
-        let record = toml::to_string(&RunRecord::of(&self.args)).unwrap_or_default();
+        let record = toml::to_string(&RunRecord::of(&self.args))
+            .map_err(|e| Error::io(dir.join(RunRecord::FILE), format!("cannot write the run record: {e}")))?;
         rundir::write_text(
             dir,
             RunRecord::FILE,
@@ -519,10 +530,10 @@ impl<'w> Run<'w> {
             None => Progress { nominal: self.schedule.dt0, ..Default::default() },
         };
         let mut prev = self.u.duplicate()?;
-        let (mut step, initial, history0) = self.first_step(&mut pg, &mut prev, stages.0, !resuming)?;
+        let (mut step, initial, qp_state0) = self.first_step(&mut pg, &mut prev, stages.0, !resuming)?;
         let mut rec = if resuming { self.reopen_output(&out)? } else { self.open_output(&out)? };
         self.announce(&out);
-        if let Some(h0) = history0 {
+        if let Some(h0) = qp_state0 {
             let row = StepRow { step: 0, t: 0.0, dt: 0.0, its: (0, 0), wall: t_start.elapsed().as_secs_f64() };
             self.write_initial(&mut rec, &initial, h0, &row, stages.1)?;
         }
@@ -609,7 +620,7 @@ impl<'w> Run<'w> {
         };
         let pb = self.ts.problem();
         let mesh = &pb.disc.mesh;
-        let per_elem = pb.disc.history.element(0).len();
+        let per_elem = pb.disc.qp_state.element(0).len();
         let state = RunState::gather(
             self.world,
             mesh,
@@ -619,7 +630,7 @@ impl<'w> Run<'w> {
             counters,
             &u_local,
             v_local.as_ref().map(|(v, dt)| (v.as_slice(), *dt)),
-            pb.disc.history.export(&mesh.cell_original),
+            pb.disc.qp_state.export(&mesh.cell_original),
             per_elem,
         );
         // The solver's state between steps (the kept factorised Jacobian), per rank: a run
@@ -648,7 +659,7 @@ impl<'w> Run<'w> {
         Ok(PathBuf::from(String::from_utf8_lossy(&name).into_owned()))
     }
 
-    /// Sets the run state of a checkpoint: U, the velocity, the history, t and the schedule.
+    /// Sets the run state of a checkpoint: U, the velocity, the qp state, t and the schedule.
     fn restore(&mut self, state: RunState) -> Result<Progress> {
         let c = state.counters.clone();
         let pb = self.ts.problem_mut();
@@ -662,12 +673,12 @@ impl<'w> Run<'w> {
             }
             None => None,
         };
-        let per_elem = pb.disc.history.element(0).len();
+        let per_elem = pb.disc.qp_state.element(0).len();
         if per_elem > 0 {
-            let h = &state.history;
+            let h = &state.qp_state;
             let original = mesh.cell_original.clone();
             pb.disc
-                .history
+                .qp_state
                 .import(&original, |o| Some(h[o as usize * per_elem..(o as usize + 1) * per_elem].to_vec()))?;
         }
         pb.set_velocity(velocity);
@@ -682,8 +693,8 @@ impl<'w> Run<'w> {
 
     /// Settling (when starting afresh) and the first step: run before anything is written, so
     /// that every PETSc option has been read and an unknown one is an error. Returns the step,
-    /// and when starting afresh the state and history at t = 0 (for the first row: the first
-    /// step commits its own history).
+    /// and when starting afresh the state and qp state at t = 0 (for the first row: the first
+    /// step commits its own qp state).
     #[allow(clippy::type_complexity)]
     fn first_step(
         &mut self,
@@ -692,18 +703,18 @@ impl<'w> Run<'w> {
         stage: Stage,
         fresh: bool,
     ) -> Result<((f64, (usize, usize)), Vector, Option<crate::fem::qp_store::QpStore>)> {
-        let history0 = if fresh {
+        let qp_state0 = if fresh {
             self.settle(stage)?;
             // Settling's iterations are not the experiment's.
             pg.totals = self.ts.solver_totals()?;
-            Some(self.ts.problem().disc.history.clone())
+            Some(self.ts.problem().disc.qp_state.clone())
         } else {
             None
         };
         let initial = self.u.copy()?;
         let step = self.advance(pg, prev, stage)?;
         self.check_options()?;
-        Ok((step, initial, history0))
+        Ok((step, initial, qp_state0))
     }
 
     /// The run log's opening lines (rank 0).
@@ -730,19 +741,19 @@ impl<'w> Run<'w> {
         }
     }
 
-    /// The row (and fields) of the initial state, recorded with the history it had.
+    /// The row (and fields) of the initial state, recorded with the qp state it had.
     fn write_initial(
         &mut self,
         rec: &mut Recorder,
         initial: &Vector,
-        mut history0: crate::fem::qp_store::QpStore,
+        mut qp_state0: crate::fem::qp_store::QpStore,
         row: &StepRow,
         stage: Stage,
     ) -> Result<()> {
         let _g = stage.push();
-        std::mem::swap(&mut self.ts.problem_mut().disc.history, &mut history0);
+        std::mem::swap(&mut self.ts.problem_mut().disc.qp_state, &mut qp_state0);
         let r = rec.record(self.world, self.ts.problem_mut(), initial, initial, row, true);
-        std::mem::swap(&mut self.ts.problem_mut().disc.history, &mut history0);
+        std::mem::swap(&mut self.ts.problem_mut().disc.qp_state, &mut qp_state0);
         r
     }
 
@@ -824,7 +835,7 @@ impl<'w> Run<'w> {
             timers.residual_n,
             timers.jacobian_s,
             timers.jacobian_n,
-            timers.history_s,
+            timers.qp_commit_s,
             pg.solve_s,
             pg.solve_s - assembly,
             pg.output_s,

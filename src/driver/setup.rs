@@ -17,7 +17,7 @@ use crate::mesh::Family;
 use crate::parallel::{agree, broadcast_vec};
 use crate::petsc::{options, DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
-use crate::physics::contact::{Drainage, PlateHistory, Plates, DEFAULT_SEAL_GAP};
+use crate::physics::contact::{Drainage, PlateLoading, Plates, DEFAULT_SEAL_GAP};
 use crate::physics::experiment::Experiment;
 use crate::physics::factory::{ellipticity_warning, model_of};
 use crate::physics::probe::Probe;
@@ -112,7 +112,7 @@ fn plates(
     }
     let faces = agree(world, bc::face_group(local, &ps.group, &ctx))?.to_vec();
     let anchor = agree(world, bc::point_group(local, &ps.anchor, &ctx))?.first().map(|&n| n as usize);
-    let history = PlateHistory { u_max: ps.compression * 2.0 * ps.radius, t_ramp: ps.t_ramp, t_end: ps.t_end };
+    let loading = PlateLoading { u_max: ps.compression * 2.0 * ps.radius, t_ramp: ps.t_ramp, t_end: ps.t_end };
     // Free-surface drainage conductance: γ k0 / h (a stiff Robin condition, p ≈ 0).
     let beta_max = ps.drainage_penalty * model.conductivity() / mean_element_size(world, local);
     let drain = Drainage {
@@ -123,7 +123,7 @@ fn plates(
         seal_gap: ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * ps.radius),
         gap: ps.drainage_gap,
     };
-    let plates = Plates::new(history, ps.radius, local, &faces, anchor, drain);
+    let plates = Plates::new(loading, ps.radius, local, &faces, anchor, drain);
     Ok(Some((plates, faces)))
 }
 
@@ -335,7 +335,7 @@ impl<'w> Run<'w> {
 
         let dm = DmShell::new(comm, &u, Box::new(fields))?;
         let mut ts = Ts::new(comm, problem, u.duplicate()?, jac, None, Some(dm))?;
-        let schedule = schedule(scene, ts.problem().plates.iter().flat_map(|p| p.history.kinks()).collect());
+        let schedule = schedule(scene, ts.problem().plates.iter().flat_map(|p| p.loading.kinks()).collect());
         ts.set_solution(&u)?;
         ts.set_time(0.0)?;
         ts.set_time_step(schedule.step(0.0, schedule.dt0))?;
@@ -358,7 +358,7 @@ impl<'w> Run<'w> {
             probes,
             experiment,
             exact: exact_columns(scene)?,
-            remodelling: !ts.problem().disc.history.is_empty(),
+            remodelling: !ts.problem().disc.qp_state.is_empty(),
             fields: s.output.fields,
         };
         let settle = s.plates.is_some()

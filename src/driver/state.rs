@@ -1,6 +1,6 @@
 //! The run state: everything a restart needs — where the time loop stands (t, step, the
 //! nominal step, the counters), the solution U, the last step's velocity (the contact predictor
-//! and the error estimate), the committed per-point history (B_p), the experiment's cumulative
+//! and the error estimate), the committed qp state (B_p), the experiment's cumulative
 //! outflow and the output counters — and its checkpoint files.
 //!
 //! The state is stored by the mesh file's numbering (original node and element ids), not by
@@ -12,7 +12,7 @@
 //! `step-NNNNNNNN.solver.rRofN` and one copy of `fields.h5` as of the last checkpoint.
 //! Datasets: `counters` (see [`Counters`]), `state` (4 values per original node: u, then p
 //! or 0 at a mid-edge node), `velocity` (the same layout, absent after a kink), `history`
-//! (per original element, its points' values).
+//! (the qp state: per original element, its points' values).
 
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
@@ -104,8 +104,8 @@ pub struct RunState {
     pub state: Vec<f64>,
     /// The last step's velocity in the same layout and its step size (None after a kink).
     pub velocity: Option<(Vec<f64>, f64)>,
-    /// Per original element, its points' committed history (empty without history).
-    pub history: Vec<f64>,
+    /// Per original element, its points' committed qp state (empty without; dataset `history`).
+    pub qp_state: Vec<f64>,
     /// [`mesh_fingerprint`] of the mesh it was written on.
     pub mesh: f64,
 }
@@ -171,7 +171,7 @@ pub fn to_owned(mesh: &LocalMesh, dofs: &DofMap, state: &[f64], x: &mut Vector) 
 
 impl RunState {
     /// Gathers the state on rank 0 (collective). `u_local` and `velocity_local` are local
-    /// (owned + ghost) layouts; `history` is this rank's per-element history, of `per_elem`
+    /// (owned + ghost) layouts; `qp_state` is this rank's per-element qp state, of `per_elem`
     /// values per element.
     #[allow(clippy::too_many_arguments)]
     pub fn gather<'a>(
@@ -183,7 +183,7 @@ impl RunState {
         counters: Counters,
         u_local: &[f64],
         velocity_local: Option<(&[f64], f64)>,
-        history: impl Iterator<Item = (u32, &'a [f64])>,
+        qp_state: impl Iterator<Item = (u32, &'a [f64])>,
         per_elem: usize,
     ) -> RunState {
         let mut state = by_original_node(mesh, dofs, u_local, n_nodes);
@@ -195,12 +195,12 @@ impl RunState {
         });
         let mut hist = vec![0.0; n_elems * per_elem];
         if per_elem > 0 {
-            for (o, values) in history {
+            for (o, values) in qp_state {
                 hist[o as usize * per_elem..(o as usize + 1) * per_elem].copy_from_slice(values);
             }
             reduce_to_root(world, &mut hist);
         }
-        RunState { counters, state, velocity, history: hist, mesh: mesh_fingerprint(world, mesh) }
+        RunState { counters, state, velocity, qp_state: hist, mesh: mesh_fingerprint(world, mesh) }
     }
 
     /// Writes the checkpoint of step `counters.step` into `run_dir/checkpoints/` (rank 0; the
@@ -221,7 +221,7 @@ impl RunState {
                 put("velocity", v).map_err(h5)?;
                 put("velocity_dt", &[*dt]).map_err(h5)?;
             }
-            put("history", &self.history).map_err(h5)?;
+            put("history", &self.qp_state).map_err(h5)?;
             put("mesh_fingerprint", &[self.mesh]).map_err(h5)?;
             f.close().map_err(h5)
         })?;
@@ -285,18 +285,21 @@ impl RunState {
         for b in buf.iter_mut() {
             crate::parallel::broadcast_vec(world, 0, b);
         }
-        let counters = Counters::from_slice(&buf[0]).expect("checked on rank 0");
+        // Rank 0 checked the counters before the broadcast; this catches a broken broadcast.
+        let counters = Counters::from_slice(&buf[0]).ok_or_else(|| {
+            Error::io(path, "checkpoint: the counters received from rank 0 are not in a known format")
+        })?;
         let velocity = if buf[2].is_empty() { None } else { Some((std::mem::take(&mut buf[2]), buf[3][0])) };
         Ok(Checkpoint::Read(RunState {
             counters,
             state: std::mem::take(&mut buf[1]),
             velocity,
-            history: std::mem::take(&mut buf[4]),
+            qp_state: std::mem::take(&mut buf[4]),
             mesh: fingerprint,
         }))
     }
 
-    /// Rank 0: the datasets read from `path` fit this run's mesh and history.
+    /// Rank 0: the datasets read from `path` fit this run's mesh and qp state.
     fn check(
         buf: &[Vec<f64>],
         path: &Path,
@@ -322,7 +325,7 @@ impl RunState {
         }
         if buf[4].len() != n_elems * per_elem {
             return bad(&format!(
-                "{} history values, the run keeps {} ({n_elems} elements)",
+                "{} qp-state values, the run keeps {} ({n_elems} elements)",
                 buf[4].len(),
                 n_elems * per_elem
             ));

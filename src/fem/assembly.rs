@@ -1,6 +1,6 @@
 //! The one element loop over the local cells, for both cell families: gathers each element's
-//! coordinates, nodal values and history, calls the family's kernel (`fem::kernel`, through
-//! [`CellKernel`]) and scatters the result. Residual, Jacobian, history commit, post-processing
+//! coordinates, nodal values and qp state, calls the family's kernel (`fem::kernel`, through
+//! [`CellKernel`]) and scatters the result. Residual, Jacobian, qp-state commit, post-processing
 //! and the compaction check are bodies of this loop.
 
 use super::cell::{CellShape, Tet10, Tri6Axi, MAX_DOF, MAX_NODES, MAX_VERTICES};
@@ -9,7 +9,7 @@ use super::element::Tabulation;
 use super::kernel::{
     CellKernel, ElementDofs, ElementInput, ElementKernel, ElementMatrix, ElementValues, Stabilisation,
 };
-use super::point::{History, PointModel};
+use super::point::{PointModel, QpState};
 use super::qp_store::QpStore;
 use crate::error::{Error, Result};
 use crate::mesh::dist::LocalMesh;
@@ -29,18 +29,18 @@ pub struct Discretization {
     pub constrained: Vec<bool>,
     /// The pressure stabilisation (see `fem::kernel::ElementKernel::stab`).
     pub stab: Stabilisation,
-    /// Committed per-point history of the model (empty when it has none).
-    pub history: QpStore,
+    /// Committed qp state of the model (empty when it has none).
+    pub qp_state: QpStore,
     /// Equal-order P1–P1 instead of Taylor–Hood (`fem::equal_order`; tetrahedra only).
     pub equal_order: bool,
-    /// Whether the history evolves in the steps being solved (false while settling before t = 0,
+    /// Whether the qp state evolves in the steps being solved (false while settling before t = 0,
     /// where B_p(X, 0⁻) = I holds by definition).
     pub evolve: bool,
 }
 
-/// Whose history an element sees.
+/// Whose qp state an element sees.
 #[derive(Clone, Copy, PartialEq, Eq)]
-pub enum HistoryUse {
+pub enum QpStateUse {
     /// The step being solved: evolves from the committed state (unless `evolve` is off).
     Step,
     /// Held at the committed state (post-processing of a committed step).
@@ -83,13 +83,13 @@ impl Discretization {
         u: &[f64],
         udot: &[f64],
         dt: f64,
-        history: HistoryUse,
+        qp_state: QpStateUse,
         mut body: impl FnMut(usize, &ElementDofs, &ElementInput) -> Result<()>,
     ) -> Result<()> {
-        let evolve = self.evolve && history == HistoryUse::Step;
+        let evolve = self.evolve && qp_state == QpStateUse::Step;
         for e in 0..self.mesh.cells.len() {
             let d = self.element_dofs(e);
-            let h = History { committed: self.history.element(e), evolve };
+            let h = QpState { committed: self.qp_state.element(e), evolve };
             let input = self.gather(e, &d, u, udot, dt, h);
             body(e, &d, &input).map_err(|err| locate(err, e, &self.mesh))?;
         }
@@ -99,7 +99,7 @@ impl Discretization {
     /// Adds the element residuals at (u, u̇) into `f` (local layout).
     pub fn add_residual(&self, u: &[f64], udot: &[f64], dt: f64, f: &mut [f64]) -> Result<()> {
         let (kernel, n) = (self.kernel(), self.ndof());
-        self.each_element(u, udot, dt, HistoryUse::Step, |_, d, input| {
+        self.each_element(u, udot, dt, QpStateUse::Step, |_, d, input| {
             let mut r = [0.0; MAX_DOF];
             kernel.residual(input, &mut r)?;
             for k in 0..n {
@@ -124,7 +124,7 @@ impl Discretization {
         let nu = n - nv;
         let mut k = Box::new([[0.0; MAX_DOF]; MAX_DOF]);
         let mut prows = [0 as Int; MAX_VERTICES];
-        self.each_element(ul, udl, dt, HistoryUse::Step, |e, d, input| {
+        self.each_element(ul, udl, dt, QpStateUse::Step, |e, d, input| {
             let mut r = [0.0; MAX_DOF];
             for row in k.iter_mut().take(n) {
                 *row = [0.0; MAX_DOF];
@@ -159,12 +159,12 @@ impl Discretization {
         })
     }
 
-    /// The end-of-step history of every point at the accepted state (u, u̇) of a step of size dt.
-    pub fn advanced_history(&self, u: &[f64], udot: &[f64], dt: f64) -> Result<QpStore> {
+    /// The end-of-step qp state of every point at the accepted state (u, u̇) of a step of size dt.
+    pub fn advanced_qp_state(&self, u: &[f64], udot: &[f64], dt: f64) -> Result<QpStore> {
         let kernel = self.kernel();
-        let mut next = self.history.clone();
-        self.each_element(u, udot, dt, HistoryUse::Step, |e, _, input| {
-            kernel.advance_history(input, next.element_mut(e))
+        let mut next = self.qp_state.clone();
+        self.each_element(u, udot, dt, QpStateUse::Step, |e, _, input| {
+            kernel.advance_qp_state(input, next.element_mut(e))
         })?;
         Ok(next)
     }
@@ -173,7 +173,7 @@ impl Discretization {
     pub fn min_j(&self, u: &[f64]) -> Result<f64> {
         let kernel = self.kernel();
         let mut m = f64::INFINITY;
-        self.each_element(u, u, 1.0, HistoryUse::Step, |_, _, input| {
+        self.each_element(u, u, 1.0, QpStateUse::Step, |_, _, input| {
             m = m.min(kernel.min_j(input)?);
             Ok(())
         })?;
@@ -198,7 +198,7 @@ impl Discretization {
         d
     }
 
-    /// The kernel's input for element e: coordinates, values of U and U̇, step size, history.
+    /// The kernel's input for element e: coordinates, values of U and U̇, step size, qp state.
     fn gather<'h>(
         &self,
         e: usize,
@@ -206,7 +206,7 @@ impl Discretization {
         u: &[f64],
         udot: &[f64],
         dt: f64,
-        history: History<'h>,
+        qp_state: QpState<'h>,
     ) -> ElementInput<'h> {
         let f = self.family();
         let (nn, nv, nc) = (f.cell_nodes(), f.cell_vertices(), f.components());
@@ -229,7 +229,7 @@ impl Discretization {
             v.p[m] = u[dofs[nc * nn + m]];
             v.pdot[m] = udot[dofs[nc * nn + m]];
         }
-        ElementInput { elem: e, coords, values: v, dt, history }
+        ElementInput { elem: e, coords, values: v, dt, qp_state }
     }
 }
 

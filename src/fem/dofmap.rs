@@ -106,16 +106,6 @@ impl DofMap {
         self.l2g.len()
     }
 
-    /// The local dof of the i-th owned global dof (offset + i).
-    #[inline]
-    pub fn owned_to_local(&self, i: usize) -> usize {
-        let nu = self.n_u_owned();
-        if i < nu {
-            i
-        } else {
-            self.n_u_local() + (i - nu)
-        }
-    }
     /// Whether a local dof is owned here.
     #[inline]
     pub fn is_owned(&self, l: usize) -> bool {

@@ -126,7 +126,8 @@ impl ElementInserter {
     }
 
     /// Adds element e's matrix `k` (kernel order, local dofs `d`) into the local CSR blocks;
-    /// rows owned elsewhere are collected in `ghosts`.
+    /// rows owned elsewhere are collected in `ghosts`. Fails if `csr` lacks the off-diagonal
+    /// block the table was built with (another matrix than the one given to `build`).
     #[inline]
     pub fn add(
         &self,
@@ -136,7 +137,7 @@ impl ElementInserter {
         l2g: &[Int],
         k: &ElementMatrix,
         ghosts: &mut GhostRows,
-    ) {
+    ) -> Result<()> {
         let (nn, nc) = (self.nn, self.nc);
         let nu = nc * nn;
         let ndof = nu + self.nv;
@@ -159,7 +160,12 @@ impl ElementInserter {
                 let dst = if o >= 0 {
                     &mut csr.diag.vals[ds + o as usize..ds + o as usize + width]
                 } else {
-                    let off = csr.off.as_mut().expect("off-diagonal block");
+                    let off = csr.off.as_mut().ok_or_else(|| {
+                        Error::Solver(format!(
+                            "fast assembly: element {e} has off-diagonal entries, but the matrix has no \
+                             off-diagonal block (not the matrix the insertion table was built from)"
+                        ))
+                    })?;
                     let p = os + (-o - 1) as usize;
                     &mut off.vals[p..p + width]
                 };
@@ -168,6 +174,7 @@ impl ElementInserter {
                 }
             }
         }
+        Ok(())
     }
 }
 

@@ -19,7 +19,7 @@
 use super::cell::{p1_gradients, CellShape, MAX_DOF, MAX_NODES, MAX_VERTICES};
 use super::element::Tabulation;
 use super::equal_order;
-use super::point::{ij, History, PointFlux, PointModel, PointState, QpId};
+use super::point::{ij, PointFlux, PointModel, PointState, QpId, QpState};
 use crate::error::Result;
 use nalgebra::{Matrix3, Vector3};
 use std::marker::PhantomData;
@@ -33,14 +33,14 @@ pub type ElementMatrix = [[f64; MAX_DOF]; MAX_DOF];
 const THETA: usize = ij(1, 1);
 
 /// What the kernel needs of one element: its number (for messages), node coordinates, nodal
-/// values, the step size and the committed history of its points.
+/// values, the step size and the committed qp state of its points.
 #[derive(Debug, Clone, Copy)]
 pub struct ElementInput<'a> {
     pub elem: usize,
     pub coords: [[f64; 3]; MAX_NODES],
     pub values: ElementValues,
     pub dt: f64,
-    pub history: History<'a>,
+    pub qp_state: QpState<'a>,
 }
 
 /// Nodal values of one element: u[a][c] is component c of node a (its family's components).
@@ -271,23 +271,23 @@ pub struct ElementPost {
 }
 
 impl<C: CellShape> ElementKernel<'_, C> {
-    /// The history of point q out of the element's slice.
+    /// The qp state of point q out of the element's slice.
     #[inline]
-    fn at_point<'h>(&self, h: History<'h>, q: usize) -> History<'h> {
-        let n = self.model.history_len();
-        History { committed: &h.committed[q * n..(q + 1) * n], evolve: h.evolve }
+    fn at_point<'h>(&self, h: QpState<'h>, q: usize) -> QpState<'h> {
+        let n = self.model.qp_state_len();
+        QpState { committed: &h.committed[q * n..(q + 1) * n], evolve: h.evolve }
     }
 
-    /// Runs `body` at every quadrature point of the element with its kinematics and history.
+    /// Runs `body` at every quadrature point of the element with its kinematics and qp state.
     #[inline]
     fn for_points<'h>(
         &self,
         e: &ElementInput<'h>,
-        mut body: impl FnMut(QpId, &Point, History<'h>) -> Result<()>,
+        mut body: impl FnMut(QpId, &Point, QpState<'h>) -> Result<()>,
     ) -> Result<()> {
         for q in 0..self.tab.weights.len() {
             let pt = point::<C>(&e.coords, self.tab, &self.xi[q], q, &e.values, e.dt)?;
-            body(QpId { elem: e.elem, point: q }, &pt, self.at_point(e.history, q))?;
+            body(QpId { elem: e.elem, point: q }, &pt, self.at_point(e.qp_state, q))?;
         }
         Ok(())
     }
@@ -298,7 +298,7 @@ impl<C: CellShape> ElementKernel<'_, C> {
         &self,
         at: QpId,
         pt: &Point,
-        h: History,
+        h: QpState,
         pdot: &[f64; MAX_VERTICES],
         r: &mut [f64; MAX_DOF],
         proj: &mut Projection,
@@ -328,7 +328,7 @@ pub trait CellKernel {
         schur: &mut [[f64; MAX_VERTICES]; MAX_VERTICES],
     ) -> Result<()>;
     fn post(&self, e: &ElementInput) -> Result<ElementPost>;
-    fn advance_history(&self, e: &ElementInput, out: &mut [f64]) -> Result<()>;
+    fn advance_qp_state(&self, e: &ElementInput, out: &mut [f64]) -> Result<()>;
     fn min_j(&self, e: &ElementInput) -> Result<f64>;
 }
 
@@ -389,12 +389,12 @@ impl<C: CellShape> CellKernel for ElementKernel<'_, C> {
         Ok(out)
     }
 
-    /// The end-of-step history of every point of the element (the model's update at the
+    /// The end-of-step qp state of every point of the element (the model's update at the
     /// converged state), into `out` (the element's slice of the store).
-    fn advance_history(&self, e: &ElementInput, out: &mut [f64]) -> Result<()> {
-        let n = self.model.history_len();
+    fn advance_qp_state(&self, e: &ElementInput, out: &mut [f64]) -> Result<()> {
+        let n = self.model.qp_state_len();
         self.for_points(e, |at, pt, hq| {
-            self.model.advance_history(at, &pt.state, hq, &mut out[at.point * n..(at.point + 1) * n])
+            self.model.advance_qp_state(at, &pt.state, hq, &mut out[at.point * n..(at.point + 1) * n])
         })
     }
 

@@ -184,7 +184,7 @@ fn errors<C: CellShape>(n: usize, coupled: bool) -> (f64, f64) {
         xi: q.points.clone(),
         constrained: Vec::new(),
         stab: Stabilisation { c_s: 0.0, fade: None, c_v: 0.0 },
-        history: QpStore::new(n_el, q.len(), 0, |_| {}),
+        qp_state: QpStore::new(n_el, q.len(), 0, |_| {}),
         equal_order: false,
         evolve: false,
         mesh: local,

@@ -1,5 +1,17 @@
-//! Finite elements: quadrature, reference shape functions and isoparametric maps, the
-//! Taylor–Hood dof map, and the element kernel of the u–p weak form.
+//! Finite elements of the u–p weak form on Taylor–Hood P2–P1 cells. Submodules:
+//!
+//! - `assembly`: the element loop over local cells (residual, Jacobian, qp-state commit,
+//!   post-processing);
+//! - `cell`: the two cell families (10-node tetrahedron, 6-node meridian triangle) as types;
+//! - `dofmap`: the distributed P2–P1 dof layout (owned blocks, ghosts, u and p index sets);
+//! - `element`: reference shape functions and isoparametric maps;
+//! - `equal_order`: equal-order P1–P1 (mid-edge nodes tied to their edge), the unstable contrast;
+//! - `insert`: fast insertion of element Jacobians at precomputed positions in the matrix;
+//! - `kernel`: element residual and Jacobian of the weak form for either cell family;
+//! - `point`: the pointwise interface between assembly and the constitutive laws (`PointModel`);
+//! - `qp_store`: the committed per-quadrature-point state of a model (e.g. B_p) as one flat array;
+//! - `quadrature`: symmetric Gauss-type rules on the reference tetrahedron and triangle;
+//! - `surface`: quadrature on boundary faces (loads, drainage areas, probes, contact).
 
 pub mod assembly;
 pub mod cell;

@@ -11,10 +11,10 @@
 //! rate of fluid content per reference volume (J̇, or div u̇ at small strain) and W = −Q the
 //! negative Darcy flux. A [`PointModel`] computes (P, b, ṡ, W) at one quadrature point from
 //! Grad u, Grad u̇, p and Grad p, and on request their derivatives; the assembler does the rest.
-//! Models with history (remodelling) receive their committed state at the point as a read-only
-//! [`History`] slice; the end-of-step state is a pure function of (committed state, Grad u, dt),
+//! Models with qp state (remodelling) receive their committed state at the point as a read-only
+//! [`QpState`] slice; the end-of-step state is a pure function of (committed state, Grad u, dt),
 //! evaluated inside every call and stored only when a step is accepted
-//! ([`PointModel::advance_history`], kept by [`super::qp_store::QpStore`]).
+//! ([`PointModel::advance_qp_state`], kept by [`super::qp_store::QpStore`]).
 //! [`QpId`] names the point in error messages.
 
 use crate::error::Result;
@@ -26,19 +26,19 @@ pub const fn ij(i: usize, j: usize) -> usize {
     3 * i + j
 }
 
-/// The committed history of a model at one point and whether it evolves over the step.
+/// The committed qp state of a model at one point and whether it evolves over the step.
 #[derive(Debug, Clone, Copy)]
-pub struct History<'a> {
-    /// State at the start of the step ([`PointModel::history_len`] values; empty without history).
+pub struct QpState<'a> {
+    /// State at the start of the step ([`PointModel::qp_state_len`] values; empty without qp state).
     pub committed: &'a [f64],
     /// false: hold the state at its committed value (settling before t = 0, and post-processing
     /// of a step whose end state has already been committed).
     pub evolve: bool,
 }
 
-impl History<'_> {
-    /// No history (models without state).
-    pub const NONE: History<'static> = History { committed: &[], evolve: false };
+impl QpState<'_> {
+    /// No qp state (models without state).
+    pub const NONE: QpState<'static> = QpState { committed: &[], evolve: false };
 }
 
 /// Which quadrature point is being evaluated (local element, point within it).
@@ -115,10 +115,10 @@ pub struct PointFields {
 /// Constitutive physics at a quadrature point.
 pub trait PointModel {
     /// The residual terms.
-    fn eval(&self, at: QpId, s: &PointState, h: History) -> Result<PointFlux>;
-    /// The residual terms and their derivatives (through the history update too); `shift` =
+    fn eval(&self, at: QpId, s: &PointState, h: QpState) -> Result<PointFlux>;
+    /// The residual terms and their derivatives (through the qp-state update too); `shift` =
     /// ∂U̇/∂U of the time integrator.
-    fn eval_tangent(&self, at: QpId, s: &PointState, h: History, shift: f64) -> Result<(PointFlux, PointTangent)>;
+    fn eval_tangent(&self, at: QpId, s: &PointState, h: QpState, shift: f64) -> Result<(PointFlux, PointTangent)>;
     /// Drained bulk modulus of the skeleton (kPa), for the fixed-stress Schur approximation.
     fn drained_bulk_modulus(&self) -> f64;
     /// Drained P-wave modulus λ + 2µ (kPa): sets the scale of constraint rows.
@@ -126,16 +126,16 @@ pub trait PointModel {
     /// Reference conductivity (µm⁴/(nN s)): sets the scale of pressure constraint rows.
     fn conductivity(&self) -> f64;
     /// Output quantities at a point.
-    fn fields(&self, at: QpId, s: &PointState, h: History) -> Result<PointFields>;
-    /// Values of history per point (0: the model has none, and nothing is stored).
-    fn history_len(&self) -> usize {
+    fn fields(&self, at: QpId, s: &PointState, h: QpState) -> Result<PointFields>;
+    /// Values of qp state per point (0: the model has none, and nothing is stored).
+    fn qp_state_len(&self) -> usize {
         0
     }
-    /// The history before the first step (`history_len` values).
-    fn initial_history(&self, _out: &mut [f64]) {}
-    /// The end-of-step history at the state `s` of an accepted step (the value every
+    /// The qp state before the first step (`qp_state_len` values).
+    fn initial_qp_state(&self, _out: &mut [f64]) {}
+    /// The end-of-step qp state at the state `s` of an accepted step (the value every
     /// evaluation of that step used), into `out`.
-    fn advance_history(&self, _at: QpId, _s: &PointState, h: History, out: &mut [f64]) -> Result<()> {
+    fn advance_qp_state(&self, _at: QpId, _s: &PointState, h: QpState, out: &mut [f64]) -> Result<()> {
         out.copy_from_slice(h.committed);
         Ok(())
     }

@@ -1,9 +1,9 @@
-//! The committed per-quadrature-point history of a model (e.g. the remodelling metric B_p^n),
+//! The committed quadrature-point (qp) state of a model (e.g. the remodelling metric B_p^n),
 //! as one flat array: `len` values per point, `n_points` points per element, elements in local
 //! order. The element loops hand each element its read-only slice; the end-of-step state is
 //! computed from it inside every evaluation and written back only when a step is accepted.
 //!
-//! A model without history has `len = 0`: the store then allocates nothing and every slice is
+//! A model without qp state has `len = 0`: the store then allocates nothing and every slice is
 //! empty. For restarts the store is read and written by original element number
 //! ([`QpStore::export`], [`QpStore::import`]), so it does not depend on the partition.
 
@@ -30,17 +30,17 @@ impl QpStore {
         QpStore { len, n_points, committed }
     }
 
-    /// Values per point (0: no history).
+    /// Values per point (0: no qp state).
     pub fn len(&self) -> usize {
         self.len
     }
 
-    /// True when the model keeps no history.
+    /// True when the model keeps no qp state.
     pub fn is_empty(&self) -> bool {
         self.len == 0
     }
 
-    /// The committed values of element `e` (all its points; empty without history).
+    /// The committed values of element `e` (all its points; empty without qp state).
     #[inline]
     pub fn element(&self, e: usize) -> &[f64] {
         let n = self.len * self.n_points;

@@ -7,9 +7,9 @@ use crate::io::history::History;
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::Vector;
 use crate::physics::experiment::{self, Experiment};
+use crate::physics::observables;
 use crate::physics::probe::Probe;
 use crate::physics::problem::{rate, PoroProblem};
-use crate::physics::remodelling;
 use crate::physics::verification::ExactFn;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -23,7 +23,7 @@ pub struct Observers {
     pub experiment: Option<Experiment>,
     /// Exact-solution columns of a verification scene.
     pub exact: Vec<(String, ExactFn)>,
-    /// Whether the model keeps per-point history (remodelling): its summary is recorded.
+    /// Whether the model keeps qp state (remodelling): its summary is recorded.
     pub remodelling: bool,
     /// Write fields at all.
     pub fields: bool,
@@ -58,7 +58,7 @@ impl Recorder {
             cols.extend(experiment::COLUMNS.iter().map(|c| c.to_string()));
         }
         if obs.remodelling {
-            cols.extend(remodelling::COLUMNS.iter().map(|c| c.to_string()));
+            cols.extend(observables::COLUMNS.iter().map(|c| c.to_string()));
         }
         cols.extend(obs.probes.iter().map(|p| p.name.clone()));
         cols.extend(obs.exact.iter().map(|(n, _)| n.clone()));
@@ -176,7 +176,7 @@ impl Recorder {
             values.extend(o.values);
         }
         if let (Some(post), true) = (&post, self.obs.remodelling) {
-            values.extend(remodelling::observe(post, world));
+            values.extend(observables::observe(post, world));
         }
         values.extend(self.obs.probes.iter().map(|p| p.value(mesh, dofs, local, world)));
         values.extend(self.obs.exact.iter().map(|(_, f)| f(row.t)));

@@ -9,7 +9,7 @@ use nalgebra::Matrix3;
 
 /// Holmes–Mow parameters; energy per unit reference volume of mixture (hence the factor Φs).
 /// Every method takes the remodelling metric B_p, which the caller keeps symmetric positive
-/// definite with det 1 (not checked here: it is a history variable, checked where updated).
+/// definite with det 1 (not checked here: it is a qp-state variable, checked where updated).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HolmesMow {
     /// Referential solid fraction Φs.
@@ -412,26 +412,26 @@ mod tests {
         for hm in laws() {
             for lam_a in [0.7, 1.3] {
                 let mut lam: f64 = 1.0;
-                let mut history = vec![];
+                let mut iterates = vec![];
                 for _ in 0..20 {
                     let f = Matrix3::from_diagonal(&nalgebra::Vector3::new(lam, lam, lam_a));
                     let (p, a) = hm.first_pk_and_tangent(&f, &bp).unwrap();
-                    history.push((lam, p[(0, 0)]));
+                    iterates.push((lam, p[(0, 0)]));
                     if p[(0, 0)].abs() < 1e-13 * hm.alpha0 {
                         break;
                     }
                     lam -= p[(0, 0)] / (a[(idx(0, 0), idx(0, 0))] + a[(idx(0, 0), idx(1, 1))]);
                 }
-                let lam_star = history.last().unwrap().0;
+                let lam_star = iterates.last().unwrap().0;
                 println!(
                     "nu = {:.3}, lambda_a = {lam_a}: lateral stretch {lam_star:.15}",
                     hm.alpha2 / (1.0 + hm.alpha2)
                 );
-                let errs: Vec<f64> = history.iter().map(|(l, _)| (l - lam_star).abs()).collect();
-                for (k, ((l, r), e)) in history.iter().zip(&errs).enumerate() {
+                let errs: Vec<f64> = iterates.iter().map(|(l, _)| (l - lam_star).abs()).collect();
+                for (k, ((l, r), e)) in iterates.iter().zip(&errs).enumerate() {
                     println!("  it {k}: lambda = {l:.15}, |P_xx| = {:.3e}, |error| = {e:.3e}", r.abs());
                 }
-                assert!(history.len() <= 7, "too many iterations: {}", history.len());
+                assert!(iterates.len() <= 7, "too many iterations: {}", iterates.len());
                 for w in errs.windows(2) {
                     if w[0] > 1e-7 {
                         let ratio = w[1] / (w[0] * w[0]);

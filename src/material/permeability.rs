@@ -73,7 +73,7 @@ impl Permeability {
         Ok(kin.c_inv * g0 + bp * g1 + bp * kin.c * bp * g2)
     }
 
-    /// K and dK[3k + l] = ∂K/∂F_kl (B_p held fixed: it is a history variable).
+    /// K and dK[3k + l] = ∂K/∂F_kl (B_p held fixed: it is a qp-state variable).
     ///
     /// With ∂J/∂F_kl = J F⁻¹_lk, ∂C⁻¹_ij/∂F_kl = −(C⁻¹_il F⁻¹_jk + F⁻¹_ik C⁻¹_lj) and
     /// ∂(B C B)_ij/∂F_kl = B_il (FB)_kj + (FB)_ki B_lj:

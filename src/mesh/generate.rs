@@ -55,6 +55,30 @@ fn tail(out: &Output, n: usize) -> String {
     }
 }
 
+/// gmsh's own error lines ("Error   : 'f.geo', line 2: syntax error (;)"), without the prefix.
+fn error_lines(out: &Output) -> Vec<String> {
+    [&out.stderr, &out.stdout]
+        .iter()
+        .flat_map(|b| String::from_utf8_lossy(b).lines().map(str::to_string).collect::<Vec<_>>())
+        .filter_map(|l| l.strip_prefix("Error").map(|r| r.trim_start_matches([' ', ':']).trim().to_string()))
+        .filter(|l| !l.is_empty())
+        .collect()
+}
+
+/// gmsh's complaints when it only reads `geo` (`gmsh -0`, nothing meshed) with the parameters
+/// set: empty if it reads the file without error.
+pub fn read_errors(geo: &Path, params: &[(String, f64)]) -> Result<Vec<String>> {
+    let tmp = temp_path(&std::env::temp_dir().join("poroplast-read-check"), "geo_unrolled");
+    let mut args: Vec<OsString> = vec!["-0".into()];
+    for (name, value) in params {
+        args.extend(["-setnumber".into(), name.into(), value.to_string().into()]);
+    }
+    args.extend([geo.as_os_str().to_owned(), "-o".into(), tmp.as_os_str().to_owned()]);
+    let out = run_gmsh(&gmsh_exe(), &args, geo);
+    let _ = std::fs::remove_file(&tmp);
+    Ok(error_lines(&out?))
+}
+
 /// A unique temporary file name next to `target` (same directory, so the final rename is atomic).
 fn temp_path(target: &Path, ext: &str) -> PathBuf {
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
@@ -97,7 +121,14 @@ pub(crate) fn generate_with(exe: &OsStr, geo: &Path, params: &[(String, f64)], o
     };
     if !output.status.success() || !tmp.exists() {
         let _ = std::fs::remove_file(&tmp);
-        return Err(Error::mesh(geo, format!("gmsh failed ({}):\n{}", output.status, tail(&output, 10))));
+        // gmsh's own error lines first (on the message's first line), else the end of its output.
+        let errors = error_lines(&output);
+        let msg = if errors.is_empty() {
+            format!("gmsh failed ({}):\n{}", output.status, tail(&output, 10))
+        } else {
+            format!("gmsh failed: {}", errors.join("; "))
+        };
+        return Err(Error::mesh(geo, msg));
     }
     std::fs::rename(&tmp, out).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);

@@ -41,24 +41,45 @@ pub fn mesh_file(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<Path
         return Err(Error::mesh(&local, "geometry source not found (not a file, nor a shipped .geo)"));
     };
     let params: Vec<(String, f64)> = spec.params.iter().map(|(k, v)| (k.clone(), *v)).collect();
+    // The scene's own .geo file (not a shipped one): if gmsh cannot read it, its complaint is
+    // the error, rather than what follows from it (no parameters found, no mesh).
+    let user_geo = local.exists().then_some(local.as_path());
+    let unreadable = |e: Error| match user_geo {
+        Some(g) => readable_geo(g, &params).err().unwrap_or(e),
+        None => e,
+    };
     // gmsh ignores a -setnumber it has no DefineConstant for: a typo would go unnoticed.
     let known = define_constants(&source);
     if let Some((k, _)) = params.iter().find(|(k, _)| !known.contains(&k.as_str())) {
-        return Err(Error::Scene {
+        let unknown = Error::Scene {
             path: scene.source.clone(),
             msg: format!("mesh.params.{k}: {name} has no parameter `{k}` (it has: {})", known.join(", ")),
-        });
+        };
+        // Every rank stops here; rank 0, which reports, asks gmsh first.
+        return Err(if world.rank() == 0 { unreadable(unknown) } else { unknown });
     }
     let mut path = Vec::new();
     let r = if world.rank() == 0 {
         crate::mesh::generate::cached(&name, &source, &params, 2, &cache_dir())
             .map(|p| path = p.to_string_lossy().into_owned().into_bytes())
+            .map_err(unreadable)
     } else {
         Ok(())
     };
     agree(world, r)?;
     crate::parallel::broadcast_vec(world, 0, &mut path);
     Ok(PathBuf::from(String::from_utf8_lossy(&path).into_owned()))
+}
+
+/// Ok if gmsh reads the `.geo` file `geo` (with the parameters set), else an error naming the
+/// file with gmsh's own complaints (file, line, what).
+fn readable_geo(geo: &Path, params: &[(String, f64)]) -> Result<()> {
+    let errors = crate::mesh::generate::read_errors(geo, params)?;
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::mesh(geo, format!("gmsh cannot read it: {}", errors.join("; "))))
+    }
 }
 
 /// The parameters a `.geo` source declares with `DefineConstant[ name = ... ]`.

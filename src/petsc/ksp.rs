@@ -1,6 +1,6 @@
 //! `KSP` and `PC` handles (borrowed from the SNES that owns them).
 
-use super::{check, cstr, ffi, IndexSet, Int, Mat};
+use super::{check, cstr, ffi, Int, Mat};
 use crate::error::{Error, Result};
 use std::ffi::c_void;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -222,11 +222,6 @@ impl Pc {
                 schur.as_raw(),
             )
         })
-    }
-    /// Names a split by an index set (used when no DM provides the fields).
-    pub fn fieldsplit_set_is(&self, name: &str, is: &IndexSet) -> Result<()> {
-        let c = cstr(name);
-        check(unsafe { ffi::PCFieldSplitSetIS(self.raw, c.as_ptr(), is.raw) })
     }
 }
 

@@ -127,9 +127,6 @@ impl Mat {
     pub fn set_null_space(&mut self, ns: &NullSpace) -> Result<()> {
         check(unsafe { ffi::MatSetNullSpace(self.raw, ns.raw) })
     }
-    pub fn set_near_null_space(&mut self, ns: &NullSpace) -> Result<()> {
-        check(unsafe { ffi::MatSetNearNullSpace(self.raw, ns.raw) })
-    }
 
     /// Vectors compatible with the matrix layout (right, left).
     pub fn create_vecs(&self) -> Result<(Vector, Vector)> {

@@ -32,7 +32,6 @@ mod mat;
 mod snes;
 mod ts;
 mod vec;
-mod viewer;
 
 pub use dm::{DmShell, FieldDecomposition};
 pub use is::IndexSet;
@@ -41,7 +40,6 @@ pub use mat::{CsrBlock, LocalCsr, Mat, NullSpace};
 pub use snes::{ShellSolve, Snes, SolverState};
 pub use ts::{Ts, TsProblem, TsRef};
 pub use vec::{Scatter, Vector};
-pub use viewer::Viewer;
 
 use crate::error::{Error, Result};
 use std::ffi::{c_char, c_int, CStr, CString};
@@ -59,7 +57,7 @@ pub(crate) fn type_name_of(t: *const c_char) -> String {
 /// PETSc's integer type (32-bit in the Debian build).
 pub type Int = ffi::PetscInt;
 
-/// A live PETSc object owned by one of the wrappers (for compose and view).
+/// A live PETSc object owned by one of the wrappers (for compose).
 pub trait Object {
     fn object(&self) -> ffi::PetscObject;
 }

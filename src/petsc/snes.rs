@@ -153,9 +153,6 @@ impl Snes {
     pub fn set_function_domain_error(&self) -> Result<()> {
         check(unsafe { ffi::SNESSetFunctionDomainError(self.raw) })
     }
-    pub fn set_jacobian_domain_error(&self) -> Result<()> {
-        check(unsafe { ffi::SNESSetJacobianDomainError(self.raw) })
-    }
     /// F(x) into `f` through the SNES (for TS: the IFunction at the stage). A domain error in
     /// the residual makes `f` infinite on every rank.
     pub fn compute_function(&self, x: &Vector, f: &mut Vector) -> Result<()> {

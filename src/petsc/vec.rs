@@ -73,12 +73,6 @@ impl Vector {
         n as usize
     }
 
-    pub fn global_size(&self) -> usize {
-        let mut n: Int = 0;
-        unsafe { ffi::VecGetSize(self.raw, &mut n) };
-        n as usize
-    }
-
     /// First global index owned by this rank.
     pub fn ownership_start(&self) -> usize {
         let (mut lo, mut hi): (Int, Int) = (0, 0);

@@ -31,7 +31,7 @@
 //! ```
 //!
 //! With remodelling, B_p = B_p^{n+1}(B_p^n, C, Δt) is the end-of-step value of the local update
-//! ([`crate::material::remodelling`]) from the committed B_p^n of the point's [`History`], and
+//! ([`crate::material::remodelling`]) from the committed B_p^n of the point's [`QpState`], and
 //! the blocks above gain the chain terms through it (`add_remodelling_tangent`):
 //! ∂P/∂F += F ∂S/∂B_p[dB_p/dF], ∂W/∂F += ∂K/∂B_p[dB_p/dF] g. Without it B_p = I.
 //!
@@ -39,7 +39,7 @@
 //! σ_VM = √(3/2) ‖dev σ_sc‖, spatial Darcy flux q = J⁻¹ F Q.
 
 use crate::error::{Error, Result};
-use crate::fem::point::{ij, History, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId};
+use crate::fem::point::{ij, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId, QpState};
 use crate::material::remodelling::{from_sym6, to_sym6};
 use crate::material::{
     domain_error, idx, locate, solid_response, solid_response_at, solid_stresses, AtPoint, CompactionPenalty,
@@ -72,7 +72,7 @@ pub struct Biphasic {
     k_drained: f64,
     /// Drained P-wave modulus of the mixture at the reference state (kPa).
     m_drained: f64,
-    /// Visco-plastic remodelling of B_p (none: B_p = I, no history is stored).
+    /// Visco-plastic remodelling of B_p (none: B_p = I, no qp state is stored).
     remodel: Option<Remodelling>,
 }
 
@@ -157,18 +157,13 @@ impl Biphasic {
         self.phi_s
     }
 
-    /// ϱs a_g in kPa/µm.
-    pub fn solid_weight(&self) -> Vector3<f64> {
-        self.rho_s_g
-    }
-
     /// ϱf a_g in kPa/µm.
     pub fn fluid_weight(&self) -> Vector3<f64> {
         self.rho_f_g
     }
 
     /// Output fields at a point (uses Grad u, p, Grad p). Domain error as in `eval`.
-    pub fn point_fields(&self, at: QpId, s: &PointState, h: History) -> Result<PointFields> {
+    pub fn point_fields(&self, at: QpId, s: &PointState, h: QpState) -> Result<PointFields> {
         let k = self.kinematics(at, s, h, false)?;
         let (_, s_sc) =
             solid_stresses(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
@@ -197,7 +192,7 @@ impl Biphasic {
 
     /// F, J, cof F and the end-of-step B_p (with its tangent if `tangent`), with every domain
     /// check: non-finite input, J <= 0, J <= Φs, a failed remodelling update.
-    fn kinematics(&self, at: QpId, s: &PointState, h: History, tangent: bool) -> Result<Kin> {
+    fn kinematics(&self, at: QpId, s: &PointState, h: QpState, tangent: bool) -> Result<Kin> {
         let finite = s.p.is_finite()
             && s.dt.is_finite()
             && s.grad_p.iter().all(|x| x.is_finite())
@@ -298,21 +293,21 @@ impl PointModel for Biphasic {
         self.rho_s_g = self.weights.0 * factor;
         self.rho_f_g = self.weights.1 * factor;
     }
-    fn fields(&self, at: QpId, s: &PointState, h: History) -> Result<PointFields> {
+    fn fields(&self, at: QpId, s: &PointState, h: QpState) -> Result<PointFields> {
         self.point_fields(at, s, h)
     }
     /// B_p (six symmetric components) with remodelling; nothing without.
-    fn history_len(&self) -> usize {
+    fn qp_state_len(&self) -> usize {
         if self.remodel.is_some() {
             6
         } else {
             0
         }
     }
-    fn initial_history(&self, out: &mut [f64]) {
+    fn initial_qp_state(&self, out: &mut [f64]) {
         out.copy_from_slice(&to_sym6(&Matrix3::identity()));
     }
-    fn advance_history(&self, at: QpId, s: &PointState, h: History, out: &mut [f64]) -> Result<()> {
+    fn advance_qp_state(&self, at: QpId, s: &PointState, h: QpState, out: &mut [f64]) -> Result<()> {
         out.copy_from_slice(&to_sym6(&self.kinematics(at, s, h, false)?.bp));
         Ok(())
     }
@@ -320,7 +315,7 @@ impl PointModel for Biphasic {
         Some(self.phi_s)
     }
     /// (P, b, ṡ, W) at the point; domain error outside J > Φs, J(F_n) > 0, finite input.
-    fn eval(&self, at: QpId, s: &PointState, h: History) -> Result<PointFlux> {
+    fn eval(&self, at: QpId, s: &PointState, h: QpState) -> Result<PointFlux> {
         let k = self.kinematics(at, s, h, false)?;
         let (rate, _) = self.rate(at, &k, s)?;
         let (p_sc, _) =
@@ -335,7 +330,7 @@ impl PointModel for Biphasic {
     }
 
     /// (P, b, ṡ, W) and the exact tangent blocks listed in the module documentation.
-    fn eval_tangent(&self, at: QpId, s: &PointState, h: History, shift: f64) -> Result<(PointFlux, PointTangent)> {
+    fn eval_tangent(&self, at: QpId, s: &PointState, h: QpState, shift: f64) -> Result<(PointFlux, PointTangent)> {
         let k = self.kinematics(at, s, h, true)?;
         let (rate, cof_l) = self.rate(at, &k, s)?;
         let sc = solid_response_at(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
@@ -432,7 +427,9 @@ fn dcof(f: &Matrix3<f64>) -> Tangent {
     a
 }
 
-/// Tests 1–6 of the brief plus closed forms for the output fields and the cofactor helpers.
+/// The model's defining properties, tests 1–6: a consistent tangent, the linear small-strain
+/// limit, the exact rate of J, objectivity, domain errors at inadmissible states, and gravity at
+/// the reference state; plus closed forms for the output fields and the cofactor helpers.
 #[cfg(test)]
 mod tests {
     use super::super::linear::LinearPoroelastic;
@@ -467,7 +464,7 @@ mod tests {
 
     /// Central differences of every block of `eval`, the Grad u columns perturbing Grad u̇ by
     /// shift times the same amount (what the assembler's U̇ = shift U + … does).
-    fn fd_tangent(m: &Biphasic, s: &PointState, h: History, shift: f64) -> PointTangent {
+    fn fd_tangent(m: &Biphasic, s: &PointState, h: QpState, shift: f64) -> PointTangent {
         let ev = |s: &PointState| m.eval(AT, s, h).unwrap();
         let mut t = PointTangent {
             dstress_du: SMatrix::zeros(),
@@ -534,11 +531,11 @@ mod tests {
                     let s = state(f, l, p, gp, dt);
                     assert!((f - l * dt).determinant() > 0.0);
                     for shift in [1.0 / dt, 1.5 / dt, 0.0] {
-                        let (flux, t) = m.eval_tangent(AT, &s, History::NONE, shift).unwrap();
-                        let e = m.eval(AT, &s, History::NONE).unwrap();
+                        let (flux, t) = m.eval_tangent(AT, &s, QpState::NONE, shift).unwrap();
+                        let e = m.eval(AT, &s, QpState::NONE).unwrap();
                         assert!(flux.stress == e.stress && flux.body == e.body);
                         assert!(flux.rate == e.rate && flux.flux == e.flux);
-                        let fd = fd_tangent(&m, &s, History::NONE, shift);
+                        let fd = fd_tangent(&m, &s, QpState::NONE, shift);
                         let errs = [
                             rel(&t.dstress_du, &fd.dstress_du),
                             rel(&t.dstress_dp, &fd.dstress_dp),
@@ -564,7 +561,7 @@ mod tests {
 
     /// The tangent with remodelling active (the consistent tangent of the local update chained
     /// through stress and permeability) against central differences, both permeability models;
-    /// with the history held (evolve = false) the committed B_p^n is used as is.
+    /// with the qp state held (evolve = false) the committed B_p^n is used as is.
     #[test]
     fn remodelling_tangent_matches_central_differences() {
         let mut rng = Rng::new(38);
@@ -572,10 +569,10 @@ mod tests {
         for model in MODELS {
             let m = table1(model, [1000.0, 1000.0], [0.0, 0.0, -9.81])
                 .with_remodelling(Remodelling::new(0.001, 2.0).unwrap());
-            assert_eq!(m.history_len(), 6);
+            assert_eq!(m.qp_state_len(), 6);
             for (j, dt) in [(0.75, 0.5f64), (0.9, 4.0), (1.0, 40.0), (1.15, 1e3), (0.68, 2.0)] {
                 let committed = to_sym6(&rng.remodelling_metric());
-                let h = History { committed: &committed, evolve: true };
+                let h = QpState { committed: &committed, evolve: true };
                 let s = state(
                     rng.deformation(j),
                     rng.matrix(0.1) / dt.max(1.0),
@@ -589,7 +586,7 @@ mod tests {
                 let fd = fd_tangent(&m, &s, h, shift);
                 let (es, ef) = (rel(&t.dstress_du, &fd.dstress_du), rel(&t.dflux_du, &fd.dflux_du));
                 // The same state without the chain terms is visibly wrong: the check can fail.
-                let frozen = fd_tangent(&m, &s, History { committed: &committed, evolve: false }, shift);
+                let frozen = fd_tangent(&m, &s, QpState { committed: &committed, evolve: false }, shift);
                 let held = rel(&frozen.dstress_du, &fd.dstress_du);
                 println!("{model:?} J = {j} dt = {dt}: dP/dF {es:.2e}, dW/dF {ef:.2e} (frozen-B_p tangent off by {held:.2e})");
                 assert!(es < 1e-6 && ef < 1e-6);
@@ -597,8 +594,8 @@ mod tests {
                 worst = worst.max(es).max(ef);
                 // The committed update is the one the residual used.
                 let mut out = [0.0; 6];
-                m.advance_history(AT, &s, h, &mut out).unwrap();
-                let later = History { committed: &out, evolve: false };
+                m.advance_qp_state(AT, &s, h, &mut out).unwrap();
+                let later = QpState { committed: &out, evolve: false };
                 assert_eq!(m.eval(AT, &s, later).unwrap().stress, flux.stress);
                 let pf = m.point_fields(AT, &s, later).unwrap();
                 assert!(pf.det_bp_dev < 1e-13 && pf.norm_ep > 0.0);
@@ -621,7 +618,7 @@ mod tests {
             let gud = rng.matrix(1.0) * eps;
             for p in [0.0, rng.uniform(-1.0, 1.0) * 10.0 * eps] {
                 let s = PointState { grad_u: gu, grad_udot: gud, p, grad_p: rng.vector(1.0), dt: 0.5 };
-                let (a, b) = (m.eval(AT, &s, History::NONE).unwrap(), lin.eval(AT, &s, History::NONE).unwrap());
+                let (a, b) = (m.eval(AT, &s, QpState::NONE).unwrap(), lin.eval(AT, &s, QpState::NONE).unwrap());
                 let errs = [
                     rel(&a.stress, &b.stress),
                     (a.rate - b.rate).abs() / b.rate.abs(),
@@ -676,7 +673,7 @@ mod tests {
                 let l = (f - f_n) / dt;
                 assert_eq!(f - l * dt, f_n);
                 let s = state(f, l, 1.0, Vector3::zeros(), dt);
-                let rate = m.eval(AT, &s, History::NONE).unwrap().rate;
+                let rate = m.eval(AT, &s, QpState::NONE).unwrap().rate;
                 let err = (rate * dt - exact).abs() / exact.abs();
                 assert!(err < 1e-14, "J = {j}, near = {near}, dt = {dt}: rel. error {err:e}");
                 worst = worst.max(err);
@@ -690,7 +687,7 @@ mod tests {
         let jdot = cof_f.dot(&l);
         let mut errs = [0.0; 2];
         for (e, dt) in errs.iter_mut().zip([0.0, 1e-12]) {
-            let rate = m.eval(AT, &state(f, l, 0.0, Vector3::zeros(), dt), History::NONE).unwrap().rate;
+            let rate = m.eval(AT, &state(f, l, 0.0, Vector3::zeros(), dt), QpState::NONE).unwrap().rate;
             *e = (rate - jdot).abs() / (cof_f.norm() * l.norm());
         }
         println!(
@@ -712,9 +709,9 @@ mod tests {
                 let q = rng.rotation();
                 let gp = rng.vector(1.0);
                 let s = state(q, Matrix3::zeros(), p0, gp, 0.5);
-                let r = m.eval(AT, &s, History::NONE).unwrap();
+                let r = m.eval(AT, &s, QpState::NONE).unwrap();
                 let e = rel(&r.stress, &(-q * p0));
-                let fields = m.point_fields(AT, &s, History::NONE).unwrap();
+                let fields = m.point_fields(AT, &s, QpState::NONE).unwrap();
                 println!("{model:?}: P vs -p0 Q rel. err {e:e}, |sigma_sc| = {:e}", fields.cauchy_sc.norm());
                 assert!(e < 1e-14);
                 assert!(fields.cauchy_sc.norm() < 1e-13 && fields.von_mises < 1e-13);
@@ -731,13 +728,13 @@ mod tests {
                 // referential flux is unchanged and the spatial flux rotates.
                 let f = rng.deformation(0.85);
                 let (sf, sq) = (state(f, Matrix3::zeros(), p0, gp, 0.5), state(q * f, Matrix3::zeros(), p0, gp, 0.5));
-                let (rf, rq) = (m.eval(AT, &sf, History::NONE).unwrap(), m.eval(AT, &sq, History::NONE).unwrap());
+                let (rf, rq) = (m.eval(AT, &sf, QpState::NONE).unwrap(), m.eval(AT, &sq, QpState::NONE).unwrap());
                 assert!(rel(&rq.stress, &(q * rf.stress)) < 1e-13);
                 if g == [0.0; 3] {
                     assert!(rel(&rq.flux, &rf.flux) < 1e-13);
                     let (ff, fq) = (
-                        m.point_fields(AT, &sf, History::NONE).unwrap(),
-                        m.point_fields(AT, &sq, History::NONE).unwrap(),
+                        m.point_fields(AT, &sf, QpState::NONE).unwrap(),
+                        m.point_fields(AT, &sq, QpState::NONE).unwrap(),
                     );
                     assert!(rel(&fq.darcy, &(q * ff.darcy)) < 1e-13);
                     assert!(rel(&fq.cauchy_sc, &(q * ff.cauchy_sc * q.transpose())) < 1e-13);
@@ -791,15 +788,15 @@ mod tests {
                     }
                     other => panic!("{name} ({what}): expected a domain error at (7, 3), got {other:?}"),
                 };
-                let msg = check(m.eval(AT, &s, History::NONE).map(|_| ()), "eval");
-                check(m.eval_tangent(AT, &s, History::NONE, 2.0).map(|_| ()), "eval_tangent");
+                let msg = check(m.eval(AT, &s, QpState::NONE).map(|_| ()), "eval");
+                check(m.eval_tangent(AT, &s, QpState::NONE, 2.0).map(|_| ()), "eval_tangent");
                 if name != "J(F_n) < 0" {
-                    check(m.point_fields(AT, &s, History::NONE).map(|_| ()), "point_fields");
+                    check(m.point_fields(AT, &s, QpState::NONE).map(|_| ()), "point_fields");
                 } else {
                     assert!(msg.contains("F_n"), "{msg}");
                 }
             }
-            assert!(m.eval(AT, &ok, History::NONE).is_ok());
+            assert!(m.eval(AT, &ok, QpState::NONE).is_ok());
         }
     }
 
@@ -810,7 +807,7 @@ mod tests {
         let m = table1(PermeabilityModel::Isotropic, [rho_s, rho_f], [0.0, 0.0, -9.81]);
         let a_g = Vector3::new(0.0, 0.0, -9.81e-9);
         let s = state(Matrix3::identity(), Matrix3::zeros(), 0.0, Vector3::zeros(), 0.5);
-        let r = m.eval(AT, &s, History::NONE).unwrap();
+        let r = m.eval(AT, &s, QpState::NONE).unwrap();
         let body = a_g * (rho_s * 0.6 + rho_f * 0.4);
         let w = -a_g * (rho_f * 3.7729);
         println!("body {:e} (expect {:e}), W {:e} (expect {:e})", r.body[2], body[2], r.flux[2], w[2]);
@@ -820,7 +817,7 @@ mod tests {
         assert!(r.stress.norm() < 1e-15 && r.rate == 0.0);
         // Hydrostatic fluid (Grad p = ϱf a_g at F = I) does not flow.
         let s = PointState { grad_p: m.fluid_weight(), ..s };
-        assert_eq!(m.eval(AT, &s, History::NONE).unwrap().flux, Vector3::zeros());
+        assert_eq!(m.eval(AT, &s, QpState::NONE).unwrap().flux, Vector3::zeros());
     }
 
     /// Output fields against closed forms (isotropic Darcy flux, confined compression).
@@ -833,7 +830,7 @@ mod tests {
         for j in [0.66, 0.8, 1.2] {
             let f = rng.deformation(j);
             let s = state(f, Matrix3::zeros(), 1.0, rng.vector(1.0), 0.5);
-            let pf = m.point_fields(AT, &s, History::NONE).unwrap();
+            let pf = m.point_fields(AT, &s, QpState::NONE).unwrap();
             let k = perm.k(j).unwrap().0;
             let q = -(f.try_inverse().unwrap().transpose() * s.grad_p - m.fluid_weight()) * k;
             assert!((pf.j - j).abs() < 1e-14 && (pf.porosity - (1.0 - 0.6 / j)).abs() < 1e-14);
@@ -850,7 +847,7 @@ mod tests {
                 (lam * e * (a1 + 2.0 * a2 - a3 / (lam * lam)), e * (a1 + a2 * (1.0 + lam * lam) - a3) / lam);
             let f = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, lam));
             let pf =
-                m.point_fields(AT, &state(f, Matrix3::zeros(), 0.0, Vector3::zeros(), 0.5), History::NONE).unwrap();
+                m.point_fields(AT, &state(f, Matrix3::zeros(), 0.0, Vector3::zeros(), 0.5), QpState::NONE).unwrap();
             let want = Matrix3::from_diagonal(&Vector3::new(sxx, sxx, szz));
             println!("lambda = {lam}: sigma_zz = {szz:.10e}, sigma_VM = {:.10e}", pf.von_mises);
             assert!(rel(&pf.cauchy_sc, &want) < 1e-13);

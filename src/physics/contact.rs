@@ -4,7 +4,7 @@
 //!
 //! A surface node at reference height Z has current height Z + u_z, and must satisfy
 //! u(t) ≤ Z + u_z ≤ 2R: lower bound u(t) − Z from the moving lower plate (its top face is at
-//! z = u(t), the loading history (53)), upper bound 2R − Z from the fixed upper plate. These
+//! z = u(t), the loading (53)), upper bound 2R − Z from the fixed upper plate. These
 //! are variable bounds of the active-set Newton (`solver::active_set`; or PETSc's SNESVI),
 //! refreshed at every stage time.
 //!
@@ -47,13 +47,13 @@ pub use crate::scene::DrainageGap;
 /// Lower-plate displacement u(t) of the compression–release test (53): linear ramp to u_max
 /// over ]0, t_ramp[, hold until t_end − t_ramp, ramp back to 0 at t_end, then rest.
 #[derive(Debug, Clone, Copy)]
-pub struct PlateHistory {
+pub struct PlateLoading {
     pub u_max: f64,
     pub t_ramp: f64,
     pub t_end: f64,
 }
 
-impl PlateHistory {
+impl PlateLoading {
     pub fn displacement(&self, t: f64) -> f64 {
         let (a, b, c) = (self.t_ramp, self.t_end - self.t_ramp, self.t_end);
         if t <= 0.0 {
@@ -91,7 +91,7 @@ const AT_BOUND: f64 = 1e-9;
 
 /// The plates and the aggregate surface that can touch them.
 pub struct Plates {
-    pub history: PlateHistory,
+    pub loading: PlateLoading,
     /// Height of the upper plate's bottom face (2R).
     pub z_upper: f64,
     /// Local nodes of the contact surface and their reference heights.
@@ -132,7 +132,7 @@ impl Plates {
     /// that mode without changing the converged solution as long as its reaction stays
     /// compressive (reported as `force_lower_mg`).
     pub fn new(
-        history: PlateHistory,
+        loading: PlateLoading,
         radius: f64,
         mesh: &LocalMesh,
         faces: &[u32],
@@ -158,7 +158,7 @@ impl Plates {
             }
         }
         Plates {
-            history,
+            loading,
             z_upper: 2.0 * radius,
             nodes,
             z_ref,
@@ -171,7 +171,7 @@ impl Plates {
 
     /// Height of the lower plate's top face at time t.
     pub fn z_lower(&self, t: f64) -> f64 {
-        self.history.displacement(t)
+        self.loading.displacement(t)
     }
 
     /// Writes the bounds of the owned surface u_z dofs at time t (others stay ±∞).
@@ -369,8 +369,8 @@ mod tests {
     }
 
     #[test]
-    fn loading_history_is_eq_53() {
-        let h = PlateHistory { u_max: 60.0, t_ramp: 5.0, t_end: 40.0 };
+    fn loading_is_eq_53() {
+        let h = PlateLoading { u_max: 60.0, t_ramp: 5.0, t_end: 40.0 };
         assert_eq!(h.displacement(0.0), 0.0);
         assert!((h.displacement(2.5) - 30.0).abs() < 1e-12);
         assert_eq!(h.displacement(5.0), 60.0);

@@ -12,7 +12,7 @@ fn holmes_mow(mu: Option<f64>, nu: Option<f64>, alpha: &Option<[f64; 3]>, phi_s:
     match (mu, nu, alpha) {
         (Some(mu), Some(nu), _) => HolmesMow::from_mu_nu(mu, nu, phi_s),
         (_, _, Some(a)) => HolmesMow::new(phi_s, a[0], a[1], a[2], 1.0),
-        _ => unreachable!("validated"),
+        _ => Err(Error::Material("holmes_mow: give `mu` and `nu`, or `alpha` (not both)".into())),
     }
 }
 

@@ -8,7 +8,7 @@
 //! The reference model for the Terzaghi and Cryer verification problems.
 
 use crate::error::{Error, Result};
-use crate::fem::point::{ij, History, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId};
+use crate::fem::point::{ij, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId, QpState};
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// Drained Lamé constants and isotropic conductivity.
@@ -43,11 +43,11 @@ impl LinearPoroelastic {
 }
 
 impl PointModel for LinearPoroelastic {
-    fn eval(&self, _at: QpId, s: &PointState, _h: History) -> Result<PointFlux> {
+    fn eval(&self, _at: QpId, s: &PointState, _h: QpState) -> Result<PointFlux> {
         Ok(self.flux_terms(s))
     }
 
-    fn eval_tangent(&self, _at: QpId, s: &PointState, _h: History, shift: f64) -> Result<(PointFlux, PointTangent)> {
+    fn eval_tangent(&self, _at: QpId, s: &PointState, _h: QpState, shift: f64) -> Result<(PointFlux, PointTangent)> {
         let mut c = SMatrix::<f64, 9, 9>::zeros();
         let d = |a: usize, b: usize| if a == b { 1.0 } else { 0.0 };
         for i in 0..3 {
@@ -83,7 +83,7 @@ impl PointModel for LinearPoroelastic {
     fn is_linear(&self) -> bool {
         true
     }
-    fn fields(&self, _at: QpId, s: &PointState, _h: History) -> Result<PointFields> {
+    fn fields(&self, _at: QpId, s: &PointState, _h: QpState) -> Result<PointFields> {
         let eps = 0.5 * (s.grad_u + s.grad_u.transpose());
         let sig = Matrix3::identity() * (self.lambda * eps.trace()) + eps * (2.0 * self.mu);
         let dev = sig - Matrix3::identity() * (sig.trace() / 3.0);

@@ -8,7 +8,7 @@ pub mod contact;
 pub mod experiment;
 pub mod factory;
 pub mod linear;
+pub mod observables;
 pub mod probe;
 pub mod problem;
-pub mod remodelling;
 pub mod verification;

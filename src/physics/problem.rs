@@ -16,7 +16,7 @@ use super::bc::Constraint;
 use super::contact::{DrainageGap, Plates};
 use crate::error::{Error, Result};
 pub use crate::fem::assembly::Discretization;
-use crate::fem::assembly::HistoryUse;
+use crate::fem::assembly::QpStateUse;
 use crate::fem::cell::{MAX_DOF, MAX_NODES};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::Tabulation;
@@ -40,15 +40,15 @@ pub struct Timers {
     pub residual_n: usize,
     pub jacobian_s: f64,
     pub jacobian_n: usize,
-    /// Committing the per-point history of accepted steps.
-    pub history_s: f64,
+    /// Committing the qp state of accepted steps (timings.txt: `history_commit`).
+    pub qp_commit_s: f64,
 }
 
 pub struct PoroProblem {
     pub world: SimpleCommunicator,
     pub disc: Discretization,
-    /// Owned constrained dofs with their values.
-    constraints: Vec<Constraint>,
+    /// Owned constrained dofs with their values, each with its position among the owned dofs.
+    constraints: Vec<(usize, Constraint)>,
     /// External loads (traction, prescribed flux) in the local layout, already integrated.
     external: Vec<f64>,
     scatter: Scatter,
@@ -98,7 +98,7 @@ pub struct Post {
     pub cell_porosity: Vec<f64>,
     pub cell_von_mises: Vec<f64>,
     pub cell_darcy: Vec<f64>,
-    /// Per local element: mean ‖E_p‖ (empty without history).
+    /// Per local element: mean ‖E_p‖ (empty without qp state).
     pub cell_norm_ep: Vec<f64>,
     /// Σ over local elements of ∫ J dV.
     pub volume_j: f64,
@@ -138,14 +138,15 @@ impl PoroProblem {
         for c in &constraints {
             constrained[c.local] = true;
         }
-        let owned: Vec<Constraint> = constraints.into_iter().filter(|c| dofs.is_owned(c.local)).collect();
+        let owned: Vec<(usize, Constraint)> =
+            constraints.into_iter().filter_map(|c| dofs.local_to_owned(c.local).map(|i| (i, c))).collect();
         let h = mean_element_size(&world, &mesh);
-        let history = QpStore::new(mesh.cells.len(), xi.len(), model.history_len(), |v| model.initial_history(v));
+        let qp_state = QpStore::new(mesh.cells.len(), xi.len(), model.qp_state_len(), |v| model.initial_qp_state(v));
         Ok(PoroProblem {
             world,
             disc: Discretization {
                 stab,
-                history,
+                qp_state,
                 evolve: true,
                 equal_order: false,
                 mesh,
@@ -208,8 +209,7 @@ impl PoroProblem {
             plates.fill_bounds(0.0, &self.disc.dofs, &mut l, &mut h);
         }
         self.plates = Some(plates);
-        self.bounds = Some((lo, hi));
-        let (lo, hi) = self.bounds.as_ref().expect("just set");
+        let (lo, hi) = self.bounds.insert((lo, hi));
         Ok((lo, hi))
     }
 
@@ -279,8 +279,7 @@ impl PoroProblem {
         {
             let ul = self.u_loc.read()?;
             let mut fw = f.write()?;
-            for c in &self.constraints {
-                let i = self.disc.dofs.local_to_owned(c.local).expect("owned constraint");
+            for &(i, ref c) in &self.constraints {
                 fw[i] = self.scale_of(c.local, scales) * (ul[c.local] - c.value);
             }
         }
@@ -327,8 +326,7 @@ impl PoroProblem {
             match &self.inserter {
                 Some(ins) => jac.with_local_csr(|csr| {
                     disc.jacobian_loop(&ul, &udl, dt, shift, schur, |e, d, k| {
-                        ins.add(csr, e, d, &disc.dofs.l2g, k, ghosts);
-                        Ok(())
+                        ins.add(csr, e, d, &disc.dofs.l2g, k, ghosts)
                     })
                 }),
                 None => {
@@ -371,7 +369,7 @@ impl PoroProblem {
                 }
             }
         }
-        let rows: Vec<usize> = self.constraints.iter().map(|c| c.local).collect();
+        let rows: Vec<usize> = self.constraints.iter().map(|(_, c)| c.local).collect();
         for l in rows {
             let g = self.disc.dofs.l2g[l];
             let s = self.scale_of(l, scales);
@@ -398,11 +396,11 @@ impl PoroProblem {
         Ok(())
     }
 
-    /// Commits the history of the accepted step from `prev` to `u` in dt and, with
+    /// Commits the qp state of the accepted step from `prev` to `u` in dt and, with
     /// `keep_rate`, keeps its velocity for the predictor and the error estimate of the next (not
     /// after a kink of the loading, where the velocity jumps; not when nothing uses it).
     pub fn end_step(&mut self, prev: &Vector, u: &Vector, dt: f64, keep_rate: bool) -> Result<()> {
-        self.commit_history(prev, u, dt)?;
+        self.commit_qp_state(prev, u, dt)?;
         if !keep_rate || dt <= 0.0 {
             self.velocity = None;
             return Ok(());
@@ -456,19 +454,19 @@ impl PoroProblem {
         Ok(Some((rms(0) / u_ref).max(rms(1) / p_ref) / tol))
     }
 
-    /// Commits the end-of-step history of the accepted step from `prev` to `u` (size dt): the
-    /// update every evaluation of that step computed, now stored. Nothing without history.
-    fn commit_history(&mut self, prev: &Vector, u: &Vector, dt: f64) -> Result<()> {
-        if self.disc.history.is_empty() || !self.disc.evolve {
+    /// Commits the end-of-step qp state of the accepted step from `prev` to `u` (size dt): the
+    /// update every evaluation of that step computed, now stored. Nothing without qp state.
+    fn commit_qp_state(&mut self, prev: &Vector, u: &Vector, dt: f64) -> Result<()> {
+        if self.disc.qp_state.is_empty() || !self.disc.evolve {
             return Ok(());
         }
         let t0 = Instant::now();
         self.load_state(u, &rate(u, prev, dt)?)?;
         let outcome = {
             let (ul, udl) = (self.u_loc.read()?, self.udot_loc.read()?);
-            self.disc.advanced_history(&ul, &udl, dt).map(|next| self.disc.history = next)
+            self.disc.advanced_qp_state(&ul, &udl, dt).map(|next| self.disc.qp_state = next)
         };
-        self.timers.history_s += t0.elapsed().as_secs_f64();
+        self.timers.qp_commit_s += t0.elapsed().as_secs_f64();
         self.collective(outcome)
     }
 
@@ -493,7 +491,7 @@ impl PoroProblem {
             max_norm_ep: 0.0,
             max_det_bp_dev: 0.0,
         };
-        let with_history = !self.disc.history.is_empty();
+        let with_qp_state = !self.disc.qp_state.is_empty();
         let n_local = self.disc.dofs.n_local();
         let mut pres_loc = Vector::seq(n_local)?;
         let outcome = {
@@ -505,8 +503,8 @@ impl PoroProblem {
             let disc = &self.disc;
             let (kernel, n, nu) = (disc.kernel(), disc.ndof(), disc.dofs.nc * disc.family().cell_nodes());
             let mut run = || -> Result<()> {
-                // The end-of-step history is already committed: hold it.
-                disc.each_element(&post.local, &udl, dt, HistoryUse::Held, |_, d, input| {
+                // The end-of-step qp state is already committed: hold it.
+                disc.each_element(&post.local, &udl, dt, QpStateUse::Held, |_, d, input| {
                     let ep = kernel.post(input)?;
                     for k in 0..n {
                         fl[d[k]] += ep.r[k];
@@ -527,7 +525,7 @@ impl PoroProblem {
                     post.max_von_mises = post.max_von_mises.max(ep.max_von_mises);
                     post.max_norm_ep = post.max_norm_ep.max(ep.max_norm_ep);
                     post.max_det_bp_dev = post.max_det_bp_dev.max(ep.max_det_bp_dev);
-                    if with_history {
+                    if with_qp_state {
                         post.cell_norm_ep.push(ep.norm_ep);
                     }
                     Ok(())

@@ -29,7 +29,7 @@ pub struct Scene {
     pub probe: Vec<Probe>,
     #[serde(default)]
     pub verification: Option<Verification>,
-    /// Rigid plates squeezing the aggregate (contact, drainage, loading history).
+    /// Rigid plates squeezing the aggregate (contact, drainage, loading).
     #[serde(default)]
     pub plates: Option<PlatesSpec>,
     #[serde(default)]
@@ -139,7 +139,7 @@ pub enum Material {
         /// Compaction penalty U(J) (model.md (33)); none if absent.
         #[serde(default)]
         penalty: Option<PenaltySpec>,
-        /// Visco-plastic remodelling of B_p (model.md §4); none if absent (B_p = I, no history).
+        /// Visco-plastic remodelling of B_p (model.md §4); none if absent (B_p = I, no qp state).
         #[serde(default)]
         remodelling: Option<RemodellingSpec>,
         /// Densities (kg/m³).
@@ -436,8 +436,9 @@ pub struct SolverSpec {
 #[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FemSpec {
-    /// Degree of the tetrahedral quadrature rule (default 2 for the linear model: exact on
-    /// straight elements).
+    /// Degree of the quadrature rule (default 2 for the linear model, exact on straight
+    /// elements; 3 for the finite-strain models). On a meridian mesh the triangle rule is one
+    /// degree higher (dV = 2πR dA).
     #[serde(default)]
     pub quadrature_degree: Option<usize>,
     /// c of the pressure stabilisation (c / (λ + 2µ)) ∫ (ṗ − Πṗ)(q − Πq) that keeps the
@@ -520,17 +521,19 @@ impl LoadedScene {
             });
         };
         let scene_err = |msg: String| Error::Scene { path: source.clone(), msg };
-        let mut scene: Scene = toml::from_str(&text).map_err(|e| scene_err(toml_message(&text, &e)))?;
-        if !overrides.is_empty() {
-            // Applied one at a time, so that a value the scene rejects is blamed on its override.
-            let mut table: toml::Table = toml::from_str(&text).map_err(|e| scene_err(toml_message(&text, &e)))?;
+        let mut scene: Scene = if overrides.is_empty() {
+            toml::from_str(&text).map_err(|e| scene_err(toml_message(&text, &e)))?
+        } else {
+            // All overrides first, then the scene is read once: one override may need another
+            // (a new `remodelling` table needs both its fields), so the scene half-way through
+            // them need not be valid. A value the scene rejects is then blamed on its override.
+            let file: toml::Table = toml::from_str(&text).map_err(|e| scene_err(toml_message(&text, &e)))?;
+            let mut table = file.clone();
             for spec in overrides {
                 overrides::apply(&mut table, spec).map_err(scene_err)?;
-                scene = toml::Value::Table(table.clone())
-                    .try_into()
-                    .map_err(|e: toml::de::Error| scene_err(format!("--set {spec}: {}", plain(e.message().trim()))))?;
             }
-        }
+            from_table(&table).map_err(|e| scene_err(override_message(&text, &file, overrides, &e)))?
+        };
         if scene.name.is_empty() {
             scene.name = stem;
         }
@@ -841,22 +844,138 @@ impl LoadedScene {
     }
 
     /// The scene as TOML (for the run directory).
-    pub fn to_toml(&self) -> String {
-        toml::to_string_pretty(&self.scene).unwrap_or_default()
+    pub fn to_toml(&self) -> Result<String> {
+        toml::to_string_pretty(&self.scene)
+            .map_err(|e| self.err(format!("cannot write the resolved scene as TOML: {e}")))
+    }
+}
+
+/// The scene of a TOML table (the file with `--set` overrides applied).
+fn from_table(table: &toml::Table) -> std::result::Result<Scene, toml::de::Error> {
+    toml::Value::Table(table.clone()).try_into()
+}
+
+/// The message of a scene that cannot be read once its overrides are applied: "--set SPEC:
+/// message" for the override without which the error goes away or changes (the last such), else
+/// the scene file's own error (`toml_message`).
+fn override_message(text: &str, file: &toml::Table, specs: &[String], e: &toml::de::Error) -> String {
+    let msg = plain(e.message().trim());
+    for skip in (0..specs.len()).rev() {
+        let mut t = file.clone();
+        for (_, spec) in specs.iter().enumerate().filter(|(i, _)| *i != skip) {
+            // An override that no longer applies without the skipped one changes the error too.
+            if overrides::apply(&mut t, spec).is_err() {
+                return format!("--set {}: {msg}", specs[skip]);
+            }
+        }
+        let same = matches!(from_table(&t), Err(e2) if plain(e2.message().trim()) == msg);
+        if !same {
+            return format!("--set {}: {msg}", specs[skip]);
+        }
+    }
+    match toml::from_str::<Scene>(text) {
+        Err(fe) => toml_message(text, &fe),
+        Ok(_) => format!("with the overrides --set {}: {msg}", specs.join(" --set ")),
+    }
+}
+
+/// The dotted key of the value a serde type error ("invalid type: sequence, expected a number")
+/// is about, where serde lost it (inside tagged enums such as `[material]`): of the values of
+/// that kind, the one whose removal changes the error (the innermost, if a table and its value
+/// both do). None unless exactly one.
+fn wrong_type_key(table: &toml::Table, msg: &str) -> Option<String> {
+    let kind = msg.strip_prefix("invalid type: ")?;
+    let base = plain(from_table(table).err()?.message().trim());
+    fn collect(v: &toml::Value, path: &mut Vec<String>, kind: &str, out: &mut Vec<Vec<String>>) {
+        let children: Vec<(String, &toml::Value)> = match v {
+            toml::Value::Table(t) => t.iter().map(|(k, v)| (k.clone(), v)).collect(),
+            toml::Value::Array(a) => a.iter().enumerate().map(|(i, v)| (i.to_string(), v)).collect(),
+            _ => return,
+        };
+        for (k, child) in children {
+            path.push(k);
+            if kind.starts_with(serde_kind(child)) {
+                out.push(path.clone());
+            }
+            collect(child, path, kind, out);
+            path.pop();
+        }
+    }
+    fn remove(v: &mut toml::Value, path: &[String]) {
+        let Some((first, rest)) = path.split_first() else { return };
+        let child = match v {
+            toml::Value::Table(t) if rest.is_empty() => {
+                t.remove(first);
+                return;
+            }
+            toml::Value::Array(a) if rest.is_empty() => {
+                if let Ok(i) = first.parse::<usize>() {
+                    if i < a.len() {
+                        a.remove(i);
+                    }
+                }
+                return;
+            }
+            toml::Value::Table(t) => t.get_mut(first),
+            toml::Value::Array(a) => first.parse::<usize>().ok().and_then(|i| a.get_mut(i)),
+            _ => None,
+        };
+        if let Some(c) = child {
+            remove(c, rest);
+        }
+    }
+    let mut candidates = Vec::new();
+    collect(&toml::Value::Table(table.clone()), &mut Vec::new(), kind, &mut candidates);
+    let culprits: Vec<Vec<String>> = candidates
+        .into_iter()
+        .filter(|p| {
+            let mut v = toml::Value::Table(table.clone());
+            remove(&mut v, p);
+            let toml::Value::Table(t) = v else { return false };
+            !matches!(from_table(&t), Err(e) if plain(e.message().trim()) == base)
+        })
+        .collect();
+    let innermost: Vec<&Vec<String>> =
+        culprits.iter().filter(|p| !culprits.iter().any(|q| q.len() > p.len() && q.starts_with(p))).collect();
+    match innermost[..] {
+        [p] => Some(p.join(".")),
+        _ => None,
+    }
+}
+
+/// serde's name of the kind of a TOML value (as in "invalid type: <kind>").
+fn serde_kind(v: &toml::Value) -> &'static str {
+    match v {
+        toml::Value::String(_) => "string",
+        toml::Value::Integer(_) => "integer",
+        toml::Value::Float(_) => "floating point",
+        toml::Value::Boolean(_) => "boolean",
+        toml::Value::Datetime(_) => "datetime",
+        toml::Value::Array(_) => "sequence",
+        toml::Value::Table(_) => "map",
     }
 }
 
 /// A TOML error on one line: "line N (`text`): message" (the parser's own text spans lines).
-/// A type error reported for a whole table (serde loses the key inside tagged enums such as
-/// `[material]`) is put on the one `key = value` line of the table whose value has that type.
+/// A type error names its key: "line N (`text`): material.phi_s: message" — serde loses the key
+/// inside tagged enums such as `[material]`, and reports the whole table; then the key is found
+/// by [`wrong_type_key`] and the line is its `key = value` line in the table (or, failing that,
+/// the one line of the table whose value has that type).
 fn toml_message(text: &str, e: &toml::de::Error) -> String {
     let msg = plain(&e.message().replace('\n', " "));
     match e.span() {
         Some(span) => {
             let start = span.start.min(text.len());
             let mut line = text[..start].matches('\n').count() + 1;
-            if let Some(kind) = msg.strip_prefix("invalid type: ") {
-                let region = &text[start..span.end.clamp(start, text.len())];
+            let region = &text[start..span.end.clamp(start, text.len())];
+            let key = toml::from_str::<toml::Table>(text).ok().and_then(|t| wrong_type_key(&t, &msg));
+            let name = key.as_deref().map(|k| k.rsplit('.').next().unwrap_or(k));
+            let at = name.and_then(|n| {
+                region.lines().position(|l| l.split_once('=').is_some_and(|(k, _)| k.trim().trim_matches('"') == n))
+            });
+            if let Some(i) = at {
+                line += i;
+            } else if let Some(kind) = msg.strip_prefix("invalid type: ") {
                 let hits: Vec<usize> = region
                     .lines()
                     .enumerate()
@@ -868,7 +987,10 @@ fn toml_message(text: &str, e: &toml::de::Error) -> String {
                 }
             }
             let what = text.lines().nth(line - 1).unwrap_or("").trim();
-            format!("line {line} (`{what}`): {msg}")
+            match key {
+                Some(k) => format!("line {line} (`{what}`): {k}: {msg}"),
+                None => format!("line {line} (`{what}`): {msg}"),
+            }
         }
         None => msg,
     }
@@ -950,7 +1072,13 @@ mod tests {
         let text = "name = \"x\"\n[mesh]\ngeo = \"column.geo\"\n[material]\nmodel = \"linear\"\nmu = [1]\nnu = 0.2\n";
         let e = toml::from_str::<Scene>(text).expect_err("mu is not a number");
         let m = toml_message(text, &e);
-        assert_eq!(m, "line 6 (`mu = [1]`): invalid type: sequence, expected a number");
+        assert_eq!(m, "line 6 (`mu = [1]`): material.mu: invalid type: sequence, expected a number");
+        // Two values of that kind in the table: the key is the one whose removal changes the error.
+        let text = "[mesh]\ngeo = \"g\"\n[material]\nmodel = \"holmes_mow\"\nmu = 20.0\nnu = 0.2\n\
+                    phi_s = [0.6]\nk0 = 1.0\nkappa = 1.0\nm0 = 0.1\ngravity = [0.0, 0.0, -9.81]\n";
+        let e = toml::from_str::<Scene>(text).expect_err("phi_s is not a number");
+        let m = toml_message(text, &e);
+        assert_eq!(m, "line 7 (`phi_s = [0.6]`): material.phi_s: invalid type: sequence, expected a number");
         assert_eq!(value_kind("nu = 0.2  # comment"), Some("floating point"));
         assert_eq!(value_kind("n = 3"), Some("integer"));
         assert_eq!(value_kind("drained = true"), Some("boolean"));

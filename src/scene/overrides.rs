@@ -13,7 +13,9 @@ pub fn apply(root: &mut toml::Table, spec: &str) -> Result<(), String> {
         return Err(err(format!("`{}` is not a dotted key like material.mu", key.trim())));
     }
     let value = parse_value(text.trim()).map_err(err)?;
-    let (last, parents) = path.split_last().expect("split yields at least one part");
+    let Some((last, parents)) = path.split_last() else {
+        return Err(err("expected KEY=VALUE".into()));
+    };
     let mut here = Slot::Table(root);
     for (i, part) in parents.iter().enumerate() {
         let at = path[..=i].join(".");
@@ -59,7 +61,7 @@ fn parse_value(text: &str) -> Result<toml::Value, String> {
         return Err("empty value".into());
     }
     match toml::from_str::<toml::Table>(&format!("v = {text}")) {
-        Ok(mut t) => Ok(t.remove("v").expect("parsed key")),
+        Ok(mut t) => t.remove("v").ok_or_else(|| format!("`{text}` is not a single TOML value")),
         Err(e) => {
             let word = text.chars().all(|c| c.is_alphanumeric() || "_-./".contains(c));
             let mut chars = text.chars();

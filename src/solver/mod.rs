@@ -20,11 +20,12 @@
 //! * "auto" (default): "direct" up to [`DIRECT_MAX_DOFS`], "fieldsplit" above.
 //!
 //! Every default is overridable from the command line (`-- -pc_type ...`); the chord by
-//! `-poroplast_chord RATE` (0: a new Jacobian every iteration) and
-//! `-poroplast_pc_rebuild_changes N` (the largest update), the mixing by `-poroplast_anderson M`,
-//! and with the chord off the preconditioner lag by `-poroplast_pc_reuse N` (0: a new setup for
-//! every Jacobian),
-//! `-poroplast_pc_rebuild_its N` and `-poroplast_pc_rebuild_changes N` (see [`Lag`]).
+//! `-poroplast_chord RATE` (0: a new Jacobian every iteration), the mixing by
+//! `-poroplast_anderson M`, the largest active-set change a kept Jacobian or preconditioner
+//! absorbs (the chord's low-rank update; the lagged preconditioner's rebuild threshold) by
+//! `-poroplast_pc_rebuild_changes N`, and with the chord off the preconditioner lag by
+//! `-poroplast_pc_reuse N` (0: a new setup for every Jacobian) and `-poroplast_pc_rebuild_its N`
+//! (see [`Lag`]).
 
 pub mod active_set;
 pub mod anderson;

@@ -1,10 +1,10 @@
 //! Shared helpers for the integration tests: run the binary under mpirun, read history.csv.
-#![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// Runs `poroplast <args>` on `np` MPI ranks.
+#[allow(dead_code)] // study.rs runs scripts, not the binary
 pub fn poroplast(np: usize, args: &[&str]) -> Output {
     let mut cmd = Command::new("mpirun");
     cmd.args(["-n", &np.to_string(), "--oversubscribe"]).arg(env!("CARGO_BIN_EXE_poroplast")).args(args);
@@ -15,6 +15,7 @@ pub fn poroplast(np: usize, args: &[&str]) -> Output {
 }
 
 /// Runs and panics with both output streams if the run failed.
+#[allow(dead_code)] // study.rs runs scripts, not the binary
 pub fn run_ok(np: usize, args: &[&str]) -> String {
     let out = poroplast(np, args);
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
@@ -40,11 +41,13 @@ pub fn scratch(name: &str) -> PathBuf {
 }
 
 /// Path of a shipped scene file.
+#[allow(dead_code)] // restart.rs names its scene by name
 pub fn scene(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/scenes").join(format!("{name}.toml")).display().to_string()
 }
 
 /// Writes a variant of a shipped scene with some lines replaced (`from` → `to`), into `dir`.
+#[allow(dead_code)] // not every test binary edits a scene
 pub fn scene_variant(name: &str, dir: &Path, edits: &[(&str, &str)]) -> String {
     let mut text = std::fs::read_to_string(scene(name)).unwrap();
     for (from, to) in edits {
@@ -57,11 +60,13 @@ pub fn scene_variant(name: &str, dir: &Path, edits: &[(&str, &str)]) -> String {
 }
 
 /// history.csv as named columns.
+#[allow(dead_code)] // bad_input.rs and study.rs read no history.csv
 pub struct History {
     pub names: Vec<String>,
     pub rows: Vec<Vec<f64>>,
 }
 
+#[allow(dead_code)] // as for `History`
 impl History {
     pub fn read(dir: &Path) -> History {
         let text = std::fs::read_to_string(dir.join("history.csv")).expect("history.csv");
@@ -81,6 +86,7 @@ impl History {
 }
 
 /// Parses `jacobian check: ... u rows X, p rows Y` lines.
+#[allow(dead_code)] // only the tests that run the Jacobian check use it
 pub fn jacobian_errors(stdout: &str) -> Vec<(f64, f64)> {
     stdout
         .lines()

@@ -1,4 +1,5 @@
-//! Observables of a remodelling scene, one history row per step (collective):
+//! Whole-body observables of a remodelling scene (post-processing, not the remodelling law,
+//! which is `material::remodelling`), one history.csv row per step (collective):
 //!
 //! * the volume-averaged Cauchy stress of the solid, (1/V) ∫ σ_sc dV over the reference volume
 //!   (kPa, tension positive; for the homogeneous 0-D relaxation this is σ_sc itself);
@@ -11,7 +12,7 @@ use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 
-/// History columns of [`observe`], in order.
+/// history.csv columns of [`observe`], in order.
 pub const COLUMNS: [&str; 7] =
     ["stress_xx", "stress_yy", "stress_zz", "max_von_mises", "max_norm_ep", "mean_norm_ep", "det_bp_max_dev"];
 
