@@ -60,10 +60,11 @@ class Fields:
         w = (t - T[k - 1]) / (T[k] - T[k - 1])
         return (1 - w) * self.f[f"/fields/{name}/{k - 1:06d}"][:] + w * self.f[f"/fields/{name}/{k:06d}"][:]
 
-    def regions(self):
+    def regions(self, depth=CONTACT_DEPTH):
+        """The centre and the contact zones (to `depth` from the plates) as cell masks."""
         R = self.radius
         centre = (self.r < CENTRE_HALF) & (abs(self.z - R) < CENTRE_HALF)
-        contact = (self.r < CONTACT_R) & ((self.z > 2 * R - CONTACT_DEPTH) | (self.z < CONTACT_DEPTH))
+        contact = (self.r < CONTACT_R) & ((self.z > 2 * R - depth) | (self.z < depth))
         return centre, contact
 
     def mean(self, values, where):
@@ -79,19 +80,20 @@ def fields(run):
     return Fields(run)
 
 
-def zone_mean(run, name, zone, t):
-    """Volume mean of the cell field `name` (von_mises, norm_ep) over `zone` (centre, contact) at t."""
+def zone_mean(run, name, zone, t, depth=CONTACT_DEPTH):
+    """Volume mean of the cell field `name` (von_mises, norm_ep) over `zone` (centre, contact; the
+    contact zones `depth` deep) at t."""
     f = fields(run)
     v = f.at(name, t)
     if v is None:
         return float("nan")
-    centre, contact = f.regions()
+    centre, contact = f.regions(depth)
     return f.mean(v, centre if zone == "centre" else contact)
 
 
-def zone_ratio(run, name, t):
+def zone_ratio(run, name, t, depth=CONTACT_DEPTH):
     """The contact zones' mean of `name` over the centre's at t."""
-    return zone_mean(run, name, "contact", t) / zone_mean(run, name, "centre", t)
+    return zone_mean(run, name, "contact", t, depth) / zone_mean(run, name, "centre", t)
 
 
 def bubble(run, t):
@@ -156,6 +158,13 @@ DERIVED = {
     **{f"vm_contact/centre@{t:g}": (lambda t: lambda run: zone_ratio(run, "von_mises", t))(t) for t in (35.0, 40.0, 60.0)},
     **{f"ep_{z}@60": (lambda z: lambda run: zone_mean(run, "norm_ep", z, 60.0))(z) for z in ("centre", "contact")},
     "ep_contact/centre@60": lambda run: zone_ratio(run, "norm_ep", 60.0),
+    # the contact zones 10 µm deep instead of 30: the layer right under the plates
+    "ep_contact10/centre@60": lambda run: zone_ratio(run, "norm_ep", 60.0, 10.0),
+    "vm_contact10/centre@40": lambda run: zone_ratio(run, "von_mises", 40.0, 10.0),
+    # the largest σ_VM anywhere (a point value) over the centre's mean
+    **{f"vm_max/centre@{t:g}": (lambda t: lambda run: float(np.interp(t, history(run)["time"],
+                                                                          history(run)["max_von_mises"]))
+                                / zone_mean(run, "von_mises", "centre", t))(t) for t in (40.0, 60.0)},
     "detach_t": lambda run: detachment(run, 35.0)[0],
     "vm_max_before_detach": lambda run: detachment(run, 35.0)[1],
     "vm_max_after_detach": lambda run: detachment(run, 35.0)[2],

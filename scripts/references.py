@@ -43,6 +43,7 @@ def case(scene, observe, sets=(), steps=STEPS, time_mesh=10, mesh_steps=0.25, me
 
 VM = ["vm_centre@35", "vm_contact@35", "vm_centre@40", "vm_contact@40", "vm_centre@60", "vm_contact@60",
       "vm_contact/centre@40", "vm_contact/centre@60", "ep_centre@60", "ep_contact@60", "ep_contact/centre@60",
+      "ep_contact10/centre@60", "vm_contact10/centre@40", "max_von_mises@40", "vm_max/centre@40", "vm_max/centre@60",
       "detach_t", "vm_max_before_detach", "vm_max_after_detach", "max:max_von_mises"]
 BUBBLE = [f"bubble_{k}@{t}" for t in (35, 45, 60) for k in ("share", "where", "angle")]
 HW = lambda t_end, c2: case("remodel_40", ["last:height/width"],
