@@ -80,6 +80,9 @@ VARIANTS = {
     "lambda_01": ("λp = 0.1 (MPa s)⁻¹", [("material.remodelling.lambda_p", "0.0001")], []),
     "lambda_01_40a": ("λp = 0.1 (MPa s)⁻¹ with (40a)",
                       [("material.remodelling.lambda_p", "0.0001"), ("material.remodelling.form", '"40a"')], []),
+    # What the paper's +4 / +2 mg would take: the same tenfold step in λp, ten and a hundred times faster.
+    "lambda_10": ("λp = 10 (MPa s)⁻¹", [("material.remodelling.lambda_p", "0.01")], []),
+    "lambda_100": ("λp = 100 (MPa s)⁻¹", [("material.remodelling.lambda_p", "0.1")], []),
     "lambda_01_alpha_rescaled": ("λp = 0.1 (MPa s)⁻¹ with α1, α2 as printed, α0 for µ = 20 kPa",
                                  [("material.remodelling.lambda_p", "0.0001")],
                                  [("mu = ", None), ("nu = ", f"alpha = {ALPHA_RESCALED}")]),
