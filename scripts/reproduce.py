@@ -259,13 +259,14 @@ def fig_soft(dirs, out):
                      ("force_pressure_mg", "pressure")):
         ax[0].plot(h["time"], h[col], label=lab)
     # The same time as summary.csv's t_last_s, which the text quotes: the last converged step.
-    failed = "" if (dirs["mu3_nu0.45"] / "timings.txt").exists() else \
-        f"\nrun failed: last converged step at t = {h['time'][-1]:.2f} s"
+    status = dirs["mu3_nu0.45"] / "status.txt"
+    failed = f"\nrun failed: last converged step at t = {h['time'][-1]:.2f} s" \
+        if status.exists() and status.read_text().startswith("failed") else ""
     ax[0].set(xlim=(0, 160), xlabel="time t [s]", ylabel="force on the upper plate [mg]",
               title="µ = 3 kPa, ν = 0.45, λp = 1 (MPa s)⁻¹ (Forgacs)" + failed)
-    for case, style in (("remodel_155", "-"), ("mu3_nu0.2", "--")):
+    for case, style, lab in (("remodel_155", "-", "µ = 20 kPa"), ("mu3_nu0.2", "--", "µ = 3 kPa")):
         hh = read_history(dirs[case])
-        ax[1].plot(hh["time"], hh["probe_p"], style, label=case)
+        ax[1].plot(hh["time"], hh["probe_p"], style, label=f"{lab} ({case})")
     ax[1].axhline(0, color="k", lw=0.7)
     ax[1].set(xlabel="time t [s]", ylabel="pressure p(X_U) [kPa]", title="µ = 20 vs 3 kPa (ν = 0.2)")
     for x in ax:
