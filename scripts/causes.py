@@ -10,7 +10,9 @@ shift itself moves with the steps.
     python3 scripts/causes.py [--dir studies/causes] [--steps 0.125] [--ranks 2] [--only NAME ...]
 
 Writes DIR/causes.csv (variant, what it changes, the observables, their shifts) and prints the
-table. Completed variants are kept (scripts/study.py's runner), so an interrupted run continues.
+table; then the same for the no-remodelling gap (`reference_405`, its settling times:
+DIR/causes_reference.csv; --no-reference skips it). Completed variants are kept (scripts/study.py's
+runner), so an interrupted run continues.
 """
 import argparse
 import csv
@@ -19,6 +21,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import observables  # noqa: E402
 import study  # noqa: E402
 from _runner import CONVERGED_LEVEL, refined_steps, scene_values  # noqa: E402
 
@@ -89,6 +92,40 @@ VARIANTS = {
 }
 
 
+# The gap without remodelling (the paper: a plateau soon after the ramp; ours settles over ~100 s):
+# `reference_405` at the same level, its settling times with each candidate that could drain it
+# faster. name -> (what it changes, --set overrides)
+REFERENCE_SCENE = "reference_405"
+REFERENCE_OBSERVE = ["settle90:force_total_mg", "settle95:force_total_mg", "force_total_mg@60", "force_total_mg@400"]
+REFERENCE_VARIANTS = {
+    "ref_base": ("no remodelling, the converged level", []),
+    "ref_plates_permeable": ("permeable plates, Table 1's k_β, L = 100 µm", [("plates.permeability", "3.7729e-4"),
+                                                                             ("plates.thickness", "100")]),
+    "ref_plates_thin": ("permeable plates, Table 1's k_β, L = 1 µm", [("plates.permeability", "3.7729e-4"),
+                                                                     ("plates.thickness", "1")]),
+    "ref_k0_x10": ("k0 × 10 (3.7729e-2 mm⁴/(N s))", [("material.k0", "37.729")]),
+}
+
+
+def reference_rows(root, ranks, step_scale):
+    """The REFERENCE_VARIANTS' settling times and forces, each with its shift from ref_base."""
+    t = scene_values(REFERENCE_SCENE)["time"]
+    steps = [(k, f"{v:g}") for k, v in refined_steps(t, {}, step_scale)]
+    base = [(k, v) for k, v in BASE if k != "time.t_end"]
+    rows = []
+    for name, (what, sets) in REFERENCE_VARIANTS.items():
+        [(cdir, r)] = study.run_cases(REFERENCE_SCENE, [steps + sets], base, root / name, ranks, [],
+                                      [o for o in REFERENCE_OBSERVE if o not in observables.DERIVED], label=lambda _: name)
+        ok = r["status"] == "ok"
+        val = lambda o: (observables.DERIVED[o](cdir / "run") if o in observables.DERIVED else r.get(o)) \
+            if ok else float("nan")
+        rows.append({"variant": name, "changes": what, "status": r["status"], **{o: val(o) for o in REFERENCE_OBSERVE}})
+    for r in rows:
+        for o in REFERENCE_OBSERVE:
+            r["shift " + o] = r[o] - rows[0][o]
+    return rows
+
+
 def scene_text(edits, out):
     """The shipped scene with lines starting with `old` replaced by `new` (None: dropped)."""
     src = (Path(__file__).resolve().parent.parent / "meshes" / "scenes" / f"{SCENE}.toml").read_text().splitlines()
@@ -112,6 +149,7 @@ def main():
     ap.add_argument("--steps", type=float, default=0.125, help="step scale of every variant but the steps rows")
     ap.add_argument("--ranks", type=int, default=2)
     ap.add_argument("--only", nargs="+", choices=list(VARIANTS))
+    ap.add_argument("--no-reference", action="store_true", help="skip the reference_405 variants")
     a = ap.parse_args()
     root = Path(a.dir)
     (root / "scenes").mkdir(parents=True, exist_ok=True)
@@ -142,6 +180,18 @@ def main():
         print(f"{r['variant']:16} {r['zero:probe_p']:13.3f} {r['shift zero:probe_p']:+7.2f} "
               f"{r['max:force_total_mg']:10.3f} {r['shift max:force_total_mg']:+7.3f} "
               f"{r['max:force_constitutive_mg']:13.3f} {r['shift max:force_constitutive_mg']:+7.3f}  {r['changes']}")
+    if a.no_reference or a.only:
+        return
+    ref = reference_rows(root, a.ranks, a.steps)
+    with open(root / "causes_reference.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(ref[0]))
+        w.writeheader()
+        w.writerows(ref)
+    print(f"\n{'variant':22} {'90% (s)':>8} {'shift':>7} {'95% (s)':>8} {'shift':>7} {'F(60 s)':>8} {'F(400 s)':>9}  changes")
+    for r in ref:
+        print(f"{r['variant']:22} {r['settle90:force_total_mg']:8.2f} {r['shift settle90:force_total_mg']:+7.2f} "
+              f"{r['settle95:force_total_mg']:8.2f} {r['shift settle95:force_total_mg']:+7.2f} "
+              f"{r['force_total_mg@60']:8.3f} {r['force_total_mg@400']:9.3f}  {r['changes']}")
 
 
 if __name__ == "__main__":

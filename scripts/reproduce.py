@@ -298,6 +298,30 @@ def zone_stats(dirs):
                   f"distance from the centre {where:.3f} R at {angle:.0f}° from the axis")
 
 
+def split_kink(dirs):
+    """reference_405: the largest jump of the force's pressure/constitutive split during the hold
+    (between two field outputs from 200 s on), and the upper-surface vertex whose pressure fell
+    most then, with its gap to the upper plate (Figs 7-9 text)."""
+    if not have(dirs, ["reference_405"], "fields.h5"):
+        return
+    run = dirs["reference_405"]
+    h, f = read_history(run), observables.fields(run)
+    T = [t for t in f.times if 200.0 <= t <= 300.0]
+    if len(T) < 2:
+        return print("  reference_405 has no field outputs between 200 and 300 s (an older scene)")
+    fp = lambda t: float(np.interp(t, h["time"], h["force_pressure_mg"]))
+    t0, t1 = max(zip(T, T[1:]), key=lambda w: (fp(w[0]) - fp(w[1])) / (w[1] - w[0]))
+    X = f.f["/mesh/coordinates"][:]
+    r, rho = np.hypot(X[:, 0], X[:, 1]), np.hypot(np.hypot(X[:, 0], X[:, 1]), X[:, 2] - f.radius)
+    top = np.nonzero((abs(rho - f.radius) < 1e-3 * f.radius) & (X[:, 2] > f.radius))[0]
+    p0, p1 = f.at("p", t0), f.at("p", t1)
+    k = top[np.argmin(p1[top] - p0[top])]
+    gap = lambda t: 2 * f.radius - X[k, 2] - f.at("u", t)[k, 2]
+    print(f"  the pressure part falls fastest between {t0:g} and {t1:g} s ({fp(t0):.3f} -> {fp(t1):.3f} mg); "
+          f"the upper-surface vertex at r = {r[k]:.1f} µm (contact radius {np.interp(t0, h['time'], h['contact_radius_upper']):.1f} µm) "
+          f"goes from p = {p0[k]:.2f} to {p1[k]:.2f} kPa, its gap to the plate from {1e3 * gap(t0):.0f} to {1e3 * gap(t1):.0f} nm")
+
+
 # The numbers the paper reports, each with its converged meridian value (scripts/references.py:
 # (case, observable), or a combined value's name) and the 3-D default's (a function of the runs).
 def _diff(dirs, a, b, key):
@@ -541,6 +565,7 @@ def main():
                                                           [60, 100, 200, 400], "fig3_later_pressure.png",
                                                           "Fig 3 continued: later in the hold")),
              ("zone_stats", lambda: zone_stats(dirs)),
+             ("split_kink", lambda: split_kink(dirs)),
              ("fig_soft", lambda: fig_soft(dirs, out)),
              ("fig_soft_pressure", lambda: fig_pressure(dirs, out, ["remodel_155", "mu3_nu0.2"], [30, 45],
                                                         "fig_soft_pressure.png", "µ = 20 vs 3 kPa")),
