@@ -42,8 +42,9 @@ pub(super) struct Distributed {
 
 /// Reads (or generates) the scene's mesh, partitions it on rank 0 and distributes it.
 pub(super) fn distribute_mesh(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<Distributed> {
-    let path = mesh_file(world, scene)?;
-    let mesh = agree(world, read_mesh(&path, scene))?;
+    let spec = &scene.scene.mesh;
+    let path = mesh_file(world, scene.mesh_source(), &spec.params, &scene.source)?;
+    let mesh = agree(world, read_mesh(&path, spec.geometry.family(), &spec.mirror))?;
     let size = world.size() as usize;
     if mesh.cells.len() < size {
         return Err(Error::Mesh {

@@ -490,16 +490,6 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("reference_axi", include_str!("../../meshes/scenes/reference_axi.toml")),
 ];
 
-/// The `.geo` sources shipped inside the binary.
-pub const BUILTIN_GEO: &[(&str, &str)] = &[
-    ("sphere.geo", crate::mesh::generate::SPHERE_GEO),
-    ("sphere_quarter.geo", crate::mesh::generate::SPHERE_QUARTER_GEO),
-    ("column.geo", crate::mesh::generate::COLUMN_GEO),
-    ("block.geo", crate::mesh::generate::BLOCK_GEO),
-    ("sphere_meridian.geo", crate::mesh::generate::SPHERE_MERIDIAN_GEO),
-    ("column_meridian.geo", crate::mesh::generate::COLUMN_MERIDIAN_GEO),
-];
-
 impl LoadedScene {
     /// Loads `arg`: a path to a `.toml` file, or the name of a builtin scene, with the
     /// `--set KEY=VALUE` overrides applied in order (see [`overrides`]).
@@ -833,6 +823,19 @@ impl LoadedScene {
             }
         }
         out
+    }
+
+    /// Where the scene's mesh comes from (`mesh.file`, or the `.geo` of its geometry), resolved
+    /// against the scene file.
+    pub fn mesh_source(&self) -> crate::mesh::source::MeshSource<'_> {
+        use crate::mesh::source::MeshSource;
+        match self.scene.mesh.source() {
+            (_, Some(file)) => MeshSource::Msh(self.resolve(file)),
+            (geo, None) => {
+                let name = geo.unwrap_or_default();
+                MeshSource::Geo { name, path: self.resolve(name) }
+            }
+        }
     }
 
     /// Resolves a path given in the scene: relative to the scene file.
