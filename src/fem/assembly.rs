@@ -3,12 +3,10 @@
 //! [`CellKernel`]) and scatters the result. Residual, Jacobian, qp-state commit, post-processing
 //! and the compaction check are bodies of this loop.
 
-use super::cell::{CellShape, Tet10, Tri6Axi, MAX_DOF, MAX_NODES, MAX_VERTICES};
+use super::cell::{CellShape, Tet10, Tri6Axi};
 use super::dofmap::DofMap;
-use super::element::Tabulation;
-use super::kernel::{
-    CellKernel, ElementDofs, ElementInput, ElementKernel, ElementMatrix, ElementValues, Stabilisation,
-};
+use super::element::{ElementDofs, ElementMatrix, Tabulation, MAX_DOF, MAX_NODES, MAX_VERTICES};
+use super::kernel::{CellKernel, ElementInput, ElementKernel, ElementValues, Stabilisation};
 use super::point::{PointModel, QpState};
 use super::qp_store::QpStore;
 use crate::error::{Error, Result};

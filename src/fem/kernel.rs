@@ -13,21 +13,16 @@
 //! [`ElementKernel::stab`]) and the element block of the fixed-stress Schur approximation
 //! Ŝ = ∫ ∇L_m · (∂W/∂Grad p) ∇L_n + (shift/K_dr) L_m L_n dV, which stays spectrally close to
 //! the true Schur complement as Δt → 0 and as the conductivity → 0.
-//! Element dof order: u of node a, component c at NC a + c, then p of vertex m at NU + m
-//! (`CellShape`); arrays are sized for the largest family (`MAX_DOF`).
+//! Element dofs in the layout of `fem::element` (u of node a, component c at NC a + c, then p of
+//! vertex m at NU + m), arrays sized for the largest family (`MAX_DOF`).
 
-use super::cell::{p1_gradients, CellShape, MAX_DOF, MAX_NODES, MAX_VERTICES};
-use super::element::Tabulation;
+use super::cell::{p1_gradients, CellShape};
+use super::element::{ElementMatrix, Tabulation, MAX_DOF, MAX_NODES, MAX_VERTICES};
 use super::equal_order;
 use super::point::{ij, PointFlux, PointModel, PointState, QpId, QpState};
 use crate::error::Result;
 use nalgebra::{Matrix3, Vector3};
 use std::marker::PhantomData;
-
-/// Local dofs of an element (the first `NDOF` of its family).
-pub type ElementDofs = [usize; MAX_DOF];
-/// An element matrix (the leading NDOF × NDOF block of its family).
-pub type ElementMatrix = [[f64; MAX_DOF]; MAX_DOF];
 
 /// θθ in the flattened index of a second-order tensor: where the hoop entries live.
 const THETA: usize = ij(1, 1);

@@ -6,8 +6,8 @@
 //! radial displacement u_r, and surface means are over the surface of revolution.
 
 use crate::error::{Error, Result};
-use crate::fem::cell::{p1_values as p1, p2_values as shapes};
 use crate::fem::dofmap::DofMap;
+use crate::fem::element::{p1_values as p1, p2_values as shapes};
 use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
 use crate::mesh::Family;
