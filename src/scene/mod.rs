@@ -538,6 +538,23 @@ impl LoadedScene {
 
     /// Checks ranges and consistency; every message names the offending key and value.
     pub fn validate(&self) -> Result<()> {
+        self.validate_mesh()?;
+        self.validate_material()?;
+        self.validate_bcs()?;
+        self.validate_initial()?;
+        self.validate_output()?;
+        self.validate_time()?;
+        self.validate_probes()?;
+        self.validate_plates()?;
+        self.validate_verification()?;
+        self.validate_solver()?;
+        self.validate_fem()?;
+        self.validate_petsc()?;
+        Ok(())
+    }
+
+    /// [mesh]: one source, mirror only for solids, finite positive lengths.
+    fn validate_mesh(&self) -> Result<()> {
         let s = &self.scene;
         match (&s.mesh.geo, &s.mesh.file) {
             (Some(_), Some(_)) => return Err(self.err("[mesh]: give either `geo` or `file`, not both")),
@@ -556,6 +573,12 @@ impl LoadedScene {
                 return Err(self.err(format!("[mesh.params] {k} = {v}: a length must be positive")));
             }
         }
+        Ok(())
+    }
+
+    /// [material]: the parameters of the model in their physical ranges.
+    fn validate_material(&self) -> Result<()> {
+        let s = &self.scene;
         match &s.material {
             Material::Linear { mu, nu, permeability } => {
                 positive(self, "material.mu", *mu)?;
@@ -620,6 +643,12 @@ impl LoadedScene {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// [[bc]]: one kind per entry, known displacement components, one traction form.
+    fn validate_bcs(&self) -> Result<()> {
+        let s = &self.scene;
         for (i, bc) in s.bc.iter().enumerate() {
             let kinds = [
                 bc.displacement.is_some(),
@@ -657,6 +686,12 @@ impl LoadedScene {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// [initial]: a finite displacement gradient with det(I + G) > 0.
+    fn validate_initial(&self) -> Result<()> {
+        let s = &self.scene;
         if let Some(init) = &s.initial {
             for g in init.displacement_gradient.iter().flatten() {
                 finite(self, "initial.displacement_gradient", *g)?;
@@ -669,10 +704,22 @@ impl LoadedScene {
                 );
             }
         }
+        Ok(())
+    }
+
+    /// [output]: the checkpoint interval.
+    fn validate_output(&self) -> Result<()> {
+        let s = &self.scene;
         let m = s.output.checkpoint_minutes;
         if !(m.is_finite() && m >= 0.0) {
             return Err(self.err(format!("output.checkpoint_minutes = {m}: must be >= 0 (0: not by time)")));
         }
+        Ok(())
+    }
+
+    /// [time]: positive steps and end time, growth >= 1, landing times inside the run.
+    fn validate_time(&self) -> Result<()> {
+        let s = &self.scene;
         let t = &s.time;
         for &a in t.land_on.iter().chain(&s.output.fields_at) {
             if !(a > 0.0 && a <= t.t_end) {
@@ -703,6 +750,12 @@ impl LoadedScene {
         if !(t.growth >= 1.0 && t.growth.is_finite()) {
             return Err(self.err(format!("time.growth = {}: must be >= 1", t.growth)));
         }
+        Ok(())
+    }
+
+    /// [[probe]]: a known field, one location, a finite non-zero scale.
+    fn validate_probes(&self) -> Result<()> {
+        let s = &self.scene;
         for p in &s.probe {
             if !["p", "ux", "uy", "uz"].contains(&p.field.as_str()) {
                 return Err(self.err(format!("probe \"{}\": field `{}` (use p, ux, uy, uz)", p.name, p.field)));
@@ -714,6 +767,12 @@ impl LoadedScene {
                 return Err(self.err(format!("probe \"{}\": scale must be finite and non-zero", p.name)));
             }
         }
+        Ok(())
+    }
+
+    /// [plates]: geometry, loading, drainage and the plates' permeability.
+    fn validate_plates(&self) -> Result<()> {
+        let s = &self.scene;
         if let Some(p) = &s.plates {
             positive(self, "plates.radius", p.radius)?;
             if !(p.compression.is_finite() && p.compression >= 0.0 && p.compression < 1.0) {
@@ -759,6 +818,12 @@ impl LoadedScene {
                 finite(self, "plates.probe_point", *x)?;
             }
         }
+        Ok(())
+    }
+
+    /// [verification]: a positive length and a finite load.
+    fn validate_verification(&self) -> Result<()> {
+        let s = &self.scene;
         if let Some(v) = &s.verification {
             let (a, b) = match v {
                 Verification::Terzaghi { height, load } => (height, load),
@@ -767,12 +832,24 @@ impl LoadedScene {
             positive(self, "verification length", *a)?;
             finite(self, "verification load", *b)?;
         }
+        Ok(())
+    }
+
+    /// [solver]: a known preset.
+    fn validate_solver(&self) -> Result<()> {
+        let s = &self.scene;
         if let Some(p) = &s.solver.preset {
             if !crate::solver::PRESETS.contains(&p.as_str()) {
                 let all = crate::solver::PRESETS.join("\", \"");
                 return Err(self.err(format!("solver.preset = \"{p}\" (use one of \"{all}\")")));
             }
         }
+        Ok(())
+    }
+
+    /// [fem]: stabilisation, element and quadrature degree.
+    fn validate_fem(&self) -> Result<()> {
+        let s = &self.scene;
         if let Some(a) = s.fem.stabilisation {
             if !(a.is_finite() && a >= 0.0) {
                 return Err(self.err(format!("fem.stabilisation = {a}: must be >= 0")));
@@ -796,6 +873,12 @@ impl LoadedScene {
                 return Err(self.err(format!("fem.quadrature_degree = {q}: use 1..8")));
             }
         }
+        Ok(())
+    }
+
+    /// [petsc]: scalar values only.
+    fn validate_petsc(&self) -> Result<()> {
+        let s = &self.scene;
         for (k, v) in &s.petsc {
             if matches!(v, toml::Value::Array(_) | toml::Value::Table(_)) {
                 return Err(self.err(format!("[petsc] {k}: values must be strings, numbers or booleans")));
