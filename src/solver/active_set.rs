@@ -292,10 +292,8 @@ impl ActiveSetNewton {
     fn updated_solve(&mut self, ksp: &Ksp) -> Result<bool> {
         let (Some(jac), Some(pc_active)) = (&self.jac, &self.pc_active) else { return Ok(false) };
         let pc = ksp.pc()?;
-        let here = usize::from(self.update.as_ref().is_none_or(|u| u.active != self.active));
-        let mut stale = 0;
-        self.world.all_reduce_into(&here, &mut stale, SystemOperation::sum());
-        if stale > 0 {
+        let stale_here = self.update.as_ref().is_none_or(|u| u.active != self.active);
+        if crate::parallel::any(&self.world, stale_here) {
             self.update = ActiveSetUpdate::new(&self.world, jac, pc, pc_active, &self.active, self.diag)?;
         }
         let Some(update) = &self.update else { return Ok(false) };
@@ -526,10 +524,8 @@ impl ShellSolve for ActiveSetNewton {
                 break R::SNES_DIVERGED_LINEAR_SOLVE;
             }
             if chord {
-                let here = usize::from(self.chord_active.as_ref() != Some(&self.active));
-                let mut changed = 0;
-                self.world.all_reduce_into(&here, &mut changed, SystemOperation::sum());
-                self.anderson.mix(x, &mut self.step, changed == 0)?;
+                let same_here = self.chord_active.as_ref() == Some(&self.active);
+                self.anderson.mix(x, &mut self.step, crate::parallel::all(&self.world, same_here))?;
                 self.chord_active = Some(self.active.clone());
             } else {
                 self.chord_active = None;
