@@ -39,7 +39,7 @@
 //! σ_VM = √(3/2) ‖dev σ_sc‖, spatial Darcy flux q = J⁻¹ F Q.
 
 use crate::error::{Error, Result};
-use crate::fem::point::{ij, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId, QpState};
+use crate::fem::point::{PointFields, PointFlux, PointModel, PointState, PointTangent, QpId, QpState};
 use crate::material::remodelling::{from_sym6, to_sym6};
 use crate::material::{
     domain_error, idx, locate, solid_response, solid_response_at, solid_stresses, AtPoint, CompactionPenalty,
@@ -247,14 +247,14 @@ impl Biphasic {
                     (if l == a { k.kin.f[(kk, b)] } else { 0.0 }) + (if l == b { k.kin.f[(kk, a)] } else { 0.0 })
                 });
                 let y: [f64; 6] = std::array::from_fn(|s| (0..6).map(|r| t6[s][r] * dc[r]).sum());
-                let col = ij(kk, l);
+                let col = idx(kk, l);
                 for s in 0..6 {
                     if y[s] == 0.0 {
                         continue;
                     }
                     for i in 0..3 {
                         for j in 0..3 {
-                            dstress[(ij(i, j), col)] += dp[s][(i, j)] * y[s];
+                            dstress[(idx(i, j), col)] += dp[s][(i, j)] * y[s];
                         }
                         dflux[(i, col)] += dw[s][i] * y[s];
                     }
@@ -349,7 +349,7 @@ impl PointModel for Biphasic {
         let mut dflux_du = SMatrix::<f64, 3, 9>::zeros();
         for kk in 0..3 {
             for l in 0..3 {
-                let c = ij(kk, l);
+                let c = idx(kk, l);
                 let dkg = dk[c] * g;
                 for i in 0..3 {
                     dbody_du[(i, c)] = self.rho_f_g[i] * k.cof_f[(kk, l)];
@@ -483,11 +483,11 @@ mod tests {
                 sp.grad_udot[(k, l)] += shift * h;
                 sm.grad_udot[(k, l)] -= shift * h;
                 let (fp, fm) = (ev(&sp), ev(&sm));
-                let c = ij(k, l);
+                let c = idx(k, l);
                 let ds = (fp.stress - fm.stress) / (2.0 * h);
                 for i in 0..3 {
                     for j in 0..3 {
-                        t.dstress_du[(ij(i, j), c)] = ds[(i, j)];
+                        t.dstress_du[(idx(i, j), c)] = ds[(i, j)];
                     }
                     t.dbody_du[(i, c)] = (fp.body[i] - fm.body[i]) / (2.0 * h);
                     t.dflux_du[(i, c)] = (fp.flux[i] - fm.flux[i]) / (2.0 * h);
