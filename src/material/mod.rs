@@ -69,6 +69,8 @@ pub struct Kinematics {
     pub ln_j: f64,
     /// F⁻¹.
     pub f_inv: Matrix3<f64>,
+    /// cof F = J F⁻ᵀ (from the entries of F, see [`cof`]).
+    pub cof_f: Matrix3<f64>,
     /// C = FᵀF.
     pub c: Matrix3<f64>,
     /// C − I = H + Hᵀ + HᵀH with H = F − I (= 2E, no cancellation near F = I).
@@ -91,26 +93,29 @@ impl Kinematics {
         if j <= 0.0 {
             return Err(domain_error(j, "J <= 0 (inverted element)"));
         }
-        // F⁻¹ = adj(F)/J; adj(F)_ij = cofactor(F)_ji.
-        let inv_j = 1.0 / j;
-        let mut f_inv = Matrix3::zeros();
-        for i in 0..3 {
-            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-            for k in 0..3 {
-                let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
-                f_inv[(k, i)] = (f[(i1, k1)] * f[(i2, k2)] - f[(i1, k2)] * f[(i2, k1)]) * inv_j;
-            }
-        }
+        // F⁻¹ = adj(F)/J = (cof F)ᵀ/J.
+        let cof_f = cof(f);
+        let f_inv = cof_f.transpose() * (1.0 / j);
         Ok(Kinematics {
             f: *f,
             j,
             ln_j: j_minus_1.ln_1p(),
             f_inv,
+            cof_f,
             c: f.transpose() * f,
             c_minus_i: h + h.transpose() + h.transpose() * h,
             c_inv: f_inv * f_inv.transpose(),
         })
     }
+}
+
+/// Cofactor matrix cof A = det(A) A⁻ᵀ from the entries: cof_ij = A_{i1 j1} A_{i2 j2} − A_{i1 j2} A_{i2 j1},
+/// with i1 = i + 1, i2 = i + 2 (mod 3), likewise for j.
+pub fn cof(a: &Matrix3<f64>) -> Matrix3<f64> {
+    Matrix3::from_fn(|i, j| {
+        let (i1, i2, j1, j2) = ((i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3);
+        a[(i1, j1)] * a[(i2, j2)] - a[(i1, j2)] * a[(i2, j1)]
+    })
 }
 
 /// Solid response at one point: first and second Piola–Kirchhoff stresses and ∂P/∂F.

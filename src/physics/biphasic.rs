@@ -42,7 +42,7 @@ use crate::error::{Error, Result};
 use crate::fem::point::{PointFields, PointFlux, PointModel, PointState, PointTangent, QpId, QpState};
 use crate::material::remodelling::{from_sym6, to_sym6};
 use crate::material::{
-    domain_error, idx, locate, solid_response, solid_response_at, solid_stresses, AtPoint, CompactionPenalty,
+    cof, domain_error, idx, locate, solid_response, solid_response_at, solid_stresses, AtPoint, CompactionPenalty,
     HolmesMow, Kinematics, Permeability, Remodelling, Tangent,
 };
 use nalgebra::{Matrix3, SMatrix, Vector3};
@@ -78,11 +78,9 @@ pub struct Biphasic {
 
 /// What eval and eval_tangent share at one point, after the domain checks.
 struct Kin {
-    /// The kinematics of F = I + Grad u (J cancellation-free near F = I, C, C⁻¹, F⁻¹, ln J),
-    /// computed once per point for every law.
+    /// The kinematics of F = I + Grad u (J cancellation-free near F = I, C, C⁻¹, F⁻¹, cof F,
+    /// ln J), computed once per point for every law.
     kin: Kinematics,
-    /// cof F = J F⁻ᵀ, from the entries of F.
-    cof_f: Matrix3<f64>,
     /// B_p at the end of the step at this point.
     bp: Matrix3<f64>,
     /// ∂x_s/∂c_r of the remodelling update (x, c: the symmetric components of B_p and C), when
@@ -178,7 +176,7 @@ impl Biphasic {
             cauchy_sc,
             von_mises: (1.5f64).sqrt() * dev.norm(),
             darcy: -(k.kin.f * w) / k.kin.j,
-            pressure_stress: -k.cof_f * s.p,
+            pressure_stress: -k.kin.cof_f * s.p,
             norm_ep: match self.remodel {
                 // E_p = ½(B_p⁻¹ − I); B_p is symmetric positive definite.
                 Some(_) => {
@@ -221,7 +219,7 @@ impl Biphasic {
             }
             _ => (bp_n, None),
         };
-        Ok(Kin { kin, cof_f: cof(&f), bp, dbp_dc })
+        Ok(Kin { kin, bp, dbp_dc })
     }
 
     /// Adds the remodelling chain terms to the tangent: with y_s = dx_s/dF_kl = Σ_r T_sr
@@ -268,7 +266,7 @@ impl Biphasic {
     fn rate(&self, at: QpId, k: &Kin, s: &PointState) -> Result<(f64, Matrix3<f64>)> {
         let (l, dt) = (&s.grad_udot, s.dt);
         let cof_l = cof(l);
-        let rate = k.cof_f.dot(l) - dt * k.kin.f.dot(&cof_l) + dt * dt * l.determinant();
+        let rate = k.kin.cof_f.dot(l) - dt * k.kin.f.dot(&cof_l) + dt * dt * l.determinant();
         let j_n = (k.kin.f - l * dt).determinant();
         if !(j_n > 0.0 && rate.is_finite()) {
             let msg = format!("J(F_n) = {j_n} <= 0 for F_n = F - dt Grad u_dot (dt = {dt})");
@@ -322,7 +320,7 @@ impl PointModel for Biphasic {
             solid_stresses(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
         let kt = self.perm.tensor_at(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         Ok(PointFlux {
-            stress: p_sc - k.cof_f * s.p,
+            stress: p_sc - k.kin.cof_f * s.p,
             body: self.body(&k),
             rate,
             flux: kt * self.driving_gradient(&k, s),
@@ -336,13 +334,13 @@ impl PointModel for Biphasic {
         let sc = solid_response_at(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
         let (kt, dk) = self.perm.tensor_and_derivative_at(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         let g = self.driving_gradient(&k, s);
-        let flux = PointFlux { stress: sc.p - k.cof_f * s.p, body: self.body(&k), rate, flux: kt * g };
+        let flux = PointFlux { stress: sc.p - k.kin.cof_f * s.p, body: self.body(&k), rate, flux: kt * g };
 
         // (cof F − cof F_n)/dt = X(F, L) − dt cof L and cof F_n = cof F − dt X(F, L) + dt² cof L,
         // both free of cancellation (X: the bilinear part of cof, cof(A + B) = cof A + X + cof B).
         let (l, dt) = (&s.grad_udot, s.dt);
         let x = cof_cross(&k.kin.f, l);
-        let cof_fn = k.cof_f - x * dt + cof_l * (dt * dt);
+        let cof_fn = k.kin.cof_f - x * dt + cof_l * (dt * dt);
         let drate_du = x - cof_l * dt + cof_fn * shift;
 
         let mut dbody_du = SMatrix::<f64, 3, 9>::zeros();
@@ -352,7 +350,7 @@ impl PointModel for Biphasic {
                 let c = idx(kk, l);
                 let dkg = dk[c] * g;
                 for i in 0..3 {
-                    dbody_du[(i, c)] = self.rho_f_g[i] * k.cof_f[(kk, l)];
+                    dbody_du[(i, c)] = self.rho_f_g[i] * k.kin.cof_f[(kk, l)];
                     dflux_du[(i, c)] = dkg[i] - kt[(i, l)] * self.rho_f_g[kk];
                 }
             }
@@ -361,7 +359,7 @@ impl PointModel for Biphasic {
         if let Some(t6) = &k.dbp_dc {
             self.add_remodelling_tangent(&k, t6, &g, &mut dstress_du, &mut dflux_du).at_point(at.elem, at.point)?;
         }
-        let t = PointTangent { dstress_du, dstress_dp: -k.cof_f, dbody_du, drate_du, dflux_du, dflux_dgradp: kt };
+        let t = PointTangent { dstress_du, dstress_dp: -k.kin.cof_f, dbody_du, drate_du, dflux_du, dflux_dgradp: kt };
         Ok((flux, t))
     }
 
@@ -385,15 +383,6 @@ impl PointModel for Biphasic {
     fn is_linear(&self) -> bool {
         false
     }
-}
-
-/// Cofactor matrix cof A = det(A) A⁻ᵀ from the entries: cof_ij = A_{i1 j1} A_{i2 j2} − A_{i1 j2} A_{i2 j1},
-/// with i1 = i + 1, i2 = i + 2 (mod 3), likewise for j.
-fn cof(a: &Matrix3<f64>) -> Matrix3<f64> {
-    Matrix3::from_fn(|i, j| {
-        let (i1, i2, j1, j2) = ((i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3);
-        a[(i1, j1)] * a[(i2, j2)] - a[(i1, j2)] * a[(i2, j1)]
-    })
 }
 
 /// The bilinear part X(A, B) of the cofactor, cof(A + B) = cof A + X(A, B) + cof B; X(A, ·) is
