@@ -28,8 +28,8 @@ use std::marker::PhantomData;
 /// θθ in the flattened index of a second-order tensor: where the hoop entries live.
 const THETA: usize = idx(1, 1);
 
-/// What the kernel needs of one element: its number (for messages), node coordinates, nodal
-/// values, the step size and the committed qp state of its points.
+/// What the kernel needs of one element: its number in the mesh file (for messages), node
+/// coordinates, nodal values, the step size and the committed qp state of its points.
 #[derive(Debug, Clone, Copy)]
 pub struct ElementInput<'a> {
     pub elem: usize,

@@ -35,7 +35,8 @@ impl QpState<'_> {
     pub const NONE: QpState<'static> = QpState { committed: &[], evolve: false };
 }
 
-/// Which quadrature point is being evaluated (local element, point within it).
+/// Which quadrature point is being evaluated (the element's index in the mesh file, the point
+/// within it): what a domain error names (`material::locate`).
 #[derive(Debug, Clone, Copy)]
 pub struct QpId {
     pub elem: usize,
