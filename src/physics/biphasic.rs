@@ -9,7 +9,7 @@
 //! ```
 //!
 //! P_sc is the Holmes–Mow solid plus the optional compaction penalty
-//! ([`crate::material::solid_response`]), K the Holmes–Mow referential conductivity
+//! ([`crate::material::Solid`]), K the Holmes–Mow referential conductivity
 //! ([`crate::material::Permeability`]). With D = dt Grad u̇ the rate is evaluated without
 //! cancellation from the exact expansion det(F − D) = J − cof F : D + F : cof D − det D:
 //!
@@ -42,8 +42,8 @@ use crate::error::{Error, Result};
 use crate::fem::point::{PointFields, PointFlux, PointModel, PointState, PointTangent, QpId, QpState};
 use crate::material::remodelling::{from_sym6, to_sym6};
 use crate::material::{
-    cof, domain_error, idx, locate, solid_response, solid_response_at, solid_stresses, AtPoint, CompactionPenalty,
-    HolmesMow, Kinematics, Permeability, Remodelling, Tangent,
+    cof, domain_error, idx, locate, AtPoint, CompactionPenalty, HolmesMow, Kinematics, Permeability, Remodelling,
+    Solid, SolidLaw, Tangent,
 };
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
@@ -121,7 +121,7 @@ impl Biphasic {
         }
         let a_g = Vector3::from(g_vec_m_s2) * KG_M3_M_S2_TO_KPA_PER_UM;
         let id = Matrix3::identity();
-        let a0 = solid_response(&solid, penalty.as_ref(), &id, &id)?.a;
+        let a0 = Solid { hm: &solid, penalty: penalty.as_ref() }.response(&Kinematics::new(&id)?, &id)?.a;
         // K_dr = (1/9) δ_ij A_ijkl δ_kl = Φs (λ + 2µ/3) and M = A_zzzz = Φs (λ + 2µ) for the
         // isotropic linearisation A = Φs [λ δ_ij δ_kl + µ (δ_ik δ_jl + δ_il δ_jk)].
         let k_drained = (0..3).map(|i| (0..3).map(|k| a0[(idx(i, i), idx(k, k))]).sum::<f64>()).sum::<f64>() / 9.0;
@@ -160,15 +160,19 @@ impl Biphasic {
         self.rho_f_g
     }
 
+    /// The solid law: Holmes–Mow plus the penalty, if any.
+    fn solid_law(&self) -> Solid<'_> {
+        Solid { hm: &self.solid, penalty: self.penalty.as_ref() }
+    }
+
     /// Output fields at a point (uses Grad u, p, Grad p). Domain error as in `eval`.
     pub fn point_fields(&self, at: QpId, s: &PointState, h: QpState) -> Result<PointFields> {
         let k = self.kinematics(at, s, h, false)?;
-        let (_, s_sc) =
-            solid_stresses(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let (_, s_sc) = self.solid_law().stresses(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         let cauchy = k.kin.f * s_sc * k.kin.f.transpose() / k.kin.j;
         let cauchy_sc = 0.5 * (cauchy + cauchy.transpose());
         let dev = cauchy_sc - Matrix3::identity() * (cauchy_sc.trace() / 3.0);
-        let kt = self.perm.tensor_at(&k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let kt = self.perm.tensor(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         let w = kt * self.driving_gradient(&k, s);
         Ok(PointFields {
             j: k.kin.j,
@@ -316,9 +320,8 @@ impl PointModel for Biphasic {
     fn eval(&self, at: QpId, s: &PointState, h: QpState) -> Result<PointFlux> {
         let k = self.kinematics(at, s, h, false)?;
         let (rate, _) = self.rate(at, &k, s)?;
-        let (p_sc, _) =
-            solid_stresses(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
-        let kt = self.perm.tensor_at(&k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let (p_sc, _) = self.solid_law().stresses(&k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let kt = self.perm.tensor(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         Ok(PointFlux {
             stress: p_sc - k.kin.cof_f * s.p,
             body: self.body(&k),
@@ -331,8 +334,8 @@ impl PointModel for Biphasic {
     fn eval_tangent(&self, at: QpId, s: &PointState, h: QpState, shift: f64) -> Result<(PointFlux, PointTangent)> {
         let k = self.kinematics(at, s, h, true)?;
         let (rate, cof_l) = self.rate(at, &k, s)?;
-        let sc = solid_response_at(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
-        let (kt, dk) = self.perm.tensor_and_derivative_at(&k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let sc = self.solid_law().response(&k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let (kt, dk) = self.perm.tensor_and_derivative(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         let g = self.driving_gradient(&k, s);
         let flux = PointFlux { stress: sc.p - k.kin.cof_f * s.p, body: self.body(&k), rate, flux: kt * g };
 
@@ -708,7 +711,7 @@ mod tests {
                 // K(Q) = K(I); W = K(I) (Grad p − ϱf Qᵀ a_g), q = Q Q_ref = −Q W.
                 let k_ref = Permeability::new(3.7729, 0.6, 4.638, 0.0848, model)
                     .unwrap()
-                    .tensor(&Matrix3::identity(), &Matrix3::identity())
+                    .tensor(&Kinematics::new(&Matrix3::identity()).unwrap(), &Matrix3::identity())
                     .unwrap();
                 let w = k_ref * (gp - q.transpose() * m.fluid_weight());
                 assert!(rel(&r.flux, &w) < 1e-14);
