@@ -14,7 +14,7 @@ use crate::mesh::dist::{self, LocalMesh};
 use crate::mesh::partition;
 use crate::mesh::source::{mesh_file, read_mesh};
 use crate::mesh::Family;
-use crate::parallel::{agree, broadcast_vec};
+use crate::parallel::{agree, broadcast_vec, on_root};
 use crate::petsc::{options, DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
 use crate::physics::contact::{Drainage, PlateLoading, Plates, DEFAULT_SEAL_GAP};
@@ -56,9 +56,7 @@ pub(super) fn distribute_mesh(world: &SimpleCommunicator, scene: &LoadedScene) -
             ),
         });
     }
-    let mut part = Vec::new();
-    let r = if world.rank() == 0 { partition::partition(&mesh, size).map(|p| part = p) } else { Ok(()) };
-    agree(world, r)?;
+    let mut part = on_root(world, || partition::partition(&mesh, size))?.unwrap_or_default();
     broadcast_vec(world, 0, &mut part);
     let local = agree(world, dist::distribute(&mesh, &part, size, world.rank() as usize))?;
     Ok(Distributed { local, path, n_file_nodes: mesh.coords.len(), n_file_elems: mesh.cells.len() })

@@ -5,7 +5,7 @@
 use crate::error::{Error, Result};
 use crate::mesh::generate::BUILTIN_GEO;
 use crate::mesh::{gmsh, Family, Mesh};
-use crate::parallel::agree;
+use crate::parallel::path_from_root;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use std::collections::BTreeMap;
@@ -74,17 +74,9 @@ pub fn mesh_file(
         // Every rank stops here; rank 0, which reports, asks gmsh first.
         return Err(if world.rank() == 0 { unreadable(unknown) } else { unknown });
     }
-    let mut path = Vec::new();
-    let r = if world.rank() == 0 {
-        crate::mesh::generate::cached(&name, &source, &params, 2, &cache_dir())
-            .map(|p| path = p.to_string_lossy().into_owned().into_bytes())
-            .map_err(unreadable)
-    } else {
-        Ok(())
-    };
-    agree(world, r)?;
-    crate::parallel::broadcast_vec(world, 0, &mut path);
-    Ok(PathBuf::from(String::from_utf8_lossy(&path).into_owned()))
+    path_from_root(world, || {
+        crate::mesh::generate::cached(&name, &source, &params, 2, &cache_dir()).map_err(unreadable)
+    })
 }
 
 /// Ok if gmsh reads the `.geo` file `geo` (with the parameters set), else an error naming the
