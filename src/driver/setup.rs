@@ -257,12 +257,8 @@ fn straight_volume(mesh: &LocalMesh) -> f64 {
 
 /// `-poroplast_check_jacobian [eps]`.
 fn check_jacobian_option() -> Result<Option<f64>> {
-    Ok(match options::get_string("poroplast_check_jacobian")? {
-        Some(v) if v.is_empty() => Some(1e-7),
-        Some(v) => Some(v.parse().map_err(|_| {
-            Error::Solver(format!("-poroplast_check_jacobian {v}: expected a relative step like 1e-7"))
-        })?),
-        None => None,
+    solver::program_options::optional("poroplast_check_jacobian", Some(1e-7), "a relative step like 1e-7", |v| {
+        v.parse().ok()
     })
 }
 

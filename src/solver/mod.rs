@@ -30,6 +30,7 @@
 pub mod active_set;
 pub mod anderson;
 mod fields;
+pub mod program_options;
 mod rigid;
 pub mod woodbury;
 
@@ -123,23 +124,13 @@ pub fn policy(preset: &str, n_dofs: usize) -> Result<(Policy, String)> {
 /// Depth of the Anderson mixing of chord iterations ([`anderson`]; `-poroplast_anderson M`, 0:
 /// off).
 pub fn anderson_depth() -> Result<usize> {
-    const DEFAULT: usize = 2;
-    match options::get_string("poroplast_anderson")? {
-        None => Ok(DEFAULT),
-        Some(v) => {
-            v.parse().map_err(|_| Error::Solver(format!("-poroplast_anderson {v}: expected a non-negative integer")))
-        }
-    }
+    program_options::count("poroplast_anderson", 2)
 }
 
 /// Whether the u block's finest multigrid level is smoothed by SOR ([`finest_level_sor`]; on
 /// unless `-poroplast_finest_sor 0`).
 pub fn finest_sor_enabled() -> Result<bool> {
-    match options::get_string("poroplast_finest_sor")?.as_deref() {
-        None | Some("" | "1" | "true" | "yes") => Ok(true),
-        Some("0" | "false" | "no") => Ok(false),
-        Some(v) => Err(Error::Solver(format!("-poroplast_finest_sor {v}: expected 1 or 0"))),
-    }
+    program_options::switch("poroplast_finest_sor", true, "1 or 0")
 }
 
 /// Before each solve (a KSP pre-solve hook): with a fieldsplit whose first (u) block is GAMG,
@@ -233,22 +224,13 @@ pub fn set_default_options(preset: &str, n_dofs: usize) -> Result<Policy> {
     d("snes_rtol", "1e-8")?;
     d("snes_atol", "1e-10")?;
     d("snes_max_it", "25")?;
-    let int = |k: &str, dflt: usize| -> Result<usize> {
-        match options::get_string(k)? {
-            None => Ok(dflt),
-            Some(v) => v.parse().map_err(|_| Error::Solver(format!("-{k} {v}: expected a non-negative integer"))),
-        }
-    };
     let lag = Lag {
-        max_reuse: int("poroplast_pc_reuse", lag.max_reuse)?,
-        max_krylov: int("poroplast_pc_rebuild_its", lag.max_krylov)?,
-        max_changes: int("poroplast_pc_rebuild_changes", lag.max_changes)?,
-        chord: match options::get_string("poroplast_chord")? {
-            None => lag.chord,
-            Some(v) => v.parse().ok().filter(|c: &f64| (0.0..1.0).contains(c)).ok_or_else(|| {
-                Error::Solver(format!("-poroplast_chord {v}: expected a contraction factor in [0, 1)"))
-            })?,
-        },
+        max_reuse: program_options::count("poroplast_pc_reuse", lag.max_reuse)?,
+        max_krylov: program_options::count("poroplast_pc_rebuild_its", lag.max_krylov)?,
+        max_changes: program_options::count("poroplast_pc_rebuild_changes", lag.max_changes)?,
+        chord: program_options::value("poroplast_chord", lag.chord, "a contraction factor in [0, 1)", |v| {
+            v.parse().ok().filter(|c: &f64| (0.0..1.0).contains(c))
+        })?,
     };
     Ok(Policy { preset, lag })
 }
