@@ -273,7 +273,7 @@ impl<'w> Run<'w> {
         }
         let Distributed { local, path: mesh_path, n_file_nodes, n_file_elems } = distribute_mesh(world, scene)?;
         let dofs = DofMap::new(&local);
-        let (policy, mut solver_line) = solver::policy(s.solver.preset.as_deref().unwrap_or("auto"), dofs.n_global)?;
+        let (policy, mut solver_line) = solver::policy(s.solver.preset.unwrap_or_default(), dofs.n_global)?;
         let model = model_of(scene)?;
         // Degree 2 integrates the linear model exactly on straight elements; the finite-strain
         // model (exponential energy, curved elements) gets the 8-point degree-3 rule.

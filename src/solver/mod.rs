@@ -46,8 +46,17 @@ use crate::petsc::{options, Ksp, Mat, Snes, Vector};
 /// 47 613 dofs the contact ramp took 155 s direct against 317 s with fieldsplit).
 pub const DIRECT_MAX_DOFS: usize = 60_000;
 
-/// The presets a scene may name.
-pub const PRESETS: [&str; 4] = ["auto", "direct", "fieldsplit", "lu"];
+/// The linear-solver preset a scene names (`[solver] preset`; module docs).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Preset {
+    /// "direct" up to [`DIRECT_MAX_DOFS`], "fieldsplit" above.
+    #[default]
+    Auto,
+    Direct,
+    Fieldsplit,
+    Lu,
+}
 
 /// The linear solver chosen for a run.
 #[derive(Debug, Clone)]
@@ -111,9 +120,9 @@ pub fn check_tolerances(snes: &Snes) -> Result<()> {
 
 /// The preset's defaults (see [`set_default_options`]) and the run log's solver line (with the
 /// BLAS kernels MUMPS runs in).
-pub fn policy(preset: &str, n_dofs: usize) -> Result<(Policy, String)> {
+pub fn policy(preset: Preset, n_dofs: usize) -> Result<(Policy, String)> {
     let policy = set_default_options(preset, n_dofs)?;
-    let mut line = policy.describe(n_dofs, preset == "auto");
+    let mut line = policy.describe(n_dofs, preset == Preset::Auto);
     if let Some(k) = crate::petsc::blas::kernel() {
         let why = if std::env::var_os("OPENBLAS_CORETYPE").is_some() { " (OPENBLAS_CORETYPE)" } else { "" };
         line.push_str(&format!("; BLAS: OpenBLAS {k} kernels{why}"));
@@ -170,14 +179,13 @@ pub fn finest_level_sor(ksp: Ksp) -> Result<()> {
 }
 
 /// Sets the defaults of a preset (only options the user has not set) and returns the policy.
-pub fn set_default_options(preset: &str, n_dofs: usize) -> Result<Policy> {
+pub fn set_default_options(preset: Preset, n_dofs: usize) -> Result<Policy> {
     let d = |k: &str, v: &str| options::set_default(k, Some(v));
     let preset: &'static str = match preset {
-        "auto" if n_dofs <= DIRECT_MAX_DOFS => "direct",
-        "auto" | "fieldsplit" => "fieldsplit",
-        "direct" => "direct",
-        "lu" => "lu",
-        p => return Err(Error::Solver(format!("unknown solver preset \"{p}\" (use one of {PRESETS:?})"))),
+        Preset::Auto if n_dofs <= DIRECT_MAX_DOFS => "direct",
+        Preset::Auto | Preset::Fieldsplit => "fieldsplit",
+        Preset::Direct => "direct",
+        Preset::Lu => "lu",
     };
     let lag = match preset {
         "lu" => {
