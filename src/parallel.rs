@@ -1,12 +1,14 @@
 //! Making per-rank outcomes collective: if any rank fails, every rank returns an error (the
 //! failing rank its own, the others the first failure's message), so no rank is left waiting
-//! in a collective call while another has returned.
+//! in a collective call while another has returned. Also: work done by rank 0 alone
+//! ([`on_root`], [`path_from_root`]), broadcasts and reductions of small values.
 
 use crate::error::{Error, Result};
 use mpi::collective::SystemOperation;
 use mpi::datatype::Equivalence;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
+use std::path::{Path, PathBuf};
 
 /// All ranks agree on success; on failure the lowest failing rank's message is shared.
 pub fn agree<T>(world: &SimpleCommunicator, local: Result<T>) -> Result<T> {
@@ -25,6 +27,26 @@ pub fn agree<T>(world: &SimpleCommunicator, local: Result<T>) -> Result<T> {
         Err(e) => Err(e),
         Ok(_) => Err(Error::Elsewhere { rank: first, msg: String::from_utf8_lossy(&msg).into_owned() }),
     }
+}
+
+/// Runs `f` on rank 0 only, its outcome made collective ([`agree`]): rank 0's value (None on
+/// the other ranks), or its error on every rank.
+pub fn on_root<T>(world: &SimpleCommunicator, f: impl FnOnce() -> Result<T>) -> Result<Option<T>> {
+    let local = if world.rank() == 0 { f().map(Some) } else { Ok(None) };
+    agree(world, local)
+}
+
+/// Rank 0's `path` on every rank (the other ranks' is ignored), broadcast as its bytes.
+pub fn broadcast_path(world: &SimpleCommunicator, path: Option<&Path>) -> PathBuf {
+    let mut bytes = path.map(|p| p.to_string_lossy().into_owned().into_bytes()).unwrap_or_default();
+    broadcast_vec(world, 0, &mut bytes);
+    PathBuf::from(String::from_utf8_lossy(&bytes).into_owned())
+}
+
+/// The path of a file that rank 0 makes (`f`), on every rank; its error on every rank.
+pub fn path_from_root(world: &SimpleCommunicator, f: impl FnOnce() -> Result<PathBuf>) -> Result<PathBuf> {
+    let path = on_root(world, f)?;
+    Ok(broadcast_path(world, path.as_deref()))
 }
 
 /// Broadcasts a vector of unknown length from `root`.

@@ -15,7 +15,7 @@ use state::{Checkpoint, Counters, RunState};
 use crate::error::{Error, Result};
 use crate::io::recorder::{Observers, Recorder, StepRow};
 use crate::io::rundir;
-use crate::parallel::agree;
+use crate::parallel::{agree, on_root};
 use crate::petsc::{options, Petsc, Stage, Ts, Vector};
 use crate::physics::problem::PoroProblem;
 use crate::scene::LoadedScene;
@@ -314,12 +314,7 @@ impl<'w> Run<'w> {
     fn out_dir(&self) -> PathBuf {
         match &self.args.out {
             Some(o) => o.clone(),
-            None => {
-                let mut name =
-                    rundir::default_run_dir(&self.scene.scene.name).to_string_lossy().into_owned().into_bytes();
-                crate::parallel::broadcast_vec(self.world, 0, &mut name);
-                PathBuf::from(String::from_utf8_lossy(&name).into_owned())
-            }
+            None => crate::parallel::broadcast_path(self.world, Some(&rundir::default_run_dir(&self.scene.scene.name))),
         }
     }
 
@@ -389,26 +384,21 @@ impl<'w> Run<'w> {
         // Rank 0 writes; every rank learns whether it could (else the others would go on into
         // the collective creation of the fields file, and wait there).
         let options = options::dump()?;
-        let written = if self.rank0() {
-            (|| -> Result<()> {
-                // An earlier run's checkpoints and status (--force) are not this run's.
-                let old = dir.join(state::DIR);
-                if old.is_dir() {
-                    std::fs::remove_dir_all(&old).map_err(|e| Error::io(&old, e))?;
-                }
-                let status = dir.join("status.txt");
-                if status.exists() {
-                    std::fs::remove_file(&status).map_err(|e| Error::io(&status, e))?;
-                }
-                let scene = format!("# resolved from {}\n{}", self.scene.source, self.scene.to_toml()?);
-                rundir::write_text(dir, "scene.toml", &scene)?;
-                rundir::write_text(dir, "petsc_options.txt", &(options + "\n"))?;
-                self.write_record(dir)
-            })()
-        } else {
-            Ok(())
-        };
-        agree(self.world, written)?;
+        on_root(self.world, || {
+            // An earlier run's checkpoints and status (--force) are not this run's.
+            let old = dir.join(state::DIR);
+            if old.is_dir() {
+                std::fs::remove_dir_all(&old).map_err(|e| Error::io(&old, e))?;
+            }
+            let status = dir.join("status.txt");
+            if status.exists() {
+                std::fs::remove_file(&status).map_err(|e| Error::io(&status, e))?;
+            }
+            let scene = format!("# resolved from {}\n{}", self.scene.source, self.scene.to_toml()?);
+            rundir::write_text(dir, "scene.toml", &scene)?;
+            rundir::write_text(dir, "petsc_options.txt", &(options + "\n"))?;
+            self.write_record(dir)
+        })?;
         let obs = self.take_observers(dir)?;
         Recorder::create(self.world, dir, &self.ts.problem().disc.mesh, obs)
     }
@@ -417,8 +407,7 @@ impl<'w> Run<'w> {
     /// the checkpoint's step (later rows and steps, from after the checkpoint, are dropped).
     fn reopen_output(&mut self, dir: &Path) -> Result<Recorder> {
         // The options given to `resume` join the record, for the next resume.
-        let written = if self.rank0() { self.write_record(dir) } else { Ok(()) };
-        agree(self.world, written)?;
+        on_root(self.world, || self.write_record(dir))?;
         let obs = self.take_observers(dir)?;
         let counts = self.resumed.ok_or_else(|| {
             Error::io(dir, "the run directory was reopened for a resume, but no checkpoint was loaded")
@@ -572,8 +561,7 @@ impl<'w> Run<'w> {
             Err(e @ Error::Stopped(_)) => format!("{e}\n"),
             Err(e) => format!("failed after step {} (t = {}): {e}\n", pg.step, pg.t),
         };
-        let written = if self.rank0() { rundir::write_text(&rec.dir, "status.txt", &status) } else { Ok(()) };
-        agree(self.world, written)?;
+        on_root(self.world, || rundir::write_text(&rec.dir, "status.txt", &status))?;
         self.finish(&rec.dir, &pg, t_start, r.is_ok())?;
         r.map(|()| rec.dir)
     }
@@ -651,12 +639,9 @@ impl<'w> Run<'w> {
         if !saved && periodic {
             self.ts.restart_nonlinear_solver();
         }
-        let written = if self.rank0() { state.write(&rec.dir).map(Some) } else { Ok(None) };
-        let path = agree(self.world, written)?;
-        let mut name = path.map(|p| p.to_string_lossy().into_owned().into_bytes()).unwrap_or_default();
-        crate::parallel::broadcast_vec(self.world, 0, &mut name);
+        let path = crate::parallel::path_from_root(self.world, || state.write(&rec.dir))?;
         pg.checkpointed = Some(Instant::now());
-        Ok(PathBuf::from(String::from_utf8_lossy(&name).into_owned()))
+        Ok(path)
     }
 
     /// Sets the run state of a checkpoint: U, the velocity, the qp state, t and the schedule.
@@ -842,8 +827,7 @@ impl<'w> Run<'w> {
             total,
             rss
         );
-        let written = if self.rank0() { rundir::write_text(dir, "timings.txt", &summary) } else { Ok(()) };
-        agree(self.world, written)?;
+        on_root(self.world, || rundir::write_text(dir, "timings.txt", &summary))?;
         if !completed {
             return Ok(());
         }

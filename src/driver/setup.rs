@@ -14,7 +14,7 @@ use crate::mesh::dist::{self, LocalMesh};
 use crate::mesh::partition;
 use crate::mesh::source::{mesh_file, read_mesh};
 use crate::mesh::Family;
-use crate::parallel::{agree, broadcast_vec};
+use crate::parallel::{agree, broadcast_vec, on_root};
 use crate::petsc::{options, DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
 use crate::physics::contact::{Drainage, PlateLoading, Plates, DEFAULT_SEAL_GAP};
@@ -42,8 +42,9 @@ pub(super) struct Distributed {
 
 /// Reads (or generates) the scene's mesh, partitions it on rank 0 and distributes it.
 pub(super) fn distribute_mesh(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<Distributed> {
-    let path = mesh_file(world, scene)?;
-    let mesh = agree(world, read_mesh(&path, scene))?;
+    let spec = &scene.scene.mesh;
+    let path = mesh_file(world, scene.mesh_source(), &spec.params, &scene.source)?;
+    let mesh = agree(world, read_mesh(&path, spec.geometry.family(), &spec.mirror))?;
     let size = world.size() as usize;
     if mesh.cells.len() < size {
         return Err(Error::Mesh {
@@ -55,9 +56,7 @@ pub(super) fn distribute_mesh(world: &SimpleCommunicator, scene: &LoadedScene) -
             ),
         });
     }
-    let mut part = Vec::new();
-    let r = if world.rank() == 0 { partition::partition(&mesh, size).map(|p| part = p) } else { Ok(()) };
-    agree(world, r)?;
+    let mut part = on_root(world, || partition::partition(&mesh, size))?.unwrap_or_default();
     broadcast_vec(world, 0, &mut part);
     let local = agree(world, dist::distribute(&mesh, &part, size, world.rank() as usize))?;
     Ok(Distributed { local, path, n_file_nodes: mesh.coords.len(), n_file_elems: mesh.cells.len() })
@@ -258,12 +257,8 @@ fn straight_volume(mesh: &LocalMesh) -> f64 {
 
 /// `-poroplast_check_jacobian [eps]`.
 fn check_jacobian_option() -> Result<Option<f64>> {
-    Ok(match options::get_string("poroplast_check_jacobian")? {
-        Some(v) if v.is_empty() => Some(1e-7),
-        Some(v) => Some(v.parse().map_err(|_| {
-            Error::Solver(format!("-poroplast_check_jacobian {v}: expected a relative step like 1e-7"))
-        })?),
-        None => None,
+    solver::program_options::optional("poroplast_check_jacobian", Some(1e-7), "a relative step like 1e-7", |v| {
+        v.parse().ok()
     })
 }
 
@@ -278,7 +273,7 @@ impl<'w> Run<'w> {
         }
         let Distributed { local, path: mesh_path, n_file_nodes, n_file_elems } = distribute_mesh(world, scene)?;
         let dofs = DofMap::new(&local);
-        let (policy, mut solver_line) = solver::policy(s.solver.preset.as_deref().unwrap_or("auto"), dofs.n_global)?;
+        let (policy, mut solver_line) = solver::policy(s.solver.preset.unwrap_or_default(), dofs.n_global)?;
         let model = model_of(scene)?;
         // Degree 2 integrates the linear model exactly on straight elements; the finite-strain
         // model (exponential energy, curved elements) gets the 8-point degree-3 rule.

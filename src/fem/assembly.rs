@@ -3,15 +3,13 @@
 //! [`CellKernel`]) and scatters the result. Residual, Jacobian, qp-state commit, post-processing
 //! and the compaction check are bodies of this loop.
 
-use super::cell::{CellShape, Tet10, Tri6Axi, MAX_DOF, MAX_NODES, MAX_VERTICES};
+use super::cell::{CellShape, Tet10, Tri6Axi};
 use super::dofmap::DofMap;
-use super::element::Tabulation;
-use super::kernel::{
-    CellKernel, ElementDofs, ElementInput, ElementKernel, ElementMatrix, ElementValues, Stabilisation,
-};
+use super::element::{ElementDofs, ElementMatrix, Tabulation, MAX_DOF, MAX_NODES, MAX_VERTICES};
+use super::kernel::{CellKernel, ElementInput, ElementKernel, ElementValues, Stabilisation};
 use super::point::{PointModel, QpState};
 use super::qp_store::QpStore;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::mesh::dist::LocalMesh;
 use crate::mesh::Family;
 use crate::petsc::{Int, Mat};
@@ -77,7 +75,8 @@ impl Discretization {
     }
 
     /// The one element loop: element e's local dofs and kernel input at the local state (u, u̇)
-    /// of a step of size dt go to `body`; an error names the cell of the file.
+    /// of a step of size dt go to `body`; an error names the cell of the file (the input's
+    /// `elem`, which the model puts in its domain errors).
     pub fn each_element(
         &self,
         u: &[f64],
@@ -91,7 +90,7 @@ impl Discretization {
             let d = self.element_dofs(e);
             let h = QpState { committed: self.qp_state.element(e), evolve };
             let input = self.gather(e, &d, u, udot, dt, h);
-            body(e, &d, &input).map_err(|err| locate(err, e, &self.mesh))?;
+            body(e, &d, &input)?;
         }
         Ok(())
     }
@@ -229,14 +228,6 @@ impl Discretization {
             v.p[m] = u[dofs[nc * nn + m]];
             v.pdot[m] = udot[dofs[nc * nn + m]];
         }
-        ElementInput { elem: e, coords, values: v, dt, qp_state }
-    }
-}
-
-/// Fills in the cell of a material domain error.
-pub fn locate(err: Error, e: usize, mesh: &LocalMesh) -> Error {
-    match err {
-        Error::Domain { point, j, msg, .. } => Error::Domain { cell: mesh.cell_original[e] as usize, point, j, msg },
-        other => other,
+        ElementInput { elem: self.mesh.cell_original[e] as usize, coords, values: v, dt, qp_state }
     }
 }

@@ -11,14 +11,9 @@
 //! first [`CellShape::NN`], [`CellShape::NV`], [`CellShape::NC`] entries. The kernel is generic
 //! over the family, so these are constants of the compiled loops.
 
-use super::element::{tet10, tet10_geometry, tri6, Tabulation, TET10_EDGES, TRI6_EDGES};
+use super::element::{p1_values, tet10_geometry, Tabulation, MAX_NODES, MAX_VERTICES, TET10_EDGES, TRI6_EDGES};
 use crate::error::{Error, Result};
 use crate::mesh::Family;
-
-/// Largest number of nodes, vertices and element dofs of a family.
-pub const MAX_NODES: usize = 10;
-pub const MAX_VERTICES: usize = 4;
-pub const MAX_DOF: usize = 34;
 
 /// The map of a cell at one quadrature point.
 #[derive(Debug, Clone, Copy)]
@@ -42,7 +37,8 @@ pub trait CellShape: Copy + Default + 'static {
     const NN: usize = Self::FAMILY.cell_nodes();
     const NV: usize = Self::FAMILY.cell_vertices();
     const NC: usize = Self::FAMILY.components();
-    /// u dofs and all dofs of a cell (u of node a, component c at NC a + c, then p of vertex m).
+    /// u dofs and all dofs of a cell (the layout of `element`: u of node a, component c at
+    /// NC a + c, then p of vertex m).
     const NU: usize = Self::NC * Self::NN;
     const NDOF: usize = Self::NU + Self::NV;
     /// Whether points carry the hoop entries.
@@ -136,30 +132,6 @@ impl CellShape for Tri6Axi {
 
     fn h2(area: f64) -> f64 {
         4.0 * area / 3f64.sqrt()
-    }
-}
-
-/// P1 values (barycentric coordinates) of a family's cell at the reference point ξ.
-#[inline]
-pub fn p1_values(family: Family, xi: &[f64; 3]) -> [f64; MAX_VERTICES] {
-    match family {
-        Family::Tet10 => [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]],
-        Family::Tri6 => [1.0 - xi[0] - xi[1], xi[0], xi[1], 0.0],
-    }
-}
-
-/// P2 values and reference gradients of a family's cell at ξ, in the 10-slot layout (a
-/// triangle's 6 functions first, the other slots zero; its gradients (∂/∂ξ, ∂/∂η, 0)).
-pub fn p2_values(family: Family, xi: &[f64; 3]) -> ([f64; MAX_NODES], [[f64; 3]; MAX_NODES]) {
-    match family {
-        Family::Tet10 => tet10(xi),
-        Family::Tri6 => {
-            let (n, dn) = tri6(&[xi[0], xi[1]]);
-            (
-                std::array::from_fn(|a| if a < 6 { n[a] } else { 0.0 }),
-                std::array::from_fn(|a| if a < 6 { [dn[a][0], dn[a][1], 0.0] } else { [0.0; 3] }),
-            )
-        }
     }
 }
 

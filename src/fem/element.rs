@@ -1,20 +1,44 @@
 //! Reference shape functions (Gmsh node order) and the isoparametric maps of curved 10-node
-//! tetrahedra and 6-node triangles: x(ξ) = Σ N_a(ξ) x_a, ∇_X N_a = J⁻ᵀ ∇_ξ N_a, dV = det J dξ.
+//! tetrahedra and 6-node triangles: x(ξ) = Σ N_a(ξ) x_a, ∇_X N_a = J⁻ᵀ ∇_ξ N_a, dV = det J dξ;
+//! and the element's dof layout.
+//!
+//! Element dof layout: u of node a, component c at NC a + c (NC = 3 in 3-D, 2 on the meridian),
+//! then p of vertex m at NU + m (NU = NC × nodes); see `cell::CellShape`. Arrays are sized for the
+//! largest family (10 nodes, 4 vertices, 34 dofs); a family uses the leading entries.
 
 use super::quadrature::Quadrature;
 use crate::error::{Error, Result};
+use crate::mesh::Family;
 pub use crate::mesh::{TET10_EDGES, TRI6_EDGES};
 
-const DL: [[f64; 3]; 4] = [[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// Largest number of nodes, vertices and element dofs of a family.
+pub const MAX_NODES: usize = 10;
+pub const MAX_VERTICES: usize = 4;
+pub const MAX_DOF: usize = 34;
 
-/// P1 on the tetrahedron: barycentric coordinates and their (constant) gradients.
-pub fn tet4(xi: &[f64; 3]) -> ([f64; 4], [[f64; 3]; 4]) {
-    ([1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]], DL)
+/// Local dofs of an element (the first `NDOF` of its family).
+pub type ElementDofs = [usize; MAX_DOF];
+/// An element matrix (the leading NDOF × NDOF block of its family).
+pub type ElementMatrix = [[f64; MAX_DOF]; MAX_DOF];
+
+/// Reference gradients of the P1 functions (barycentric coordinates) of the tetrahedron ...
+const DL_TET: [[f64; 3]; 4] = [[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// ... and of the triangle.
+const DL_TRI: [[f64; 2]; 3] = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
+
+/// P1 values (barycentric coordinates) of a family's cell at the reference point ξ (a
+/// triangle's in the first 3 slots; its ξ[2] is ignored).
+#[inline]
+pub fn p1_values(family: Family, xi: &[f64; 3]) -> [f64; MAX_VERTICES] {
+    match family {
+        Family::Tet10 => [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]],
+        Family::Tri6 => [1.0 - xi[0] - xi[1], xi[0], xi[1], 0.0],
+    }
 }
 
 /// P2 on the tetrahedron: N_i = L_i (2 L_i − 1) at vertices, 4 L_a L_b on edges.
 pub fn tet10(xi: &[f64; 3]) -> ([f64; 10], [[f64; 3]; 10]) {
-    let (l, dl) = tet4(xi);
+    let (l, dl) = (p1_values(Family::Tet10, xi), DL_TET);
     let mut n = [0.0; 10];
     let mut dn = [[0.0; 3]; 10];
     for i in 0..4 {
@@ -32,14 +56,9 @@ pub fn tet10(xi: &[f64; 3]) -> ([f64; 10], [[f64; 3]; 10]) {
     (n, dn)
 }
 
-/// P1 on the triangle.
-pub fn tri3(xi: &[f64; 2]) -> ([f64; 3], [[f64; 2]; 3]) {
-    ([1.0 - xi[0] - xi[1], xi[0], xi[1]], [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]])
-}
-
 /// P2 on the triangle.
 pub fn tri6(xi: &[f64; 2]) -> ([f64; 6], [[f64; 2]; 6]) {
-    let (l, dl) = tri3(xi);
+    let (l, dl) = (p1_values(Family::Tri6, &[xi[0], xi[1], 0.0]), DL_TRI);
     let mut n = [0.0; 6];
     let mut dn = [[0.0; 2]; 6];
     for i in 0..3 {
@@ -55,6 +74,21 @@ pub fn tri6(xi: &[f64; 2]) -> ([f64; 6], [[f64; 2]; 6]) {
         }
     }
     (n, dn)
+}
+
+/// P2 values and reference gradients of a family's cell at ξ, in the 10-slot layout (a
+/// triangle's 6 functions first, the other slots zero; its gradients (∂/∂ξ, ∂/∂η, 0)).
+pub fn p2_values(family: Family, xi: &[f64; 3]) -> ([f64; MAX_NODES], [[f64; 3]; MAX_NODES]) {
+    match family {
+        Family::Tet10 => tet10(xi),
+        Family::Tri6 => {
+            let (n, dn) = tri6(&[xi[0], xi[1]]);
+            (
+                std::array::from_fn(|a| if a < 6 { n[a] } else { 0.0 }),
+                std::array::from_fn(|a| if a < 6 { [dn[a][0], dn[a][1], 0.0] } else { [0.0; 3] }),
+            )
+        }
+    }
 }
 
 /// Shape values and reference gradients at every point of a rule, computed once.
@@ -82,9 +116,9 @@ pub fn tabulate_tri6(q: &Quadrature) -> Tabulation<6> {
 }
 
 /// The cell functions of a family at every point of a rule, in the kernel's 10-slot layout
-/// (`cell::p2_values`).
-pub fn tabulate_cell(family: crate::mesh::Family, q: &Quadrature) -> Tabulation<10> {
-    let (n, dn) = q.points.iter().map(|p| super::cell::p2_values(family, p)).unzip();
+/// ([`p2_values`]).
+pub fn tabulate_cell(family: Family, q: &Quadrature) -> Tabulation<10> {
+    let (n, dn) = q.points.iter().map(|p| p2_values(family, p)).unzip();
     Tabulation { n, dn, weights: q.weights.clone() }
 }
 

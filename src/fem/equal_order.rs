@@ -13,8 +13,7 @@
 //! Loads on mid-edge nodes move to the vertices the same way ([`tie_loads`]). Contact acts on
 //! mid-edge nodes, so the plates refuse this element.
 
-use super::cell::MAX_DOF as NDOF;
-use super::kernel::ElementMatrix;
+use super::element::{ElementMatrix, MAX_DOF as NDOF};
 use crate::mesh::dist::LocalMesh;
 use crate::mesh::TET10_EDGES;
 

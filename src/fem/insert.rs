@@ -8,9 +8,8 @@
 //! nodes × (10 u column nodes + 4 p columns) = 140 offsets (6 × 9 on a meridian triangle). Rows owned by another rank (elements on the
 //! partition boundary) still go through `MatSetValues`, which sends them to their owner.
 
-use super::cell::{MAX_DOF, MAX_NODES, MAX_VERTICES};
 use super::dofmap::DofMap;
-use super::kernel::{ElementDofs, ElementMatrix};
+use super::element::{ElementDofs, ElementMatrix, MAX_DOF, MAX_NODES, MAX_VERTICES};
 use crate::error::{Error, Result};
 use crate::mesh::Family;
 use crate::petsc::{CsrBlock, Int, LocalCsr, Mat};

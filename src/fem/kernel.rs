@@ -13,27 +13,23 @@
 //! [`ElementKernel::stab`]) and the element block of the fixed-stress Schur approximation
 //! Ŝ = ∫ ∇L_m · (∂W/∂Grad p) ∇L_n + (shift/K_dr) L_m L_n dV, which stays spectrally close to
 //! the true Schur complement as Δt → 0 and as the conductivity → 0.
-//! Element dof order: u of node a, component c at NC a + c, then p of vertex m at NU + m
-//! (`CellShape`); arrays are sized for the largest family (`MAX_DOF`).
+//! Element dofs in the layout of `fem::element` (u of node a, component c at NC a + c, then p of
+//! vertex m at NU + m), arrays sized for the largest family (`MAX_DOF`).
 
-use super::cell::{p1_gradients, CellShape, MAX_DOF, MAX_NODES, MAX_VERTICES};
-use super::element::Tabulation;
+use super::cell::{p1_gradients, CellShape};
+use super::element::{ElementMatrix, Tabulation, MAX_DOF, MAX_NODES, MAX_VERTICES};
 use super::equal_order;
-use super::point::{ij, PointFlux, PointModel, PointState, QpId, QpState};
+use super::point::{PointFlux, PointModel, PointState, QpId, QpState};
 use crate::error::Result;
+use crate::material::idx;
 use nalgebra::{Matrix3, Vector3};
 use std::marker::PhantomData;
 
-/// Local dofs of an element (the first `NDOF` of its family).
-pub type ElementDofs = [usize; MAX_DOF];
-/// An element matrix (the leading NDOF × NDOF block of its family).
-pub type ElementMatrix = [[f64; MAX_DOF]; MAX_DOF];
-
 /// θθ in the flattened index of a second-order tensor: where the hoop entries live.
-const THETA: usize = ij(1, 1);
+const THETA: usize = idx(1, 1);
 
-/// What the kernel needs of one element: its number (for messages), node coordinates, nodal
-/// values, the step size and the committed qp state of its points.
+/// What the kernel needs of one element: its number in the mesh file (for messages), node
+/// coordinates, nodal values, the step size and the committed qp state of its points.
 #[derive(Debug, Clone, Copy)]
 pub struct ElementInput<'a> {
     pub elem: usize,
@@ -68,12 +64,12 @@ struct Point {
 
 impl Point {
     /// Σ_j T[(i, j)] ∂N_a/∂X_j (+ T_θθ N_a / R for the radial component on the meridian): a row
-    /// of a tensor T (flattened with `ij`, `t(ij)`) tested with the virtual gradient of N_a e_i.
+    /// of a tensor T (flattened with `idx`, `t(idx(i, j))`) tested with the virtual gradient of N_a e_i.
     #[inline]
     fn test<C: CellShape>(&self, a: usize, i: usize, t: impl Fn(usize) -> f64) -> f64 {
         let mut s = 0.0;
         for j in 0..3 {
-            s += t(ij(i, j)) * self.dn[a][j];
+            s += t(idx(i, j)) * self.dn[a][j];
         }
         if C::AXI && i == 0 {
             s += t(THETA) * self.n2[a] * self.inv_r;
@@ -453,11 +449,11 @@ impl<C: CellShape> CellKernel for ElementKernel<'_, C> {
                     for l in 0..3 {
                         let d = dn[b][l];
                         for row in 0..9 {
-                            tb[row][kk] += t.dstress_du[(row, ij(k_ax, l))] * d;
+                            tb[row][kk] += t.dstress_du[(row, idx(k_ax, l))] * d;
                         }
                         for i in 0..3 {
-                            bb[i][kk] += t.dbody_du[(i, ij(k_ax, l))] * d;
-                            wb[i][kk] += t.dflux_du[(i, ij(k_ax, l))] * d;
+                            bb[i][kk] += t.dbody_du[(i, idx(k_ax, l))] * d;
+                            wb[i][kk] += t.dflux_du[(i, idx(k_ax, l))] * d;
                         }
                         rb[kk] += t.drate_du[(k_ax, l)] * d;
                     }

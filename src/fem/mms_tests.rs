@@ -13,9 +13,9 @@
 //! weights and the axis condition are all exercised.
 
 use super::assembly::Discretization;
-use super::cell::{CellShape, Tet10, Tri6Axi, MAX_NODES};
+use super::cell::{CellShape, Tet10, Tri6Axi};
 use super::dofmap::DofMap;
-use super::element::tabulate_cell;
+use super::element::{tabulate_cell, MAX_NODES};
 use super::kernel::Stabilisation;
 use super::qp_store::QpStore;
 use super::quadrature;

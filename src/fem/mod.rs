@@ -4,7 +4,7 @@
 //!   post-processing);
 //! - `cell`: the two cell families (10-node tetrahedron, 6-node meridian triangle) as types;
 //! - `dofmap`: the distributed P2–P1 dof layout (owned blocks, ghosts, u and p index sets);
-//! - `element`: reference shape functions and isoparametric maps;
+//! - `element`: reference shape functions, isoparametric maps and the element dof layout;
 //! - `equal_order`: equal-order P1–P1 (mid-edge nodes tied to their edge), the unstable contrast;
 //! - `insert`: fast insertion of element Jacobians at precomputed positions in the matrix;
 //! - `kernel`: element residual and Jacobian of the weak form for either cell family;

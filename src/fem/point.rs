@@ -20,12 +20,6 @@
 use crate::error::Result;
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
-/// Row-major flattening of a second-order tensor index pair: (i, j) → 3 i + j.
-#[inline]
-pub const fn ij(i: usize, j: usize) -> usize {
-    3 * i + j
-}
-
 /// The committed qp state of a model at one point and whether it evolves over the step.
 #[derive(Debug, Clone, Copy)]
 pub struct QpState<'a> {
@@ -41,7 +35,8 @@ impl QpState<'_> {
     pub const NONE: QpState<'static> = QpState { committed: &[], evolve: false };
 }
 
-/// Which quadrature point is being evaluated (local element, point within it).
+/// Which quadrature point is being evaluated (the element's index in the mesh file, the point
+/// within it): what a domain error names (`material::locate`).
 #[derive(Debug, Clone, Copy)]
 pub struct QpId {
     pub elem: usize,
@@ -73,7 +68,8 @@ pub struct PointFlux {
 }
 
 /// Derivatives of [`PointFlux`] with respect to the unknowns. Indices of Grad u are flattened
-/// with [`ij`]; `drate` already includes the time-derivative shift.
+/// row-major with [`crate::material::idx`] (the constitutive tangents' map); `drate` already
+/// includes the time-derivative shift.
 #[derive(Debug, Clone, Copy)]
 pub struct PointTangent {
     /// ∂P_ij/∂(Grad u)_kl

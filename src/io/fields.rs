@@ -69,7 +69,7 @@ use mpi::traits::*;
 use crate::error::{Error, Result};
 use crate::io::fmt_real;
 use crate::io::rundir::write_atomically;
-use crate::parallel::agree;
+use crate::parallel::{agree, on_root};
 
 /// Name of the HDF5 file inside the run directory.
 pub const H5_NAME: &str = "fields.h5";
@@ -645,8 +645,7 @@ impl FieldFile {
     /// Copies the file as it stands after its last step (flushed) to `to` (collective: rank 0
     /// copies it to a temporary name and renames it over `to`).
     pub fn backup(&self, to: &Path) -> Result<()> {
-        let r = if self.comm.rank() == 0 { copy_atomically(&self.h5_path, to) } else { Ok(()) };
-        agree(&self.comm, r)
+        on_root(&self.comm, || copy_atomically(&self.h5_path, to)).map(|_| ())
     }
 
     /// Flushes and closes the file (collective), reporting errors that `Drop` would swallow.
@@ -662,8 +661,7 @@ impl FieldFile {
     fn flush_and_index(&mut self) -> Result<()> {
         let r = self.file.flush().map_err(|e| h5err(&self.h5_path, "cannot flush", e));
         agree(&self.comm, r)?;
-        let r = if self.comm.rank() == 0 { self.write_xdmf() } else { Ok(()) };
-        agree(&self.comm, r)
+        on_root(&self.comm, || self.write_xdmf()).map(|_| ())
     }
 
     fn data_item(&self, dims: &str, number_type: &str, h5_object: &str) -> String {

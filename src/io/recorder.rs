@@ -97,8 +97,7 @@ impl Recorder {
             match FieldFile::reopen(dir, world, &om, fields) {
                 Ok(f) => Some(f),
                 Err(e) if crate::parallel::all(world, backup.is_file()) => {
-                    let kept = if world.rank() == 0 { restore_backup(dir, backup).map(Some) } else { Ok(None) };
-                    let kept = crate::parallel::agree(world, kept)?;
+                    let kept = crate::parallel::on_root(world, || restore_backup(dir, backup))?;
                     warning = Some(format!(
                         "{e}; continuing from the copy taken at the checkpoint ({}){}",
                         backup.display(),

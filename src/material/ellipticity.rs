@@ -132,8 +132,8 @@ pub fn uniaxial_stress_tension_limit(law: &HolmesMow) -> Option<f64> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::test_util::Rng;
-    use super::super::{solid_response, CompactionPenalty};
+    use super::super::test_util::{kin, Rng};
+    use super::super::{CompactionPenalty, Solid, SolidLaw, SolidResponse};
     use super::*;
 
     const NUS: [f64; 5] = [0.2, 0.35, 0.4, 0.45, 0.49];
@@ -145,12 +145,12 @@ mod tests {
 
     /// The independent reference: the sampled acoustic tensor of the law's tangent.
     fn sampled(law: &HolmesMow, f: &Matrix3<f64>, bp: &Matrix3<f64>) -> f64 {
-        min_acoustic_eigenvalue(&law.first_pk_and_tangent(f, bp).unwrap().1)
+        min_acoustic_eigenvalue(&law.response(&kin(f), bp).unwrap().a)
     }
 
     /// e = 2 Φs α0 e^f from the energy Ψ = Φs α0 (e^f − 1).
     fn prefactor(law: &HolmesMow, f: &Matrix3<f64>) -> f64 {
-        2.0 * (law.energy(f, &ID).unwrap() + law.phi_s * law.alpha0)
+        2.0 * (law.energy(&kin(f), &ID).unwrap() + law.phi_s * law.alpha0)
     }
 
     /// Smallest eigenvalue of C = FᵀF.
@@ -180,7 +180,8 @@ mod tests {
     fn lateral_stretch(law: &HolmesMow, axial: f64) -> f64 {
         let mut l: f64 = 1.0;
         for _ in 0..50 {
-            let (p, a) = law.first_pk_and_tangent(&Matrix3::from_diagonal(&Vector3::new(l, l, axial)), &ID).unwrap();
+            let SolidResponse { p, a, .. } =
+                law.response(&kin(&Matrix3::from_diagonal(&Vector3::new(l, l, axial))), &ID).unwrap();
             let step = p[(0, 0)] / (a[(idx(0, 0), idx(0, 0))] + a[(idx(0, 0), idx(1, 1))]);
             l -= step;
             if step.abs() < 1e-15 {
@@ -219,8 +220,8 @@ mod tests {
                 let f = f * (0.65 / f.determinant()).cbrt();
                 let eig = (f.transpose() * f).symmetric_eigen();
                 let e = prefactor(&law, &f);
-                let alone = law.first_pk_and_tangent(&f, &ID).unwrap().1;
-                let with_penalty = solid_response(&law, Some(&pen), &f, &ID).unwrap().a;
+                let alone = law.response(&kin(&f), &ID).unwrap().a;
+                let with_penalty = Solid { hm: &law, penalty: Some(&pen) }.response(&kin(&f), &ID).unwrap().a;
                 assert!((with_penalty - alone).norm() > 1.0, "penalty inactive");
                 for tangent in [alone, with_penalty] {
                     for (a, b, c) in [(0, 1, 2), (1, 0, 2), (0, 2, 1), (2, 0, 1), (1, 2, 0), (2, 1, 0)] {
@@ -259,7 +260,7 @@ mod tests {
                 };
                 let (e, cm) = (prefactor(&law, &f), c_min(&f));
                 let exact = e * (law.alpha1 + law.alpha2 * cm);
-                let a = law.first_pk_and_tangent(&f, &ID).unwrap().1;
+                let a = law.response(&kin(&f), &ID).unwrap().a;
                 let s = min_acoustic_eigenvalue(&a);
                 assert!(s >= exact - 1e-12 * a.norm(), "nu = {nu}: sampled {s} below the exact {exact}");
                 let gap = (s - exact) / (e * law.alpha2);
@@ -407,7 +408,7 @@ mod tests {
         // Linear elasticity: Q(N) = µ I + (λ + µ) N ⊗ N, smallest eigenvalue µ = Φs µ_solid, and
         // the closed form e (α1 + α2) = 2 Φs α0 (α1 + α2) = Φs µ.
         let law = law(3.0, 0.45);
-        let a = law.first_pk_and_tangent(&ID, &ID).unwrap().1;
+        let a = law.response(&kin(&ID), &ID).unwrap().a;
         assert!((min_acoustic_eigenvalue(&a) - 0.6 * 3.0).abs() < 1e-9);
         assert!((2.0 * 0.6 * law.alpha0 * (law.alpha1 + law.alpha2) - 0.6 * 3.0).abs() < 1e-12);
     }
@@ -424,7 +425,7 @@ mod tests {
             for _ in 0..300 {
                 let f = random_f(&mut rng, -0.6, 1.0);
                 let c = f.transpose() * f;
-                let a = law.first_pk_and_tangent(&f, &ID).unwrap().1;
+                let a = law.response(&kin(&f), &ID).unwrap().a;
                 let s = min_acoustic_eigenvalue(&a);
                 match is_strongly_elliptic(&law, &c) {
                     Some(true) => {

@@ -69,6 +69,8 @@ pub struct Kinematics {
     pub ln_j: f64,
     /// F⁻¹.
     pub f_inv: Matrix3<f64>,
+    /// cof F = J F⁻ᵀ (from the entries of F, see [`cof`]).
+    pub cof_f: Matrix3<f64>,
     /// C = FᵀF.
     pub c: Matrix3<f64>,
     /// C − I = H + Hᵀ + HᵀH with H = F − I (= 2E, no cancellation near F = I).
@@ -91,26 +93,29 @@ impl Kinematics {
         if j <= 0.0 {
             return Err(domain_error(j, "J <= 0 (inverted element)"));
         }
-        // F⁻¹ = adj(F)/J; adj(F)_ij = cofactor(F)_ji.
-        let inv_j = 1.0 / j;
-        let mut f_inv = Matrix3::zeros();
-        for i in 0..3 {
-            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-            for k in 0..3 {
-                let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
-                f_inv[(k, i)] = (f[(i1, k1)] * f[(i2, k2)] - f[(i1, k2)] * f[(i2, k1)]) * inv_j;
-            }
-        }
+        // F⁻¹ = adj(F)/J = (cof F)ᵀ/J.
+        let cof_f = cof(f);
+        let f_inv = cof_f.transpose() * (1.0 / j);
         Ok(Kinematics {
             f: *f,
             j,
             ln_j: j_minus_1.ln_1p(),
             f_inv,
+            cof_f,
             c: f.transpose() * f,
             c_minus_i: h + h.transpose() + h.transpose() * h,
             c_inv: f_inv * f_inv.transpose(),
         })
     }
+}
+
+/// Cofactor matrix cof A = det(A) A⁻ᵀ from the entries: cof_ij = A_{i1 j1} A_{i2 j2} − A_{i1 j2} A_{i2 j1},
+/// with i1 = i + 1, i2 = i + 2 (mod 3), likewise for j.
+pub fn cof(a: &Matrix3<f64>) -> Matrix3<f64> {
+    Matrix3::from_fn(|i, j| {
+        let (i1, i2, j1, j2) = ((i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3);
+        a[(i1, j1)] * a[(i2, j2)] - a[(i1, j2)] * a[(i2, j1)]
+    })
 }
 
 /// Solid response at one point: first and second Piola–Kirchhoff stresses and ∂P/∂F.
@@ -124,49 +129,57 @@ pub struct SolidResponse {
     pub s: Matrix3<f64>,
 }
 
-/// Holmes–Mow solid plus, if given, the compaction penalty: model.md (39) in full.
-pub fn solid_response(
-    hm: &HolmesMow,
-    pen: Option<&CompactionPenalty>,
-    f: &Matrix3<f64>,
-    bp: &Matrix3<f64>,
-) -> Result<SolidResponse> {
-    solid_response_at(hm, pen, &Kinematics::new(f)?, bp)
+/// A hyperelastic solid law at one point, evaluated at the kinematics of F (computed once per
+/// point by the caller, [`Kinematics::new`]) and the remodelling metric B_p (ignored by laws
+/// without one): the energy Ψ, the stresses (P, S) and the tangent ∂P/∂F.
+pub trait SolidLaw {
+    /// Ψ per unit reference volume of mixture.
+    fn energy(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<f64>;
+
+    /// (P, S) without the tangent (residuals and output fields need no more; the 9×9 tangent is
+    /// most of a point's cost): the same numbers as [`response`](Self::response).
+    fn stresses(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<(Matrix3<f64>, Matrix3<f64>)>;
+
+    /// P, S and A = ∂P/∂F.
+    fn response(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<SolidResponse>;
 }
 
-/// [`solid_response`] at the kinematics of F (computed once per point by the caller).
-pub fn solid_response_at(
-    hm: &HolmesMow,
-    pen: Option<&CompactionPenalty>,
-    kin: &Kinematics,
-    bp: &Matrix3<f64>,
-) -> Result<SolidResponse> {
-    let mut r = hm.response(kin, bp)?;
-    if let Some(pen) = pen {
-        let u = pen.response(kin)?;
-        r.p += u.p;
-        r.a += u.a;
-        r.s += u.s;
-    }
-    Ok(r)
+/// The mixture's solid: Holmes–Mow plus, if given, the compaction penalty (model.md (39) in full).
+#[derive(Clone, Copy, Debug)]
+pub struct Solid<'a> {
+    pub hm: &'a HolmesMow,
+    pub penalty: Option<&'a CompactionPenalty>,
 }
 
-/// The stresses of [`solid_response_at`] without its tangent (residuals and output fields need
-/// no more; the 9×9 tangent is most of a point's cost): (P_sc, S_sc), the same numbers.
-pub fn solid_stresses(
-    hm: &HolmesMow,
-    pen: Option<&CompactionPenalty>,
-    kin: &Kinematics,
-    bp: &Matrix3<f64>,
-) -> Result<(Matrix3<f64>, Matrix3<f64>)> {
-    let s = hm.stress_at(kin, bp)?;
-    let (mut p, mut s) = (kin.f * s, s);
-    if let Some(pen) = pen {
-        let (pp, ps) = pen.stresses(kin)?;
-        p += pp;
-        s += ps;
+impl SolidLaw for Solid<'_> {
+    fn energy(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<f64> {
+        let mut psi = self.hm.energy(kin, bp)?;
+        if let Some(pen) = self.penalty {
+            psi += pen.energy(kin, bp)?;
+        }
+        Ok(psi)
     }
-    Ok((p, s))
+
+    fn stresses(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<(Matrix3<f64>, Matrix3<f64>)> {
+        let (mut p, mut s) = self.hm.stresses(kin, bp)?;
+        if let Some(pen) = self.penalty {
+            let (pp, ps) = pen.stresses(kin, bp)?;
+            p += pp;
+            s += ps;
+        }
+        Ok((p, s))
+    }
+
+    fn response(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<SolidResponse> {
+        let mut r = self.hm.response(kin, bp)?;
+        if let Some(pen) = self.penalty {
+            let u = pen.response(kin, bp)?;
+            r.p += u.p;
+            r.a += u.a;
+            r.s += u.s;
+        }
+        Ok(r)
+    }
 }
 
 /// Φs must lie in (0, 1); shared by all laws.
@@ -225,7 +238,7 @@ fn add_il_kj(a: &mut Tangent, s: f64, x: &Matrix3<f64>, y: &Matrix3<f64>) {
 
 #[cfg(test)]
 mod tests {
-    use super::test_util::{fd_gradient, fd_tangent, rel_err, Rng};
+    use super::test_util::{fd_gradient, fd_tangent, kin, rel_err, Rng};
     use super::*;
 
     #[test]
@@ -268,30 +281,70 @@ mod tests {
         assert!((ln_j - series).abs() < 1e-14 * series.abs());
     }
 
+    /// A solid law against central differences in F at deformations of volume ratio `js`
+    /// (random otherwise) and random remodelling metrics: P = ∂Ψ/∂F, A = ∂P/∂F, P = F S, and the
+    /// stress-only path gives the response's numbers.
+    fn check_solid_law(name: &str, law: &impl SolidLaw, js: &[f64], rng: &mut Rng) {
+        for &j in js {
+            let (f, bp) = (rng.deformation(j), rng.remodelling_metric());
+            let r = law.response(&kin(&f), &bp).unwrap();
+            let p_fd = fd_gradient(|g| law.energy(&kin(g), &bp).unwrap(), &f);
+            let a_fd = fd_tangent(|g| law.response(&kin(g), &bp).unwrap().p, &f);
+            let (ep, ea) = (rel_err(&r.p, &p_fd), rel_err(&r.a, &a_fd));
+            println!("{name}, J = {j}: P rel. err {ep:e}, A rel. err {ea:e}");
+            assert!(ep < 1e-6 && ea < 1e-6, "{name}, J = {j}");
+            assert!(rel_err(&(f * r.s), &r.p) < 1e-14, "{name}, J = {j}: P = F S");
+            assert_eq!(law.stresses(&kin(&f), &bp).unwrap(), (r.p, r.s), "{name}, J = {j}");
+        }
+    }
+
+    /// Every law against finite differences: the solids (Holmes–Mow with α1 > 0 and < 0, the
+    /// compaction penalty inside its range J < J_cr = 0.7, the two together inside and outside
+    /// that range) by [`check_solid_law`], the permeability's ∂K/∂F (both models) likewise.
     #[test]
-    fn combined_response_matches_energy_and_parts() {
+    fn every_law_matches_finite_differences() {
+        let mut rng = Rng::new(4);
+        let hms = [HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap(), HolmesMow::from_mu_nu(3.0, 0.45, 0.6).unwrap()];
+        let pen = CompactionPenalty::new(0.6, 1000.0, 0.7, 2.0, 0.5).unwrap();
+        for hm in &hms {
+            check_solid_law(&format!("Holmes–Mow, alpha1 = {}", hm.alpha1), hm, &[0.7, 0.85, 1.0, 1.2, 1.4], &mut rng);
+        }
+        check_solid_law("penalty", &pen, &[0.62, 0.65, 0.68], &mut rng);
+        let solid = Solid { hm: &hms[0], penalty: Some(&pen) };
+        check_solid_law("Holmes–Mow + penalty", &solid, &[0.63, 0.68, 0.9], &mut rng);
+        for model in [PermeabilityModel::Isotropic, PermeabilityModel::RemodellingDependent { c: 2.0 }] {
+            let perm = Permeability::new(3.7729, 0.6, 4.638, 0.0848, model).unwrap();
+            for j in [0.65, 0.8, 1.0, 1.4] {
+                let (f, bp) = (rng.deformation(j), rng.remodelling_metric());
+                let (k, dk) = perm.tensor_and_derivative(&kin(&f), &bp).unwrap();
+                assert_eq!(k, perm.tensor(&kin(&f), &bp).unwrap());
+                assert!(rel_err(&k.transpose(), &k) < 1e-15, "K symmetric");
+                // dk[idx(k, l)] = ∂K/∂F_kl as a tangent: A[(idx(i, j), idx(k, l))] = ∂K_ij/∂F_kl.
+                let a = Tangent::from_fn(|r, c| dk[c][(r / 3, r % 3)]);
+                let err = rel_err(&a, &fd_tangent(|g| perm.tensor(&kin(g), &bp).unwrap(), &f));
+                println!("permeability {model:?}, J = {j}: dK/dF rel. err {err:e}");
+                assert!(err < 1e-6, "{model:?}, J = {j}");
+            }
+        }
+    }
+
+    /// The solid is the sum of its parts, and Holmes–Mow alone without the penalty.
+    #[test]
+    fn combined_response_is_the_sum_of_its_parts() {
         let hm = HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap();
         let pen = CompactionPenalty::new(0.6, 1000.0, 0.7, 2.0, 0.5).unwrap();
+        let (with, alone) = (Solid { hm: &hm, penalty: Some(&pen) }, Solid { hm: &hm, penalty: None });
         let mut rng = Rng::new(22);
         for j in [0.63, 0.68, 0.9] {
             let (f, bp) = (rng.deformation(j), rng.remodelling_metric());
-            let r = solid_response(&hm, Some(&pen), &f, &bp).unwrap();
-            let psi = |g: &Matrix3<f64>| hm.energy(g, &bp).unwrap() + pen.energy(g).unwrap();
-            let p_fd = fd_gradient(psi, &f);
-            let a_fd = fd_tangent(|g| solid_response(&hm, Some(&pen), g, &bp).unwrap().p, &f);
-            let (ep, ea) = (rel_err(&r.p, &p_fd), rel_err(&r.a, &a_fd));
-            println!("solid + penalty, J = {j}: P rel. err {ep:e}, A rel. err {ea:e}");
-            assert!(ep < 1e-6 && ea < 1e-6);
-            assert!(rel_err(&(f * r.s), &r.p) < 1e-14);
-            let s_parts = hm.stress(&f, &bp).unwrap() + pen.stress(&f).unwrap();
-            assert!(rel_err(&r.s, &s_parts) < 1e-14);
-            let alone = solid_response(&hm, None, &f, &bp).unwrap();
-            assert_eq!(alone.p, hm.first_pk_and_tangent(&f, &bp).unwrap().0);
-            // The residual's stress-only path gives the same numbers, with and without the
-            // penalty (J = 0.63 and 0.68 are inside its range, 0.9 outside).
-            let kin = Kinematics::new(&f).unwrap();
-            assert_eq!(solid_stresses(&hm, Some(&pen), &kin, &bp).unwrap(), (r.p, r.s));
-            assert_eq!(solid_stresses(&hm, None, &kin, &bp).unwrap(), (alone.p, alone.s));
+            let k = kin(&f);
+            let r = with.response(&k, &bp).unwrap();
+            let (s_hm, s_pen) = (hm.stresses(&k, &bp).unwrap().1, pen.stresses(&k, &bp).unwrap().1);
+            assert!(rel_err(&r.s, &(s_hm + s_pen)) < 1e-14);
+            let psi = hm.energy(&k, &bp).unwrap() + pen.energy(&k, &bp).unwrap();
+            assert_eq!(with.energy(&k, &bp).unwrap(), psi);
+            assert_eq!(alone.response(&k, &bp).unwrap(), hm.response(&k, &bp).unwrap());
+            assert_eq!(alone.stresses(&k, &bp).unwrap(), hm.stresses(&k, &bp).unwrap());
         }
     }
 
@@ -301,8 +354,9 @@ mod tests {
         let pen = CompactionPenalty::new(0.6, 1000.0, 0.7, 2.0, 0.5).unwrap();
         let mut rng = Rng::new(23);
         let (f, bp, q) = (rng.deformation(0.65), rng.remodelling_metric(), rng.rotation());
-        let r = solid_response(&hm, Some(&pen), &f, &bp).unwrap();
-        let rq = solid_response(&hm, Some(&pen), &(q * f), &bp).unwrap();
+        let solid = Solid { hm: &hm, penalty: Some(&pen) };
+        let r = solid.response(&kin(&f), &bp).unwrap();
+        let rq = solid.response(&kin(&(q * f)), &bp).unwrap();
         assert!(rel_err(&rq.p, &(q * r.p)) < 1e-13);
         assert!(rel_err(&rq.s, &r.s) < 1e-13);
     }

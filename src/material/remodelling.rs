@@ -24,6 +24,7 @@ use super::dual::{m_det, m_exp, m_mul, m_scale, m_trace_mul, m_transpose, Dual, 
 use super::{domain_error, HolmesMow};
 use crate::error::{Error, Result};
 use nalgebra::{Matrix3, SMatrix, SVector};
+use serde::{Deserialize, Serialize};
 
 /// The symmetric unit directions of the six components (00, 11, 22, 01, 02, 12): a symmetric
 /// matrix is Σ_s x_s sym_basis()[s].
@@ -53,20 +54,26 @@ fn sym_generic<T: Scalar>(x: &[T]) -> M3<T> {
 }
 
 /// Which of the paper's two "equivalent" flow rules (40): they differ by the factor J
-/// (model.md §6). (40b) is what the paper says it solved and our default.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// (model.md §6). (40b) is what the paper says it solved and our default. In a scene:
+/// `form = "40b"` or `"40a"`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
 pub enum FlowForm {
     /// (40b)/(54c): dB_p/dt = −2 γp B_p dev Σ (pushed forward: L b_e = −2 γp b_e dev τ).
+    #[default]
+    #[serde(rename = "40b")]
     Referential,
     /// (40a): L b_e = −2 γp b_e dev σ, i.e. dB_p/dt = −2 (γp/J) B_p dev Σ.
+    #[serde(rename = "40a")]
     Spatial,
 }
 
-/// How a step integrates the flow rule.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// How a step integrates the flow rule (in a scene: `integrator = "implicit"` or `"explicit"`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Integrator {
     /// The implicit, symmetric exponential map (module docs): unconditionally stable, det B_p
     /// kept. The default.
+    #[default]
     Implicit,
     /// Forward Euler in B_p with the rate at the trial state (C^{n+1}, B_p^n):
     /// B_p^{n+1} = B_p^n − 2 Δt γp B_p^n dev Σ. For stability studies only: it is stable only
@@ -347,7 +354,8 @@ fn re3<T: Scalar>(m: &M3<T>) -> Matrix3<f64> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::test_util::Rng;
+    use super::super::test_util::{kin, Rng};
+    use super::super::SolidLaw;
     use super::*;
 
     fn table1() -> (HolmesMow, Remodelling) {
@@ -373,7 +381,7 @@ mod tests {
             let f = rng.deformation(j);
             let bp = rng.remodelling_metric();
             let c = f.transpose() * f;
-            let s = hm.stress(&f, &bp).unwrap();
+            let s = hm.stresses(&kin(&f), &bp).unwrap().1;
             let sigma_m = c * s;
             let dev = sigma_m - Matrix3::identity() * (sigma_m.trace() / 3.0);
             let d = re3(&hm.mandel_dev(&to_m3(&(c * bp)), f.determinant().ln()));

@@ -44,6 +44,11 @@ impl Rng {
     }
 }
 
+/// The kinematics of F (which must be admissible).
+pub fn kin(f: &Matrix3<f64>) -> super::Kinematics {
+    super::Kinematics::new(f).unwrap()
+}
+
 /// Relative step for central differences: truncation O(h²) ≈ 1e-12, round-off O(ε/h) ≈ 1e-10.
 pub const H: f64 = 1e-6;
 

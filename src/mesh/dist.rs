@@ -131,7 +131,76 @@ fn owner_in(ranges: &[usize], g: usize) -> usize {
 /// * Local cells: those of part `rank` in increasing original index; global element ids are contiguous per
 ///   rank (`elem_offset` = number of cells in lower parts).
 pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Result<LocalMesh> {
-    let err = |msg: String| Error::mesh("distribute", msg);
+    check_partition(mesh, part, nranks, rank)?;
+    let nt = mesh.cells.len();
+    let r32 = rank as u32;
+    let num = Numbering::new(mesh, part, nranks)?;
+
+    // Local cells.
+    let cell_original: Vec<u32> = (0..nt as u32).filter(|&t| part[t as usize] == r32).collect();
+    let elem_offset = part.iter().filter(|&&p| p < r32).count();
+
+    let nodes = LocalNodes::new(mesh, &num, &cell_original, r32);
+    let local_of = &nodes.local_of;
+    let coords: Vec<[f64; 3]> = nodes.original.iter().map(|&n| mesh.coords[n as usize]).collect();
+    let node_global: Vec<u32> = nodes.original.iter().map(|&n| num.gnode[n as usize]).collect();
+    let node_owner: Vec<u32> = nodes.original.iter().map(|&n| num.owner[n as usize]).collect();
+    let vertices = LocalVertices::new(mesh, &num, &nodes);
+
+    let relabel = |n: u32| if n == u32::MAX { n } else { local_of[n as usize] };
+    let cells: Vec<[u32; MAX_CELL_NODES]> =
+        cell_original.iter().map(|&t| mesh.cells[t as usize].map(relabel)).collect();
+    let mut local_tet = vec![u32::MAX; nt];
+    for (l, &t) in cell_original.iter().enumerate() {
+        local_tet[t as usize] = l as u32;
+    }
+    let faces = LocalFaces::new(mesh, &local_tet, relabel)?;
+    let face_groups = map_groups(&mesh.face_groups, &faces.local_of);
+    let volume_groups = map_groups(&mesh.volume_groups, &local_tet);
+    let point_groups = map_groups(&mesh.point_groups, local_of);
+    let graph = NeighbourGraph::new(mesh, &num, &nodes);
+
+    Ok(LocalMesh {
+        family: mesh.family,
+        rank,
+        nranks,
+        coords,
+        n_owned_nodes: nodes.n_owned,
+        node_global,
+        node_original: nodes.original,
+        node_offset: num.node_ranges[rank],
+        n_global_nodes: mesh.coords.len(),
+        node_owner,
+        vertex_of_node: vertices.of_node,
+        vertex_node: vertices.node,
+        n_owned_vertices: vertices.n_owned,
+        vertex_global: vertices.global,
+        vertex_offset: num.vertex_ranges[rank],
+        n_global_vertices: num.vertex_ranges[nranks],
+        cells,
+        cell_original,
+        elem_offset,
+        n_global_elems: nt,
+        faces: faces.faces,
+        face_cell: faces.face_cell,
+        face_groups,
+        volume_groups,
+        point_groups,
+        node_nbr_offsets: graph.offsets,
+        node_nbr: graph.nbr,
+        node_nbr_is_vertex: graph.is_vertex,
+        node_nbr_vertex_global: graph.vertex_global,
+        node_ranges: num.node_ranges,
+        vertex_ranges: num.vertex_ranges,
+    })
+}
+
+fn err(msg: String) -> Error {
+    Error::mesh("distribute", msg)
+}
+
+/// The partition covers every cell with a part below `nranks`, and `rank` is one of them.
+fn check_partition(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Result<()> {
     let nn = mesh.coords.len();
     let nt = mesh.cells.len();
     if part.len() != nt {
@@ -146,194 +215,215 @@ pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Resu
     if let Some(t) = part.iter().position(|&p| p as usize >= nranks) {
         return Err(err(format!("tet {t} assigned to part {} >= nranks = {nranks}", part[t])));
     }
-    let r32 = rank as u32;
+    Ok(())
+}
 
-    // Owners, per-rank counts and global numbering (identical on every rank).
-    let ncn = mesh.family.cell_nodes();
-    let mut owner = vec![u32::MAX; nn];
-    for (tet, &p) in mesh.cells.iter().zip(part) {
-        for &n in &tet[..ncn] {
-            let o = owner.get_mut(n as usize).ok_or_else(|| err(format!("tet references node {n} >= {nn}")))?;
-            *o = (*o).min(p);
-        }
-    }
-    if let Some(n) = owner.iter().position(|&o| o == u32::MAX) {
-        return Err(err(format!("node {n} belongs to no cell")));
-    }
-    let mut node_ranges = vec![0usize; nranks + 1];
-    let mut vertex_ranges = vec![0usize; nranks + 1];
-    for (n, &o) in owner.iter().enumerate() {
-        node_ranges[o as usize + 1] += 1;
-        if mesh.is_vertex[n] {
-            vertex_ranges[o as usize + 1] += 1;
-        }
-    }
-    for r in 0..nranks {
-        node_ranges[r + 1] += node_ranges[r];
-        vertex_ranges[r + 1] += vertex_ranges[r];
-    }
-    let mut next_node = node_ranges[..nranks].to_vec();
-    let mut next_vertex = vertex_ranges[..nranks].to_vec();
-    let mut gnode = vec![0u32; nn];
-    let mut gvertex = vec![-1i32; nn];
-    for (n, &o) in owner.iter().enumerate() {
-        gnode[n] = next_node[o as usize] as u32;
-        next_node[o as usize] += 1;
-        if mesh.is_vertex[n] {
-            gvertex[n] = next_vertex[o as usize] as i32;
-            next_vertex[o as usize] += 1;
-        }
-    }
+/// Owners, per-rank counts and the global numbering of nodes and vertices (identical on every
+/// rank), indexed by the file's node.
+struct Numbering {
+    /// Owning rank of each node.
+    owner: Vec<u32>,
+    node_ranges: Vec<usize>,
+    vertex_ranges: Vec<usize>,
+    /// Global node id of each node.
+    gnode: Vec<u32>,
+    /// Global vertex id of each node, -1 for a mid-edge node.
+    gvertex: Vec<i32>,
+}
 
-    // Local cells.
-    let cell_original: Vec<u32> = (0..nt as u32).filter(|&t| part[t as usize] == r32).collect();
-    let elem_offset = part.iter().filter(|&&p| p < r32).count();
-
-    // Local nodes: owned in original (= global) order, then ghosts sorted by global id.
-    let mut local_of = vec![u32::MAX; nn];
-    let mut node_original: Vec<u32> = (0..nn as u32).filter(|&n| owner[n as usize] == r32).collect();
-    let n_owned_nodes = node_original.len();
-    let mut ghosts: Vec<u32> = Vec::new();
-    for &t in &cell_original {
-        for &n in mesh.cell(t as usize) {
-            if owner[n as usize] != r32 {
-                ghosts.push(n);
+impl Numbering {
+    fn new(mesh: &Mesh, part: &[u32], nranks: usize) -> Result<Numbering> {
+        let nn = mesh.coords.len();
+        let ncn = mesh.family.cell_nodes();
+        let mut owner = vec![u32::MAX; nn];
+        for (tet, &p) in mesh.cells.iter().zip(part) {
+            for &n in &tet[..ncn] {
+                let o = owner.get_mut(n as usize).ok_or_else(|| err(format!("tet references node {n} >= {nn}")))?;
+                *o = (*o).min(p);
             }
         }
-    }
-    ghosts.sort_unstable_by_key(|&n| gnode[n as usize]);
-    ghosts.dedup();
-    node_original.extend_from_slice(&ghosts);
-    drop(ghosts);
-    for (l, &n) in node_original.iter().enumerate() {
-        local_of[n as usize] = l as u32;
-    }
-    let coords: Vec<[f64; 3]> = node_original.iter().map(|&n| mesh.coords[n as usize]).collect();
-    let node_global: Vec<u32> = node_original.iter().map(|&n| gnode[n as usize]).collect();
-    let node_owner: Vec<u32> = node_original.iter().map(|&n| owner[n as usize]).collect();
-
-    // Local vertices: ghost nodes are in (owner, original id) order, which is also global vertex order.
-    let mut vertex_of_node = vec![-1i32; node_original.len()];
-    let mut vertex_node = Vec::new();
-    let mut vertex_global = Vec::new();
-    let mut n_owned_vertices = 0;
-    for (l, &n) in node_original.iter().enumerate() {
-        if mesh.is_vertex[n as usize] {
-            vertex_of_node[l] = vertex_node.len() as i32;
-            vertex_node.push(l as u32);
-            vertex_global.push(gvertex[n as usize] as u32);
-            if l < n_owned_nodes {
-                n_owned_vertices += 1;
+        if let Some(n) = owner.iter().position(|&o| o == u32::MAX) {
+            return Err(err(format!("node {n} belongs to no cell")));
+        }
+        let mut node_ranges = vec![0usize; nranks + 1];
+        let mut vertex_ranges = vec![0usize; nranks + 1];
+        for (n, &o) in owner.iter().enumerate() {
+            node_ranges[o as usize + 1] += 1;
+            if mesh.is_vertex[n] {
+                vertex_ranges[o as usize + 1] += 1;
             }
         }
-    }
-
-    let relabel = |n: u32| if n == u32::MAX { n } else { local_of[n as usize] };
-    let cells: Vec<[u32; MAX_CELL_NODES]> =
-        cell_original.iter().map(|&t| mesh.cells[t as usize].map(relabel)).collect();
-    let mut local_tet = vec![u32::MAX; nt];
-    for (l, &t) in cell_original.iter().enumerate() {
-        local_tet[t as usize] = l as u32;
-    }
-
-    // Faces of local cells, in increasing global face index.
-    let mut local_face = vec![u32::MAX; mesh.faces.len()];
-    let mut faces = Vec::new();
-    let mut face_cell = Vec::new();
-    for (f, (face, &(t, lf))) in mesh.faces.iter().zip(&mesh.face_cell).enumerate() {
-        let lt = *local_tet.get(t as usize).ok_or_else(|| err(format!("face {f} references tet {t} >= {nt}")))?;
-        if lt != u32::MAX {
-            local_face[f] = faces.len() as u32;
-            faces.push(face.map(relabel));
-            face_cell.push((lt, lf));
+        for r in 0..nranks {
+            node_ranges[r + 1] += node_ranges[r];
+            vertex_ranges[r + 1] += vertex_ranges[r];
         }
-    }
-    let face_groups = map_groups(&mesh.face_groups, &local_face);
-    let volume_groups = map_groups(&mesh.volume_groups, &local_tet);
-    let point_groups = map_groups(&mesh.point_groups, &local_of);
-
-    // Neighbour graph of owned nodes over the whole mesh: owned node -> cells containing it -> their nodes.
-    let mut tet_start = vec![0usize; n_owned_nodes + 1];
-    for tet in &mesh.cells {
-        for &n in &tet[..ncn] {
-            let l = local_of[n as usize] as usize;
-            if l < n_owned_nodes {
-                tet_start[l + 1] += 1;
+        let mut next_node = node_ranges[..nranks].to_vec();
+        let mut next_vertex = vertex_ranges[..nranks].to_vec();
+        let mut gnode = vec![0u32; nn];
+        let mut gvertex = vec![-1i32; nn];
+        for (n, &o) in owner.iter().enumerate() {
+            gnode[n] = next_node[o as usize] as u32;
+            next_node[o as usize] += 1;
+            if mesh.is_vertex[n] {
+                gvertex[n] = next_vertex[o as usize] as i32;
+                next_vertex[o as usize] += 1;
             }
         }
+        Ok(Numbering { owner, node_ranges, vertex_ranges, gnode, gvertex })
     }
-    for i in 0..n_owned_nodes {
-        tet_start[i + 1] += tet_start[i];
-    }
-    let mut fill = tet_start[..n_owned_nodes].to_vec();
-    let mut tets_of = vec![0u32; tet_start[n_owned_nodes]];
-    for (t, tet) in mesh.cells.iter().enumerate() {
-        for &n in &tet[..ncn] {
-            let l = local_of[n as usize] as usize;
-            if l < n_owned_nodes {
-                tets_of[fill[l]] = t as u32;
-                fill[l] += 1;
-            }
-        }
-    }
-    drop(fill);
-    let mut node_nbr_offsets = Vec::with_capacity(n_owned_nodes + 1);
-    node_nbr_offsets.push(0);
-    let mut node_nbr = Vec::with_capacity(n_owned_nodes * 20);
-    let mut node_nbr_vertex_global = Vec::with_capacity(n_owned_nodes * 20);
-    // mark[n] = last row that listed node n: dedup before sorting keeps the sorts short.
-    let mut mark = vec![u32::MAX; nn];
-    let mut row: Vec<(u32, i32)> = Vec::new();
-    for i in 0..n_owned_nodes {
-        row.clear();
-        for &t in &tets_of[tet_start[i]..tet_start[i + 1]] {
+}
+
+/// A rank's nodes: owned in original (= global) order, then ghosts sorted by global id.
+struct LocalNodes {
+    /// Local node -> file node.
+    original: Vec<u32>,
+    n_owned: usize,
+    /// File node -> local node, or u32::MAX.
+    local_of: Vec<u32>,
+}
+
+impl LocalNodes {
+    fn new(mesh: &Mesh, num: &Numbering, cell_original: &[u32], rank: u32) -> LocalNodes {
+        let nn = mesh.coords.len();
+        let mut local_of = vec![u32::MAX; nn];
+        let mut original: Vec<u32> = (0..nn as u32).filter(|&n| num.owner[n as usize] == rank).collect();
+        let n_owned = original.len();
+        let mut ghosts: Vec<u32> = Vec::new();
+        for &t in cell_original {
             for &n in mesh.cell(t as usize) {
-                if mark[n as usize] != i as u32 {
-                    mark[n as usize] = i as u32;
-                    row.push((gnode[n as usize], gvertex[n as usize]));
+                if num.owner[n as usize] != rank {
+                    ghosts.push(n);
                 }
             }
         }
-        row.sort_unstable();
-        node_nbr.extend(row.iter().map(|e| e.0));
-        node_nbr_vertex_global.extend(row.iter().map(|e| e.1));
-        node_nbr_offsets.push(node_nbr.len());
+        ghosts.sort_unstable_by_key(|&n| num.gnode[n as usize]);
+        ghosts.dedup();
+        original.extend_from_slice(&ghosts);
+        for (l, &n) in original.iter().enumerate() {
+            local_of[n as usize] = l as u32;
+        }
+        LocalNodes { original, n_owned, local_of }
     }
-    let node_nbr_is_vertex: Vec<bool> = node_nbr_vertex_global.iter().map(|&v| v >= 0).collect();
+}
 
-    Ok(LocalMesh {
-        family: mesh.family,
-        rank,
-        nranks,
-        coords,
-        n_owned_nodes,
-        node_global,
-        node_original,
-        node_offset: node_ranges[rank],
-        n_global_nodes: nn,
-        node_owner,
-        vertex_of_node,
-        vertex_node,
-        n_owned_vertices,
-        vertex_global,
-        vertex_offset: vertex_ranges[rank],
-        n_global_vertices: vertex_ranges[nranks],
-        cells,
-        cell_original,
-        elem_offset,
-        n_global_elems: nt,
-        faces,
-        face_cell,
-        face_groups,
-        volume_groups,
-        point_groups,
-        node_nbr_offsets,
-        node_nbr,
-        node_nbr_is_vertex,
-        node_nbr_vertex_global,
-        node_ranges,
-        vertex_ranges,
-    })
+/// A rank's vertices, in local node order: ghost nodes are in (owner, original id) order, which
+/// is also global vertex order.
+struct LocalVertices {
+    /// Local node -> local vertex, or -1.
+    of_node: Vec<i32>,
+    /// Local vertex -> local node.
+    node: Vec<u32>,
+    /// Local vertex -> global vertex.
+    global: Vec<u32>,
+    n_owned: usize,
+}
+
+impl LocalVertices {
+    fn new(mesh: &Mesh, num: &Numbering, nodes: &LocalNodes) -> LocalVertices {
+        let mut v =
+            LocalVertices { of_node: vec![-1i32; nodes.original.len()], node: vec![], global: vec![], n_owned: 0 };
+        for (l, &n) in nodes.original.iter().enumerate() {
+            if mesh.is_vertex[n as usize] {
+                v.of_node[l] = v.node.len() as i32;
+                v.node.push(l as u32);
+                v.global.push(num.gvertex[n as usize] as u32);
+                if l < nodes.n_owned {
+                    v.n_owned += 1;
+                }
+            }
+        }
+        v
+    }
+}
+
+/// The boundary faces of the local cells, in increasing file face index, with local node ids.
+struct LocalFaces {
+    faces: Vec<[u32; MAX_FACE_NODES]>,
+    /// Local face -> (local cell, local face index of that cell).
+    face_cell: Vec<(u32, u8)>,
+    /// File face -> local face, or u32::MAX.
+    local_of: Vec<u32>,
+}
+
+impl LocalFaces {
+    /// `local_tet`: file cell -> local cell or u32::MAX; `relabel`: file node -> local node.
+    fn new(mesh: &Mesh, local_tet: &[u32], relabel: impl Fn(u32) -> u32) -> Result<LocalFaces> {
+        let nt = mesh.cells.len();
+        let mut f = LocalFaces { faces: vec![], face_cell: vec![], local_of: vec![u32::MAX; mesh.faces.len()] };
+        for (i, (face, &(t, lf))) in mesh.faces.iter().zip(&mesh.face_cell).enumerate() {
+            let lt = *local_tet.get(t as usize).ok_or_else(|| err(format!("face {i} references tet {t} >= {nt}")))?;
+            if lt != u32::MAX {
+                f.local_of[i] = f.faces.len() as u32;
+                f.faces.push(face.map(&relabel));
+                f.face_cell.push((lt, lf));
+            }
+        }
+        Ok(f)
+    }
+}
+
+/// The neighbour graph of the owned nodes over the whole mesh (owned node -> cells containing it
+/// -> their nodes), as CSR rows of sorted global node ids (see [`LocalMesh::node_nbr`]).
+struct NeighbourGraph {
+    offsets: Vec<usize>,
+    nbr: Vec<u32>,
+    is_vertex: Vec<bool>,
+    vertex_global: Vec<i32>,
+}
+
+impl NeighbourGraph {
+    fn new(mesh: &Mesh, num: &Numbering, nodes: &LocalNodes) -> NeighbourGraph {
+        let (n_owned, local_of) = (nodes.n_owned, &nodes.local_of);
+        let ncn = mesh.family.cell_nodes();
+        let mut tet_start = vec![0usize; n_owned + 1];
+        for tet in &mesh.cells {
+            for &n in &tet[..ncn] {
+                let l = local_of[n as usize] as usize;
+                if l < n_owned {
+                    tet_start[l + 1] += 1;
+                }
+            }
+        }
+        for i in 0..n_owned {
+            tet_start[i + 1] += tet_start[i];
+        }
+        let mut fill = tet_start[..n_owned].to_vec();
+        let mut tets_of = vec![0u32; tet_start[n_owned]];
+        for (t, tet) in mesh.cells.iter().enumerate() {
+            for &n in &tet[..ncn] {
+                let l = local_of[n as usize] as usize;
+                if l < n_owned {
+                    tets_of[fill[l]] = t as u32;
+                    fill[l] += 1;
+                }
+            }
+        }
+        drop(fill);
+        let mut offsets = Vec::with_capacity(n_owned + 1);
+        offsets.push(0);
+        let mut nbr = Vec::with_capacity(n_owned * 20);
+        let mut vertex_global = Vec::with_capacity(n_owned * 20);
+        // mark[n] = last row that listed node n: dedup before sorting keeps the sorts short.
+        let mut mark = vec![u32::MAX; mesh.coords.len()];
+        let mut row: Vec<(u32, i32)> = Vec::new();
+        for i in 0..n_owned {
+            row.clear();
+            for &t in &tets_of[tet_start[i]..tet_start[i + 1]] {
+                for &n in mesh.cell(t as usize) {
+                    if mark[n as usize] != i as u32 {
+                        mark[n as usize] = i as u32;
+                        row.push((num.gnode[n as usize], num.gvertex[n as usize]));
+                    }
+                }
+            }
+            row.sort_unstable();
+            nbr.extend(row.iter().map(|e| e.0));
+            vertex_global.extend(row.iter().map(|e| e.1));
+            offsets.push(nbr.len());
+        }
+        let is_vertex: Vec<bool> = vertex_global.iter().map(|&v| v >= 0).collect();
+        NeighbourGraph { offsets, nbr, is_vertex, vertex_global }
+    }
 }
 
 /// Keep the members present locally (`local[i] != u32::MAX`), renumbered; every group name is kept.

@@ -25,6 +25,16 @@ pub const SPHERE_MERIDIAN_GEO: &str = include_str!("../../meshes/sphere_meridian
 /// The meridian rectangle of a cylinder column (axisymmetric Terzaghi).
 pub const COLUMN_MERIDIAN_GEO: &str = include_str!("../../meshes/column_meridian.geo");
 
+/// The `.geo` sources shipped inside the binary, by file name.
+pub const BUILTIN_GEO: &[(&str, &str)] = &[
+    ("sphere.geo", SPHERE_GEO),
+    ("sphere_quarter.geo", SPHERE_QUARTER_GEO),
+    ("column.geo", COLUMN_GEO),
+    ("block.geo", BLOCK_GEO),
+    ("sphere_meridian.geo", SPHERE_MERIDIAN_GEO),
+    ("column_meridian.geo", COLUMN_MERIDIAN_GEO),
+];
+
 fn gmsh_exe() -> OsString {
     std::env::var_os("GMSH").unwrap_or_else(|| "gmsh".into())
 }

@@ -8,7 +8,7 @@
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
-use super::gmsh::{finish, promote, Parts, Raw};
+use super::gmsh::{finish, promote, used_nodes, Parts, Raw};
 use super::{face_key, Family, Mesh, TRI6_SIDES};
 use crate::error::{Error, Result};
 
@@ -65,19 +65,7 @@ pub(super) fn build(path: &Path, raw: Raw) -> Result<Mesh> {
     let (nn, nl) = if linear { (3, 2) } else { (6, 3) };
 
     // Keep the nodes used by triangles, in file order.
-    let mut new_id = vec![u32::MAX; raw.coords.len()];
-    for tri in &raw.tris {
-        for &n in &tri[..nn] {
-            new_id[n as usize] = 0;
-        }
-    }
-    let mut coords = Vec::with_capacity(raw.coords.len());
-    for (i, id) in new_id.iter_mut().enumerate() {
-        if *id == 0 {
-            *id = coords.len() as u32;
-            coords.push(raw.coords[i]);
-        }
-    }
+    let (new_id, mut coords) = used_nodes(&raw.coords, &raw.tris, nn);
     // The meridian lies in the x–z plane with x = r ≥ 0.
     let scale = coords.iter().flat_map(|x| x.iter()).fold(0.0f64, |m, v| m.max(v.abs())).max(f64::MIN_POSITIVE);
     if let Some(x) = coords.iter().find(|x| x[1].abs() > 1e-9 * scale || x[0] < -1e-9 * scale) {

@@ -1,12 +1,14 @@
 //! A scene's mesh: the given `.msh`, or one generated from its `.geo` by rank 0 and cached,
-//! read and reflected as the scene asks.
+//! read and reflected as the scene asks. The scene hands over the values (`MeshSource`,
+//! parameters, family, mirror planes): this module does not know the scene's types.
 
 use crate::error::{Error, Result};
-use crate::mesh::{gmsh, Mesh};
-use crate::parallel::agree;
-use crate::scene::LoadedScene;
+use crate::mesh::generate::BUILTIN_GEO;
+use crate::mesh::{gmsh, Family, Mesh};
+use crate::parallel::path_from_root;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// Where generated meshes are cached.
@@ -23,24 +25,38 @@ fn cache_dir() -> PathBuf {
     std::env::temp_dir().join("poroplast-cache")
 }
 
-/// The `.msh` file of a scene: given, or generated from its `.geo` by rank 0 (cached).
-pub fn mesh_file(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<PathBuf> {
-    let spec = &scene.scene.mesh;
-    let (geo, file) = spec.source();
-    if let Some(f) = file {
-        return Ok(scene.resolve(f));
-    }
-    let geo = geo.unwrap_or_default();
-    let local = scene.resolve(geo);
+/// Where a scene's mesh comes from, with its paths resolved against the scene file.
+#[derive(Debug, Clone)]
+pub enum MeshSource<'a> {
+    /// A ready Gmsh `.msh` file.
+    Msh(PathBuf),
+    /// A `.geo` source: `name` as the scene gives it (also the name of a shipped one), `path`
+    /// that name resolved as a file.
+    Geo { name: &'a str, path: PathBuf },
+}
+
+/// The `.msh` file of a mesh source: given, or generated from its `.geo` by rank 0 (cached), with
+/// the `-setnumber` parameters `params`. `scene` names the scene (for the message of an unknown
+/// parameter).
+pub fn mesh_file(
+    world: &SimpleCommunicator,
+    source: MeshSource,
+    params: &BTreeMap<String, f64>,
+    scene: &str,
+) -> Result<PathBuf> {
+    let (geo, local) = match source {
+        MeshSource::Msh(file) => return Ok(file),
+        MeshSource::Geo { name, path } => (name, path),
+    };
     let (name, source) = if local.exists() {
         let text = std::fs::read_to_string(&local).map_err(|e| Error::io(&local, e))?;
         (local.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(), text)
-    } else if let Some((n, text)) = crate::scene::BUILTIN_GEO.iter().find(|(n, _)| *n == geo) {
+    } else if let Some((n, text)) = BUILTIN_GEO.iter().find(|(n, _)| *n == geo) {
         (n.to_string(), text.to_string())
     } else {
         return Err(Error::mesh(&local, "geometry source not found (not a file, nor a shipped .geo)"));
     };
-    let params: Vec<(String, f64)> = spec.params.iter().map(|(k, v)| (k.clone(), *v)).collect();
+    let params: Vec<(String, f64)> = params.iter().map(|(k, v)| (k.clone(), *v)).collect();
     // The scene's own .geo file (not a shipped one): if gmsh cannot read it, its complaint is
     // the error, rather than what follows from it (no parameters found, no mesh).
     let user_geo = local.exists().then_some(local.as_path());
@@ -52,23 +68,15 @@ pub fn mesh_file(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<Path
     let known = define_constants(&source);
     if let Some((k, _)) = params.iter().find(|(k, _)| !known.contains(&k.as_str())) {
         let unknown = Error::Scene {
-            path: scene.source.clone(),
+            path: scene.to_string(),
             msg: format!("mesh.params.{k}: {name} has no parameter `{k}` (it has: {})", known.join(", ")),
         };
         // Every rank stops here; rank 0, which reports, asks gmsh first.
         return Err(if world.rank() == 0 { unreadable(unknown) } else { unknown });
     }
-    let mut path = Vec::new();
-    let r = if world.rank() == 0 {
-        crate::mesh::generate::cached(&name, &source, &params, 2, &cache_dir())
-            .map(|p| path = p.to_string_lossy().into_owned().into_bytes())
-            .map_err(unreadable)
-    } else {
-        Ok(())
-    };
-    agree(world, r)?;
-    crate::parallel::broadcast_vec(world, 0, &mut path);
-    Ok(PathBuf::from(String::from_utf8_lossy(&path).into_owned()))
+    path_from_root(world, || {
+        crate::mesh::generate::cached(&name, &source, &params, 2, &cache_dir()).map_err(unreadable)
+    })
 }
 
 /// Ok if gmsh reads the `.geo` file `geo` (with the parameters set), else an error naming the
@@ -93,30 +101,33 @@ fn define_constants(source: &str) -> Vec<&str> {
         .collect()
 }
 
-/// Reads the mesh file and applies the scene's reflections; the mesh must be of the scene's
-/// geometry (tetrahedra for a solid, meridian triangles for an axisymmetric body).
-pub fn read_mesh(path: &Path, scene: &LoadedScene) -> Result<Mesh> {
+/// Reads the mesh file and reflects it across the symmetry planes `mirror` (in order); the mesh
+/// must be of the `family` the scene's geometry needs (tetrahedra for a solid, meridian
+/// triangles for an axisymmetric body).
+pub fn read_mesh(path: &Path, family: Family, mirror: &[String]) -> Result<Mesh> {
     let mut mesh = gmsh::read(path)?;
-    let geometry = scene.scene.mesh.geometry;
-    if mesh.family != geometry.family() {
+    if mesh.family != family {
         return Err(Error::mesh(
             path,
             format!(
                 "mesh.geometry = \"{}\" needs a mesh of {}, but this one has {} (set mesh.geometry, or mesh.meridian \
                  for the meridian of a solid scene)",
-                toml::Value::try_from(geometry).map(|v| v.as_str().unwrap_or_default().to_string()).unwrap_or_default(),
-                match geometry.family() {
-                    crate::mesh::Family::Tet10 => "tetrahedra",
-                    crate::mesh::Family::Tri6 => "meridian triangles",
+                match family {
+                    Family::Tet10 => "solid",
+                    Family::Tri6 => "axisymmetric",
+                },
+                match family {
+                    Family::Tet10 => "tetrahedra",
+                    Family::Tri6 => "meridian triangles",
                 },
                 match mesh.family {
-                    crate::mesh::Family::Tet10 => "tetrahedra",
-                    crate::mesh::Family::Tri6 => "triangles",
+                    Family::Tet10 => "tetrahedra",
+                    Family::Tri6 => "triangles",
                 },
             ),
         ));
     }
-    for plane in &scene.scene.mesh.mirror {
+    for plane in mirror {
         mesh = crate::mesh::mirror::mirror(&mesh, plane)?;
     }
     Ok(mesh)

@@ -127,13 +127,8 @@ pub fn build(
         let ctx = format!("{context}: bc #{} (group \"{}\")", i + 1, bc.group);
         if let Some(d) = &bc.displacement {
             let nodes = group_nodes(mesh, &bc.group, &ctx)?;
-            for (comp, v) in d {
-                let axis = match comp.as_str() {
-                    "x" => 0,
-                    "y" => 1,
-                    _ => 2,
-                };
-                let c = component(mesh, axis, &ctx)?;
+            for (axis, v) in d {
+                let c = component(mesh, axis.index(), &ctx)?;
                 cons.extend(nodes.iter().map(|&n| Constraint { local: dofs.u_local(n, c), value: *v }));
             }
         }

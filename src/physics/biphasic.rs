@@ -9,7 +9,7 @@
 //! ```
 //!
 //! P_sc is the Holmes–Mow solid plus the optional compaction penalty
-//! ([`crate::material::solid_response`]), K the Holmes–Mow referential conductivity
+//! ([`crate::material::Solid`]), K the Holmes–Mow referential conductivity
 //! ([`crate::material::Permeability`]). With D = dt Grad u̇ the rate is evaluated without
 //! cancellation from the exact expansion det(F − D) = J − cof F : D + F : cof D − det D:
 //!
@@ -39,11 +39,11 @@
 //! σ_VM = √(3/2) ‖dev σ_sc‖, spatial Darcy flux q = J⁻¹ F Q.
 
 use crate::error::{Error, Result};
-use crate::fem::point::{ij, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId, QpState};
+use crate::fem::point::{PointFields, PointFlux, PointModel, PointState, PointTangent, QpId, QpState};
 use crate::material::remodelling::{from_sym6, to_sym6};
 use crate::material::{
-    domain_error, idx, locate, solid_response, solid_response_at, solid_stresses, AtPoint, CompactionPenalty,
-    HolmesMow, Kinematics, Permeability, Remodelling, Tangent,
+    cof, domain_error, idx, locate, AtPoint, CompactionPenalty, HolmesMow, Kinematics, Permeability, Remodelling,
+    Solid, SolidLaw, Tangent,
 };
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
@@ -78,11 +78,9 @@ pub struct Biphasic {
 
 /// What eval and eval_tangent share at one point, after the domain checks.
 struct Kin {
-    /// The kinematics of F = I + Grad u (J cancellation-free near F = I, C, C⁻¹, F⁻¹, ln J),
-    /// computed once per point for every law.
+    /// The kinematics of F = I + Grad u (J cancellation-free near F = I, C, C⁻¹, F⁻¹, cof F,
+    /// ln J), computed once per point for every law.
     kin: Kinematics,
-    /// cof F = J F⁻ᵀ, from the entries of F.
-    cof_f: Matrix3<f64>,
     /// B_p at the end of the step at this point.
     bp: Matrix3<f64>,
     /// ∂x_s/∂c_r of the remodelling update (x, c: the symmetric components of B_p and C), when
@@ -123,7 +121,7 @@ impl Biphasic {
         }
         let a_g = Vector3::from(g_vec_m_s2) * KG_M3_M_S2_TO_KPA_PER_UM;
         let id = Matrix3::identity();
-        let a0 = solid_response(&solid, penalty.as_ref(), &id, &id)?.a;
+        let a0 = Solid { hm: &solid, penalty: penalty.as_ref() }.response(&Kinematics::new(&id)?, &id)?.a;
         // K_dr = (1/9) δ_ij A_ijkl δ_kl = Φs (λ + 2µ/3) and M = A_zzzz = Φs (λ + 2µ) for the
         // isotropic linearisation A = Φs [λ δ_ij δ_kl + µ (δ_ik δ_jl + δ_il δ_jk)].
         let k_drained = (0..3).map(|i| (0..3).map(|k| a0[(idx(i, i), idx(k, k))]).sum::<f64>()).sum::<f64>() / 9.0;
@@ -162,15 +160,19 @@ impl Biphasic {
         self.rho_f_g
     }
 
+    /// The solid law: Holmes–Mow plus the penalty, if any.
+    fn solid_law(&self) -> Solid<'_> {
+        Solid { hm: &self.solid, penalty: self.penalty.as_ref() }
+    }
+
     /// Output fields at a point (uses Grad u, p, Grad p). Domain error as in `eval`.
     pub fn point_fields(&self, at: QpId, s: &PointState, h: QpState) -> Result<PointFields> {
         let k = self.kinematics(at, s, h, false)?;
-        let (_, s_sc) =
-            solid_stresses(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let (_, s_sc) = self.solid_law().stresses(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         let cauchy = k.kin.f * s_sc * k.kin.f.transpose() / k.kin.j;
         let cauchy_sc = 0.5 * (cauchy + cauchy.transpose());
         let dev = cauchy_sc - Matrix3::identity() * (cauchy_sc.trace() / 3.0);
-        let kt = self.perm.tensor_at(&k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let kt = self.perm.tensor(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         let w = kt * self.driving_gradient(&k, s);
         Ok(PointFields {
             j: k.kin.j,
@@ -178,7 +180,7 @@ impl Biphasic {
             cauchy_sc,
             von_mises: (1.5f64).sqrt() * dev.norm(),
             darcy: -(k.kin.f * w) / k.kin.j,
-            pressure_stress: -k.cof_f * s.p,
+            pressure_stress: -k.kin.cof_f * s.p,
             norm_ep: match self.remodel {
                 // E_p = ½(B_p⁻¹ − I); B_p is symmetric positive definite.
                 Some(_) => {
@@ -221,7 +223,7 @@ impl Biphasic {
             }
             _ => (bp_n, None),
         };
-        Ok(Kin { kin, cof_f: cof(&f), bp, dbp_dc })
+        Ok(Kin { kin, bp, dbp_dc })
     }
 
     /// Adds the remodelling chain terms to the tangent: with y_s = dx_s/dF_kl = Σ_r T_sr
@@ -247,14 +249,14 @@ impl Biphasic {
                     (if l == a { k.kin.f[(kk, b)] } else { 0.0 }) + (if l == b { k.kin.f[(kk, a)] } else { 0.0 })
                 });
                 let y: [f64; 6] = std::array::from_fn(|s| (0..6).map(|r| t6[s][r] * dc[r]).sum());
-                let col = ij(kk, l);
+                let col = idx(kk, l);
                 for s in 0..6 {
                     if y[s] == 0.0 {
                         continue;
                     }
                     for i in 0..3 {
                         for j in 0..3 {
-                            dstress[(ij(i, j), col)] += dp[s][(i, j)] * y[s];
+                            dstress[(idx(i, j), col)] += dp[s][(i, j)] * y[s];
                         }
                         dflux[(i, col)] += dw[s][i] * y[s];
                     }
@@ -268,7 +270,7 @@ impl Biphasic {
     fn rate(&self, at: QpId, k: &Kin, s: &PointState) -> Result<(f64, Matrix3<f64>)> {
         let (l, dt) = (&s.grad_udot, s.dt);
         let cof_l = cof(l);
-        let rate = k.cof_f.dot(l) - dt * k.kin.f.dot(&cof_l) + dt * dt * l.determinant();
+        let rate = k.kin.cof_f.dot(l) - dt * k.kin.f.dot(&cof_l) + dt * dt * l.determinant();
         let j_n = (k.kin.f - l * dt).determinant();
         if !(j_n > 0.0 && rate.is_finite()) {
             let msg = format!("J(F_n) = {j_n} <= 0 for F_n = F - dt Grad u_dot (dt = {dt})");
@@ -318,11 +320,10 @@ impl PointModel for Biphasic {
     fn eval(&self, at: QpId, s: &PointState, h: QpState) -> Result<PointFlux> {
         let k = self.kinematics(at, s, h, false)?;
         let (rate, _) = self.rate(at, &k, s)?;
-        let (p_sc, _) =
-            solid_stresses(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
-        let kt = self.perm.tensor_at(&k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let (p_sc, _) = self.solid_law().stresses(&k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let kt = self.perm.tensor(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         Ok(PointFlux {
-            stress: p_sc - k.cof_f * s.p,
+            stress: p_sc - k.kin.cof_f * s.p,
             body: self.body(&k),
             rate,
             flux: kt * self.driving_gradient(&k, s),
@@ -333,26 +334,26 @@ impl PointModel for Biphasic {
     fn eval_tangent(&self, at: QpId, s: &PointState, h: QpState, shift: f64) -> Result<(PointFlux, PointTangent)> {
         let k = self.kinematics(at, s, h, true)?;
         let (rate, cof_l) = self.rate(at, &k, s)?;
-        let sc = solid_response_at(&self.solid, self.penalty.as_ref(), &k.kin, &k.bp).at_point(at.elem, at.point)?;
-        let (kt, dk) = self.perm.tensor_and_derivative_at(&k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let sc = self.solid_law().response(&k.kin, &k.bp).at_point(at.elem, at.point)?;
+        let (kt, dk) = self.perm.tensor_and_derivative(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         let g = self.driving_gradient(&k, s);
-        let flux = PointFlux { stress: sc.p - k.cof_f * s.p, body: self.body(&k), rate, flux: kt * g };
+        let flux = PointFlux { stress: sc.p - k.kin.cof_f * s.p, body: self.body(&k), rate, flux: kt * g };
 
         // (cof F − cof F_n)/dt = X(F, L) − dt cof L and cof F_n = cof F − dt X(F, L) + dt² cof L,
         // both free of cancellation (X: the bilinear part of cof, cof(A + B) = cof A + X + cof B).
         let (l, dt) = (&s.grad_udot, s.dt);
         let x = cof_cross(&k.kin.f, l);
-        let cof_fn = k.cof_f - x * dt + cof_l * (dt * dt);
+        let cof_fn = k.kin.cof_f - x * dt + cof_l * (dt * dt);
         let drate_du = x - cof_l * dt + cof_fn * shift;
 
         let mut dbody_du = SMatrix::<f64, 3, 9>::zeros();
         let mut dflux_du = SMatrix::<f64, 3, 9>::zeros();
         for kk in 0..3 {
             for l in 0..3 {
-                let c = ij(kk, l);
+                let c = idx(kk, l);
                 let dkg = dk[c] * g;
                 for i in 0..3 {
-                    dbody_du[(i, c)] = self.rho_f_g[i] * k.cof_f[(kk, l)];
+                    dbody_du[(i, c)] = self.rho_f_g[i] * k.kin.cof_f[(kk, l)];
                     dflux_du[(i, c)] = dkg[i] - kt[(i, l)] * self.rho_f_g[kk];
                 }
             }
@@ -361,7 +362,7 @@ impl PointModel for Biphasic {
         if let Some(t6) = &k.dbp_dc {
             self.add_remodelling_tangent(&k, t6, &g, &mut dstress_du, &mut dflux_du).at_point(at.elem, at.point)?;
         }
-        let t = PointTangent { dstress_du, dstress_dp: -k.cof_f, dbody_du, drate_du, dflux_du, dflux_dgradp: kt };
+        let t = PointTangent { dstress_du, dstress_dp: -k.kin.cof_f, dbody_du, drate_du, dflux_du, dflux_dgradp: kt };
         Ok((flux, t))
     }
 
@@ -385,15 +386,6 @@ impl PointModel for Biphasic {
     fn is_linear(&self) -> bool {
         false
     }
-}
-
-/// Cofactor matrix cof A = det(A) A⁻ᵀ from the entries: cof_ij = A_{i1 j1} A_{i2 j2} − A_{i1 j2} A_{i2 j1},
-/// with i1 = i + 1, i2 = i + 2 (mod 3), likewise for j.
-fn cof(a: &Matrix3<f64>) -> Matrix3<f64> {
-    Matrix3::from_fn(|i, j| {
-        let (i1, i2, j1, j2) = ((i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3);
-        a[(i1, j1)] * a[(i2, j2)] - a[(i1, j2)] * a[(i2, j1)]
-    })
 }
 
 /// The bilinear part X(A, B) of the cofactor, cof(A + B) = cof A + X(A, B) + cof B; X(A, ·) is
@@ -483,11 +475,11 @@ mod tests {
                 sp.grad_udot[(k, l)] += shift * h;
                 sm.grad_udot[(k, l)] -= shift * h;
                 let (fp, fm) = (ev(&sp), ev(&sm));
-                let c = ij(k, l);
+                let c = idx(k, l);
                 let ds = (fp.stress - fm.stress) / (2.0 * h);
                 for i in 0..3 {
                     for j in 0..3 {
-                        t.dstress_du[(ij(i, j), c)] = ds[(i, j)];
+                        t.dstress_du[(idx(i, j), c)] = ds[(i, j)];
                     }
                     t.dbody_du[(i, c)] = (fp.body[i] - fm.body[i]) / (2.0 * h);
                     t.dflux_du[(i, c)] = (fp.flux[i] - fm.flux[i]) / (2.0 * h);
@@ -719,7 +711,7 @@ mod tests {
                 // K(Q) = K(I); W = K(I) (Grad p − ϱf Qᵀ a_g), q = Q Q_ref = −Q W.
                 let k_ref = Permeability::new(3.7729, 0.6, 4.638, 0.0848, model)
                     .unwrap()
-                    .tensor(&Matrix3::identity(), &Matrix3::identity())
+                    .tensor(&Kinematics::new(&Matrix3::identity()).unwrap(), &Matrix3::identity())
                     .unwrap();
                 let w = k_ref * (gp - q.transpose() * m.fluid_weight());
                 assert!(rel(&r.flux, &w) < 1e-14);

@@ -44,7 +44,7 @@ pub fn ellipticity_warning(scene: &LoadedScene) -> Result<Option<String>> {
 
 /// The scene's point model.
 pub fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
-    use crate::material::{CompactionPenalty, FlowForm, Integrator, Permeability, PermeabilityModel, Remodelling};
+    use crate::material::{CompactionPenalty, Permeability, PermeabilityModel, Remodelling};
     let ctx = |e: Error| {
         let msg = match e {
             Error::Material(m) => m,
@@ -83,10 +83,8 @@ pub fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
             let perm = Permeability::new(*k0, *phi_s, *kappa, *m0, model).map_err(ctx)?;
             let mut model = Biphasic::new(solid, pen, perm, *rho_s, *rho_f, *gravity).map_err(ctx)?;
             if let Some(r) = remodelling {
-                let form = if r.form == "40a" { FlowForm::Spatial } else { FlowForm::Referential };
-                let integrator = if r.integrator == "explicit" { Integrator::Explicit } else { Integrator::Implicit };
                 let law = Remodelling::new(r.lambda_p, r.sigma_y).map_err(ctx)?;
-                model = model.with_remodelling(law.with_form(form).with_integrator(integrator));
+                model = model.with_remodelling(law.with_form(r.form).with_integrator(r.integrator));
             }
             Ok(Box::new(model))
         }

@@ -8,7 +8,8 @@
 //! The reference model for the Terzaghi and Cryer verification problems.
 
 use crate::error::{Error, Result};
-use crate::fem::point::{ij, PointFields, PointFlux, PointModel, PointState, PointTangent, QpId, QpState};
+use crate::fem::point::{PointFields, PointFlux, PointModel, PointState, PointTangent, QpId, QpState};
+use crate::material::idx;
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// Drained Lamé constants and isotropic conductivity.
@@ -54,7 +55,7 @@ impl PointModel for LinearPoroelastic {
             for j in 0..3 {
                 for k in 0..3 {
                     for l in 0..3 {
-                        c[(ij(i, j), ij(k, l))] =
+                        c[(idx(i, j), idx(k, l))] =
                             self.lambda * d(i, j) * d(k, l) + self.mu * (d(i, k) * d(j, l) + d(i, l) * d(j, k));
                     }
                 }

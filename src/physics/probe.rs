@@ -6,12 +6,12 @@
 //! radial displacement u_r, and surface means are over the surface of revolution.
 
 use crate::error::{Error, Result};
-use crate::fem::cell::{p1_values as p1, p2_values as shapes};
 use crate::fem::dofmap::DofMap;
+use crate::fem::element::{p1_values as p1, p2_values as shapes};
 use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
 use crate::mesh::Family;
-use crate::scene::Probe as ProbeSpec;
+use crate::scene::{Probe as ProbeSpec, ProbeField};
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -25,15 +25,14 @@ pub enum Quantity {
     Porosity(f64),
 }
 
-impl Quantity {
-    pub fn parse(s: &str) -> Option<Quantity> {
-        Some(match s {
-            "p" => Quantity::Pressure,
-            "ux" => Quantity::Displacement(0),
-            "uy" => Quantity::Displacement(1),
-            "uz" => Quantity::Displacement(2),
-            _ => return None,
-        })
+impl From<ProbeField> for Quantity {
+    fn from(f: ProbeField) -> Quantity {
+        match f {
+            ProbeField::P => Quantity::Pressure,
+            ProbeField::Ux => Quantity::Displacement(0),
+            ProbeField::Uy => Quantity::Displacement(1),
+            ProbeField::Uz => Quantity::Displacement(2),
+        }
     }
 }
 
@@ -116,7 +115,7 @@ impl Probe {
         world: &SimpleCommunicator,
         context: &str,
     ) -> Result<Probe> {
-        let spec = ProbeSpec { name: name.into(), field: "p".into(), point: Some(x), group: None, scale: 1.0 };
+        let spec = ProbeSpec { name: name.into(), field: ProbeField::P, point: Some(x), group: None, scale: 1.0 };
         let mut p = Probe::new(&spec, mesh, world, context)?;
         p.quantity = quantity;
         Ok(p)
@@ -124,10 +123,7 @@ impl Probe {
 
     /// Sets up a probe (collective).
     pub fn new(spec: &ProbeSpec, mesh: &LocalMesh, world: &SimpleCommunicator, context: &str) -> Result<Probe> {
-        let quantity = Quantity::parse(&spec.field).ok_or_else(|| Error::Scene {
-            path: context.into(),
-            msg: format!("probe \"{}\": unknown field {}", spec.name, spec.field),
-        })?;
+        let quantity = Quantity::from(spec.field);
         if let Quantity::Displacement(axis) = quantity {
             if mesh.family.component(axis).is_none() {
                 return Err(Error::Scene {

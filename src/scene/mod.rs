@@ -5,6 +5,7 @@
 pub mod overrides;
 
 use crate::error::{Error, Result};
+use crate::material::{FlowForm, Integrator};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -178,20 +179,12 @@ pub struct RemodellingSpec {
     pub sigma_y: f64,
     /// Which form of the paper's flow rule (40): "40b" (default, dB_p/dt = −2 γp B_p dev Σ,
     /// what the paper says it solved) or "40a" (L b_e = −2 γp b_e dev σ: a rate 1/J faster).
-    #[serde(default = "form_40b")]
-    pub form: String,
+    #[serde(default)]
+    pub form: FlowForm,
     /// Step integrator: "implicit" (default: the exponential map, unconditionally stable) or
     /// "explicit" (forward Euler in B_p, conditionally stable: for stability studies).
-    #[serde(default = "implicit")]
-    pub integrator: String,
-}
-
-fn form_40b() -> String {
-    "40b".into()
-}
-
-fn implicit() -> String {
-    "implicit".into()
+    #[serde(default)]
+    pub integrator: Integrator,
 }
 
 fn water() -> f64 {
@@ -205,7 +198,7 @@ pub struct BoundaryCondition {
     pub group: String,
     /// Prescribed displacement components, e.g. `{ z = 0.0 }` or `{ x = 0, y = 0, z = 0 }`.
     #[serde(default)]
-    pub displacement: Option<BTreeMap<String, f64>>,
+    pub displacement: Option<BTreeMap<Axis, f64>>,
     /// Zero normal displacement on an axis-aligned plane (symmetry planes, confined sides).
     #[serde(default)]
     pub roller: Option<bool>,
@@ -222,6 +215,22 @@ pub struct BoundaryCondition {
     /// absent.
     #[serde(default)]
     pub geometry: Option<Geometry>,
+}
+
+/// A Cartesian axis: a displacement component's name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Axis {
+    X,
+    Y,
+    Z,
+}
+
+impl Axis {
+    /// 0, 1, 2.
+    pub fn index(self) -> usize {
+        self as usize
+    }
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -329,7 +338,7 @@ pub struct Probe {
     /// Column name.
     pub name: String,
     /// `p`, `ux`, `uy` or `uz`.
-    pub field: String,
+    pub field: ProbeField,
     /// Value at this reference point ...
     #[serde(default)]
     pub point: Option<[f64; 3]>,
@@ -339,6 +348,28 @@ pub struct Probe {
     /// The column holds value / scale (e.g. the applied load, to normalise).
     #[serde(default = "one")]
     pub scale: f64,
+}
+
+/// What a probe reads: the pore pressure or a displacement component.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProbeField {
+    P,
+    Ux,
+    Uy,
+    Uz,
+}
+
+impl std::fmt::Display for ProbeField {
+    /// The scene's spelling.
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str(match self {
+            ProbeField::P => "p",
+            ProbeField::Ux => "ux",
+            ProbeField::Uy => "uy",
+            ProbeField::Uz => "uz",
+        })
+    }
 }
 
 /// The compression–release experiment (model.md §1, §5): rigid, flat, impermeable,
@@ -430,7 +461,7 @@ pub struct SolverSpec {
     /// rigid-body modes, fixed-stress Schur approximation) or `lu` (MUMPS for every Newton
     /// system, the reference). See `solver`.
     #[serde(default)]
-    pub preset: Option<String>,
+    pub preset: Option<crate::solver::Preset>,
 }
 
 #[derive(Debug, Clone, Default, Deserialize, Serialize)]
@@ -452,13 +483,24 @@ pub struct FemSpec {
     /// The element: "P2-P1" (Taylor–Hood, default) or "P1-P1" (equal order, unstable without
     /// the stabilisation; `fem::equal_order`). Not with plates.
     #[serde(default)]
-    pub element: Option<String>,
+    pub element: Option<Element>,
+}
+
+/// The element pair of the u–p discretisation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+pub enum Element {
+    /// Taylor–Hood P2–P1.
+    #[serde(rename = "P2-P1")]
+    P2P1,
+    /// Equal-order P1–P1 (`fem::equal_order`).
+    #[serde(rename = "P1-P1")]
+    P1P1,
 }
 
 impl FemSpec {
     /// Equal-order P1–P1 instead of Taylor–Hood.
     pub fn equal_order(&self) -> bool {
-        self.element.as_deref() == Some("P1-P1")
+        self.element == Some(Element::P1P1)
     }
 }
 
@@ -488,16 +530,6 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("remodel_155_c2", include_str!("../../meshes/scenes/remodel_155_c2.toml")),
     ("elastic_155", include_str!("../../meshes/scenes/elastic_155.toml")),
     ("reference_axi", include_str!("../../meshes/scenes/reference_axi.toml")),
-];
-
-/// The `.geo` sources shipped inside the binary.
-pub const BUILTIN_GEO: &[(&str, &str)] = &[
-    ("sphere.geo", crate::mesh::generate::SPHERE_GEO),
-    ("sphere_quarter.geo", crate::mesh::generate::SPHERE_QUARTER_GEO),
-    ("column.geo", crate::mesh::generate::COLUMN_GEO),
-    ("block.geo", crate::mesh::generate::BLOCK_GEO),
-    ("sphere_meridian.geo", crate::mesh::generate::SPHERE_MERIDIAN_GEO),
-    ("column_meridian.geo", crate::mesh::generate::COLUMN_MERIDIAN_GEO),
 ];
 
 impl LoadedScene {
@@ -548,6 +580,22 @@ impl LoadedScene {
 
     /// Checks ranges and consistency; every message names the offending key and value.
     pub fn validate(&self) -> Result<()> {
+        self.validate_mesh()?;
+        self.validate_material()?;
+        self.validate_bcs()?;
+        self.validate_initial()?;
+        self.validate_output()?;
+        self.validate_time()?;
+        self.validate_probes()?;
+        self.validate_plates()?;
+        self.validate_verification()?;
+        self.validate_fem()?;
+        self.validate_petsc()?;
+        Ok(())
+    }
+
+    /// [mesh]: one source, mirror only for solids, finite positive lengths.
+    fn validate_mesh(&self) -> Result<()> {
         let s = &self.scene;
         match (&s.mesh.geo, &s.mesh.file) {
             (Some(_), Some(_)) => return Err(self.err("[mesh]: give either `geo` or `file`, not both")),
@@ -566,6 +614,12 @@ impl LoadedScene {
                 return Err(self.err(format!("[mesh.params] {k} = {v}: a length must be positive")));
             }
         }
+        Ok(())
+    }
+
+    /// [material]: the parameters of the model in their physical ranges.
+    fn validate_material(&self) -> Result<()> {
+        let s = &self.scene;
         match &s.material {
             Material::Linear { mu, nu, permeability } => {
                 positive(self, "material.mu", *mu)?;
@@ -607,18 +661,6 @@ impl LoadedScene {
                 if let Some(r) = remodelling {
                     non_negative(self, "material.remodelling.lambda_p", r.lambda_p)?;
                     non_negative(self, "material.remodelling.sigma_y", r.sigma_y)?;
-                    if !["40a", "40b"].contains(&r.form.as_str()) {
-                        return Err(self.err(format!(
-                            "material.remodelling.form = \"{}\": use \"40b\" (default) or \"40a\"",
-                            r.form
-                        )));
-                    }
-                    if !["implicit", "explicit"].contains(&r.integrator.as_str()) {
-                        return Err(self.err(format!(
-                            "material.remodelling.integrator = \"{}\": use \"implicit\" (default) or \"explicit\"",
-                            r.integrator
-                        )));
-                    }
                 }
                 for (key, rho) in [("material.rho_s", *rho_s), ("material.rho_f", *rho_f)] {
                     if !(rho.is_finite() && rho >= 0.0) {
@@ -630,6 +672,12 @@ impl LoadedScene {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// [[bc]]: one kind per entry, known displacement components, one traction form.
+    fn validate_bcs(&self) -> Result<()> {
+        let s = &self.scene;
         for (i, bc) in s.bc.iter().enumerate() {
             let kinds = [
                 bc.displacement.is_some(),
@@ -645,17 +693,8 @@ impl LoadedScene {
                     bc.group
                 )));
             }
-            if let Some(d) = &bc.displacement {
-                for (k, v) in d {
-                    if !["x", "y", "z"].contains(&k.as_str()) {
-                        return Err(self.err(format!(
-                            "bc #{} (group \"{}\"): displacement component `{k}` (use x, y, z)",
-                            i + 1,
-                            bc.group
-                        )));
-                    }
-                    finite(self, "displacement", *v)?;
-                }
+            for v in bc.displacement.iter().flat_map(|d| d.values()) {
+                finite(self, "displacement", *v)?;
             }
             if let Some(t) = &bc.traction {
                 if t.normal.is_some() == t.vector.is_some() {
@@ -667,6 +706,12 @@ impl LoadedScene {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// [initial]: a finite displacement gradient with det(I + G) > 0.
+    fn validate_initial(&self) -> Result<()> {
+        let s = &self.scene;
         if let Some(init) = &s.initial {
             for g in init.displacement_gradient.iter().flatten() {
                 finite(self, "initial.displacement_gradient", *g)?;
@@ -679,10 +724,22 @@ impl LoadedScene {
                 );
             }
         }
+        Ok(())
+    }
+
+    /// [output]: the checkpoint interval.
+    fn validate_output(&self) -> Result<()> {
+        let s = &self.scene;
         let m = s.output.checkpoint_minutes;
         if !(m.is_finite() && m >= 0.0) {
             return Err(self.err(format!("output.checkpoint_minutes = {m}: must be >= 0 (0: not by time)")));
         }
+        Ok(())
+    }
+
+    /// [time]: positive steps and end time, growth >= 1, landing times inside the run.
+    fn validate_time(&self) -> Result<()> {
+        let s = &self.scene;
         let t = &s.time;
         for &a in t.land_on.iter().chain(&s.output.fields_at) {
             if !(a > 0.0 && a <= t.t_end) {
@@ -713,10 +770,13 @@ impl LoadedScene {
         if !(t.growth >= 1.0 && t.growth.is_finite()) {
             return Err(self.err(format!("time.growth = {}: must be >= 1", t.growth)));
         }
+        Ok(())
+    }
+
+    /// [[probe]]: a known field, one location, a finite non-zero scale.
+    fn validate_probes(&self) -> Result<()> {
+        let s = &self.scene;
         for p in &s.probe {
-            if !["p", "ux", "uy", "uz"].contains(&p.field.as_str()) {
-                return Err(self.err(format!("probe \"{}\": field `{}` (use p, ux, uy, uz)", p.name, p.field)));
-            }
             if p.point.is_some() == p.group.is_some() {
                 return Err(self.err(format!("probe \"{}\": give exactly one of `point` or `group`", p.name)));
             }
@@ -724,6 +784,12 @@ impl LoadedScene {
                 return Err(self.err(format!("probe \"{}\": scale must be finite and non-zero", p.name)));
             }
         }
+        Ok(())
+    }
+
+    /// [plates]: geometry, loading, drainage and the plates' permeability.
+    fn validate_plates(&self) -> Result<()> {
+        let s = &self.scene;
         if let Some(p) = &s.plates {
             positive(self, "plates.radius", p.radius)?;
             if !(p.compression.is_finite() && p.compression >= 0.0 && p.compression < 1.0) {
@@ -769,6 +835,12 @@ impl LoadedScene {
                 finite(self, "plates.probe_point", *x)?;
             }
         }
+        Ok(())
+    }
+
+    /// [verification]: a positive length and a finite load.
+    fn validate_verification(&self) -> Result<()> {
+        let s = &self.scene;
         if let Some(v) = &s.verification {
             let (a, b) = match v {
                 Verification::Terzaghi { height, load } => (height, load),
@@ -777,12 +849,12 @@ impl LoadedScene {
             positive(self, "verification length", *a)?;
             finite(self, "verification load", *b)?;
         }
-        if let Some(p) = &s.solver.preset {
-            if !crate::solver::PRESETS.contains(&p.as_str()) {
-                let all = crate::solver::PRESETS.join("\", \"");
-                return Err(self.err(format!("solver.preset = \"{p}\" (use one of \"{all}\")")));
-            }
-        }
+        Ok(())
+    }
+
+    /// [fem]: stabilisation, element and quadrature degree.
+    fn validate_fem(&self) -> Result<()> {
+        let s = &self.scene;
         if let Some(a) = s.fem.stabilisation {
             if !(a.is_finite() && a >= 0.0) {
                 return Err(self.err(format!("fem.stabilisation = {a}: must be >= 0")));
@@ -793,19 +865,20 @@ impl LoadedScene {
                 return Err(self.err(format!("fem.stabilisation_fade = {t}: must be positive (omit it for none)")));
             }
         }
-        match s.fem.element.as_deref() {
-            None | Some("P2-P1") => {}
-            Some("P1-P1") if s.plates.is_some() => {
-                return Err(self.err("fem.element = \"P1-P1\": not with plates (contact acts on mid-edge nodes)"));
-            }
-            Some("P1-P1") => {}
-            Some(e) => return Err(self.err(format!("fem.element = \"{e}\": use \"P2-P1\" or \"P1-P1\""))),
+        if s.fem.equal_order() && s.plates.is_some() {
+            return Err(self.err("fem.element = \"P1-P1\": not with plates (contact acts on mid-edge nodes)"));
         }
         if let Some(q) = s.fem.quadrature_degree {
             if !(1..=8).contains(&q) {
                 return Err(self.err(format!("fem.quadrature_degree = {q}: use 1..8")));
             }
         }
+        Ok(())
+    }
+
+    /// [petsc]: scalar values only.
+    fn validate_petsc(&self) -> Result<()> {
+        let s = &self.scene;
         for (k, v) in &s.petsc {
             if matches!(v, toml::Value::Array(_) | toml::Value::Table(_)) {
                 return Err(self.err(format!("[petsc] {k}: values must be strings, numbers or booleans")));
@@ -833,6 +906,19 @@ impl LoadedScene {
             }
         }
         out
+    }
+
+    /// Where the scene's mesh comes from (`mesh.file`, or the `.geo` of its geometry), resolved
+    /// against the scene file.
+    pub fn mesh_source(&self) -> crate::mesh::source::MeshSource<'_> {
+        use crate::mesh::source::MeshSource;
+        match self.scene.mesh.source() {
+            (_, Some(file)) => MeshSource::Msh(self.resolve(file)),
+            (geo, None) => {
+                let name = geo.unwrap_or_default();
+                MeshSource::Geo { name, path: self.resolve(name) }
+            }
+        }
     }
 
     /// Resolves a path given in the scene: relative to the scene file.
@@ -880,13 +966,25 @@ fn override_message(text: &str, file: &toml::Table, specs: &[String], e: &toml::
 }
 
 /// The dotted key of the value a serde type error ("invalid type: sequence, expected a number")
-/// is about, where serde lost it (inside tagged enums such as `[material]`): of the values of
-/// that kind, the one whose removal changes the error (the innermost, if a table and its value
-/// both do). None unless exactly one.
-fn wrong_type_key(table: &toml::Table, msg: &str) -> Option<String> {
-    let kind = msg.strip_prefix("invalid type: ")?;
+/// or unknown choice ("unknown variant `40c`, expected `40b` or `40a`") is about — serde loses
+/// it inside tagged enums such as `[material]`: of the values of that kind (or that string),
+/// the one whose removal changes the error (the innermost, if a table and its value both do).
+/// None unless exactly one.
+fn culprit_key(table: &toml::Table, msg: &str) -> Option<String> {
+    // The values the error can be about: of the kind it names, or the string it names.
+    let suspect: Box<dyn Fn(&toml::Value) -> bool> = if let Some(kind) = msg.strip_prefix("invalid type: ") {
+        Box::new(move |v| kind.starts_with(serde_kind(v)))
+    } else {
+        let variant = unknown_variant(msg)?;
+        Box::new(move |v| v.as_str() == Some(variant))
+    };
     let base = plain(from_table(table).err()?.message().trim());
-    fn collect(v: &toml::Value, path: &mut Vec<String>, kind: &str, out: &mut Vec<Vec<String>>) {
+    fn collect(
+        v: &toml::Value,
+        path: &mut Vec<String>,
+        suspect: &dyn Fn(&toml::Value) -> bool,
+        out: &mut Vec<Vec<String>>,
+    ) {
         let children: Vec<(String, &toml::Value)> = match v {
             toml::Value::Table(t) => t.iter().map(|(k, v)| (k.clone(), v)).collect(),
             toml::Value::Array(a) => a.iter().enumerate().map(|(i, v)| (i.to_string(), v)).collect(),
@@ -894,10 +992,10 @@ fn wrong_type_key(table: &toml::Table, msg: &str) -> Option<String> {
         };
         for (k, child) in children {
             path.push(k);
-            if kind.starts_with(serde_kind(child)) {
+            if suspect(child) {
                 out.push(path.clone());
             }
-            collect(child, path, kind, out);
+            collect(child, path, suspect, out);
             path.pop();
         }
     }
@@ -925,7 +1023,7 @@ fn wrong_type_key(table: &toml::Table, msg: &str) -> Option<String> {
         }
     }
     let mut candidates = Vec::new();
-    collect(&toml::Value::Table(table.clone()), &mut Vec::new(), kind, &mut candidates);
+    collect(&toml::Value::Table(table.clone()), &mut Vec::new(), suspect.as_ref(), &mut candidates);
     let culprits: Vec<Vec<String>> = candidates
         .into_iter()
         .filter(|p| {
@@ -943,6 +1041,11 @@ fn wrong_type_key(table: &toml::Table, msg: &str) -> Option<String> {
     }
 }
 
+/// The choice an "unknown variant `X`, expected ..." error names.
+fn unknown_variant(msg: &str) -> Option<&str> {
+    msg.strip_prefix("unknown variant `")?.split_once('`').map(|(v, _)| v)
+}
+
 /// serde's name of the kind of a TOML value (as in "invalid type: <kind>").
 fn serde_kind(v: &toml::Value) -> &'static str {
     match v {
@@ -957,10 +1060,11 @@ fn serde_kind(v: &toml::Value) -> &'static str {
 }
 
 /// A TOML error on one line: "line N (`text`): message" (the parser's own text spans lines).
-/// A type error names its key: "line N (`text`): material.phi_s: message" — serde loses the key
-/// inside tagged enums such as `[material]`, and reports the whole table; then the key is found
-/// by [`wrong_type_key`] and the line is its `key = value` line in the table (or, failing that,
-/// the one line of the table whose value has that type).
+/// A type error or an unknown choice names its key: "line N (`text`): material.phi_s: message"
+/// — serde loses the key inside tagged enums such as `[material]`, and reports the whole table;
+/// then the key is found by [`culprit_key`] and the line is its `key = value` line in the table
+/// (or, failing that, the one line of the table whose value has that type, or holds that
+/// choice as a string).
 fn toml_message(text: &str, e: &toml::de::Error) -> String {
     let msg = plain(&e.message().replace('\n', " "));
     match e.span() {
@@ -968,7 +1072,7 @@ fn toml_message(text: &str, e: &toml::de::Error) -> String {
             let start = span.start.min(text.len());
             let mut line = text[..start].matches('\n').count() + 1;
             let region = &text[start..span.end.clamp(start, text.len())];
-            let key = toml::from_str::<toml::Table>(text).ok().and_then(|t| wrong_type_key(&t, &msg));
+            let key = toml::from_str::<toml::Table>(text).ok().and_then(|t| culprit_key(&t, &msg));
             let name = key.as_deref().map(|k| k.rsplit('.').next().unwrap_or(k));
             let at = name.and_then(|n| {
                 region.lines().position(|l| l.split_once('=').is_some_and(|(k, _)| k.trim().trim_matches('"') == n))
@@ -980,6 +1084,17 @@ fn toml_message(text: &str, e: &toml::de::Error) -> String {
                     .lines()
                     .enumerate()
                     .filter(|(_, l)| value_kind(l).is_some_and(|k| kind.starts_with(k)))
+                    .map(|(i, _)| i)
+                    .collect();
+                if let [i] = hits[..] {
+                    line += i;
+                }
+            } else if let Some(v) = unknown_variant(&msg) {
+                let quoted = [format!("\"{v}\""), format!("'{v}'")];
+                let hits: Vec<usize> = region
+                    .lines()
+                    .enumerate()
+                    .filter(|(_, l)| quoted.iter().any(|q| l.contains(q.as_str())))
                     .map(|(i, _)| i)
                     .collect();
                 if let [i] = hits[..] {
@@ -1083,6 +1198,26 @@ mod tests {
         assert_eq!(value_kind("n = 3"), Some("integer"));
         assert_eq!(value_kind("drained = true"), Some("boolean"));
         assert_eq!(value_kind("[material]"), None);
+    }
+
+    #[test]
+    fn an_unknown_choice_names_its_key_line_and_the_choices() {
+        let text = "[mesh]\ngeo = \"g\"\n[material]\nmodel = \"holmes_mow\"\nmu = 20.0\nnu = 0.2\nphi_s = 0.6\n\
+                    k0 = 1.0\nkappa = 1.0\nm0 = 0.1\nremodelling = { lambda_p = 0.001, sigma_y = 2.0, form = \"40c\" }\n";
+        let e = toml::from_str::<Scene>(text).expect_err("40c is no flow rule");
+        assert_eq!(
+            toml_message(text, &e),
+            "line 11 (`remodelling = { lambda_p = 0.001, sigma_y = 2.0, form = \"40c\" }`): material.remodelling.form: \
+             unknown variant `40c`, expected `40b` or `40a`"
+        );
+        let Err(e) = LoadedScene::load("reference", &["solver.preset=\"amg\"".into()]) else {
+            panic!("an unknown preset was accepted");
+        };
+        let m = e.to_string();
+        assert!(
+            m.ends_with("--set solver.preset=\"amg\": unknown variant `amg`, expected one of `auto`, `direct`, `fieldsplit`, `lu`"),
+            "{m}"
+        );
     }
 
     #[test]

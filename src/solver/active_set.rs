@@ -292,10 +292,8 @@ impl ActiveSetNewton {
     fn updated_solve(&mut self, ksp: &Ksp) -> Result<bool> {
         let (Some(jac), Some(pc_active)) = (&self.jac, &self.pc_active) else { return Ok(false) };
         let pc = ksp.pc()?;
-        let here = usize::from(self.update.as_ref().is_none_or(|u| u.active != self.active));
-        let mut stale = 0;
-        self.world.all_reduce_into(&here, &mut stale, SystemOperation::sum());
-        if stale > 0 {
+        let stale_here = self.update.as_ref().is_none_or(|u| u.active != self.active);
+        if crate::parallel::any(&self.world, stale_here) {
             self.update = ActiveSetUpdate::new(&self.world, jac, pc, pc_active, &self.active, self.diag)?;
         }
         let Some(update) = &self.update else { return Ok(false) };
@@ -457,100 +455,18 @@ impl ShellSolve for ActiveSetNewton {
                 self.print_iteration(it, fnorm, &prev_active, chord, updated);
                 prev_active.clone_from(&self.active);
             }
-            if !fnorm.is_finite() {
-                break R::SNES_DIVERGED_FUNCTION_DOMAIN;
+            if let Some(reason) = residual_test(it, fnorm, fnorm0, atol, rtol, max_it) {
+                break reason;
             }
-            if fnorm <= atol {
-                break R::SNES_CONVERGED_FNORM_ABS;
-            }
-            if it > 0 && fnorm <= rtol * fnorm0 {
-                break R::SNES_CONVERGED_FNORM_RELATIVE;
-            }
-            if it >= max_it {
-                break R::SNES_DIVERGED_MAX_IT;
-            }
-            // A chord iteration solves with the operator and preconditioner as they are (updated
-            // to the current active set); if its solve fails, the iteration assembles after all.
-            let how = self.chord(contraction);
-            if how != Step::Assemble {
-                // What MatZeroRowsColumns puts in the active rows of the right-hand side.
-                self.rhs.axpy(self.diag, &self.to_bound)?;
-            }
-            chord = match how {
-                Step::Chord => {
-                    ksp.set_reuse_preconditioner(true)?;
-                    self.krylov_solve(&ksp, true)?
-                }
-                Step::Updated => self.updated_solve(&ksp)?,
-                Step::Assemble => false,
-            };
-            updated = if chord && how == Step::Updated { self.update.as_ref().map(|u| u.n_changed()) } else { None };
-            if !chord {
-                let (mut a, mut p) = snes.compute_jacobian(x)?;
-                if let Some(m) = &self.free_modes {
-                    a.set_null_space(&m.null_space(x)?)?;
-                }
-                let same = a.as_raw() == p.as_raw();
-                self.keep_jacobian(&a, &ksp, same)?;
-                a.zero_rows_columns(&self.active, self.diag, Some((&self.to_bound, &mut self.rhs)))?;
-                if !same {
-                    p.zero_rows_columns(&self.active, self.diag, None)?;
-                }
-                // A reused preconditioner gets a short leash: if the Krylov method needs more than
-                // twice the rebuild threshold, the same system is solved again with a new setup.
-                // With chord iterations a new operator gets a new preconditioner (the chord
-                // needs the pair exact: one triangular solve per iteration).
-                let mut reuse = self.lag.chord <= 0.0 && self.reuse_pc();
-                loop {
-                    ksp.set_reuse_preconditioner(reuse)?;
-                    if !reuse && std::mem::take(&mut self.fresh_pc) {
-                        ksp.pc()?.renew_split_preconditioners()?;
-                    }
-                    ksp.set_operators(&a, &p)?;
-                    if reuse {
-                        self.pc_uses += 1;
-                    } else {
-                        self.pc_active = Some(self.active.clone());
-                        self.pc_uses = 0;
-                    }
-                    if self.krylov_solve(&ksp, reuse)? || !reuse {
-                        break;
-                    }
-                    reuse = false;
-                }
-            }
+            (chord, updated) = self.newton_step(&snes, &ksp, x, contraction)?;
             self.newton += 1;
             it += 1;
             if ksp.converged_reason()? < 0 {
                 self.last_krylov = usize::MAX;
                 break R::SNES_DIVERGED_LINEAR_SOLVE;
             }
-            if chord {
-                let here = usize::from(self.chord_active.as_ref() != Some(&self.active));
-                let mut changed = 0;
-                self.world.all_reduce_into(&here, &mut changed, SystemOperation::sum());
-                self.anderson.mix(x, &mut self.step, changed == 0)?;
-                self.chord_active = Some(self.active.clone());
-            } else {
-                self.chord_active = None;
-            }
-            // Full step (or backtracking on the free residual norm, Armijo, halving); a step
-            // into an inadmissible state (J ≤ Φs: the residual is infinite) is halved in
-            // either mode, up to STEP_HALVINGS times, before TS has to cut the time step.
-            let mut lambda = 1.0;
-            let trial_norm = loop {
-                self.trial.copy_from(x)?;
-                self.trial.axpy(lambda, &self.step)?;
-                self.bounds.project(&mut self.trial)?;
-                snes.compute_function(&self.trial, &mut self.f)?;
-                let n = self.bounds.split(&self.trial, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;
-                let admissible = n.is_finite();
-                let good = admissible && (!backtrack || n <= (1.0 - 1e-4 * lambda) * fnorm);
-                if good || lambda < 0.5f64.powi(STEP_HALVINGS) {
-                    break n;
-                }
-                lambda *= 0.5;
-            };
+            self.accelerate(x, chord)?;
+            let (trial_norm, lambda) = self.line_search(&snes, x, fnorm, backtrack)?;
             self.last_lambda = lambda;
             if chord && trial_norm.partial_cmp(&fnorm) != Some(std::cmp::Ordering::Less) {
                 // A chord step that does not reduce the residual is discarded, and the iteration
@@ -586,6 +502,129 @@ impl ShellSolve for ActiveSetNewton {
             self.update = None;
         }
         snes.set_converged_reason(reason)
+    }
+}
+
+/// The residual tests at the start of iteration `it` (free residual norm `fnorm`, `fnorm0` at
+/// the start): the reason to stop, or None to iterate.
+fn residual_test(
+    it: usize,
+    fnorm: f64,
+    fnorm0: f64,
+    atol: f64,
+    rtol: f64,
+    max_it: usize,
+) -> Option<ffi::SNESConvergedReason> {
+    use ffi::SNESConvergedReason as R;
+    if !fnorm.is_finite() {
+        Some(R::SNES_DIVERGED_FUNCTION_DOMAIN)
+    } else if fnorm <= atol {
+        Some(R::SNES_CONVERGED_FNORM_ABS)
+    } else if it > 0 && fnorm <= rtol * fnorm0 {
+        Some(R::SNES_CONVERGED_FNORM_RELATIVE)
+    } else if it >= max_it {
+        Some(R::SNES_DIVERGED_MAX_IT)
+    } else {
+        None
+    }
+}
+
+impl ActiveSetNewton {
+    /// The Newton step at x into `step`: a chord iteration with the operator and preconditioner
+    /// as they are (updated to the current active set) when the last iteration's `contraction`
+    /// allows, else — or if that solve fails — one with a new Jacobian. Returns whether it was
+    /// a chord iteration, and the size of the low-rank update it went through (if any).
+    fn newton_step(&mut self, snes: &Snes, ksp: &Ksp, x: &Vector, contraction: f64) -> Result<(bool, Option<usize>)> {
+        let how = self.chord(contraction);
+        if how != Step::Assemble {
+            // What MatZeroRowsColumns puts in the active rows of the right-hand side.
+            self.rhs.axpy(self.diag, &self.to_bound)?;
+        }
+        let chord = match how {
+            Step::Chord => {
+                ksp.set_reuse_preconditioner(true)?;
+                self.krylov_solve(ksp, true)?
+            }
+            Step::Updated => self.updated_solve(ksp)?,
+            Step::Assemble => false,
+        };
+        let updated = if chord && how == Step::Updated { self.update.as_ref().map(|u| u.n_changed()) } else { None };
+        if !chord {
+            self.assembled_solve(snes, ksp, x)?;
+        }
+        Ok((chord, updated))
+    }
+
+    /// Assembles the Jacobian at x, replaces its active rows and columns, and solves for the step
+    /// with a new or (lagged) reused preconditioner.
+    fn assembled_solve(&mut self, snes: &Snes, ksp: &Ksp, x: &Vector) -> Result<()> {
+        let (mut a, mut p) = snes.compute_jacobian(x)?;
+        if let Some(m) = &self.free_modes {
+            a.set_null_space(&m.null_space(x)?)?;
+        }
+        let same = a.as_raw() == p.as_raw();
+        self.keep_jacobian(&a, ksp, same)?;
+        a.zero_rows_columns(&self.active, self.diag, Some((&self.to_bound, &mut self.rhs)))?;
+        if !same {
+            p.zero_rows_columns(&self.active, self.diag, None)?;
+        }
+        // A reused preconditioner gets a short leash: if the Krylov method needs more than
+        // twice the rebuild threshold, the same system is solved again with a new setup.
+        // With chord iterations a new operator gets a new preconditioner (the chord
+        // needs the pair exact: one triangular solve per iteration).
+        let mut reuse = self.lag.chord <= 0.0 && self.reuse_pc();
+        loop {
+            ksp.set_reuse_preconditioner(reuse)?;
+            if !reuse && std::mem::take(&mut self.fresh_pc) {
+                ksp.pc()?.renew_split_preconditioners()?;
+            }
+            ksp.set_operators(&a, &p)?;
+            if reuse {
+                self.pc_uses += 1;
+            } else {
+                self.pc_active = Some(self.active.clone());
+                self.pc_uses = 0;
+            }
+            if self.krylov_solve(ksp, reuse)? || !reuse {
+                return Ok(());
+            }
+            reuse = false;
+        }
+    }
+
+    /// Anderson mixing of a chord step (its history kept while the active set stays the same on
+    /// every rank); an assembled step resets it.
+    fn accelerate(&mut self, x: &Vector, chord: bool) -> Result<()> {
+        if chord {
+            let same_here = self.chord_active.as_ref() == Some(&self.active);
+            self.anderson.mix(x, &mut self.step, crate::parallel::all(&self.world, same_here))?;
+            self.chord_active = Some(self.active.clone());
+        } else {
+            self.chord_active = None;
+        }
+        Ok(())
+    }
+
+    /// The trial iterate x + λ step in `trial` (projected onto the bounds), with its residual,
+    /// split, in `f`, `rhs`, `to_bound` and `active`: a full step, or backtracking on the free
+    /// residual norm (Armijo, halving); a step into an inadmissible state (J ≤ Φs: the residual
+    /// is infinite) is halved in either mode, up to STEP_HALVINGS times, before TS has to cut
+    /// the time step. Returns (free residual norm at the trial, λ).
+    fn line_search(&mut self, snes: &Snes, x: &Vector, fnorm: f64, backtrack: bool) -> Result<(f64, f64)> {
+        let mut lambda = 1.0;
+        loop {
+            self.trial.copy_from(x)?;
+            self.trial.axpy(lambda, &self.step)?;
+            self.bounds.project(&mut self.trial)?;
+            snes.compute_function(&self.trial, &mut self.f)?;
+            let n = self.bounds.split(&self.trial, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;
+            let admissible = n.is_finite();
+            let good = admissible && (!backtrack || n <= (1.0 - 1e-4 * lambda) * fnorm);
+            if good || lambda < 0.5f64.powi(STEP_HALVINGS) {
+                return Ok((n, lambda));
+            }
+            lambda *= 0.5;
+        }
     }
 }
 

@@ -30,6 +30,7 @@
 pub mod active_set;
 pub mod anderson;
 mod fields;
+pub mod program_options;
 mod rigid;
 pub mod woodbury;
 
@@ -45,8 +46,17 @@ use crate::petsc::{options, Ksp, Mat, Snes, Vector};
 /// 47 613 dofs the contact ramp took 155 s direct against 317 s with fieldsplit).
 pub const DIRECT_MAX_DOFS: usize = 60_000;
 
-/// The presets a scene may name.
-pub const PRESETS: [&str; 4] = ["auto", "direct", "fieldsplit", "lu"];
+/// The linear-solver preset a scene names (`[solver] preset`; module docs).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Preset {
+    /// "direct" up to [`DIRECT_MAX_DOFS`], "fieldsplit" above.
+    #[default]
+    Auto,
+    Direct,
+    Fieldsplit,
+    Lu,
+}
 
 /// The linear solver chosen for a run.
 #[derive(Debug, Clone)]
@@ -110,9 +120,9 @@ pub fn check_tolerances(snes: &Snes) -> Result<()> {
 
 /// The preset's defaults (see [`set_default_options`]) and the run log's solver line (with the
 /// BLAS kernels MUMPS runs in).
-pub fn policy(preset: &str, n_dofs: usize) -> Result<(Policy, String)> {
+pub fn policy(preset: Preset, n_dofs: usize) -> Result<(Policy, String)> {
     let policy = set_default_options(preset, n_dofs)?;
-    let mut line = policy.describe(n_dofs, preset == "auto");
+    let mut line = policy.describe(n_dofs, preset == Preset::Auto);
     if let Some(k) = crate::petsc::blas::kernel() {
         let why = if std::env::var_os("OPENBLAS_CORETYPE").is_some() { " (OPENBLAS_CORETYPE)" } else { "" };
         line.push_str(&format!("; BLAS: OpenBLAS {k} kernels{why}"));
@@ -123,23 +133,13 @@ pub fn policy(preset: &str, n_dofs: usize) -> Result<(Policy, String)> {
 /// Depth of the Anderson mixing of chord iterations ([`anderson`]; `-poroplast_anderson M`, 0:
 /// off).
 pub fn anderson_depth() -> Result<usize> {
-    const DEFAULT: usize = 2;
-    match options::get_string("poroplast_anderson")? {
-        None => Ok(DEFAULT),
-        Some(v) => {
-            v.parse().map_err(|_| Error::Solver(format!("-poroplast_anderson {v}: expected a non-negative integer")))
-        }
-    }
+    program_options::count("poroplast_anderson", 2)
 }
 
 /// Whether the u block's finest multigrid level is smoothed by SOR ([`finest_level_sor`]; on
 /// unless `-poroplast_finest_sor 0`).
 pub fn finest_sor_enabled() -> Result<bool> {
-    match options::get_string("poroplast_finest_sor")?.as_deref() {
-        None | Some("" | "1" | "true" | "yes") => Ok(true),
-        Some("0" | "false" | "no") => Ok(false),
-        Some(v) => Err(Error::Solver(format!("-poroplast_finest_sor {v}: expected 1 or 0"))),
-    }
+    program_options::switch("poroplast_finest_sor", true, "1 or 0")
 }
 
 /// Before each solve (a KSP pre-solve hook): with a fieldsplit whose first (u) block is GAMG,
@@ -179,14 +179,13 @@ pub fn finest_level_sor(ksp: Ksp) -> Result<()> {
 }
 
 /// Sets the defaults of a preset (only options the user has not set) and returns the policy.
-pub fn set_default_options(preset: &str, n_dofs: usize) -> Result<Policy> {
+pub fn set_default_options(preset: Preset, n_dofs: usize) -> Result<Policy> {
     let d = |k: &str, v: &str| options::set_default(k, Some(v));
     let preset: &'static str = match preset {
-        "auto" if n_dofs <= DIRECT_MAX_DOFS => "direct",
-        "auto" | "fieldsplit" => "fieldsplit",
-        "direct" => "direct",
-        "lu" => "lu",
-        p => return Err(Error::Solver(format!("unknown solver preset \"{p}\" (use one of {PRESETS:?})"))),
+        Preset::Auto if n_dofs <= DIRECT_MAX_DOFS => "direct",
+        Preset::Auto | Preset::Fieldsplit => "fieldsplit",
+        Preset::Direct => "direct",
+        Preset::Lu => "lu",
     };
     let lag = match preset {
         "lu" => {
@@ -233,22 +232,13 @@ pub fn set_default_options(preset: &str, n_dofs: usize) -> Result<Policy> {
     d("snes_rtol", "1e-8")?;
     d("snes_atol", "1e-10")?;
     d("snes_max_it", "25")?;
-    let int = |k: &str, dflt: usize| -> Result<usize> {
-        match options::get_string(k)? {
-            None => Ok(dflt),
-            Some(v) => v.parse().map_err(|_| Error::Solver(format!("-{k} {v}: expected a non-negative integer"))),
-        }
-    };
     let lag = Lag {
-        max_reuse: int("poroplast_pc_reuse", lag.max_reuse)?,
-        max_krylov: int("poroplast_pc_rebuild_its", lag.max_krylov)?,
-        max_changes: int("poroplast_pc_rebuild_changes", lag.max_changes)?,
-        chord: match options::get_string("poroplast_chord")? {
-            None => lag.chord,
-            Some(v) => v.parse().ok().filter(|c: &f64| (0.0..1.0).contains(c)).ok_or_else(|| {
-                Error::Solver(format!("-poroplast_chord {v}: expected a contraction factor in [0, 1)"))
-            })?,
-        },
+        max_reuse: program_options::count("poroplast_pc_reuse", lag.max_reuse)?,
+        max_krylov: program_options::count("poroplast_pc_rebuild_its", lag.max_krylov)?,
+        max_changes: program_options::count("poroplast_pc_rebuild_changes", lag.max_changes)?,
+        chord: program_options::value("poroplast_chord", lag.chord, "a contraction factor in [0, 1)", |v| {
+            v.parse().ok().filter(|c: &f64| (0.0..1.0).contains(c))
+        })?,
     };
     Ok(Policy { preset, lag })
 }
