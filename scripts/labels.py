@@ -78,3 +78,12 @@ def observable(spec):
         return kinds.get(kind, kind + " ") + column(col)
     col, _, t = spec.partition("@")
     return f"{column(col)} at t = {t} s" if t else column(col)
+
+
+def case(overrides):
+    """A legend entry for a case's (key, value) overrides: the known keys in the text's units,
+    each shown once (keys that change together, e.g. the radius of the mesh and of the plates,
+    repeat each other); all keys if none is known."""
+    known = [value(k, v) for k, v in overrides if k in KEYS]
+    shown = known or [value(k, v) for k, v in overrides]
+    return ", ".join(dict.fromkeys(shown))

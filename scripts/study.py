@@ -202,7 +202,7 @@ def plot(rows, keys, observables, study):
                    if tuple(r[k] for k in others) == g and r["status"] == "ok" and not math.isnan(r[obs])]
             pts.sort()
             if pts:
-                label = ", ".join(labels.value(k, v) for k, v in zip(others, g)) or None
+                label = labels.case(list(zip(others, g))) or None
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=label)
         ax.set_xlabel(labels.key(x_key))
         ax.set_ylabel(labels.observable(obs))
@@ -233,7 +233,7 @@ def plot_curves(cases, study, columns):
                 continue
             h = history(cdir / "run" / "history.csv")
             if col in h:
-                ax.plot(h["time"], h[col], label=", ".join(labels.value(k, v) for k, v in case) or "base")
+                ax.plot(h["time"], h[col], label=labels.case(case) or "base")
         ax.set_xlabel("time (s)")
         ax.set_ylabel(labels.column(col))
         ax.grid(alpha=0.3)
