@@ -528,7 +528,8 @@ def main():
     ap.add_argument("--converged", metavar="DIR", help="also the converged meridian studies (scripts/references.py "
                     "--cases all, scripts/causes.py) into DIR (about 3 h on 2 ranks; completed cases are kept)")
     ap.add_argument("--references", metavar="CSV", help="references.csv for the table of reported numbers "
-                    "(default: DIR/references.csv of --converged, else studies/references/references.csv)")
+                    "(default: DIR/references.csv of --converged, else studies/references/references.csv, "
+                    "else the shipped scripts/data/references.csv)")
     ap.add_argument("--ranks", type=int, default=2, help="MPI ranks per case (default 2)")
     a = ap.parse_args()
     RANKS[0] = a.ranks
@@ -549,7 +550,10 @@ def main():
         subprocess.run(["python3", str(here / "references.py"), "--dir", a.converged, "--cases", "all"], check=True)
         subprocess.run(["python3", str(here / "causes.py"), "--dir", str(Path(a.converged) / "causes")], check=True)
         refs = refs or str(Path(a.converged) / "references.csv")
-    reported(dirs, out, refs or str(ROOT / "studies" / "references" / "references.csv"),
+    # Without --converged: the user's own studies if there are any, else the shipped results
+    # (scripts/data/references.csv: `references.py --cases all` on 2026-12-02, this build).
+    own = ROOT / "studies" / "references" / "references.csv"
+    reported(dirs, out, refs or str(own if own.exists() else ROOT / "scripts" / "data" / "references.csv"),
              "meridian, scene mesh" if a.axisymmetric else "3-D default")
     (out / "figures").mkdir(exist_ok=True)
     print("\nfigures:")
