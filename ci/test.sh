@@ -3,5 +3,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ci/setup.sh
+ci/setup-paraview.sh
 . ci/env.sh
 cargo test --release "$@"

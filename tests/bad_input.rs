@@ -52,7 +52,7 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     std::fs::write(&bad_msh, "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 3 1 3\n3 1 0 3\n1\n2\n3\n0 0 zero\n")
         .unwrap();
     let s = variant("malformed_mesh", &[("geo = \"column.geo\"", &format!("file = \"{}\"", bad_msh.display()))]);
-    fails(&earlier, &["run", &s], "line");
+    fails(&earlier, &["run", &s], "line 10: expected 3 node coordinates, got \"zero\"");
     let s = variant("missing_group", &[("group = \"top\"\npressure", "group = \"lid\"\npressure")]);
     fails(&earlier, &["run", &s], "physical group \"lid\" not found");
     // A .geo with a syntax error: gmsh's own complaint (file and line), whether the error hides

@@ -5,7 +5,8 @@
 //!
 //! Environment: `POROPLAST_PYTHON` picks the Python (else the first of `python3`, `/usr/bin/python3`
 //! that imports h5py and numpy); `POROPLAST_SKIP_MPI_TESTS=1` skips these tests (for machines without
-//! `mpirun`); `POROPLAST_NO_PARAVIEW=1` skips the ParaView check.
+//! `mpirun`); `POROPLAST_NO_PARAVIEW=1` skips the ParaView check; `POROPLAST_REQUIRE_PARAVIEW=1` (CI)
+//! makes a missing `pvpython` a failure.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -123,10 +124,17 @@ fn run_case(name: &str, ranks: usize, case: &str) -> PathBuf {
 }
 
 /// Opens `dir` with each of ParaView's three XDMF readers (`scripts/check_paraview.py`, one reader
-/// per `pvpython` process), unless `POROPLAST_NO_PARAVIEW=1` or `pvpython` is missing (then a warning).
+/// per `pvpython` process), unless `POROPLAST_NO_PARAVIEW=1` or `pvpython` is missing (then a warning;
+/// a failure with `POROPLAST_REQUIRE_PARAVIEW=1`, as in CI).
 fn paraview_check(dir: &Path) {
     let no_pv = std::env::var("POROPLAST_NO_PARAVIEW").is_ok_and(|v| v == "1");
     let has_pv = Command::new("pvpython").arg("--version").output().is_ok_and(|o| o.status.success());
+    // CI installs ParaView (.ci/run): there a missing pvpython is a failure, not a skip.
+    let required = std::env::var("POROPLAST_REQUIRE_PARAVIEW").is_ok_and(|v| v == "1");
+    assert!(
+        has_pv || !required,
+        "pvpython not found, and POROPLAST_REQUIRE_PARAVIEW=1 (ci/setup-paraview.sh installs it)"
+    );
     if no_pv || !has_pv {
         eprintln!(
             "\n******** WARNING: ParaView reader check SKIPPED: {} ********\n\

@@ -311,7 +311,9 @@ fn jacobian_matches_central_differences_with_remodelling() {
     println!("with remodelling: {n} checks, u rows {ub:.2e}, p rows {pb:.2e}");
     assert!(n > 10);
     assert!(ub < 1e-8, "u rows: {ub}");
-    assert!(pb < 1e-4, "p rows: {pb}");
+    // The same bound as without remodelling (predicted gap): the p rows hold the permeability's
+    // B_p chain too, and a missing term there would be far above the difference formula's error.
+    assert!(pb < 1e-8, "p rows: {pb}");
 }
 
 /// Newton with exact linear solves (MUMPS) on the 3 s coarse run: for each converged solve the

@@ -214,10 +214,9 @@ fn relaxation_large_steps_stay_bounded() {
         let rel = relaxed_error(&h);
         println!("dt = {dt} s: {n} steps, stress_zz {:.6} -> {:.6}, relaxed rel. error {rel:.2e}, max |det B_p - 1| {det:.2e}", zz[0], zz[n]);
         assert!((zz[0] - szz0).abs() < 1e-10 * szz0.abs());
-        // Compressive and relaxing: |σ_zz| decreases step by step and never passes the relaxed value.
-        let relaxed = zz[n];
+        // Compressive and relaxing: |σ_zz| decreases step by step (so, from σ_zz(0) above, it stays
+        // between the initial and the final value).
         assert!(zz.windows(2).all(|w| w[1] >= w[0] - 1e-12), "stress_zz not monotone: {zz:?}");
-        assert!(zz.iter().all(|&z| z <= relaxed + 1e-9 && z >= szz0 - 1e-9));
         let k = (2.0f64 / 3.0).sqrt() * SIGMA_Y;
         let dist: Vec<f64> = zz.iter().zip(&xx).map(|(z, x)| (2.0f64 / 3.0).sqrt() * (z - x).abs() - k).collect();
         let ratios: Vec<f64> = dist.windows(2).map(|w| w[1] / w[0]).collect();
