@@ -17,6 +17,15 @@ CONVERGED_LEVEL = ["mesh.geometry=axisymmetric", "mesh.params.h=10", "mesh.param
                    "mesh.params.w_surf=30", "fem.stabilisation=0"]
 
 
+def write_rows(path, rows, fields=None):
+    """Rows (dicts) as a CSV file with a header: `fields` (default: the first row's keys; keys a row
+    has beyond them are left out)."""
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields or list(rows[0]), extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
+
+
 def env():
     e = dict(os.environ)
     if os.geteuid() == 0:

@@ -15,7 +15,6 @@ DIR/causes_reference.csv; --no-reference skips it). Completed variants are kept 
 runner), so an interrupted run continues.
 """
 import argparse
-import csv
 import math
 import sys
 from pathlib import Path
@@ -23,7 +22,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import observables  # noqa: E402
 import study  # noqa: E402
-from _runner import CONVERGED_LEVEL, refined_steps, scene_values  # noqa: E402
+from _runner import CONVERGED_LEVEL, refined_steps, scene_values, write_rows  # noqa: E402
 
 SCENE = "remodel_155"
 BASE = [tuple(s.split("=", 1)) for s in CONVERGED_LEVEL] + [("time.t_end", "60"), ("output.fields", "false"),
@@ -170,10 +169,7 @@ def main():
     for r in rows:
         for o in OBSERVE:
             r["shift " + o] = r[o] - base[o] if base and r["status"] == "ok" else float("nan")
-    with open(root / "causes.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(root / "causes.csv", rows)
     print(f"\n{'variant':16} {'crossing (s)':>13} {'shift':>7} {'peak (mg)':>10} {'shift':>7} "
           f"{'constit. (mg)':>13} {'shift':>7}  changes")
     for r in rows:
@@ -183,10 +179,7 @@ def main():
     if a.no_reference or a.only:
         return
     ref = reference_rows(root, a.ranks, a.steps)
-    with open(root / "causes_reference.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(ref[0]))
-        w.writeheader()
-        w.writerows(ref)
+    write_rows(root / "causes_reference.csv", ref)
     print(f"\n{'variant':22} {'90% (s)':>8} {'shift':>7} {'95% (s)':>8} {'shift':>7} {'F(60 s)':>8} {'F(400 s)':>9}  changes")
     for r in ref:
         print(f"{r['variant']:22} {r['settle90:force_total_mg']:8.2f} {r['shift settle90:force_total_mg']:+7.2f} "

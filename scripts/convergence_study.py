@@ -41,7 +41,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import study  # noqa: E402
 
 SIZES = ("h_pole", "h_edge", "h_surf")   # mesh sizes besides h, scaled with it
-from _runner import refined_steps, scene_values  # noqa: E402
+from _runner import refined_steps, scene_values, write_rows  # noqa: E402
 
 
 def solve_order(q, r):
@@ -174,10 +174,7 @@ def main():
 
     ok = lambda o: {k: r.get(o, float("nan")) for k, r in results.items() if r["status"] == "ok"}
     rows = [{"observable": o, **converge(ok(o), hs, ss, H, S, a.formal_h, a.formal_t)} for o in a.observe]
-    with open(root / "convergence.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(root / "convergence.csv", rows)
     ref = {r["observable"]: r["extrapolated"] for r in rows}
     with open(root / "errors.csv", "w", newline="") as f:
         w = csv.writer(f)

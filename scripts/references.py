@@ -25,6 +25,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import convergence_study  # noqa: E402
+from _runner import write_rows  # noqa: E402
 import observables  # noqa: E402
 
 MESH = "14.142,10,7.071,5"   # bulk h, coarse to fine (surface and poles at h/5)
@@ -163,10 +164,7 @@ def main():
         rows += run_case(name, root, a.ranks)
     rows += combine(rows)
     fields = ["case", "observable", "extrapolated", "error_bar", "relative_bar", "p_h", "p_t", "finest", "levels"]
-    with open(out, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(out, rows, fields)
     print(f"\n{'case':16} {'observable':46} {'value':>12} {'± bar':>10} {'rel.':>8} {'p_h':>6} {'p_t':>6}")
     num = lambda x: f"{float(x):6.2f}" if x not in ("", None) else f"{'':6}"
     for r in rows:

@@ -27,7 +27,7 @@ import matplotlib.tri as mtri
 from matplotlib.colors import TwoSlopeNorm
 
 import observables
-from _runner import ROOT, BIN, env
+from _runner import ROOT, BIN, env, write_rows
 
 # case -> (builtin scene, `--set` overrides, t_end of the loading in s)
 R405 = "material.remodelling"
@@ -413,10 +413,7 @@ def reported(dirs, out, refs, label):
     for what, paper, key, three_d in REPORTED:
         v, bar = conv.get(key, (None, None))
         rows.append({"quantity": what, "paper": paper, "converged": v, "error_bar": bar, label: three_d(dirs)})
-    with open(out / "reported.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(out / "reported.csv", rows)
     print(f"\n| quantity | paper | converged (meridian) | {label} |\n|---|---|---|---|")
     for r in rows:
         c = "—" if r["converged"] is None else f"{fmt(r['converged'])} ± {r['error_bar']:.2g}"
