@@ -195,3 +195,50 @@ pub struct Preallocation {
     pub schur_d: Vec<Int>,
     pub schur_o: Vec<Int>,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{dist, Family};
+
+    /// The unit cube (and the meridian square) split over 3 ranks by blocks of cells, without MPI:
+    /// the owned dofs of the ranks tile 0..n_global once each, in each rank's [offset, offset +
+    /// n_owned) with u before p; a node or vertex shared by ranks has the same global dofs on
+    /// each; and local_to_owned is the global index minus the offset.
+    #[test]
+    fn dofs_number_every_node_and_vertex_once_across_ranks() {
+        for family in [Family::Tet10, Family::Tri6] {
+            let mesh = crate::fem::mms_tests::mesh(family, 3);
+            let (nranks, ncells) = (3, mesh.cells.len());
+            let part: Vec<u32> = (0..ncells).map(|c| (c * nranks / ncells) as u32).collect();
+            let locals: Vec<_> = (0..nranks).map(|r| dist::distribute(&mesh, &part, nranks, r).unwrap()).collect();
+            let maps: Vec<_> = locals.iter().map(DofMap::new).collect();
+            let nc = family.components();
+            let total = nc * mesh.coords.len() + mesh.n_vertices();
+            let mut owned_by = vec![usize::MAX; total];
+            let mut of_node = std::collections::HashMap::new();
+            for (r, (l, d)) in locals.iter().zip(&maps).enumerate() {
+                assert_eq!(d.n_global, total);
+                assert_eq!(d.u_range(), (d.offset, d.offset + d.n_u_owned()));
+                assert_eq!(d.p_range().1, d.offset + d.n_owned);
+                for i in 0..d.n_local() {
+                    let g = d.l2g[i] as usize;
+                    if let Some(k) = d.local_to_owned(i) {
+                        assert_eq!(owned_by[g], usize::MAX, "global dof {g} owned twice");
+                        owned_by[g] = r;
+                        assert_eq!(k, g - d.offset);
+                    }
+                }
+                for n in 0..l.coords.len() {
+                    let dofs: Vec<Int> = (0..nc).map(|c| d.l2g[d.u_local(n, c)]).collect();
+                    let v = l.vertex_of_node[n];
+                    let p = (v >= 0).then(|| d.l2g[d.p_local(v as usize)]);
+                    let seen = of_node.entry(l.node_original[n]).or_insert((dofs.clone(), p));
+                    assert_eq!(*seen, (dofs, p), "node {} numbered differently on rank {r}", l.node_original[n]);
+                }
+            }
+            assert!(owned_by.iter().all(|&r| r < nranks), "a global dof no rank owns");
+            assert_eq!(of_node.len(), mesh.coords.len());
+        }
+    }
+}

@@ -100,7 +100,7 @@ fn sources(family: Family, coupled: bool, m: &LinearPoroelastic, x: &[f64; 3]) -
 
 /// The unit cube in n³ cubes of 6 Kuhn tetrahedra, or the meridian square [0, 1]² (x = r, z) in
 /// n² squares of 2 triangles; quadratic nodes on the half grid.
-fn mesh(family: Family, n: usize) -> Mesh {
+pub(super) fn mesh(family: Family, n: usize) -> Mesh {
     let m = 2 * n + 1;
     let (dims, nv) = match family {
         Family::Tet10 => (3, 4),
