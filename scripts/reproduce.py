@@ -16,6 +16,7 @@ import csv
 import shutil
 import subprocess
 import time
+from functools import lru_cache
 from pathlib import Path
 
 import h5py
@@ -324,18 +325,24 @@ def split_kink(dirs):
 
 # The numbers the paper reports, each with its converged meridian value (scripts/references.py:
 # (case, observable), or a combined value's name) and the 3-D default's (a function of the runs).
-def _diff(dirs, a, b, key):
-    sa, sb = (summarise(c, dirs[c]) if (dirs[c] / "history.csv").exists() else {} for c in (a, b))
-    return None if sa.get(key) is None or sb.get(key) is None else sa[key] - sb[key]
-
-
-def _ratio(dirs, a, b, key):
-    sa, sb = (summarise(c, dirs[c]) if (dirs[c] / "history.csv").exists() else {} for c in (a, b))
-    return None if not sa.get(key) or not sb.get(key) else sa[key] / sb[key]
+@lru_cache(maxsize=None)
+def _summarised(case, d):
+    """A case's summary, read once for all the table's rows ({} without a run)."""
+    return summarise(case, d) if (d / "history.csv").exists() else {}
 
 
 def _summary(dirs, case, key):
-    return summarise(case, dirs[case]).get(key) if (dirs[case] / "history.csv").exists() else None
+    return _summarised(case, dirs[case]).get(key)
+
+
+def _diff(dirs, a, b, key):
+    x, y = _summary(dirs, a, key), _summary(dirs, b, key)
+    return None if x is None or y is None else x - y
+
+
+def _ratio(dirs, a, b, key):
+    x, y = _summary(dirs, a, key), _summary(dirs, b, key)
+    return None if not x or not y else x / y
 
 
 def _hw(dirs, case):
