@@ -67,7 +67,17 @@ fn compression_release_protocol() {
     // and is zero once the upper contact has opened after the release.
     let ipk = (0..n).max_by(|&a, &b| f[a].total_cmp(&f[b])).unwrap();
     assert!((t[ipk] - 2.0).abs() < 0.3, "peak force at t = {} s", t[ipk]);
-    assert!(f[ipk] > 10.0 && f[ipk] < 25.0, "peak force {} mg", f[ipk]);
+    // The peak against an independent discretisation of the same experiment: the meridian
+    // (axisymmetric) model on a 5x finer mesh, itself 0.4% from h = 4 µm. Measured: the coarse
+    // 3-D mesh is 4.9% low at h = 40 µm (the shipped h = 20 µm mesh is 3% low, docs/studies.md).
+    let meridian = dir.join("meridian");
+    let axi = ["--set", "mesh.geometry=axisymmetric", "--set", "mesh.params.h=8", "--set", "mesh.params.h_pole=1"];
+    let mut args = vec!["run", sc.as_str(), "--out", meridian.to_str().unwrap(), "-q"];
+    args.extend(axi);
+    run_ok(1, &args);
+    let f_ref = History::read(&meridian).col("force_total_mg").into_iter().fold(0.0, f64::max);
+    let err = f[ipk] / f_ref - 1.0;
+    assert!(err < 0.0 && err > -0.06, "peak force {} mg, {:+.2}% from the meridian's {f_ref} mg", f[ipk], 100.0 * err);
     let ramp: Vec<usize> = (0..n).filter(|&i| t[i] <= 2.0 + 1e-9).collect();
     assert!(ramp.windows(2).all(|w| f[w[1]] >= f[w[0]] - 1e-9), "force not rising during the ramp");
     let hold: Vec<usize> = (0..n).filter(|&i| t[i] > 2.0 + 1e-9 && t[i] <= 8.0 + 1e-9).collect();
