@@ -182,19 +182,7 @@ impl Discretization {
     /// Local dof indices of element e in kernel order (the first `ndof()` entries).
     #[inline]
     pub fn element_dofs(&self, e: usize) -> ElementDofs {
-        let f = self.family();
-        let (nn, nv, nc) = (f.cell_nodes(), f.cell_vertices(), f.components());
-        let t = &self.mesh.cells[e];
-        let mut d = [0usize; MAX_DOF];
-        for a in 0..nn {
-            for c in 0..nc {
-                d[nc * a + c] = self.dofs.u_local(t[a] as usize, c);
-            }
-        }
-        for m in 0..nv {
-            d[nc * nn + m] = self.dofs.p_local(self.mesh.vertex_of_node[t[m] as usize] as usize);
-        }
-        d
+        self.dofs.element_dofs(&self.mesh, e)
     }
 
     /// The kernel's input for element e: coordinates, values of U and U̇, step size, qp state.

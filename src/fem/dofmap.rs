@@ -8,6 +8,7 @@
 //! Local layout (what elements read and write): u of local node n at nc n + c, then p of local
 //! vertex m at nc n_nodes + m; owned entries come first in each part.
 
+use super::element::{ElementDofs, MAX_DOF};
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::Int;
 
@@ -58,6 +59,23 @@ impl DofMap {
         }
         for v in 0..n_vertices {
             d.l2g.push(d.p_global(m.vertex_global[v] as usize) as Int);
+        }
+        d
+    }
+
+    /// Local dofs of cell `e` of `m` in the kernel's order (`fem::element`): u of node a,
+    /// component c at nc a + c, then p of vertex m.
+    pub fn element_dofs(&self, m: &LocalMesh, e: usize) -> ElementDofs {
+        let (nn, nv, nc) = (m.family.cell_nodes(), m.family.cell_vertices(), self.nc);
+        let t = &m.cells[e];
+        let mut d = [0usize; MAX_DOF];
+        for a in 0..nn {
+            for c in 0..nc {
+                d[nc * a + c] = self.u_local(t[a] as usize, c);
+            }
+        }
+        for v in 0..nv {
+            d[nc * nn + v] = self.p_local(m.vertex_of_node[t[v] as usize] as usize);
         }
         d
     }
