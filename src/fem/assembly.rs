@@ -124,12 +124,11 @@ impl Discretization {
         let mut k = Box::new([[0.0; MAX_DOF]; MAX_DOF]);
         let mut prows = [0 as Int; MAX_VERTICES];
         self.each_element(ul, udl, dt, QpStateUse::Step, |e, d, input| {
-            let mut r = [0.0; MAX_DOF];
             for row in k.iter_mut().take(n) {
                 *row = [0.0; MAX_DOF];
             }
             let mut s = [[0.0; MAX_VERTICES]; MAX_VERTICES];
-            kernel.jacobian(input, shift, &mut r, &mut k, &mut s)?;
+            kernel.jacobian(input, shift, &mut k, &mut s)?;
             for a in 0..n {
                 if self.constrained[d[a]] {
                     k[a] = [0.0; MAX_DOF];

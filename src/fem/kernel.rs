@@ -319,7 +319,6 @@ pub trait CellKernel {
         &self,
         e: &ElementInput,
         shift: f64,
-        r: &mut [f64; MAX_DOF],
         k: &mut ElementMatrix,
         schur: &mut [[f64; MAX_VERTICES]; MAX_VERTICES],
     ) -> Result<()>;
@@ -417,21 +416,19 @@ impl<C: CellShape> CellKernel for ElementKernel<'_, C> {
         Ok(())
     }
 
-    /// The element residual, Jacobian (row-major NDOF × NDOF) and Schur block into `r`, `k` and
-    /// `schur` (zero on entry).
+    /// The element Jacobian (row-major NDOF × NDOF) and Schur block into `k` and `schur` (zero
+    /// on entry).
     fn jacobian(
         &self,
         e: &ElementInput,
         shift: f64,
-        r: &mut [f64; MAX_DOF],
         k: &mut ElementMatrix,
         schur: &mut [[f64; MAX_VERTICES]; MAX_VERTICES],
     ) -> Result<()> {
         let mut proj = Projection::default();
         let inv_kdr = 1.0 / self.model.drained_bulk_modulus();
         self.for_points(e, |at, pt, hq| {
-            let (f, t) = self.model.eval_tangent(at, &pt.state, hq, shift)?;
-            add_residual::<C>(pt, &f, r);
+            let (_, t) = self.model.eval_tangent(at, &pt.state, hq, shift)?;
             proj.add::<C>(pt, &e.values.pdot);
             let w = pt.w;
             let dn = &pt.dn;
@@ -513,9 +510,7 @@ impl<C: CellShape> CellKernel for ElementKernel<'_, C> {
             proj.jacobian::<C>(self.stab.weight::<C>(proj.measure, e.dt), shift, k, schur);
         }
         if self.equal_order {
-            let s = self.tie_stiffness(proj.measure);
-            equal_order::tie_residual(r, &e.values.u, s);
-            equal_order::tie_jacobian(k, s);
+            equal_order::tie_jacobian(k, self.tie_stiffness(proj.measure));
         }
         Ok(())
     }

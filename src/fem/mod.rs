@@ -26,4 +26,6 @@ pub mod quadrature;
 pub mod surface;
 
 #[cfg(test)]
+mod kernel_tests;
+#[cfg(test)]
 mod mms_tests;
