@@ -28,7 +28,7 @@ use std::marker::PhantomData;
 
 /// Table 1 (µm, kPa, s): µ = 20 kPa, ν = 0.2, Φs = 0.6, the penalty, k0 = 3.7729 µm⁴/(nN s),
 /// ρ = 1000 kg/m³ and g along −z.
-fn table1(gravity: bool) -> Biphasic {
+pub(super) fn table1(gravity: bool) -> Biphasic {
     let solid = HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap();
     let pen = CompactionPenalty::new(0.6, 1000.0, 0.7, 2.0, 0.5).unwrap();
     let perm = Permeability::new(3.7729, 0.6, 4.638, 0.0848, PermeabilityModel::Isotropic).unwrap();

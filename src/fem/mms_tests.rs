@@ -17,6 +17,7 @@ use super::cell::{CellShape, Tet10, Tri6Axi};
 use super::dofmap::DofMap;
 use super::element::{tabulate_cell, MAX_NODES};
 use super::kernel::Stabilisation;
+use super::point::PointModel;
 use super::qp_store::QpStore;
 use super::quadrature;
 use crate::mesh::{dist, Family, Mesh, TET10_EDGES, TRI6_EDGES};
@@ -165,34 +166,47 @@ pub(super) fn mesh(family: Family, n: usize) -> Mesh {
     Mesh { family, coords, cells, is_vertex, ..Mesh::default() }
 }
 
+/// The element loops' input on the mesh of n (one rank, nothing constrained) for `model`: its
+/// qp state at the model's initial value, evolving.
+pub(super) fn discretization(
+    family: Family,
+    n: usize,
+    model: Box<dyn PointModel>,
+    stab: Stabilisation,
+    q: &quadrature::Quadrature,
+) -> Discretization {
+    let global = mesh(family, n);
+    let local = dist::distribute(&global, &vec![0; global.cells.len()], 1, 0).unwrap();
+    let dofs = DofMap::new(&local);
+    let n_local = dofs.n_local();
+    let len = model.qp_state_len();
+    Discretization {
+        dofs,
+        tab: tabulate_cell(family, q),
+        xi: q.points.clone(),
+        constrained: vec![false; n_local],
+        stab,
+        qp_state: QpStore::new(local.cells.len(), q.len(), len, |s| model.initial_qp_state(s)),
+        equal_order: false,
+        evolve: true,
+        mesh: local,
+        model,
+    }
+}
+
 /// L² errors of u and p of the discrete solution on the mesh of n.
 fn errors<C: CellShape>(n: usize, coupled: bool) -> (f64, f64) {
     let family = C::FAMILY;
     let model = LinearPoroelastic::new(MU, NU, K).unwrap();
-    let global = mesh(family, n);
-    let local = dist::distribute(&global, &vec![0; global.cells.len()], 1, 0).unwrap();
-    let dofs = DofMap::new(&local);
     let q = match family {
         Family::Tet10 => quadrature::tet(3),
         Family::Tri6 => quadrature::tri(4),
     };
-    let n_el = local.cells.len();
-    let disc = Discretization {
-        dofs,
-        model: Box::new(model),
-        tab: tabulate_cell(family, &q),
-        xi: q.points.clone(),
-        constrained: Vec::new(),
-        stab: Stabilisation { c_s: 0.0, fade: None, c_v: 0.0 },
-        qp_state: QpStore::new(n_el, q.len(), 0, |_| {}),
-        equal_order: false,
-        evolve: false,
-        mesh: local,
-    };
+    let stab = Stabilisation { c_s: 0.0, fade: None, c_v: 0.0 };
+    let disc = discretization(family, n, Box::new(model), stab, &q);
+    let n_el = disc.mesh.cells.len();
     let nd = disc.dofs.n_local();
     let zero = vec![0.0; nd];
-    let mut disc = disc;
-    disc.constrained = vec![false; nd];
     let ndof = disc.ndof();
     // Stiffness (steady: U̇ = 0, shift 0) and the manufactured loads.
     let mut a = DMatrix::<f64>::zeros(nd, nd);
