@@ -24,12 +24,14 @@ reference scenes the accuracy line gives each value's error against the converge
 The large ones (fine, graded, full, cryer100k) take minutes per run on 2 cores.
 """
 import argparse
+import math
 import statistics
 import tempfile
 import time
 from pathlib import Path
 
-from _runner import CONVERGED_LEVEL, refined_steps, run, scene_values
+import runner
+from runner import CONVERGED_LEVEL, refined_steps, scene_values
 
 CASES = {   # shipped scene, --set overrides
     "default": ("reference", []),
@@ -71,50 +73,42 @@ def log_view(path):
     return out
 
 
-def at(h, col, t):
-    """Column value at time t (linear interpolation), or None."""
-    if col not in h:
-        return None
-    ts, vs = h["time"], h[col]
-    for i in range(1, len(ts)):
-        if ts[i - 1] <= t <= ts[i]:
-            w = (t - ts[i - 1]) / (ts[i] - ts[i - 1]) if ts[i] > ts[i - 1] else 1.0
-            return vs[i - 1] + w * (vs[i] - vs[i - 1])
-    return None
-
-
 def observables(h):
-    """The case's accuracy columns, whichever apply."""
-    obs = {}
+    """The case's accuracy columns, whichever apply (runner.observe; NaN ones left out)."""
+    specs = {}
     if "force_total_mg" in h:
-        obs["peak_F_mg"] = max(h["force_total_mg"])
-        obs["F35_mg"] = at(h, "force_total_mg", 35.0)
-        obs["p5_kPa"] = at(h, "probe_p", 5.0)
+        specs.update(peak_F_mg="max:force_total_mg", F35_mg="force_total_mg@35", p5_kPa="probe_p@5")
     if "p_center_exact" in h:
-        obs["p_center_err"] = max(abs(a - b) for a, b, t in zip(h["p_center"], h["p_center_exact"], h["time"]) if t >= 1.0)
+        specs["p_center_err"] = "maxerr:p_center@1:inf"
     if "stress_zz" in h and "force_total_mg" not in h:
-        obs["stress_zz_100"] = at(h, "stress_zz", 100.0)
-    return obs
+        specs["stress_zz_100"] = "stress_zz@100"
+    obs = {k: runner.observe(h, spec) for k, spec in specs.items()}
+    return {k: v for k, v in obs.items() if not math.isnan(v)}
 
 
 def halved(scene, overrides):
-    """Overrides that halve every step of the case (`_runner.refined_steps`)."""
+    """Overrides that halve every step of the case (`runner.refined_steps`)."""
     given = dict(o.split("=", 1) for o in overrides)
     return list(overrides) + [f"{k}={v!r}" for k, v in refined_steps(scene_values(scene)["time"], given, 0.5)]
 
 
 def run_once(scene, overrides, ranks, work, petsc=()):
+    """One run (runner.run_case, never skipped: the timings are the point) with -log_view."""
+    work.mkdir(parents=True, exist_ok=True)
     lv = work / "log_view.txt"
     t0 = time.time()
-    rows, tm = run(None, ranks, petsc=("-log_view", f":{lv}", *petsc), workdir=work, scene=scene,
-                   overrides=overrides)
+    res = runner.run_case(scene, [tuple(o.split("=", 1)) for o in overrides], [], work, ranks,
+                          ("-log_view", f":{lv}", *petsc))
+    if res["status"] != "ok":
+        raise SystemExit(f"bench.py: {scene} {' '.join(overrides)} failed: {res['error']} (see {work / 'log.txt'})")
     wall = time.time() - t0
+    tm = runner.timings(work / "run")
     r = dict(tm)
     r.update(log_view(lv))
     r["wall"] = wall
     r["rss_MiB"] = tm.get("max_rss_mib")           # the largest rank's peak resident memory
     r["assembly"] = tm["residual_assembly"] + tm["jacobian_assembly"] + tm.get("history_commit", 0.0)
-    r.update(observables({k: [float(row[k]) for row in rows] for k in rows[0]}))
+    r.update(observables(runner.history(work / "run")))
     return r
 
 
@@ -122,7 +116,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--case", nargs="+", choices=list(CASES), default=None)
     ap.add_argument("--scene", default=None, help="instead of --case: a scene at the mesh sizes of --h")
-    ap.add_argument("--h", type=float, nargs="*", default=[], help="mesh sizes (mesh param h and h_pole)")
+    ap.add_argument("--h", type=float, nargs="*", default=[],
+                    help="mesh sizes: mesh.params.h, the scene's other sizes (h_pole, ...) scaled with it")
     ap.add_argument("--t-end", type=float, default=None, help="shorten a --scene run")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
@@ -134,15 +129,10 @@ def main():
 
     runs = []   # (label, scene, overrides)
     if a.scene:
-        params = scene_values(a.scene).get("mesh", {}).get("params", {})
-        for h in a.h or [None]:
-            ov = []
-            if h is not None:
-                ov.append(f"mesh.params.h={h!r}")
-                if "h_pole" in params:
-                    ov.append(f"mesh.params.h_pole={h!r}")
-            if a.t_end:
-                ov.append(f"time.t_end={a.t_end!r}")
+        # A mesh sweep (runner.h_levels: the scene's other sizes scaled with h), or the scene as it is.
+        levels = runner.h_levels(a.scene, a.h) if a.h else [[]]
+        for h, mesh in zip(a.h or [None], levels):
+            ov = [f"{k}={v}" for k, v in mesh] + ([f"time.t_end={a.t_end!r}"] if a.t_end else [])
             runs.append((f"{a.scene}" + (f" h={h:g}" if h else ""), a.scene, ov))
     else:
         for c in a.case or ["default", "remodel"]:

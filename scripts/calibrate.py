@@ -30,7 +30,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import numpy as np  # noqa: E402
-import study  # noqa: E402
+import runner  # noqa: E402
 import labels  # noqa: E402
 
 
@@ -49,10 +49,10 @@ class Model:
         overrides = [(k, repr(v)) for k, v in zip(self.keys, values)]
         sets = [tuple(s.split("=", 1)) for s in self.a.set]
         case = self.root / "runs" / (tag or f"run{n:03d}")
-        r = study.run_case(self.a.scene, overrides, sets, case, self.a.ranks, [])
+        r = runner.run_case(self.a.scene, overrides, sets, case, self.a.ranks)
         if r["status"] != "ok":
             raise RuntimeError(f"run with {dict(overrides)} failed: {r['error']}")
-        return study.history(case / "run" / "history.csv")
+        return runner.history(case / "run")
 
 
 def main():
@@ -100,7 +100,7 @@ def main():
         except RuntimeError as e:
             print(f"  {e}", flush=True)
             return None, None
-        return np.array([study.at(h, a.column, t) - v for t, v in data]), h
+        return np.array([runner.at(h, a.column, t) - v for t, v in data]), h
 
     x = np.array(x)
     r, best = residuals(x)

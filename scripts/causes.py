@@ -11,8 +11,7 @@ shift itself moves with the steps.
 
 Writes DIR/causes.csv (variant, what it changes, the observables, their shifts) and prints the
 table; then the same for the no-remodelling gap (`reference_405`, its settling times:
-DIR/causes_reference.csv; --no-reference skips it). Completed variants are kept (scripts/study.py's
-runner), so an interrupted run continues.
+DIR/causes_reference.csv; --no-reference skips it). Completed variants are kept (scripts/runner.py), so an interrupted run continues.
 """
 import argparse
 import math
@@ -21,8 +20,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import observables  # noqa: E402
-import study  # noqa: E402
-from _runner import CONVERGED_LEVEL, refined_steps, scene_values, write_rows  # noqa: E402
+from runner import CONVERGED_LEVEL, refined_steps, run_cases, scene_values, write_rows  # noqa: E402
 
 SCENE = "remodel_155"
 BASE = [tuple(s.split("=", 1)) for s in CONVERGED_LEVEL] + [("time.t_end", "60"), ("output.fields", "false"),
@@ -113,7 +111,7 @@ def reference_rows(root, ranks, step_scale):
     base = [(k, v) for k, v in BASE if k != "time.t_end"]
     rows = []
     for name, (what, sets) in REFERENCE_VARIANTS.items():
-        [(cdir, r)] = study.run_cases(REFERENCE_SCENE, [steps + sets], base, root / name, ranks, [],
+        [(cdir, r)] = run_cases(REFERENCE_SCENE, [steps + sets], base, root / name, ranks, [],
                                       [o for o in REFERENCE_OBSERVE if o not in observables.DERIVED], label=lambda _: name)
         ok = r["status"] == "ok"
         val = lambda o: (observables.DERIVED[o](cdir / "run") if o in observables.DERIVED else r.get(o)) \
@@ -162,7 +160,7 @@ def main():
         else:
             sets = steps(a.steps) + sets
         scene = scene_text(edits, root / "scenes" / f"{name}.toml") if edits else SCENE
-        [(_, r)] = study.run_cases(scene, [sets], BASE, root / name, a.ranks, [], OBSERVE, label=lambda _: name)
+        [(_, r)] = run_cases(scene, [sets], BASE, root / name, a.ranks, [], OBSERVE, label=lambda _: name)
         rows.append({"variant": name, "changes": what, "status": r["status"], "wall_s": r.get("wall_s"),
                      **{o: r.get(o, float("nan")) for o in OBSERVE}})
     base = next((r for r in rows if r["variant"] == "base"), None)

@@ -3,8 +3,8 @@
 Runs a scene at mesh sizes h (mesh.params.h, with the other sizes — h_pole, h_edge, from the
 scene or --set — scaled in proportion) and time-step scales s (every step scaled by s: time.dt,
 time.dt_max and time.error_tolerance multiplied by s, time.growth raised to the power s;
-`_runner.refined_steps`): each mesh level at one step level and each step level on one mesh (a
-cross; --full: every combination), as batch jobs through `scripts/study.py`'s runner (completed cases are skipped, so an
+`runner.refined_steps`): each mesh level at one step level and each step level on one mesh (a
+cross; --full: every combination), as batch jobs through `scripts/runner.py` (completed cases are skipped, so an
 interrupted study continues). For each observable it estimates
 
   * the observed orders p_h (from the three finest meshes, at the steps --mesh-steps, default the
@@ -39,26 +39,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import study  # noqa: E402
-
-SIZES = ("h_pole", "h_edge", "h_surf")   # mesh sizes besides h, scaled with it
-from _runner import refined_steps, scene_values, write_rows  # noqa: E402
-
-
-def solve_order(q, r):
-    """Observed order from three values q (coarse → fine) on levels with ratios r = (r1, r2)
-    (h_i / h_{i+1}); NaN if the differences do not shrink monotonically."""
-    d1, d2 = q[0] - q[1], q[1] - q[2]
-    if d1 == 0 or d2 == 0 or d1 * d2 < 0 or abs(d2) >= abs(d1) * 1.0:
-        return float("nan")
-    # (r1^p − 1) r2^p / (r2^p − 1) = d1/d2 (constant C h^p errors); bisection in p.
-    f = lambda p: (r[0] ** p - 1) * r[1] ** p / (r[1] ** p - 1) - abs(d1 / d2)
-    lo, hi = 0.05, 8.0
-    if f(lo) > 0 or f(hi) < 0:
-        return float("nan")
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if f(mid) < 0 else (lo, mid)
-    return 0.5 * (lo + hi)
+from runner import (SIZES, h_levels, refined_steps, run_cases, scene_values, solve_order,  # noqa: E402,F401
+                    write_rows)
 
 
 def correction(q_coarse, q_fine, ratio, p):
@@ -92,33 +74,19 @@ def extrapolate(qh, qt, q_junction, hs, ss, formal_h, formal_t):
 def cross(scene, hs, ss, sets, H, S, full=False):
     """The cases of a study: (h, s, overrides) for each mesh level at the steps S and each step
     level on the mesh H (every combination with `full`). `sets` are the study's --set values
-    ("KEY=VALUE"); sizes and time keys among them are scaled per level, the rest returned as the
-    fixed (key, value) overrides of every case."""
+    ("KEY=VALUE"); sizes and time keys among them are scaled per level (`runner.h_levels`,
+    `runner.refined_steps`), the rest returned as the fixed (key, value) overrides of every case."""
     t = scene_values(scene)
-    params = t.get("mesh", {}).get("params", {})
-    h0 = params.get("h")
-    if h0 is None:
-        sys.exit("convergence_study.py: the scene's mesh has no params.h")
-    given = {}                                                 # time.* overrides, scaled per level
-    sizes = {k: v for k, v in params.items() if k in SIZES}   # scaled with h
-    for s in sets:
-        k, v = s.split("=", 1)
-        if k.startswith("time."):
-            given[k] = v
-        if k.startswith("mesh.params.") and k[12:] in SIZES:
-            sizes[k[12:]] = float(v)
+    given = {k: v for k, v in (s.split("=", 1) for s in sets) if k.startswith("time.")}   # scaled per level
     scaled = ("time.dt=", "time.dt_max=", "time.error_tolerance=", "time.growth=",
               *(f"mesh.params.{k}=" for k in SIZES))
     fixed = [tuple(s.split("=", 1)) for s in sets if not s.startswith(scaled)]
     cases = []
-    for h in hs:
+    for h, mesh in zip(hs, h_levels(scene, hs, sets)):
         for s in ss:
             if not (full or h == H or s == S):
                 continue
-            ov = [("mesh.params.h", f"{h:g}")]
-            ov += [(f"mesh.params.{k}", f"{v * h / h0:g}") for k, v in sizes.items()]
-            ov += [(k, f"{v:g}") for k, v in refined_steps(t["time"], given, s)]
-            cases.append((h, s, ov))
+            cases.append((h, s, mesh + [(k, f"{v:g}") for k, v in refined_steps(t["time"], given, s)]))
     return cases, fixed
 
 
@@ -126,7 +94,7 @@ def run_study(scene, hs, ss, sets, root, ranks, observe, H, S, full=False):
     """Runs the study's cases (completed ones are skipped): {(h, s): (case dir, result)}."""
     cases, fixed = cross(scene, hs, ss, sets, H, S, full)
     names = {tuple(ov): f"h = {h:g}, dt x {s:g}" for h, s, ov in cases}
-    ran = study.run_cases(scene, [ov for _, _, ov in cases], fixed, Path(root), ranks, [], observe,
+    ran = run_cases(scene, [ov for _, _, ov in cases], fixed, Path(root), ranks, [], observe,
                           label=lambda ov: names[tuple(ov)])
     return {(h, s): r for (h, s, _), r in zip(cases, ran)}
 

@@ -2,27 +2,50 @@
 """Krylov iterations per linear solve of the default Schur-fieldsplit preconditioner as the
 mesh is refined (h halves) and the time step shrinks (Δt 100× smaller), on Cryer's sphere.
 Each case takes a few constant steps; the table shows iterations per Newton step (mean over
-steps after the first), wall time per step, and DoFs.
+steps after the first), wall time per step, DoFs, and c Δt/h² (c = k (λ + 2µ), the scene's
+consolidation coefficient). The cases are a grid of the study runner (scripts/runner.py: a mesh
+sweep by `h_levels` × the step sizes), run into DIR/cases/ and skipped when complete.
 
-    python3 scripts/krylov_study.py [--ranks 2] [--levels 4 8 16]
+    python3 scripts/krylov_study.py [--ranks 2] [--levels 4 8 16] [--dt 1 0.01] [--dir studies/krylov]
 """
 import argparse
-from _runner import run
+import sys
+from pathlib import Path
 
-ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-ap.add_argument("--ranks", type=int, default=2)
-ap.add_argument("--levels", type=int, nargs="+", default=[4, 8, 16], help="R/h values")
-ap.add_argument("--steps", type=int, default=4)
-a = ap.parse_args()
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import runner  # noqa: E402
 
-print(f"{'R/h':>5} {'dofs':>8} {'dt [s]':>8} {'c dt/h^2':>9} {'its/solve':>10} {'s/step':>8}")
-for n in a.levels:
-    h = 100.0 / n
-    for dt in [1.0, 0.01]:
-        ov = ["solver.preset=fieldsplit", f"mesh.params.h={h}", f"mesh.params.h_pole={h}",
-              f"time.t_end={a.steps * dt}", f"time.dt={dt}", "time.growth=1.0", f"time.dt_max={dt}"]
-        hist, tm = run(None, a.ranks, scene="cryer", overrides=ov)
-        steps = hist[2:]
-        its = sum(int(r["ksp_its"]) / max(1, int(r["newton_its"])) for r in steps) / len(steps)
-        per = tm["solve_total"] / max(1, len(hist) - 1)
-        print(f"{n:>5} {int(tm['dofs']):>8} {dt:>8.2g} {120.7 * dt / h**2:>9.3g} {its:>10.1f} {per:>8.2f}", flush=True)
+SCENE = "cryer"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--ranks", type=int, default=2)
+    ap.add_argument("--levels", type=int, nargs="+", default=[4, 8, 16], help="R/h values")
+    ap.add_argument("--dt", type=float, nargs="+", default=[1.0, 0.01], help="the constant step sizes (s)")
+    ap.add_argument("--steps", type=int, default=4)
+    ap.add_argument("--dir", default="studies/krylov")
+    a = ap.parse_args()
+    radius = runner.scene_values(SCENE)["mesh"]["params"]["R"]
+    c = runner.consolidation_coefficient(SCENE)
+    hs = [radius / n for n in a.levels]
+    grid = [(n, h, dt, mesh + [("time.t_end", f"{a.steps * dt:g}"), ("time.dt", f"{dt:g}"),
+                               ("time.growth", "1.0"), ("time.dt_max", f"{dt:g}")])
+            for n, h, mesh in zip(a.levels, hs, runner.h_levels(SCENE, hs)) for dt in a.dt]
+    done = runner.run_cases(SCENE, [ov for *_, ov in grid], [("solver.preset", "fieldsplit")], Path(a.dir), a.ranks,
+                            label=lambda ov: " ".join(f"{k}={v}" for k, v in ov[:1] + ov[-3:-2]))
+    print(f"c = k (λ + 2µ) = {c:.4g} µm²/s ({SCENE})")
+    print(f"{'R/h':>5} {'dofs':>8} {'dt [s]':>8} {'c dt/h^2':>9} {'its/solve':>10} {'s/step':>8}")
+    for (n, h, dt, _), (cdir, r) in zip(grid, done):
+        if r["status"] != "ok":
+            print(f"{n:>5} failed: {r['error']}")
+            continue
+        hist, tm = runner.history(cdir / "run"), runner.timings(cdir / "run")
+        steps = list(zip(hist["ksp_its"][2:], hist["newton_its"][2:]))
+        its = sum(k / max(1, nw) for k, nw in steps) / len(steps)
+        per = tm["solve_total"] / max(1, len(hist["time"]) - 1)
+        print(f"{n:>5} {int(tm['dofs']):>8} {dt:>8.2g} {c * dt / h**2:>9.3g} {its:>10.1f} {per:>8.2f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()

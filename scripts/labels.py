@@ -70,7 +70,8 @@ def column(c):
 
 def observable(spec):
     """A study.py observable, e.g. max:force_total_mg -> peak of total force (mg)."""
-    kinds = {"max": "peak of ", "min": "minimum of ", "last": "final ", "zero": "zero crossing (s) of "}
+    kinds = {"max": "peak of ", "min": "minimum of ", "last": "final ", "zero": "zero crossing (s) of ",
+             "err": "error against the exact solution of ", "maxerr": "largest error against the exact solution of "}
     if ":" in spec:
         kind, col = spec.split(":", 1)
         if kind == "zero":

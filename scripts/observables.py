@@ -8,22 +8,21 @@ Regions, in reference coordinates (the paper's Figs 5-6 text): the centre, cells
 has r < 30 µm and |z − R| < 30 µm; the contact zones, r < 40 µm and within 30 µm of either plate.
 Means are weighted by volume: on the meridian a cell's area times 2π r of its centroid, in 3-D
 its volume (straight-sided cells, which is exact for the reference mesh's interior cells)."""
-import csv
 import math
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
+import runner
+
 CENTRE_HALF = 30.0    # µm: the centre region's half-size
 CONTACT_R = 40.0      # µm: the contact zones' radius
 CONTACT_DEPTH = 30.0  # µm: ... and depth from the plate
 
 
-@lru_cache(maxsize=4)
-def history(run):
-    rows = list(csv.DictReader(open(Path(run) / "history.csv")))
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+# A run's history.csv (runner.history), read once for the several observables of one run.
+history = lru_cache(maxsize=4)(runner.history)
 
 
 class Fields:
@@ -131,7 +130,7 @@ def settle_time(run, col, t0, t1, fraction):
     t1 (linear between rows): e.g. 0.05 for the time 95% of the relaxation has happened."""
     h = history(run)
     t, v = h["time"], h[col]
-    v0, v1 = np.interp(t0, t, v), np.interp(t1, t, v)
+    v0, v1 = runner.at(h, col, t0), runner.at(h, col, t1)
     target = v1 + fraction * (v0 - v1)
     for i in range(1, len(t)):
         if t[i] > t0 and (v[i - 1] - target) * (v[i] - target) <= 0 and v[i] != v[i - 1]:
@@ -162,8 +161,7 @@ DERIVED = {
     "ep_contact10/centre@60": lambda run: zone_ratio(run, "norm_ep", 60.0, 10.0),
     "vm_contact10/centre@40": lambda run: zone_ratio(run, "von_mises", 40.0, 10.0),
     # the largest σ_VM anywhere (a point value) over the centre's mean
-    **{f"vm_max/centre@{t:g}": (lambda t: lambda run: float(np.interp(t, history(run)["time"],
-                                                                          history(run)["max_von_mises"]))
+    **{f"vm_max/centre@{t:g}": (lambda t: lambda run: runner.at(history(run), "max_von_mises", t)
                                 / zone_mean(run, "von_mises", "centre", t))(t) for t in (40.0, 60.0)},
     "detach_t": lambda run: detachment(run, 35.0)[0],
     "vm_max_before_detach": lambda run: detachment(run, 35.0)[1],

@@ -5,7 +5,7 @@ For each reference case (a shipped scene and its observables) this runs
 four surface-graded mesh levels with every size scaled together — bulk h, and the surface and
 pole sizes at h/5 (h_surf, h_pole; the grading depth w_surf = 30 µm stays) — down to 1 µm at the
 surface, at one step level, and four or five step levels (every step scaled,
-`_runner.refined_steps`) on one mesh, then Richardson extrapolation with error bars
+`runner.refined_steps`) on one mesh, then Richardson extrapolation with error bars
 (convergence_study.py's docstring says how). The time steps, not the mesh, set most of these
 bars, so the step levels go further (to 1/32 or 1/64 of the scene's steps) on the h = 10 µm mesh.
 Completed cases are kept, so an interrupted run continues.
@@ -25,7 +25,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import convergence_study  # noqa: E402
-from _runner import write_rows  # noqa: E402
+from runner import write_rows  # noqa: E402
 import observables  # noqa: E402
 
 MESH = "14.142,10,7.071,5"   # bulk h, coarse to fine (surface and poles at h/5)

@@ -4,7 +4,8 @@ scenes remodel_40, remodel_155, remodel_155_c2, elastic_155, remodel_405, refere
 variants of remodel_405 (lambda_p = 0.1, 0.5 (MPa s)^-1; sigma_y = 1, 4 kPa) on 2 MPI ranks,
 then draws the probe curves (Figs 4, 11), the force sweeps (Figs 7-9) and mid-plane sections
 (Figs 3, 5-6, 11c) into <out>/figures/, and writes <out>/summary.csv (also printed).
-A case whose <out>/<case>/timings.txt exists is not run again, so an interrupted study resumes.
+Every case runs through scripts/runner.py into <out>/cases/<case>/run (its log beside it); a case
+that completed with the same settings is not run again, so an interrupted study resumes.
 With --axisymmetric every case runs on its meridian (`--set mesh.geometry=axisymmetric`; the
 section figures then show the meridian itself, mirrored), by default into runs/reproduce_axi.
 
@@ -13,9 +14,9 @@ section figures then show the meridian itself, mirrored), by default into runs/r
 """
 import argparse
 import csv
+import math
 import shutil
 import subprocess
-import time
 from functools import lru_cache
 from pathlib import Path
 
@@ -28,7 +29,8 @@ import matplotlib.tri as mtri
 from matplotlib.colors import TwoSlopeNorm
 
 import observables
-from _runner import ROOT, BIN, env, write_rows
+import runner
+from runner import ROOT, history, timings, write_rows
 
 # case -> (builtin scene, `--set` overrides, t_end of the loading in s)
 R405 = "material.remodelling"
@@ -68,82 +70,34 @@ EXTRA_SETS = []   # --set overrides of every case (--axisymmetric)
 RANKS = [2]       # MPI ranks per case (--ranks)
 
 
-def fmt_s(s):
-    return f"{int(s // 3600)}h{int(s % 3600 // 60):02d}m{int(s % 60):02d}s"
-
-
-def run_command(case, out):
-    """mpirun command of one case: its builtin scene with the case's `--set` overrides; a variant
-    is renamed and writes fields rarely (disk) but still at the scene's figure times (fields_at)."""
+def case_overrides(case):
+    """The `--set` overrides of one case, as (key, value): a variant of a builtin scene is renamed
+    and writes fields rarely (disk) but still at the scene's figure times (fields_at)."""
     base, sets, _ = CASES[case]
     if sets:
         what = ", ".join(sets).replace('"', "'")
         sets = sets + [f'name="{case}"', f'description="{base} with {what} (scripts/reproduce.py)"',
                        "output.fields_every=1000"]
-    cmd = ["mpirun", "-n", str(RANKS[0]), str(BIN), "run", base, "--out", str(out / case), "--force", "-q"]
-    for s in sets + EXTRA_SETS:
-        cmd += ["--set", s]
-    return cmd
-
-
-def read_timings(d):
-    t = {}
-    if (d / "timings.txt").exists():
-        for line in open(d / "timings.txt"):
-            if " = " in line:
-                k, v = line.split(" = ")
-                t[k.strip()] = float(v)
-    return t
-
-
-def read_history(d):
-    """Columns of history.csv as arrays; rows that don't parse (a run still writing) are dropped."""
-    with open(d / "history.csv") as f:
-        r = csv.reader(f)
-        head = next(r)
-        rows = []
-        for row in r:
-            try:
-                if len(row) == len(head):
-                    rows.append([float(x) for x in row])
-            except ValueError:
-                pass
-    a = np.array(rows).reshape(-1, len(head))
-    return {k: a[:, i] for i, k in enumerate(head)}
+    return [tuple(x.split("=", 1)) for x in sets]
 
 
 def run_cases(out, names):
-    t0, done_wall, done_tend = time.time(), [], []
-    failed = []
-    for i, case in enumerate(names, 1):
-        d = out / case
-        if (d / "timings.txt").exists():
-            print(f"[{i}/{len(names)}] {case}: already done (total = {read_timings(d).get('total', 0):.1f} s)")
-            continue
-        # cost scales roughly with the simulated time, so weight the ETA by each case's t_end
-        left = sum(CASES[c][2] for c in names[i - 1:])
-        eta = fmt_s(sum(done_wall) / sum(done_tend) * left) if done_wall else "?"
-        print(f"[{i}/{len(names)}] {case}: running (elapsed {fmt_s(time.time() - t0)}, ETA {eta})", flush=True)
-        (out / "logs").mkdir(parents=True, exist_ok=True)
-        start = time.time()
-        with open(out / "logs" / f"{case}.log", "w") as log:   # --force: resume into a partial dir
-            rc = subprocess.run(run_command(case, out), env=env(), stdout=log, stderr=subprocess.STDOUT).returncode
-        done_wall.append(time.time() - start)
-        done_tend.append(CASES[case][2])
-        if rc != 0:
-            failed.append(case)
-            print(f"    FAILED (exit {rc}); see {out / 'logs' / (case + '.log')}", flush=True)
-        else:
-            print(f"    done: total = {read_timings(d).get('total', float('nan')):.1f} s", flush=True)
-    print(f"runs finished in {fmt_s(time.time() - t0)}" + (f"; failed: {', '.join(failed)}" if failed else ""))
+    """Runs the cases (runner.run_cases: completed ones skipped; the ETA weighted by each case's
+    t_end, which its cost roughly scales with)."""
+    done = runner.run_cases([CASES[c][0] for c in names], [case_overrides(c) for c in names],
+                            [tuple(x.split("=", 1)) for x in EXTRA_SETS], out, RANKS[0],
+                            names=names, weights=[CASES[c][2] for c in names])
+    failed = [c for c, (_, r) in zip(names, done) if r["status"] != "ok"]
+    if failed:
+        print(f"failed: {', '.join(failed)}; see {out / 'cases'}/<case>/log.txt")
 
 
 # ---------------------------------------------------------------- summary
 
 def summarise(case, d):
-    h, tim, t_end = read_history(d), read_timings(d), CASES.get(case, (None, None, 405.0))[2]
+    h, tim, t_end = history(d), timings(d), CASES.get(case, (None, None, 405.0))[2]
     t, th = h["time"], t_end - 5.0                   # th: end of the hold
-    at = lambda col, x: float(np.interp(x, t, h[col])) if col in h and t[-1] >= x else None
+    at = lambda col, x: None if math.isnan(v := runner.at(h, col, x)) else v
     s = {k: tim.get(v) for k, v in [("wall_s", "total"), ("steps", "steps"), ("newton", "newton_its"),
                                      ("krylov", "ksp_its"), ("step_cuts", "step_cuts")]}
     f = h["force_total_mg"]
@@ -211,7 +165,7 @@ def fig_probe(dirs, out, a, b, name, title):
         return
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     for case, style in ((a, "-"), (b, "--")):
-        h = read_history(dirs[case])
+        h = history(dirs[case])
         ax[0].plot(h["time"], h["probe_p"], style, label=case)
         ax[1].plot(h["time"], h["probe_porosity"], style, label=case)
     t_end = CASES[a][2]
@@ -233,7 +187,7 @@ def fig_forces(dirs, out):
     cases = {c for _, s in sweeps for c, _ in s} | {"reference_405"}
     if not have(dirs, sorted(cases)):
         return
-    hist = {c: read_history(dirs[c]) for c in cases}
+    hist = {c: history(dirs[c]) for c in cases}
     cols = [("force_total_mg", "total force"), ("force_constitutive_mg", "constitutive force"),
             ("force_pressure_mg", "pressure force")]
     fig, ax = plt.subplots(2, 3, figsize=(16, 8.5), sharex=True)
@@ -255,7 +209,7 @@ def fig_soft(dirs, out):
     if not have(dirs, ["mu3_nu0.45", "mu3_nu0.2", "remodel_155"]):
         return
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
-    h = read_history(dirs["mu3_nu0.45"])
+    h = history(dirs["mu3_nu0.45"])
     for col, lab in (("force_total_mg", "total"), ("force_constitutive_mg", "constitutive"),
                      ("force_pressure_mg", "pressure")):
         ax[0].plot(h["time"], h[col], label=lab)
@@ -266,7 +220,7 @@ def fig_soft(dirs, out):
     ax[0].set(xlim=(0, 160), xlabel="time t [s]", ylabel="force on the upper plate [mg]",
               title="µ = 3 kPa, ν = 0.45, λp = 1 (MPa s)⁻¹ (Forgacs)" + failed)
     for case, style, lab in (("remodel_155", "-", "µ = 20 kPa"), ("mu3_nu0.2", "--", "µ = 3 kPa")):
-        hh = read_history(dirs[case])
+        hh = history(dirs[case])
         ax[1].plot(hh["time"], hh["probe_p"], style, label=f"{lab} ({case})")
     ax[1].axhline(0, color="k", lw=0.7)
     ax[1].set(xlabel="time t [s]", ylabel="pressure p(X_U) [kPa]", title="µ = 20 vs 3 kPa (ν = 0.2)")
@@ -306,11 +260,11 @@ def split_kink(dirs):
     if not have(dirs, ["reference_405"], "fields.h5"):
         return
     run = dirs["reference_405"]
-    h, f = read_history(run), observables.fields(run)
+    h, f = history(run), observables.fields(run)
     T = [t for t in f.times if 200.0 <= t <= 300.0]
     if len(T) < 2:
         return print("  reference_405 has no field outputs between 200 and 300 s (an older scene)")
-    fp = lambda t: float(np.interp(t, h["time"], h["force_pressure_mg"]))
+    fp = lambda t: runner.at(h, "force_pressure_mg", t)
     t0, t1 = max(zip(T, T[1:]), key=lambda w: (fp(w[0]) - fp(w[1])) / (w[1] - w[0]))
     X = f.f["/mesh/coordinates"][:]
     r, rho = np.hypot(X[:, 0], X[:, 1]), np.hypot(np.hypot(X[:, 0], X[:, 1]), X[:, 2] - f.radius)
@@ -319,7 +273,7 @@ def split_kink(dirs):
     k = top[np.argmin(p1[top] - p0[top])]
     gap = lambda t: 2 * f.radius - X[k, 2] - f.at("u", t)[k, 2]
     print(f"  the pressure part falls fastest between {t0:g} and {t1:g} s ({fp(t0):.3f} -> {fp(t1):.3f} mg); "
-          f"the upper-surface vertex at r = {r[k]:.1f} µm (contact radius {np.interp(t0, h['time'], h['contact_radius_upper']):.1f} µm) "
+          f"the upper-surface vertex at r = {r[k]:.1f} µm (contact radius {runner.at(h, 'contact_radius_upper', t0):.1f} µm) "
           f"goes from p = {p0[k]:.2f} to {p1[k]:.2f} kPa, its gap to the plate from {1e3 * gap(t0):.0f} to {1e3 * gap(t1):.0f} nm")
 
 
@@ -346,7 +300,7 @@ def _ratio(dirs, a, b, key):
 
 
 def _hw(dirs, case):
-    h = read_history(dirs[case]) if (dirs[case] / "history.csv").exists() else None
+    h = history(dirs[case]) if (dirs[case] / "history.csv").exists() else None
     return None if h is None else h["height"][-1] / h["width"][-1]
 
 
@@ -551,7 +505,7 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     if not a.plots_only:
         run_cases(out, a.only or list(CASES))
-    dirs = {c: out / c for c in CASES}
+    dirs = {c: out / "cases" / c / "run" for c in CASES}
     dirs.update({k: Path(v) for k, v in (x.split("=", 1) for x in a.dirs)})
     write_summary(dirs, out)
     refs = a.references

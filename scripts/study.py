@@ -20,168 +20,27 @@ continues where it stopped (a failed case is tried again). Writes
 A grid axis is `KEY=V1,V2,...`, or `K1,K2=A1:A2,B1:B2,...` for keys that change together (e.g.
 the radius with the mesh and the plates). Observables (columns of history.csv): `max:COL`, `min:COL`, `last:COL`, `last:A/B` (a ratio,
 e.g. last:height/width), `COL@T` (interpolated at time T), `zero:COL` (the first time COL falls
-from positive to zero or below). Default, for the plates experiment: peak force, F(35 s),
+from positive to zero or below); against an exact solution (a column COL_exact): `err:COL@T`
+(|COL − COL_exact| at T), `maxerr:COL@T0:T1` (the largest over T0 ≤ t ≤ T1); `--orders` prints
+the observables along the first grid key with the observed order between successive levels.
+The running, caching and reading are `scripts/runner.py`'s. Default, for the plates experiment: peak force, F(35 s),
 p(X_U) at 5 and 30 s, its zero crossing, final H/W. Run from the repository root after
 `cargo build --release`.
 """
 import argparse
 import csv
-import itertools
 import json
 import math
-import subprocess
 import sys
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import labels  # noqa: E402
-from _runner import BIN, env  # noqa: E402
+from runner import (BIN, COUNTERS, grid_cases, history, observe, parse_grid, run_cases,  # noqa: E402,F401
+                    slug, solve_order)
 
 DEFAULT_OBSERVE = ["max:force_total_mg", "force_total_mg@35", "probe_p@5", "probe_p@30", "zero:probe_p",
                    "last:height/width"]
-# summary.csv column <- timings.txt key
-COUNTERS = {"wall_s": "total", "steps": "steps", "step_cuts": "step_cuts", "newton_its": "newton_its",
-            "ksp_its": "ksp_its", "dofs": "dofs"}
-
-
-def parse_grid(spec):
-    """KEY=V1,V2,... or, for keys that vary together, K1,K2=A1:A2,B1:B2,... (one axis)."""
-    key, _, values = spec.partition("=")
-    keys = [k.strip() for k in key.split(",")]
-    if not all(keys) or not values:
-        sys.exit(f"study.py: --grid {spec}: expected KEY=V1,V2,... or K1,K2=A1:A2,B1:B2,...")
-    points = [[x.strip() for x in v.split(":")] if len(keys) > 1 else [v.strip()] for v in values.split(",")]
-    if any(len(p) != len(keys) for p in points):
-        sys.exit(f"study.py: --grid {spec}: every value needs {len(keys)} parts separated by ':'")
-    return keys, points
-
-
-def slug(overrides):
-    return "__".join(f"{k}-{v}" for k, v in overrides).replace("/", "_").replace(" ", "") or "base"
-
-
-def history(path):
-    rows = list(csv.DictReader(open(path)))
-    return {k: [float(r[k]) for r in rows] for k in rows[0]} if rows else {}
-
-
-def observe(h, spec):
-    """The observable `spec` of a history (NaN if it does not apply)."""
-    nan = float("nan")
-    t = h.get("time", [])
-    if spec.startswith(("max:", "min:", "last:", "zero:")):
-        kind, col = spec.split(":", 1)
-        if kind == "last" and "/" in col:
-            a, b = col.split("/", 1)
-            return h[a][-1] / h[b][-1] if a in h and b in h and h[b][-1] != 0 else nan
-        if col not in h:
-            return nan
-        v = h[col]
-        if kind == "zero":
-            for i in range(1, len(v)):
-                if v[i - 1] > 0 >= v[i]:
-                    return t[i - 1] + (t[i] - t[i - 1]) * v[i - 1] / (v[i - 1] - v[i])
-            return nan
-        return {"max": max, "min": min, "last": lambda x: x[-1]}[kind](v)
-    col, _, when = spec.partition("@")
-    return at(h, col, float(when)) if col in h and when else nan
-
-
-def at(h, col, when):
-    """Column `col` of a history interpolated linearly at time `when` (NaN outside the run)."""
-    t = h["time"]
-    for i in range(1, len(t)):
-        if t[i - 1] <= when <= t[i]:
-            w = (when - t[i - 1]) / (t[i] - t[i - 1]) if t[i] > t[i - 1] else 1.0
-            return h[col][i - 1] + w * (h[col][i] - h[col][i - 1])
-    return float("nan")
-
-
-def timings(path):
-    out = {}
-    for line in open(path):
-        if " = " in line:
-            k, v = line.split(" = ", 1)
-            try:
-                out[k.strip()] = float(v)
-            except ValueError:
-                pass
-    return out
-
-
-def signature(scene, overrides, sets, petsc):
-    """What a case ran: the scene, every --set, the PETSc options (not the rank count)."""
-    return [scene, *(f"{k}={v}" for k, v in list(sets) + list(overrides)), *petsc]
-
-
-def completed(case_dir, sig, observables=()):
-    """The recorded result of a case that completed with the signature `sig`, or None. A result
-    recorded before signatures were kept is taken as it is. Observables it lacks are read from
-    its history.csv."""
-    done = case_dir / "case.json"
-    if not done.exists():
-        return None
-    result = json.loads(done.read_text())
-    if result.get("signature", sig) != sig:
-        return None
-    missing = [o for o in observables if o not in result]
-    if missing and result.get("status") == "ok" and (case_dir / "run" / "history.csv").exists():
-        h = history(case_dir / "run" / "history.csv")
-        result.update({o: observe(h, o) for o in missing})
-    return result
-
-
-def run_case(scene, overrides, sets, case_dir, ranks, petsc, observables=()):
-    """Runs one case; returns its result (status ok or failed, and for ok: the counters of
-    timings.txt and the observables), recorded in case_dir/case.json when it completed."""
-    case_dir.mkdir(parents=True, exist_ok=True)
-    cmd = ["mpirun", "-n", str(ranks), str(BIN), "run", scene, "--out", str(case_dir / "run"), "--force", "-q"]
-    for k, v in list(sets) + list(overrides):
-        cmd += ["--set", f"{k}={v}"]
-    if petsc:
-        cmd += ["--", *petsc]
-    with open(case_dir / "log.txt", "w") as log:
-        log.write(" ".join(cmd) + "\n")
-        log.flush()
-        p = subprocess.run(cmd, env=env(), stdout=log, stderr=subprocess.PIPE, text=True)
-        log.write(p.stderr)
-    if p.returncode != 0:
-        err = next((l for l in p.stderr.splitlines() if l.startswith("poroplast: error:")), p.stderr.strip()[-300:])
-        return {"status": "failed", "error": err}
-    tm = timings(case_dir / "run" / "timings.txt")
-    result = {"status": "ok", **{c: tm.get(k, float("nan")) for c, k in COUNTERS.items()}}
-    h = history(case_dir / "run" / "history.csv")
-    result.update({o: observe(h, o) for o in observables})
-    result["signature"] = signature(scene, overrides, sets, petsc)
-    (case_dir / "case.json").write_text(json.dumps(result, indent=1))
-    return result
-
-
-def run_cases(scene, cases, sets, root, ranks, petsc, observables=(), label=None):
-    """Runs every case (a list of (key, value) overrides) into root/cases/<slug>/, skipping the
-    ones that completed, with progress and the ETA of the whole set. Returns (case dir, result)
-    per case, in order. `label(case)` names a case in the progress lines."""
-    label = label or (lambda case: " ".join(f"{k}={v}" for k, v in case) or "(base scene)")
-    dirs = [root / "cases" / slug(c) for c in cases]
-    prior = [completed(d, signature(scene, c, sets, petsc), observables) for d, c in zip(dirs, cases)]
-    todo = sum(1 for r in prior if r is None)
-    print(f"{root}: {len(cases)} cases, {len(cases) - todo} already complete, {todo} to run "
-          f"on {ranks} rank(s)", flush=True)
-    out, ran, t0 = [], 0, time.time()
-    for n, (case, cdir, result) in enumerate(zip(cases, dirs, prior), 1):
-        if result is not None:
-            print(f"[{n}/{len(cases)}] {label(case)}: complete, skipped", flush=True)
-        else:
-            start = time.time()
-            result = run_case(scene, case, sets, cdir, ranks, petsc, observables)
-            ran += 1
-            eta = (time.time() - t0) / ran * (todo - ran)
-            print(f"[{n}/{len(cases)}] {label(case)}: {result['status']} in {time.time() - start:.1f} s"
-                  f"{'' if result['status'] == 'ok' else ' — ' + result['error']}"
-                  f"  [{time.time() - t0:.0f} s, eta {eta:.0f} s]", flush=True)
-        out.append((cdir, result))
-    return out
 
 
 def plot(rows, keys, observables, study):
@@ -231,7 +90,7 @@ def plot_curves(cases, study, columns):
             cdir = study / "cases" / slug(case)
             if not (cdir / "case.json").exists():
                 continue
-            h = history(cdir / "run" / "history.csv")
+            h = history(cdir / "run")
             if col in h:
                 ax.plot(h["time"], h[col], label=labels.case(case) or "base")
         ax.set_xlabel("time (s)")
@@ -244,6 +103,24 @@ def plot_curves(cases, study, columns):
         plt.close(fig)
         files.append(name)
     return files
+
+
+def print_orders(rows, keys, observables):
+    """The observables as errors along the first grid key (a table per combination of the other
+    keys), with the observed order between successive levels: log(e_i / e_i+1) / log(x_i / x_i+1)
+    (`runner.solve_order` with the limit 0)."""
+    x_key, others = keys[0], keys[1:]
+    for g in sorted({tuple(r[k] for k in others) for r in rows}):
+        sel = [r for r in rows if tuple(r[k] for k in others) == g and r["status"] == "ok"]
+        print(f"\n{x_key} levels" + (f" at {labels.case(list(zip(others, g)))}" if others else ""))
+        print(f"{x_key:>16} " + " ".join(f"{o:>24}" for o in observables) + "   orders")
+        for i, r in enumerate(sel):
+            line = f"{r[x_key]:>16} " + " ".join(f"{r[o]:>24.4e}" for o in observables)
+            if i:
+                ratio = float(sel[i - 1][x_key]) / float(r[x_key])
+                line += "   " + " ".join(f"{solve_order([sel[i - 1][o], r[o]], [ratio], limit=0.0):.2f}"
+                                         for o in observables)
+            print(line)
 
 
 def main():
@@ -263,6 +140,9 @@ def main():
     ap.add_argument("--no-plots", action="store_true")
     ap.add_argument("--curves", nargs="+", default=[], metavar="COL",
                     help="history columns to plot against time, one line per case")
+    ap.add_argument("--orders", action="store_true",
+                    help="print each observable (an error: err:, maxerr:) per level of the first grid axis "
+                         "with the observed order between successive levels")
     a = ap.parse_args(argv)
     if not BIN.exists():
         sys.exit(f"study.py: {BIN} not found: run `cargo build --release` first")
@@ -271,8 +151,7 @@ def main():
     axes = [parse_grid(g) for g in a.grid]
     sets = [tuple(s.split("=", 1)) for s in a.set]
     keys = [k for ks, _ in axes for k in ks]
-    cases = [[kv for (ks, _), point in zip(axes, combo) for kv in zip(ks, point)]
-             for combo in itertools.product(*[points for _, points in axes])]
+    cases = grid_cases(axes)
     (study / "study.json").write_text(json.dumps(
         {"scene": a.scene, "grid": a.grid, "set": a.set, "observe": a.observe, "ranks": a.ranks,
          "petsc": petsc}, indent=1))
@@ -297,6 +176,8 @@ def main():
     figs = [] if a.no_plots or not keys else plot(rows, [ks[0] for ks, _ in axes], a.observe, study)
     if not a.no_plots:
         figs += plot_curves(cases, study, a.curves)
+    if a.orders and axes:
+        print_orders(rows, [ks[0] for ks, _ in axes], a.observe)
     failed = sum(r["status"] != "ok" for r in rows)
     print(f"summary: {study / 'summary.csv'} ({len(rows)} cases, {failed} failed)"
           + (f"; figures: {', '.join(figs)}" if figs else ""))

@@ -1,7 +1,7 @@
 //! Runs `tests/support/io_fields.rs` (the `io_fields` example target) under `mpirun` (1, 2 and 3 ranks, with empty pieces, a crash and
 //! argument errors; 10-node tetrahedra, and 6-node triangles of a meridian) and checks the output
-//! with `scripts/check_fields.py` (h5py + numpy), and, where `pvpython` is installed, with
-//! ParaView's own XDMF readers (`scripts/check_paraview.py`).
+//! with `tests/support/check_fields.py` (h5py + numpy), and, where `pvpython` is installed, with
+//! ParaView's own XDMF readers (`tests/support/check_paraview.py`).
 //!
 //! Environment: `POROPLAST_PYTHON` picks the Python (else the first of `python3`, `/usr/bin/python3`
 //! that imports h5py and numpy); `POROPLAST_SKIP_MPI_TESTS=1` skips these tests (for machines without
@@ -107,7 +107,7 @@ fn text(o: &Output) -> String {
 
 fn check(dir: &Path, steps: usize) {
     let mut c = Command::new(python());
-    c.arg(format!("{MANIFEST}/scripts/check_fields.py"))
+    c.arg(format!("{MANIFEST}/tests/support/check_fields.py"))
         .arg(dir)
         .args(["--steps", &steps.to_string(), "--straight-edges", "--expect"])
         .arg(dir.join("expect.json"));
@@ -123,7 +123,7 @@ fn run_case(name: &str, ranks: usize, case: &str) -> PathBuf {
     dir
 }
 
-/// Opens `dir` with each of ParaView's three XDMF readers (`scripts/check_paraview.py`, one reader
+/// Opens `dir` with each of ParaView's three XDMF readers (`tests/support/check_paraview.py`, one reader
 /// per `pvpython` process), unless `POROPLAST_NO_PARAVIEW=1` or `pvpython` is missing (then a warning;
 /// a failure with `POROPLAST_REQUIRE_PARAVIEW=1`, as in CI).
 fn paraview_check(dir: &Path) {
@@ -145,7 +145,7 @@ fn paraview_check(dir: &Path) {
     }
     for reader in ["XDMFReader", "Xdmf3ReaderS", "Xdmf3ReaderT"] {
         let mut c = Command::new("pvpython");
-        c.arg(format!("{MANIFEST}/scripts/check_paraview.py")).arg(dir).arg(reader);
+        c.arg(format!("{MANIFEST}/tests/support/check_paraview.py")).arg(dir).arg(reader);
         let o = run_limited(c, Duration::from_secs(300));
         assert!(
             o.status.success() && String::from_utf8_lossy(&o.stdout).contains("check_paraview: OK"),
@@ -174,7 +174,7 @@ fn two_ranks_meridian_and_paraview() {
     // inferred from the width of /mesh/topology.
     let dir = run_case("meridian2", 2, "meridian");
     let mut c = Command::new(python());
-    c.arg(format!("{MANIFEST}/scripts/check_fields.py")).arg(&dir).args(["--steps", "3", "--straight-edges"]);
+    c.arg(format!("{MANIFEST}/tests/support/check_fields.py")).arg(&dir).args(["--steps", "3", "--straight-edges"]);
     let o = run_limited(c, Duration::from_secs(120));
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(

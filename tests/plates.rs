@@ -112,7 +112,7 @@ fn compression_release_protocol() {
     assert!(mass < 1e-8 * dv_max, "mass balance error {mass:e} of {dv_max:e} µm³");
     // Non-penetration: nodes satisfy the bounds exactly; between nodes the quadratic faces may
     // bulge across a plate by a discretisation error (measured 0.67 µm = 0.67% R on this mesh,
-    // shrinking under refinement: scripts/refinement.py).
+    // shrinking under refinement: docs/verification.md, mesh refinement).
     let pen_max = pen.iter().cloned().fold(0.0, f64::max);
     assert!(pen_max < 1.0, "penetration {pen_max} µm (R = 100 µm)");
     // 1 rank and 2 ranks: the same steps and the same forces to solver tolerance.

@@ -2,7 +2,7 @@
 //! constituents): Terzaghi's column and Cryer's sphere on the shipped scenes, 1 vs 2 ranks,
 //! and the undrained limit (tiny first step) without pressure oscillations for P2–P1.
 //! Error bounds are those measured on the shipped (coarse) meshes with a small margin; the
-//! refinement study in `scripts/convergence.py` shows them shrinking (docs/verification.md).
+//! refinement studies (`scripts/study.py --orders`, docs/verification.md) show them shrinking.
 
 mod common;
 use common::*;
