@@ -25,9 +25,21 @@ pub enum Error {
     /// File-system or HDF5 failure on a named path.
     #[error("{path}: {msg}")]
     Io { path: String, msg: String },
-    /// A solve that did not converge after all retries.
-    #[error("solver: {0}")]
-    Solver(String),
+    /// A PETSc or `-poroplast_*` option that is unknown, unused or has an invalid value.
+    #[error("options: {0}")]
+    Options(String),
+    /// A solve that did not converge: a time step after all retries, or the settling.
+    #[error("no convergence: {0}")]
+    Diverged(String),
+    /// A checkpoint that does not fit the run being resumed (element or value counts).
+    #[error("checkpoint: {0}")]
+    Checkpoint(String),
+    /// An operating-system facility the run needs (signal handlers).
+    #[error("system: {0}")]
+    System(String),
+    /// A broken internal invariant (a bug: please report it with the command line).
+    #[error("internal error: {0}")]
+    Internal(String),
     /// The run stopped on request (a signal) after writing a checkpoint.
     #[error("{0}")]
     Stopped(String),

@@ -353,7 +353,7 @@ impl<'w> Run<'w> {
         self.ts.set_time(-T)?;
         self.ts.set_time_step(T)?;
         let r = self.ts.step().map_err(|e| {
-            self.explain(Error::Solver(format!(
+            self.explain(Error::Diverged(format!(
                 "settling under gravity (the static equilibrium on the lower plate, before t = 0; \
                  {factor} of the weight) failed: {e}. Can the solid carry its weight (material.mu, material.gravity)?"
             )))
@@ -369,7 +369,7 @@ impl<'w> Run<'w> {
         if unused.is_empty() {
             return Ok(());
         }
-        Err(Error::Solver(format!(
+        Err(Error::Options(format!(
             "unknown or unused PETSc option(s): {} (check the spelling, or the solver they belong to)",
             unused.join(" ")
         )))
@@ -442,7 +442,7 @@ impl<'w> Run<'w> {
     /// A failed solve's error, with the likely cause when the solid law is not elliptic.
     fn explain(&self, e: Error) -> Error {
         match (e, &self.ellipticity) {
-            (Error::Solver(m), Some(w)) => Error::Solver(format!("{m}. Likely cause: {w}")),
+            (Error::Diverged(m), Some(w)) => Error::Diverged(format!("{m}. Likely cause: {w}")),
             (e, _) => e,
         }
     }
@@ -462,7 +462,7 @@ impl<'w> Run<'w> {
             if taken < self.schedule.dt_min && taken < dt {
                 let last =
                     self.ts.domain_errors().1.map(|d| format!("; last inadmissible state: {d}")).unwrap_or_default();
-                return Err(self.explain(Error::Solver(format!(
+                return Err(self.explain(Error::Diverged(format!(
                     "failed solves cut the step from t = {} to {taken:.3e} s, below time.dt_min = {:.3e} s: \
                      the solve does not converge here{last}",
                     pg.t, self.schedule.dt_min

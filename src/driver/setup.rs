@@ -172,7 +172,7 @@ fn schedule(scene: &LoadedScene, kinks: Vec<f64>) -> Schedule {
 fn refuse_other_integrators(ts: &Ts<PoroProblem>) -> Result<()> {
     let ts_type = ts.type_name()?;
     if !ts.problem().disc.model.is_linear() && ts_type != "beuler" {
-        return Err(Error::Solver(format!(
+        return Err(Error::Options(format!(
             "-ts_type {ts_type}: the finite-strain model's fluid-content rate is discretised for backward Euler \
              only (accepted: beuler, the default)"
         )));

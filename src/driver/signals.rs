@@ -24,7 +24,7 @@ impl StopRequest {
         let mut ids = Vec::new();
         for sig in SIGNALS {
             let id = signal_hook::flag::register(sig, Arc::clone(&flag))
-                .map_err(|e| Error::Solver(format!("cannot catch signal {sig}: {e}")))?;
+                .map_err(|e| Error::System(format!("cannot catch signal {sig}: {e}")))?;
             ids.push(id);
         }
         Ok(StopRequest { flag, ids })

@@ -78,7 +78,7 @@ impl ElementInserter {
         let (nn, nv, nc) = (family.cell_nodes(), family.cell_vertices(), family.components());
         let nu = nc * nn;
         let mismatch = |what: &str| {
-            Error::Solver(format!("fast assembly: the matrix pattern does not match the element pattern ({what})"))
+            Error::Internal(format!("fast assembly: the matrix pattern does not match the element pattern ({what})"))
         };
         let l2g = &dofs.l2g;
         let empty: &[Int] = &[];
@@ -169,7 +169,7 @@ impl ElementInserter {
                     &mut csr.diag.vals[ds + o as usize..ds + o as usize + width]
                 } else {
                     let off = csr.off.as_mut().ok_or_else(|| {
-                        Error::Solver(format!(
+                        Error::Internal(format!(
                             "fast assembly: element {e} has off-diagonal entries, but the matrix has no \
                              off-diagonal block (not the matrix the insertion table was built from)"
                         ))

@@ -63,11 +63,11 @@ impl QpStore {
     /// partition); every local element must be found.
     pub fn import(&mut self, original: &[u32], lookup: impl Fn(u32) -> Option<Vec<f64>>) -> Result<()> {
         for (e, &o) in original.iter().enumerate() {
-            let v = lookup(o).ok_or_else(|| Error::Solver(format!("history of element {o} missing")))?;
+            let v = lookup(o).ok_or_else(|| Error::Checkpoint(format!("qp state of element {o} missing")))?;
             let dst = self.element_mut(e);
             if v.len() != dst.len() {
-                return Err(Error::Solver(format!(
-                    "history of element {o}: {} values, expected {}",
+                return Err(Error::Checkpoint(format!(
+                    "qp state of element {o}: {} values, expected {}",
                     v.len(),
                     dst.len()
                 )));

@@ -144,7 +144,11 @@ impl Pc {
     /// share one layout. Another preconditioner type: one `apply` per column.
     pub fn apply_columns(&self, rhs: &[super::Vector], out: &mut [super::Vector]) -> Result<()> {
         if rhs.len() != out.len() {
-            return Err(Error::Solver(format!("apply_columns: {} right-hand sides, {} outputs", rhs.len(), out.len())));
+            return Err(Error::Internal(format!(
+                "apply_columns: {} right-hand sides, {} outputs",
+                rhs.len(),
+                out.len()
+            )));
         }
         let Some(first) = rhs.first() else { return Ok(()) };
         if !matches!(self.type_name()?.as_str(), "lu" | "cholesky") {

@@ -218,7 +218,9 @@ impl RawBlock {
         let mut done = ffi::PetscBool::PETSC_FALSE;
         check(ffi::MatGetRowIJ(m, 0, pbool(false), pbool(false), &mut b.n, &mut b.ia, &mut b.ja, &mut done))?;
         if done != ffi::PetscBool::PETSC_TRUE {
-            return Err(crate::error::Error::Solver("MatGetRowIJ is not supported by this matrix type".into()));
+            return Err(crate::error::Error::Options(
+                "MatGetRowIJ is not supported by this matrix type (-mat_type: use aij)".into(),
+            ));
         }
         check(ffi::MatSeqAIJGetArray(m, &mut b.vals))?;
         Ok(b)
@@ -269,7 +271,7 @@ impl Mat {
             let nd = c.diag.vals.len();
             let no = c.off.as_ref().map_or(0, |o| o.vals.len());
             if values.len() != nd + no {
-                return Err(Error::Solver(format!(
+                return Err(Error::Checkpoint(format!(
                     "saved matrix values: {} on this rank, the matrix has {}",
                     values.len(),
                     nd + no

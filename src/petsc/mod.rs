@@ -156,7 +156,7 @@ impl Petsc {
     pub fn init(options: &[String]) -> Result<Petsc> {
         let mut args: Vec<CString> = std::iter::once("poroplast".to_string())
             .chain(options.iter().cloned())
-            .map(|s| CString::new(s).map_err(|_| Error::Solver("PETSc option contains a NUL byte".into())))
+            .map(|s| CString::new(s).map_err(|_| Error::Options("PETSc option contains a NUL byte".into())))
             .collect::<Result<_>>()?;
         // PETSc keeps pointers into argv for the whole run: leak the strings deliberately.
         let mut ptrs: Vec<*mut c_char> = args.iter_mut().map(|s| s.as_ptr() as *mut c_char).collect();
@@ -281,7 +281,7 @@ pub mod options {
                 .filter(|l| l.split_once(' ').is_some_and(|(_, v)| short.contains(&format!(" {v} "))))
                 .collect();
             if !named.is_empty() {
-                return Error::Solver(format!("PETSc option {}: {short}", named.join(", ")));
+                return Error::Options(format!("PETSc option {}: {short}", named.join(", ")));
             }
         }
         // Any other error raised while PETSc read its options (e.g. "Restart must be positive"):
@@ -296,7 +296,7 @@ pub mod options {
                 })
                 .collect();
             if !given.is_empty() {
-                return Error::Solver(format!("{e} — while reading the PETSc options given: {}", given.join(" ")));
+                return Error::Options(format!("{e} — while reading the PETSc options given: {}", given.join(" ")));
             }
         }
         e

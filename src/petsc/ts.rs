@@ -136,8 +136,8 @@ fn guard<P>(ctx: *mut c_void, ts: ffi::TS, f: impl FnOnce(&mut Ctx<P>) -> Result
                 .map(|s| s.to_string())
                 .or_else(|| p.downcast_ref::<String>().cloned())
                 .unwrap_or_default();
-            let m = format!("internal error (panic) in a PETSc callback: {m}");
-            ctx.error.get_or_insert(Error::Solver(m.clone()));
+            let m = format!("panic in a PETSc callback: {m}");
+            ctx.error.get_or_insert(Error::Internal(m.clone()));
             raise(&m)
         }
     }
@@ -380,7 +380,7 @@ impl<P: TsProblem> Ts<P> {
         Ok(n as usize)
     }
     /// Takes one step (with internal cut-and-retry). Errors from callbacks come back unchanged;
-    /// a step that still fails after all retries is `Error::Solver`.
+    /// a step that still fails after all retries is `Error::Diverged`.
     pub fn step(&mut self) -> Result<()> {
         self.ctx.error = None;
         let code = unsafe { ffi::TSStep(self.raw) };
@@ -395,7 +395,7 @@ impl<P: TsProblem> Ts<P> {
             let snes_reason = self.snes().and_then(|s| s.converged_reason()).unwrap_or(0);
             let dom =
                 self.ctx.last_domain.as_deref().map(|d| format!("; last inadmissible state: {d}")).unwrap_or_default();
-            return Err(Error::Solver(format!(
+            return Err(Error::Diverged(format!(
                 "time step from t = {} failed after all retries (TS reason {}, last SNES reason {}{})",
                 self.time()?,
                 ts_reason_name(reason.0),

@@ -96,7 +96,7 @@ pub fn set_contact_defaults() -> Result<()> {
 pub fn check_tolerances(snes: &Snes) -> Result<()> {
     let (rtol, atol, dtol, max_it) = snes.ksp()?.tolerances()?;
     let (satol, srtol, stol, smax_it) = snes.tolerances()?;
-    let bad = |opt: &str, v: String, want: &str| Err(Error::Solver(format!("-{opt} {v}: must be {want}")));
+    let bad = |opt: &str, v: String, want: &str| Err(Error::Options(format!("-{opt} {v}: must be {want}")));
     for (opt, v) in
         [("ksp_rtol", rtol), ("ksp_atol", atol), ("snes_rtol", srtol), ("snes_atol", satol), ("snes_stol", stol)]
     {

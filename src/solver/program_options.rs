@@ -18,7 +18,7 @@ pub fn optional<T>(name: &str, bare: Option<T>, expects: &str, parse: impl Fn(&s
         Some(b) if v.is_empty() => Some(b),
         _ => parse(&v),
     };
-    parsed.map(Some).ok_or_else(|| Error::Solver(format!("-{name} {v}: expected {expects}")))
+    parsed.map(Some).ok_or_else(|| Error::Options(format!("-{name} {v}: expected {expects}")))
 }
 
 /// `-name N`, a count (a non-negative integer); `default` without it.

@@ -174,7 +174,7 @@ impl ActiveSetUpdate {
         let alpha = self
             .capacitance
             .solve(&DVector::from_vec(w))
-            .ok_or_else(|| Error::Solver("active-set update: singular capacitance matrix".into()))?;
+            .ok_or_else(|| Error::Diverged("active-set update: singular capacitance matrix".into()))?;
         for (zm, a) in self.z.iter().zip(alpha.iter()) {
             x.axpy(-a, zm)?;
         }
