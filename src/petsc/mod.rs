@@ -42,6 +42,8 @@ pub use ts::{Ts, TsProblem, TsRef};
 pub use vec::{Scatter, Vector};
 
 use crate::error::{Error, Result};
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::AsRaw;
 use std::ffi::{c_char, c_int, CStr, CString};
 use std::sync::Mutex;
 
@@ -151,9 +153,20 @@ pub struct Petsc {
 }
 
 impl Petsc {
-    /// Initialises PETSc on `MPI_COMM_WORLD` with the given command-line style options
-    /// (e.g. `["-log_view", "-ksp_monitor"]`), so init-time options such as `-log_view` work.
-    pub fn init(options: &[String]) -> Result<Petsc> {
+    /// Initialises PETSc on `comm` (its `PETSC_COMM_WORLD`: the ranks that take part in
+    /// PETSc's collective start and end) with the given command-line style options (e.g.
+    /// `["-log_view", "-ksp_monitor"]`), so init-time options such as `-log_view` work.
+    ///
+    /// PETSc may be initialised again after it was finalised (while MPI lives): each
+    /// initialisation starts from an empty options database, so a sweep's cases, each run
+    /// between its own `init` and drop, see only their own options. Our own records of the
+    /// options (the defaults we set) and of the last error start empty too.
+    pub fn init(comm: &SimpleCommunicator, options: &[String]) -> Result<Petsc> {
+        if alive() {
+            return Err(Error::Solver("PETSc is already initialised in this process".into()));
+        }
+        options::DEFAULTS.lock().unwrap_or_else(|e| e.into_inner()).clear();
+        LAST_ERROR.lock().unwrap_or_else(|e| e.into_inner()).clear();
         let mut args: Vec<CString> = std::iter::once("poroplast".to_string())
             .chain(options.iter().cloned())
             .map(|s| CString::new(s).map_err(|_| Error::Solver("PETSc option contains a NUL byte".into())))
@@ -166,7 +179,7 @@ impl Petsc {
         std::mem::forget(args);
         std::mem::forget(ptrs);
         unsafe {
-            ffi::PETSC_COMM_WORLD = mpi::ffi::RSMPI_COMM_WORLD;
+            ffi::PETSC_COMM_WORLD = comm.as_raw();
             check(ffi::PetscInitialize(&mut argc, &mut argv, std::ptr::null(), std::ptr::null()))?;
             check(ffi::PetscPushErrorHandler(Some(record_error), std::ptr::null_mut()))?;
         }
@@ -218,7 +231,7 @@ pub mod options {
 
     /// Options set by [`set_default`]: a default a user's choice made irrelevant (e.g. the
     /// fieldsplit settings under `-pc_type lu`) is not an error, so [`unused`] skips them.
-    static DEFAULTS: std::sync::Mutex<std::collections::BTreeSet<String>> =
+    pub(super) static DEFAULTS: std::sync::Mutex<std::collections::BTreeSet<String>> =
         std::sync::Mutex::new(std::collections::BTreeSet::new());
 
     /// Whether `-name` is in the database (PETSc then counts it as used).
