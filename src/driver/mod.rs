@@ -5,7 +5,7 @@
 
 mod schedule;
 mod setup;
-mod signals;
+pub(crate) mod signals;
 pub mod state;
 
 pub use schedule::Schedule;
