@@ -281,6 +281,9 @@ impl Group<'_> {
         })?;
         let resume = crate::parallel::any(self.comm, resume == Some(true));
         if resume {
+            if self.leader() && self.args.progress {
+                println!("sweep: case {} ({}) continues its interrupted run", case.index, case.label());
+            }
             return driver::resume(self.comm, &dir, &[], false);
         }
         let mut petsc = self.study.petsc.clone();
