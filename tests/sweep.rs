@@ -154,10 +154,25 @@ fn a_bad_case_fails_alone() {
     assert!(rows[3][col("steps")].parse::<usize>().unwrap() > 0);
 }
 
+/// The processes whose parent is `pid` (Linux /proc).
+fn children(pid: u32) -> Vec<u32> {
+    std::fs::read_dir("/proc")
+        .unwrap()
+        .filter_map(|e| e.ok()?.file_name().to_str()?.parse::<u32>().ok())
+        .filter(|p| {
+            std::fs::read_to_string(format!("/proc/{p}/stat")).ok().is_some_and(|s| {
+                // pid (comm) state ppid ...: comm may hold spaces, so split after its ')'.
+                s.rsplit_once(')').and_then(|(_, r)| r.split_whitespace().nth(1)?.parse::<u32>().ok()) == Some(pid)
+            })
+        })
+        .collect()
+}
+
 #[test]
 fn a_killed_sweep_resumes_to_the_same_summary() {
     let d = scratch("sweep_killed");
-    let study = grid_study(&d, &["output.checkpoint_every=3"]);
+    // Longer cases (t = 30 s, about 40 steps): the kill comes while one is early in its run.
+    let study = grid_study(&d, &["output.checkpoint_every=3", "time.t_end=30"]);
     let reference = d.join("reference");
     ok(&sweep(2, &study, &reference, 1), "the uninterrupted sweep");
 
@@ -191,14 +206,23 @@ fn a_killed_sweep_resumes_to_the_same_summary() {
         assert!(start.elapsed() < Duration::from_secs(300), "no checkpoint after 300 s");
         std::thread::sleep(Duration::from_millis(5));
     }
-    let ok_kill = Command::new("kill").args(["-KILL", "--", &format!("-{}", child.id())]).status().unwrap();
+    // mpirun and its ranks (which Open MPI puts in process groups of their own), at once.
+    let ranks = children(child.id());
+    assert!(!ranks.is_empty(), "no ranks under mpirun");
+    let mut targets = vec![format!("-{}", child.id())];
+    targets.extend(ranks.iter().map(|p| p.to_string()));
+    let ok_kill = Command::new("kill").arg("-KILL").arg("--").args(&targets).status().unwrap();
     assert!(ok_kill.success());
     child.wait().unwrap();
+    while ranks.iter().any(|p| Path::new(&format!("/proc/{p}")).exists()) {
+        std::thread::sleep(Duration::from_millis(5));
+    }
     let (_, partial) = summary(&killed);
     assert_eq!(partial.len(), 4, "a killed sweep leaves a summary of every case");
 
     let stdout = ok(&sweep(2, &study, &killed, 1), "the resumed sweep");
     assert!(stdout.contains("to run in 2 group(s)"), "{stdout}");
+    assert!(stdout.contains("continues its interrupted run"), "no case resumed: {stdout}");
     let (ha, a) = summary(&reference);
     let (hb, b) = summary(&killed);
     assert_eq!(ha, hb);
