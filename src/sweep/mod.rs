@@ -122,8 +122,12 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
     let r = ctx.run(order, complete_before);
     drop(group);
 
-    // The world meets again: the summary as it stands, and one outcome for every rank.
-    let written = on_root(world, || write_summary(&root, &study));
+    // The world meets again: the summary as it stands (no case runs now: a case without an
+    // outcome is interrupted or pending), and one outcome for every rank.
+    let written = on_root(world, || {
+        schedule::reset_claims(&root)?;
+        write_summary(&root, &study)
+    });
     let code = match &r {
         Ok(()) => 0,
         Err(Error::Stopped(_)) => 1,
