@@ -2,6 +2,7 @@
 //! - `poroplast run [SCENE] [--set KEY=VALUE ...] [--out DIR] [--force] [-q] [-- PETSC OPTIONS]`
 //! - `poroplast resume DIR [-q] [-- PETSC OPTIONS]` (continue from the last checkpoint)
 //! - `poroplast check SCENE [--set KEY=VALUE ...] [-- PETSC OPTIONS]`
+//! - `poroplast sweep STUDY.toml [--ranks-per-case k] [--out DIR] [-q] [-- PETSC OPTIONS]`
 //! - `poroplast scenes`, `poroplast show NAME`
 
 use clap::{Parser, Subcommand};
@@ -68,6 +69,30 @@ pub enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
         /// PETSc options, after `--` (checked as `run` checks them).
+        #[arg(last = true, allow_hyphen_values = true)]
+        petsc: Vec<String>,
+    },
+    /// Run the cases of a study (a base scene and a grid or list of overrides) under one mpirun.
+    ///
+    /// The MPI ranks form groups of k (--ranks-per-case); each group runs one case at a time,
+    /// taking the next free case when it is done. Writes DIR/summary.csv (one row per case:
+    /// overrides, status, wall time, dofs, steps, iterations, observables, error) and
+    /// DIR/cases/NNN_<overrides>/ (each case's run directory). The same command with
+    /// --out DIR continues an interrupted sweep: completed cases are skipped, interrupted ones
+    /// resume from their checkpoints. See docs/user-guide.md for the STUDY.toml format.
+    Sweep {
+        /// The study file (.toml).
+        study: PathBuf,
+        /// MPI ranks per case (must divide the number of ranks).
+        #[arg(long, short = 'k', default_value_t = 1)]
+        ranks_per_case: usize,
+        /// Sweep directory (default: runs/sweep-<study name>-<UTC timestamp>); give it to continue a sweep.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// No progress lines.
+        #[arg(long, short)]
+        quiet: bool,
+        /// PETSc options for every case, after `--` (after the study's own).
         #[arg(last = true, allow_hyphen_values = true)]
         petsc: Vec<String>,
     },

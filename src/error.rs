@@ -43,6 +43,9 @@ pub enum Error {
     /// The run stopped on request (a signal) after writing a checkpoint.
     #[error("{0}")]
     Stopped(String),
+    /// A sweep that cannot start (bad study, rank count), or whose cases failed.
+    #[error("sweep: {0}")]
+    Sweep(String),
     /// A failure on another rank, reported here so every rank stops together.
     #[error("{msg} (reported by rank {rank})")]
     Elsewhere { rank: i32, msg: String },

@@ -16,3 +16,4 @@ pub mod petsc;
 pub mod physics;
 pub mod scene;
 pub mod solver;
+pub mod sweep;

@@ -4,6 +4,7 @@ use clap::Parser;
 use poroplast::cli::{Cli, Command};
 use poroplast::driver::{self, RunArgs};
 use poroplast::scene::BUILTIN;
+use poroplast::sweep::{self, SweepArgs};
 
 fn main() {
     let cli = Cli::parse();
@@ -50,6 +51,10 @@ fn main() {
             driver::resume(&world, &dir, &petsc, !quiet).map(|dir| dir.display().to_string())
         }
         Command::Check { scene, set, petsc } => driver::check(&world, &scene, &set, &petsc),
+        Command::Sweep { study, ranks_per_case, out, quiet, petsc } => {
+            let args = SweepArgs { study, ranks_per_case, out, petsc, progress: !quiet };
+            sweep::sweep(&world, &args).map(|dir| format!("summary: {}", dir.join("summary.csv").display()))
+        }
         Command::Scenes | Command::Show { .. } => unreachable!(),
     };
     let code = match result {

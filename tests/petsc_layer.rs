@@ -177,7 +177,8 @@ fn anderson_accelerates_chord_iterations(comm: poroplast::petsc::ffi::MPI_Comm) 
 #[test]
 fn petsc_layer() {
     let universe = mpi::initialize().expect("MPI");
-    let petsc = Petsc::init(&[]).expect("PetscInitialize");
+    let world = universe.world();
+    let petsc = Petsc::init(&world, &[]).expect("PetscInitialize");
     let comm = petsc.comm();
 
     // 1. A PETSc error carries PETSc's own message.

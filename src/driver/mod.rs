@@ -5,7 +5,7 @@
 
 mod schedule;
 mod setup;
-mod signals;
+pub(crate) mod signals;
 pub mod state;
 
 pub use schedule::Schedule;
@@ -40,13 +40,13 @@ pub struct RunArgs {
 /// Runs a scene; returns the run directory. PETSc lives exactly as long as this call.
 pub fn run(world: &SimpleCommunicator, args: &RunArgs) -> Result<PathBuf> {
     let scene = LoadedScene::load(&args.scene, &args.set)?;
-    with_petsc(&petsc_args(&scene, &args.petsc), || Run::setup(world, &scene, args)?.execute(None))
+    with_petsc(world, &petsc_args(&scene, &args.petsc), || Run::setup(world, &scene, args)?.execute(None))
 }
 
-/// Runs `f` with PETSc initialised from `options` and finalised after; an error about an
+/// Runs `f` with PETSc initialised on `world` from `options` and finalised after; an error about an
 /// option's value names the option (only PETSc's live options database can tell which).
-fn with_petsc<T>(options: &[String], f: impl FnOnce() -> Result<T>) -> Result<T> {
-    let petsc = Petsc::init(options)?;
+fn with_petsc<T>(world: &SimpleCommunicator, options: &[String], f: impl FnOnce() -> Result<T>) -> Result<T> {
+    let petsc = Petsc::init(world, options)?;
     let r = f().map_err(options::name_option);
     drop(petsc);
     r
@@ -78,7 +78,7 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
         petsc: options,
         progress,
     };
-    with_petsc(&petsc_args(&scene, &args.petsc), || {
+    with_petsc(world, &petsc_args(&scene, &args.petsc), || {
         let mut run = Run::setup(world, &scene, &args)?;
         run.lock = Some(lock);
         let per_elem = run.ts.problem().disc.qp_state.element(0).len();
@@ -190,7 +190,7 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc:
         petsc: petsc.to_vec(),
         progress: false,
     };
-    with_petsc(&petsc_args(&scene, petsc), || {
+    with_petsc(world, &petsc_args(&scene, petsc), || {
         let mut run = Run::setup(world, &scene, &args)?;
         // The same first step as `run` (settling included), into no directory: then the PETSc
         // options have all been read, and the first solve has worked.

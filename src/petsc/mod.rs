@@ -42,6 +42,8 @@ pub use ts::{Ts, TsProblem, TsRef};
 pub use vec::{Scatter, Vector};
 
 use crate::error::{Error, Result};
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::AsRaw;
 use std::ffi::{c_char, c_int, CStr, CString};
 use std::sync::Mutex;
 
@@ -151,9 +153,24 @@ pub struct Petsc {
 }
 
 impl Petsc {
-    /// Initialises PETSc on `MPI_COMM_WORLD` with the given command-line style options
-    /// (e.g. `["-log_view", "-ksp_monitor"]`), so init-time options such as `-log_view` work.
-    pub fn init(options: &[String]) -> Result<Petsc> {
+    /// Initialises PETSc on `comm` (its `PETSC_COMM_WORLD`: the ranks that take part in
+    /// PETSc's collective start and end) with the given command-line style options (e.g.
+    /// `["-log_view", "-ksp_monitor"]`), so init-time options such as `-log_view` work.
+    ///
+    /// PETSc may be initialised again after it was finalised (while MPI lives): each
+    /// initialisation starts from an empty options database, so a sweep's cases, each run
+    /// between its own `init` and drop, see only their own options. Our own records of the
+    /// options (the defaults we set) and of the last error start empty too.
+    pub fn init(comm: &SimpleCommunicator, options: &[String]) -> Result<Petsc> {
+        if alive() {
+            return Err(Error::Solver("PETSc is already initialised in this process".into()));
+        }
+        options::DEFAULTS.lock().unwrap_or_else(|e| e.into_inner()).clear();
+        LAST_ERROR.lock().unwrap_or_else(|e| e.into_inner()).clear();
+        let again = INITIALISED_BEFORE.swap(true, std::sync::atomic::Ordering::Relaxed);
+        if again {
+            reinit::before();
+        }
         let mut args: Vec<CString> = std::iter::once("poroplast".to_string())
             .chain(options.iter().cloned())
             .map(|s| CString::new(s).map_err(|_| Error::Options("PETSc option contains a NUL byte".into())))
@@ -166,16 +183,75 @@ impl Petsc {
         std::mem::forget(args);
         std::mem::forget(ptrs);
         unsafe {
-            ffi::PETSC_COMM_WORLD = mpi::ffi::RSMPI_COMM_WORLD;
+            ffi::PETSC_COMM_WORLD = comm.as_raw();
             check(ffi::PetscInitialize(&mut argc, &mut argv, std::ptr::null(), std::ptr::null()))?;
             check(ffi::PetscPushErrorHandler(Some(record_error), std::ptr::null_mut()))?;
         }
-        Ok(Petsc { _private: () })
+        let petsc = Petsc { _private: () };
+        if again {
+            reinit::after()?;
+        }
+        Ok(petsc)
     }
 
     /// The communicator all objects live on.
     pub fn comm(&self) -> ffi::MPI_Comm {
         unsafe { ffi::PETSC_COMM_WORLD }
+    }
+}
+
+/// PETSc has been initialised in this process before (and finalised since).
+static INITIALISED_BEFORE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// PETSc 3.18 registers some types once per process, behind flags that `PetscFinalize` does
+/// not reset, into lists that it destroys: after a second `PetscInitialize` they would be
+/// missing ("Unknown Mat type given: schurcomplement" at the first fieldsplit-Schur set-up of
+/// the second run; likewise the KSP initial-guess and TS trajectory types). Registered here
+/// again (the still current upstream `kspmatregi.c` has the same flag).
+mod reinit {
+    use super::{check, ffi, Result};
+
+    extern "C" {
+        fn MatCreate_SchurComplement(m: ffi::Mat) -> ffi::PetscErrorCode;
+        fn MatCreate_LMVMDFP(m: ffi::Mat) -> ffi::PetscErrorCode;
+        fn MatCreate_LMVMBFGS(m: ffi::Mat) -> ffi::PetscErrorCode;
+        fn MatCreate_LMVMSR1(m: ffi::Mat) -> ffi::PetscErrorCode;
+        fn MatCreate_LMVMBrdn(m: ffi::Mat) -> ffi::PetscErrorCode;
+        fn MatCreate_LMVMBadBrdn(m: ffi::Mat) -> ffi::PetscErrorCode;
+        fn MatCreate_LMVMSymBrdn(m: ffi::Mat) -> ffi::PetscErrorCode;
+        fn MatCreate_LMVMSymBadBrdn(m: ffi::Mat) -> ffi::PetscErrorCode;
+        fn MatCreate_LMVMDiagBrdn(m: ffi::Mat) -> ffi::PetscErrorCode;
+        fn KSPGuessCreate_Fischer(g: ffi::KSPGuess) -> ffi::PetscErrorCode;
+        fn KSPGuessCreate_POD(g: ffi::KSPGuess) -> ffi::PetscErrorCode;
+        static mut TSTrajectoryRegisterAllCalled: ffi::PetscBool;
+    }
+
+    /// Before `PetscInitialize`: the flag PETSc exports is reset, so TS registers its
+    /// trajectory types again.
+    pub(super) fn before() {
+        unsafe { TSTrajectoryRegisterAllCalled = ffi::PetscBool::PETSC_FALSE };
+    }
+
+    /// After `PetscInitialize`: the types behind static flags, as KSPMatRegisterAll and
+    /// KSPGuessRegisterAll register them.
+    pub(super) fn after() -> Result<()> {
+        type MatCreate = unsafe extern "C" fn(ffi::Mat) -> ffi::PetscErrorCode;
+        let mats: [(&std::ffi::CStr, MatCreate); 9] = [
+            (c"schurcomplement", MatCreate_SchurComplement),
+            (c"lmvmdfp", MatCreate_LMVMDFP),
+            (c"lmvmbfgs", MatCreate_LMVMBFGS),
+            (c"lmvmsr1", MatCreate_LMVMSR1),
+            (c"lmvmbroyden", MatCreate_LMVMBrdn),
+            (c"lmvmbadbroyden", MatCreate_LMVMBadBrdn),
+            (c"lmvmsymbroyden", MatCreate_LMVMSymBrdn),
+            (c"lmvmsymbadbroyden", MatCreate_LMVMSymBadBrdn),
+            (c"lmvmdiagbroyden", MatCreate_LMVMDiagBrdn),
+        ];
+        for (name, f) in mats {
+            check(unsafe { ffi::MatRegister(name.as_ptr(), Some(f)) })?;
+        }
+        check(unsafe { ffi::KSPGuessRegister(c"fischer".as_ptr(), Some(KSPGuessCreate_Fischer)) })?;
+        check(unsafe { ffi::KSPGuessRegister(c"pod".as_ptr(), Some(KSPGuessCreate_POD)) })
     }
 }
 
@@ -218,7 +294,7 @@ pub mod options {
 
     /// Options set by [`set_default`]: a default a user's choice made irrelevant (e.g. the
     /// fieldsplit settings under `-pc_type lu`) is not an error, so [`unused`] skips them.
-    static DEFAULTS: std::sync::Mutex<std::collections::BTreeSet<String>> =
+    pub(super) static DEFAULTS: std::sync::Mutex<std::collections::BTreeSet<String>> =
         std::sync::Mutex::new(std::collections::BTreeSet::new());
 
     /// Whether `-name` is in the database (PETSc then counts it as used).

@@ -1,0 +1,334 @@
+//! `poroplast sweep STUDY.toml [--ranks-per-case k]`: the cases of a study (a base scene and a
+//! grid or list of `--set` overrides, see [`study`]) run under one `mpirun -n N`.
+//!
+//! - The world splits into N/k groups of k consecutive ranks; each group runs one case at a
+//!   time on its own communicator, through the driver's public entry points ([`driver::run`],
+//!   [`driver::resume`]), which initialise PETSc on that communicator with the case's options
+//!   and finalise it after: no PETSc option, object or log stage passes from a case to the next.
+//! - Cases are handed out as groups become free ([`schedule`]): a group's leader claims the
+//!   next case of a fixed order (longest first when `estimate_from` gives costs) by creating
+//!   its claim file exclusively, and tells its group. Nothing waits on another group: the
+//!   world meets only at the start and at the end. (A coordinating rank answering requests
+//!   would have to be one that runs no case, or a thread, since world rank 0 runs cases too;
+//!   rsmpi 0.8 has no one-sided atomics. The file system the run directories need anyway is
+//!   the coordinator.)
+//! - The sweep directory (`--out`, default `runs/sweep-<study>-<UTC time>`) holds `study.toml`
+//!   (the study file, which a later session must match), `summary.csv`, `claims/` (this
+//!   session's), and `cases/NNN_<overrides>/`, each case's run directory with `case.toml`, its
+//!   outcome, once it has ended.
+//! - A failed case (a bad override, a solve that does not converge) is recorded with its error
+//!   line; the group goes on to the next case.
+//! - Resuming: the same command with `--out DIR`. Cases whose `case.toml` says ok are skipped;
+//!   a case with a run directory and no outcome (killed, or stopped by a signal) continues
+//!   from its last checkpoint ([`driver::resume`]); a failed case runs again.
+//! - A stop signal (SIGTERM, SIGINT, SIGUSR1) makes running cases checkpoint and stop (the
+//!   driver's own handling), and every group stop before its next case; exit code 75 then.
+//!   A signal that arrives while a case is being set up, before its time loop, stops the sweep
+//!   after that case.
+//! - summary.csv is rewritten by a group's leader after each case and by world rank 0 at the
+//!   end, in case order, so a killed sweep leaves a usable partial one.
+
+pub mod schedule;
+pub mod study;
+pub mod summary;
+
+use crate::driver::{self, signals::StopRequest, RunArgs};
+use crate::error::{Error, Result};
+use crate::io::rundir;
+use crate::parallel::{agree, broadcast_vec, on_root};
+use crate::scene::LoadedScene;
+use mpi::topology::{Color, SimpleCommunicator};
+use mpi::traits::*;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use study::{Case, Study};
+use summary::{CaseResult, State};
+
+/// What `poroplast sweep` was asked to do.
+#[derive(Debug, Clone)]
+pub struct SweepArgs {
+    /// The study file.
+    pub study: PathBuf,
+    /// Ranks of each case (k); must divide the world's size.
+    pub ranks_per_case: usize,
+    pub out: Option<PathBuf>,
+    /// PETSc options of every case (after the study's own).
+    pub petsc: Vec<String>,
+    /// A progress line per case ended.
+    pub progress: bool,
+}
+
+/// A case's run directory in the sweep directory `root`.
+pub fn case_dir(root: &Path, case: &Case) -> PathBuf {
+    root.join("cases").join(case.dir_name())
+}
+
+/// Runs a study; returns the sweep directory. Any case failed: an error saying how many (the
+/// others ran, all are in summary.csv).
+pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
+    let (n, k) = (world.size() as usize, args.ranks_per_case);
+    if k == 0 || n % k != 0 {
+        return Err(Error::Sweep(format!(
+            "--ranks-per-case {k} does not divide the {n} MPI rank(s) of this run: the ranks form groups of \
+             k, one case per group at a time (choose k among the divisors of {n}, or start mpirun -n with a multiple of {k})"
+        )));
+    }
+    // The study, as rank 0 reads it; and its base scene, which every case needs.
+    let mut text = on_root(world, || {
+        std::fs::read(&args.study).map_err(|e| Error::io(&args.study, format!("cannot read the study file: {e}")))
+    })?
+    .unwrap_or_default();
+    broadcast_vec(world, 0, &mut text);
+    let text = String::from_utf8_lossy(&text).into_owned();
+    let study = agree(world, Study::parse(&args.study, &text))?;
+    agree(world, LoadedScene::load(&study.scene, &study.set).map(|_| ()))
+        .map_err(|e| Error::Sweep(format!("the study's base scene: {e}")))?;
+    let root = match &args.out {
+        Some(o) => o.clone(),
+        None => {
+            crate::parallel::broadcast_path(world, Some(&rundir::default_run_dir(&format!("sweep-{}", study.name))))
+        }
+    };
+    // The directory (locked for the session), and the cases' order, by rank 0.
+    let _lock = agree(world, open_dir(&root, &text, world.rank() == 0))?;
+    let mut order: Vec<u64> = on_root(world, || {
+        schedule::reset_claims(&root)?;
+        let todo = schedule::todo(&root, &study);
+        let order = schedule::order(&study, &todo)?;
+        write_summary(&root, &study)?;
+        if args.progress {
+            println!(
+                "sweep {}: {} cases, {} already complete, {} to run in {} group(s) of {k} rank(s)",
+                root.display(),
+                study.cases.len(),
+                study.cases.len() - todo.len(),
+                todo.len(),
+                n / k
+            );
+        }
+        Ok(order.into_iter().map(|i| i as u64).collect())
+    })?
+    .unwrap_or_default();
+    broadcast_vec(world, 0, &mut order);
+    let order: Vec<usize> = order.into_iter().map(|i| i as usize).collect();
+    let complete_before = study.cases.len() - order.len();
+
+    let stop = agree(world, StopRequest::install())?;
+    let color = world.rank() as usize / k;
+    let group = world
+        .split_by_color(Color::with_value(color as i32))
+        .ok_or_else(|| Error::Mpi("splitting the ranks into groups gave no communicator".into()))?;
+    let ctx = Group { comm: &group, index: color, root: &root, study: &study, args, stop: &stop };
+    let r = ctx.run(order, complete_before);
+    drop(group);
+
+    // The world meets again: the summary as it stands (no case runs now: a case without an
+    // outcome is interrupted or pending), and one outcome for every rank.
+    let written = on_root(world, || {
+        schedule::reset_claims(&root)?;
+        write_summary(&root, &study)
+    });
+    let code = match &r {
+        Ok(()) => 0,
+        Err(Error::Stopped(_)) => 1,
+        Err(_) => 2,
+    };
+    let mut worst = 0;
+    world.all_reduce_into(&code, &mut worst, mpi::collective::SystemOperation::max());
+    if worst == 2 {
+        agree(
+            world,
+            r.map_err(|e| match e {
+                Error::Stopped(m) => Error::Sweep(m),
+                e => e,
+            }),
+        )?;
+    }
+    written?;
+    if worst == 1 {
+        return Err(Error::Stopped(format!(
+            "sweep stopped by a signal; running cases checkpointed. Continue with `poroplast sweep {} --out {}` \
+             (and the same --ranks-per-case or another)",
+            args.study.display(),
+            root.display()
+        )));
+    }
+    let failed = on_root(world, || {
+        Ok(study
+            .cases
+            .iter()
+            .filter(|c| CaseResult::read(&case_dir(&root, c), &study.overrides(c)).is_some_and(|r| !r.ok()))
+            .count() as u64)
+    })?;
+    let mut failed = failed.unwrap_or(0);
+    world.process_at_rank(0).broadcast_into(&mut failed);
+    if failed > 0 {
+        return Err(Error::Sweep(format!(
+            "{failed} of {} cases failed; their errors are in {}",
+            study.cases.len(),
+            root.join("summary.csv").display()
+        )));
+    }
+    Ok(root)
+}
+
+/// Creates or reopens the sweep directory (rank 0) and locks it for this session: a directory
+/// of another study, or one that is not a sweep's, is refused untouched.
+fn open_dir(root: &Path, text: &str, is_root: bool) -> Result<rundir::RunLock> {
+    if is_root {
+        let copy = root.join("study.toml");
+        match std::fs::read_to_string(&copy) {
+            Ok(was) if was != text => {
+                return Err(Error::io(
+                    root,
+                    "holds the sweep of another study (its study.toml differs from the study file given): \
+                     choose another --out",
+                ))
+            }
+            Ok(_) => {}
+            Err(_) if root.is_dir() && std::fs::read_dir(root).map_or(true, |mut d| d.next().is_some()) => {
+                return Err(Error::io(root, "exists, is not empty and is not a sweep directory: choose another --out"))
+            }
+            Err(_) => std::fs::create_dir_all(root).map_err(|e| Error::io(root, format!("cannot create: {e}")))?,
+        }
+    }
+    let lock = rundir::lock(root, is_root)?;
+    if is_root {
+        rundir::write_text(root, "study.toml", text)?;
+    }
+    Ok(lock)
+}
+
+/// summary.csv from every case's state on disk.
+fn write_summary(root: &Path, study: &Study) -> Result<()> {
+    let states: Vec<(Case, State, String)> = study
+        .cases
+        .iter()
+        .map(|c| {
+            let dir = case_dir(root, c);
+            let state = match CaseResult::read(&dir, &study.overrides(c)) {
+                Some(r) => State::Ended(r),
+                None if schedule::claimed(root, c.index) => State::Open("running"),
+                None if dir.join("run.toml").exists() => State::Open("interrupted"),
+                None => State::Open("pending"),
+            };
+            let rel = dir.strip_prefix(root).unwrap_or(&dir).display().to_string();
+            (c.clone(), state, rel)
+        })
+        .collect();
+    summary::write(root, study, &states)
+}
+
+/// One group of ranks, running cases one after another.
+struct Group<'a> {
+    comm: &'a SimpleCommunicator,
+    index: usize,
+    root: &'a Path,
+    study: &'a Study,
+    args: &'a SweepArgs,
+    stop: &'a StopRequest,
+}
+
+impl Group<'_> {
+    fn leader(&self) -> bool {
+        self.comm.rank() == 0
+    }
+
+    /// Claims and runs cases until none is left (or a stop signal, or a failure of the sweep
+    /// itself — a failed case is not one).
+    fn run(&self, order: Vec<usize>, complete_before: usize) -> Result<()> {
+        let mut dispenser = schedule::Dispenser::new(self.root, order, self.index);
+        let started = Instant::now();
+        loop {
+            if self.stop.requested(self.comm) {
+                return Err(Error::Stopped("stopped by a signal".into()));
+            }
+            let next = agree(self.comm, if self.leader() { dispenser.claim() } else { Ok(None) })?;
+            let mut index = next.map_or(-1, |i| i as i64);
+            self.comm.process_at_rank(0).broadcast_into(&mut index);
+            if index < 0 {
+                return Ok(());
+            }
+            let case = &self.study.cases[index as usize];
+            let t = Instant::now();
+            let outcome = self.run_case(case);
+            if let Err(e @ Error::Stopped(_)) = outcome {
+                return Err(e);
+            }
+            let dir = case_dir(self.root, case);
+            let failed = outcome.err().map(|e| e.to_string());
+            on_root(self.comm, || {
+                let record = CaseResult::of(&dir, self.study.overrides(case), failed.clone(), &self.study.observe);
+                record.write(&dir)?;
+                write_summary(self.root, self.study)?;
+                if self.args.progress {
+                    self.progress(case, &record, t.elapsed().as_secs_f64(), started, complete_before);
+                }
+                Ok(())
+            })?;
+        }
+    }
+
+    /// One case on this group: continued from its checkpoint when an earlier session left its
+    /// run unfinished, else run from the start.
+    fn run_case(&self, case: &Case) -> Result<PathBuf> {
+        let dir = case_dir(self.root, case);
+        let set = self.study.overrides(case);
+        // A failed case's record goes (it runs again); an unfinished run continues.
+        let resume = on_root(self.comm, || {
+            let record = dir.join(summary::RECORD);
+            if record.exists() {
+                std::fs::remove_file(&record).map_err(|e| Error::io(&record, e))?;
+                return Ok(false);
+            }
+            Ok(dir.join("run.toml").exists())
+        })?;
+        let resume = crate::parallel::any(self.comm, resume == Some(true));
+        if resume {
+            if self.leader() && self.args.progress {
+                println!("sweep: case {} ({}) continues its interrupted run", case.index, case.label());
+            }
+            return driver::resume(self.comm, &dir, &[], false);
+        }
+        let mut petsc = self.study.petsc.clone();
+        petsc.extend(self.args.petsc.iter().cloned());
+        let run = RunArgs { scene: self.study.scene.clone(), set, out: Some(dir), force: true, petsc, progress: false };
+        driver::run(self.comm, &run)
+    }
+
+    /// The progress line of a case just ended (the group's leader): the sweep's counts as the
+    /// sweep directory has them, and the ETA at the pace of this session.
+    fn progress(&self, case: &Case, r: &CaseResult, secs: f64, started: Instant, complete_before: usize) {
+        let (mut ok, mut failed, mut running) = (0usize, 0usize, 0usize);
+        for c in &self.study.cases {
+            match CaseResult::read(&case_dir(self.root, c), &self.study.overrides(c)) {
+                Some(r) if r.ok() => ok += 1,
+                Some(_) => failed += 1,
+                None if schedule::claimed(self.root, c.index) => running += 1,
+                None => {}
+            }
+        }
+        let total = self.study.cases.len();
+        let ended_now = (ok + failed).saturating_sub(complete_before).max(1);
+        let left = total - ok - failed;
+        let eta = started.elapsed().as_secs_f64() / ended_now as f64 * left as f64;
+        let what = if r.ok() { format!("ok in {secs:.1} s") } else { format!("FAILED in {secs:.1} s: {}", r.error) };
+        println!(
+            "sweep: case {} ({}) {what} [group {}] — {ok}/{total} done, {running} running, {failed} failed, eta {}",
+            case.index,
+            case.label(),
+            self.index,
+            human(eta)
+        );
+    }
+}
+
+fn human(s: f64) -> String {
+    if s < 60.0 {
+        format!("{s:.0}s")
+    } else if s < 3600.0 {
+        format!("{}m{:02}s", (s / 60.0) as u64, (s % 60.0) as u64)
+    } else {
+        format!("{}h{:02}m", (s / 3600.0) as u64, ((s % 3600.0) / 60.0) as u64)
+    }
+}

@@ -1,0 +1,121 @@
+//! Handing out cases to groups: a fixed priority order (longest first where costs are
+//! estimated), and claims made by creating a file exclusively.
+//!
+//! A group's leader takes the next case by walking the order and creating
+//! `DIR/claims/NNN` with `O_CREAT | O_EXCL` (`create_new`): the file system makes exactly one
+//! creation succeed, so each case goes to one group, whichever asks first — no coordinating
+//! rank, no message to wait for, no thread. `claims/` belongs to one session: world rank 0
+//! empties it at the start, while it holds the sweep directory's lock.
+
+use super::study::{Case, Study};
+use super::summary::{label_key, read_wall_times, CaseResult};
+use crate::error::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// The claims directory of a sweep directory.
+pub fn claims_dir(root: &Path) -> PathBuf {
+    root.join("claims")
+}
+
+/// Empties the claims of an earlier session (world rank 0, with the sweep's lock held).
+pub fn reset_claims(root: &Path) -> Result<()> {
+    let dir = claims_dir(root);
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    }
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))
+}
+
+/// Whether case `index` has been claimed in this session.
+pub fn claimed(root: &Path, index: usize) -> bool {
+    claims_dir(root).join(format!("{index:03}")).exists()
+}
+
+/// The order in which the cases to run are tried: by estimated cost, longest first (a case
+/// without an estimate counts as the mean of the others), else in case order.
+pub fn order(study: &Study, todo: &[usize]) -> Result<Vec<usize>> {
+    let mut order = todo.to_vec();
+    let Some(path) = &study.estimate_from else { return Ok(order) };
+    let walls = read_wall_times(path, study)?;
+    let keys = study.keys();
+    let cost: Vec<Option<f64>> =
+        study.cases.iter().map(|c: &Case| walls.get(&label_key(c, &keys)).copied().filter(|w| w.is_finite())).collect();
+    let known: Vec<f64> = todo.iter().filter_map(|&i| cost[i]).collect();
+    if known.is_empty() {
+        return Ok(order);
+    }
+    let mean = known.iter().sum::<f64>() / known.len() as f64;
+    order.sort_by(|&a, &b| cost[b].unwrap_or(mean).total_cmp(&cost[a].unwrap_or(mean)));
+    Ok(order)
+}
+
+/// A group leader's walk through the order.
+pub struct Dispenser {
+    root: PathBuf,
+    order: Vec<usize>,
+    next: usize,
+    who: String,
+}
+
+impl Dispenser {
+    pub fn new(root: &Path, order: Vec<usize>, group: usize) -> Dispenser {
+        Dispenser {
+            root: root.to_path_buf(),
+            order,
+            next: 0,
+            who: format!("group {group}, pid {}\n", std::process::id()),
+        }
+    }
+
+    /// The next case this group claims, or None when every case is taken.
+    pub fn claim(&mut self) -> Result<Option<usize>> {
+        use std::io::Write;
+        while let Some(&index) = self.order.get(self.next) {
+            self.next += 1;
+            let path = claims_dir(&self.root).join(format!("{index:03}"));
+            match std::fs::OpenOptions::new().write(true).create_new(true).open(&path) {
+                Ok(mut f) => {
+                    // Who has it, for a person looking (the claim is the file's existence).
+                    let _ = f.write_all(self.who.as_bytes());
+                    return Ok(Some(index));
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+                Err(e) => return Err(Error::io(&path, format!("cannot claim the case: {e}"))),
+            }
+        }
+        Ok(None)
+    }
+}
+
+/// The cases left to run: those without a record of a completed run.
+pub fn todo(root: &Path, study: &Study) -> Vec<usize> {
+    study
+        .cases
+        .iter()
+        .filter(|c| !CaseResult::read(&super::case_dir(root, c), &study.overrides(c)).is_some_and(|r| r.ok()))
+        .map(|c| c.index)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_case_is_claimed_once() {
+        let root = std::env::temp_dir().join(format!("poroplast-claims-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        reset_claims(&root).unwrap();
+        let mut a = Dispenser::new(&root, vec![2, 0, 1], 0);
+        let mut b = Dispenser::new(&root, vec![2, 0, 1], 1);
+        assert_eq!(a.claim().unwrap(), Some(2));
+        assert_eq!(b.claim().unwrap(), Some(0));
+        assert_eq!(a.claim().unwrap(), Some(1));
+        assert_eq!(b.claim().unwrap(), None);
+        assert_eq!(a.claim().unwrap(), None);
+        assert!(claimed(&root, 1));
+        reset_claims(&root).unwrap();
+        assert!(!claimed(&root, 1));
+        let _ = std::fs::remove_dir_all(&root);
+    }
+}

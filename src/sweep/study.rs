@@ -1,0 +1,292 @@
+//! The study file (STUDY.toml) and its cases.
+//!
+//! ```toml
+//! name = "mu_h"                    # optional (default: the file's stem); names the sweep directory
+//! scene = "reference_axi"          # base scene: a shipped scene's name or a file (relative to STUDY.toml)
+//! set = ["time.t_end=10"]          # --set overrides of every case (optional)
+//! petsc = ["-ksp_rtol", "1e-8"]    # PETSc options of every case (optional)
+//! observe = ["max:force_total_mg"] # summary.csv observables (optional, see `summary`)
+//! estimate_from = "old/summary.csv" # wall times of an earlier sweep: run the longest cases first (optional)
+//!
+//! [[grid]]                         # an axis: every combination of the axes is a case
+//! key = "material.mu"              # (the first axis varies slowest)
+//! values = [10, 20]
+//!
+//! [[grid]]                         # a linked axis: its keys change together
+//! keys = ["mesh.params.h", "mesh.params.h_pole"]
+//! values = [[20, 4], [15, 2]]
+//! ```
+//!
+//! or, instead of `[[grid]]`, a list of cases, each with its own overrides:
+//!
+//! ```toml
+//! [[case]]
+//! set = ["material.mu=10", "material.nu=0.3"]
+//! ```
+//!
+//! A value is the text after `=` of a `--set`: a string is taken as it is (`"[5, 10]"`), a
+//! number, boolean or array is written as TOML. The semantics of the axes are those of
+//! `scripts/study.py --grid` (`KEY=V1,V2` and `K1,K2=A1:A2,B1:B2`).
+
+use crate::error::{Error, Result};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// A study file, as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StudyFile {
+    name: Option<String>,
+    scene: String,
+    #[serde(default)]
+    set: Vec<String>,
+    #[serde(default)]
+    petsc: Vec<String>,
+    observe: Option<Vec<String>>,
+    estimate_from: Option<String>,
+    #[serde(default)]
+    grid: Vec<Axis>,
+    #[serde(default)]
+    case: Vec<CaseEntry>,
+}
+
+/// One `[[grid]]` axis: `key` and a list of values, or `keys` and a list of value lists.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Axis {
+    key: Option<String>,
+    keys: Option<Vec<String>>,
+    values: Vec<toml::Value>,
+}
+
+/// One `[[case]]`: its overrides (`KEY=VALUE`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CaseEntry {
+    set: Vec<String>,
+}
+
+/// A study: the base scene and settings, and its cases in order.
+#[derive(Debug, Clone)]
+pub struct Study {
+    pub name: String,
+    /// The scene argument of every case: a shipped scene's name, or a file's absolute path.
+    pub scene: String,
+    /// Overrides of every case (before the case's own).
+    pub set: Vec<String>,
+    pub petsc: Vec<String>,
+    pub observe: Vec<String>,
+    /// An earlier summary.csv whose wall times estimate the cases' costs.
+    pub estimate_from: Option<PathBuf>,
+    pub cases: Vec<Case>,
+}
+
+/// One case: its index in the study and its own overrides.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Case {
+    pub index: usize,
+    /// `KEY=VALUE` overrides of this case (after the study's `set`).
+    pub set: Vec<String>,
+}
+
+/// The observables of summary.csv when the study names none (NaN where a column is missing).
+pub const DEFAULT_OBSERVE: [&str; 3] = ["max:force_total_mg", "last:force_total_mg", "last:height/width"];
+
+impl Case {
+    /// The case's overrides as (key, value).
+    pub fn pairs(&self) -> Vec<(String, String)> {
+        self.set
+            .iter()
+            .map(|s| match s.split_once('=') {
+                Some((k, v)) => (k.trim().to_string(), v.trim().to_string()),
+                None => (s.trim().to_string(), String::new()),
+            })
+            .collect()
+    }
+
+    /// How the case is named in progress lines and summary.csv.
+    pub fn label(&self) -> String {
+        if self.set.is_empty() {
+            "(base scene)".into()
+        } else {
+            self.set.join(" ")
+        }
+    }
+
+    /// The case's run directory name: its index and its overrides (`003_material.mu-10__nu-0.3`).
+    pub fn dir_name(&self) -> String {
+        let slug: String = self
+            .pairs()
+            .iter()
+            .map(|(k, v)| format!("{k}-{v}"))
+            .collect::<Vec<_>>()
+            .join("__")
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.') { c } else { '_' })
+            .take(80)
+            .collect();
+        if slug.is_empty() {
+            format!("{:03}_base", self.index)
+        } else {
+            format!("{:03}_{slug}", self.index)
+        }
+    }
+}
+
+impl Study {
+    /// Parses the text of the study file `path` (read by the caller); relative paths in it are
+    /// relative to the file's directory.
+    pub fn parse(path: &Path, text: &str) -> Result<Study> {
+        let err = |msg: String| Error::Scene { path: path.display().to_string(), msg };
+        let file: StudyFile = toml::from_str(text).map_err(|e| err(e.message().trim().to_string()))?;
+        let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        let local = base.join(&file.scene);
+        let scene = if local.is_file() {
+            std::fs::canonicalize(&local).map_err(|e| Error::io(&local, e))?.display().to_string()
+        } else {
+            file.scene.clone()
+        };
+        let estimate_from = file.estimate_from.as_ref().map(|e| base.join(e));
+        if !file.grid.is_empty() && !file.case.is_empty() {
+            return Err(err("give the cases as [[grid]] axes or as a [[case]] list, not both".into()));
+        }
+        let cases = if !file.case.is_empty() {
+            file.case.iter().map(|c| c.set.clone()).collect()
+        } else if !file.grid.is_empty() {
+            expand(&file.grid).map_err(err)?
+        } else {
+            return Err(err("no cases: give [[grid]] axes (key, values) or [[case]] entries (set)".into()));
+        };
+        let name = match &file.name {
+            Some(n) if !n.trim().is_empty() => n.trim().to_string(),
+            _ => path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "study".into()),
+        };
+        Ok(Study {
+            name,
+            scene,
+            set: file.set,
+            petsc: file.petsc,
+            observe: file.observe.unwrap_or_else(|| DEFAULT_OBSERVE.iter().map(|s| s.to_string()).collect()),
+            estimate_from,
+            cases: cases.into_iter().enumerate().map(|(index, set)| Case { index, set }).collect(),
+        })
+    }
+
+    /// Every override of a case: the study's, then the case's own.
+    pub fn overrides(&self, case: &Case) -> Vec<String> {
+        self.set.iter().chain(&case.set).cloned().collect()
+    }
+
+    /// The override keys of the cases, in order of first appearance (summary.csv's first columns).
+    pub fn keys(&self) -> Vec<String> {
+        let mut keys: Vec<String> = Vec::new();
+        for c in &self.cases {
+            for (k, _) in c.pairs() {
+                if !keys.contains(&k) {
+                    keys.push(k);
+                }
+            }
+        }
+        keys
+    }
+}
+
+/// The cases of a grid: every combination of the axes' points, the first axis slowest.
+fn expand(axes: &[Axis]) -> std::result::Result<Vec<Vec<String>>, String> {
+    let mut points: Vec<Vec<Vec<String>>> = Vec::new();
+    for (i, axis) in axes.iter().enumerate() {
+        let keys = match (&axis.key, &axis.keys) {
+            (Some(k), None) => vec![k.clone()],
+            (None, Some(ks)) if !ks.is_empty() => ks.clone(),
+            _ => return Err(format!("[[grid]] axis {}: give `key` (one) or `keys` (linked), not both", i + 1)),
+        };
+        if keys.iter().any(|k| k.trim().is_empty() || k.contains('=')) {
+            return Err(format!("[[grid]] axis {}: a key is empty or contains '='", i + 1));
+        }
+        if axis.values.is_empty() {
+            return Err(format!("[[grid]] axis {} ({}): no values", i + 1, keys.join(", ")));
+        }
+        let mut axis_points = Vec::new();
+        for v in &axis.values {
+            let parts: Vec<&toml::Value> = if keys.len() == 1 {
+                vec![v]
+            } else {
+                match v {
+                    toml::Value::Array(a) if a.len() == keys.len() => a.iter().collect(),
+                    _ => {
+                        return Err(format!(
+                            "[[grid]] axis {} ({}): every value must be a list of {} values, one per key; got {v}",
+                            i + 1,
+                            keys.join(", "),
+                            keys.len()
+                        ))
+                    }
+                }
+            };
+            axis_points.push(keys.iter().zip(parts).map(|(k, v)| format!("{}={}", k.trim(), value_text(v))).collect());
+        }
+        points.push(axis_points);
+    }
+    let mut cases: Vec<Vec<String>> = vec![Vec::new()];
+    for axis in points {
+        cases = cases
+            .into_iter()
+            .flat_map(|c| {
+                axis.iter().map(move |p| {
+                    let mut c = c.clone();
+                    c.extend(p.iter().cloned());
+                    c
+                })
+            })
+            .collect();
+    }
+    Ok(cases)
+}
+
+/// A value as the text after `=` of a `--set`.
+fn value_text(v: &toml::Value) -> String {
+    match v {
+        toml::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<Study> {
+        Study::parse(Path::new("/nonexistent/s.toml"), text)
+    }
+
+    #[test]
+    fn grid_with_a_linked_axis() {
+        let s = parse(
+            "scene = \"reference_axi\"\nset = [\"time.t_end=5\"]\n[[grid]]\nkey = \"material.mu\"\nvalues = [10, 20.5]\n\
+             [[grid]]\nkeys = [\"mesh.params.h\", \"mesh.params.h_pole\"]\nvalues = [[20, 4], [\"15\", 2]]\n",
+        )
+        .unwrap();
+        assert_eq!(s.name, "s");
+        assert_eq!(s.cases.len(), 4);
+        assert_eq!(s.cases[0].set, ["material.mu=10", "mesh.params.h=20", "mesh.params.h_pole=4"]);
+        assert_eq!(s.cases[1].set, ["material.mu=10", "mesh.params.h=15", "mesh.params.h_pole=2"]);
+        assert_eq!(s.cases[3].set, ["material.mu=20.5", "mesh.params.h=15", "mesh.params.h_pole=2"]);
+        assert_eq!(s.overrides(&s.cases[0])[0], "time.t_end=5");
+        assert_eq!(s.keys(), ["material.mu", "mesh.params.h", "mesh.params.h_pole"]);
+        assert_eq!(s.cases[2].dir_name(), "002_material.mu-20.5__mesh.params.h-20__mesh.params.h_pole-4");
+    }
+
+    #[test]
+    fn case_list_and_bad_files() {
+        let s = parse("scene = \"x\"\n[[case]]\nset = [\"a=1\"]\n[[case]]\nset = []\n").unwrap();
+        assert_eq!(s.cases.len(), 2);
+        assert_eq!(s.cases[1].dir_name(), "001_base");
+        let msg = |t: &str| parse(t).unwrap_err().to_string();
+        assert!(msg("scene = \"x\"\n").contains("no cases"));
+        assert!(msg("scene = \"x\"\nbogus = 1\n[[case]]\nset=[]\n").contains("bogus"));
+        assert!(msg("[[case]]\nset=[]\n").contains("scene"));
+        assert!(msg("scene = \"x\"\n[[grid]]\nkey = \"a\"\nvalues = []\n").contains("no values"));
+        assert!(msg("scene = \"x\"\n[[grid]]\nkeys = [\"a\", \"b\"]\nvalues = [[1]]\n").contains("list of 2"));
+        assert!(msg("scene = \"x\"\n[[grid]]\nkey = \"a\"\nvalues = [1]\n[[case]]\nset=[]\n").contains("not both"));
+    }
+}

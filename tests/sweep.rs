@@ -1,0 +1,308 @@
+//! `poroplast sweep`: the cases of a study under one mpirun, in groups of k ranks — each case's
+//! history equal to the same case run alone; a bad case failing alone; a sweep killed with
+//! `kill -9` resuming to the same summary; bad input refused before anything is written.
+//! The scene: the axisymmetric reference on a coarse meridian, to t = 3 s (part of the ramp).
+
+mod common;
+use common::*;
+use std::os::unix::process::CommandExt;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+/// The overrides of every case (with the study's `set`).
+const BASE: [&str; 4] = ["time.t_end=3", "mesh.params.h=25", "mesh.params.h_pole=5", "output.fields_every=4"];
+
+/// A study of 4 cases: µ × a linked (compression, t_ramp) axis.
+fn grid_study(dir: &Path, extra_set: &[&str]) -> PathBuf {
+    let set: Vec<String> = BASE.iter().chain(extra_set).map(|s| format!("\"{s}\"")).collect();
+    let text = format!(
+        "scene = \"reference_axi\"\nset = [{}]\n\n[[grid]]\nkey = \"material.mu\"\nvalues = [15, 25]\n\n\
+         [[grid]]\nkeys = [\"plates.compression\", \"plates.t_ramp\"]\nvalues = [[0.2, 4], [0.3, 5]]\n",
+        set.join(", ")
+    );
+    let p = dir.join("study.toml");
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// The overrides of the grid's cases, in case order.
+fn grid_cases() -> Vec<Vec<String>> {
+    let mut out = Vec::new();
+    for mu in ["15", "25"] {
+        for (c, t) in [("0.2", "4"), ("0.3", "5")] {
+            out.push(vec![
+                format!("material.mu={mu}"),
+                format!("plates.compression={c}"),
+                format!("plates.t_ramp={t}"),
+            ]);
+        }
+    }
+    out
+}
+
+fn sweep(np: usize, study: &Path, out: &Path, k: usize) -> std::process::Output {
+    poroplast(np, &["sweep", &study.display().to_string(), "--out", &out.display().to_string(), "-k", &k.to_string()])
+}
+
+fn ok(out: &std::process::Output, what: &str) -> String {
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{what} failed\nstdout:\n{stdout}\nstderr:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    stdout
+}
+
+/// The case directories of a sweep, in case order.
+fn case_dirs(root: &Path) -> Vec<PathBuf> {
+    let mut d: Vec<PathBuf> = std::fs::read_dir(root.join("cases")).unwrap().map(|e| e.unwrap().path()).collect();
+    d.sort();
+    d
+}
+
+/// summary.csv as rows of fields (plain fields: these studies have no quoted ones).
+fn summary(root: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(root.join("summary.csv")).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().split(',').map(String::from).collect();
+    (header, lines.map(|l| l.split(',').map(String::from).collect()).collect())
+}
+
+/// Largest difference between two histories, every column but the wall time, relative to the
+/// column's largest magnitude (at least 1); panics if the rows or columns differ.
+fn history_difference(a: &History, b: &History, what: &str) -> f64 {
+    assert_eq!(a.names, b.names, "{what}: columns");
+    assert_eq!(a.rows.len(), b.rows.len(), "{what}: rows");
+    let mut worst = 0.0f64;
+    for name in a.names.iter().filter(|n| *n != "wall_s") {
+        let (x, y) = (a.col(name), b.col(name));
+        let scale = x.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        for (u, v) in x.iter().zip(&y) {
+            worst = worst.max((u - v).abs() / scale);
+        }
+    }
+    worst
+}
+
+#[test]
+fn cases_equal_the_same_cases_run_alone() {
+    let d = scratch("sweep_equal");
+    let study = grid_study(&d, &[]);
+    let t = Instant::now();
+    let out = sweep(4, &study, &d.join("k2"), 2);
+    let stdout = ok(&out, "sweep -k 2");
+    let k2_s = t.elapsed().as_secs_f64();
+    assert!(stdout.contains("in 2 group(s) of 2 rank(s)"), "{stdout}");
+    let t = Instant::now();
+    ok(&sweep(4, &study, &d.join("k1"), 1), "sweep -k 1");
+    let k1_s = t.elapsed().as_secs_f64();
+    let (header, rows) = summary(&d.join("k2"));
+    assert_eq!(rows.len(), 4);
+    let status = header.iter().position(|h| h == "status").unwrap();
+    assert!(rows.iter().all(|r| r[status] == "ok"), "{rows:?}");
+
+    let mut worst = (0.0f64, 0.0f64);
+    for (i, (case, (dir2, dir1))) in
+        grid_cases().iter().zip(case_dirs(&d.join("k2")).iter().zip(case_dirs(&d.join("k1")))).enumerate()
+    {
+        for (np, swept, w) in [(2, dir2, &mut worst.0), (1, &dir1, &mut worst.1)] {
+            let alone = d.join(format!("alone-{i}-{np}"));
+            let mut args = vec!["run".to_string(), "reference_axi".into(), "--out".into(), alone.display().to_string()];
+            for s in BASE.iter().map(|s| s.to_string()).chain(case.iter().cloned()) {
+                args.extend(["--set".into(), s]);
+            }
+            args.push("-q".into());
+            run_ok(np, &args.iter().map(|s| s.as_str()).collect::<Vec<_>>());
+            let diff =
+                history_difference(&History::read(&alone), &History::read(swept), &format!("case {i}, {np} rank(s)"));
+            assert!(diff <= 1e-10, "case {i} on {np} rank(s): the sweep's history differs by {diff:e}");
+            *w = w.max(diff);
+        }
+    }
+    eprintln!(
+        "sweep of 4 cases on 4 ranks: k = 2 {k2_s:.1} s, k = 1 {k1_s:.1} s; largest difference from the cases \
+         run alone: {:e} (2 ranks), {:e} (1 rank)",
+        worst.0, worst.1
+    );
+}
+
+#[test]
+fn a_bad_case_fails_alone() {
+    let d = scratch("sweep_bad_case");
+    let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
+    let text = format!(
+        "scene = \"reference_axi\"\nset = [{}]\n[[case]]\nset = [\"material.mu=15\"]\n[[case]]\nset = [\"material.mu=-3\"]\n\
+         [[case]]\nset = [\"material.bogus=1\"]\n[[case]]\nset = [\"material.mu=25\"]\n",
+        set.join(", ")
+    );
+    let study = d.join("bad.toml");
+    std::fs::write(&study, text).unwrap();
+    let root = d.join("sweep");
+    let out = sweep(2, &study, &root, 1);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "a sweep with failed cases exits non-zero");
+    assert!(stderr.contains("2 of 4 cases failed"), "{stderr}");
+    let (header, rows) = summary(&root);
+    let col = |n: &str| header.iter().position(|h| h == n).unwrap();
+    let status: Vec<&str> = rows.iter().map(|r| r[col("status")].as_str()).collect();
+    assert_eq!(status, ["ok", "failed", "failed", "ok"]);
+    assert!(rows[1][col("error")].contains("material.mu"), "{:?}", rows[1]);
+    assert!(rows[2][col("error")].contains("bogus"), "{:?}", rows[2]);
+    assert!(rows[0][col("max:force_total_mg")].parse::<f64>().unwrap() > 0.0);
+    assert!(rows[3][col("steps")].parse::<usize>().unwrap() > 0);
+}
+
+/// The processes whose parent is `pid` (Linux /proc).
+fn children(pid: u32) -> Vec<u32> {
+    std::fs::read_dir("/proc")
+        .unwrap()
+        .filter_map(|e| e.ok()?.file_name().to_str()?.parse::<u32>().ok())
+        .filter(|p| {
+            std::fs::read_to_string(format!("/proc/{p}/stat")).ok().is_some_and(|s| {
+                // pid (comm) state ppid ...: comm may hold spaces, so split after its ')'.
+                s.rsplit_once(')').and_then(|(_, r)| r.split_whitespace().nth(1)?.parse::<u32>().ok()) == Some(pid)
+            })
+        })
+        .collect()
+}
+
+#[test]
+fn a_killed_sweep_resumes_to_the_same_summary() {
+    let d = scratch("sweep_killed");
+    // Longer cases (t = 30 s, about 40 steps): the kill comes while one is early in its run.
+    let study = grid_study(&d, &["output.checkpoint_every=3", "time.t_end=30"]);
+    let reference = d.join("reference");
+    ok(&sweep(2, &study, &reference, 1), "the uninterrupted sweep");
+
+    // kill -9 once a case has written a checkpoint (a case is then half done).
+    let killed = d.join("killed");
+    let mut child = Command::new("mpirun")
+        .args(["-n", "2", "--oversubscribe", env!("CARGO_BIN_EXE_poroplast"), "sweep"])
+        .arg(&study)
+        .arg("--out")
+        .arg(&killed)
+        .args(["-k", "1"])
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_btl", "self,vader")
+        .env("OMPI_MCA_pml", "ob1")
+        .env("POROPLAST_CACHE", cache_dir())
+        .stdout(std::process::Stdio::null())
+        .process_group(0)
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let checkpointed = || {
+        killed.join("cases").is_dir()
+            && case_dirs(&killed).iter().any(|c| {
+                std::fs::read_dir(c.join("checkpoints")).is_ok_and(|mut e| e.next().is_some())
+                    && !c.join("case.toml").exists()
+            })
+    };
+    while !checkpointed() {
+        assert!(child.try_wait().unwrap().is_none(), "the sweep ended before it could be killed");
+        assert!(start.elapsed() < Duration::from_secs(300), "no checkpoint after 300 s");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    // mpirun and its ranks (which Open MPI puts in process groups of their own), at once.
+    let ranks = children(child.id());
+    assert!(!ranks.is_empty(), "no ranks under mpirun");
+    let mut targets = vec![format!("-{}", child.id())];
+    targets.extend(ranks.iter().map(|p| p.to_string()));
+    let ok_kill = Command::new("kill").arg("-KILL").arg("--").args(&targets).status().unwrap();
+    assert!(ok_kill.success());
+    child.wait().unwrap();
+    while ranks.iter().any(|p| Path::new(&format!("/proc/{p}")).exists()) {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let (_, partial) = summary(&killed);
+    assert_eq!(partial.len(), 4, "a killed sweep leaves a summary of every case");
+
+    let stdout = ok(&sweep(2, &study, &killed, 1), "the resumed sweep");
+    assert!(stdout.contains("to run in 2 group(s)"), "{stdout}");
+    assert!(stdout.contains("continues its interrupted run"), "no case resumed: {stdout}");
+    let (ha, a) = summary(&reference);
+    let (hb, b) = summary(&killed);
+    assert_eq!(ha, hb);
+    let wall = ha.iter().position(|h| h == "wall_s").unwrap();
+    for (ra, rb) in a.iter().zip(&b) {
+        for (j, (x, y)) in ra.iter().zip(rb).enumerate().filter(|(j, _)| *j != wall) {
+            match (x.parse::<f64>(), y.parse::<f64>()) {
+                (Ok(u), Ok(v)) => assert!((u - v).abs() <= 1e-10 * u.abs().max(1.0), "{}: {x} vs {y}", ha[j]),
+                _ => assert_eq!(x, y, "{}", ha[j]),
+            }
+        }
+    }
+    for (ca, cb) in case_dirs(&reference).iter().zip(case_dirs(&killed)) {
+        let diff = history_difference(&History::read(ca), &History::read(&cb), &cb.display().to_string());
+        assert!(diff <= 1e-10, "{}: {diff:e}", cb.display());
+    }
+    // Completed: a third run has nothing to do.
+    let stdout = ok(&sweep(2, &study, &killed, 2), "the sweep again");
+    assert!(stdout.contains("4 already complete, 0 to run"), "{stdout}");
+}
+
+#[test]
+fn bad_input_is_refused_before_anything_is_written() {
+    let d = scratch("sweep_bad_input");
+    let study = grid_study(&d, &[]);
+    let root = d.join("sweep");
+    let check = |out: std::process::Output, expect: &str| {
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "accepted; stderr: {stderr}");
+        assert!(stderr.contains(expect), "expected `{expect}` in: {stderr}");
+        assert!(!root.exists(), "{} was created", root.display());
+    };
+    check(sweep(4, &study, &root, 3), "--ranks-per-case 3 does not divide the 4 MPI rank(s)");
+    for (text, expect) in [
+        ("scene = \"reference_axi\"\nset = []\n[[grid]]\nkey = \"material.mu\"\nvalues = []\n", "no values"),
+        ("scene = \"reference_axi\"\nsets = []\n[[case]]\nset = []\n", "unknown field `sets`"),
+        ("scene = \"no_such_scene\"\n[[case]]\nset = []\n", "base scene"),
+        ("scene = \"reference_axi\"\n", "no cases"),
+    ] {
+        let bad = d.join("bad.toml");
+        std::fs::write(&bad, text).unwrap();
+        check(sweep(2, &bad, &root, 1), expect);
+    }
+    // Another study into an existing sweep's directory.
+    std::fs::create_dir_all(&root).unwrap();
+    std::fs::write(root.join("study.toml"), "scene = \"cryer\"\n").unwrap();
+    let out = sweep(2, &study, &root, 1);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("holds the sweep of another study"), "{stderr}");
+    assert_eq!(std::fs::read_dir(&root).unwrap().count(), 1, "the other sweep's directory was changed");
+}
+
+#[test]
+fn petsc_options_do_not_pass_from_a_case_to_the_next() {
+    // One group runs the three cases in turn: the first's PETSc option (a loose Newton
+    // tolerance) must not reach the third, which must equal its run alone; the fieldsplit
+    // preconditioner (Schur complement, GAMG, hypre) set up again after PETSc was finalised.
+    let d = scratch("sweep_isolation");
+    let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
+    let text = format!(
+        "scene = \"reference_axi\"\nset = [{}]\n[[case]]\nset = ['solver.preset=\"fieldsplit\"', \"petsc.snes_rtol=1e-3\"]\n\
+         [[case]]\nset = []\n[[case]]\nset = ['solver.preset=\"fieldsplit\"']\n",
+        set.join(", ")
+    );
+    let study = d.join("iso.toml");
+    std::fs::write(&study, text).unwrap();
+    let root = d.join("sweep");
+    ok(&sweep(1, &study, &root, 1), "the sweep");
+    let alone = d.join("alone");
+    let mut args = vec!["run", "reference_axi", "--out"];
+    let out = alone.display().to_string();
+    args.push(&out);
+    for s in &BASE {
+        args.extend(["--set", s]);
+    }
+    args.extend(["--set", "solver.preset=\"fieldsplit\"", "-q"]);
+    run_ok(1, &args);
+    let dirs = case_dirs(&root);
+    let diff = history_difference(&History::read(&alone), &History::read(&dirs[2]), "case 2");
+    assert!(diff <= 1e-10, "the third case differs from its run alone by {diff:e}");
+    let newton = |dir: &Path| History::read(dir).col("newton_its").iter().sum::<f64>();
+    assert!(newton(&dirs[0]) < newton(&dirs[2]), "the loose tolerance of the first case had no effect");
+}
