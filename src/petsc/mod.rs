@@ -163,7 +163,7 @@ impl Petsc {
     /// options (the defaults we set) and of the last error start empty too.
     pub fn init(comm: &SimpleCommunicator, options: &[String]) -> Result<Petsc> {
         if alive() {
-            return Err(Error::Solver("PETSc is already initialised in this process".into()));
+            return Err(Error::Internal("PETSc is already initialised in this process".into()));
         }
         options::DEFAULTS.lock().unwrap_or_else(|e| e.into_inner()).clear();
         LAST_ERROR.lock().unwrap_or_else(|e| e.into_inner()).clear();
