@@ -762,9 +762,9 @@ impl TsProblem for PoroProblem {
         Ok(())
     }
 
-    /// Predictor: the previous state extrapolated with the last step's velocity (unless the
-    /// loading has a kink at the step start), and the nodes on the lower plate moved with it
-    /// (see `Plates::predict`). Why: moving only the contact nodes compacts their (already
+    /// Predictor: the previous state extrapolated with the last step's velocity (the driver's,
+    /// `set_extrapolation`; none if the loading has a kink at the step start), and the nodes on
+    /// the lower plate moved with it (see `Plates::predict`). Why: moving only the contact nodes compacts their (already
     /// compacted) elements below J = Φs in the initial guess; the extrapolated field moves the
     /// bulk consistently with the plate.
     ///
