@@ -2,14 +2,14 @@
 //! and plates → problem → time stepper → observers. Everything that can fail on bad input
 //! fails here, before the run directory is touched.
 
-use super::{Run, Schedule, DEFAULT_STABILISATION};
+use super::state::{FileLayout, StepState};
+use super::{Run, Schedule, SetupInfo, DEFAULT_STABILISATION};
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::tabulate_cell;
 use crate::fem::kernel::Stabilisation;
 use crate::fem::point::PointModel;
 use crate::fem::quadrature;
-use crate::io::recorder::Observers;
 use crate::mesh::dist::{self, LocalMesh};
 use crate::mesh::partition;
 use crate::mesh::source::{mesh_file, read_mesh};
@@ -20,6 +20,7 @@ use crate::physics::bc::{self, Constraint};
 use crate::physics::contact::{Drainage, PlateLoading, Plates, DEFAULT_SEAL_GAP};
 use crate::physics::experiment::Experiment;
 use crate::physics::factory::{ellipticity_warning, model_of};
+use crate::physics::observers::Observers;
 use crate::physics::probe::Probe;
 use crate::physics::problem::{mean_element_size, PoroProblem};
 use crate::physics::verification::exact_columns;
@@ -36,8 +37,7 @@ use super::RunArgs;
 pub(super) struct Distributed {
     pub local: LocalMesh,
     pub path: std::path::PathBuf,
-    pub n_file_nodes: usize,
-    pub n_file_elems: usize,
+    pub layout: FileLayout,
 }
 
 /// Reads (or generates) the scene's mesh, partitions it on rank 0 and distributes it.
@@ -59,7 +59,8 @@ pub(super) fn distribute_mesh(world: &SimpleCommunicator, scene: &LoadedScene) -
     let mut part = on_root(world, || partition::partition(&mesh, size))?.unwrap_or_default();
     broadcast_vec(world, 0, &mut part);
     let local = agree(world, dist::distribute(&mesh, &part, size, world.rank() as usize))?;
-    Ok(Distributed { local, path, n_file_nodes: mesh.coords.len(), n_file_elems: mesh.cells.len() })
+    let layout = FileLayout { n_nodes: mesh.coords.len(), n_elems: mesh.cells.len() };
+    Ok(Distributed { local, path, layout })
 }
 
 /// The scene's boundary conditions as constraints and loads; with plates, the rigid modes
@@ -171,7 +172,7 @@ fn schedule(scene: &LoadedScene, kinks: Vec<f64>) -> Schedule {
 /// inconsistent (measured with -ts_type bdf: F(35 s) 0.6–1% below every BE run).
 fn refuse_other_integrators(ts: &Ts<PoroProblem>) -> Result<()> {
     let ts_type = ts.type_name()?;
-    if !ts.problem().disc.model.is_linear() && ts_type != "beuler" {
+    if !ts.problem().model().is_linear() && ts_type != "beuler" {
         return Err(Error::Options(format!(
             "-ts_type {ts_type}: the finite-strain model's fluid-content rate is discretised for backward Euler \
              only (accepted: beuler, the default)"
@@ -271,7 +272,7 @@ impl<'w> Run<'w> {
         if s.plates.is_some() {
             solver::set_contact_defaults()?;
         }
-        let Distributed { local, path: mesh_path, n_file_nodes, n_file_elems } = distribute_mesh(world, scene)?;
+        let Distributed { local, path: mesh_path, layout } = distribute_mesh(world, scene)?;
         let dofs = DofMap::new(&local);
         let (policy, mut solver_line) = solver::policy(s.solver.preset.unwrap_or_default(), dofs.n_global)?;
         let model = model_of(scene)?;
@@ -342,9 +343,9 @@ impl<'w> Run<'w> {
 
         let experiment = match (&s.plates, plate_faces) {
             (Some(ps), Some(faces)) => {
-                let mesh = &ts.problem().disc.mesh;
+                let mesh = ts.problem().mesh();
                 let volume = crate::parallel::sum(world, straight_volume(mesh));
-                let phi = ts.problem().disc.model.solid_fraction();
+                let phi = ts.problem().model().solid_fraction();
                 Some(Experiment::new(mesh, faces, ps.radius, ps.probe_point, volume, phi, world, &scene.source)?)
             }
             _ => None,
@@ -353,7 +354,7 @@ impl<'w> Run<'w> {
             probes,
             experiment,
             exact: exact_columns(scene)?,
-            remodelling: !ts.problem().disc.qp_state.is_empty(),
+            remodelling: ts.problem().has_qp_state(),
             fields: s.output.fields,
         };
         let settle = s.plates.is_some()
@@ -363,21 +364,21 @@ impl<'w> Run<'w> {
             scene: scene.clone(),
             args: args.clone(),
             ts,
-            u,
-            observers: Some(observers),
+            state: StepState::new(u)?,
+            observers,
             schedule,
-            n_global_dofs,
-            setup_s: t0.elapsed().as_secs_f64(),
-            solver_line,
             settle,
-            ellipticity: ellipticity_warning(scene)?,
             check_jacobian: check_jacobian_option()?,
-            mesh_path,
-            n_file_nodes,
-            n_file_elems,
-            resumed: None,
+            setup: SetupInfo {
+                mesh_path,
+                layout,
+                n_global_dofs,
+                solver_line,
+                ellipticity: ellipticity_warning(scene)?,
+                started: t0,
+                seconds: t0.elapsed().as_secs_f64(),
+            },
             lock: None,
-            started: t0,
         })
     }
 }

@@ -1,7 +1,8 @@
-//! The run state: everything a restart needs — where the time loop stands (t, step, the
-//! nominal step, the counters), the solution U, the last step's velocity (the contact predictor
-//! and the error estimate), the committed qp state (B_p), the experiment's cumulative
-//! outflow and the output counters — and its checkpoint files.
+//! The run state: the state between steps ([`StepState`]: U, the last step's rate — the
+//! predictor's velocity and the error estimate's — and the committed qp state B_p, which the
+//! problem holds), and everything else a restart needs ([`RunState`]: where the time loop
+//! stands — t, step, the nominal step, the counters —, the experiment's cumulative outflow and
+//! the output counters, with a [`Snapshot`] of the step state) — and its checkpoint files.
 //!
 //! The state is stored by the mesh file's numbering (original node and element ids), not by
 //! the partition's, so a run can resume on another rank count. Rank 0 writes and reads the
@@ -14,11 +15,13 @@
 //! or 0 at a mid-edge node), `velocity` (the same layout, absent after a kink), `history`
 //! (the qp state: per original element, its points' values).
 
+use super::rate::StepRate;
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::io::rundir::write_atomically;
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::{SolverState, Vector};
+use crate::physics::problem::PoroProblem;
 use hdf5_metno as hdf5;
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
@@ -96,16 +99,56 @@ impl Counters {
     }
 }
 
-/// Everything a restart needs, by original numbering (complete on rank 0 after
-/// [`RunState::gather`], on every rank after [`RunState::read`]).
-pub struct RunState {
-    pub counters: Counters,
+/// The state between steps, with one owner (the run). Its third part, the committed qp state,
+/// is held by the problem, whose assembly reads it: [`StepState::commit`] commits it with the
+/// step, [`RunState`] captures and applies it with the rest.
+pub struct StepState {
+    /// U, the solution vector of the time stepper.
+    pub u: Vector,
+    /// U at the start of the last step.
+    pub prev: Vector,
+    /// The last accepted step's rate (None after a kink of the loading, where the velocity
+    /// jumps, and when neither the predictor nor the error estimate uses it).
+    pub rate: Option<StepRate>,
+}
+
+impl StepState {
+    /// The state at the start, U; no step taken yet.
+    pub fn new(u: Vector) -> Result<StepState> {
+        Ok(StepState { prev: u.duplicate()?, u, rate: None })
+    }
+
+    /// Commits the accepted step of size dt from `prev` to `u`: the problem's qp state and, with
+    /// `keep_rate`, the step's rate for the predictor and the error estimate of the next.
+    pub fn commit(&mut self, problem: &mut PoroProblem, dt: f64, keep_rate: bool) -> Result<()> {
+        problem.commit(&self.prev, &self.u, dt)?;
+        self.rate = if keep_rate && dt > 0.0 { Some(StepRate::of(&self.prev, &self.u, dt)?) } else { None };
+        problem.set_extrapolation(self.rate.as_ref().map(|r| &r.velocity))
+    }
+}
+
+/// The mesh file's node and element counts: the numbering of the run state.
+#[derive(Debug, Clone, Copy)]
+pub struct FileLayout {
+    pub n_nodes: usize,
+    pub n_elems: usize,
+}
+
+/// The step state by original numbering (complete on rank 0 after [`RunState::capture`], on
+/// every rank after [`RunState::read`]).
+pub struct Snapshot {
     /// 4 values per original node: u_x, u_y, u_z, p (0 at mid-edge nodes).
-    pub state: Vec<f64>,
+    pub u: Vec<f64>,
     /// The last step's velocity in the same layout and its step size (None after a kink).
     pub velocity: Option<(Vec<f64>, f64)>,
     /// Per original element, its points' committed qp state (empty without; dataset `history`).
     pub qp_state: Vec<f64>,
+}
+
+/// Everything a restart needs: the counters and a snapshot of the step state.
+pub struct RunState {
+    pub counters: Counters,
+    pub snapshot: Snapshot,
     /// [`mesh_fingerprint`] of the mesh it was written on.
     pub mesh: f64,
 }
@@ -150,7 +193,7 @@ fn by_original_node(mesh: &LocalMesh, dofs: &DofMap, local: &[f64], n_nodes: usi
 }
 
 /// The owned entries of a state vector from its by-original-node values.
-pub fn to_owned(mesh: &LocalMesh, dofs: &DofMap, state: &[f64], x: &mut Vector) -> Result<()> {
+fn to_owned(mesh: &LocalMesh, dofs: &DofMap, state: &[f64], x: &mut Vector) -> Result<()> {
     let mut w = x.write()?;
     for n in 0..mesh.n_nodes() {
         let o = mesh.node_original[n] as usize;
@@ -170,37 +213,57 @@ pub fn to_owned(mesh: &LocalMesh, dofs: &DofMap, state: &[f64], x: &mut Vector) 
 }
 
 impl RunState {
-    /// Gathers the state on rank 0 (collective). `u_local` and `velocity_local` are local
-    /// (owned + ghost) layouts; `qp_state` is this rank's per-element qp state, of `per_elem`
-    /// values per element.
-    #[allow(clippy::too_many_arguments)]
-    pub fn gather<'a>(
+    /// Captures the run state on rank 0 (collective): the counters, and the step state with
+    /// the problem's qp state by the file's numbering `layout`.
+    pub fn capture(
         world: &SimpleCommunicator,
-        mesh: &LocalMesh,
-        dofs: &DofMap,
-        n_nodes: usize,
-        n_elems: usize,
+        problem: &mut PoroProblem,
+        step: &StepState,
+        layout: FileLayout,
         counters: Counters,
-        u_local: &[f64],
-        velocity_local: Option<(&[f64], f64)>,
-        qp_state: impl Iterator<Item = (u32, &'a [f64])>,
-        per_elem: usize,
-    ) -> RunState {
-        let mut state = by_original_node(mesh, dofs, u_local, n_nodes);
-        reduce_to_root(world, &mut state);
-        let velocity = velocity_local.map(|(v, dt)| {
-            let mut vv = by_original_node(mesh, dofs, v, n_nodes);
+    ) -> Result<RunState> {
+        let u_local = problem.localize(&step.u)?;
+        let v_local = match &step.rate {
+            Some(r) => Some((problem.localize(&r.velocity)?, r.dt)),
+            None => None,
+        };
+        let (mesh, dofs) = (problem.mesh(), problem.dofs());
+        let mut u = by_original_node(mesh, dofs, &u_local, layout.n_nodes);
+        reduce_to_root(world, &mut u);
+        let velocity = v_local.map(|(v, dt)| {
+            let mut vv = by_original_node(mesh, dofs, &v, layout.n_nodes);
             reduce_to_root(world, &mut vv);
             (vv, dt)
         });
-        let mut hist = vec![0.0; n_elems * per_elem];
+        let per_elem = problem.qp_state_per_elem();
+        let mut qp_state = vec![0.0; layout.n_elems * per_elem];
         if per_elem > 0 {
-            for (o, values) in qp_state {
-                hist[o as usize * per_elem..(o as usize + 1) * per_elem].copy_from_slice(values);
+            for (o, values) in problem.qp_state_by_original() {
+                qp_state[o as usize * per_elem..(o as usize + 1) * per_elem].copy_from_slice(values);
             }
-            reduce_to_root(world, &mut hist);
+            reduce_to_root(world, &mut qp_state);
         }
-        RunState { counters, state, velocity, qp_state: hist, mesh: mesh_fingerprint(world, mesh) }
+        let snapshot = Snapshot { u, velocity, qp_state };
+        Ok(RunState { counters, snapshot, mesh: mesh_fingerprint(world, mesh) })
+    }
+
+    /// Sets the step state of this run state (U, the rate, the problem's qp state); returns
+    /// the counters.
+    pub fn apply(self, problem: &mut PoroProblem, step: &mut StepState) -> Result<Counters> {
+        let Snapshot { u, velocity, qp_state } = self.snapshot;
+        let (mesh, dofs) = (problem.mesh(), problem.dofs());
+        to_owned(mesh, dofs, &u, &mut step.u)?;
+        step.rate = match velocity {
+            Some((v, dt)) => {
+                let mut x = step.u.duplicate()?;
+                to_owned(mesh, dofs, &v, &mut x)?;
+                Some(StepRate { velocity: x, dt })
+            }
+            None => None,
+        };
+        problem.set_qp_state_by_original(&qp_state)?;
+        problem.set_extrapolation(step.rate.as_ref().map(|r| &r.velocity))?;
+        Ok(self.counters)
     }
 
     /// Writes the checkpoint of step `counters.step` into `run_dir/checkpoints/` (rank 0; the
@@ -216,12 +279,12 @@ impl RunState {
                 f.new_dataset::<f64>().shape([v.len()]).create(name)?.write_raw(v)
             };
             put("counters", &self.counters.to_vec()).map_err(h5)?;
-            put("state", &self.state).map_err(h5)?;
-            if let Some((v, dt)) = &self.velocity {
+            put("state", &self.snapshot.u).map_err(h5)?;
+            if let Some((v, dt)) = &self.snapshot.velocity {
                 put("velocity", v).map_err(h5)?;
                 put("velocity_dt", &[*dt]).map_err(h5)?;
             }
-            put("history", &self.qp_state).map_err(h5)?;
+            put("history", &self.snapshot.qp_state).map_err(h5)?;
             put("mesh_fingerprint", &[self.mesh]).map_err(h5)?;
             f.close().map_err(h5)
         })?;
@@ -240,15 +303,14 @@ impl RunState {
         Ok(path)
     }
 
-    /// Reads a checkpoint on rank 0 and broadcasts it (collective): `n_nodes`, `n_elems`,
-    /// `per_elem` and `fingerprint` are this run's mesh, which the file must match. A file that
+    /// Reads a checkpoint on rank 0 and broadcasts it (collective): `layout`, `per_elem` and
+    /// `fingerprint` are this run's mesh, which the file must match. A file that
     /// cannot be read (cut short, damaged) is `Ok(Checkpoint::Damaged)`, so that the caller can
     /// take the one before; one that does not match this run is an error.
     pub fn read(
         world: &SimpleCommunicator,
         path: &Path,
-        n_nodes: usize,
-        n_elems: usize,
+        layout: FileLayout,
         per_elem: usize,
         fingerprint: f64,
     ) -> Result<Checkpoint> {
@@ -272,7 +334,7 @@ impl RunState {
                     damaged[0] = 1;
                     Err(h5(e))
                 }
-                Ok(()) => Self::check(&buf, path, n_nodes, n_elems, per_elem, fingerprint),
+                Ok(()) => Self::check(&buf, path, layout, per_elem, fingerprint),
             }
         } else {
             Ok(())
@@ -290,21 +352,15 @@ impl RunState {
             Error::io(path, "checkpoint: the counters received from rank 0 are not in a known format")
         })?;
         let velocity = if buf[2].is_empty() { None } else { Some((std::mem::take(&mut buf[2]), buf[3][0])) };
-        Ok(Checkpoint::Read(RunState {
-            counters,
-            state: std::mem::take(&mut buf[1]),
-            velocity,
-            qp_state: std::mem::take(&mut buf[4]),
-            mesh: fingerprint,
-        }))
+        let snapshot = Snapshot { u: std::mem::take(&mut buf[1]), velocity, qp_state: std::mem::take(&mut buf[4]) };
+        Ok(Checkpoint::Read(RunState { counters, snapshot, mesh: fingerprint }))
     }
 
     /// Rank 0: the datasets read from `path` fit this run's mesh and qp state.
     fn check(
         buf: &[Vec<f64>],
         path: &Path,
-        n_nodes: usize,
-        n_elems: usize,
+        FileLayout { n_nodes, n_elems }: FileLayout,
         per_elem: usize,
         fingerprint: f64,
     ) -> Result<()> {

@@ -9,6 +9,7 @@ pub mod experiment;
 pub mod factory;
 pub mod linear;
 pub mod observables;
+pub mod observers;
 pub mod probe;
 pub mod problem;
 pub mod verification;

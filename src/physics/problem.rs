@@ -71,13 +71,23 @@ pub struct PoroProblem {
     pub bounds: Option<(Vector, Vector)>,
     /// (start, stage) time of the step being solved, for the contact predictor.
     stage: (f64, f64),
-    /// Velocity and size of the last accepted step, for the predictor and the error estimate
-    /// (None after a loading kink).
-    velocity: Option<(Vector, f64)>,
+    /// The velocity the predictor of the step being solved extrapolates with (the driver's
+    /// last step rate, `driver::rate`; None: no extrapolation, as after a loading kink).
+    extrapolation: Option<Vector>,
     /// The predictor of the step being solved (local layout), whose gaps set the drainage when
     /// the plates drain by the predicted gap (`DrainageGap::Predicted`).
     predicted: Option<Vec<f64>>,
     pub timers: Timers,
+}
+
+/// The scales of the local error estimate of a step (`PoroProblem::error_scales`).
+#[derive(Debug, Clone, Copy)]
+pub struct ErrorScales {
+    /// Owned dofs before the first p dof (the owned layout is u, then p).
+    pub n_u_owned: usize,
+    /// Floors of the u and p magnitudes the error is measured against.
+    pub u_floor: f64,
+    pub p_floor: f64,
 }
 
 /// "No bound" for SNESVI (PETSc's PETSC_INFINITY).
@@ -170,7 +180,7 @@ impl PoroProblem {
             plates: None,
             bounds: None,
             stage: (0.0, 0.0),
-            velocity: None,
+            extrapolation: None,
             predicted: None,
             timers: Timers::default(),
         })
@@ -395,67 +405,34 @@ impl PoroProblem {
         Ok(())
     }
 
-    /// Commits the qp state of the accepted step from `prev` to `u` in dt and, with
-    /// `keep_rate`, keeps its velocity for the predictor and the error estimate of the next (not
-    /// after a kink of the loading, where the velocity jumps; not when nothing uses it).
-    pub fn end_step(&mut self, prev: &Vector, u: &Vector, dt: f64, keep_rate: bool) -> Result<()> {
-        self.commit_qp_state(prev, u, dt)?;
-        if !keep_rate || dt <= 0.0 {
-            self.velocity = None;
-            return Ok(());
+    /// Sets the velocity the predictor of the next steps extrapolates with (copied; None: the
+    /// previous state, as after a loading kink). Only the plates' predictor uses it.
+    pub fn set_extrapolation(&mut self, velocity: Option<&Vector>) -> Result<()> {
+        match (velocity, &self.plates) {
+            (Some(v), Some(_)) => match &mut self.extrapolation {
+                Some(x) => x.copy_from(v)?,
+                None => self.extrapolation = Some(v.copy()?),
+            },
+            _ => self.extrapolation = None,
         }
-        self.velocity = Some((rate(u, prev, dt)?, dt));
         Ok(())
     }
 
-    /// The last accepted step's velocity and size (None after a kink), for a checkpoint.
-    pub fn velocity(&self) -> Option<(&Vector, f64)> {
-        self.velocity.as_ref().map(|(v, dt)| (v, *dt))
-    }
-
-    /// Restores the velocity of a checkpoint.
-    pub fn set_velocity(&mut self, velocity: Option<(Vector, f64)>) {
-        self.velocity = velocity;
-    }
-
-    /// Local error estimate of the backward-Euler step from `prev` to `u` in dt, relative to
-    /// `tol`: ≤ 1 is within tolerance. None on the first step after a kink (no velocity).
-    ///
-    /// The estimate is the distance to the linear extrapolation of the previous step,
-    /// e = dt/(dt + dt_prev) (u − u_prev − dt v_prev), Milne's device: for BE, whose local
-    /// error is −dt²/2 ü, u − (u_prev + dt v_prev) = dt (dt + dt_prev)/2 ü + O(dt³). Measured in
-    /// the RMS norm per field (a few nodes entering contact in a step jump; the
-    /// bulk does not), relative to the field's magnitude with a floor (h for u, 10% of
-    /// the drained bulk modulus for p), so a field decaying to zero does not force ever smaller
-    /// steps.
-    pub fn step_error(&self, prev: &Vector, u: &Vector, dt: f64, tol: f64) -> Result<Option<f64>> {
-        let Some((v, dt_prev)) = &self.velocity else { return Ok(None) };
-        let nu = self.disc.dofs.n_u_owned();
-        let w = dt / (dt + dt_prev);
-        // Per field (u, p): Σ e², number of dofs, and max |x| over this rank's dofs.
-        let (mut sums, mut maxs) = ([0.0f64; 4], [0.0f64; 2]);
-        {
-            let (uv, pv, vv) = (u.read()?, prev.read()?, v.read()?);
-            for i in 0..uv.len() {
-                let e = w * (uv[i] - pv[i] - dt * vv[i]);
-                let f = usize::from(i >= nu);
-                sums[2 * f] += e * e;
-                sums[2 * f + 1] += 1.0;
-                maxs[f] = maxs[f].max(uv[i].abs());
-            }
+    /// The scales of the local error estimate (`driver::rate`): the owned u dofs come first;
+    /// the floors of the fields' magnitudes are h for u and 10% of the drained bulk modulus
+    /// for p, so that a field decaying to zero does not force ever smaller steps.
+    pub fn error_scales(&self) -> ErrorScales {
+        ErrorScales {
+            n_u_owned: self.disc.dofs.n_u_owned(),
+            u_floor: self.h,
+            p_floor: 0.1 * self.disc.model.drained_bulk_modulus(),
         }
-        let (mut gs, mut gm) = ([0.0f64; 4], [0.0f64; 2]);
-        self.world.all_reduce_into(&sums[..], &mut gs[..], SystemOperation::sum());
-        self.world.all_reduce_into(&maxs[..], &mut gm[..], SystemOperation::max());
-        let rms = |f: usize| (gs[2 * f] / gs[2 * f + 1].max(1.0)).sqrt();
-        let u_ref = gm[0].max(self.h);
-        let p_ref = gm[1].max(0.1 * self.disc.model.drained_bulk_modulus());
-        Ok(Some((rms(0) / u_ref).max(rms(1) / p_ref) / tol))
     }
 
     /// Commits the end-of-step qp state of the accepted step from `prev` to `u` (size dt): the
-    /// update every evaluation of that step computed, now stored. Nothing without qp state.
-    fn commit_qp_state(&mut self, prev: &Vector, u: &Vector, dt: f64) -> Result<()> {
+    /// update every evaluation of that step computed, now stored. Nothing without qp state, or
+    /// while it is frozen (settling).
+    pub fn commit(&mut self, prev: &Vector, u: &Vector, dt: f64) -> Result<()> {
         if self.disc.qp_state.is_empty() || !self.disc.evolve {
             return Ok(());
         }
@@ -573,6 +550,61 @@ impl PoroProblem {
         self.scatter.forward(x, &mut self.u_loc)?;
         let ok = self.disc.min_j(&self.u_loc.read()?).is_ok_and(|j| j > phi_s);
         Ok(crate::parallel::all(&self.world, ok))
+    }
+}
+
+/// What the driver and the output read of the discretisation, and the committed qp state the
+/// problem holds for its assembly (captured into and applied from a checkpoint through these).
+impl PoroProblem {
+    pub fn mesh(&self) -> &LocalMesh {
+        &self.disc.mesh
+    }
+
+    pub fn dofs(&self) -> &DofMap {
+        &self.disc.dofs
+    }
+
+    pub fn model(&self) -> &dyn PointModel {
+        self.disc.model.as_ref()
+    }
+
+    /// Scales the model's gravity (settling ramps it up).
+    pub fn set_gravity_factor(&mut self, factor: f64) {
+        self.disc.model.set_gravity_factor(factor);
+    }
+
+    /// Whether the model keeps qp state (remodelling).
+    pub fn has_qp_state(&self) -> bool {
+        !self.disc.qp_state.is_empty()
+    }
+
+    /// Holds the qp state at its committed value in the steps solved (settling before t = 0,
+    /// where B_p(X, 0⁻) = I holds by definition), or lets it evolve.
+    pub fn freeze_qp_state(&mut self, frozen: bool) {
+        self.disc.evolve = !frozen;
+    }
+
+    /// Values of committed qp state per element (0 without).
+    pub fn qp_state_per_elem(&self) -> usize {
+        self.disc.qp_state.element(0).len()
+    }
+
+    /// The committed qp state of the local elements, by original element id.
+    pub fn qp_state_by_original(&self) -> impl Iterator<Item = (u32, &[f64])> {
+        self.disc.qp_state.export(&self.disc.mesh.cell_original)
+    }
+
+    /// Sets the committed qp state from all elements' values by original id
+    /// ([`Self::qp_state_per_elem`] per element).
+    pub fn set_qp_state_by_original(&mut self, values: &[f64]) -> Result<()> {
+        let per_elem = self.qp_state_per_elem();
+        if per_elem == 0 {
+            return Ok(());
+        }
+        let disc = &mut self.disc;
+        disc.qp_state.import(&disc.mesh.cell_original, |o| {
+            values.get(o as usize * per_elem..(o as usize + 1) * per_elem).map(<[f64]>::to_vec)
+        })
     }
 }
 
@@ -730,9 +762,9 @@ impl TsProblem for PoroProblem {
         Ok(())
     }
 
-    /// Predictor: the previous state extrapolated with the last step's velocity (unless the
-    /// loading has a kink at the step start), and the nodes on the lower plate moved with it
-    /// (see `Plates::predict`). Why: moving only the contact nodes compacts their (already
+    /// Predictor: the previous state extrapolated with the last step's velocity (the driver's,
+    /// `set_extrapolation`; none if the loading has a kink at the step start), and the nodes on
+    /// the lower plate moved with it (see `Plates::predict`). Why: moving only the contact nodes compacts their (already
     /// compacted) elements below J = Φs in the initial guess; the extrapolated field moves the
     /// bulk consistently with the plate.
     ///
@@ -748,7 +780,7 @@ impl TsProblem for PoroProblem {
         let start = ts.solution()?;
         x.copy_from(&start)?;
         let x0 = start.read()?.to_vec();
-        if let Some((v, _)) = &self.velocity {
+        if let Some(v) = &self.extrapolation {
             x.axpy(t1 - t0, v)?;
         }
         pl.predict(t0, t1, &self.disc.dofs, &x0, &mut x.write()?);
@@ -759,7 +791,7 @@ impl TsProblem for PoroProblem {
             predicted.clear();
             predicted.extend_from_slice(&self.u_loc.read()?);
         }
-        if self.velocity.is_some() && !self.compaction_admissible(x)? {
+        if self.extrapolation.is_some() && !self.compaction_admissible(x)? {
             let Some(pl) = &self.plates else { return Ok(()) };
             let mut affine = x.duplicate()?;
             affine.copy_from(&start)?;

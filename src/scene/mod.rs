@@ -256,7 +256,7 @@ pub struct TimeSpec {
     /// where there is no error estimate (the first step after a kink of the loading).
     #[serde(default = "one")]
     pub growth: f64,
-    /// Choose the steps by a local error estimate (see `PoroProblem::step_error`): the
+    /// Choose the steps by a local error estimate (see `driver::rate::StepRate::error`): the
     /// tolerance relative to each field's magnitude. Absent: geometric growth.
     #[serde(default)]
     pub error_tolerance: Option<f64>,

@@ -1,0 +1,87 @@
+//! Checks of a run's set-up and solves: the `poroplast check` command, the PETSc options left
+//! unread after the first step, and `-poroplast_check_jacobian`.
+
+use super::step::{Progress, Stages, Step};
+use super::{petsc_args, with_petsc, Run, RunArgs};
+use crate::error::{Error, Result};
+use crate::petsc::options;
+use crate::scene::LoadedScene;
+use mpi::topology::SimpleCommunicator;
+
+/// Options PETSc reads outside object set-up (at init/finalize) that `options_left` may list.
+const IGNORED_OPTIONS: &[&str] = &[
+    "-log_view",
+    "-options_left",
+    "-malloc_dump",
+    "-malloc_debug",
+    "-info",
+    "-log_trace",
+    "-on_error_abort",
+    "-no_signal_handler",
+];
+
+/// Validates a scene as `run` does (`poroplast check`): the set-up — scene, mesh (orientation,
+/// folded elements), groups, plates against the mesh, anchor, probes, material — and the first
+/// step, after which every PETSc option has been read; nothing is written.
+pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc: &[String]) -> Result<String> {
+    let scene = LoadedScene::load(scene_arg, set)?;
+    let args = RunArgs {
+        scene: scene_arg.into(),
+        set: set.to_vec(),
+        out: None,
+        force: false,
+        petsc: petsc.to_vec(),
+        progress: false,
+    };
+    with_petsc(world, &petsc_args(&scene, petsc), || {
+        let mut run = Run::setup(world, &scene, &args)?;
+        // The same first step as `run` (settling included), into no directory: then the PETSc
+        // options have all been read, and the first solve has worked.
+        let mut pg = Progress::start(run.schedule.dt0);
+        run.first_step(&mut pg, Stages::register()?, true)?;
+        let mesh = run.ts.problem().mesh();
+        let warning = run.setup.ellipticity.as_ref().map(|w| format!("\nwarning: {w}")).unwrap_or_default();
+        Ok(format!(
+            "{}: ok — mesh {} ({} {}, {} nodes, {} vertices; {} dofs), first step taken\n{}{warning}",
+            scene.source,
+            run.setup.mesh_path.display(),
+            mesh.n_global_elems,
+            mesh.family.cells_name(),
+            mesh.n_global_nodes,
+            mesh.n_global_vertices,
+            run.setup.n_global_dofs,
+            run.setup.solver_line
+        ))
+    })
+}
+
+/// Every PETSc option must have been read once a step has run; reports the others.
+pub(super) fn check_options() -> Result<()> {
+    let unused: Vec<String> =
+        options::unused()?.into_iter().filter(|o| !IGNORED_OPTIONS.contains(&o.as_str())).collect();
+    if unused.is_empty() {
+        return Ok(());
+    }
+    Err(Error::Options(format!(
+        "unknown or unused PETSc option(s): {} (check the spelling, or the solver they belong to)",
+        unused.join(" ")
+    )))
+}
+
+impl<'w> Run<'w> {
+    /// `-poroplast_check_jacobian`: the assembled Jacobian of the step against central
+    /// differences (rank 0 prints the errors).
+    pub(super) fn check_jacobian(&mut self, pg: &Progress, step: Step) -> Result<()> {
+        let Some(eps) = self.check_jacobian else { return Ok(()) };
+        let (problem, jac) = self.ts.problem_and_jacobian();
+        let (u, prev) = (&self.state.u, &self.state.prev);
+        let (eu, ep) = problem.jacobian_error(pg.c.t, step.dt, u, prev, jac, eps)?;
+        if self.rank0() {
+            println!(
+                "jacobian check: step {} t = {:.6e}: rel. error u rows {eu:.3e}, p rows {ep:.3e}",
+                pg.c.step, pg.c.t
+            );
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,202 @@
+//! A time step of the run: where the loop stands ([`Progress`]), one step from the current
+//! state with the schedule's step control ([`Run::advance`]), gravity settling before t = 0 and
+//! the first step ([`Run::first_step`]).
+
+use super::check::check_options;
+use super::state::Counters;
+use super::Run;
+use crate::error::{Error, Result};
+use crate::petsc::Stage;
+use crate::physics::observers::Sample;
+use std::collections::VecDeque;
+use std::time::Instant;
+
+/// The PETSc log stages of the loop.
+#[derive(Clone, Copy)]
+pub(super) struct Stages {
+    pub solve: Stage,
+    pub output: Stage,
+}
+
+impl Stages {
+    pub fn register() -> Result<Stages> {
+        Ok(Stages { solve: Stage::register("Solve")?, output: Stage::register("Output")? })
+    }
+}
+
+/// A step taken: its size and its Newton and Krylov iterations.
+#[derive(Clone, Copy)]
+pub(super) struct Step {
+    pub dt: f64,
+    pub its: (usize, usize),
+}
+
+/// Where the time loop stands.
+pub(super) struct Progress {
+    /// The counters a checkpoint keeps. Of them `cuts` and `wall_s` count the sessions before
+    /// this one (a resume), `solve_s` and `output_s` this session (timings.txt gives this
+    /// session's stage times, with the whole run's counts and total), and `fields_written` and
+    /// `outflow` are not kept here (the recorder and the experiment keep them).
+    pub c: Counters,
+    /// The solver's iteration totals after the last step (this process), to count a step's.
+    totals: (usize, usize),
+    /// Wall time of the last checkpoint (this process).
+    pub checkpointed: Option<Instant>,
+    /// Wall times of the last steps, for the ETA.
+    pub recent: VecDeque<f64>,
+}
+
+impl Progress {
+    /// At t = 0, with a first step of nominal size `dt0`.
+    pub fn start(dt0: f64) -> Progress {
+        Progress::resumed(&Counters { nominal: dt0, ..Default::default() })
+    }
+
+    /// The loop's position after a resume from `c` (stage times count again).
+    pub fn resumed(c: &Counters) -> Progress {
+        let c = Counters { solve_s: 0.0, output_s: 0.0, ..c.clone() };
+        Progress { c, totals: (0, 0), checkpointed: None, recent: VecDeque::new() }
+    }
+}
+
+impl<'w> Run<'w> {
+    /// Settling (when starting afresh) and the first step: run before anything is written, so
+    /// that every PETSc option has been read and an unknown one is an error. Returns the step,
+    /// and when starting afresh the state at t = 0 sampled for its row (with the qp state it
+    /// has: the first step commits its own).
+    pub(super) fn first_step(
+        &mut self,
+        pg: &mut Progress,
+        stages: Stages,
+        fresh: bool,
+    ) -> Result<(Step, Option<Sample>)> {
+        let initial = if fresh {
+            self.settle(stages.solve)?;
+            // Settling's iterations are not the experiment's.
+            pg.totals = self.ts.solver_totals()?;
+            let _g = stages.output.push();
+            let u = &self.state.u;
+            Some(self.observers.sample(self.ts.problem_mut(), u, u, 0.0, true)?)
+        } else {
+            None
+        };
+        let step = self.advance(pg, stages)?;
+        check_options()?;
+        Ok((step, initial))
+    }
+
+    /// One time step from the current state, with the step size of the schedule (a step the
+    /// error estimate rejects is taken again, shorter).
+    pub(super) fn advance(&mut self, pg: &mut Progress, stages: Stages) -> Result<Step> {
+        self.state.prev.copy_from(&self.state.u)?;
+        let ws = Instant::now();
+        let (taken, err) = loop {
+            let dt = self.schedule.step(pg.c.t, pg.c.nominal);
+            self.ts.set_time_step(dt)?;
+            {
+                let _g = stages.solve.push();
+                self.ts.step().map_err(|e| self.explain(e))?;
+            }
+            let taken = self.ts.time()? - pg.c.t;
+            if taken < self.schedule.dt_min && taken < dt {
+                let last =
+                    self.ts.domain_errors().1.map(|d| format!("; last inadmissible state: {d}")).unwrap_or_default();
+                return Err(self.explain(Error::Diverged(format!(
+                    "failed solves cut the step from t = {} to {taken:.3e} s, below time.dt_min = {:.3e} s: \
+                     the solve does not converge here{last}",
+                    pg.c.t, self.schedule.dt_min
+                ))));
+            }
+            let err = match (self.schedule.tol, &self.state.rate) {
+                (Some(tol), Some(rate)) => {
+                    let scales = self.ts.problem().error_scales();
+                    Some(rate.error(self.world, (&self.state.prev, &self.state.u), taken, tol, scales)?)
+                }
+                _ => None,
+            };
+            match self.schedule.reject(taken, err) {
+                Some(retry) => {
+                    // Too large an error: back to the start of the step, with a shorter one.
+                    self.ts.roll_back()?;
+                    pg.c.nominal = retry;
+                    pg.c.rejected += 1;
+                }
+                None => break (taken, err),
+            }
+        };
+        let wall = ws.elapsed().as_secs_f64();
+        pg.c.solve_s += wall;
+        pg.c.t = self.ts.time()?;
+        pg.c.step += 1;
+        let totals = self.ts.solver_totals()?;
+        let its = (totals.0 - pg.totals.0, totals.1 - pg.totals.1);
+        pg.totals = totals;
+        pg.c.newton += its.0;
+        pg.c.ksp += its.1;
+        pg.c.nominal = self.schedule.grow(pg.c.nominal, taken, pg.c.t, err);
+        let kink = self.schedule.at_kink(pg.c.t);
+        // The step's rate serves the contact predictor and the error estimate; not across a kink.
+        let keep_rate = !kink && (self.ts.problem().plates.is_some() || self.schedule.tol.is_some());
+        self.state.commit(self.ts.problem_mut(), taken, keep_rate)?;
+        if kink {
+            self.ts.restart_step()?;
+        }
+        pg.recent.push_back(wall);
+        if pg.recent.len() > 5 {
+            pg.recent.pop_front();
+        }
+        Ok(Step { dt: taken, its })
+    }
+
+    /// Gravity settling: one drained step from t = −T to 0 with T huge (so J̇ ≈ 0 and the fluid
+    /// is at rest): the equilibrium resting on the lower plate, the state at t = 0.
+    ///
+    /// From the undeformed sphere the whole weight comes down on one contact point: a full Newton
+    /// step can overshoot there (J < Φs) for soft solids (µ = 3 kPa); the active-set Newton halves
+    /// such steps. Where that is not enough — pole elements of a micrometre or less, which the
+    /// weight alone compacts below Φs before a contact patch forms — the weight is applied in
+    /// stages (`SETTLE_RAMP`), each settled state the start of the next.
+    fn settle(&mut self, stage: Stage) -> Result<()> {
+        const SETTLE_RAMP: [f64; 4] = [0.01, 0.1, 0.4, 1.0];
+        if !self.settle {
+            return Ok(());
+        }
+        let _g = stage.push();
+        // B_p(X, 0⁻) = I: no remodelling while settling.
+        self.ts.problem_mut().freeze_qp_state(true);
+        let start = self.state.u.copy()?;
+        if let Err(e) = self.settle_under(1.0) {
+            self.warn(&format!("settling with the whole weight at once failed ({e}); applying it in stages"));
+            self.state.u.copy_from(&start)?;
+            for factor in SETTLE_RAMP {
+                self.settle_under(factor)?;
+            }
+        }
+        self.ts.problem_mut().freeze_qp_state(false);
+        self.ts.set_time(0.0)
+    }
+
+    /// One settling step under `factor` times the scene's gravity.
+    fn settle_under(&mut self, factor: f64) -> Result<()> {
+        const T: f64 = 1e6;
+        self.ts.problem_mut().set_gravity_factor(factor);
+        self.ts.set_time(-T)?;
+        self.ts.set_time_step(T)?;
+        let r = self.ts.step().map_err(|e| {
+            self.explain(Error::Diverged(format!(
+                "settling under gravity (the static equilibrium on the lower plate, before t = 0; \
+                 {factor} of the weight) failed: {e}. Can the solid carry its weight (material.mu, material.gravity)?"
+            )))
+        });
+        self.ts.problem_mut().set_gravity_factor(1.0);
+        r
+    }
+
+    /// A failed solve's error, with the likely cause when the solid law is not elliptic.
+    fn explain(&self, e: Error) -> Error {
+        match (e, &self.setup.ellipticity) {
+            (Error::Diverged(m), Some(w)) => Error::Diverged(format!("{m}. Likely cause: {w}")),
+            (e, _) => e,
+        }
+    }
+}

@@ -1,0 +1,216 @@
+//! What a run observes of a converged state, as values for the recorder (`io::recorder`): the
+//! `history.csv` columns of the experiment, the remodelling summary, the probes and the exact
+//! solutions, and the fields. Observing is two phases, so that the state at t = 0 can be
+//! sampled before the first step (with the qp state it had) and observed after it:
+//! [`Observers::sample`] post-processes the state, [`Observers::observe`] turns a sample into
+//! the step's [`Observed`] values.
+
+use super::experiment::{self, Experiment};
+use super::observables;
+use super::probe::Probe;
+use super::problem::{rate, PoroProblem, Post};
+use super::verification::ExactFn;
+use crate::error::Result;
+use crate::mesh::dist::LocalMesh;
+use crate::petsc::Vector;
+use mpi::topology::SimpleCommunicator;
+
+/// What is observed besides the state itself; built (and validated) before the run directory
+/// is touched.
+pub struct Observers {
+    pub probes: Vec<Probe>,
+    /// The plates experiment's observables, if the scene has plates.
+    pub experiment: Option<Experiment>,
+    /// Exact-solution columns of a verification scene.
+    pub exact: Vec<(String, ExactFn)>,
+    /// Whether the model keeps qp state (remodelling): its summary is recorded.
+    pub remodelling: bool,
+    /// Write fields at all.
+    pub fields: bool,
+}
+
+/// A converged state sampled for output: its local (owned + ghost) values, post-processed when
+/// something reads more than the values.
+pub enum Sample {
+    State(Vec<f64>),
+    Post(Box<Post>),
+}
+
+impl Sample {
+    fn local(&self) -> &[f64] {
+        match self {
+            Sample::State(l) => l,
+            Sample::Post(p) => &p.local,
+        }
+    }
+}
+
+/// The observed values of a step: its `history.csv` columns between the step's (step, time,
+/// dt) and its iteration counts, and its fields if asked.
+pub struct Observed {
+    pub values: Vec<f64>,
+    pub fields: Option<StepFields>,
+}
+
+/// The fields of a step: per owned node, u (three components on both families: (u_r, 0, u_z) on
+/// the meridian) and p (P1, shown on the P2 nodes); per local element, the rest.
+pub struct StepFields {
+    pub u: Vec<f64>,
+    pub p: Vec<f64>,
+    pub j: Vec<f64>,
+    pub von_mises: Vec<f64>,
+    pub darcy_flux: Vec<f64>,
+    /// With a solid fraction.
+    pub porosity: Option<Vec<f64>>,
+    /// With plates: 0 free, 1 lower plate, 2 upper plate (per owned node).
+    pub contact: Option<Vec<f64>>,
+    /// With qp state: the element's mean ‖E_p‖.
+    pub norm_ep: Option<Vec<f64>>,
+}
+
+impl Observers {
+    /// The `history.csv` columns: step, time, dt, then these observers', then the iterations
+    /// and the wall time.
+    pub fn columns(&self) -> Vec<String> {
+        let mut cols: Vec<String> = vec!["step".into(), "time".into(), "dt".into()];
+        if self.experiment.is_some() {
+            cols.extend(experiment::COLUMNS.iter().map(|c| c.to_string()));
+        }
+        if self.remodelling {
+            cols.extend(observables::COLUMNS.iter().map(|c| c.to_string()));
+        }
+        cols.extend(self.probes.iter().map(|p| p.name.clone()));
+        cols.extend(self.exact.iter().map(|(n, _)| n.clone()));
+        cols.extend(["newton_its", "ksp_its", "wall_s"].map(String::from));
+        cols
+    }
+
+    /// The experiment's time-integrated outflow so far (0 without plates).
+    pub fn outflow(&self) -> f64 {
+        self.experiment.as_ref().map_or(0.0, |e| e.outflow())
+    }
+
+    /// Restores the experiment's outflow of a checkpoint.
+    pub fn set_outflow(&mut self, outflow: f64) {
+        if let Some(ex) = self.experiment.as_mut() {
+            ex.set_outflow(outflow);
+        }
+    }
+
+    /// Samples the state `u` reached from `prev` in a step of size dt (0: the initial state):
+    /// the post-processing element loop (reactions, cell fields) only when something reads it;
+    /// probes and history alone need just the local state.
+    pub fn sample(
+        &self,
+        problem: &mut PoroProblem,
+        u: &Vector,
+        prev: &Vector,
+        dt: f64,
+        fields: bool,
+    ) -> Result<Sample> {
+        if self.experiment.is_some() || (fields && self.fields) || self.remodelling {
+            let dt_eff = if dt > 0.0 { dt } else { 1.0 };
+            let udot = rate(u, prev, dt_eff)?;
+            Ok(Sample::Post(Box::new(problem.post_process(dt_eff, u, &udot)?)))
+        } else {
+            Ok(Sample::State(problem.localize(u)?))
+        }
+    }
+
+    /// The observed values of a sample at time t after a step of size dt, with the fields if
+    /// `fields` (collective). The experiment's outflow uses the drainage gaps of the problem's
+    /// last step.
+    pub fn observe(
+        &mut self,
+        world: &SimpleCommunicator,
+        problem: &PoroProblem,
+        sample: Sample,
+        t: f64,
+        dt: f64,
+        fields: bool,
+    ) -> Observed {
+        let (mesh, dofs) = (&problem.disc.mesh, &problem.disc.dofs);
+        let local = sample.local();
+        let post = match &sample {
+            Sample::Post(p) => Some(p.as_ref()),
+            Sample::State(_) => None,
+        };
+        let mut values = Vec::new();
+        let obs = match (&mut self.experiment, &problem.plates, post) {
+            (Some(ex), Some(pl), Some(post)) => {
+                Some(ex.observe(t, dt, pl, mesh, dofs, post, problem.drainage_gaps(), world))
+            }
+            _ => None,
+        };
+        if let Some(o) = &obs {
+            values.extend(o.values);
+        }
+        if let (Some(post), true) = (post, self.remodelling) {
+            values.extend(observables::observe(post, world));
+        }
+        values.extend(self.probes.iter().map(|p| p.value(mesh, dofs, local, world)));
+        values.extend(self.exact.iter().map(|(_, f)| f(t)));
+        let fields = match (sample, fields && self.fields) {
+            (Sample::Post(post), true) => {
+                let post = *post;
+                let (u, p) = node_fields(problem, &post.local);
+                Some(StepFields {
+                    u,
+                    p,
+                    j: post.cell_j,
+                    von_mises: post.cell_von_mises,
+                    darcy_flux: post.cell_darcy,
+                    porosity: problem.disc.model.solid_fraction().map(|_| post.cell_porosity),
+                    contact: obs.map(|o| o.node_contact),
+                    norm_ep: self.remodelling.then_some(post.cell_norm_ep),
+                })
+            }
+            _ => None,
+        };
+        Observed { values, fields }
+    }
+}
+
+/// u (three components) and p at the owned nodes from the local state: p of a mid-edge node is
+/// the mean of its edge's ends.
+fn node_fields(problem: &PoroProblem, local: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let (mesh, dofs) = (&problem.disc.mesh, &problem.disc.dofs);
+    let n = mesh.n_owned_nodes;
+    let nc = dofs.nc;
+    let mut u = vec![0.0; 3 * n];
+    for node in 0..n {
+        for (c, &a) in mesh.family.axes().iter().enumerate() {
+            u[3 * node + a] = local[nc * node + c];
+        }
+    }
+    let mut p = vec![0.0; n];
+    for (node, pv) in p.iter_mut().enumerate() {
+        let v = mesh.vertex_of_node[node];
+        if v >= 0 {
+            *pv = local[dofs.p_local(v as usize)];
+        }
+    }
+    for (m, a, b) in mid_edge_nodes(mesh) {
+        let pa = local[dofs.p_local(mesh.vertex_of_node[a] as usize)];
+        let pb = local[dofs.p_local(mesh.vertex_of_node[b] as usize)];
+        p[m] = 0.5 * (pa + pb);
+    }
+    (u, p)
+}
+
+/// (mid-edge node, end a, end b) for owned mid-edge nodes, to show P1 pressure on P2 nodes.
+fn mid_edge_nodes(mesh: &LocalMesh) -> Vec<(usize, usize, usize)> {
+    let mut seen = vec![false; mesh.n_owned_nodes];
+    let mut out = Vec::new();
+    let nv = mesh.family.cell_vertices();
+    for t in &mesh.cells {
+        for (e, &(a, b)) in mesh.family.edges().iter().enumerate() {
+            let m = t[nv + e] as usize;
+            if m < mesh.n_owned_nodes && !seen[m] {
+                seen[m] = true;
+                out.push((m, t[a] as usize, t[b] as usize));
+            }
+        }
+    }
+    out
+}
