@@ -55,7 +55,8 @@ fn main() {
             let args = SweepArgs { study, ranks_per_case, out, petsc, progress: !quiet };
             sweep::sweep(&world, &args).map(|dir| format!("summary: {}", dir.join("summary.csv").display()))
         }
-        Command::Scenes | Command::Show { .. } => unreachable!(),
+        // Answered above, before MPI.
+        Command::Scenes | Command::Show { .. } => return,
     };
     let code = match result {
         Ok(msg) => {

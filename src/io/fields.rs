@@ -742,8 +742,9 @@ pub fn restore_backup(dir: &Path, backup: &Path) -> Result<PathBuf> {
     let h5 = dir.join(H5_NAME);
     let kept = (1..)
         .map(|n| dir.join(if n == 1 { "fields.damaged.h5".to_string() } else { format!("fields.damaged-{n}.h5") }))
+        .take(1000)
         .find(|p| !p.exists())
-        .expect("an unused name");
+        .ok_or_else(|| Error::io(dir, "1000 damaged fields files kept already: remove some"))?;
     if h5.exists() {
         std::fs::rename(&h5, &kept).map_err(|e| Error::io(&kept, e))?;
     }
