@@ -39,6 +39,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import study  # noqa: E402
+import runner  # noqa: E402
 from runner import (SIZES, h_levels, refined_steps, run_cases, scene_values, solve_order,  # noqa: E402,F401
                     write_rows)
 
@@ -113,13 +114,14 @@ def main():
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--observe", nargs="+", default=study.DEFAULT_OBSERVE)
     ap.add_argument("--dir", required=True)
-    ap.add_argument("--ranks", type=int, default=2)
+    runner.rank_options(ap)
     ap.add_argument("--formal-h", type=float, default=2.0)
     ap.add_argument("--formal-t", type=float, default=1.0)
     ap.add_argument("--time-mesh", type=float, help="the mesh h of the step sequence (default: the finest)")
     ap.add_argument("--mesh-steps", type=float, help="the step scale of the mesh sequence (default: the finest)")
     ap.add_argument("--full", action="store_true", help="every mesh level at every step level")
     a = ap.parse_args()
+    runner.use_rank_options(a)
     hs = [float(x) for x in a.h.split(",")]
     ss = [float(x) for x in a.dt_scale.split(",")]
     if len(hs) < 3 or len(ss) < 3:

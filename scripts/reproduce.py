@@ -494,8 +494,9 @@ def main():
     ap.add_argument("--references", metavar="CSV", help="references.csv for the table of reported numbers "
                     "(default: DIR/references.csv of --converged, else studies/references/references.csv, "
                     "else the shipped scripts/data/references.csv)")
-    ap.add_argument("--ranks", type=int, default=2, help="MPI ranks per case (default 2)")
+    runner.rank_options(ap)
     a = ap.parse_args()
+    runner.use_rank_options(a)
     RANKS[0] = a.ranks
     if a.axisymmetric:
         EXTRA_SETS.append("mesh.geometry=axisymmetric")

@@ -36,6 +36,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import labels  # noqa: E402
+import runner  # noqa: E402
 from runner import (BIN, COUNTERS, grid_cases, history, observe, parse_grid, run_cases,  # noqa: E402,F401
                     slug, solve_order)
 
@@ -136,7 +137,7 @@ def main():
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="an override for every case")
     ap.add_argument("--dir", required=True, help="study directory (created; reused to continue)")
     ap.add_argument("--observe", nargs="+", default=DEFAULT_OBSERVE)
-    ap.add_argument("--ranks", type=int, default=2)
+    runner.rank_options(ap)
     ap.add_argument("--no-plots", action="store_true")
     ap.add_argument("--curves", nargs="+", default=[], metavar="COL",
                     help="history columns to plot against time, one line per case")
@@ -144,6 +145,7 @@ def main():
                     help="print each observable (an error: err:, maxerr:) per level of the first grid axis "
                          "with the observed order between successive levels")
     a = ap.parse_args(argv)
+    runner.use_rank_options(a)
     if not BIN.exists():
         sys.exit(f"study.py: {BIN} not found: run `cargo build --release` first")
     study = Path(a.dir)
