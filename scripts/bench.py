@@ -19,9 +19,9 @@ the time.
 about 1-2 s each) through the study runner three ways — one `mpirun -n RANKS` per case (as the
 scripts ran before sweeps), one sweep with k = RANKS (one group), one sweep with k = 1 (RANKS
 groups) — with the cases per minute of each (medians of --repeat), then the calibration example
-(docs/studies.md: λp, σy from the relaxation scene's own curve) one mpirun per run (on 1 rank,
-two at a time, `--no-sweep --jobs 2`) and one sweep per iteration (k = 1): its wall time and
-fitted values each way.
+(docs/studies.md: λp, σy from the relaxation scene's own curve) one mpirun per run (on RANKS
+ranks one at a time, the scripts' default before sweeps; on 1 rank two at a time, `--no-sweep
+--ranks 1 --jobs 2`) and one sweep per batch (k = 1): its wall time and fitted values each way.
 
 Cases: default (the `reference` scene), remodel (remodel_40), fine (reference at h = 10 µm,
 h_pole = 4 µm), graded (reference on a surface-graded mesh, h_surf = 5 µm, the stabilisation
@@ -157,8 +157,10 @@ def sweep_bench(a, work):
             peaks = [r["max:force_total_mg"] for _, r in done]
         rows.append((name, statistics.median(walls), walls, peaks))
     calib = []
-    for name, opts in [("one mpirun per run (--no-sweep --ranks 1 --jobs 2)", ["--no-sweep", "--ranks", "1",
-                                                                               "--jobs", "2"]),
+    for name, opts in [(f"one mpirun per run, one at a time (--no-sweep --ranks {a.ranks})",
+                         ["--no-sweep", "--ranks", str(a.ranks)]),
+                       ("one mpirun per run, two at a time (--no-sweep --ranks 1 --jobs 2)",
+                        ["--no-sweep", "--ranks", "1", "--jobs", "2"]),
                        (f"one sweep per iteration (--ranks {a.ranks} --ranks-per-case 1)",
                         ["--ranks", str(a.ranks), "--ranks-per-case", "1"])]:
         walls, fit = [], None

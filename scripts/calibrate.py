@@ -2,11 +2,15 @@
 
 Levenberg–Marquardt on the residuals r_i = model(t_i) − data(t_i) (the model's history column
 interpolated at the data's times), the Jacobian by forward differences (one run per parameter,
-relative step 1e-3; `--jobs N` runs N of them at once), parameters in log space (they are
-positive and of different scales). A trial step whose run fails counts as a worse fit (more
-damping). The uncertainties are the square roots of the diagonal of s² (JᵀJ)⁻¹,
-s² = Σr²/(n − p), at the optimum. Every run is a `poroplast run --set ...` on 2 ranks
-(`--ranks`) in STUDY/runs/; STUDY/calibration.png shows the data and the fitted curve. The fit
+relative step 1e-3), parameters in log space (they are positive and of different scales). A
+trial step whose run fails counts as a worse fit (more damping). The uncertainties are the
+square roots of the diagonal of s² (JᵀJ)⁻¹, s² = Σr²/(n − p), at the optimum. Every run is a case
+of scripts/runner.py in STUDY/runs/cases/<its parameter values>/ (a completed one is not run
+again: an interrupted calibration continues): each iteration's n + 1 runs (the point and its n
+finite-difference neighbours; the point is complete after the first iteration) are one batch,
+one `mpirun -n RANKS poroplast sweep` (--ranks 2, --ranks-per-case K: 1 on a meridian, RANKS
+for 3-D), and each trial step one more; `--no-sweep` runs one mpirun per run, `--jobs N` of them
+at once. STUDY/calibration.png shows the data and the fitted curve. The fit
 stops when an iteration lowers the sum of squares by less than `--ftol` (default 0.1%), when
 its step is below 1e-5 (log space), or after `--max-it` iterations.
 
@@ -71,7 +75,7 @@ def main():
     ap.add_argument("--dir", required=True)
     runner.rank_options(ap)
     ap.add_argument("--max-it", type=int, default=15)
-    ap.add_argument("--jobs", type=int, default=1, help="finite-difference runs at once")
+    ap.add_argument("--jobs", type=int, default=1, help="with --no-sweep: finite-difference runs at once")
     ap.add_argument("--ftol", type=float, default=1e-3,
                     help="stop when an iteration lowers the sum of squares by less than this fraction")
     a = ap.parse_args()
