@@ -190,6 +190,32 @@ fn cases_with_their_own_scenes() {
     assert!(!d.join("bad").exists());
 }
 
+#[test]
+fn each_case_runs_once_when_the_groups_end_at_different_times() {
+    // A long case (the second) among short ones on 2 groups: one group runs the long case while
+    // the other runs the short ones and ends first. Its ranks must wait for the other group
+    // before the claims are cleared, or that group, when its long case ends, would find the
+    // short ones after it unclaimed and run them again (before the fix: whenever world rank 0's
+    // group took the first case, as it usually does).
+    let d = scratch("sweep_once");
+    let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
+    let text = format!(
+        "set = [{}]\nscene = \"reference_axi\"\n[[case]]\nset = []\n[[case]]\nset = [\"time.t_end=30\", \"mesh.params.h=12\", \"mesh.params.h_pole=3\"]\n\
+         [[case]]\nset = [\"material.mu=25\"]\n[[case]]\nset = [\"material.mu=30\"]\n",
+        set.join(", ")
+    );
+    let study = d.join("once.toml");
+    std::fs::write(&study, text).unwrap();
+    for round in 0..4 {
+        let root = d.join(format!("sweep-{round}"));
+        let stdout = ok(&sweep(2, &study, &root, 1), "the sweep");
+        for i in 0..4 {
+            let ended = stdout.lines().filter(|l| l.starts_with(&format!("sweep: case {i} "))).count();
+            assert_eq!(ended, 1, "case {i} ended {ended} times:\n{stdout}");
+        }
+    }
+}
+
 /// The processes whose parent is `pid` (Linux /proc).
 fn children(pid: u32) -> Vec<u32> {
     std::fs::read_dir("/proc")

@@ -127,7 +127,10 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
     drop(group);
 
     // The world meets again: the summary as it stands (no case runs now: a case without an
-    // outcome is interrupted or pending), and one outcome for every rank.
+    // outcome is interrupted or pending), and one outcome for every rank. The barrier first:
+    // rank 0 must not empty claims/ while another group still runs a case, or that group would
+    // find every case unclaimed and run again the ones already done.
+    world.barrier();
     let written = on_root(world, || {
         schedule::reset_claims(&root)?;
         write_summary(&root, &study)
