@@ -463,14 +463,15 @@ def run_batch(root, batch, sets, ranks, k, petsc, observables, report):
         log.flush()
         start = log.tell()
         p = subprocess.Popen(cmd, env=env(), stdout=subprocess.PIPE, stderr=log, text=True, bufsize=1)
-        ended = {}       # case dir -> result, as the cases are moved
+        ended, seen = {}, set()      # case dir -> result, as the cases are moved; batch positions reported
         try:
             for line in p.stdout:
                 log.write(line)
                 log.flush()
                 m = SWEEP_LINE.match(line)
-                if m and of_index(int(m.group(1))) is not None:
+                if m and of_index(int(m.group(1))) is not None and of_index(int(m.group(1))) not in seen:
                     j = of_index(int(m.group(1)))
+                    seen.add(j)
                     ended.update(harvest(root, meta, remove=False, index=int(m.group(1))))
                     report(j, ended.get(batch[j][2]) or {"status": "failed", "error": line.strip()},
                            float(m.group(3)))
