@@ -349,7 +349,8 @@ def batch_study(batch, sets, petsc, observables):
              "name = \"batch\"", f"set = {_toml_list(f'{k}={v}' for k, v in sets)}",
              f"petsc = {_toml_list(petsc)}", f"observe = {_toml_list(observables)}"]
     for scene, case, _ in batch:
-        lines += ["", "[[case]]", f"scene = {json.dumps(arg(scene))}", f"set = {_toml_list(f'{k}={v}' for k, v in case)}"]
+        lines += ["", "[[case]]", f"scene = {json.dumps(arg(scene))}",
+                  f"set = {_toml_list(f'{k}={v}' for k, v in case)}"]
     return "\n".join(lines) + "\n"
 
 
@@ -483,8 +484,9 @@ def run_batch(root, batch, sets, ranks, k, petsc, observables, report):
         r = completed(d, signature(s, c, sets, petsc), observables)
         if r is None:
             log = (d / "log.txt").read_text().splitlines() if (d / "log.txt").exists() else []
-            err = next((l for l in log if l.startswith("poroplast: error:")), None) or \
-                _last_error(sweeps / "sweep.log", start) or f"the sweep exited with {p.returncode} before this case ended"
+            err = next((line for line in log if line.startswith("poroplast: error:")), None) or \
+                _last_error(sweeps / "sweep.log", start) or \
+                f"the sweep exited with {p.returncode} before this case ended"
             r = {"status": "failed", "error": err}
         results.append(r)
     if p.returncode == 75:
