@@ -13,6 +13,15 @@ the time.
 
     python3 scripts/bench.py [--case default remodel ...] [--repeat 3] [--ranks 1 2]
     python3 scripts/bench.py --scene cryer --h 12.5 8.33      # a scene at several mesh sizes (default cryer)
+    python3 scripts/bench.py --sweep [--repeat 3] [--ranks 2]  # many small cases: one mpirun each or sweeps
+
+`--sweep`: sixteen axisymmetric cases (remodel_40 on its meridian to t = 10 s, λp × σy 4 × 4,
+about 1-2 s each) through the study runner three ways — one `mpirun -n RANKS` per case (as the
+scripts ran before sweeps), one sweep with k = RANKS (one group), one sweep with k = 1 (RANKS
+groups) — with the cases per minute of each (medians of --repeat), then the calibration example
+(docs/studies.md: λp, σy from the relaxation scene's own curve) one mpirun per run (on RANKS
+ranks one at a time, the scripts' default before sweeps; on 1 rank two at a time, `--no-sweep
+--ranks 1 --jobs 2`) and one sweep per batch (k = 1): its wall time and fitted values each way.
 
 Cases: default (the `reference` scene), remodel (remodel_40), fine (reference at h = 10 µm,
 h_pole = 4 µm), graded (reference on a surface-graded mesh, h_surf = 5 µm, the stabilisation
@@ -24,8 +33,11 @@ reference scenes the accuracy line gives each value's error against the converge
 The large ones (fine, graded, full, cryer100k) take minutes per run on 2 cores.
 """
 import argparse
+import json
 import math
 import statistics
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -112,6 +124,71 @@ def run_once(scene, overrides, ranks, work, petsc=()):
     return r
 
 
+# --sweep: the cases (λp in (kPa s)^-1, σy in kPa) and the calibration example (tests/study.rs).
+SWEEP_SCENE = "remodel_40"
+SWEEP_SETS = [("mesh.geometry", "axisymmetric"), ("time.t_end", "10"), ("output.fields", "false"),
+              ("output.fields_at", "[]")]
+SWEEP_GRID = [("material.remodelling.lambda_p", ["0.0005", "0.001", "0.002", "0.004"]),
+              ("material.remodelling.sigma_y", ["1.0", "1.5", "2.0", "3.0"])]
+CALIBRATION = ["relaxation", "--column", "stress_zz", "--param", "material.remodelling.lambda_p=0.001",
+               "--param", "material.remodelling.sigma_y=2.0", "--synthetic", "material.remodelling.lambda_p=0.0005",
+               "--synthetic", "material.remodelling.sigma_y=1.5", "--set", "time.t_end=100", "--set", "time.dt_max=1.0"]
+
+
+def sweep_bench(a, work):
+    """Cases per minute of 16 small cases one mpirun each, in a sweep with k = ranks and with
+    k = 1; the calibration example's wall time one mpirun per run and one sweep per iteration."""
+    cases = runner.grid_cases([([k], [[v] for v in vs]) for k, vs in SWEEP_GRID])
+    ways = [("one mpirun per case", False, a.ranks), (f"sweep, k = {a.ranks}", True, a.ranks),
+            ("sweep, k = 1", True, 1)]
+    print(f"{len(cases)} cases ({SWEEP_SCENE}, " + ", ".join(f"{k}={v}" for k, v in SWEEP_SETS)
+          + f"; {' x '.join(k for k, _ in SWEEP_GRID)}) on {a.ranks} rank(s), medians of {a.repeat}; work dir {work}")
+    rows = []
+    for name, sweep, k in ways:
+        walls = []
+        for rep in range(a.repeat):
+            runner.SWEEP, runner.RANKS_PER_CASE = sweep, k
+            t0 = time.time()
+            done = runner.run_cases(SWEEP_SCENE, cases, SWEEP_SETS, work / f"{name.replace(' ', '_')}-{rep}",
+                                    a.ranks, observables=["max:force_total_mg"])
+            walls.append(time.time() - t0)
+            if any(r["status"] != "ok" for _, r in done):
+                raise SystemExit(f"bench.py: a case failed ({name})")
+            peaks = [r["max:force_total_mg"] for _, r in done]
+        rows.append((name, statistics.median(walls), walls, peaks))
+    calib = []
+    for name, opts in [(f"one mpirun per run, one at a time (--no-sweep --ranks {a.ranks})",
+                         ["--no-sweep", "--ranks", str(a.ranks)]),
+                       ("one mpirun per run, two at a time (--no-sweep --ranks 1 --jobs 2)",
+                        ["--no-sweep", "--ranks", "1", "--jobs", "2"]),
+                       (f"one sweep per iteration (--ranks {a.ranks} --ranks-per-case 1)",
+                        ["--ranks", str(a.ranks), "--ranks-per-case", "1"])]:
+        walls, fit = [], None
+        for rep in range(a.repeat):
+            d = work / f"calibration-{len(calib)}-{rep}"
+            t0 = time.time()
+            subprocess.run([sys.executable, str(Path(__file__).parent / "calibrate.py"), *CALIBRATION, *opts,
+                            "--dir", str(d)], check=True, stdout=subprocess.DEVNULL)
+            walls.append(time.time() - t0)
+            res = json.loads((d / "calibration.json").read_text())["result"]
+            fit = {k: v["value"] for k, v in res.items() if isinstance(v, dict)} | {"runs": res["runs"]}
+        calib.append((name, statistics.median(walls), walls, fit))
+    print(f"\n| way ({len(cases)} cases, {a.ranks} ranks) | wall (s), median | cases/min | runs (s) |")
+    print("|---|---|---|---|")
+    for name, wall, walls, _ in rows:
+        print(f"| {name} | {wall:.1f} | {60 * len(cases) / wall:.1f} | {', '.join(f'{w:.1f}' for w in walls)} |")
+    for name, _, _, peaks in rows[1:]:
+        worst = max(abs(p / q - 1) for p, q in zip(peaks, rows[0][3]))
+        print(f"\npeak forces, {name} against {rows[0][0]}: "
+              + ("identical" if worst == 0 else f"largest relative difference {worst:.1e}"), end="")
+    print()
+    print("\n| calibration example | wall (s), median | runs (s) | fitted values, runs |")
+    print("|---|---|---|---|")
+    for name, wall, walls, fit in calib:
+        print(f"| {name} | {wall:.1f} | {', '.join(f'{w:.1f}' for w in walls)} | "
+              + ", ".join(f"{k.split('.')[-1]} {v:.9g}" for k, v in fit.items()) + " |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--case", nargs="+", choices=list(CASES), default=None)
@@ -120,10 +197,17 @@ def main():
                     help="mesh sizes: mesh.params.h, the scene's other sizes (h_pole, ...) scaled with it")
     ap.add_argument("--t-end", type=float, default=None, help="shorten a --scene run")
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--ranks", type=int, nargs="+", default=None, help="rank counts (default 1 2; --sweep: 2)")
+    ap.add_argument("--sweep", action="store_true",
+                    help="16 small axisymmetric cases one mpirun each and as sweeps (k = ranks, k = 1): cases "
+                         "per minute; the calibration example one mpirun per run and one sweep per iteration")
     ap.add_argument("--no-halved", action="store_true",
                     help="skip the accuracy check (one run with halved steps and tolerances, 10x tighter Newton)")
     a = ap.parse_args()
+    if a.sweep:
+        a.ranks = (a.ranks or [2])[0]
+        return sweep_bench(a, Path(tempfile.mkdtemp(prefix="poroplast-bench-sweep-")))
+    a.ranks = a.ranks or [1, 2]
     if a.h and not a.scene:
         a.scene = "cryer"          # the older form `bench.py --h 12.5 8.33`
 

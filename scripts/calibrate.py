@@ -2,11 +2,15 @@
 
 Levenberg–Marquardt on the residuals r_i = model(t_i) − data(t_i) (the model's history column
 interpolated at the data's times), the Jacobian by forward differences (one run per parameter,
-relative step 1e-3; `--jobs N` runs N of them at once), parameters in log space (they are
-positive and of different scales). A trial step whose run fails counts as a worse fit (more
-damping). The uncertainties are the square roots of the diagonal of s² (JᵀJ)⁻¹,
-s² = Σr²/(n − p), at the optimum. Every run is a `poroplast run --set ...` on 2 ranks
-(`--ranks`) in STUDY/runs/; STUDY/calibration.png shows the data and the fitted curve. The fit
+relative step 1e-3), parameters in log space (they are positive and of different scales). A
+trial step whose run fails counts as a worse fit (more damping). The uncertainties are the
+square roots of the diagonal of s² (JᵀJ)⁻¹, s² = Σr²/(n − p), at the optimum. Every run is a case
+of scripts/runner.py in STUDY/runs/cases/<its parameter values>/ (a completed one is not run
+again: an interrupted calibration continues): each iteration's n + 1 runs (the point and its n
+finite-difference neighbours; the point is complete after the first iteration) are one batch,
+one `mpirun -n RANKS poroplast sweep` (--ranks 2, --ranks-per-case K: 1 on a meridian, RANKS
+for 3-D), and each trial step one more; `--no-sweep` runs one mpirun per run, `--jobs N` of them
+at once. STUDY/calibration.png shows the data and the fitted curve. The fit
 stops when an iteration lowers the sum of squares by less than `--ftol` (default 0.1%), when
 its step is below 1e-5 (log space), or after `--max-it` iterations.
 
@@ -38,21 +42,23 @@ class Model:
     def __init__(self, a, keys):
         self.a, self.keys, self.n = a, keys, 0
         self.lock = threading.Lock()
-        self.root = Path(a.dir)
+        self.root = Path(a.dir) / "runs"
+        self.sets = [tuple(s.split("=", 1)) for s in a.set]
 
-    def history(self, values, tag=None):
-        """Runs the scene with the parameter values (a case of the study runner); returns its
-        history. Thread-safe (the run's number is taken before it starts)."""
+    def histories(self, points, what=None, tag=None):
+        """Runs the scene at each point (parameter values) — ONE batch of the study runner, the
+        completed runs skipped: a run is named by its values, so an interrupted calibration
+        continues — and returns their histories (None for a failed run). `what`: a name per
+        point for the progress lines."""
+        cases = [[(k, repr(v)) for k, v in zip(self.keys, values)] for values in points]
+        names = [tag] if tag else [runner.slug(c) for c in cases]
+        label = dict(zip(map(tuple, cases), what or names))
         with self.lock:
-            self.n += 1
-            n = self.n
-        overrides = [(k, repr(v)) for k, v in zip(self.keys, values)]
-        sets = [tuple(s.split("=", 1)) for s in self.a.set]
-        case = self.root / "runs" / (tag or f"run{n:03d}")
-        r = runner.run_case(self.a.scene, overrides, sets, case, self.a.ranks)
-        if r["status"] != "ok":
-            raise RuntimeError(f"run with {dict(overrides)} failed: {r['error']}")
-        return runner.history(case / "run")
+            self.n += sum(runner.completed(self.root / "cases" / n, runner.signature(self.a.scene, c, self.sets, ()))
+                          is None for n, c in zip(names, cases))
+        ran = runner.run_cases(self.a.scene, cases, self.sets, self.root, self.a.ranks, names=names,
+                               label=lambda c: label[tuple(c)])
+        return [runner.history(d / "run") if r["status"] == "ok" else None for d, r in ran]
 
 
 def main():
@@ -67,12 +73,13 @@ def main():
     ap.add_argument("--t-min", type=float, default=-math.inf)
     ap.add_argument("--t-max", type=float, default=math.inf)
     ap.add_argument("--dir", required=True)
-    ap.add_argument("--ranks", type=int, default=2)
+    runner.rank_options(ap)
     ap.add_argument("--max-it", type=int, default=15)
-    ap.add_argument("--jobs", type=int, default=1, help="finite-difference runs at once")
+    ap.add_argument("--jobs", type=int, default=1, help="with --no-sweep: finite-difference runs at once")
     ap.add_argument("--ftol", type=float, default=1e-3,
                     help="stop when an iteration lowers the sum of squares by less than this fraction")
     a = ap.parse_args()
+    runner.use_rank_options(a)
     keys = [p.split("=", 1)[0] for p in a.param]
     x = [math.log(float(p.split("=", 1)[1])) for p in a.param]
     model = Model(a, keys)
@@ -81,7 +88,9 @@ def main():
     if a.synthetic:
         truth = dict(s.split("=", 1) for s in a.synthetic)
         syn = Model(a, list(truth))
-        h = syn.history([float(v) for v in truth.values()], tag="synthetic")
+        [h] = syn.histories([[float(v) for v in truth.values()]], ["synthetic curve"], tag="synthetic")
+        if h is None:
+            sys.exit("calibrate.py: the synthetic run failed")
         td, vd = h["time"], h[a.column]
     elif a.data:
         rows = list(csv.DictReader(line for line in open(a.data) if not line.startswith("#")))
@@ -93,44 +102,52 @@ def main():
     if len(data) <= len(keys):
         sys.exit(f"calibrate.py: {len(data)} data points for {len(keys)} parameters")
 
-    def residuals(xs):
-        """The residuals and the history of a run with log-parameters xs (None: it failed)."""
-        try:
-            h = model.history([math.exp(v) for v in xs])
-        except RuntimeError as e:
-            print(f"  {e}", flush=True)
-            return None, None
-        return np.array([runner.at(h, a.column, t) - v for t, v in data]), h
+    def residuals(points, what):
+        """The residuals and history of a run at each point (log-parameters), one batch; (None,
+        None) for a failed run. Without sweeps and with --jobs N, N runs at a time."""
+        vals = [[math.exp(v) for v in xs] for xs in points]
+        if runner.SWEEP or a.jobs == 1:
+            hs = model.histories(vals, what)
+        else:
+            with ThreadPoolExecutor(max_workers=a.jobs) as pool:
+                hs = [h for [h] in pool.map(lambda vw: model.histories([vw[0]], [vw[1]]), zip(vals, what))]
+        return [(None, None) if h is None else (np.array([runner.at(h, a.column, t) - v for t, v in data]), h)
+                for h in hs]
+
+    def around(x, it):
+        """x and its finite-difference neighbours x + h e_k: n + 1 runs in one batch (x, the last
+        accepted trial, is already complete after the first iteration)."""
+        return [x] + [x + h * np.eye(len(x))[k] for k in range(len(x))], \
+            [f"iteration {it}: the point"] + [f"iteration {it}: d {k}" for k in keys]
 
     x = np.array(x)
-    r, best = residuals(x)
-    if r is None:
-        sys.exit("calibrate.py: the run at the initial parameters failed")
-    cost = float(r @ r)
     lam, h = 1e-2, 1e-3
     log = []
-    with ThreadPoolExecutor(max_workers=a.jobs) as pool:
-        for it in range(a.max_it):
-            shifted = list(pool.map(lambda k: residuals(x + h * np.eye(len(x))[k])[0], range(len(x))))
-            if any(rk is None for rk in shifted):
-                sys.exit("calibrate.py: a finite-difference run failed (see its log under runs/)")
-            jac = np.column_stack([(rk - r) / h for rk in shifted])
-            jtj, jtr = jac.T @ jac, jac.T @ r
-            improved = False
-            while lam < 1e8:
-                step = np.linalg.solve(jtj + lam * np.diag(np.diag(jtj)), -jtr)
-                rt, ht = residuals(x + step)
-                if rt is not None and float(rt @ rt) < cost:
-                    gain = 1 - float(rt @ rt) / cost
-                    x, r, best, cost, lam, improved = x + step, rt, ht, float(rt @ rt), lam / 3, True
-                    break
-                lam *= 4
-            vals = {k: math.exp(v) for k, v in zip(keys, x)}
-            log.append({"iteration": it + 1, "cost": cost, **vals})
-            print(f"iteration {it + 1}: rms {math.sqrt(cost / len(r)):.4g}  "
-                  + "  ".join(f"{k} = {v:.6g}" for k, v in vals.items()), flush=True)
-            if not improved or np.max(np.abs(step)) < 1e-5 or gain < a.ftol:
+    for it in range(a.max_it):
+        (r, hist), *shifted = residuals(*around(x, it + 1))
+        if r is None:
+            sys.exit("calibrate.py: the run at the initial parameters failed")
+        if it == 0:
+            cost, best = float(r @ r), hist
+        if any(rk is None for rk, _ in shifted):
+            sys.exit("calibrate.py: a finite-difference run failed (see its log under runs/)")
+        jac = np.column_stack([(rk - r) / h for rk, _ in shifted])
+        jtj, jtr = jac.T @ jac, jac.T @ r
+        improved = False
+        while lam < 1e8:
+            step = np.linalg.solve(jtj + lam * np.diag(np.diag(jtj)), -jtr)
+            [(rt, ht)] = residuals([x + step], [f"iteration {it + 1}: trial step, damping {lam:.3g}"])
+            if rt is not None and float(rt @ rt) < cost:
+                gain = 1 - float(rt @ rt) / cost
+                x, r, best, cost, lam, improved = x + step, rt, ht, float(rt @ rt), lam / 3, True
                 break
+            lam *= 4
+        vals = {k: math.exp(v) for k, v in zip(keys, x)}
+        log.append({"iteration": it + 1, "cost": cost, **vals})
+        print(f"iteration {it + 1}: rms {math.sqrt(cost / len(r)):.4g}  "
+              + "  ".join(f"{k} = {v:.6g}" for k, v in vals.items()), flush=True)
+        if not improved or np.max(np.abs(step)) < 1e-5 or gain < a.ftol:
+            break
     # Uncertainties at the optimum, from the last Jacobian (log parameters: relative errors).
     s2 = cost / max(len(r) - len(x), 1)
     try:

@@ -20,6 +20,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import observables  # noqa: E402
+import runner  # noqa: E402
 from runner import CONVERGED_LEVEL, refined_steps, run_cases, scene_values, write_rows  # noqa: E402
 
 SCENE = "remodel_155"
@@ -144,10 +145,11 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--dir", default="studies/causes")
     ap.add_argument("--steps", type=float, default=0.125, help="step scale of every variant but the steps rows")
-    ap.add_argument("--ranks", type=int, default=2)
+    runner.rank_options(ap)
     ap.add_argument("--only", nargs="+", choices=list(VARIANTS))
     ap.add_argument("--no-reference", action="store_true", help="skip the reference_405 variants")
     a = ap.parse_args()
+    runner.use_rank_options(a)
     root = Path(a.dir)
     (root / "scenes").mkdir(parents=True, exist_ok=True)
     scene_time = scene_values(SCENE)["time"]

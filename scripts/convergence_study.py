@@ -1,11 +1,12 @@
-"""Convergence study on 2 ranks: mesh levels × time-step levels, Richardson extrapolation.
+"""Convergence study: mesh levels × time-step levels, Richardson extrapolation.
 
 Runs a scene at mesh sizes h (mesh.params.h, with the other sizes — h_pole, h_edge, from the
 scene or --set — scaled in proportion) and time-step scales s (every step scaled by s: time.dt,
 time.dt_max and time.error_tolerance multiplied by s, time.growth raised to the power s;
 `runner.refined_steps`): each mesh level at one step level and each step level on one mesh (a
-cross; --full: every combination), as batch jobs through `scripts/runner.py` (completed cases are skipped, so an
-interrupted study continues). For each observable it estimates
+cross; --full: every combination), as one batch through `scripts/runner.py` (one `poroplast
+sweep` on --ranks ranks, --ranks-per-case each: default 1 on a meridian, all for 3-D; completed
+cases are skipped, so an interrupted study continues). For each observable it estimates
 
   * the observed orders p_h (from the three finest meshes, at the steps --mesh-steps, default the
     finest) and p_t (from the three finest Δt, on the mesh --time-mesh, default the finest),
@@ -29,7 +30,7 @@ STUDY/conv_<observable>.png (error against h per Δt level, and against Δt per 
 
     python3 scripts/convergence_study.py reference --h 30,25,20,15 --dt-scale 1,0.5,0.25,0.125 \\
         --dir studies/conv_reference [--time-mesh 20] [--mesh-steps 0.25] [--full]
-        [--set KEY=VALUE ...] [--observe ...] [--ranks 2]
+        [--set KEY=VALUE ...] [--observe ...] [--ranks 2] [--ranks-per-case K] [--no-sweep]
 """
 import argparse
 import csv
@@ -39,6 +40,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import study  # noqa: E402
+import runner  # noqa: E402
 from runner import (SIZES, h_levels, refined_steps, run_cases, scene_values, solve_order,  # noqa: E402,F401
                     write_rows)
 
@@ -113,13 +115,14 @@ def main():
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--observe", nargs="+", default=study.DEFAULT_OBSERVE)
     ap.add_argument("--dir", required=True)
-    ap.add_argument("--ranks", type=int, default=2)
+    runner.rank_options(ap)
     ap.add_argument("--formal-h", type=float, default=2.0)
     ap.add_argument("--formal-t", type=float, default=1.0)
     ap.add_argument("--time-mesh", type=float, help="the mesh h of the step sequence (default: the finest)")
     ap.add_argument("--mesh-steps", type=float, help="the step scale of the mesh sequence (default: the finest)")
     ap.add_argument("--full", action="store_true", help="every mesh level at every step level")
     a = ap.parse_args()
+    runner.use_rank_options(a)
     hs = [float(x) for x in a.h.split(",")]
     ss = [float(x) for x in a.dt_scale.split(",")]
     if len(hs) < 3 or len(ss) < 3:

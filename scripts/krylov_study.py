@@ -20,12 +20,13 @@ SCENE = "cryer"
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--ranks", type=int, default=2)
+    runner.rank_options(ap)
     ap.add_argument("--levels", type=int, nargs="+", default=[4, 8, 16], help="R/h values")
     ap.add_argument("--dt", type=float, nargs="+", default=[1.0, 0.01], help="the constant step sizes (s)")
     ap.add_argument("--steps", type=int, default=4)
     ap.add_argument("--dir", default="studies/krylov")
     a = ap.parse_args()
+    runner.use_rank_options(a)
     radius = runner.scene_values(SCENE)["mesh"]["params"]["R"]
     c = runner.consolidation_coefficient(SCENE)
     hs = [radius / n for n in a.levels]

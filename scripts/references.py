@@ -25,6 +25,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import convergence_study  # noqa: E402
+import runner  # noqa: E402
 from runner import write_rows  # noqa: E402
 import observables  # noqa: E402
 
@@ -150,8 +151,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--dir", default="studies/references")
     ap.add_argument("--cases", nargs="+", default=DEFAULT, choices=list(CASES) + ["all"])
-    ap.add_argument("--ranks", type=int, default=2)
+    runner.rank_options(ap)
     a = ap.parse_args()
+    runner.use_rank_options(a)
     root = Path(a.dir)
     names = list(CASES) if "all" in a.cases else a.cases
     out = root / "references.csv"

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Reproduce the figures of Di Stefano et al. (ZAMP 2022) with remodelling: runs the builtin
 scenes remodel_40, remodel_155, remodel_155_c2, elastic_155, remodel_405, reference_405 and four
-variants of remodel_405 (lambda_p = 0.1, 0.5 (MPa s)^-1; sigma_y = 1, 4 kPa) on 2 MPI ranks,
+variants of remodel_405 (lambda_p = 0.1, 0.5 (MPa s)^-1; sigma_y = 1, 4 kPa) on 2 MPI ranks (one
+`poroplast sweep` for the cases to run: 3-D ones one at a time on both ranks, meridians two at a
+time on one each; --ranks, --ranks-per-case, --no-sweep as scripts/runner.py's),
 then draws the probe curves (Figs 4, 11), the force sweeps (Figs 7-9) and mid-plane sections
 (Figs 3, 5-6, 11c) into <out>/figures/, and writes <out>/summary.csv (also printed).
 Every case runs through scripts/runner.py into <out>/cases/<case>/run (its log beside it); a case
@@ -10,7 +12,8 @@ With --axisymmetric every case runs on its meridian (`--set mesh.geometry=axisym
 section figures then show the meridian itself, mirrored), by default into runs/reproduce_axi.
 
     python3 scripts/reproduce.py [--out runs/reproduce] [--only NAME ...] [--plots-only] [--docs]
-                                 [--axisymmetric] [--ranks 2] [--converged DIR] [--references CSV]
+                                 [--axisymmetric] [--ranks 2] [--ranks-per-case K] [--no-sweep]
+                                 [--converged DIR] [--references CSV]
 """
 import argparse
 import csv
@@ -494,8 +497,9 @@ def main():
     ap.add_argument("--references", metavar="CSV", help="references.csv for the table of reported numbers "
                     "(default: DIR/references.csv of --converged, else studies/references/references.csv, "
                     "else the shipped scripts/data/references.csv)")
-    ap.add_argument("--ranks", type=int, default=2, help="MPI ranks per case (default 2)")
+    runner.rank_options(ap)
     a = ap.parse_args()
+    runner.use_rank_options(a)
     RANKS[0] = a.ranks
     if a.axisymmetric:
         EXTRA_SETS.append("mesh.geometry=axisymmetric")

@@ -3,7 +3,10 @@ repository root after `cargo build --release` (or with POROPLAST_BIN set).
 
   * running: `run_case` (one case under mpirun: a scene, `--set` overrides, PETSc options, into
     CASE/run/, its log in CASE/log.txt and its result in CASE/case.json with the signature of what
-    it ran), `run_cases` (many, the completed ones skipped: an interrupted study continues);
+    it ran), `run_cases` (many, the completed ones skipped: an interrupted study continues; the
+    cases to run go to ONE `mpirun -n RANKS poroplast sweep` — a batch, see `run_batch` — or,
+    with `--no-sweep` / POROPLAST_SWEEP=0, one `mpirun` per case); `rank_options` and
+    `use_rank_options` (the scripts' --ranks, --ranks-per-case, --no-sweep);
   * grids: `parse_grid` (a `--grid` axis), `grid_cases` (all combinations), `h_levels` (a mesh
     sweep: h with the other sizes scaled in proportion), `refined_steps` (a step sweep);
   * reading a run: `history`, `timings`, `at` (a column at time t), `observe` (max:, last:,
@@ -11,10 +14,14 @@ repository root after `cargo build --release` (or with POROPLAST_BIN set).
   * orders: `solve_order` (the observed order of a sequence of levels, Richardson).
 """
 import csv
+import functools
+import hashlib
 import itertools
 import json
 import math
 import os
+import re
+import shutil
 import subprocess
 import sys
 import time
@@ -23,7 +30,13 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-BIN = Path(os.environ.get("POROPLAST_BIN", ROOT / "target" / "release" / "poroplast"))
+BIN = Path(os.environ.get("POROPLAST_BIN",
+                         Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release" / "poroplast"))
+# How run_cases runs the cases to run: one `poroplast sweep` per call (a batch) or, False, one
+# mpirun per case (`--no-sweep`, POROPLAST_SWEEP=0); the ranks of each case in a batch (None:
+# 1 for axisymmetric cases, all ranks for 3-D ones). Set by `use_rank_options`.
+SWEEP = os.environ.get("POROPLAST_SWEEP", "1") != "0"
+RANKS_PER_CASE = None
 
 # The converged level of the plates experiment (docs/performance.md): the meridian at h = 10 um
 # with the surface and the poles at 2 um, no pressure stabilisation (its error is the largest on
@@ -169,7 +182,7 @@ def slug(overrides):
 
 def signature(scene, overrides, sets, petsc):
     """What a case ran: the scene, every --set, the PETSc options (not the rank count)."""
-    return [scene, *(f"{k}={v}" for k, v in list(sets) + list(overrides)), *petsc]
+    return [str(scene), *(f"{k}={v}" for k, v in list(sets) + list(overrides)), *petsc]
 
 
 def completed(case_dir, sig, observables=()):
@@ -207,6 +220,57 @@ def run_case(scene, overrides, sets, case_dir, ranks, petsc=(), observables=()):
     if p.returncode != 0:
         err = next((l for l in p.stderr.splitlines() if l.startswith("poroplast: error:")), p.stderr.strip()[-300:])
         return {"status": "failed", "error": err}
+    return _result(case_dir, scene, overrides, sets, petsc, observables)
+
+
+def rank_options(ap, ranks=2):
+    """The scripts' rank options: --ranks (the study's MPI ranks), --ranks-per-case, --no-sweep."""
+    ap.add_argument("--ranks", type=int, default=ranks,
+                    help=f"MPI ranks of the study: the cases to run go to one `mpirun -n RANKS poroplast sweep` "
+                         f"(default {ranks})")
+    ap.add_argument("--ranks-per-case", type=int, metavar="K",
+                    help="ranks of each case, RANKS/K cases at a time (K divides RANKS; default: 1 for "
+                         "axisymmetric cases, RANKS for 3-D ones, raised while there are fewer cases than groups)")
+    ap.add_argument("--no-sweep", action="store_true",
+                    help="one `mpirun -n K` per case, one after another (K: --ranks-per-case, default RANKS), "
+                         "as before sweeps (also POROPLAST_SWEEP=0)")
+
+
+def use_rank_options(a):
+    """Applies rank_options' arguments to run_cases."""
+    global SWEEP, RANKS_PER_CASE
+    if a.ranks < 1 or (a.ranks_per_case is not None and (a.ranks_per_case < 1 or a.ranks % a.ranks_per_case)):
+        sys.exit(f"--ranks-per-case {a.ranks_per_case} must divide --ranks {a.ranks}")
+    SWEEP = SWEEP and not a.no_sweep
+    RANKS_PER_CASE = a.ranks_per_case
+
+
+@functools.lru_cache(maxsize=None)
+def _scene_geometry(scene):
+    return scene_values(scene).get("mesh", {}).get("geometry", "solid")
+
+
+def axisymmetric(scene, overrides, sets=()):
+    """Whether a case runs on a meridian: its last mesh.geometry override, else its scene's."""
+    given = [v for k, v in list(sets) + list(overrides) if k == "mesh.geometry"]
+    geometry = given[-1].strip().strip("'\"") if given else _scene_geometry(str(scene))
+    return geometry == "axisymmetric"
+
+
+def ranks_per_case(ranks, scenes, cases, sets, todo):
+    """The ranks of each case of a batch of `todo` cases on `ranks` ranks: RANKS_PER_CASE if set,
+    else 1 when every case is axisymmetric (small cases: one per rank is fastest) and all ranks
+    otherwise, raised to the next divisor of `ranks` while the groups outnumber the cases."""
+    if RANKS_PER_CASE:
+        return RANKS_PER_CASE
+    k = 1 if all(axisymmetric(s, c, sets) for s, c in zip(scenes, cases)) else ranks
+    while ranks // k > max(todo, 1):
+        k = next(d for d in range(k + 1, ranks + 1) if ranks % d == 0)
+    return k
+
+
+def _result(case_dir, scene, overrides, sets, petsc, observables):
+    """The result of a case that completed into case_dir/run, recorded in case_dir/case.json."""
     tm = timings(case_dir / "run")
     result = {"status": "ok", **{c: tm.get(k, float("nan")) for c, k in COUNTERS.items()}}
     h = history(case_dir / "run")
@@ -221,30 +285,221 @@ def run_cases(scene, cases, sets, root, ranks, petsc=(), observables=(), label=N
     the overrides' slug), skipping the ones that completed, with progress and the ETA of the whole
     set. `scene` is one scene for all cases or a list, one per case; `weights` the cases' relative
     costs for the ETA (default equal). Returns (case dir, result) per case, in order.
-    `label(case)` names a case in the progress lines (default: its name, else its overrides)."""
+    `label(case)` names a case in the progress lines (default: its name, else its overrides).
+    The cases to run run as one batch (`run_batch`: one `mpirun -n ranks poroplast sweep`,
+    `ranks_per_case` ranks each) or, without SWEEP, one `mpirun` per case."""
     shown = [label(c) for c in cases] if label else list(names) if names else \
         [" ".join(f"{k}={v}" for k, v in c) or "(base scene)" for c in cases]
     scenes = [scene] * len(cases) if isinstance(scene, (str, Path)) else list(scene)
     weights = weights or [1.0] * len(cases)
     dirs = [root / "cases" / n for n in (names or [slug(c) for c in cases])]
+    if SWEEP:
+        harvest(root)
     prior = [completed(d, signature(s, c, sets, petsc), observables) for d, s, c in zip(dirs, scenes, cases)]
     todo = sum(1 for r in prior if r is None)
+    new = [i for i, r in enumerate(prior) if r is None]
+    k = ranks_per_case(ranks, [scenes[i] for i in new], [cases[i] for i in new], sets, todo) if SWEEP else \
+        RANKS_PER_CASE or ranks
+    how = f": one sweep, {ranks // k} case(s) at a time on {k} rank(s) each" if SWEEP and todo else \
+        f", one mpirun -n {k} per case" if todo else ""
     print(f"{root}: {len(cases)} cases, {len(cases) - todo} already complete, {todo} to run "
-          f"on {ranks} rank(s)", flush=True)
+          f"on {ranks} rank(s){how}", flush=True)
     out, t0, done, left = [], time.time(), 0.0, sum(w for w, r in zip(weights, prior) if r is None)
-    for n, (case, s, cdir, result, w, name) in enumerate(zip(cases, scenes, dirs, prior, weights, shown), 1):
+
+    def report(n, name, result, secs, w):
+        nonlocal done, left
+        done, left = done + w, left - w
+        eta = (time.time() - t0) / done * left if done else 0.0
+        print(f"[{n}/{len(cases)}] {name}: {result['status']} in {secs:.1f} s"
+              f"{'' if result['status'] == 'ok' else ' — ' + result['error']}"
+              f"  [{time.time() - t0:.0f} s, eta {eta:.0f} s]", flush=True)
+
+    for n, (name, result) in enumerate(zip(shown, prior), 1):
         if result is not None:
             print(f"[{n}/{len(cases)}] {name}: complete, skipped", flush=True)
-        else:
+    if SWEEP and todo:
+        batch = [(scenes[i], cases[i], dirs[i]) for i in new]
+        ran = run_batch(root, batch, sets, ranks, k, petsc, observables,
+                        lambda j, result, secs: report(new[j] + 1, shown[new[j]], result, secs, weights[new[j]]))
+        prior = [r if r is not None else ran[new.index(i)] for i, r in enumerate(prior)]
+    for n, (case, s, cdir, result, w, name) in enumerate(zip(cases, scenes, dirs, prior, weights, shown), 1):
+        if result is None:
             start = time.time()
-            result = run_case(s, case, sets, cdir, ranks, petsc, observables)
-            done, left = done + w, left - w
-            eta = (time.time() - t0) / done * left
-            print(f"[{n}/{len(cases)}] {name}: {result['status']} in {time.time() - start:.1f} s"
-                  f"{'' if result['status'] == 'ok' else ' — ' + result['error']}"
-                  f"  [{time.time() - t0:.0f} s, eta {eta:.0f} s]", flush=True)
+            result = run_case(s, case, sets, cdir, k, petsc, observables)
+            report(n, name, result, time.time() - start, w)
         out.append((cdir, result))
     return out
+
+
+# ---------------------------------------------------------------- batches: one sweep for many cases
+
+MOVED = "moved.txt"     # in a batch's case directory whose run has been moved to the runner's place
+SWEEP_LINE = re.compile(r"^sweep: case (\d+) .* (ok|FAILED) in ([0-9.]+) s")
+
+
+def _toml_list(xs):
+    return "[" + ", ".join(json.dumps(str(x)) for x in xs) + "]"
+
+
+def batch_study(batch, sets, petsc, observables):
+    """The STUDY.toml of a batch: a [[case]] list, each case with its scene (a file as an absolute
+    path) and overrides; the common --set values and PETSc options as the study's."""
+    arg = lambda s: str(Path(s).resolve()) if Path(s).exists() else str(s)
+    lines = ["# A batch of scripts/runner.py: the cases of this study directory not yet complete.",
+             "name = \"batch\"", f"set = {_toml_list(f'{k}={v}' for k, v in sets)}",
+             f"petsc = {_toml_list(petsc)}", f"observe = {_toml_list(observables)}"]
+    for scene, case, _ in batch:
+        lines += ["", "[[case]]", f"scene = {json.dumps(arg(scene))}",
+                  f"set = {_toml_list(f'{k}={v}' for k, v in case)}"]
+    return "\n".join(lines) + "\n"
+
+
+def _sweep_case_dirs(out):
+    """{case index: its run directory} of a sweep directory."""
+    cases = out / "cases"
+    return {int(d.name.split("_", 1)[0]): d for d in cases.iterdir()} if cases.is_dir() else {}
+
+
+def _outcome(case_toml):
+    import tomllib
+    try:
+        return tomllib.loads(case_toml.read_text())
+    except (OSError, ValueError):
+        return None
+
+
+def _batches(root):
+    """The batches of root/sweeps/: (meta file, its case entries)."""
+    return [(m, json.loads(m.read_text())["cases"]) for m in sorted((root / "sweeps").glob("batch-*.json"))]
+
+
+def _drop_batch(meta):
+    shutil.rmtree(meta.with_suffix(""), ignore_errors=True)
+    meta.unlink(missing_ok=True)
+    meta.with_suffix(".toml").unlink(missing_ok=True)
+
+
+def harvest(root, only=None, remove=True, index=None):
+    """Moves the cases that ended in the batches of root/sweeps/ (all, or the batch `only`) to the
+    runner's places: a case's run directory to CASE/run and, if it completed, its result to
+    CASE/case.json (with the signature of what it ran); its outcome (case.toml) stays in the
+    batch, so that a sweep continued there skips it. With `remove`, a batch all of whose cases
+    ended is removed; one with unfinished cases stays, for a run_cases that wants exactly those to
+    continue it. `index`: only that case of the batch (while its sweep runs: the one it has
+    just reported). Returns {case dir: result} of the cases moved."""
+    out = {}
+    for meta, entries in _batches(root) if only is None else [(only, json.loads(only.read_text())["cases"])]:
+        sweep_dir = meta.with_suffix("")
+        runs = _sweep_case_dirs(sweep_dir)
+        ended = 0
+        for i, e in enumerate(entries):
+            run = runs.get(i) if index in (None, i) else None
+            outcome = _outcome(run / "case.toml") if run else None
+            if outcome is None:
+                continue
+            ended += 1
+            if (run / MOVED).exists():
+                continue      # moved already: only case.toml is left
+            cdir = root / e["dir"]
+            cdir.mkdir(parents=True, exist_ok=True)
+            shutil.rmtree(cdir / "run", ignore_errors=True)
+            (cdir / "case.json").unlink(missing_ok=True)
+            (cdir / "run").mkdir()
+            for f in run.iterdir():
+                if f.name != "case.toml":
+                    shutil.move(str(f), str(cdir / "run" / f.name))
+            (run / MOVED).write_text(f"moved to {cdir / 'run'}\n")
+            shutil.copy(run / "case.toml", cdir / "run" / "case.toml")
+            ok = outcome.get("status") == "ok"
+            error = f"poroplast: error: {outcome.get('error', '')}"
+            (cdir / "log.txt").write_text(f"case {i} of the sweep {sweep_dir} (its output: "
+                                          f"{root / 'sweeps' / 'sweep.log'})\n" + ("" if ok else error + "\n"))
+            if ok:
+                scene, overrides, sets, petsc, observables = e["args"]
+                out[cdir] = _result(cdir, scene, [tuple(x) for x in overrides], [tuple(x) for x in sets], petsc,
+                                    observables)
+            else:
+                out[cdir] = {"status": "failed", "error": error}
+        if remove and index is None and ended == len(entries):
+            _drop_batch(meta)
+    return out
+
+
+def run_batch(root, batch, sets, ranks, k, petsc, observables, report):
+    """Runs the cases of `batch` ((scene, overrides, case dir) each) as one study under ONE
+    `mpirun -n ranks poroplast sweep --ranks-per-case k` in root/sweeps/batch-<hash>/, then moves
+    them to their case directories (`harvest`). A batch an earlier call left unfinished with
+    exactly these cases to run is continued (its interrupted cases resume from their checkpoints);
+    other unfinished batches are removed. `report(j, result, secs)` is called as the j-th case of
+    `batch` ends. The sweep's output goes to root/sweeps/sweep.log. Returns the results in batch
+    order."""
+    sweeps = root / "sweeps"
+    sweeps.mkdir(parents=True, exist_ok=True)
+    entries = [{"dir": str(d.relative_to(root)), "args": [str(s), [list(x) for x in c], [list(x) for x in sets],
+                                                          list(petsc), list(observables)]} for s, c, d in batch]
+    meta = None
+    for m, old in _batches(root):
+        runs = _sweep_case_dirs(m.with_suffix(""))
+        left = [e for i, e in enumerate(old)
+                if not (i in runs and (_outcome(runs[i] / "case.toml") or {}).get("status") == "ok")]
+        if meta is None and sorted(left, key=json.dumps) == sorted(entries, key=json.dumps):
+            meta, order = m, [e["dir"] for e in old]      # continued: its failed cases run again
+            for i, run in runs.items():
+                if (_outcome(run / "case.toml") or {}).get("status") != "ok":
+                    (run / MOVED).unlink(missing_ok=True)
+        else:
+            _drop_batch(m)
+    if meta is None:
+        text = batch_study(batch, sets, petsc, observables)
+        meta = sweeps / f"batch-{hashlib.sha1(text.encode()).hexdigest()[:12]}.json"
+        meta.with_suffix(".toml").write_text(text)
+        meta.write_text(json.dumps({"cases": entries}, indent=1))
+        order = [e["dir"] for e in entries]
+    position = {d: j for j, (_, _, d) in enumerate(batch)}
+    of_index = lambda i: position.get(root / order[i])      # sweep case index -> batch position
+    cmd = ["mpirun", "-n", str(ranks), str(BIN), "sweep", str(meta.with_suffix(".toml")),
+           "--out", str(meta.with_suffix("")), "--ranks-per-case", str(k)]
+    with open(sweeps / "sweep.log", "a") as log:
+        log.write(f"\n# {time.strftime('%Y-%m-%d %H:%M:%S')}: {' '.join(cmd)}\n")
+        log.flush()
+        start = log.tell()
+        p = subprocess.Popen(cmd, env=env(), stdout=subprocess.PIPE, stderr=log, text=True, bufsize=1)
+        ended, seen = {}, set()      # case dir -> result, as the cases are moved; batch positions reported
+        try:
+            for line in p.stdout:
+                log.write(line)
+                log.flush()
+                m = SWEEP_LINE.match(line)
+                if m and of_index(int(m.group(1))) is not None and of_index(int(m.group(1))) not in seen:
+                    j = of_index(int(m.group(1)))
+                    seen.add(j)
+                    ended.update(harvest(root, meta, remove=False, index=int(m.group(1))))
+                    report(j, ended.get(batch[j][2]) or {"status": "failed", "error": line.strip()},
+                           float(m.group(3)))
+        finally:
+            p.wait()
+    harvest(root, meta)
+    results = []
+    for s, c, d in batch:
+        r = completed(d, signature(s, c, sets, petsc), observables)
+        if r is None:
+            log = (d / "log.txt").read_text().splitlines() if (d / "log.txt").exists() else []
+            err = next((line for line in log if line.startswith("poroplast: error:")), None) or \
+                _last_error(sweeps / "sweep.log", start) or \
+                f"the sweep exited with {p.returncode} before this case ended"
+            r = {"status": "failed", "error": err}
+        results.append(r)
+    if p.returncode == 75:
+        sys.exit(f"{root}: the sweep was stopped by a signal; the same command continues it")
+    return results
+
+
+def _last_error(log, start):
+    """The last error line of a log from byte `start` on."""
+    with open(log) as f:
+        f.seek(start)
+        lines = [line for line in f.read().splitlines() if line.startswith("poroplast: error:")]
+    return lines[-1] if lines else None
 
 
 # ---------------------------------------------------------------- grids

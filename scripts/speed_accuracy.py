@@ -1,5 +1,7 @@
 """Speed against accuracy from a convergence study: every case's error (against the study's
-extrapolated value) against its wall time on 2 ranks, the Pareto front marked, and one case
+extrapolated value) against its wall time (as the study ran it: a case on k ranks, other cases
+on the other ranks at the same time when k < --ranks; for times of one case alone on the machine,
+run the study with --ranks-per-case equal to --ranks), the Pareto front marked, and one case
 (the default discretisation) highlighted. Solver and time-stepping variants run at one
 discretisation (a `scripts/study.py` study over `solver.preset`, `time.growth`, ...) join the
 chart with `--variants STUDY`: each of its cases is a labelled point, its error taken against
@@ -137,7 +139,7 @@ def main():
     if default:
         ax.loglog([default["wall_s"]], [max(default["error"], 1e-6)], "r*", ms=14, label="default")
     ax.axhline(a.target, color="gray", lw=0.8, ls=":")
-    ax.set_xlabel("wall time on 2 ranks (s)")
+    ax.set_xlabel("wall time of the case (s)")
     ax.set_ylabel(f"relative error of {a.observable}")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=7)

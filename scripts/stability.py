@@ -105,8 +105,9 @@ def main():
     ap.add_argument("--dir", required=True)
     ap.add_argument("--only", nargs="+", choices=["undrained", "remodelling", "steps"],
                     default=["undrained", "remodelling", "steps"])
-    ap.add_argument("--ranks", type=int, default=2)
+    runner.rank_options(ap)
     a = ap.parse_args()
+    runner.use_rank_options(a)
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

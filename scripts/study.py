@@ -1,7 +1,9 @@
 """Parameter studies as batch jobs.
 
-One scene, a grid of `--set` overrides: every combination is a case, run under mpirun (2 ranks
-by default) into its own directory. A case that completed with the same scene, `--set` values and
+One scene, a grid of `--set` overrides: every combination is a case, run into its own directory;
+the cases to run go to one `mpirun -n RANKS poroplast sweep` (RANKS = --ranks, 2 by default;
+--ranks-per-case K each: by default 1 on a meridian, RANKS for 3-D; --no-sweep: one mpirun per
+case, see scripts/runner.py). A case that completed with the same scene, `--set` values and
 PETSc options is skipped (another `--set` runs it again), so an interrupted study
 continues where it stopped (a failed case is tried again). Writes
 
@@ -15,7 +17,7 @@ continues where it stopped (a failed case is tried again). Writes
 
     python3 scripts/study.py reference --grid mesh.params.h=20,15 --grid plates.compression=0.2,0.3 \\
         --dir studies/h_u [--set time.t_end=60] [--observe max:force_total_mg force_total_mg@35] \\
-        [--ranks 2] [-- PETSC OPTIONS]
+        [--ranks 2] [--ranks-per-case K] [--no-sweep] [-- PETSC OPTIONS]
 
 A grid axis is `KEY=V1,V2,...`, or `K1,K2=A1:A2,B1:B2,...` for keys that change together (e.g.
 the radius with the mesh and the plates). Observables (columns of history.csv): `max:COL`, `min:COL`, `last:COL`, `last:A/B` (a ratio,
@@ -36,6 +38,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import labels  # noqa: E402
+import runner  # noqa: E402
 from runner import (BIN, COUNTERS, grid_cases, history, observe, parse_grid, run_cases,  # noqa: E402,F401
                     slug, solve_order)
 
@@ -136,7 +139,7 @@ def main():
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="an override for every case")
     ap.add_argument("--dir", required=True, help="study directory (created; reused to continue)")
     ap.add_argument("--observe", nargs="+", default=DEFAULT_OBSERVE)
-    ap.add_argument("--ranks", type=int, default=2)
+    runner.rank_options(ap)
     ap.add_argument("--no-plots", action="store_true")
     ap.add_argument("--curves", nargs="+", default=[], metavar="COL",
                     help="history columns to plot against time, one line per case")
@@ -144,6 +147,7 @@ def main():
                     help="print each observable (an error: err:, maxerr:) per level of the first grid axis "
                          "with the observed order between successive levels")
     a = ap.parse_args(argv)
+    runner.use_rank_options(a)
     if not BIN.exists():
         sys.exit(f"study.py: {BIN} not found: run `cargo build --release` first")
     study = Path(a.dir)

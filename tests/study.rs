@@ -172,8 +172,8 @@ fn convergence_study_extrapolates() {
 }
 
 /// Calibration recovers known parameters from the code's own curve: (λp, σy) = (0.5 (MPa s)⁻¹,
-/// 1.5 kPa) from σ_zz(t) of the relaxation scene, starting at (1 (MPa s)⁻¹, 2 kPa), 1 rank,
-/// the finite-difference runs two at a time.
+/// 1.5 kPa) from σ_zz(t) of the relaxation scene, starting at (1 (MPa s)⁻¹, 2 kPa): each
+/// iteration's runs one sweep on 2 ranks, two at a time on 1 rank each.
 #[test]
 fn calibration_recovers_synthetic_parameters() {
     let dir = scratch("calibration");
@@ -196,9 +196,9 @@ fn calibration_recovers_synthetic_parameters() {
             "--set",
             "time.dt_max=1.0",
             "--ranks",
-            "1",
-            "--jobs",
             "2",
+            "--ranks-per-case",
+            "1",
             "--dir",
             dir.to_str().unwrap(),
         ],

@@ -154,6 +154,68 @@ fn a_bad_case_fails_alone() {
     assert!(rows[3][col("steps")].parse::<usize>().unwrap() > 0);
 }
 
+#[test]
+fn cases_with_their_own_scenes() {
+    // No base scene: each case names its own — a shipped scene by name, the same scene by its
+    // file (the same case: the same history), and the name again with an override.
+    let d = scratch("sweep_scenes");
+    let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
+    let file = scene("reference_axi");
+    let text = format!(
+        "set = [{}]\n[[case]]\nscene = \"reference_axi\"\n[[case]]\nscene = '{file}'\n\
+         [[case]]\nscene = \"reference_axi\"\nset = [\"material.mu=25\"]\n",
+        set.join(", ")
+    );
+    let study = d.join("scenes.toml");
+    std::fs::write(&study, &text).unwrap();
+    let root = d.join("sweep");
+    ok(&sweep(2, &study, &root, 1), "the sweep");
+    let (header, rows) = summary(&root);
+    let col = |n: &str| header.iter().position(|h| h == n).unwrap();
+    let scenes: Vec<&str> = rows.iter().map(|r| r[col("scene")].as_str()).collect();
+    assert_eq!(scenes, ["reference_axi", file.as_str(), "reference_axi"]);
+    assert!(rows.iter().all(|r| r[col("status")] == "ok"), "{rows:?}");
+    let dirs = case_dirs(&root);
+    assert!(dirs[1].ends_with("001_reference_axi"), "{}", dirs[1].display());
+    let diff = history_difference(&History::read(&dirs[0]), &History::read(&dirs[1]), "name and file");
+    assert!(diff <= 1e-10, "the scene by name and by file differ by {diff:e}");
+    let peak = |r: &Vec<String>| r[col("max:force_total_mg")].parse::<f64>().unwrap();
+    assert!(peak(&rows[2]) > 1.1 * peak(&rows[0]), "material.mu=25 had no effect: {rows:?}");
+    // A case's scene that does not load is refused before anything is written.
+    let bad = d.join("bad.toml");
+    std::fs::write(&bad, text.replace("scene = \"reference_axi\"\nset", "scene = \"no_such_scene\"\nset")).unwrap();
+    let out = sweep(2, &bad, &d.join("bad"), 1);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("a case's scene"), "{stderr}");
+    assert!(!d.join("bad").exists());
+}
+
+#[test]
+fn each_case_runs_once_when_the_groups_end_at_different_times() {
+    // A long case (the second) among short ones on 2 groups: one group runs the long case while
+    // the other runs the short ones and ends first. Its ranks must wait for the other group
+    // before the claims are cleared, or that group, when its long case ends, would find the
+    // short ones after it unclaimed and run them again (before the fix: whenever world rank 0's
+    // group took the first case, as it usually does).
+    let d = scratch("sweep_once");
+    let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
+    let text = format!(
+        "set = [{}]\nscene = \"reference_axi\"\n[[case]]\nset = []\n[[case]]\nset = [\"time.t_end=30\", \"mesh.params.h=12\", \"mesh.params.h_pole=3\"]\n\
+         [[case]]\nset = [\"material.mu=25\"]\n[[case]]\nset = [\"material.mu=30\"]\n",
+        set.join(", ")
+    );
+    let study = d.join("once.toml");
+    std::fs::write(&study, text).unwrap();
+    for round in 0..4 {
+        let root = d.join(format!("sweep-{round}"));
+        let stdout = ok(&sweep(2, &study, &root, 1), "the sweep");
+        for i in 0..4 {
+            let ended = stdout.lines().filter(|l| l.starts_with(&format!("sweep: case {i} "))).count();
+            assert_eq!(ended, 1, "case {i} ended {ended} times:\n{stdout}");
+        }
+    }
+}
+
 /// The processes whose parent is `pid` (Linux /proc).
 fn children(pid: u32) -> Vec<u32> {
     std::fs::read_dir("/proc")

@@ -1,5 +1,6 @@
 //! `poroplast sweep STUDY.toml [--ranks-per-case k]`: the cases of a study (a base scene and a
-//! grid or list of `--set` overrides, see [`study`]) run under one `mpirun -n N`.
+//! grid or list of `--set` overrides, or a list of cases with their own scenes, see [`study`])
+//! run under one `mpirun -n N`.
 //!
 //! - The world splits into N/k groups of k consecutive ranks; each group runs one case at a
 //!   time on its own communicator, through the driver's public entry points ([`driver::run`],
@@ -81,8 +82,11 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
     broadcast_vec(world, 0, &mut text);
     let text = String::from_utf8_lossy(&text).into_owned();
     let study = agree(world, Study::parse(&args.study, &text))?;
-    agree(world, LoadedScene::load(&study.scene, &study.set).map(|_| ()))
-        .map_err(|e| Error::Sweep(format!("the study's base scene: {e}")))?;
+    for scene in study.scenes() {
+        let what = if study.per_case_scenes() { "a case's scene" } else { "the study's base scene" };
+        agree(world, LoadedScene::load(scene, &study.set).map(|_| ()))
+            .map_err(|e| Error::Sweep(format!("{what}: {e}")))?;
+    }
     let root = match &args.out {
         Some(o) => o.clone(),
         None => {
@@ -123,7 +127,10 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
     drop(group);
 
     // The world meets again: the summary as it stands (no case runs now: a case without an
-    // outcome is interrupted or pending), and one outcome for every rank.
+    // outcome is interrupted or pending), and one outcome for every rank. The barrier first:
+    // rank 0 must not empty claims/ while another group still runs a case, or that group would
+    // find every case unclaimed and run again the ones already done.
+    world.barrier();
     let written = on_root(world, || {
         schedule::reset_claims(&root)?;
         write_summary(&root, &study)
@@ -292,7 +299,7 @@ impl Group<'_> {
         }
         let mut petsc = self.study.petsc.clone();
         petsc.extend(self.args.petsc.iter().cloned());
-        let run = RunArgs { scene: self.study.scene.clone(), set, out: Some(dir), force: true, petsc, progress: false };
+        let run = RunArgs { scene: case.scene.clone(), set, out: Some(dir), force: true, petsc, progress: false };
         driver::run(self.comm, &run)
     }
 

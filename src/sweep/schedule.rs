@@ -37,7 +37,7 @@ pub fn order(study: &Study, todo: &[usize]) -> Result<Vec<usize>> {
     let mut order = todo.to_vec();
     let Some(path) = &study.estimate_from else { return Ok(order) };
     let walls = read_wall_times(path, study)?;
-    let keys = study.keys();
+    let keys = study.label_keys();
     let cost: Vec<Option<f64>> =
         study.cases.iter().map(|c: &Case| walls.get(&label_key(c, &keys)).copied().filter(|w| w.is_finite())).collect();
     let known: Vec<f64> = todo.iter().filter_map(|&i| cost[i]).collect();

@@ -17,11 +17,15 @@
 //! values = [[20, 4], [15, 2]]
 //! ```
 //!
-//! or, instead of `[[grid]]`, a list of cases, each with its own overrides:
+//! or, instead of `[[grid]]`, a list of cases, each with its own overrides and, optionally, its
+//! own scene (then the study's `scene` may be left out if every case names one):
 //!
 //! ```toml
 //! [[case]]
 //! set = ["material.mu=10", "material.nu=0.3"]
+//! [[case]]
+//! scene = "remodel_40"             # this case's scene instead of the study's (as `scene` above)
+//! set = ["time.t_end=20"]
 //! ```
 //!
 //! A value is the text after `=` of a `--set`: a string is taken as it is (`"[5, 10]"`), a
@@ -37,7 +41,7 @@ use std::path::{Path, PathBuf};
 #[serde(deny_unknown_fields)]
 struct StudyFile {
     name: Option<String>,
-    scene: String,
+    scene: Option<String>,
     #[serde(default)]
     set: Vec<String>,
     #[serde(default)]
@@ -59,10 +63,12 @@ struct Axis {
     values: Vec<toml::Value>,
 }
 
-/// One `[[case]]`: its overrides (`KEY=VALUE`).
+/// One `[[case]]`: its overrides (`KEY=VALUE`) and its own scene, if it has one.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CaseEntry {
+    scene: Option<String>,
+    #[serde(default)]
     set: Vec<String>,
 }
 
@@ -70,8 +76,6 @@ struct CaseEntry {
 #[derive(Debug, Clone)]
 pub struct Study {
     pub name: String,
-    /// The scene argument of every case: a shipped scene's name, or a file's absolute path.
-    pub scene: String,
     /// Overrides of every case (before the case's own).
     pub set: Vec<String>,
     pub petsc: Vec<String>,
@@ -81,10 +85,15 @@ pub struct Study {
     pub cases: Vec<Case>,
 }
 
-/// One case: its index in the study and its own overrides.
+/// One case: its index in the study, its scene and its own overrides.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Case {
     pub index: usize,
+    /// The scene argument of the case (the study's, or its own): a shipped scene's name, or a
+    /// file's absolute path.
+    pub scene: String,
+    /// Its own scene as the study file names it (`[[case]] scene`), if it has one.
+    pub own_scene: Option<String>,
     /// `KEY=VALUE` overrides of this case (after the study's `set`).
     pub set: Vec<String>,
 }
@@ -104,21 +113,26 @@ impl Case {
             .collect()
     }
 
-    /// How the case is named in progress lines and summary.csv.
+    /// How the case is named in progress lines: its own scene, if any, and its overrides.
     pub fn label(&self) -> String {
-        if self.set.is_empty() {
+        let mut parts: Vec<String> = self.own_scene.iter().map(|s| format!("scene={s}")).collect();
+        parts.extend(self.set.iter().cloned());
+        if parts.is_empty() {
             "(base scene)".into()
         } else {
-            self.set.join(" ")
+            parts.join(" ")
         }
     }
 
-    /// The case's run directory name: its index and its overrides (`003_material.mu-10__nu-0.3`).
+    /// The case's run directory name: its index, its own scene's stem if it has one, and its
+    /// overrides (`003_material.mu-10__nu-0.3`, `004_remodel_40__time.t_end-20`).
     pub fn dir_name(&self) -> String {
-        let slug: String = self
-            .pairs()
-            .iter()
-            .map(|(k, v)| format!("{k}-{v}"))
+        let scene = self.own_scene.as_deref().map(|s| {
+            Path::new(s).file_stem().map(|x| x.to_string_lossy().into_owned()).unwrap_or_else(|| s.to_string())
+        });
+        let slug: String = scene
+            .into_iter()
+            .chain(self.pairs().iter().map(|(k, v)| format!("{k}-{v}")))
             .collect::<Vec<_>>()
             .join("__")
             .chars()
@@ -140,36 +154,77 @@ impl Study {
         let err = |msg: String| Error::Scene { path: path.display().to_string(), msg };
         let file: StudyFile = toml::from_str(text).map_err(|e| err(e.message().trim().to_string()))?;
         let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-        let local = base.join(&file.scene);
-        let scene = if local.is_file() {
-            std::fs::canonicalize(&local).map_err(|e| Error::io(&local, e))?.display().to_string()
-        } else {
-            file.scene.clone()
+        // A scene argument: a file relative to the study file, else as written (a shipped scene).
+        let resolve = |scene: &str| -> Result<String> {
+            let local = base.join(scene);
+            Ok(if local.is_file() {
+                std::fs::canonicalize(&local).map_err(|e| Error::io(&local, e))?.display().to_string()
+            } else {
+                scene.to_string()
+            })
         };
+        let scene = file.scene.as_deref().map(resolve).transpose()?;
         let estimate_from = file.estimate_from.as_ref().map(|e| base.join(e));
         if !file.grid.is_empty() && !file.case.is_empty() {
             return Err(err("give the cases as [[grid]] axes or as a [[case]] list, not both".into()));
         }
-        let cases = if !file.case.is_empty() {
-            file.case.iter().map(|c| c.set.clone()).collect()
+        // (own scene, overrides) of each case.
+        let cases: Vec<(Option<String>, Vec<String>)> = if !file.case.is_empty() {
+            file.case.iter().map(|c| (c.scene.clone(), c.set.clone())).collect()
         } else if !file.grid.is_empty() {
-            expand(&file.grid).map_err(err)?
+            expand(&file.grid).map_err(err)?.into_iter().map(|set| (None, set)).collect()
         } else {
             return Err(err("no cases: give [[grid]] axes (key, values) or [[case]] entries (set)".into()));
         };
+        let mut resolved = Vec::with_capacity(cases.len());
+        for (index, (own, set)) in cases.into_iter().enumerate() {
+            let scene = match (&own, &scene) {
+                (Some(s), _) => resolve(s)?,
+                (None, Some(s)) => s.clone(),
+                (None, None) => {
+                    return Err(err(format!(
+                        "missing field `scene`: give the study's base scene, or a `scene` in every [[case]] \
+                         (case {index} has none)"
+                    )))
+                }
+            };
+            resolved.push(Case { index, scene, own_scene: own, set });
+        }
         let name = match &file.name {
             Some(n) if !n.trim().is_empty() => n.trim().to_string(),
             _ => path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "study".into()),
         };
         Ok(Study {
             name,
-            scene,
             set: file.set,
             petsc: file.petsc,
             observe: file.observe.unwrap_or_else(|| DEFAULT_OBSERVE.iter().map(|s| s.to_string()).collect()),
             estimate_from,
-            cases: cases.into_iter().enumerate().map(|(index, set)| Case { index, set }).collect(),
+            cases: resolved,
         })
+    }
+
+    /// The scenes of the cases, each once, in order of first appearance.
+    pub fn scenes(&self) -> Vec<&str> {
+        let mut out: Vec<&str> = Vec::new();
+        for c in &self.cases {
+            if !out.contains(&c.scene.as_str()) {
+                out.push(&c.scene);
+            }
+        }
+        out
+    }
+
+    /// The columns of summary.csv that tell cases apart: `scene` when cases have their own
+    /// scenes, then the override keys.
+    pub fn label_keys(&self) -> Vec<String> {
+        let scene = self.per_case_scenes().then(|| "scene".to_string());
+        scene.into_iter().chain(self.keys()).collect()
+    }
+
+    /// Whether some case has its own scene (summary.csv then has a `scene` column).
+    pub fn per_case_scenes(&self) -> bool {
+        self.cases.iter().any(|c| c.own_scene.is_some())
     }
 
     /// Every override of a case: the study's, then the case's own.
@@ -284,9 +339,31 @@ mod tests {
         let msg = |t: &str| parse(t).unwrap_err().to_string();
         assert!(msg("scene = \"x\"\n").contains("no cases"));
         assert!(msg("scene = \"x\"\nbogus = 1\n[[case]]\nset=[]\n").contains("bogus"));
-        assert!(msg("[[case]]\nset=[]\n").contains("scene"));
+        assert!(msg("[[case]]\nset=[]\n").contains("missing field `scene`"));
         assert!(msg("scene = \"x\"\n[[grid]]\nkey = \"a\"\nvalues = []\n").contains("no values"));
         assert!(msg("scene = \"x\"\n[[grid]]\nkeys = [\"a\", \"b\"]\nvalues = [[1]]\n").contains("list of 2"));
         assert!(msg("scene = \"x\"\n[[grid]]\nkey = \"a\"\nvalues = [1]\n[[case]]\nset=[]\n").contains("not both"));
+    }
+
+    #[test]
+    fn cases_with_their_own_scenes() {
+        // Without a base scene every case names one; with one, a case may replace it.
+        let s =
+            parse("[[case]]\nscene = \"remodel_40\"\nset = [\"a=1\"]\n[[case]]\nscene = \"dir/my.toml\"\n").unwrap();
+        assert_eq!((s.cases[0].scene.as_str(), s.cases[1].scene.as_str()), ("remodel_40", "dir/my.toml"));
+        assert_eq!(s.cases[0].label(), "scene=remodel_40 a=1");
+        assert_eq!(s.cases[0].dir_name(), "000_remodel_40__a-1");
+        assert_eq!(s.cases[1].dir_name(), "001_my");
+        assert_eq!(s.scenes(), ["remodel_40", "dir/my.toml"]);
+        assert!(s.per_case_scenes());
+        let s =
+            parse("scene = \"x\"\n[[case]]\nset = []\n[[case]]\nscene = \"y\"\nset = []\n[[case]]\nscene = \"x\"\n")
+                .unwrap();
+        assert_eq!(s.scenes(), ["x", "y"]);
+        assert_eq!((s.cases[0].own_scene.as_deref(), s.cases[0].dir_name().as_str()), (None, "000_base"));
+        let g = parse("scene = \"x\"\n[[grid]]\nkey = \"a\"\nvalues = [1]\n").unwrap();
+        assert!(!g.per_case_scenes() && g.cases[0].scene == "x");
+        let e = parse("[[case]]\nscene = \"x\"\n[[case]]\nset = []\n").unwrap_err().to_string();
+        assert!(e.contains("case 1 has none"), "{e}");
     }
 }

@@ -106,7 +106,11 @@ pub enum State {
 pub fn write(root: &Path, study: &Study, states: &[(Case, State, String)]) -> Result<()> {
     let keys = study.keys();
     let mut out = String::new();
+    let scenes = study.per_case_scenes();
     let mut header: Vec<String> = vec!["case".into()];
+    if scenes {
+        header.push("scene".into());
+    }
     header.extend(keys.iter().cloned());
     header.push("status".into());
     header.extend(COUNTERS.iter().map(|(c, _)| c.to_string()));
@@ -117,6 +121,9 @@ pub fn write(root: &Path, study: &Study, states: &[(Case, State, String)]) -> Re
     for (case, state, dir) in states {
         let pairs = case.pairs();
         let mut row: Vec<String> = vec![case.index.to_string()];
+        if scenes {
+            row.push(case.own_scene.clone().unwrap_or_else(|| case.scene.clone()));
+        }
         for k in &keys {
             row.push(pairs.iter().rev().find(|(pk, _)| pk == k).map(|(_, v)| v.clone()).unwrap_or_default());
         }
@@ -212,7 +219,7 @@ pub fn read_wall_times(path: &Path, study: &Study) -> Result<BTreeMap<Vec<(Strin
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, format!("estimate_from: {e}")))?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
-    let keys = study.keys();
+    let keys = study.label_keys();
     let wall = header.iter().position(|h| *h == "wall_s");
     let cols: Vec<Option<usize>> = keys.iter().map(|k| header.iter().position(|h| h == k)).collect();
     let Some(wall) = wall else {
@@ -233,11 +240,15 @@ pub fn read_wall_times(path: &Path, study: &Study) -> Result<BTreeMap<Vec<(Strin
     Ok(out)
 }
 
-/// A case's overrides in the form [`read_wall_times`] keys them (the last value of each key, by key).
+/// A case's overrides in the form [`read_wall_times`] keys them (the last value of each key, by
+/// key; `scene`: the case's scene as summary.csv shows it).
 pub fn label_key(case: &Case, keys: &[String]) -> Vec<(String, String)> {
     let pairs = case.pairs();
     keys.iter()
-        .filter_map(|k| pairs.iter().rev().find(|(pk, _)| pk == k).map(|(_, v)| (k.clone(), v.clone())))
+        .filter_map(|k| match k.as_str() {
+            "scene" => Some((k.clone(), case.own_scene.clone().unwrap_or_else(|| case.scene.clone()))),
+            _ => pairs.iter().rev().find(|(pk, _)| pk == k).map(|(_, v)| (k.clone(), v.clone())),
+        })
         .collect()
 }
 
