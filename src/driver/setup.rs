@@ -20,7 +20,7 @@ use crate::physics::bc::{self, Constraint};
 use crate::physics::contact::{Drainage, PlateLoading, Plates, DEFAULT_SEAL_GAP};
 use crate::physics::experiment::Experiment;
 use crate::physics::factory::{ellipticity_warning, model_of};
-use crate::physics::observers::Observers;
+use crate::physics::observers::{mid_edge_nodes, Observers};
 use crate::physics::probe::Probe;
 use crate::physics::problem::{mean_element_size, PoroProblem};
 use crate::physics::verification::exact_columns;
@@ -356,6 +356,7 @@ impl<'w> Run<'w> {
             exact: exact_columns(scene)?,
             remodelling: ts.problem().has_qp_state(),
             fields: s.output.fields,
+            mid_edges: if s.output.fields { mid_edge_nodes(ts.problem().mesh()) } else { Vec::new() },
         };
         let settle = s.plates.is_some()
             && matches!(&s.material, Material::HolmesMow { gravity, .. } if gravity.iter().any(|g| *g != 0.0));

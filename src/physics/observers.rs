@@ -27,6 +27,9 @@ pub struct Observers {
     pub remodelling: bool,
     /// Write fields at all.
     pub fields: bool,
+    /// The owned mid-edge nodes and their edges' ends ([`mid_edge_nodes`]): where the fields show
+    /// the P1 pressure interpolated (empty without fields).
+    pub mid_edges: Vec<(usize, usize, usize)>,
 }
 
 /// A converged state sampled for output: its local (owned + ghost) values, post-processed when
@@ -153,7 +156,7 @@ impl Observers {
         let fields = match (sample, fields && self.fields) {
             (Sample::Post(post), true) => {
                 let post = *post;
-                let (u, p) = node_fields(problem, &post.local);
+                let (u, p) = node_fields(problem, &post.local, &self.mid_edges);
                 Some(StepFields {
                     u,
                     p,
@@ -173,7 +176,7 @@ impl Observers {
 
 /// u (three components) and p at the owned nodes from the local state: p of a mid-edge node is
 /// the mean of its edge's ends.
-fn node_fields(problem: &PoroProblem, local: &[f64]) -> (Vec<f64>, Vec<f64>) {
+fn node_fields(problem: &PoroProblem, local: &[f64], mid_edges: &[(usize, usize, usize)]) -> (Vec<f64>, Vec<f64>) {
     let (mesh, dofs) = (&problem.disc.mesh, &problem.disc.dofs);
     let n = mesh.n_owned_nodes;
     let nc = dofs.nc;
@@ -190,7 +193,7 @@ fn node_fields(problem: &PoroProblem, local: &[f64]) -> (Vec<f64>, Vec<f64>) {
             *pv = local[dofs.p_local(v as usize)];
         }
     }
-    for (m, a, b) in mid_edge_nodes(mesh) {
+    for &(m, a, b) in mid_edges {
         let pa = local[dofs.p_local(mesh.vertex_of_node[a] as usize)];
         let pb = local[dofs.p_local(mesh.vertex_of_node[b] as usize)];
         p[m] = 0.5 * (pa + pb);
@@ -199,7 +202,7 @@ fn node_fields(problem: &PoroProblem, local: &[f64]) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// (mid-edge node, end a, end b) for owned mid-edge nodes, to show P1 pressure on P2 nodes.
-fn mid_edge_nodes(mesh: &LocalMesh) -> Vec<(usize, usize, usize)> {
+pub fn mid_edge_nodes(mesh: &LocalMesh) -> Vec<(usize, usize, usize)> {
     let mut seen = vec![false; mesh.n_owned_nodes];
     let mut out = Vec::new();
     let nv = mesh.family.cell_vertices();
