@@ -3,7 +3,8 @@
 //! scene: ramp 2 s to ũ = 0.3, hold to 8 s, release by 10 s, rest to 12 s; h = 40, h_pole = 12.
 //! Checks the protocol's behaviour, exact balances (fluid mass, weight), non-penetration,
 //! 1 vs 2 ranks, quarter vs mirrored full sphere, the long-hold drained limit, the assembled
-//! Jacobian against central differences, and quadratic Newton convergence.
+//! Jacobian against central differences, and quadratic Newton convergence; and the same protocol,
+//! balances and Jacobian with equal-order P1–P1 (contact on the vertices).
 
 mod common;
 use common::*;

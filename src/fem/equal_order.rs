@@ -140,4 +140,18 @@ mod tests {
         // p rows untouched.
         assert_eq!(r[30..], r0[30..]);
     }
+
+    /// Folded forces keep each component's total (a reaction sum over vertices is the whole
+    /// element's force) and leave nothing on the mid-edge rows.
+    #[test]
+    fn folded_forces_keep_the_total_on_the_vertices() {
+        let r0: [f64; NDOF] = std::array::from_fn(|i| (i as f64 * 0.61).cos());
+        let mut r = r0;
+        fold_forces(&mut r);
+        for c in 0..3 {
+            let total = |r: &[f64; NDOF], nodes: std::ops::Range<usize>| nodes.map(|n| r[3 * n + c]).sum::<f64>();
+            assert!((total(&r, 0..4) - total(&r0, 0..10)).abs() < 1e-12);
+            assert_eq!(total(&r, 4..10), 0.0);
+        }
+    }
 }
