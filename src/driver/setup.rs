@@ -123,8 +123,30 @@ fn plates(
         seal_gap: ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * ps.radius),
         gap: ps.drainage_gap,
     };
-    let plates = Plates::new(loading, ps.radius, local, &faces, anchor, drain);
+    let plates = Plates::new(loading, ps.radius, local, &faces, anchor, drain, scene.scene.fem.equal_order());
     Ok(Some((plates, faces)))
+}
+
+/// The stabilisation's fade τ₀ of the run: the scene's for Taylor–Hood; none (the constant
+/// weight) for equal-order P1–P1, noted in the log line `solver_line` if the scene asked for one.
+///
+/// Why: for Taylor–Hood the term only keeps the undrained limit monotone, and a step that
+/// resolves the drainage layer no longer needs it. P1–P1 fails the inf–sup condition itself:
+/// the projection term is what controls its spurious pressure modes (Dohrmann & Bochev), and
+/// the Darcy term k Δt ∫ ∇p·∇q, which also damps them once τ = c_v Δt / h² is of order one,
+/// does not yet at the fade's τ₀ (0.03 in the reference scene): a faded P1–P1 step would have
+/// neither.
+fn stabilisation_fade(s: &crate::scene::Scene, solver_line: &mut String) -> Option<f64> {
+    match (s.fem.equal_order(), s.fem.stabilisation_fade) {
+        (true, Some(t)) => {
+            solver_line.push_str(&format!(
+                "\nfem.element = \"P1-P1\": pressure stabilisation at constant weight (fem.stabilisation_fade = {t} \
+                 is for Taylor-Hood; equal order needs the term for inf-sup stability)"
+            ));
+            None
+        }
+        (_, fade) => fade,
+    }
 }
 
 /// The initial state: zero, or the scene's affine displacement u = G X.
@@ -303,7 +325,7 @@ impl<'w> Run<'w> {
         let n_global_dofs = dofs.n_global;
         let fields = solver::Fields::new(world, &dofs, &local)?;
         let c = s.fem.stabilisation.unwrap_or(DEFAULT_STABILISATION);
-        let stabilisation = Stabilisation::new(c, s.fem.stabilisation_fade, model.as_ref());
+        let stabilisation = Stabilisation::new(c, stabilisation_fade(s, &mut solver_line), model.as_ref());
         let tab = tabulate_cell(local.family, &q);
         let mut problem = PoroProblem::new(
             world.duplicate(),

@@ -10,8 +10,17 @@
 //! Galerkin rows are the P2 rows combined, r_a + ½ Σ r_m. The element residual and Jacobian are
 //! transformed in their rows only: the columns keep the mid-edge unknowns, which the tie rows
 //! s (u_m − ½ (u_a + u_b)) fix exactly (s = M h, a stiffness of the size of the other rows).
-//! Loads on mid-edge nodes move to the vertices the same way ([`tie_loads`]). Contact acts on
-//! mid-edge nodes, so the plates refuse this element.
+//! Loads on mid-edge nodes move to the vertices the same way ([`tie_loads`]), and so do the
+//! nodal forces of post-processing (`fem::kernel`'s `post`: a contact vertex's reaction
+//! includes the halves of its edges' mid-edge rows).
+//!
+//! Contact: the plates bound the vertices' u_z only (`physics::contact::Plates::new`); a
+//! mid-edge node is its edge's slave, so it carries no bound, is never active and is never a
+//! contact node, and the drainage's contact state is the vertices' gaps (as for P2–P1). The
+//! plates' predictor moves vertices only; [`tie_nodes`] puts the mid-edge nodes back on their
+//! edges. Between two contact vertices a face keeps its reference curvature (the geometry is
+//! isoparametric P2, the displacement linear), so `max_penetration` reports about the sagitta
+//! h²/8R of the contact faces.
 
 use super::element::{ElementMatrix, MAX_DOF as NDOF};
 use crate::mesh::dist::LocalMesh;
@@ -22,17 +31,30 @@ fn edges() -> impl Iterator<Item = (usize, usize, usize)> {
     TET10_EDGES.iter().enumerate().map(|(e, &(a, b))| (4 + e, a, b))
 }
 
-/// Transforms one element's residual `r` (its contribution only) to P1 rows and tie rows, at
-/// nodal displacements `u`, tie stiffness `s`.
-pub fn tie_residual(r: &mut [f64; NDOF], u: &[[f64; 3]; 10], s: f64) {
+/// Moves half of each mid-edge u row of `r` to each of its edge's vertices' rows (the P1
+/// combination) and puts `tie(m, a, b, i)` in its place.
+fn fold_rows(r: &mut [f64; NDOF], tie: impl Fn(usize, usize, usize, usize) -> f64) {
     for (m, a, b) in edges() {
         for i in 0..3 {
             let rm = r[3 * m + i];
             r[3 * a + i] += 0.5 * rm;
             r[3 * b + i] += 0.5 * rm;
-            r[3 * m + i] = s * (u[m][i] - 0.5 * (u[a][i] + u[b][i]));
+            r[3 * m + i] = tie(m, a, b, i);
         }
     }
+}
+
+/// Transforms one element's residual `r` (its contribution only) to P1 rows and tie rows, at
+/// nodal displacements `u`, tie stiffness `s`.
+pub fn tie_residual(r: &mut [f64; NDOF], u: &[[f64; 3]; 10], s: f64) {
+    fold_rows(r, |m, a, b, i| s * (u[m][i] - 0.5 * (u[a][i] + u[b][i])));
+}
+
+/// The P1 rows of a part of the nodal forces (the pressure part of post-processing): the
+/// mid-edge rows moved to the vertices, nothing left on the tie rows (whose residual is not a
+/// force).
+pub fn fold_forces(r: &mut [f64; NDOF]) {
+    fold_rows(r, |_, _, _, _| 0.0);
 }
 
 /// The same transformation of one element's Jacobian rows (the derivative of
@@ -53,21 +75,33 @@ pub fn tie_jacobian(k: &mut ElementMatrix, s: f64) {
     }
 }
 
+/// Every local mid-edge node once, with its edge's vertices (local node numbers).
+fn local_edges(mesh: &LocalMesh) -> impl Iterator<Item = (usize, usize, usize)> + '_ {
+    let mut done = vec![false; mesh.coords.len()];
+    mesh.cells
+        .iter()
+        .flat_map(|t| edges().map(move |(m, a, b)| (t[m] as usize, t[a] as usize, t[b] as usize)))
+        .filter(move |&(m, _, _)| !std::mem::replace(&mut done[m], true))
+}
+
 /// Moves external loads on mid-edge u dofs (local layout: u of local node n at 3n + c) to the
 /// edge's vertices, half to each.
 pub fn tie_loads(ext: &mut [f64], mesh: &LocalMesh) {
-    let mut done = vec![false; mesh.coords.len()];
-    for t in &mesh.cells {
-        for (m, a, b) in edges() {
-            let (m, a, b) = (t[m] as usize, t[a] as usize, t[b] as usize);
-            if std::mem::replace(&mut done[m], true) {
-                continue;
-            }
-            for i in 0..3 {
-                let f = std::mem::take(&mut ext[3 * m + i]);
-                ext[3 * a + i] += 0.5 * f;
-                ext[3 * b + i] += 0.5 * f;
-            }
+    for (m, a, b) in local_edges(mesh) {
+        for i in 0..3 {
+            let f = std::mem::take(&mut ext[3 * m + i]);
+            ext[3 * a + i] += 0.5 * f;
+            ext[3 * b + i] += 0.5 * f;
+        }
+    }
+}
+
+/// Puts every local mid-edge node's displacement back on its edge, u_m = ½ (u_a + u_b) (local
+/// layout as in [`tie_loads`]): the state the tie rows hold, for a predictor that moved vertices.
+pub fn tie_nodes(u: &mut [f64], mesh: &LocalMesh) {
+    for (m, a, b) in local_edges(mesh) {
+        for i in 0..3 {
+            u[3 * m + i] = 0.5 * (u[3 * a + i] + u[3 * b + i]);
         }
     }
 }
@@ -105,5 +139,19 @@ mod tests {
         }
         // p rows untouched.
         assert_eq!(r[30..], r0[30..]);
+    }
+
+    /// Folded forces keep each component's total (a reaction sum over vertices is the whole
+    /// element's force) and leave nothing on the mid-edge rows.
+    #[test]
+    fn folded_forces_keep_the_total_on_the_vertices() {
+        let r0: [f64; NDOF] = std::array::from_fn(|i| (i as f64 * 0.61).cos());
+        let mut r = r0;
+        fold_forces(&mut r);
+        for c in 0..3 {
+            let total = |r: &[f64; NDOF], nodes: std::ops::Range<usize>| nodes.map(|n| r[3 * n + c]).sum::<f64>();
+            assert!((total(&r, 0..4) - total(&r0, 0..10)).abs() < 1e-12);
+            assert_eq!(total(&r, 4..10), 0.0);
+        }
     }
 }

@@ -375,6 +375,12 @@ impl<C: CellShape> CellKernel for ElementKernel<'_, C> {
         if self.stab.c_s > 0.0 {
             proj.residual::<C>(self.stab.weight::<C>(proj.measure, e.dt), &mut out.r);
         }
+        // Equal order: the nodal forces of the P1 rows, as the residual has them (the reaction
+        // of a contact vertex includes what its edges' tie rows move to it).
+        if self.equal_order {
+            equal_order::tie_residual(&mut out.r, &e.values.u, self.tie_stiffness(proj.measure));
+            equal_order::fold_forces(&mut out.r_pressure);
+        }
         let v = out.volume;
         out.j /= v;
         out.porosity /= v;

@@ -94,7 +94,8 @@ pub struct Plates {
     pub loading: PlateLoading,
     /// Height of the upper plate's bottom face (2R).
     pub z_upper: f64,
-    /// Local nodes of the contact surface and their reference heights.
+    /// Local nodes of the contact surface (their vertices only for P1–P1, see `new`) and their
+    /// reference heights: the nodes with bounds, the contact nodes of the observables.
     pub nodes: Vec<usize>,
     z_ref: Vec<f64>,
     /// How the surface drains (module docs).
@@ -123,7 +124,11 @@ pub struct Drainage {
 
 impl Plates {
     /// `faces`: local faces of the contact surface; `anchor`: the local node of the bottom
-    /// pole, if on this rank; `drain` the surface's drainage (module docs).
+    /// pole, if on this rank; `drain` the surface's drainage (module docs); `on_vertices`:
+    /// contact on the faces' vertices only, for equal-order P1–P1, whose mid-edge nodes are
+    /// slaves of their edges (`fem::equal_order`): a bound there would contradict the tie row
+    /// (on a curved face the mid-edge node of two vertices on a plate lies beyond it by the
+    /// face's sagitta).
     ///
     /// The anchor's contact is bilateral (bounds lo = hi = u(t)): gravity keeps the aggregate on
     /// the lower plate throughout, but when the upper contact opens on release, the vertical
@@ -138,9 +143,11 @@ impl Plates {
         faces: &[u32],
         anchor: Option<usize>,
         drain: Drainage,
+        on_vertices: bool,
     ) -> Plates {
+        let per_face = if on_vertices { mesh.family.face_vertices() } else { mesh.family.face_nodes() };
         let mut nodes: Vec<usize> =
-            faces.iter().flat_map(|&f| mesh.face(f as usize).iter().map(|&n| n as usize)).collect();
+            faces.iter().flat_map(|&f| mesh.face(f as usize)[..per_face].iter().map(|&n| n as usize)).collect();
         nodes.sort_unstable();
         nodes.dedup();
         let z_ref = nodes.iter().map(|&n| mesh.coords[n][2]).collect();

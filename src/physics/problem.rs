@@ -531,6 +531,27 @@ impl PoroProblem {
         equal_order::tie_loads(&mut self.external, &self.disc.mesh);
     }
 
+    /// Equal order: puts the mid-edge displacements of `x` (owned entries) back on their edges,
+    /// where the plates' predictor moved only vertices (`fem::equal_order::tie_nodes`). Why:
+    /// the tie rows would restore them in the first Newton step anyway, but the guess's
+    /// compaction check and first residual would see elements bent by the predictor's jump.
+    /// Nothing for Taylor–Hood.
+    fn retie(&mut self, x: &mut Vector) -> Result<()> {
+        if !self.disc.equal_order {
+            return Ok(());
+        }
+        self.scatter.forward(x, &mut self.u_loc)?;
+        let mut ul = self.u_loc.write()?;
+        equal_order::tie_nodes(&mut ul, &self.disc.mesh);
+        let mut xw = x.write()?;
+        for (l, &v) in ul.iter().enumerate().take(self.disc.dofs.n_u_local()) {
+            if let Some(i) = self.disc.dofs.local_to_owned(l) {
+                xw[i] = v;
+            }
+        }
+        Ok(())
+    }
+
     /// The state whose gaps set the last step's drainage (local layout), if not its solution:
     /// the predictor's, with `DrainageGap::Predicted`.
     pub fn drainage_gaps(&self) -> Option<&[f64]> {
@@ -784,8 +805,10 @@ impl TsProblem for PoroProblem {
             x.axpy(t1 - t0, v)?;
         }
         pl.predict(t0, t1, &self.disc.dofs, &x0, &mut x.write()?);
+        let predicted_gap = pl.drain.gap == DrainageGap::Predicted;
+        self.retie(x)?;
         // The drainage gaps are the extrapolation's, whatever guess the Newton solve starts from.
-        if pl.drain.gap == DrainageGap::Predicted {
+        if predicted_gap {
             self.scatter.forward(x, &mut self.u_loc)?;
             let predicted = self.predicted.get_or_insert_with(Vec::new);
             predicted.clear();
@@ -805,6 +828,7 @@ impl TsProblem for PoroProblem {
                 &mut affine.write()?,
             );
             pl.predict(t0, t1, &self.disc.dofs, &x0, &mut affine.write()?);
+            self.retie(&mut affine)?;
             if self.compaction_admissible(&affine)? {
                 x.copy_from(&affine)?;
             }

@@ -477,11 +477,14 @@ pub struct FemSpec {
     #[serde(default)]
     pub stabilisation: Option<f64>,
     /// τ₀: the stabilisation fades as a step resolves the drainage, weight c (1 − (τ/τ₀)²)₊ with
-    /// τ = c_v Δt / h² (`fem::kernel::Stabilisation`; default: constant).
+    /// τ = c_v Δt / h² (`fem::kernel::Stabilisation`; default: constant). Taylor–Hood only:
+    /// P1–P1 keeps the constant weight, which its inf–sup stability needs.
     #[serde(default)]
     pub stabilisation_fade: Option<f64>,
     /// The element: "P2-P1" (Taylor–Hood, default) or "P1-P1" (equal order, unstable without
-    /// the stabilisation; `fem::equal_order`). Not with plates.
+    /// the stabilisation; `fem::equal_order`). With plates, P1–P1's contact bounds and contact
+    /// state are on the vertices (its mid-edge nodes follow their edges); its stabilisation
+    /// keeps the constant weight (`stabilisation_fade` is for Taylor–Hood only).
     #[serde(default)]
     pub element: Option<Element>,
 }
@@ -864,9 +867,6 @@ impl LoadedScene {
             if !(t.is_finite() && t > 0.0) {
                 return Err(self.err(format!("fem.stabilisation_fade = {t}: must be positive (omit it for none)")));
             }
-        }
-        if s.fem.equal_order() && s.plates.is_some() {
-            return Err(self.err("fem.element = \"P1-P1\": not with plates (contact acts on mid-edge nodes)"));
         }
         if let Some(q) = s.fem.quadrature_degree {
             if !(1..=8).contains(&q) {
