@@ -25,8 +25,8 @@
 //!   from its last checkpoint ([`driver::resume`]); a failed case runs again.
 //! - A stop signal (SIGTERM, SIGINT, SIGUSR1) makes running cases checkpoint and stop (the
 //!   driver's own handling), and every group stop before its next case; exit code 75 then.
-//!   A signal that arrives while a case is being set up, before its time loop, stops the sweep
-//!   after that case.
+//!   A signal that arrives while a case is being set up, before its time loop, is the
+//!   process's (src/driver/signals.rs): the case stops at the end of its first step.
 //! - summary.csv is rewritten by a group's leader after each case and by world rank 0 at the
 //!   end, in case order, so a killed sweep leaves a usable partial one.
 
