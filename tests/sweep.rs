@@ -368,3 +368,63 @@ fn petsc_options_do_not_pass_from_a_case_to_the_next() {
     let newton = |dir: &Path| History::read(dir).col("newton_its").iter().sum::<f64>();
     assert!(newton(&dirs[0]) < newton(&dirs[2]), "the loose tolerance of the first case had no effect");
 }
+
+/// Every file under `dir` (relative path, contents), sorted.
+fn snapshot(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                todo.push(p);
+            } else {
+                out.push((p.strip_prefix(dir).unwrap().to_path_buf(), std::fs::read(&p).unwrap()));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn a_session_with_other_petsc_options_is_refused() {
+    // The command line's `-- OPTIONS` are part of a sweep: a later session with others would
+    // skip cases run with the first ones and run (or resume) the rest with its own.
+    let d = scratch("sweep_options");
+    let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
+    let study = d.join("opts.toml");
+    std::fs::write(&study, format!("scene = \"reference_axi\"\nset = [{}]\n[[case]]\nset = []\n", set.join(", ")))
+        .unwrap();
+    let root = d.join("sweep");
+    let session = |petsc: &[&str]| {
+        let (s, r) = (study.display().to_string(), root.display().to_string());
+        let mut args = vec!["sweep", &s, "--out", &r, "-k", "1"];
+        if !petsc.is_empty() {
+            args.push("--");
+            args.extend(petsc);
+        }
+        poroplast(1, &args)
+    };
+    ok(&session(&["-snes_rtol", "1e-9"]), "the first session");
+    let recorded = std::fs::read_to_string(root.join("sweep.toml")).unwrap();
+    assert!(recorded.contains("-snes_rtol") && recorded.contains("1e-9"), "{recorded}");
+    let before = snapshot(&root);
+    for other in [&[][..], &["-snes_rtol", "1e-6"], &["-snes_rtol", "1e-9", "-ksp_rtol", "1e-12"]] {
+        let out = session(other);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{other:?} accepted: {stderr}");
+        assert!(
+            stderr.contains("`-snes_rtol 1e-9`") && stderr.contains("sweep.toml") && stderr.contains("same options"),
+            "{other:?}: {stderr}"
+        );
+        if let [_, v, ..] = other {
+            assert!(stderr.contains(v), "{other:?}: {stderr}");
+        } else {
+            assert!(stderr.contains("given none"), "{stderr}");
+        }
+        assert!(snapshot(&root) == before, "{other:?}: the sweep directory was changed");
+    }
+    let stdout = ok(&session(&["-snes_rtol", "1e-9"]), "the same options again");
+    assert!(stdout.contains("1 already complete, 0 to run"), "{stdout}");
+}

@@ -155,7 +155,7 @@ impl<'w> Run<'w> {
             its.1,
             its.1 as f64 / its.0.max(1) as f64,
             t_start.elapsed().as_secs_f64(),
-            human(eta)
+            crate::io::fmt_duration(eta)
         ));
     }
 
@@ -217,14 +217,4 @@ fn peak_rss_mib() -> f64 {
             s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
         })
         .map_or(f64::NAN, |kib| kib / 1024.0)
-}
-
-fn human(s: f64) -> String {
-    if s < 60.0 {
-        format!("{s:.0}s")
-    } else if s < 3600.0 {
-        format!("{}m{:02}s", (s / 60.0) as u64, (s % 60.0) as u64)
-    } else {
-        format!("{}h{:02}m", (s / 3600.0) as u64, ((s % 3600.0) / 60.0) as u64)
-    }
 }

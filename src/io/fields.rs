@@ -29,7 +29,7 @@
 //! A `Temporal` collection with one `Uniform` grid per step. Every grid points at the same
 //! `/mesh/coordinates` and `/mesh/topology` datasets (the mesh is stored once) and at that step's
 //! `/fields/...` datasets. Before the first step the XDMF holds a single `Uniform` grid with the
-//! bare mesh. Rank 0 rewrites it after every step, to `fields.xdmf.tmp` then renamed over
+//! bare mesh. Rank 0 rewrites it after every step, to `fields.xdmf.<pid>.tmp` then renamed over
 //! `fields.xdmf`, and only after the step's data were flushed, so a run that is still going or has
 //! crashed can be opened and shows every completed step.
 //!

@@ -16,9 +16,27 @@ pub fn fmt_real(v: f64) -> String {
     }
 }
 
+/// A duration of `s` seconds for a progress line: `42s`, `3m07s`, `2h05m`.
+pub(crate) fn fmt_duration(s: f64) -> String {
+    if s < 60.0 {
+        format!("{s:.0}s")
+    } else if s < 3600.0 {
+        format!("{}m{:02}s", (s / 60.0) as u64, (s % 60.0) as u64)
+    } else {
+        format!("{}h{:02}m", (s / 3600.0) as u64, ((s % 3600.0) / 60.0) as u64)
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::fmt_real;
+    use super::{fmt_duration, fmt_real};
+
+    #[test]
+    fn durations() {
+        assert_eq!(fmt_duration(42.4), "42s");
+        assert_eq!(fmt_duration(187.0), "3m07s");
+        assert_eq!(fmt_duration(7500.0), "2h05m");
+    }
 
     #[test]
     fn fmt_real_round_trips() {

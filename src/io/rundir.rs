@@ -100,18 +100,24 @@ fn hostname() -> String {
     std::fs::read_to_string("/proc/sys/kernel/hostname").map(|h| h.trim().to_string()).unwrap_or_else(|_| "?".into())
 }
 
-/// Makes `path` by `write(tmp)` into `path.tmp` (its directory created if missing), then renames
-/// it over `path`: a reader, or a resume after a kill, finds the old file or the new one, never a
-/// part of one.
+/// Makes `path` by `write(tmp)` into `path.<pid>.tmp` (its directory created if missing), then
+/// renames it over `path`: a reader, or a resume after a kill, finds the old file or the new one,
+/// never a part of one. The temporary name is this process's, so several processes may write the
+/// same file (a sweep's groups, its summary.csv): each rename installs a whole one.
 pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
     let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
+    tmp.push(format!(".{}.tmp", std::process::id()));
     let tmp = PathBuf::from(tmp);
     write(&tmp)?;
     std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
+}
+
+/// [`write_atomically`] of a text.
+pub fn write_text_atomically(path: &Path, text: &str) -> Result<()> {
+    write_atomically(path, |tmp| std::fs::write(tmp, text).map_err(|e| Error::io(tmp, e)))
 }
 
 /// Writes `contents` to `dir/name` (a plain file name, no separators), replacing any old file;

@@ -14,7 +14,8 @@
 //!   rsmpi 0.8 has no one-sided atomics. The file system the run directories need anyway is
 //!   the coordinator.)
 //! - The sweep directory (`--out`, default `runs/sweep-<study>-<UTC time>`) holds `study.toml`
-//!   (the study file, which a later session must match), `summary.csv`, `claims/` (this
+//!   (the study file) and `sweep.toml` (the command line's `-- PETSC OPTIONS`), both written at
+//!   the first session, which a later session must match; `summary.csv`, `claims/` (this
 //!   session's), and `cases/NNN_<overrides>/`, each case's run directory with `case.toml`, its
 //!   outcome, once it has ended.
 //! - A failed case (a bad override, a solve that does not converge) is recorded with its error
@@ -24,8 +25,8 @@
 //!   from its last checkpoint ([`driver::resume`]); a failed case runs again.
 //! - A stop signal (SIGTERM, SIGINT, SIGUSR1) makes running cases checkpoint and stop (the
 //!   driver's own handling), and every group stop before its next case; exit code 75 then.
-//!   A signal that arrives while a case is being set up, before its time loop, stops the sweep
-//!   after that case.
+//!   A signal that arrives while a case is being set up, before its time loop, is the
+//!   process's (src/driver/signals.rs): the case stops at the end of its first step.
 //! - summary.csv is rewritten by a group's leader after each case and by world rank 0 at the
 //!   end, in case order, so a killed sweep leaves a usable partial one.
 
@@ -94,7 +95,7 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
         }
     };
     // The directory (locked for the session), and the cases' order, by rank 0.
-    let _lock = agree(world, open_dir(&root, &text, world.rank() == 0))?;
+    let _lock = agree(world, open_dir(&root, &text, &args.petsc, world.rank() == 0))?;
     let mut order: Vec<u64> = on_root(world, || {
         schedule::reset_claims(&root)?;
         let todo = schedule::todo(&root, &study);
@@ -133,7 +134,7 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
     world.barrier();
     let written = on_root(world, || {
         schedule::reset_claims(&root)?;
-        write_summary(&root, &study)
+        write_summary(&root, &study).map(drop)
     });
     let code = match &r {
         Ok(()) => 0,
@@ -154,10 +155,11 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
     written?;
     if worst == 1 {
         return Err(Error::Stopped(format!(
-            "sweep stopped by a signal; running cases checkpointed. Continue with `poroplast sweep {} --out {}` \
+            "sweep stopped by a signal; running cases checkpointed. Continue with `poroplast sweep {} --out {}{}` \
              (and the same --ranks-per-case or another)",
             args.study.display(),
-            root.display()
+            root.display(),
+            if args.petsc.is_empty() { String::new() } else { format!(" -- {}", args.petsc.join(" ")) }
         )));
     }
     let failed = on_root(world, || {
@@ -180,8 +182,10 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
 }
 
 /// Creates or reopens the sweep directory (rank 0) and locks it for this session: a directory
-/// of another study, or one that is not a sweep's, is refused untouched.
-fn open_dir(root: &Path, text: &str, is_root: bool) -> Result<rundir::RunLock> {
+/// of another study, of the same study with other command-line PETSc options (`petsc`), or one
+/// that is not a sweep's, is refused untouched. The study file and the options are written at
+/// the first session (atomically, each only when absent: a later session rewrites neither).
+fn open_dir(root: &Path, text: &str, petsc: &[String], is_root: bool) -> Result<rundir::RunLock> {
     if is_root {
         let copy = root.join("study.toml");
         match std::fs::read_to_string(&copy) {
@@ -192,7 +196,9 @@ fn open_dir(root: &Path, text: &str, is_root: bool) -> Result<rundir::RunLock> {
                      choose another --out",
                 ))
             }
-            Ok(_) => {}
+            Ok(_) => {
+                same_options(root, petsc)?;
+            }
             Err(_) if root.is_dir() && std::fs::read_dir(root).map_or(true, |mut d| d.next().is_some()) => {
                 return Err(Error::io(root, "exists, is not empty and is not a sweep directory: choose another --out"))
             }
@@ -201,13 +207,69 @@ fn open_dir(root: &Path, text: &str, is_root: bool) -> Result<rundir::RunLock> {
     }
     let lock = rundir::lock(root, is_root)?;
     if is_root {
-        rundir::write_text(root, "study.toml", text)?;
+        // Again with the lock held (a session may have ended between the look above and the
+        // lock); study.toml before sweep.toml, so that a directory with a study.toml is a sweep's.
+        let copy = root.join("study.toml");
+        if !copy.exists() {
+            rundir::write_text_atomically(&copy, text)?;
+        }
+        if !same_options(root, petsc)? {
+            let record = SweepRecord { petsc: petsc.to_vec() };
+            let path = root.join(SweepRecord::FILE);
+            let toml = toml::to_string(&record).map_err(|e| Error::io(&path, e))?;
+            rundir::write_text_atomically(
+                &path,
+                &format!("# the PETSc options (`-- OPTIONS`) of every session of this sweep\n{toml}"),
+            )?;
+        }
     }
     Ok(lock)
 }
 
-/// summary.csv from every case's state on disk.
-fn write_summary(root: &Path, study: &Study) -> Result<()> {
+/// What a sweep directory records of the command line (`sweep.toml`): its `-- PETSC OPTIONS`,
+/// which every session must repeat, so that every case of the sweep — run, resumed, or skipped
+/// as complete — runs with the same options.
+#[derive(Debug, serde::Serialize, serde::Deserialize)]
+struct SweepRecord {
+    petsc: Vec<String>,
+}
+
+impl SweepRecord {
+    const FILE: &'static str = "sweep.toml";
+}
+
+/// Whether the sweep directory `root` records command-line PETSc options (false: none yet, at
+/// the first session, or a sweep of an earlier version, which did not record them); an error if
+/// they are not `petsc`.
+fn same_options(root: &Path, petsc: &[String]) -> Result<bool> {
+    let path = root.join(SweepRecord::FILE);
+    let text = match std::fs::read_to_string(&path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(false),
+        Err(e) => return Err(Error::io(&path, e)),
+    };
+    let was: SweepRecord = toml::from_str(&text).map_err(|e| Error::io(&path, e.message().to_string()))?;
+    if was.petsc != petsc {
+        let show = |o: &[String]| if o.is_empty() { "none".to_string() } else { format!("`{}`", o.join(" ")) };
+        return Err(Error::io(
+            root,
+            format!(
+                "this sweep's cases run with the PETSc options (`-- OPTIONS`) {} (its {}), this session was given {}: \
+                 every case of a sweep runs with the same options — give the same ones, or choose another --out",
+                show(&was.petsc),
+                SweepRecord::FILE,
+                show(petsc)
+            ),
+        ));
+    }
+    Ok(true)
+}
+
+/// The state of a case claimed in this session that has not ended.
+const RUNNING: &str = "running";
+
+/// summary.csv from every case's state on disk; returns the states (case, state, run directory).
+fn write_summary(root: &Path, study: &Study) -> Result<Vec<(Case, State, String)>> {
     let states: Vec<(Case, State, String)> = study
         .cases
         .iter()
@@ -215,7 +277,7 @@ fn write_summary(root: &Path, study: &Study) -> Result<()> {
             let dir = case_dir(root, c);
             let state = match CaseResult::read(&dir, &study.overrides(c)) {
                 Some(r) => State::Ended(r),
-                None if schedule::claimed(root, c.index) => State::Open("running"),
+                None if schedule::claimed(root, c.index) => State::Open(RUNNING),
                 None if dir.join("run.toml").exists() => State::Open("interrupted"),
                 None => State::Open("pending"),
             };
@@ -223,7 +285,8 @@ fn write_summary(root: &Path, study: &Study) -> Result<()> {
             (c.clone(), state, rel)
         })
         .collect();
-    summary::write(root, study, &states)
+    summary::write(root, study, &states)?;
+    Ok(states)
 }
 
 /// One group of ranks, running cases one after another.
@@ -267,9 +330,9 @@ impl Group<'_> {
             on_root(self.comm, || {
                 let record = CaseResult::of(&dir, self.study.overrides(case), failed.clone(), &self.study.observe);
                 record.write(&dir)?;
-                write_summary(self.root, self.study)?;
+                let states = write_summary(self.root, self.study)?;
                 if self.args.progress {
-                    self.progress(case, &record, t.elapsed().as_secs_f64(), started, complete_before);
+                    self.progress(&states, case, &record, t.elapsed().as_secs_f64(), started, complete_before);
                 }
                 Ok(())
             })?;
@@ -295,6 +358,8 @@ impl Group<'_> {
             if self.leader() && self.args.progress {
                 println!("sweep: case {} ({}) continues its interrupted run", case.index, case.label());
             }
+            // Nothing added: the run's record holds the options it started with (the study's,
+            // then the command line's, which `open_dir` has checked are this session's too).
             return driver::resume(self.comm, &dir, &[], false);
         }
         let mut petsc = self.study.petsc.clone();
@@ -303,16 +368,24 @@ impl Group<'_> {
         driver::run(self.comm, &run)
     }
 
-    /// The progress line of a case just ended (the group's leader): the sweep's counts as the
-    /// sweep directory has them, and the ETA at the pace of this session.
-    fn progress(&self, case: &Case, r: &CaseResult, secs: f64, started: Instant, complete_before: usize) {
+    /// The progress line of a case just ended (the group's leader): the sweep's counts from the
+    /// `states` [`write_summary`] has just read, and the ETA at the pace of this session.
+    fn progress(
+        &self,
+        states: &[(Case, State, String)],
+        case: &Case,
+        r: &CaseResult,
+        secs: f64,
+        started: Instant,
+        complete_before: usize,
+    ) {
         let (mut ok, mut failed, mut running) = (0usize, 0usize, 0usize);
-        for c in &self.study.cases {
-            match CaseResult::read(&case_dir(self.root, c), &self.study.overrides(c)) {
-                Some(r) if r.ok() => ok += 1,
-                Some(_) => failed += 1,
-                None if schedule::claimed(self.root, c.index) => running += 1,
-                None => {}
+        for (_, state, _) in states {
+            match state {
+                State::Ended(r) if r.ok() => ok += 1,
+                State::Ended(_) => failed += 1,
+                State::Open(RUNNING) => running += 1,
+                State::Open(_) => {}
             }
         }
         let total = self.study.cases.len();
@@ -325,17 +398,7 @@ impl Group<'_> {
             case.index,
             case.label(),
             self.index,
-            human(eta)
+            crate::io::fmt_duration(eta)
         );
-    }
-}
-
-fn human(s: f64) -> String {
-    if s < 60.0 {
-        format!("{s:.0}s")
-    } else if s < 3600.0 {
-        format!("{}m{:02}s", (s / 60.0) as u64, (s % 60.0) as u64)
-    } else {
-        format!("{}h{:02}m", (s / 3600.0) as u64, ((s % 3600.0) / 60.0) as u64)
     }
 }

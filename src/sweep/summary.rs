@@ -10,6 +10,7 @@
 
 use super::study::{Case, Study};
 use crate::error::{Error, Result};
+use crate::io::rundir;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -45,9 +46,10 @@ pub const RECORD: &str = "case.toml";
 
 impl CaseResult {
     /// The outcome of a case whose run ended in `dir` (`error`: its error, if it failed), with
-    /// whatever counters and observables the run directory holds.
+    /// the counters and observables the run directory holds — of an ok case only: a failed run
+    /// may have ended before writing them, and those in the directory would be an earlier run's.
     pub fn of(dir: &Path, set: Vec<String>, error: Option<String>, observe: &[String]) -> CaseResult {
-        let timings = read_timings(&dir.join("timings.txt"));
+        let timings = if error.is_none() { read_timings(&dir.join("timings.txt")) } else { BTreeMap::new() };
         let counters = COUNTERS.iter().filter_map(|(c, k)| timings.get(*k).map(|v| (c.to_string(), *v))).collect();
         let observables = match (&error, read_history(&dir.join("history.csv"))) {
             (None, Some(h)) => {
@@ -77,21 +79,12 @@ impl CaseResult {
         let path = dir.join(RECORD);
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         let text = toml::to_string(self).map_err(|e| Error::io(&path, e))?;
-        write_unique(&path, &format!("# the outcome of this case of a poroplast sweep\n{text}"))
+        rundir::write_text_atomically(&path, &format!("# the outcome of this case of a poroplast sweep\n{text}"))
     }
 
     pub fn ok(&self) -> bool {
         self.status == "ok"
     }
-}
-
-/// Writes `path` by a temporary file of this process renamed over it (several processes may
-/// write the same file: each rename installs a whole one).
-pub fn write_unique(path: &Path, text: &str) -> Result<()> {
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(format!(".{}.tmp", std::process::id()));
-    std::fs::write(&tmp, text).map_err(|e| Error::io(&tmp, e))?;
-    std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
 }
 
 /// A case's state as the summary shows it.
@@ -144,7 +137,7 @@ pub fn write(root: &Path, study: &Study, states: &[(Case, State, String)]) -> Re
         out.push_str(&row.iter().map(|f| csv_field(f)).collect::<Vec<_>>().join(","));
         out.push('\n');
     }
-    write_unique(&root.join("summary.csv"), &out)
+    rundir::write_text_atomically(&root.join("summary.csv"), &out)
 }
 
 /// A CSV field, quoted when it holds a comma, quote or line break.
@@ -154,6 +147,29 @@ fn csv_field(s: &str) -> String {
     } else {
         s.to_string()
     }
+}
+
+/// The fields of a line of CSV as [`csv_field`] writes them: a field in double quotes may hold
+/// commas, and `""` in it is one quote.
+fn csv_fields(line: &str) -> Vec<String> {
+    let mut fields = Vec::new();
+    let mut field = String::new();
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' if quoted && chars.peek() == Some(&'"') => {
+                field.push('"');
+                chars.next();
+            }
+            '"' if quoted => quoted = false,
+            '"' if field.is_empty() => quoted = true,
+            ',' if !quoted => fields.push(std::mem::take(&mut field)),
+            c => field.push(c),
+        }
+    }
+    fields.push(field);
+    fields
 }
 
 /// `key = value` numbers of timings.txt.
@@ -218,7 +234,7 @@ fn observe_one(h: &BTreeMap<String, Vec<f64>>, spec: &str) -> f64 {
 pub fn read_wall_times(path: &Path, study: &Study) -> Result<BTreeMap<Vec<(String, String)>, f64>> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, format!("estimate_from: {e}")))?;
     let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    let header = csv_fields(lines.next().unwrap_or_default());
     let keys = study.label_keys();
     let wall = header.iter().position(|h| *h == "wall_s");
     let cols: Vec<Option<usize>> = keys.iter().map(|k| header.iter().position(|h| h == k)).collect();
@@ -227,13 +243,13 @@ pub fn read_wall_times(path: &Path, study: &Study) -> Result<BTreeMap<Vec<(Strin
     };
     let mut out = BTreeMap::new();
     for l in lines {
-        // Plain fields only (the overrides and the wall time hold no commas in practice).
-        let f: Vec<&str> = l.split(',').collect();
+        // Quoted fields too: an override value may hold commas (`"[5, 10]"`).
+        let f = csv_fields(l);
         let Some(w) = f.get(wall).and_then(|w| w.parse::<f64>().ok()) else { continue };
         let label: Vec<(String, String)> = keys
             .iter()
             .zip(&cols)
-            .filter_map(|(k, c)| c.and_then(|c| f.get(c)).filter(|v| !v.is_empty()).map(|v| (k.clone(), v.to_string())))
+            .filter_map(|(k, c)| c.and_then(|c| f.get(c)).filter(|v| !v.is_empty()).map(|v| (k.clone(), v.clone())))
             .collect();
         out.insert(label, w);
     }
@@ -270,5 +286,58 @@ mod tests {
         assert!(observe_one(&h, "max:nope").is_nan());
         assert!(observe_one(&h, "f@5").is_nan());
         assert_eq!(csv_field("a,b"), "\"a,b\"");
+    }
+
+    #[test]
+    fn csv_fields_read_back_what_csv_field_writes() {
+        let row = ["1", "[5, 10]", "", "say \"hi\", twice", "x"];
+        let line = row.iter().map(|f| csv_field(f)).collect::<Vec<_>>().join(",");
+        assert_eq!(csv_fields(&line), row);
+        assert_eq!(csv_fields(""), [""]);
+        assert_eq!(csv_fields("a,,b"), ["a", "", "b"]);
+    }
+
+    #[test]
+    fn wall_times_of_cases_with_array_values() {
+        // An array value is quoted in summary.csv ("[5, 10]"): the columns after it must not shift.
+        let study = Study::parse(
+            Path::new("s.toml"),
+            "scene = \"x\"\n[[case]]\nset = [\"output.fields_at=[5, 10]\", \"material.mu=15\"]\n\
+             [[case]]\nset = [\"output.fields_at=[1, 2, 3]\", \"material.mu=25\"]\n",
+        )
+        .unwrap();
+        let root = std::env::temp_dir().join(format!("poroplast-summary-{}", std::process::id()));
+        std::fs::create_dir_all(&root).unwrap();
+        let states: Vec<(Case, State, String)> = study
+            .cases
+            .iter()
+            .zip([3.0, 9.0])
+            .map(|(c, wall)| {
+                let mut r = CaseResult::of(&root, study.overrides(c), None, &[]);
+                r.counters.insert("wall_s".into(), wall);
+                (c.clone(), State::Ended(r), format!("cases/{}", c.dir_name()))
+            })
+            .collect();
+        write(&root, &study, &states).unwrap();
+        let text = std::fs::read_to_string(root.join("summary.csv")).unwrap();
+        assert!(text.contains("\"[5, 10]\""), "{text}");
+        let walls = read_wall_times(&root.join("summary.csv"), &study).unwrap();
+        let keys = study.label_keys();
+        assert_eq!(walls.get(&label_key(&study.cases[0], &keys)), Some(&3.0), "{walls:?}");
+        assert_eq!(walls.get(&label_key(&study.cases[1], &keys)), Some(&9.0), "{walls:?}");
+        let _ = std::fs::remove_dir_all(&root);
+    }
+
+    #[test]
+    fn a_failed_case_has_no_counters() {
+        // A failed rerun must not show the timings.txt of the run before it.
+        let dir = std::env::temp_dir().join(format!("poroplast-failed-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("timings.txt"), "total = 12.5\nsteps = 7\n").unwrap();
+        let ok = CaseResult::of(&dir, vec![], None, &[]);
+        assert_eq!(ok.counters.get("wall_s"), Some(&12.5));
+        let failed = CaseResult::of(&dir, vec![], Some("diverged\nmore".into()), &[]);
+        assert!(failed.counters.is_empty() && failed.error == "diverged" && !failed.ok());
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

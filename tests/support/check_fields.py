@@ -12,7 +12,7 @@ width of /mesh/topology (10: Tet10, 6: Tri6):
     Triangle_6, /mesh/topology M x 6 in GMSH Triangle6 order written unchanged (= VTK's
     quadratic-triangle order); edges (0,1),(1,2),(2,0) carry the mid-edge nodes 3..5.
 Always checked:
-  * fields.xdmf parses (xml.etree); no fields.xdmf.tmp left behind;
+  * fields.xdmf parses (xml.etree); no fields.xdmf.<pid>.tmp left behind;
   * its root grid is a Uniform mesh grid (no step yet) or a Temporal collection of Uniform grids,
     each with a Time, the family's topology (Tetrahedron_10 with NodesPerElement 10, or Triangle_6
     with NodesPerElement 6), an XYZ geometry and Scalar/Vector attributes centred on Node or Cell;
@@ -35,6 +35,7 @@ Optional:
 Prints "check_fields: OK ..." and exits 0, or lists every problem found and exits 1.
 """
 import argparse
+import glob
 import json
 import os
 import sys
@@ -150,8 +151,8 @@ class Checker:
     def run(self, args):
         xdmf_path = os.path.join(self.dir, "fields.xdmf")
         h5_path = os.path.join(self.dir, "fields.h5")
-        if os.path.exists(xdmf_path + ".tmp"):
-            self.err("fields.xdmf.tmp left behind")
+        if glob.glob(xdmf_path + ".*tmp"):
+            self.err("fields.xdmf.<pid>.tmp left behind")
         try:
             root = ET.parse(xdmf_path).getroot()
         except (OSError, ET.ParseError) as e:
