@@ -416,6 +416,13 @@ def _stub(run):
     return names is not None and names <= {"case.toml", MOVED}     # (.tmp: write_atomic's, interrupted)
 
 
+def _same_file(a, b):
+    try:
+        return a.read_bytes() == b.read_bytes()
+    except OSError:
+        return False
+
+
 def _harvest_case(root, sweep_dir, i, e, run):
     """Moves case i of a batch (entry `e`), which ended in the sweep's directory `run`, to its case
     directory; returns its result, or None if there is nothing to harvest. Safe to interrupt and
@@ -425,16 +432,24 @@ def _harvest_case(root, sweep_dir, i, e, run):
     batch, MOVED last), and a repeat finishes what is missing."""
     cdir = root / e["dir"]
     dest, journal = cdir / "run", cdir / HARVESTING
-    if run.is_dir() and not _stub(run):            # the sweep's run, not moved yet
-        if _outcome(run / "case.toml") is None:
+    pending = journal.exists() and journal.read_text().strip() == str(run)     # moved, bookkeeping not done
+    # Not to move: the outcome stub left in the batch (MOVED), or the stub of a failed case that a
+    # continued batch is to run again (MOVED removed) while its run is still CASE/run.
+    stub = _stub(run) and ((run / MOVED).exists() or _same_file(run / "case.toml", dest / "case.toml"))
+    if run.is_dir() and not stub and not (pending and _stub(run)):   # the sweep's run, not moved yet
+        outcome = _outcome(run / "case.toml")
+        if outcome is None:
             return None                             # still running
+        if _stub(run) and outcome.get("status") == "ok":   # its moved run is gone (CASE removed):
+            shutil.rmtree(run)                              # a continued sweep runs it again
+            return None
         cdir.mkdir(parents=True, exist_ok=True)
         (cdir / "case.json").unlink(missing_ok=True)
         write_atomic(journal, f"{run}\n")
         if dest.exists():
             shutil.rmtree(dest)                     # an earlier run of the case: the sweep's replaces it
         os.replace(run, dest)
-    elif run.is_dir() and (run / MOVED).exists() and not journal.exists():
+    elif (run / MOVED).exists() and not pending:
         return None                                 # harvested already
     outcome = _outcome(dest / "case.toml")
     if outcome is None:                             # the moved run is gone (the case directory removed)
