@@ -147,10 +147,9 @@ def sweep_bench(a, work):
     for name, sweep, k in ways:
         walls = []
         for rep in range(a.repeat):
-            runner.SWEEP, runner.RANKS_PER_CASE = sweep, k
             t0 = time.time()
             done = runner.run_cases(SWEEP_SCENE, cases, SWEEP_SETS, work / f"{name.replace(' ', '_')}-{rep}",
-                                    a.ranks, observables=["max:force_total_mg"])
+                                    a.ranks, observables=["max:force_total_mg"], sweep=sweep, ranks_per_case=k)
             walls.append(time.time() - t0)
             if any(r["status"] != "ok" for _, r in done):
                 raise SystemExit(f"bench.py: a case failed ({name})")

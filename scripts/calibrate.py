@@ -79,7 +79,7 @@ def main():
     ap.add_argument("--ftol", type=float, default=1e-3,
                     help="stop when an iteration lowers the sum of squares by less than this fraction")
     a = ap.parse_args()
-    runner.use_rank_options(a)
+    sweep = runner.use_rank_options(a)["sweep"]
     keys = [p.split("=", 1)[0] for p in a.param]
     x = [math.log(float(p.split("=", 1)[1])) for p in a.param]
     model = Model(a, keys)
@@ -106,7 +106,7 @@ def main():
         """The residuals and history of a run at each point (log-parameters), one batch; (None,
         None) for a failed run. Without sweeps and with --jobs N, N runs at a time."""
         vals = [[math.exp(v) for v in xs] for xs in points]
-        if runner.SWEEP or a.jobs == 1:
+        if sweep or a.jobs == 1:
             hs = model.histories(vals, what)
         else:
             with ThreadPoolExecutor(max_workers=a.jobs) as pool:

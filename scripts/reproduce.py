@@ -515,8 +515,12 @@ def main():
     refs = a.references
     if a.converged:
         here = Path(__file__).resolve().parent
-        subprocess.run(["python3", str(here / "references.py"), "--dir", a.converged, "--cases", "all"], check=True)
-        subprocess.run(["python3", str(here / "causes.py"), "--dir", str(Path(a.converged) / "causes")], check=True)
+        ranks = ["--ranks", str(a.ranks)] + (["--ranks-per-case", str(a.ranks_per_case)] if a.ranks_per_case else []) \
+            + (["--no-sweep"] if a.no_sweep else [])      # the studies run as this command says
+        subprocess.run(["python3", str(here / "references.py"), "--dir", a.converged, "--cases", "all", *ranks],
+                       check=True)
+        subprocess.run(["python3", str(here / "causes.py"), "--dir", str(Path(a.converged) / "causes"), *ranks],
+                       check=True)
         refs = refs or str(Path(a.converged) / "references.csv")
     # Without --converged: the user's own studies if there are any, else the shipped results
     # (scripts/data/references.csv: `references.py --cases all` on 2026-12-02, this build).

@@ -24,6 +24,7 @@ import re
 import shutil
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -32,11 +33,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 BIN = Path(os.environ.get("POROPLAST_BIN",
                          Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release" / "poroplast"))
-# How run_cases runs the cases to run: one `poroplast sweep` per call (a batch) or, False, one
-# mpirun per case (`--no-sweep`, POROPLAST_SWEEP=0); the ranks of each case in a batch (None:
-# 1 for axisymmetric cases, all ranks for 3-D ones). Set by `use_rank_options`.
-SWEEP = os.environ.get("POROPLAST_SWEEP", "1") != "0"
-RANKS_PER_CASE = None
+# The defaults of run_cases' `sweep` and `ranks_per_case` (see there): a script's --no-sweep and
+# --ranks-per-case, set once by `use_rank_options`; a call that passes them is not affected.
+_DEFAULTS = {"sweep": os.environ.get("POROPLAST_SWEEP", "1") != "0", "ranks_per_case": None}
 
 # The converged level of the plates experiment (docs/performance.md): the meridian at h = 10 um
 # with the surface and the poles at 2 um, no pressure stabilisation (its error is the largest on
@@ -57,6 +56,15 @@ def write_rows(path, rows, fields=None):
         w = csv.DictWriter(f, fieldnames=fields or list(rows[0]), extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
+
+
+def write_atomic(path, text):
+    """Writes `text` to `path` through a temporary file and `os.replace`: a reader (or an
+    interrupted writer) sees the old file or the new one, never a truncated one."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
 
 
 def env():
@@ -186,14 +194,15 @@ def signature(scene, overrides, sets, petsc):
 
 
 def completed(case_dir, sig, observables=()):
-    """The recorded result of a case that completed with the signature `sig`, or None. A result
-    recorded before signatures were kept is taken as it is. Observables it lacks are read from
-    its history.csv."""
-    done = case_dir / "case.json"
-    if not done.exists():
-        return None
-    result = json.loads(done.read_text())
-    if result.get("signature", sig) != sig:
+    """The recorded result of a case that completed with the signature `sig`, or None (also for a
+    case.json that does not parse). A result recorded before signatures were kept is taken as it
+    is. The observables (`observe`; case.json records none, older ones may) are read from its
+    history.csv."""
+    try:
+        result = json.loads((case_dir / "case.json").read_text())
+    except (OSError, ValueError):
+        return None       # none, or one that does not parse: the case is not complete
+    if not isinstance(result, dict) or result.get("signature", sig) != sig:
         return None
     missing = [o for o in observables if o not in result]
     if missing and result.get("status") == "ok" and (case_dir / "run" / "history.csv").exists():
@@ -220,7 +229,8 @@ def run_case(scene, overrides, sets, case_dir, ranks, petsc=(), observables=()):
     if p.returncode != 0:
         err = next((l for l in p.stderr.splitlines() if l.startswith("poroplast: error:")), p.stderr.strip()[-300:])
         return {"status": "failed", "error": err}
-    return _result(case_dir, scene, overrides, sets, petsc, observables)
+    _result(case_dir, scene, overrides, sets, petsc)
+    return completed(case_dir, signature(scene, overrides, sets, petsc), observables)
 
 
 def rank_options(ap, ranks=2):
@@ -237,12 +247,13 @@ def rank_options(ap, ranks=2):
 
 
 def use_rank_options(a):
-    """Applies rank_options' arguments to run_cases."""
-    global SWEEP, RANKS_PER_CASE
+    """rank_options' arguments (checked) as the defaults of run_cases' `sweep` and
+    `ranks_per_case`; returns them, {"sweep": ..., "ranks_per_case": ...}."""
     if a.ranks < 1 or (a.ranks_per_case is not None and (a.ranks_per_case < 1 or a.ranks % a.ranks_per_case)):
         sys.exit(f"--ranks-per-case {a.ranks_per_case} must divide --ranks {a.ranks}")
-    SWEEP = SWEEP and not a.no_sweep
-    RANKS_PER_CASE = a.ranks_per_case
+    _DEFAULTS["sweep"] = os.environ.get("POROPLAST_SWEEP", "1") != "0" and not a.no_sweep
+    _DEFAULTS["ranks_per_case"] = a.ranks_per_case
+    return dict(_DEFAULTS)
 
 
 @functools.lru_cache(maxsize=None)
@@ -257,50 +268,54 @@ def axisymmetric(scene, overrides, sets=()):
     return geometry == "axisymmetric"
 
 
-def ranks_per_case(ranks, scenes, cases, sets, todo):
-    """The ranks of each case of a batch of `todo` cases on `ranks` ranks: RANKS_PER_CASE if set,
-    else 1 when every case is axisymmetric (small cases: one per rank is fastest) and all ranks
+def choose_ranks_per_case(ranks, scenes, cases, sets, todo, given=None):
+    """The ranks of each case of a batch of `todo` cases on `ranks` ranks: `given` if set, else 1
+    when every case is axisymmetric (small cases: one per rank is fastest) and all ranks
     otherwise, raised to the next divisor of `ranks` while the groups outnumber the cases."""
-    if RANKS_PER_CASE:
-        return RANKS_PER_CASE
+    if given:
+        return given
     k = 1 if all(axisymmetric(s, c, sets) for s, c in zip(scenes, cases)) else ranks
     while ranks // k > max(todo, 1):
         k = next(d for d in range(k + 1, ranks + 1) if ranks % d == 0)
     return k
 
 
-def _result(case_dir, scene, overrides, sets, petsc, observables):
-    """The result of a case that completed into case_dir/run, recorded in case_dir/case.json."""
+def _result(case_dir, scene, overrides, sets, petsc):
+    """The result of a case that completed into case_dir/run (its counters and signature; the
+    observables are computed from its history as it is read, by `completed`), recorded in
+    case_dir/case.json."""
     tm = timings(case_dir / "run")
     result = {"status": "ok", **{c: tm.get(k, float("nan")) for c, k in COUNTERS.items()}}
-    h = history(case_dir / "run")
-    result.update({o: observe(h, o) for o in observables})
     result["signature"] = signature(scene, overrides, sets, petsc)
-    (case_dir / "case.json").write_text(json.dumps(result, indent=1))
+    write_atomic(case_dir / "case.json", json.dumps(result, indent=1))
     return result
 
 
-def run_cases(scene, cases, sets, root, ranks, petsc=(), observables=(), label=None, names=None, weights=None):
+def run_cases(scene, cases, sets, root, ranks, petsc=(), observables=(), label=None, names=None, weights=None,
+              sweep=None, ranks_per_case=None):
     """Runs every case (a list of (key, value) overrides) into root/cases/<name>/ (`names`, default
     the overrides' slug), skipping the ones that completed, with progress and the ETA of the whole
     set. `scene` is one scene for all cases or a list, one per case; `weights` the cases' relative
     costs for the ETA (default equal). Returns (case dir, result) per case, in order.
     `label(case)` names a case in the progress lines (default: its name, else its overrides).
     The cases to run run as one batch (`run_batch`: one `mpirun -n ranks poroplast sweep`,
-    `ranks_per_case` ranks each) or, without SWEEP, one `mpirun` per case."""
+    `ranks_per_case` ranks each, default as `choose_ranks_per_case` chooses) or, with `sweep` False,
+    one `mpirun -n ranks_per_case` (default `ranks`) per case. `sweep` and `ranks_per_case`
+    default to the script's --no-sweep and --ranks-per-case (`use_rank_options`)."""
+    sweep = _DEFAULTS["sweep"] if sweep is None else sweep
+    fixed = _DEFAULTS["ranks_per_case"] if ranks_per_case is None else ranks_per_case
     shown = [label(c) for c in cases] if label else list(names) if names else \
         [" ".join(f"{k}={v}" for k, v in c) or "(base scene)" for c in cases]
     scenes = [scene] * len(cases) if isinstance(scene, (str, Path)) else list(scene)
     weights = weights or [1.0] * len(cases)
     dirs = [root / "cases" / n for n in (names or [slug(c) for c in cases])]
-    if SWEEP:
-        harvest(root)
+    harvest(root)      # cases an earlier (interrupted) sweep finished, with or without `sweep` now
     prior = [completed(d, signature(s, c, sets, petsc), observables) for d, s, c in zip(dirs, scenes, cases)]
     todo = sum(1 for r in prior if r is None)
     new = [i for i, r in enumerate(prior) if r is None]
-    k = ranks_per_case(ranks, [scenes[i] for i in new], [cases[i] for i in new], sets, todo) if SWEEP else \
-        RANKS_PER_CASE or ranks
-    how = f": one sweep, {ranks // k} case(s) at a time on {k} rank(s) each" if SWEEP and todo else \
+    k = choose_ranks_per_case(ranks, [scenes[i] for i in new], [cases[i] for i in new], sets, todo, fixed) \
+        if sweep else fixed or ranks
+    how = f": one sweep, {ranks // k} case(s) at a time on {k} rank(s) each" if sweep and todo else \
         f", one mpirun -n {k} per case" if todo else ""
     print(f"{root}: {len(cases)} cases, {len(cases) - todo} already complete, {todo} to run "
           f"on {ranks} rank(s){how}", flush=True)
@@ -317,7 +332,7 @@ def run_cases(scene, cases, sets, root, ranks, petsc=(), observables=(), label=N
     for n, (name, result) in enumerate(zip(shown, prior), 1):
         if result is not None:
             print(f"[{n}/{len(cases)}] {name}: complete, skipped", flush=True)
-    if SWEEP and todo:
+    if sweep and todo:
         batch = [(scenes[i], cases[i], dirs[i]) for i in new]
         ran = run_batch(root, batch, sets, ranks, k, petsc, observables,
                         lambda j, result, secs: report(new[j] + 1, shown[new[j]], result, secs, weights[new[j]]))
@@ -341,13 +356,15 @@ def _toml_list(xs):
     return "[" + ", ".join(json.dumps(str(x)) for x in xs) + "]"
 
 
-def batch_study(batch, sets, petsc, observables):
+def batch_study(batch, sets, petsc):
     """The STUDY.toml of a batch: a [[case]] list, each case with its scene (a file as an absolute
-    path) and overrides; the common --set values and PETSc options as the study's."""
+    path) and overrides; the common --set values and PETSc options as the study's. No observables
+    (`observe = []`): the runner computes them from each case's history (`observe`, one grammar),
+    so they are neither part of the batch nor of what it is continued for."""
     arg = lambda s: str(Path(s).resolve()) if Path(s).exists() else str(s)
     lines = ["# A batch of scripts/runner.py: the cases of this study directory not yet complete.",
              "name = \"batch\"", f"set = {_toml_list(f'{k}={v}' for k, v in sets)}",
-             f"petsc = {_toml_list(petsc)}", f"observe = {_toml_list(observables)}"]
+             f"petsc = {_toml_list(petsc)}", "observe = []"]
     for scene, case, _ in batch:
         lines += ["", "[[case]]", f"scene = {json.dumps(arg(scene))}",
                   f"set = {_toml_list(f'{k}={v}' for k, v in case)}"]
@@ -368,9 +385,19 @@ def _outcome(case_toml):
         return None
 
 
+def _entries(meta):
+    """A batch's case entries, the arguments of each as (scene, overrides, sets, petsc) (batches
+    written before observables left them carry those fifth: dropped); None if it does not parse."""
+    try:
+        entries = json.loads(meta.read_text())["cases"]
+        return [{"dir": e["dir"], "args": e["args"][:4]} for e in entries]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+
+
 def _batches(root):
-    """The batches of root/sweeps/: (meta file, its case entries)."""
-    return [(m, json.loads(m.read_text())["cases"]) for m in sorted((root / "sweeps").glob("batch-*.json"))]
+    """The batches of root/sweeps/: (meta file, its case entries or None if it does not parse)."""
+    return [(m, _entries(m)) for m in sorted((root / "sweeps").glob("batch-*.json"))]
 
 
 def _drop_batch(meta):
@@ -379,47 +406,110 @@ def _drop_batch(meta):
     meta.with_suffix(".toml").unlink(missing_ok=True)
 
 
+_HARVEST_LOCK = threading.RLock()   # run_cases of threads (calibrate.py --jobs) harvest one at a time
+HARVESTING = "harvesting.txt"   # in a case directory while a sweep's run is moved there: where from
+
+
+def _stub(run):
+    """Whether a sweep's case directory holds only the outcome (what `harvest` leaves behind)."""
+    names = {f.name for f in run.iterdir() if not f.name.endswith(".tmp")} if run.is_dir() else None
+    return names is not None and names <= {"case.toml", MOVED}     # (.tmp: write_atomic's, interrupted)
+
+
+def _same_file(a, b):
+    try:
+        return a.read_bytes() == b.read_bytes()
+    except OSError:
+        return False
+
+
+def _harvest_case(root, sweep_dir, i, e, run):
+    """Moves case i of a batch (entry `e`), which ended in the sweep's directory `run`, to its case
+    directory; returns its result, or None if there is nothing to harvest. Safe to interrupt and
+    to repeat: the run moves in ONE `os.replace`, the case's own place CASE/run is removed only
+    while the sweep still holds the run that replaces it, the journal CASE/harvesting.txt names
+    the sweep's directory until the bookkeeping is done (the result, the outcome left in the
+    batch, MOVED last), and a repeat finishes what is missing."""
+    cdir = root / e["dir"]
+    dest, journal = cdir / "run", cdir / HARVESTING
+    pending = journal.exists() and journal.read_text().strip() == str(run)     # moved, bookkeeping not done
+    # Not to move: the outcome stub left in the batch (MOVED), or the stub of a failed case that a
+    # continued batch is to run again (MOVED removed) while its run is still CASE/run.
+    stub = _stub(run) and ((run / MOVED).exists() or _same_file(run / "case.toml", dest / "case.toml"))
+    if run.is_dir() and not stub and not (pending and _stub(run)):   # the sweep's run, not moved yet
+        outcome = _outcome(run / "case.toml")
+        if outcome is None:
+            return None                             # still running
+        if _stub(run) and outcome.get("status") == "ok":   # its moved run is gone (CASE removed):
+            shutil.rmtree(run)                              # a continued sweep runs it again
+            return None
+        cdir.mkdir(parents=True, exist_ok=True)
+        (cdir / "case.json").unlink(missing_ok=True)
+        write_atomic(journal, f"{run}\n")
+        if dest.exists():
+            shutil.rmtree(dest)                     # an earlier run of the case: the sweep's replaces it
+        os.replace(run, dest)
+    elif (run / MOVED).exists() and not pending:
+        return None                                 # harvested already
+    outcome = _outcome(dest / "case.toml")
+    if outcome is None:                             # the moved run is gone (the case directory removed)
+        if run.is_dir():
+            shutil.rmtree(run)                      # so that a continued sweep runs the case again
+        journal.unlink(missing_ok=True)
+        return None
+    ok = outcome.get("status") == "ok"
+    error = f"poroplast: error: {outcome.get('error', '')}"
+    (cdir / "log.txt").write_text(f"case {i} of the sweep {sweep_dir} (its output: "
+                                  f"{root / 'sweeps' / 'sweep.log'})\n" + ("" if ok else error + "\n"))
+    if ok:
+        scene, overrides, sets, petsc = e["args"]
+        result = _result(cdir, scene, [tuple(x) for x in overrides], [tuple(x) for x in sets], petsc)
+    else:
+        result = {"status": "failed", "error": error}
+    run.mkdir(parents=True, exist_ok=True)          # the outcome stays in the batch: a continued sweep skips it
+    write_atomic(run / "case.toml", (dest / "case.toml").read_text())
+    write_atomic(run / MOVED, f"moved to {dest}\n")
+    journal.unlink(missing_ok=True)
+    return result
+
+
 def harvest(root, only=None, remove=True, index=None):
     """Moves the cases that ended in the batches of root/sweeps/ (all, or the batch `only`) to the
     runner's places: a case's run directory to CASE/run and, if it completed, its result to
     CASE/case.json (with the signature of what it ran); its outcome (case.toml) stays in the
-    batch, so that a sweep continued there skips it. With `remove`, a batch all of whose cases
-    ended is removed; one with unfinished cases stays, for a run_cases that wants exactly those to
-    continue it. `index`: only that case of the batch (while its sweep runs: the one it has
-    just reported). Returns {case dir: result} of the cases moved."""
+    batch, so that a sweep continued there skips it. Safe to interrupt and repeat
+    (`_harvest_case`). With `remove`, a batch all of whose cases ended is removed; one with
+    unfinished cases stays, for a run_cases that wants exactly those to continue it. `index`:
+    only that case of the batch (while its sweep runs: the one it has just reported). Returns
+    {case dir: result} of the cases moved."""
+    with _HARVEST_LOCK:
+        return _harvest(root, only, remove, index)
+
+
+def _harvest(root, only, remove, index):
     out = {}
-    for meta, entries in _batches(root) if only is None else [(only, json.loads(only.read_text())["cases"])]:
+    for meta, entries in _batches(root) if only is None else [(only, _entries(only))]:
+        if entries is None:
+            continue
         sweep_dir = meta.with_suffix("")
         runs = _sweep_case_dirs(sweep_dir)
         ended = 0
         for i, e in enumerate(entries):
-            run = runs.get(i) if index in (None, i) else None
-            outcome = _outcome(run / "case.toml") if run else None
-            if outcome is None:
+            if index not in (None, i):
                 continue
-            ended += 1
-            if (run / MOVED).exists():
-                continue      # moved already: only case.toml is left
-            cdir = root / e["dir"]
-            cdir.mkdir(parents=True, exist_ok=True)
-            shutil.rmtree(cdir / "run", ignore_errors=True)
-            (cdir / "case.json").unlink(missing_ok=True)
-            (cdir / "run").mkdir()
-            for f in run.iterdir():
-                if f.name != "case.toml":
-                    shutil.move(str(f), str(cdir / "run" / f.name))
-            (run / MOVED).write_text(f"moved to {cdir / 'run'}\n")
-            shutil.copy(run / "case.toml", cdir / "run" / "case.toml")
-            ok = outcome.get("status") == "ok"
-            error = f"poroplast: error: {outcome.get('error', '')}"
-            (cdir / "log.txt").write_text(f"case {i} of the sweep {sweep_dir} (its output: "
-                                          f"{root / 'sweeps' / 'sweep.log'})\n" + ("" if ok else error + "\n"))
-            if ok:
-                scene, overrides, sets, petsc, observables = e["args"]
-                out[cdir] = _result(cdir, scene, [tuple(x) for x in overrides], [tuple(x) for x in sets], petsc,
-                                    observables)
-            else:
-                out[cdir] = {"status": "failed", "error": error}
+            journal = root / e["dir"] / HARVESTING
+            run = runs.get(i)
+            if run is None and journal.exists():    # interrupted between the move and the bookkeeping
+                run = Path(journal.read_text().strip())
+                if run.parent != sweep_dir / "cases":
+                    continue
+            if run is None:
+                continue
+            result = _harvest_case(root, sweep_dir, i, e, run)
+            if result is not None:
+                out[root / e["dir"]] = result
+            if _outcome(run / "case.toml") is not None and (run / MOVED).exists():
+                ended += 1
         if remove and index is None and ended == len(entries):
             _drop_batch(meta)
     return out
@@ -430,15 +520,19 @@ def run_batch(root, batch, sets, ranks, k, petsc, observables, report):
     `mpirun -n ranks poroplast sweep --ranks-per-case k` in root/sweeps/batch-<hash>/, then moves
     them to their case directories (`harvest`). A batch an earlier call left unfinished with
     exactly these cases to run is continued (its interrupted cases resume from their checkpoints);
-    other unfinished batches are removed. `report(j, result, secs)` is called as the j-th case of
+    other unfinished batches are removed. The observables are not part of a batch (`batch_study`):
+    they are computed from the histories as the results are read. `report(j, result, secs)` is called as the j-th case of
     `batch` ends. The sweep's output goes to root/sweeps/sweep.log. Returns the results in batch
     order."""
     sweeps = root / "sweeps"
     sweeps.mkdir(parents=True, exist_ok=True)
     entries = [{"dir": str(d.relative_to(root)), "args": [str(s), [list(x) for x in c], [list(x) for x in sets],
-                                                          list(petsc), list(observables)]} for s, c, d in batch]
+                                                          list(petsc)]} for s, c, d in batch]
     meta = None
     for m, old in _batches(root):
+        if old is None:
+            _drop_batch(m)
+            continue
         runs = _sweep_case_dirs(m.with_suffix(""))
         left = [e for i, e in enumerate(old)
                 if not (i in runs and (_outcome(runs[i] / "case.toml") or {}).get("status") == "ok")]
@@ -450,10 +544,10 @@ def run_batch(root, batch, sets, ranks, k, petsc, observables, report):
         else:
             _drop_batch(m)
     if meta is None:
-        text = batch_study(batch, sets, petsc, observables)
+        text = batch_study(batch, sets, petsc)
         meta = sweeps / f"batch-{hashlib.sha1(text.encode()).hexdigest()[:12]}.json"
-        meta.with_suffix(".toml").write_text(text)
-        meta.write_text(json.dumps({"cases": entries}, indent=1))
+        write_atomic(meta.with_suffix(".toml"), text)
+        write_atomic(meta, json.dumps({"cases": entries}, indent=1))
         order = [e["dir"] for e in entries]
     position = {d: j for j, (_, _, d) in enumerate(batch)}
     of_index = lambda i: position.get(root / order[i])      # sweep case index -> batch position
