@@ -56,6 +56,21 @@ fn meridian_peak(dir: &Path, sc: &str) -> f64 {
     History::read(&meridian).col("force_total_mg").into_iter().fold(0.0, f64::max)
 }
 
+/// Quasi-static balance at every row: the lower plate carries the upper force plus the weight of
+/// the mixture, ϱ g ∫J dV (ϱs = ϱf = 1000 kg/m³: 1e-9 mg per µm³).
+fn assert_weight_carried(t: &[f64], upper: &[f64], lower: &[f64], volume: &[f64]) {
+    for i in 0..t.len() {
+        let w = 1e-9 * volume[i];
+        assert!(
+            (lower[i] - upper[i] - w).abs() < 1e-3 * w,
+            "t = {}: lower {} - upper {} != weight {w}",
+            t[i],
+            lower[i],
+            upper[i]
+        );
+    }
+}
+
 const FORCES: [&str; 4] = ["force_total_mg", "force_constitutive_mg", "force_pressure_mg", "force_lower_mg"];
 
 #[test]
@@ -100,18 +115,8 @@ fn compression_release_protocol() {
     for &i in &hold {
         assert!(pp[i] > 0.0, "p(X_U) = {} kPa at t = {}", pp[i], t[i]);
     }
-    // Quasi-static balance: the lower plate carries the upper force plus the weight of the
-    // mixture, ϱ g ∫J dV (ϱs = ϱf = 1000 kg/m³: 1e-9 mg per µm³).
-    for i in 0..n {
-        let w = 1e-9 * vol[i];
-        assert!(
-            (flow[i] - f[i] - w).abs() < 1e-3 * w,
-            "t = {}: lower {} - upper {} != weight {w}",
-            t[i],
-            flow[i],
-            f[i]
-        );
-    }
+    // Quasi-static balance: the lower plate carries the upper force plus the weight.
+    assert_weight_carried(&t, &f, &flow, &vol);
     // Fluid mass: the change of ∫J dV is the time-integrated outflow, to solver tolerance.
     let dv_max = vol.iter().map(|v| (v - vol[0]).abs()).fold(0.0, f64::max);
     assert!(dv_max > 0.02 * vol[0], "almost no fluid exchanged: {dv_max}");
@@ -185,15 +190,8 @@ fn equal_order_compression_release_protocol() {
     assert_eq!(f[n - 1], 0.0, "upper contact still closed at the end");
     for i in 0..n {
         assert!((f[i] - fc[i] - fp[i]).abs() <= 1e-9 * f[ipk], "step {i}: total != constitutive + pressure");
-        let w = 1e-9 * vol[i];
-        assert!(
-            (flow[i] - f[i] - w).abs() < 1e-3 * w,
-            "t = {}: lower {} - upper {} != weight {w}",
-            t[i],
-            flow[i],
-            f[i]
-        );
     }
+    assert_weight_carried(&t, &f, &flow, &vol);
     let mass = (0..n).map(|i| (vol[i] - vol[0] + col("outflow_total")[i]).abs()).fold(0.0, f64::max);
     assert!(mass < 1e-8 * vol[0], "mass balance error {mass:e} µm³");
     // No mid-edge node active: every step's final active set is within its contact vertices.
