@@ -46,13 +46,7 @@ fn sweep(np: usize, study: &Path, out: &Path, k: usize) -> std::process::Output 
 }
 
 fn ok(out: &std::process::Output, what: &str) -> String {
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(
-        out.status.success(),
-        "{what} failed\nstdout:\n{stdout}\nstderr:\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    stdout
+    expect_success(out, what)
 }
 
 /// The case directories of a sweep, in case order.

@@ -17,11 +17,16 @@ pub fn poroplast(np: usize, args: &[&str]) -> Output {
 /// Runs and panics with both output streams if the run failed.
 #[allow(dead_code)] // study.rs runs scripts, not the binary
 pub fn run_ok(np: usize, args: &[&str]) -> String {
-    let out = poroplast(np, args);
+    expect_success(&poroplast(np, args), &format!("poroplast {args:?} on {np} rank(s)"))
+}
+
+/// The standard output of a finished process; panics with both streams if it failed.
+#[allow(dead_code)] // study.rs runs scripts, not the binary
+pub fn expect_success(out: &std::process::Output, what: &str) -> String {
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     assert!(
         out.status.success(),
-        "poroplast {args:?} on {np} rank(s) failed\nstdout:\n{stdout}\nstderr:\n{}",
+        "{what} failed\nstdout:\n{stdout}\nstderr:\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
     stdout
