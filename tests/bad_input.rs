@@ -243,6 +243,20 @@ fn check_validates_as_run_does() {
     // `check` refuses — PETSc options included.
     let out = poroplast(1, &["check", &scene("terzaghi"), "--", "-ksp_rtoll", "1e-5"]);
     assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("-ksp_rtoll"));
+    // It reports what the scene resolved to: the default 3-D mesh's 1,023 tets (6,276 dofs), the
+    // element, and the accuracy class of its size (h/R = 0.2); the meridian's own class.
+    let out = run_ok(1, &["check", "reference"]);
+    assert!(out.contains("1023 tets") && out.contains("6276 dofs"), "{out}");
+    assert!(out.contains("discretisation: Taylor–Hood P2–P1 on 1023 curved tets; mesh sphere_quarter.geo"), "{out}");
+    assert!(
+        out.contains("expected accuracy (plate force, h/R = 0.20): peak 0.5-1.3% low, F(35 s) within about 0.6%"),
+        "{out}"
+    );
+    let out = run_ok(1, &["check", "reference", "--set", "mesh.geometry=axisymmetric", "--set", "fem.stabilisation=0"]);
+    assert!(out.contains("curved meridian triangles; mesh sphere_meridian.geo"), "{out}");
+    assert!(out.contains("h/R = 0.20): peak and F(35 s) within about 1%"), "{out}");
+    let out = run_ok(1, &["check", &scene("terzaghi")]);
+    assert!(!out.contains("expected accuracy"), "{out}");
     for (set, expect) in [
         ("plates.radius=120", "plates.radius = 120"),
         ("plates.group=\"skin\"", "physical group \"skin\" not found"),

@@ -12,7 +12,7 @@ use std::path::Path;
 
 /// Edits that turn the shipped reference scene into the coarse, short test scene.
 const COARSE: &[(&str, &str)] = &[
-    ("h = 20.0, h_pole = 6.0", "h = 40.0, h_pole = 12.0"),
+    ("h = 20.0, h_pole = 3.0", "h = 40.0, h_pole = 12.0"),
     ("t_ramp = 5.0", "t_ramp = 2.0"),
     ("t_end = 40.0", "t_end = 10.0"),
     ("t_end = 100.0", "t_end = 12.0"),
@@ -96,10 +96,12 @@ fn compression_release_protocol() {
     assert!((t[ipk] - 2.0).abs() < 0.3, "peak force at t = {} s", t[ipk]);
     // The peak against an independent discretisation of the same experiment: the meridian
     // (axisymmetric) model on a 5x finer mesh, itself 0.4% from h = 4 µm. Measured: the coarse
-    // 3-D mesh is 4.9% low at h = 40 µm (the shipped h = 20 µm mesh is 3% low, docs/studies.md).
+    // 3-D mesh is 3.97% low at h = 40 µm (4.9% before enclosed contact vertices stopped
+    // draining; the shipped mesh is 0.54% low, docs/performance.md).
     let f_ref = meridian_peak(&dir, &sc);
     let err = f[ipk] / f_ref - 1.0;
-    assert!(err < 0.0 && err > -0.06, "peak force {} mg, {:+.2}% from the meridian's {f_ref} mg", f[ipk], 100.0 * err);
+    println!("peak {} mg, {:+.2}% from the meridian's {f_ref} mg", f[ipk], 100.0 * err);
+    assert!(err < 0.0 && err > -0.045, "peak force {} mg, {:+.2}% from the meridian's {f_ref} mg", f[ipk], 100.0 * err);
     let ramp: Vec<usize> = (0..n).filter(|&i| t[i] <= 2.0 + 1e-9).collect();
     assert!(ramp.windows(2).all(|w| f[w[1]] >= f[w[0]] - 1e-9), "force not rising during the ramp");
     let hold: Vec<usize> = (0..n).filter(|&i| t[i] > 2.0 + 1e-9 && t[i] <= 8.0 + 1e-9).collect();
@@ -225,6 +227,7 @@ fn equal_order_compression_release_protocol() {
     assert!(pen < 2.0, "penetration {pen} µm beyond the contact faces' sagitta");
     let f_ref = meridian_peak(&dir, &sc);
     let err = f[ipk] / f_ref - 1.0;
+    println!("peak {} mg, {:+.2}% from the meridian's {f_ref} mg", f[ipk], 100.0 * err);
     println!("P1-P1 peak {:.4} mg, {:+.2}% from the meridian's {f_ref:.4} mg; contact nodes {} + {} (P2-P1 {} + {}); penetration {pen:.3} µm",
         f[ipk], 100.0 * err, up[ipk], lo[ipk], up2[i2], lo2[i2]);
     assert!(err.abs() < 0.02, "peak force {} mg, {:+.2}% from the meridian's {f_ref} mg", f[ipk], 100.0 * err);
@@ -331,7 +334,7 @@ fn long_hold_reaches_the_drained_static_force() {
         "reference",
         &dir,
         &[
-            ("h = 20.0, h_pole = 6.0", "h = 40.0, h_pole = 12.0"),
+            ("h = 20.0, h_pole = 3.0", "h = 40.0, h_pole = 12.0"),
             ("t_end = 40.0", "t_end = 100000.0"),
             ("t_end = 100.0", "t_end = 800.0"),
             ("dt_max = 2.0", "dt_max = 100.0"),
@@ -344,7 +347,7 @@ fn long_hold_reaches_the_drained_static_force() {
         "reference",
         &ddir,
         &[
-            ("h = 20.0, h_pole = 6.0", "h = 40.0, h_pole = 12.0"),
+            ("h = 20.0, h_pole = 3.0", "h = 40.0, h_pole = 12.0"),
             ("gravity = [0.0, 0.0, -9.81]", "gravity = [0.0, 0.0, -9.81]\ndrained = true"),
             ("t_end = 40.0", "t_end = 100000.0"),
             ("t_end = 100.0", "t_end = 5.0"),

@@ -1,6 +1,7 @@
 //! Checks of a run's set-up and solves: the `poroplast check` command, the PETSc options left
 //! unread after the first step, and `-poroplast_check_jacobian`.
 
+use super::resolved;
 use super::step::{Progress, Stages, Step};
 use super::{petsc_args, with_petsc, Run, RunArgs};
 use crate::error::{Error, Result};
@@ -41,8 +42,10 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc:
         run.first_step(&mut pg, Stages::register()?, true)?;
         let mesh = run.ts.problem().mesh();
         let warning = run.setup.ellipticity.as_ref().map(|w| format!("\nwarning: {w}")).unwrap_or_default();
+        let s = &scene.scene;
+        let accuracy = resolved::accuracy_class(s, mesh.family).map(|a| format!("\n{a}")).unwrap_or_default();
         Ok(format!(
-            "{}: ok — mesh {} ({} {}, {} nodes, {} vertices; {} dofs), first step taken\n{}{warning}",
+            "{}: ok — mesh {} ({} {}, {} nodes, {} vertices; {} dofs), first step taken\n{}\n{}{accuracy}{warning}",
             scene.source,
             run.setup.mesh_path.display(),
             mesh.n_global_elems,
@@ -50,6 +53,7 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc:
             mesh.n_global_nodes,
             mesh.n_global_vertices,
             run.setup.n_global_dofs,
+            resolved::discretisation(s, mesh.family, mesh.n_global_elems),
             run.setup.solver_line
         ))
     })

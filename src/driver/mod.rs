@@ -7,14 +7,16 @@
 //! the rest, one concept a module: the set-up (`setup`), the `check` command (`check`), a time
 //! step and settling (`step`), the step controller (`schedule`) and the step rate it acts on
 //! (`rate`), the state between steps and the checkpoint files (`state`), writing and reading
-//! checkpoints in a run (`checkpoint`), the run directory's outputs and log (`output`), the run
-//! record `run.toml` (`record`) and stop signals (`signals`).
+//! checkpoints in a run (`checkpoint`), the run directory's outputs and log (`output`), what the
+//! scene resolved to and its expected accuracy (`resolved`), the run record `run.toml` (`record`)
+//! and stop signals (`signals`).
 
 mod check;
 mod checkpoint;
 mod output;
 mod rate;
 mod record;
+mod resolved;
 mod schedule;
 mod setup;
 pub(crate) mod signals;

@@ -88,6 +88,11 @@ impl<'w> Run<'w> {
         if !self.scene.overrides.is_empty() {
             self.say(&format!("overrides: --set {}", self.scene.overrides.join(" --set ")));
         }
+        let s = &self.scene.scene;
+        self.say(&super::resolved::discretisation(s, mesh.family, mesh.n_global_elems));
+        if let Some(a) = super::resolved::accuracy_class(s, mesh.family) {
+            self.say(&a);
+        }
         self.say(&self.setup.solver_line);
         if let Some(w) = &self.setup.ellipticity {
             self.say(&format!("warning: {w}"));

@@ -9,10 +9,12 @@
 //! refreshed at every stage time.
 //!
 //! Fluid: the surface drains into the bath where it is off the plates and is sealed where it
-//! touches them. The outward flux through a surface vertex m is Q·N = β(g_m) p_m (lumped on
-//! its share A_m of the surface), with g_m the vertex's gap to the nearer plate and
-//! β(g) = β_c + (β_max − β_c) S(g / g_s), S the smoothstep from 0 (g ≤ 0, in contact) to 1
-//! (g ≥ g_s, free). β_c is the plates' own conductance: 0 for impermeable plates (sealed
+//! touches them. The outward flux through a surface vertex m is Q·N = Σ_f β(g_fm) p_m A_fm,
+//! lumped on its shares A_fm = ∫_f L_m dA of its faces f, with β(g) = β_c + (β_max − β_c)
+//! S(g / g_s), S the smoothstep from 0 (g ≤ 0, in contact) to 1 (g ≥ g_s, free), and g_fm the
+//! smaller of m's gap to the nearer plate and the largest gap of f's other nodes: a face drains
+//! at m only where it opens towards the bath, so a vertex lifted inside a contact patch stays
+//! sealed (why: `Plates::drainage`). β_c is the plates' own conductance: 0 for impermeable plates (sealed
 //! contact, the default), or k_β / L for the paper's slightly permeable plates (permeability
 //! k_β, thickness L), a Robin outflow through the contact area into plates drained at their far
 //! face — an upper bound on what a closed porous plate can take (the paper's plates are
@@ -100,8 +102,8 @@ pub struct Plates {
     z_ref: Vec<f64>,
     /// How the surface drains (module docs).
     pub drain: Drainage,
-    /// Local contact-surface vertices with their share ∫ L_m dA of this rank's faces.
-    vertices: Vec<(usize, f64)>,
+    /// The drainage shares: each (face, vertex) of this rank's contact faces (module docs).
+    shares: Vec<Share>,
     /// Local node (if here) of the bottom pole, which stays on the lower plate (see `new`).
     anchor: Option<usize>,
     tol: f64,
@@ -151,29 +153,25 @@ impl Plates {
         nodes.sort_unstable();
         nodes.dedup();
         let z_ref = nodes.iter().map(|&n| mesh.coords[n][2]).collect();
-        // ∫ L_m dA of every vertex over this rank's faces (P1 on the curved faces; whole-body
-        // areas on the meridian).
+        // ∫ L_m dA of every vertex of every face (P1 on the curved faces; whole-body areas on
+        // the meridian), with the face's other contact nodes.
         let rule = FaceRule::with_degree(mesh.family, 2);
-        let mut area = std::collections::BTreeMap::<usize, f64>::new();
+        let nv = mesh.family.face_vertices();
+        let mut shares = Vec::with_capacity(faces.len() * nv);
         for &f in faces {
             let fnodes = mesh.face(f as usize);
             let coords: Vec<[f64; 3]> = fnodes.iter().map(|&n| mesh.coords[n as usize]).collect();
-            for p in rule.points(&coords) {
-                for m in 0..mesh.family.face_vertices() {
-                    *area.entry(fnodes[m] as usize).or_default() += p.l[m] * p.w;
+            let points = rule.points(&coords);
+            for m in 0..nv {
+                let mut others = [usize::MAX; MAX_OTHERS];
+                for (k, &n) in fnodes[..per_face].iter().filter(|&&n| n != fnodes[m]).enumerate() {
+                    others[k] = n as usize;
                 }
+                let area = points.iter().map(|p| p.l[m] * p.w).sum();
+                shares.push(Share { vertex: fnodes[m] as usize, area, others, n_others: per_face - 1 });
             }
         }
-        Plates {
-            loading,
-            z_upper: 2.0 * radius,
-            nodes,
-            z_ref,
-            drain,
-            vertices: area.into_iter().collect(),
-            anchor,
-            tol: AT_BOUND * radius,
-        }
+        Plates { loading, z_upper: 2.0 * radius, nodes, z_ref, drain, shares, anchor, tol: AT_BOUND * radius }
     }
 
     /// Height of the lower plate's top face at time t.
@@ -251,36 +249,78 @@ impl Plates {
         self.nodes.iter().zip(&self.z_ref).map(|(&n, &z)| self.touch(z, u_local[dofs.uz_local(n)], t)).collect()
     }
 
-    /// Drainage of every local contact-surface vertex with its gap in the state `u_local` (local
-    /// layout) at time t: its p dof, u_z dof, conductance c = β(g) A (outflow c p) and dc/du_z.
-    /// Empty without drainage.
+    /// Drainage of every local (face, vertex) share with the gaps of the state `u_local` (local
+    /// layout) at time t: the vertex's p dof, the u_z dof of the node whose gap sets the share's
+    /// conductance c = β(g) A (outflow c p), and dc/du_z. Empty without drainage.
+    ///
+    /// The gap of a share is the smaller of the vertex's and the largest of its face's other
+    /// nodes': a face drains at a vertex only if it opens towards the bath. Why: a Tri6 face's
+    /// consistent load puts 0 of a uniform pressure on its corners and A(p₁ − (p₂+p₃)/2)/30 of a
+    /// linear one, so a corner inside a contact patch whose pressure dips below its
+    /// neighbours' is pulled off the plate by a fraction of a µm; with its own gap it drained
+    /// into the bath through a pocket sealed all round, its pressure collapsed and it lifted
+    /// further — 2 such holes at the peak on the default mesh, 19 at h = 8, enough outflow to
+    /// put the 3-D forces about 1% low at every mesh size (docs/studies.md). The meridian's
+    /// Line3 corners take p/6 and cannot lift, so there the rule only seals the half of an edge
+    /// vertex's share that faces the contact.
     pub fn drainage(&self, mesh: &LocalMesh, dofs: &DofMap, u_local: &[f64], t: f64) -> Vec<Drain> {
         let d = &self.drain;
         if !d.on {
             return Vec::new();
         }
         let zl = self.z_lower(t);
-        self.vertices
+        // Gap to the nearer plate of node n and its derivative with respect to u_z.
+        let gap = |n: usize| {
+            let z = mesh.coords[n][2] + u_local[dofs.uz_local(n)];
+            if z - zl <= self.z_upper - z {
+                (z - zl, 1.0)
+            } else {
+                (self.z_upper - z, -1.0)
+            }
+        };
+        self.shares
             .iter()
-            .map(|&(n, a)| {
-                let uz = dofs.uz_local(n);
-                let z = mesh.coords[n][2] + u_local[uz];
-                // Gap to the nearer plate and its derivative with respect to u_z.
-                let (g, dg) = if z - zl <= self.z_upper - z { (z - zl, 1.0) } else { (self.z_upper - z, -1.0) };
+            .map(|sh| {
+                let own = (gap(sh.vertex), sh.vertex);
+                let ring = sh.others[..sh.n_others].iter().map(|&n| (gap(n), n)).fold(
+                    None,
+                    |best: Option<((f64, f64), usize)>, x| match best {
+                        Some(b) if b.0 .0 >= x.0 .0 => Some(b),
+                        _ => Some(x),
+                    },
+                );
+                let ((g, dg), n) = match ring {
+                    Some(r) if r.0 .0 < own.0 .0 => r,
+                    _ => own,
+                };
                 let (s, ds) = smoothstep(g / d.seal_gap);
                 let (c, dc) = conductance(d.beta_plate, d.beta_max, s, ds);
                 Drain {
-                    p: dofs.p_local(mesh.vertex_of_node[n] as usize),
-                    uz,
-                    conductance: a * c,
-                    d_conductance: a * dc * dg / d.seal_gap,
+                    p: dofs.p_local(mesh.vertex_of_node[sh.vertex] as usize),
+                    uz: dofs.uz_local(n),
+                    conductance: sh.area * c,
+                    d_conductance: sh.area * dc * dg / d.seal_gap,
                 }
             })
             .collect()
     }
 }
 
-/// The drainage term of one surface vertex (see [`Plates::drainage`]).
+/// Nodes of a contact face besides one vertex: 5 on a Tri6, 2 on the meridian's Line3.
+const MAX_OTHERS: usize = 5;
+
+/// One vertex's share of one contact face's drainage (see [`Plates::drainage`]).
+#[derive(Debug, Clone, Copy)]
+struct Share {
+    vertex: usize,
+    /// ∫ L_m dA over the face.
+    area: f64,
+    /// The face's other contact nodes (`n_others` of them; its vertices only for P1–P1).
+    others: [usize; MAX_OTHERS],
+    n_others: usize,
+}
+
+/// The drainage term of one (face, vertex) share (see [`Plates::drainage`]).
 #[derive(Debug, Clone, Copy)]
 pub struct Drain {
     pub p: usize,

@@ -1,0 +1,60 @@
+//! What a scene resolved to, for the run log and `poroplast check`: the element pair, the mesh
+//! (its source and size parameters) and, for plate experiments, the accuracy class that the
+//! measured error-against-time chart gives for that discretisation (docs/performance.md,
+//! "3-D accuracy per second", made by `scripts/accuracy3d.py`).
+//!
+//! The classes are errors of the peak force and of F(35 s) of the `reference` experiment
+//! against its converged meridian values, measured on 2026-12-02 with the scene's default
+//! steps; other plate scenes are classed by the same relative mesh size h/R, which is a guide,
+//! not a bound.
+
+use crate::mesh::Family;
+use crate::scene::{Geometry, Scene};
+
+/// The one-line description: element, cells, mesh source and parameters.
+pub(super) fn discretisation(scene: &Scene, family: Family, n_cells: usize) -> String {
+    let element = if scene.fem.equal_order() { "equal-order P1–P1 (stabilised)" } else { "Taylor–Hood P2–P1" };
+    let m = &scene.mesh;
+    let source = match (m.geometry, &m.meridian, &m.geo, &m.file) {
+        (Geometry::Axisymmetric, Some(g), _, _) | (_, _, Some(g), _) => g.clone(),
+        (_, _, _, Some(f)) => f.clone(),
+        _ => "?".into(),
+    };
+    let params: Vec<String> = m.params.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+    let params = if params.is_empty() { String::new() } else { format!(" ({})", params.join(", ")) };
+    let mirror = if m.mirror.is_empty() { String::new() } else { format!(", mirrored across {}", m.mirror.join(", ")) };
+    format!("discretisation: {element} on {n_cells} curved {}; mesh {source}{params}{mirror}", family.cells_name())
+}
+
+/// The expected accuracy of the plate force for this discretisation (plate scenes on a sphere
+/// `.geo` with R and h; None otherwise).
+pub(super) fn accuracy_class(scene: &Scene, family: Family) -> Option<String> {
+    scene.plates.as_ref()?;
+    let p = &scene.mesh.params;
+    let h_over_r = p.get("h")? / p.get("R")?;
+    let (class, basis) = class_of(family.axisymmetric(), scene.fem.equal_order(), h_over_r);
+    Some(format!("expected accuracy (plate force, h/R = {h_over_r:.2}): {class} [{basis}; docs/performance.md]"))
+}
+
+/// The measured class for (meridian?, P1–P1?, h/R): (class, what it was measured on).
+fn class_of(meridian: bool, equal_order: bool, h_over_r: f64) -> (&'static str, &'static str) {
+    match (meridian, equal_order) {
+        (true, _) if h_over_r <= 0.2 => (
+            "peak and F(35 s) within about 1%",
+            "meridian, h/R = 0.05-0.2: peak -1.07 to +0.14%, F(35 s) -0.33 to +0.56%",
+        ),
+        (true, _) => ("not charted above h/R = 0.2", "meridian"),
+        (false, true) => (
+            "peak within about 1.5%, F(35 s) 2-10% high (the linear displacement is stiff)",
+            "3-D P1-P1, h/R = 0.15-0.4: peak -0.5 to +1.35%, F(35 s) +2.4 to +10.3%",
+        ),
+        (false, false) if h_over_r <= 0.2 => (
+            "peak 0.5-1.3% low, F(35 s) within about 0.6%",
+            "3-D P2-P1, h/R = 0.12-0.2 graded at the poles: peak -0.54 to -1.33%, F(35 s) -0.64 to -0.04%",
+        ),
+        (false, false) if h_over_r <= 0.3 => {
+            ("peak and F(35 s) 1-2.5% low", "3-D P2-P1, h/R = 0.25-0.3: peak -1.5 to -1.9%, F(35 s) -0.9 to -2.4%")
+        }
+        (false, false) => ("not charted above h/R = 0.3", "3-D P2-P1"),
+    }
+}
