@@ -281,17 +281,12 @@ impl Plates {
         self.shares
             .iter()
             .map(|sh| {
-                let own = (gap(sh.vertex), sh.vertex);
-                let ring = sh.others[..sh.n_others].iter().map(|&n| (gap(n), n)).fold(
-                    None,
-                    |best: Option<((f64, f64), usize)>, x| match best {
-                        Some(b) if b.0 .0 >= x.0 .0 => Some(b),
-                        _ => Some(x),
-                    },
-                );
-                let ((g, dg), n) = match ring {
-                    Some(r) if r.0 .0 < own.0 .0 => r,
-                    _ => own,
+                // The widest opening of the face's other nodes, then the smaller of it and m's.
+                let widest =
+                    sh.others[..sh.n_others].iter().map(|&n| (gap(n), n)).max_by(|a, b| a.0 .0.total_cmp(&b.0 .0));
+                let ((g, dg), n) = match widest {
+                    Some(w) if w.0 .0 < gap(sh.vertex).0 => w,
+                    _ => (gap(sh.vertex), sh.vertex),
                 };
                 let (s, ds) = smoothstep(g / d.seal_gap);
                 let (c, dc) = conductance(d.beta_plate, d.beta_max, s, ds);
