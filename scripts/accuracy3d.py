@@ -74,8 +74,9 @@ def main():
     a = ap.parse_args()
     cases = [c for c in CASES if c[3] or not a.quick]
     sets = [("time.t_end", 60), ("output.fields", "false")]
+    labels = {runner.slug(c[2]): c[1] for c in cases}
     results = runner.run_cases("reference", [c[2] for c in cases], sets, a.dir, a.ranks, observables=OBS,
-                               names=[runner.slug(c[2]) for c in cases], label=lambda o: runner.slug(o),
+                               names=[runner.slug(c[2]) for c in cases], label=lambda o: labels[runner.slug(o)],
                                sweep=True, ranks_per_case=a.ranks)
     rows = []
     for (series, label, _, _), (_, r) in zip(cases, results):

@@ -9,17 +9,15 @@
 //! not a bound.
 
 use crate::mesh::Family;
-use crate::scene::{Geometry, Scene};
+use crate::scene::Scene;
 
 /// The one-line description: element, cells, mesh source and parameters.
 pub(super) fn discretisation(scene: &Scene, family: Family, n_cells: usize) -> String {
     let element = if scene.fem.equal_order() { "equal-order P1–P1 (stabilised)" } else { "Taylor–Hood P2–P1" };
     let m = &scene.mesh;
-    let source = match (m.geometry, &m.meridian, &m.geo, &m.file) {
-        (Geometry::Axisymmetric, Some(g), _, _) | (_, _, Some(g), _) => g.clone(),
-        (_, _, _, Some(f)) => f.clone(),
-        _ => "?".into(),
-    };
+    // The file the run meshes from, as `LoadedScene::mesh_source` picks it.
+    let (geo, file) = m.source();
+    let source = file.or(geo).unwrap_or("?");
     let params: Vec<String> = m.params.iter().map(|(k, v)| format!("{k} = {v}")).collect();
     let params = if params.is_empty() { String::new() } else { format!(" ({})", params.join(", ")) };
     let mirror = if m.mirror.is_empty() { String::new() } else { format!(", mirrored across {}", m.mirror.join(", ")) };

@@ -284,9 +284,10 @@ impl Plates {
                 // The widest opening of the face's other nodes, then the smaller of it and m's.
                 let widest =
                     sh.others[..sh.n_others].iter().map(|&n| (gap(n), n)).max_by(|a, b| a.0 .0.total_cmp(&b.0 .0));
+                let own = (gap(sh.vertex), sh.vertex);
                 let ((g, dg), n) = match widest {
-                    Some(w) if w.0 .0 < gap(sh.vertex).0 => w,
-                    _ => (gap(sh.vertex), sh.vertex),
+                    Some(w) if w.0 .0 < own.0 .0 => w,
+                    _ => own,
                 };
                 let (s, ds) = smoothstep(g / d.seal_gap);
                 let (c, dc) = conductance(d.beta_plate, d.beta_max, s, ds);
