@@ -257,6 +257,13 @@ fn check_validates_as_run_does() {
     assert!(out.contains("h/R = 0.20): peak and F(35 s) within about 1%"), "{out}");
     let out = run_ok(1, &["check", &scene("terzaghi")]);
     assert!(!out.contains("expected accuracy"), "{out}");
+    // Remodelling adds the ramp's step error: its own class.
+    let out = run_ok(1, &["check", "remodel_40"]);
+    assert!(out.contains("h/R = 0.20): peak about 1-1.5% low, F(35 s) about 1% high (with remodelling)"), "{out}");
+    // The automatic sizes at R = 100 are the default mesh's, and the log says where they came from.
+    let out =
+        run_ok(1, &["check", "reference", "--set", "mesh.grading=\"auto\"", "--set", "mesh.params={ R = 100.0 }"]);
+    assert!(out.contains("6276 dofs") && out.contains("sizes by mesh.grading = auto"), "{out}");
     for (set, expect) in [
         ("plates.radius=120", "plates.radius = 120"),
         ("plates.group=\"skin\"", "physical group \"skin\" not found"),

@@ -12,6 +12,9 @@ pub struct Schedule {
     pub growth: f64,
     pub land_on: Vec<f64>,
     pub kinks: Vec<f64>,
+    /// (until, dt_max): a smaller largest step for steps that start before `until` (the
+    /// loading ramp's `time.dt_max_ramp`).
+    pub cap: Option<(f64, f64)>,
     /// Error tolerance of the step controller (None: geometric growth).
     pub tol: Option<f64>,
     /// A step cut below this by failed solves is an error (see `TimeSpec::dt_min`).
@@ -72,7 +75,14 @@ impl Schedule {
             }
             None => nominal * self.growth,
         };
-        next.min(self.dt_max).min(2.0 * taken.max(nominal * 1e-3))
+        next.min(self.dt_max_from(t)).min(2.0 * taken.max(nominal * 1e-3))
+    }
+    /// The largest step from t.
+    fn dt_max_from(&self, t: f64) -> f64 {
+        match self.cap {
+            Some((until, cap)) if t < until - self.eps() => cap.min(self.dt_max),
+            _ => self.dt_max,
+        }
     }
     /// Whether an error estimate rejects the step, and the step to retry with.
     pub fn reject(&self, taken: f64, err: Option<f64>) -> Option<f64> {
@@ -110,6 +120,7 @@ mod tests {
             growth: 1.5,
             land_on: vec![7.7],
             kinks: vec![5.0],
+            cap: None,
             tol: None,
             dt_min: 1e-9,
         };
@@ -143,6 +154,7 @@ mod tests {
             growth: 1.3,
             land_on: vec![],
             kinks: vec![35.0],
+            cap: None,
             tol: Some(1e-3),
             dt_min: 1e-9,
         };
@@ -163,5 +175,34 @@ mod tests {
         let r = s.reject(0.1, Some(4.0)).expect("rejected");
         assert!((r - 0.045).abs() < 1e-12);
         assert!((s.reject(0.1, Some(1e4)).unwrap() - 0.02).abs() < 1e-12, "at most ×0.2");
+    }
+
+    #[test]
+    fn the_ramp_cap_holds_until_its_end_only() {
+        let s = Schedule {
+            t_end: 20.0,
+            dt0: 0.02,
+            dt_max: 4.0,
+            growth: 1.3,
+            land_on: vec![],
+            kinks: vec![5.0],
+            cap: Some((5.0, 0.1)),
+            tol: None,
+            dt_min: 1e-9,
+        };
+        let (mut t, mut nom) = (0.0, s.dt0);
+        let mut steps = vec![];
+        while !s.done(t) {
+            let dt = s.step(t, nom);
+            steps.push((t, dt));
+            t += dt;
+            nom = s.grow(nom, dt, t, None);
+        }
+        let ramp: Vec<f64> = steps.iter().filter(|(t, _)| *t < 5.0 - 1e-9).map(|&(_, dt)| dt).collect();
+        assert!(ramp.iter().all(|&dt| dt <= 0.1 + 1e-12), "{ramp:?}");
+        // 0.02 growing by 1.3: 7 steps to the cap (0.35 s), 45 of 0.1 s, the last 0.15 s halved.
+        assert_eq!(ramp.len(), 54, "{ramp:?}");
+        let after = steps.iter().map(|&(_, dt)| dt).fold(0.0, f64::max);
+        assert!(after > 1.0, "the cap ends with the ramp: largest step {after}");
     }
 }

@@ -184,6 +184,7 @@ fn schedule(scene: &LoadedScene, kinks: Vec<f64>) -> Schedule {
         growth: t.growth,
         land_on: t.land_on.iter().chain(&o.fields_at).copied().collect(),
         kinks,
+        cap: t.dt_max_ramp.zip(scene.scene.plates.as_ref()).map(|(m, p)| (p.t_ramp, m)),
         tol: t.error_tolerance,
         dt_min: t.dt_min.unwrap_or(1e-6 * t.dt),
     }

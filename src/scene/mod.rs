@@ -2,6 +2,7 @@
 //! solver options), parsed from TOML with unknown keys rejected by name, and validated with
 //! physical ranges before anything runs.
 
+pub mod auto;
 pub mod overrides;
 
 use crate::error::{Error, Result};
@@ -70,6 +71,10 @@ pub struct MeshSpec {
     /// (with the same `params`): so one override switches a scene to its meridian.
     #[serde(default)]
     pub meridian: Option<String>,
+    /// `given` (default: the sizes in `params`) or `auto` (the measured best sizes for plate
+    /// experiments, scaled by `params.R`; sizes given in `params` win). See [`auto`].
+    #[serde(default)]
+    pub grading: auto::Grading,
 }
 
 /// The geometry of a scene's body (see [`MeshSpec::geometry`]).
@@ -252,6 +257,11 @@ pub struct TimeSpec {
     pub dt: f64,
     #[serde(default)]
     pub dt_max: Option<f64>,
+    /// Largest step during the plates' loading ramp (0 to `plates.t_ramp`): backward Euler
+    /// over-integrates a flow that rises through the ramp (the remodelling) by a share of
+    /// Δt / t, which geometric growth keeps constant; a cap makes it shrink.
+    #[serde(default)]
+    pub dt_max_ramp: Option<f64>,
     /// dt_{n+1} = min(growth · dt_n, dt_max); 1 = constant steps. With `error_tolerance`, only
     /// where there is no error estimate (the first step after a kink of the loading).
     #[serde(default = "one")]
@@ -481,7 +491,8 @@ pub struct FemSpec {
     /// P1–P1 keeps the constant weight, which its inf–sup stability needs.
     #[serde(default)]
     pub stabilisation_fade: Option<f64>,
-    /// The element: "P2-P1" (Taylor–Hood, default) or "P1-P1" (equal order, unstable without
+    /// The element: "P2-P1" (Taylor–Hood, default), "auto" (the measured best: P2–P1; see
+    /// [`auto`]) or "P1-P1" (equal order, unstable without
     /// the stabilisation; `fem::equal_order`). With plates, P1–P1's contact bounds and contact
     /// state are on the vertices (its mid-edge nodes follow their edges); its stabilisation
     /// keeps the constant weight (`stabilisation_fade` is for Taylor–Hood only).
@@ -498,6 +509,9 @@ pub enum Element {
     /// Equal-order P1–P1 (`fem::equal_order`).
     #[serde(rename = "P1-P1")]
     P1P1,
+    /// The measured best for the scene; resolved when the scene is loaded ([`auto::resolve`]).
+    #[serde(rename = "auto")]
+    Auto,
 }
 
 impl FemSpec {
@@ -572,6 +586,7 @@ impl LoadedScene {
         if scene.name.is_empty() {
             scene.name = stem;
         }
+        auto::resolve(&mut scene).map_err(scene_err)?;
         let loaded = LoadedScene { scene, overrides: overrides.to_vec(), source, dir };
         loaded.validate()?;
         Ok(loaded)
@@ -753,6 +768,18 @@ impl LoadedScene {
         }
         positive(self, "time.t_end", t.t_end)?;
         positive(self, "time.dt", t.dt)?;
+        if let Some(m) = t.dt_max_ramp {
+            positive(self, "time.dt_max_ramp", m)?;
+            if s.plates.is_none() {
+                return Err(
+                    self.err("time.dt_max_ramp caps the steps of the plates' loading ramp: the scene has no [plates]")
+                );
+            }
+            if t.dt > m {
+                return Err(self
+                    .err(format!("time.dt = {} exceeds time.dt_max_ramp = {m}: the first step must be <= it", t.dt)));
+            }
+        }
         if let Some(m) = t.dt_max {
             positive(self, "time.dt_max", m)?;
             if t.dt > m {
