@@ -44,7 +44,7 @@ pub(super) fn accuracy_class(scene: &Scene, family: Family) -> Option<String> {
 /// steps: ramp steps <= 0.1 s; measured 2026-12-02).
 const REMODELLING_3D: (&str, &str) = (
     "peak about 1-1.5% low, F(35 s) about 1% high (with remodelling)",
-    "3-D P2-P1 remodel_40, h/R = 0.2, h_pole 3, ramp steps <= 0.1 s: peak -1.16%, F(35 s) +0.89%",
+    "3-D P2-P1 remodel_40, h/R = 0.2, h_pole 3, ramp steps <= 0.1 s: peak -1.15%, F(35 s) +0.88%",
 );
 
 /// The measured class for (meridian?, P1–P1?, h/R): (class, what it was measured on).
