@@ -166,8 +166,18 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     fails(&earlier, &["run", &ok, "--set", "time.dt_min=1e3"], "time.dt_min = 1000: must be below the first step");
     fails(
         &earlier,
+        &["run", &ok, "--set", "time.dt_max_ramp=0.1"],
+        "time.dt_max_ramp caps the steps of the plates' loading ramp: the scene has no [plates]",
+    );
+    fails(
+        &earlier,
+        &["run", &ok, "--set", "mesh.grading=\"auto\""],
+        "scales the mesh sizes by the aggregate's radius: give mesh.params.R",
+    );
+    fails(
+        &earlier,
         &["run", &ok, "--set", "fem.element=\"Q2\""],
-        "--set fem.element=\"Q2\": unknown variant `Q2`, expected `P2-P1` or `P1-P1`",
+        "--set fem.element=\"Q2\": unknown variant `Q2`, expected one of `P2-P1`, `P1-P1`, `auto`",
     );
     // The plates experiment's own checks (one validation path with `check`, below).
     fails(&earlier, &["run", "reference", "--set", "time.dt=10"], "time.dt = 10 exceeds time.dt_max = 2");
