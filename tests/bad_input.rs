@@ -267,9 +267,11 @@ fn check_validates_as_run_does() {
     assert!(out.contains("h/R = 0.20): peak and F(35 s) within about 1%"), "{out}");
     let out = run_ok(1, &["check", &scene("terzaghi")]);
     assert!(!out.contains("expected accuracy"), "{out}");
-    // Remodelling adds the ramp's step error: its own class.
+    // Remodelling has its own classes, by the integrator.
     let out = run_ok(1, &["check", "remodel_40"]);
-    assert!(out.contains("h/R = 0.20): peak about 1-1.5% low, F(35 s) about 1% high (with remodelling)"), "{out}");
+    assert!(out.contains("h/R = 0.20): peak about 0.5% low, F(35 s) within about 0.5% (trapezoidal"), "{out}");
+    let out = run_ok(1, &["check", "remodel_40", "--set", "material.remodelling.integrator=\"implicit\""]);
+    assert!(out.contains("peak about 1.5% low, F(35 s) about 1.4% high (backward-Euler"), "{out}");
     // The automatic sizes at R = 100 are the default mesh's, and the log says where they came from.
     let out =
         run_ok(1, &["check", "reference", "--set", "mesh.grading=\"auto\"", "--set", "mesh.params={ R = 100.0 }"]);

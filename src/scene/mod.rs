@@ -186,7 +186,8 @@ pub struct RemodellingSpec {
     /// what the paper says it solved) or "40a" (L b_e = −2 γp b_e dev σ: a rate 1/J faster).
     #[serde(default)]
     pub form: FlowForm,
-    /// Step integrator: "implicit" (default: the exponential map, unconditionally stable) or
+    /// Step integrator: "implicit" (default: the exponential map, unconditionally stable),
+    /// "trapezoidal" (half the step explicit, half implicit: second order, A-stable) or
     /// "explicit" (forward Euler in B_p, conditionally stable: for stability studies).
     #[serde(default)]
     pub integrator: Integrator,
