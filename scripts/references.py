@@ -56,6 +56,9 @@ HW = lambda t_end, c2: case("remodel_40", ["last:height/width"],
 CASES = {
     "reference": case("reference", ["max:force_total_mg", "force_total_mg@35", "zero:force_total_mg",
                                     "last:height/width", "probe_p@5"]),
+    # The experiment at the parameters matched to FEBio's Holmes–Mow (no Φs factor: µ = 20 / 0.6)
+    # of issue 27's comparison with an established code (docs/performance.md).
+    "febio_matched": case("reference", ["max:force_total_mg", "force_total_mg@35"], ["material.mu=33.33"]),
     # The ramp alone: the peak with steps down to 1/32 on every mesh level (an independent check of
     # the whole-experiment study's peak).
     "reference_peak": case("reference", ["max:force_total_mg", "probe_p@5"], ["time.t_end=5"],

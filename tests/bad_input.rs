@@ -119,7 +119,7 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     fails(
         &earlier,
         &["run", &s],
-        "material.remodelling.integrator: unknown variant `rk4`, expected `implicit` or `explicit`",
+        "material.remodelling.integrator: unknown variant `rk4`, expected one of `implicit`, `trapezoidal`, `explicit`",
     );
     let s = rvariant("remodelling_key", &[("sigma_y = 2.0", "sigma_y = 2.0, eta = 1.0")]);
     fails(&earlier, &["run", &s], "unknown field `eta`");
