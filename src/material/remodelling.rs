@@ -146,6 +146,14 @@ impl Remodelling {
         Remodelling { integrator, ..self }
     }
 
+    /// γp's factor of the overstress ratio: λp, or λp/J in the spatial form (40a).
+    fn rate_factor<T: Scalar>(&self, j: T) -> T {
+        match self.form {
+            FlowForm::Referential => T::cst(self.lambda_p),
+            FlowForm::Spatial => T::cst(self.lambda_p) / j,
+        }
+    }
+
     /// √(2/3) σy: the yield radius of ‖dev σ‖.
     pub fn yield_radius(&self) -> f64 {
         (2.0f64 / 3.0).sqrt() * self.sigma_y
@@ -176,11 +184,7 @@ impl Remodelling {
         }
         let half = 0.5 * dt;
         let Some(s) = self.trial_overstress(hm, c_n, bp_n, half)? else { return Ok((*bp_n, half)) };
-        let j = c_n.determinant().sqrt();
-        let rate = match self.form {
-            FlowForm::Referential => self.lambda_p,
-            FlowForm::Spatial => self.lambda_p / j,
-        };
+        let rate = self.rate_factor(c_n.determinant().sqrt());
         // In a stiff step (Δt λp µ ≳ 1) a frozen rate overshoots the yield surface, and the
         // trapezoidal rule rings: where the half step would relax more than half the overstress,
         // the step is backward Euler's (L-stable) instead. The choice depends on the step's start
@@ -270,11 +274,7 @@ impl Remodelling {
         let j = ln_j.exp();
         let s = m_trace_mul(&d, &d).sqrt() / j;
         // Δγ = Δt γp = Δt λp (s − k)/s (spatial form: λp/J).
-        let mut dgamma = (s - Dual::cst(self.yield_radius())) / s;
-        dgamma = match self.form {
-            FlowForm::Referential => dgamma.scale(self.lambda_p * dt),
-            FlowForm::Spatial => dgamma.scale(self.lambda_p * dt) / j,
-        };
+        let dgamma = (s - Dual::cst(self.yield_radius())) / s * self.rate_factor(j).scale(dt);
         let bd = m_mul(&bn, &d);
         let x: [Dual<6>; 6] = std::array::from_fn(|k| {
             let (a, b) = SYM_PAIRS[k];
