@@ -14,6 +14,13 @@ the time.
     python3 scripts/bench.py [--case default remodel ...] [--repeat 3] [--ranks 1 2]
     python3 scripts/bench.py --scene cryer --h 12.5 8.33      # a scene at several mesh sizes (default cryer)
     python3 scripts/bench.py --sweep [--repeat 3] [--ranks 2]  # many small cases: one mpirun each or sweeps
+    python3 scripts/bench.py --targets [--repeat 3]            # every 3-D plate scene against issue 27's targets
+
+`--targets`: every shipped 3-D plate scene (and `reference` at the parameters matched to FEBio's
+Holmes-Mow, mu = 33.33 kPa) run alone to t_end = 60 s on 2 ranks, --repeat times: the median wall
+time (mpirun's, start-up included) with the runs, the steps, the peak force and F(35 s) with their
+errors against the converged meridian values of scripts/data/references.csv, and whether the case
+meets the 3-D targets (peak within 1%, F(35 s) within 0.5%, <= 60 s). About 15 min with --repeat 3.
 
 `--sweep`: sixteen axisymmetric cases (remodel_40 on its meridian to t = 10 s, λp × σy 4 × 4,
 about 1-2 s each) through the study runner three ways — one `mpirun -n RANKS` per case (as the
@@ -33,6 +40,7 @@ reference scenes the accuracy line gives each value's error against the converge
 The large ones (fine, graded, full, cryer100k) take minutes per run on 2 cores.
 """
 import argparse
+import csv
 import json
 import math
 import statistics
@@ -188,6 +196,54 @@ def sweep_bench(a, work):
               + ", ".join(f"{k.split('.')[-1]} {v:.9g}" for k, v in fit.items()) + " |")
 
 
+# --targets: (scene, overrides, the references.csv case whose converged values judge it; None:
+# no converged force reference exists). Up to 35 s elastic_155 and reference_405 are `reference`,
+# remodel_155 and remodel_405 are remodel_40.
+TARGETS = [
+    ("reference", [], "reference"),
+    ("elastic_155", [], "reference"),
+    ("reference_405", [], "reference"),
+    ("reference_full", [], "reference"),
+    ("remodel_40", [], "remodel_40"),
+    ("remodel_155", [], "remodel_40"),
+    ("remodel_405", [], "remodel_40"),
+    ("remodel_155_c2", [], None),
+    ("reference", ["material.mu=33.33"], "febio_matched"),
+]
+# The 3-D targets: relative errors of the peak and F(35 s), wall time (s) to t_end = 60 s.
+TARGET = {"peak": 0.01, "F35": 0.005, "wall": 60.0}
+REFERENCES = Path(__file__).parent / "data" / "references.csv"
+
+
+def targets_bench(a, work):
+    """Every 3-D plate scene to t_end = 60 s on 2 ranks: median wall time, errors, targets met."""
+    refs = {}
+    with open(REFERENCES) as f:
+        for row in csv.DictReader(f):
+            refs[(row["case"], row["observable"])] = float(row["extrapolated"])
+    print(f"medians of {a.repeat} run(s), 2 ranks, t_end = 60 s; converged values from {REFERENCES.name}; "
+          f"work dir {work}")
+    print("\n| scene | dofs | wall (s), median | runs (s) | steps | peak (mg) | F(35 s) (mg) | targets |")
+    print("|---|---|---|---|---|---|---|---|")
+    for scene, ov, ref in TARGETS:
+        label = scene + "".join(f" {o}" for o in ov)
+        rs = [run_once(scene, ov + ["time.t_end=60"], 2, work / f"{label.replace(' ', '_')}-{k}")
+              for k in range(a.repeat)]
+        med = lambda key: statistics.median(r[key] for r in rs)
+        wall, peak, f35 = med("wall"), med("peak_F_mg"), med("F35_mg")
+        if ref:
+            e_peak = peak / refs[(ref, "max:force_total_mg")] - 1
+            e_35 = f35 / refs[(ref, "force_total_mg@35")] - 1
+            met = abs(e_peak) <= TARGET["peak"] and abs(e_35) <= TARGET["F35"] and wall <= TARGET["wall"]
+            cells = f"{peak:.4f} ({100 * e_peak:+.2f}%) | {f35:.4f} ({100 * e_35:+.2f}%) | " \
+                    + ("met" if met else "missed")
+        else:
+            cells = f"{peak:.4f} | {f35:.4f} | no reference" + (" (over 60 s)" if wall > TARGET["wall"] else "")
+        runs = ", ".join(f"{r['wall']:.1f}" for r in rs)
+        print(f"| {label} | {med('dofs'):.0f} | {wall:.1f} | {runs} | "
+              f"{med('steps'):.0f} | {cells} |", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--case", nargs="+", choices=list(CASES), default=None)
@@ -200,9 +256,13 @@ def main():
     ap.add_argument("--sweep", action="store_true",
                     help="16 small axisymmetric cases one mpirun each and as sweeps (k = ranks, k = 1): cases "
                          "per minute; the calibration example one mpirun per run and one sweep per iteration")
+    ap.add_argument("--targets", action="store_true",
+                    help="every 3-D plate scene to t_end = 60 s on 2 ranks against the 3-D targets (issue 27)")
     ap.add_argument("--no-halved", action="store_true",
                     help="skip the accuracy check (one run with halved steps and tolerances, 10x tighter Newton)")
     a = ap.parse_args()
+    if a.targets:
+        return targets_bench(a, Path(tempfile.mkdtemp(prefix="poroplast-bench-targets-")))
     if a.sweep:
         a.ranks = (a.ranks or [2])[0]
         return sweep_bench(a, Path(tempfile.mkdtemp(prefix="poroplast-bench-sweep-")))
