@@ -169,17 +169,6 @@ fn meridian_experiment_matches_the_quarter() {
     let (qpeak, q35) = (q.col("force_total_mg").iter().cloned().fold(0.0, f64::max), at(&q, "force_total_mg", 35.0));
     assert!((qpeak / CONVERGED_PEAK - 1.0).abs() < 0.01, "quarter peak {qpeak} mg");
     assert!((q35 / CONVERGED_F35 - 1.0).abs() < 0.005, "quarter F(35 s) {q35} mg");
-    // The steps start afresh at the kink of 35 s, where the plate turns back on a body squeezed
-    // between the plates, but not at 40 s, where the plate stops under a body that rests on it
-    // alone and only rides along (the heights at 40 s and the fluid volumes at 100 s above agree).
-    let times = q.col("time");
-    let step_after = |t0: f64| {
-        let i = times.iter().position(|&t| t > t0 + 1e-9).unwrap();
-        times[i] - times[i - 1]
-    };
-    assert!(at(&q, "contact_nodes_upper", 35.0) > 0.0 && at(&q, "contact_nodes_upper", 40.0) == 0.0);
-    assert!((step_after(35.0) - 0.02).abs() < 1e-9, "first step after 35 s: {}", step_after(35.0));
-    assert!(step_after(40.0) > 0.1, "first step after 40 s: {}", step_after(40.0));
     // The meridian's forces are whole-sphere values without a symmetry factor, like the quarter's.
     let settled = at(&a, "force_lower_mg", 0.0);
     let weight = 1e-9 * at(&a, "fluid_volume", 0.0);

@@ -133,11 +133,8 @@ impl<'w> Run<'w> {
         pg.totals = totals;
         pg.c.newton += its.0;
         pg.c.ksp += its.1;
+        pg.c.nominal = self.schedule.grow(pg.c.nominal, taken, pg.c.t, err);
         let kink = self.schedule.at_kink(pg.c.t);
-        // A kink of the plate's motion jumps the body's deformation rate, and the steps start
-        // afresh, unless the body only rides on the lower plate (released: no jump to resolve).
-        let restart = kink && !self.ts.problem_mut().resting(&self.state.u, pg.c.t)?;
-        pg.c.nominal = self.schedule.grow(pg.c.nominal, taken, pg.c.t, err, restart);
         // The step's rate serves the contact predictor and the error estimate; not across a kink.
         let keep_rate = !kink && (self.ts.problem().plates.is_some() || self.schedule.tol.is_some());
         self.state.commit(self.ts.problem_mut(), taken, keep_rate)?;

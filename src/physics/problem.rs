@@ -13,7 +13,7 @@
 //! becomes a domain error on every rank, which TS answers by cutting the step.
 
 use super::bc::Constraint;
-use super::contact::{DrainageGap, Plates, Touch};
+use super::contact::{DrainageGap, Plates};
 use crate::error::{Error, Result};
 pub use crate::fem::assembly::Discretization;
 use crate::fem::assembly::QpStateUse;
@@ -416,16 +416,6 @@ impl PoroProblem {
             _ => self.extrapolation = None,
         }
         Ok(())
-    }
-
-    /// Whether the body rests on the lower plate alone in the state `u` at time t: plates, and
-    /// no node on the upper one (collective). A kink of the plate's motion then moves the body
-    /// rigidly; while both plates hold it, it is a kink of the deformation rate.
-    pub fn resting(&mut self, u: &Vector, t: f64) -> Result<bool> {
-        let Some(pl) = &self.plates else { return Ok(false) };
-        self.scatter.forward(u, &mut self.u_loc)?;
-        let here = pl.states(&self.disc.dofs, &self.u_loc.read()?, t).contains(&Touch::Upper);
-        Ok(!crate::parallel::any(&self.world, here))
     }
 
     /// The scales of the local error estimate (`driver::rate`): the owned u dofs come first;
