@@ -40,7 +40,6 @@ reference scenes the accuracy line gives each value's error against the converge
 The large ones (fine, graded, full, cryer100k) take minutes per run on 2 cores.
 """
 import argparse
-import csv
 import json
 import math
 import statistics
@@ -213,16 +212,13 @@ TARGETS = [
 ]
 # The 3-D targets: relative errors of the peak and F(35 s), wall time (s) to t_end = 60 s.
 TARGET = {"peak": 0.01, "F35": 0.005, "wall": 60.0}
-REFERENCES = Path(__file__).parent / "data" / "references.csv"
 
 
 def targets_bench(a, work):
     """Every 3-D plate scene to t_end = 60 s on 2 ranks: median wall time, errors, targets met."""
-    refs = {}
-    with open(REFERENCES) as f:
-        for row in csv.DictReader(f):
-            refs[(row["case"], row["observable"])] = float(row["extrapolated"])
-    print(f"medians of {a.repeat} run(s), 2 ranks, t_end = 60 s; converged values from {REFERENCES.name}; "
+    refs = runner.references()
+    print(f"medians of {a.repeat} run(s), 2 ranks, t_end = 60 s; converged values from "
+          f"{runner.SHIPPED_REFERENCES.name}; "
           f"work dir {work}")
     print("\n| scene | dofs | wall (s), median | runs (s) | steps | peak (mg) | F(35 s) (mg) | targets |")
     print("|---|---|---|---|---|---|---|---|")
@@ -233,8 +229,8 @@ def targets_bench(a, work):
         med = lambda key: statistics.median(r[key] for r in rs)
         wall, peak, f35 = med("wall"), med("peak_F_mg"), med("F35_mg")
         if ref:
-            e_peak = peak / refs[(ref, "max:force_total_mg")] - 1
-            e_35 = f35 / refs[(ref, "force_total_mg@35")] - 1
+            e_peak = peak / refs[(ref, "max:force_total_mg")][0] - 1
+            e_35 = f35 / refs[(ref, "force_total_mg@35")][0] - 1
             met = abs(e_peak) <= TARGET["peak"] and abs(e_35) <= TARGET["F35"] and wall <= TARGET["wall"]
             cells = f"{peak:.4f} ({100 * e_peak:+.2f}%) | {f35:.4f} ({100 * e_35:+.2f}%) | " \
                     + ("met" if met else "missed")

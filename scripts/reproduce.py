@@ -368,10 +368,10 @@ def reported(dirs, out, refs, label):
     <out>/reported.csv."""
     conv = {}
     if refs and Path(refs).exists():
-        for r in csv.DictReader(open(refs)):
-            conv[(r["case"], r["observable"])] = (float(r["extrapolated"]), float(r["error_bar"]))
-            if r["case"] == "combined":
-                conv[r["observable"]] = conv[(r["case"], r["observable"])]
+        for (case, obs), v in runner.references(refs).items():
+            conv[(case, obs)] = v
+            if case == "combined":
+                conv[obs] = v
     fmt = lambda v: "—" if v is None or v != v else f"{v:.4g}"
     rows = []
     for what, paper, key, three_d in REPORTED:

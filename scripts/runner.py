@@ -49,6 +49,16 @@ COUNTERS = {"wall_s": "total", "steps": "steps", "step_cuts": "step_cuts", "newt
 SIZES = ("h_pole", "h_edge", "h_surf")   # mesh sizes besides h, scaled with it by h_levels
 
 
+SHIPPED_REFERENCES = ROOT / "scripts" / "data" / "references.csv"
+
+
+def references(path=SHIPPED_REFERENCES):
+    """A references.csv (scripts/references.py) as {(case, observable): (extrapolated, error bar)}."""
+    with open(path) as f:
+        return {(r["case"], r["observable"]): (float(r["extrapolated"]), float(r["error_bar"]))
+                for r in csv.DictReader(f)}
+
+
 def write_rows(path, rows, fields=None):
     """Rows (dicts) as a CSV file with a header: `fields` (default: the first row's keys; keys a row
     has beyond them are left out)."""
