@@ -1,0 +1,618 @@
+//! The source tree's shape, read from its imports: the dependencies between top-level modules
+//! (folders) and between the files of one folder form no cycle, and no source file outside
+//! tests is longer than the limit. Reads `src/` as text (no compiler): `use` trees, inline
+//! `crate::`/`super::` paths and bare paths into child modules, resolved through re-exports to
+//! the file that defines the item. Test code (`#[cfg(test)]` modules and files) counts for the
+//! folder graph but not for file sizes.
+//!
+//! Run `cargo test --test architecture -- --nocapture` to print both graphs.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// Longest source file allowed outside tests (lines).
+const MAX_LINES: usize = 600;
+
+/// One source file: its module path (`["driver", "step"]`; the crate root is `[]`).
+struct File {
+    path: PathBuf,
+    module: Vec<String>,
+    /// Whether the module is a directory module (`mod.rs`/`lib.rs`): its children live below it.
+    is_dir: bool,
+    text: String,
+    lines: usize,
+    test_only: bool,
+}
+
+fn src_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
+}
+
+fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
+    let mut entries: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    entries.sort();
+    for p in entries {
+        if p.is_dir() {
+            collect(&p, out);
+        } else if p.extension().is_some_and(|e| e == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+fn module_of(rel: &Path) -> (Vec<String>, bool) {
+    let mut parts: Vec<String> = rel.iter().map(|s| s.to_string_lossy().trim_end_matches(".rs").to_string()).collect();
+    let last = parts.pop().unwrap();
+    match last.as_str() {
+        "lib" | "main" if parts.is_empty() => (parts, true),
+        "mod" => (parts, true),
+        _ => {
+            parts.push(last);
+            (parts, false)
+        }
+    }
+}
+
+/// Drops comments and string literals (so `"crate::x"` in a message is no dependency).
+fn strip(text: &str) -> String {
+    let b: Vec<char> = text.chars().collect();
+    let mut out = String::with_capacity(text.len());
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == '/' && i + 1 < b.len() && b[i + 1] == '/' {
+            while i < b.len() && b[i] != '\n' {
+                i += 1;
+            }
+        } else if b[i] == '/' && i + 1 < b.len() && b[i + 1] == '*' {
+            i += 2;
+            while i + 1 < b.len() && !(b[i] == '*' && b[i + 1] == '/') {
+                i += 1;
+            }
+            i += 2;
+        } else if b[i] == '"' {
+            // A raw string r#"..."# is rare here; plain strings with escapes suffice.
+            i += 1;
+            while i < b.len() && b[i] != '"' {
+                if b[i] == '\\' {
+                    i += 1;
+                }
+                i += 1;
+            }
+            i += 1;
+            out.push_str("\"\"");
+        } else if b[i] == '\'' && i + 2 < b.len() && (b[i + 2] == '\'' || b[i + 1] == '\\') {
+            // a char literal ('{', '\n'); lifetimes ('a) have no closing quote here
+            i += 1;
+            while i < b.len() && b[i] != '\'' {
+                if b[i] == '\\' {
+                    i += 1;
+                }
+                i += 1;
+            }
+            i += 1;
+        } else {
+            out.push(b[i]);
+            i += 1;
+        }
+    }
+    out
+}
+
+/// Splits stripped text into (production, test) parts: an inline `#[cfg(test)] mod x { ... }`
+/// block goes to the test part (brace-matched on stripped text).
+fn split_tests(text: &str) -> (String, String) {
+    let mut prod = String::new();
+    let mut test = String::new();
+    let mut rest = text;
+    while let Some(at) = rest.find("#[cfg(test)]") {
+        prod.push_str(&rest[..at]);
+        let after = &rest[at + "#[cfg(test)]".len()..];
+        let trimmed = after.trim_start();
+        let is_block =
+            trimmed.starts_with("mod ") && trimmed.find('{').is_some_and(|b| trimmed.find(';').is_none_or(|s| b < s));
+        if !is_block {
+            // an attribute on one item (`mod x;`, a fn, a use): that item is test code
+            let end = after.find([';', '{']).unwrap_or(after.len());
+            let end = if after[end..].starts_with('{') { block_end(after, end) } else { end + 1 };
+            test.push_str(&after[..end]);
+            rest = &after[end..];
+            continue;
+        }
+        let open = after.find('{').unwrap();
+        let end = block_end(after, open);
+        test.push_str(&after[..end]);
+        rest = &after[end..];
+    }
+    prod.push_str(rest);
+    (prod, test)
+}
+
+fn block_end(s: &str, open: usize) -> usize {
+    let mut depth = 0usize;
+    for (i, c) in s[open..].char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' => {
+                depth -= 1;
+                if depth == 0 {
+                    return open + i + 1;
+                }
+            }
+            _ => {}
+        }
+    }
+    s.len()
+}
+
+/// The code of a module and of each inline `mod name { ... }` inside it, each with its own
+/// module path (a nested module's `super::` is its parent, not the file's parent).
+fn units(code: &str, module: &[String]) -> Vec<(Vec<String>, String)> {
+    let mut own = String::new();
+    let mut out = Vec::new();
+    let mut rest = code;
+    loop {
+        let Some(at) = find_inline_mod(rest) else { break };
+        let (name, open) = at;
+        own.push_str(&rest[..open]);
+        let end = block_end(rest, open);
+        let mut inner = module.to_vec();
+        inner.push(name);
+        out.extend(units(&rest[open + 1..end - 1], &inner));
+        rest = &rest[end..];
+    }
+    own.push_str(rest);
+    out.insert(0, (module.to_vec(), own));
+    out
+}
+
+/// The next `mod name {` in `code`: its name and the position of its `{`.
+fn find_inline_mod(code: &str) -> Option<(String, usize)> {
+    let mut from = 0;
+    while let Some(i) = code[from..].find("mod ") {
+        let at = from + i;
+        from = at + 4;
+        if at > 0 && is_ident(code[..at].chars().last().unwrap()) {
+            continue;
+        }
+        let name: String = code[at + 4..].chars().take_while(|&c| is_ident(c)).collect();
+        let after = code[at + 4 + name.len()..].trim_start();
+        if !name.is_empty() && after.starts_with('{') {
+            let open = code.len() - after.len();
+            return Some((name, open));
+        }
+    }
+    None
+}
+
+/// The paths a `use` tree names, expanded: `a::{b, c::d}` → `a::b`, `a::c::d` (aliases dropped).
+fn expand_use(tree: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    expand_into("", tree, &mut out);
+    out
+}
+
+fn expand_into(prefix: &str, tree: &str, out: &mut Vec<String>) {
+    let mut depth = 0;
+    let mut start = 0;
+    let mut items = Vec::new();
+    for (i, c) in tree.char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' => depth -= 1,
+            ',' if depth == 0 => {
+                items.push(&tree[start..i]);
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    items.push(&tree[start..]);
+    for item in items {
+        let item = item.trim();
+        if item.is_empty() {
+            continue;
+        }
+        if let Some(b) = item.find('{') {
+            let head = item[..b].trim().trim_end_matches("::");
+            let inner = &item[b + 1..item.rfind('}').unwrap_or(item.len())];
+            expand_into(&join(prefix, head), inner, out);
+        } else {
+            let path: String = item.split(" as ").next().unwrap().chars().filter(|c| !c.is_whitespace()).collect();
+            out.push(join(prefix, &path));
+        }
+    }
+}
+
+fn join(a: &str, b: &str) -> String {
+    if a.is_empty() {
+        b.to_string()
+    } else if b == "self" {
+        a.to_string()
+    } else {
+        format!("{a}::{b}")
+    }
+}
+
+fn is_ident(c: char) -> bool {
+    c.is_alphanumeric() || c == '_'
+}
+
+/// Paths in code outside `use` lines that start with `crate::` or `super::`.
+fn inline_paths(code: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for start in ["crate::", "super::"] {
+        let mut from = 0;
+        while let Some(i) = code[from..].find(start) {
+            let at = from + i;
+            from = at + start.len();
+            if at > 0 && is_ident(code[..at].chars().last().unwrap()) {
+                continue;
+            }
+            let mut end = at;
+            let bytes: Vec<char> = code[at..].chars().collect();
+            let mut j = 0;
+            while j < bytes.len()
+                && (is_ident(bytes[j]) || (bytes[j] == ':' && j + 1 < bytes.len() && bytes[j + 1] == ':'))
+            {
+                j += if bytes[j] == ':' { 2 } else { 1 };
+            }
+            end += bytes[..j].iter().map(|c| c.len_utf8()).sum::<usize>();
+            out.push(code[at..end].trim_end_matches("::").to_string());
+        }
+    }
+    out
+}
+
+fn use_trees(code: &str) -> Vec<(bool, String)> {
+    // (is a `pub use`, tree)
+    let mut out = Vec::new();
+    let mut from = 0;
+    while let Some(i) = code[from..].find("use ") {
+        let at = from + i;
+        from = at + 4;
+        let before = code[..at].trim_end();
+        let line_start = before.is_empty()
+            || before.ends_with(';')
+            || before.ends_with('{')
+            || before.ends_with('}')
+            || before.ends_with(']')
+            || before.ends_with("pub")
+            || before.ends_with(')');
+        if !line_start || (at > 0 && is_ident(code[..at].chars().last().unwrap())) {
+            continue;
+        }
+        let is_pub = before.ends_with("pub") || before.ends_with(')') && before.contains("pub(");
+        let Some(end) = code[at..].find(';') else { break };
+        out.push((is_pub, code[at + 4..at + end].to_string()));
+        from = at + end;
+    }
+    out
+}
+
+struct Tree {
+    files: Vec<File>,
+    /// module path → file index
+    by_module: BTreeMap<Vec<String>, usize>,
+}
+
+impl Tree {
+    fn read() -> Tree {
+        let src = src_dir();
+        let mut paths = Vec::new();
+        collect(&src, &mut paths);
+        let mut files = Vec::new();
+        for path in paths {
+            let rel = path.strip_prefix(&src).unwrap().to_path_buf();
+            if rel == Path::new("main.rs") {
+                continue; // the binary: a separate crate using `poroplast::`
+            }
+            let text = std::fs::read_to_string(&path).unwrap();
+            let (module, is_dir) = module_of(&rel);
+            let lines = text.lines().count();
+            files.push(File { path: rel, module, is_dir, text, lines, test_only: false });
+        }
+        let by_module = files.iter().enumerate().map(|(i, f)| (f.module.clone(), i)).collect();
+        let mut tree = Tree { files, by_module };
+        tree.mark_test_files();
+        tree
+    }
+
+    /// Files declared under `#[cfg(test)] mod x;` are test code.
+    fn mark_test_files(&mut self) {
+        let mut test_modules = Vec::new();
+        for f in &self.files {
+            let code = strip(&f.text);
+            let mut from = 0;
+            while let Some(i) = code[from..].find("#[cfg(test)]") {
+                let at = from + i + "#[cfg(test)]".len();
+                from = at;
+                let rest = code[at..].trim_start();
+                let rest = rest.strip_prefix("pub ").unwrap_or(rest);
+                let rest = rest.strip_prefix("pub(crate) ").unwrap_or(rest);
+                if let Some(m) = rest.strip_prefix("mod ") {
+                    let name: String = m.chars().take_while(|&c| is_ident(c)).collect();
+                    if m[name.len()..].trim_start().starts_with(';') {
+                        let mut module = f.module.clone();
+                        module.push(name);
+                        test_modules.push(module);
+                    }
+                }
+            }
+        }
+        for f in &mut self.files {
+            if test_modules.iter().any(|m| f.module.starts_with(m)) {
+                f.test_only = true;
+            }
+        }
+    }
+
+    /// The module (as a path) a use path refers to, from module `at`, or None for other crates.
+    fn absolute(&self, at: &[String], path: &str) -> Option<Vec<String>> {
+        let segs: Vec<&str> = path.split("::").filter(|s| !s.is_empty()).collect();
+        let first = *segs.first()?;
+        // the module that a relative path starts from: `self` is the file's module
+        let mut base: Vec<String> = at.to_vec();
+        let mut rest: &[&str] = &segs;
+        match first {
+            "crate" => {
+                base.clear();
+                rest = &segs[1..];
+            }
+            "self" => rest = &segs[1..],
+            "super" => {
+                let mut k = 0;
+                while k < segs.len() && segs[k] == "super" {
+                    base.pop()?;
+                    k += 1;
+                }
+                rest = &segs[k..];
+            }
+            name => {
+                // a bare path: only a child module of this one counts (2018 paths)
+                let mut child = at.to_vec();
+                child.push(name.to_string());
+                if !self.by_module.contains_key(&child) {
+                    return None;
+                }
+            }
+        }
+        let mut full = base;
+        full.extend(rest.iter().map(|s| s.to_string()));
+        Some(full)
+    }
+
+    /// The file defining what `full` names: the longest module prefix, followed through the
+    /// re-exports (`pub use`) of that module when the next segment is an item re-exported there.
+    fn resolve(&self, full: &[String], depth: usize) -> Option<usize> {
+        let mut k = full.len();
+        while k > 0 && !self.by_module.contains_key(&full[..k]) {
+            k -= 1;
+        }
+        let idx = *self.by_module.get(&full[..k])?;
+        if depth < 8 && k < full.len() {
+            let item = &full[k];
+            let f = &self.files[idx];
+            let (prod, _) = split_tests(&strip(&f.text));
+            let own = units(&prod, &f.module).swap_remove(0).1;
+            for (_, tree) in use_trees(&own) {
+                for p in expand_use(&tree) {
+                    let last = p.rsplit("::").next().unwrap_or("");
+                    if last == item.as_str() {
+                        if let Some(abs) = self.absolute(&f.module, &p) {
+                            if abs != full[..k] {
+                                return self.resolve(&abs, depth + 1);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        Some(idx)
+    }
+
+    /// (from file, to file, is test code) for every dependency between two different files.
+    fn edges(&self) -> Vec<(usize, usize, bool)> {
+        let mut out = BTreeSet::new();
+        for (i, f) in self.files.iter().enumerate() {
+            let (prod, test) = split_tests(&strip(&f.text));
+            for (code, is_test) in [(prod, f.test_only), (test, true)] {
+                let mut paths = Vec::new();
+                for (module, code) in units(&code, &f.module) {
+                    let top = module == f.module;
+                    for (is_pub, tree) in use_trees(&code) {
+                        for p in expand_use(&tree) {
+                            // a directory module's re-export of its own child is structure, not use
+                            let abs = self.absolute(&module, &p);
+                            if is_pub && f.is_dir && top {
+                                if let Some(a) = &abs {
+                                    if a.starts_with(&f.module) && a.len() > f.module.len() {
+                                        continue;
+                                    }
+                                }
+                            }
+                            paths.push(abs);
+                        }
+                    }
+                    for p in inline_paths(&code) {
+                        paths.push(self.absolute(&module, &p));
+                    }
+                }
+                for full in paths.into_iter().flatten() {
+                    if let Some(j) = self.resolve(&full, 0) {
+                        // inside a test module `super::` is the file itself; the crate root only
+                        // declares modules (a `super::` in a macro body lands there)
+                        if j != i && !self.files[j].module.is_empty() {
+                            out.insert((i, j, is_test));
+                        }
+                    }
+                }
+            }
+        }
+        out.into_iter().collect()
+    }
+
+    fn folder(&self, i: usize) -> String {
+        self.files[i].module.first().cloned().unwrap_or_else(|| "crate".into())
+    }
+
+    fn parent(&self, i: usize) -> Vec<String> {
+        let f = &self.files[i];
+        let mut p = f.module.clone();
+        if !f.is_dir {
+            p.pop();
+        }
+        p
+    }
+}
+
+/// The strongly connected components with more than one node (the cycles), by Tarjan.
+fn cycles(nodes: &[String], edges: &BTreeSet<(String, String)>) -> Vec<Vec<String>> {
+    struct S<'a> {
+        adj: BTreeMap<&'a str, Vec<&'a str>>,
+        index: BTreeMap<&'a str, usize>,
+        low: BTreeMap<&'a str, usize>,
+        stack: Vec<&'a str>,
+        on: BTreeSet<&'a str>,
+        next: usize,
+        out: Vec<Vec<String>>,
+    }
+    fn visit<'a>(s: &mut S<'a>, v: &'a str) {
+        s.index.insert(v, s.next);
+        s.low.insert(v, s.next);
+        s.next += 1;
+        s.stack.push(v);
+        s.on.insert(v);
+        for w in s.adj.get(v).cloned().unwrap_or_default() {
+            if !s.index.contains_key(w) {
+                visit(s, w);
+                let l = s.low[v].min(s.low[w]);
+                s.low.insert(v, l);
+            } else if s.on.contains(w) {
+                let l = s.low[v].min(s.index[w]);
+                s.low.insert(v, l);
+            }
+        }
+        if s.low[v] == s.index[v] {
+            let mut comp = Vec::new();
+            loop {
+                let w = s.stack.pop().unwrap();
+                s.on.remove(w);
+                comp.push(w.to_string());
+                if w == v {
+                    break;
+                }
+            }
+            if comp.len() > 1 {
+                comp.sort();
+                s.out.push(comp);
+            }
+        }
+    }
+    let mut adj: BTreeMap<&str, Vec<&str>> = BTreeMap::new();
+    for (a, b) in edges {
+        adj.entry(a.as_str()).or_default().push(b.as_str());
+    }
+    let mut s = S {
+        adj,
+        index: BTreeMap::new(),
+        low: BTreeMap::new(),
+        stack: vec![],
+        on: BTreeSet::new(),
+        next: 0,
+        out: vec![],
+    };
+    for n in nodes {
+        if !s.index.contains_key(n.as_str()) {
+            visit(&mut s, n);
+        }
+    }
+    s.out
+}
+
+fn report(title: &str, edges: &BTreeSet<(String, String)>) {
+    println!("{title}:");
+    let mut by: BTreeMap<&str, Vec<&str>> = BTreeMap::new();
+    for (a, b) in edges {
+        by.entry(a).or_default().push(b);
+    }
+    for (a, bs) in by {
+        println!("  {a} -> {}", bs.join(", "));
+    }
+}
+
+#[test]
+fn top_level_modules_form_no_cycle() {
+    let tree = Tree::read();
+    let mut edges = BTreeSet::new();
+    let mut why: BTreeMap<(String, String), String> = BTreeMap::new();
+    for (i, j, is_test) in tree.edges() {
+        let (a, b) = (tree.folder(i), tree.folder(j));
+        if a != b && a != "crate" {
+            why.entry((a.clone(), b.clone())).or_insert_with(|| {
+                format!(
+                    "{} -> {}{}",
+                    tree.files[i].path.display(),
+                    tree.files[j].path.display(),
+                    if is_test { " (test)" } else { "" }
+                )
+            });
+            edges.insert((a, b));
+        }
+    }
+    report("top-level modules (tests included)", &edges);
+    let nodes: Vec<String> = edges.iter().flat_map(|(a, b)| [a.clone(), b.clone()]).collect();
+    let found = cycles(&nodes, &edges);
+    let explain: Vec<String> = found
+        .iter()
+        .map(|c| {
+            let inside: Vec<&String> =
+                why.iter().filter(|((a, b), _)| c.contains(a) && c.contains(b)).map(|(_, w)| w).collect();
+            format!("{c:?} via {inside:?}")
+        })
+        .collect();
+    assert!(found.is_empty(), "cycles between top-level modules: {explain:#?}");
+}
+
+#[test]
+fn files_of_one_folder_form_no_cycle() {
+    let tree = Tree::read();
+    let mut edges = BTreeSet::new();
+    for (i, j, is_test) in tree.edges() {
+        // within one directory module: the files whose parent is the same module
+        if !is_test && tree.parent(i) == tree.parent(j) || tree.files[j].module == tree.parent(i) && !is_test {
+            let name = |k: usize| tree.files[k].path.display().to_string();
+            edges.insert((name(i), name(j)));
+        }
+    }
+    let nodes: Vec<String> = edges.iter().flat_map(|(a, b)| [a.clone(), b.clone()]).collect();
+    let found = cycles(&nodes, &edges);
+    if !found.is_empty() {
+        report("file dependencies inside folders (production code)", &edges);
+    }
+    assert!(found.is_empty(), "cycles between the files of one folder: {found:#?}");
+}
+
+#[test]
+fn no_source_file_outside_tests_exceeds_the_limit() {
+    let tree = Tree::read();
+    let long: Vec<String> = tree
+        .files
+        .iter()
+        .filter(|f| !f.test_only && f.lines > MAX_LINES)
+        .map(|f| format!("{} ({} lines)", f.path.display(), f.lines))
+        .collect();
+    assert!(long.is_empty(), "source files over {MAX_LINES} lines: {long:?}");
+}
+
+#[test]
+fn the_reader_sees_use_trees_and_paths() {
+    // the parser itself, on known shapes
+    assert_eq!(expand_use("crate::{a::b, c::{d, e as f}}"), ["crate::a::b", "crate::c::d", "crate::c::e"]);
+    assert_eq!(expand_use("super::x::{self, Y}"), ["super::x", "super::x::Y"]);
+    assert_eq!(inline_paths("let a = crate::mesh::Mesh::new(); super::f()"), ["crate::mesh::Mesh::new", "super::f"]);
+    let (p, t) =
+        split_tests("fn a() {}\n#[cfg(test)]\nmod tests {\n use super::*;\n fn b() { if x { } }\n}\nfn c() {}");
+    assert!(p.contains("fn a") && p.contains("fn c") && !p.contains("fn b"));
+    assert!(t.contains("fn b"));
+    assert_eq!(strip("let s = \"crate::x\"; // crate::y\n'{'"), "let s = \"\"; \n");
+}
