@@ -224,7 +224,7 @@ fn configure_nonlinear_solver(
             }
         } else {
             let ksp = snes.ksp()?;
-            ksp.use_dm_of(&snes)?;
+            snes.lend_dm_to(&ksp)?;
             ksp.set_from_options()?;
             // Reusing a preconditioner needs a Krylov method to absorb the difference.
             let mut lag = if ksp.type_name()? == "preonly" { solver::Lag::NEVER } else { policy.lag };

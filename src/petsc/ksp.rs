@@ -90,14 +90,6 @@ impl Ksp {
     pub fn set_reuse_preconditioner(&self, reuse: bool) -> Result<()> {
         check(unsafe { ffi::KSPSetReusePreconditioner(self.raw, super::pbool(reuse)) })
     }
-    /// Gives the KSP the DM of `snes` for PC information only (field decomposition), not for
-    /// its operators.
-    pub fn use_dm_of(&self, snes: &super::Snes) -> Result<()> {
-        let mut dm: ffi::DM = std::ptr::null_mut();
-        check(unsafe { ffi::SNESGetDM(snes.raw, &mut dm) })?;
-        check(unsafe { ffi::KSPSetDM(self.raw, dm) })?;
-        check(unsafe { ffi::KSPSetDMActive(self.raw, super::pbool(false)) })
-    }
     pub fn set_up(&self) -> Result<()> {
         check(unsafe { ffi::KSPSetUp(self.raw) })
     }

@@ -118,6 +118,14 @@ impl Snes {
         check(unsafe { ffi::SNESGetKSP(self.raw, &mut raw) })?;
         Ok(Ksp { raw })
     }
+    /// Gives `ksp` this SNES's DM for PC information only (field decomposition), not for its
+    /// operators.
+    pub fn lend_dm_to(&self, ksp: &Ksp) -> Result<()> {
+        let mut dm: ffi::DM = std::ptr::null_mut();
+        check(unsafe { ffi::SNESGetDM(self.raw, &mut dm) })?;
+        check(unsafe { ffi::KSPSetDM(ksp.raw, dm) })?;
+        check(unsafe { ffi::KSPSetDMActive(ksp.raw, super::pbool(false)) })
+    }
     pub fn set_type(&self, t: &str) -> Result<()> {
         let c = super::cstr(t);
         check(unsafe { ffi::SNESSetType(self.raw, c.as_ptr()) })
