@@ -9,7 +9,7 @@
 //! not a bound.
 
 use crate::material::Integrator;
-use crate::mesh::Family;
+use crate::reference_cell::Family;
 use crate::scene::{Material, Scene};
 
 /// The one-line description: element, cells, mesh source and parameters.

@@ -13,7 +13,7 @@ use crate::fem::quadrature;
 use crate::mesh::dist::{self, LocalMesh};
 use crate::mesh::partition;
 use crate::mesh::source::{mesh_file, read_mesh};
-use crate::mesh::Family;
+use crate::reference_cell::Family;
 use crate::parallel::{agree, broadcast_vec, on_root};
 use crate::petsc::{options, DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
@@ -270,7 +270,7 @@ fn straight_volume(mesh: &LocalMesh) -> f64 {
         .iter()
         .map(|t| {
             let x = |i: usize| mesh.coords[t[i] as usize];
-            let m = crate::mesh::straight_measure(mesh.family, x);
+            let m = crate::reference_cell::straight_measure(mesh.family, x);
             match mesh.family {
                 Family::Tet10 => m,
                 Family::Tri6 => 2.0 * std::f64::consts::PI * (x(0)[0] + x(1)[0] + x(2)[0]) / 3.0 * m,

@@ -5,13 +5,14 @@
 
 use super::cell::{CellShape, Tet10, Tri6Axi};
 use super::dofmap::DofMap;
-use super::element::{ElementDofs, ElementMatrix, Tabulation, MAX_DOF, MAX_NODES, MAX_VERTICES};
+use super::element::{ElementDofs, ElementMatrix, Tabulation, MAX_DOF};
 use super::kernel::{CellKernel, ElementInput, ElementKernel, ElementValues, Stabilisation};
 use super::point::{PointModel, QpState};
 use super::qp_store::QpStore;
 use crate::error::Result;
 use crate::mesh::dist::LocalMesh;
-use crate::mesh::Family;
+use crate::reference_cell::shape::{MAX_NODES, MAX_VERTICES};
+use crate::reference_cell::Family;
 use crate::petsc::{Int, Mat};
 use std::marker::PhantomData;
 

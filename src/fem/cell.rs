@@ -11,9 +11,10 @@
 //! first [`CellShape::NN`], [`CellShape::NV`], [`CellShape::NC`] entries. The kernel is generic
 //! over the family, so these are constants of the compiled loops.
 
-use super::element::{p1_values, tet10_geometry, Tabulation, MAX_NODES, MAX_VERTICES, TET10_EDGES, TRI6_EDGES};
+use super::element::{tet10_geometry, Tabulation};
 use crate::error::{Error, Result};
-use crate::mesh::Family;
+use crate::reference_cell::shape::{p1_values, MAX_NODES, MAX_VERTICES};
+use crate::reference_cell::{Family, TET10_EDGES, TRI6_EDGES};
 
 /// The map of a cell at one quadrature point.
 #[derive(Debug, Clone, Copy)]

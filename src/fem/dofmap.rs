@@ -217,7 +217,8 @@ pub struct Preallocation {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::{dist, Family};
+    use crate::mesh::dist;
+    use crate::reference_cell::Family;
 
     /// The unit cube (and the meridian square) split over 3 ranks by blocks of cells, without MPI:
     /// the owned dofs of the ranks tile 0..n_global once each, in each rank's [offset, offset +

@@ -1,6 +1,6 @@
-//! Reference shape functions (Gmsh node order) and the isoparametric maps of curved 10-node
-//! tetrahedra and 6-node triangles: x(ξ) = Σ N_a(ξ) x_a, ∇_X N_a = J⁻ᵀ ∇_ξ N_a, dV = det J dξ;
-//! and the element's dof layout.
+//! The isoparametric maps of curved 10-node tetrahedra and 6-node triangles, x(ξ) = Σ N_a(ξ) x_a,
+//! ∇_X N_a = J⁻ᵀ ∇_ξ N_a, dV = det J dξ, on the reference shape functions of
+//! [`crate::reference_cell::shape`] tabulated at quadrature points; and the element's dof layout.
 //!
 //! Element dof layout: u of node a, component c at NC a + c (NC = 3 in 3-D, 2 on the meridian),
 //! then p of vertex m at NU + m (NU = NC × nodes); see `cell::CellShape`. Arrays are sized for the
@@ -8,88 +8,16 @@
 
 use super::quadrature::Quadrature;
 use crate::error::{Error, Result};
-use crate::mesh::Family;
-pub use crate::mesh::{TET10_EDGES, TRI6_EDGES};
+use crate::reference_cell::shape::{p2_values, tet10, tri6};
+use crate::reference_cell::Family;
 
-/// Largest number of nodes, vertices and element dofs of a family.
-pub const MAX_NODES: usize = 10;
-pub const MAX_VERTICES: usize = 4;
+/// Largest number of element dofs of a family.
 pub const MAX_DOF: usize = 34;
 
 /// Local dofs of an element (the first `NDOF` of its family).
 pub type ElementDofs = [usize; MAX_DOF];
 /// An element matrix (the leading NDOF × NDOF block of its family).
 pub type ElementMatrix = [[f64; MAX_DOF]; MAX_DOF];
-
-/// Reference gradients of the P1 functions (barycentric coordinates) of the tetrahedron ...
-const DL_TET: [[f64; 3]; 4] = [[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-/// ... and of the triangle.
-const DL_TRI: [[f64; 2]; 3] = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
-
-/// P1 values (barycentric coordinates) of a family's cell at the reference point ξ (a
-/// triangle's in the first 3 slots; its ξ[2] is ignored).
-#[inline]
-pub fn p1_values(family: Family, xi: &[f64; 3]) -> [f64; MAX_VERTICES] {
-    match family {
-        Family::Tet10 => [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]],
-        Family::Tri6 => [1.0 - xi[0] - xi[1], xi[0], xi[1], 0.0],
-    }
-}
-
-/// P2 on the tetrahedron: N_i = L_i (2 L_i − 1) at vertices, 4 L_a L_b on edges.
-pub fn tet10(xi: &[f64; 3]) -> ([f64; 10], [[f64; 3]; 10]) {
-    let (l, dl) = (p1_values(Family::Tet10, xi), DL_TET);
-    let mut n = [0.0; 10];
-    let mut dn = [[0.0; 3]; 10];
-    for i in 0..4 {
-        n[i] = l[i] * (2.0 * l[i] - 1.0);
-        for d in 0..3 {
-            dn[i][d] = (4.0 * l[i] - 1.0) * dl[i][d];
-        }
-    }
-    for (e, &(a, b)) in TET10_EDGES.iter().enumerate() {
-        n[4 + e] = 4.0 * l[a] * l[b];
-        for d in 0..3 {
-            dn[4 + e][d] = 4.0 * (l[a] * dl[b][d] + l[b] * dl[a][d]);
-        }
-    }
-    (n, dn)
-}
-
-/// P2 on the triangle.
-pub fn tri6(xi: &[f64; 2]) -> ([f64; 6], [[f64; 2]; 6]) {
-    let (l, dl) = (p1_values(Family::Tri6, &[xi[0], xi[1], 0.0]), DL_TRI);
-    let mut n = [0.0; 6];
-    let mut dn = [[0.0; 2]; 6];
-    for i in 0..3 {
-        n[i] = l[i] * (2.0 * l[i] - 1.0);
-        for d in 0..2 {
-            dn[i][d] = (4.0 * l[i] - 1.0) * dl[i][d];
-        }
-    }
-    for (e, &(a, b)) in TRI6_EDGES.iter().enumerate() {
-        n[3 + e] = 4.0 * l[a] * l[b];
-        for d in 0..2 {
-            dn[3 + e][d] = 4.0 * (l[a] * dl[b][d] + l[b] * dl[a][d]);
-        }
-    }
-    (n, dn)
-}
-
-/// P2 values and reference gradients of a family's cell at ξ, in the 10-slot layout (a
-/// triangle's 6 functions first, the other slots zero; its gradients (∂/∂ξ, ∂/∂η, 0)).
-pub fn p2_values(family: Family, xi: &[f64; 3]) -> ([f64; MAX_NODES], [[f64; 3]; MAX_NODES]) {
-    match family {
-        Family::Tet10 => tet10(xi),
-        Family::Tri6 => {
-            let (n, dn) = tri6(&[xi[0], xi[1]]);
-            (
-                std::array::from_fn(|a| if a < 6 { n[a] } else { 0.0 }),
-                std::array::from_fn(|a| if a < 6 { [dn[a][0], dn[a][1], 0.0] } else { [0.0; 3] }),
-            )
-        }
-    }
-}
 
 /// Shape values and reference gradients at every point of a rule, computed once.
 #[derive(Debug, Clone)]
@@ -201,6 +129,7 @@ pub fn tri6_surface(coords: &[[f64; 3]; 6], tab: &Tabulation<6>, q: usize) -> Su
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::reference_cell::TET10_EDGES;
     use crate::fem::cell::{p1_gradients, Tet10};
     use crate::fem::quadrature;
 
@@ -213,40 +142,6 @@ mod tests {
             c[4 + e] = std::array::from_fn(|d| 0.5 * (v[a][d] + v[b][d]));
         }
         c
-    }
-
-    #[test]
-    fn tet10_partition_of_unity_and_kronecker() {
-        let ref_nodes = nodes_of(REF);
-        for (i, x) in ref_nodes.iter().enumerate() {
-            let (n, _) = tet10(x);
-            for (a, v) in n.iter().enumerate() {
-                assert!((v - if a == i { 1.0 } else { 0.0 }).abs() < 1e-15);
-            }
-        }
-        for p in quadrature::tet(5).points {
-            let (n, dn) = tet10(&p);
-            assert!((n.iter().sum::<f64>() - 1.0).abs() < 1e-14);
-            for d in 0..3 {
-                assert!(dn.iter().map(|g| g[d]).sum::<f64>().abs() < 1e-14);
-            }
-        }
-    }
-
-    #[test]
-    fn tet10_gradients_match_finite_differences() {
-        let p = [0.2, 0.15, 0.3];
-        let (_, dn) = tet10(&p);
-        let h = 1e-6;
-        for k in 0..3 {
-            let (mut a, mut b) = (p, p);
-            a[k] += h;
-            b[k] -= h;
-            let (na, nb) = (tet10(&a).0, tet10(&b).0);
-            for i in 0..10 {
-                assert!(((na[i] - nb[i]) / (2.0 * h) - dn[i][k]).abs() < 1e-9);
-            }
-        }
     }
 
     /// On a distorted straight tet, P2 reproduces any quadratic and its gradient; the P1

@@ -24,7 +24,7 @@
 
 use super::element::{ElementMatrix, MAX_DOF as NDOF};
 use crate::mesh::dist::LocalMesh;
-use crate::mesh::TET10_EDGES;
+use crate::reference_cell::TET10_EDGES;
 
 /// The rows of mid-edge node `4 + e`'s three components and of its edge's vertices.
 fn edges() -> impl Iterator<Item = (usize, usize, usize)> {

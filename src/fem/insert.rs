@@ -9,9 +9,10 @@
 //! partition boundary) still go through `MatSetValues`, which sends them to their owner.
 
 use super::dofmap::DofMap;
-use super::element::{ElementDofs, ElementMatrix, MAX_DOF, MAX_NODES, MAX_VERTICES};
+use super::element::{ElementDofs, ElementMatrix, MAX_DOF};
 use crate::error::{Error, Result};
-use crate::mesh::Family;
+use crate::reference_cell::shape::{MAX_NODES, MAX_VERTICES};
+use crate::reference_cell::Family;
 use crate::petsc::{CsrBlock, Int, LocalCsr, Mat};
 
 const GROUPS: usize = MAX_NODES + MAX_VERTICES;
@@ -202,7 +203,8 @@ impl GhostRows {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::{dist, Family};
+    use crate::mesh::dist;
+    use crate::reference_cell::Family;
     use std::collections::{BTreeMap, BTreeSet};
 
     /// One rank's owned rows in PETSc's MPIAIJ split, built here from the element dofs: the

@@ -17,7 +17,8 @@
 //! vertex m at NU + m), arrays sized for the largest family (`MAX_DOF`).
 
 use super::cell::{p1_gradients, CellShape};
-use super::element::{ElementMatrix, Tabulation, MAX_DOF, MAX_NODES, MAX_VERTICES};
+use super::element::{ElementMatrix, Tabulation, MAX_DOF};
+use crate::reference_cell::shape::{MAX_NODES, MAX_VERTICES};
 use super::equal_order;
 use super::point::{PointFlux, PointModel, PointState, QpId, QpState};
 use crate::error::Result;

@@ -14,14 +14,15 @@
 //!   shift × the perturbation as the time integrator's does.
 
 use super::cell::{CellShape, Tet10, Tri6Axi};
-use super::element::{tabulate_cell, ElementMatrix, MAX_DOF, MAX_NODES, MAX_VERTICES};
+use super::element::{tabulate_cell, ElementMatrix, MAX_DOF};
+use crate::reference_cell::shape::{MAX_NODES, MAX_VERTICES};
 use super::kernel::{CellKernel, ElementInput, ElementKernel, ElementValues, Stabilisation};
 use super::point::{PointModel, PointState, QpId, QpState};
 use super::quadrature;
 use crate::material::remodelling::to_sym6;
 use crate::material::test_util::Rng;
 use crate::material::{CompactionPenalty, HolmesMow, Permeability, PermeabilityModel, Remodelling};
-use crate::mesh::{Family, TET10_EDGES, TRI6_EDGES};
+use crate::reference_cell::{Family, TET10_EDGES, TRI6_EDGES};
 use crate::physics::biphasic::Biphasic;
 use nalgebra::{Matrix3, Vector3};
 use std::marker::PhantomData;

@@ -15,12 +15,14 @@
 use super::assembly::Discretization;
 use super::cell::{CellShape, Tet10, Tri6Axi};
 use super::dofmap::DofMap;
-use super::element::{tabulate_cell, MAX_NODES};
+use super::element::tabulate_cell;
+use crate::reference_cell::shape::MAX_NODES;
 use super::kernel::Stabilisation;
 use super::point::PointModel;
 use super::qp_store::QpStore;
 use super::quadrature;
-use crate::mesh::{dist, Family, Mesh, TET10_EDGES, TRI6_EDGES};
+use crate::mesh::{dist, Mesh};
+use crate::reference_cell::{Family, TET10_EDGES, TRI6_EDGES};
 use crate::physics::linear::LinearPoroelastic;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
@@ -349,7 +351,7 @@ fn kuhn_tetrahedra_are_positive_and_fill_the_cube() {
     let mut vol = 0.0;
     for c in &m.cells {
         let x = |i: usize| m.coords[c[i] as usize];
-        let d = crate::mesh::tet_det(x(0), x(1), x(2), x(3));
+        let d = crate::reference_cell::tet_det(x(0), x(1), x(2), x(3));
         assert!(d > 0.0, "negative tet");
         vol += d / 6.0;
         for (e, &(a, b)) in TET10_EDGES.iter().enumerate() {
@@ -361,7 +363,7 @@ fn kuhn_tetrahedra_are_positive_and_fill_the_cube() {
     let t = mesh(Family::Tri6, 2);
     for c in &t.cells {
         let x = |i: usize| t.coords[c[i] as usize];
-        assert!(crate::mesh::meridian::area2(x(0), x(1), x(2)) > 0.0);
+        assert!(crate::reference_cell::area2(x(0), x(1), x(2)) > 0.0);
         for (e, &(a, b)) in TRI6_EDGES.iter().enumerate() {
             assert!((0..3).all(|k| (x(3 + e)[k] - 0.5 * (x(a)[k] + x(b)[k])).abs() < 1e-15));
         }

@@ -5,7 +5,7 @@
 
 use super::element::{tabulate_tri6, tri6_surface, Tabulation};
 use super::quadrature;
-use crate::mesh::Family;
+use crate::reference_cell::Family;
 
 /// A quadrature point of a boundary face.
 #[derive(Debug, Clone, Copy)]

@@ -61,7 +61,7 @@ use std::path::{Path, PathBuf};
 
 use hdf5_metno as hdf5;
 
-use crate::mesh::Family;
+use crate::reference_cell::Family;
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;

@@ -3,7 +3,8 @@
 //! for exact matrix preallocation. A pure function of (mesh, partition): every rank computes its own piece
 //! and the pieces agree without communication.
 
-use super::{Family, Mesh, MAX_CELL_NODES, MAX_FACE_NODES};
+use super::Mesh;
+use crate::reference_cell::{Family, MAX_CELL_NODES, MAX_FACE_NODES};
 use crate::error::{Error, Result};
 
 /// One rank's part of the mesh. See [`distribute`] for the numbering rules.

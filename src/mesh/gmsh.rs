@@ -11,7 +11,9 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 use std::str::{FromStr, SplitAsciiWhitespace};
 
-use super::{face_key, tet_det, Family, Mesh, TET10_EDGES, TET10_FLIP, TET_FACES};
+use super::{face_key, Mesh};
+use crate::reference_cell::shape::fold_point;
+use crate::reference_cell::{sub, tet_det, Family, TET10_FLIP, TET_FACES};
 use crate::error::{Error, Result};
 
 /// Read a Gmsh MSH 4.1 ASCII file into a [`Mesh`].
@@ -528,50 +530,6 @@ fn skip_section(lines: &mut Lines, start: &str) -> Result<()> {
     }
 }
 
-/// Where the P2 map of a positively oriented tet10 (nodes `x`, straight det `det0`) folds: the
-/// first of its nodes and centroid with det J <= 1e-8 det0, with that det; None if nowhere.
-fn tet10_fold(x: &[[f64; 3]; 10], det0: f64) -> Option<([f64; 3], f64)> {
-    const DL: [[f64; 3]; 4] = [[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    let mut points: Vec<[f64; 4]> = (0..4).map(|i| std::array::from_fn(|k| f64::from(u8::from(k == i)))).collect();
-    points.extend(TET10_EDGES.iter().map(|&(a, b)| std::array::from_fn(|k| if k == a || k == b { 0.5 } else { 0.0 })));
-    points.push([0.25; 4]);
-    for l in points {
-        // ∇N: vertices (4 L_i − 1) ∇L_i, edges 4 (L_b ∇L_a + L_a ∇L_b).
-        let mut grads = [[0.0; 3]; 10];
-        for i in 0..4 {
-            grads[i] = DL[i].map(|d| (4.0 * l[i] - 1.0) * d);
-        }
-        for (e, &(a, b)) in TET10_EDGES.iter().enumerate() {
-            grads[4 + e] = std::array::from_fn(|c| 4.0 * (l[b] * DL[a][c] + l[a] * DL[b][c]));
-        }
-        let mut j = [[0.0; 3]; 3];
-        for (xn, g) in x.iter().zip(&grads) {
-            for r in 0..3 {
-                for c in 0..3 {
-                    j[r][c] += xn[r] * g[c];
-                }
-            }
-        }
-        let d = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1]) - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
-            + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
-        if d <= 1e-8 * det0 {
-            let at = std::array::from_fn(|c| (0..10).map(|n| x[n][c] * shape(&l, n)).sum());
-            return Some((at, d));
-        }
-    }
-    None
-}
-
-/// Tet10 shape function n at barycentric coordinates l.
-fn shape(l: &[f64; 4], n: usize) -> f64 {
-    if n < 4 {
-        l[n] * (2.0 * l[n] - 1.0)
-    } else {
-        let (a, b) = TET10_EDGES[n - 4];
-        4.0 * l[a] * l[b]
-    }
-}
-
 /// Compact, promote, orient, match faces and resolve groups.
 fn build(path: &Path, mut raw: Raw) -> Result<Mesh> {
     let err = |msg: String| Error::mesh(path, msg);
@@ -656,7 +614,7 @@ pub(super) fn used_nodes<const N: usize>(
 fn orient_tets(tets: &mut [[u32; 10]], coords: &[[f64; 3]], tags: &[u64]) -> std::result::Result<(), String> {
     for (t, tet) in tets.iter_mut().enumerate() {
         let x = |k: usize| coords[tet[k] as usize];
-        let (u, v, w) = (super::sub(x(1), x(0)), super::sub(x(2), x(0)), super::sub(x(3), x(0)));
+        let (u, v, w) = (sub(x(1), x(0)), sub(x(2), x(0)), sub(x(3), x(0)));
         let det = tet_det(x(0), x(1), x(2), x(3));
         let scale = norm(u) * norm(v) * norm(w);
         if det.abs() <= 1e-12 * scale {
@@ -671,7 +629,7 @@ fn orient_tets(tets: &mut [[u32; 10]], coords: &[[f64; 3]], tags: &[u64]) -> std
         // The curved (P2) map must not fold over: det of its Jacobian > 0 at the nodes and the
         // centroid (a tangled element passes the vertex test above).
         let xs: [[f64; 3]; 10] = std::array::from_fn(|k| coords[tet[k] as usize]);
-        if let Some((at, d)) = tet10_fold(&xs, det.abs()) {
+        if let Some((at, d)) = fold_point(Family::Tet10, &xs, det.abs()) {
             return Err(format!(
                 "tetrahedron {} (element tag) is tangled: det of its curved map is {d:.3e} at ({:.6}, {:.6}, {:.6}) \
                  (its mid-edge nodes fold it over; straight volume {:.3e})",
@@ -914,34 +872,4 @@ pub(super) fn named_groups(
         m.dedup();
     }
     out
-}
-
-#[cfg(test)]
-mod fold_tests {
-    use super::{tet10_fold, TET10_EDGES};
-
-    fn straight() -> [[f64; 3]; 10] {
-        let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-        std::array::from_fn(|k| {
-            if k < 4 {
-                v[k]
-            } else {
-                let (a, b) = TET10_EDGES[k - 4];
-                std::array::from_fn(|c| 0.5 * (v[a][c] + v[b][c]))
-            }
-        })
-    }
-
-    #[test]
-    fn a_straight_or_gently_curved_tet10_does_not_fold_a_tangled_one_does() {
-        let x = straight();
-        assert!(tet10_fold(&x, 1.0).is_none());
-        let mut bent = x;
-        bent[4][1] -= 0.1; // mid-node of edge (0, 1) bowed a little
-        assert!(tet10_fold(&bent, 1.0).is_none());
-        let mut tangled = x;
-        tangled[4] = [0.5, 0.0, 1.2]; // mid-node of edge (0, 1) pulled past the opposite edge
-        let (_, d) = tet10_fold(&tangled, 1.0).expect("folds");
-        assert!(d <= 0.0);
-    }
 }

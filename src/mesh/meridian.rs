@@ -9,43 +9,10 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
 use super::gmsh::{finish, promote, used_nodes, Parts, Raw};
-use super::{face_key, Family, Mesh, TRI6_SIDES};
+use super::{face_key, Mesh};
+use crate::reference_cell::shape::fold_point;
+use crate::reference_cell::{area2, Family, TRI6_FLIP, TRI6_SIDES};
 use crate::error::{Error, Result};
-
-/// Node permutation that turns a clockwise Triangle6 counter-clockwise (swap vertices 1 and 2; the
-/// mid-edge nodes follow their edges).
-const TRI6_FLIP: [usize; 6] = [0, 2, 1, 5, 4, 3];
-
-/// Twice the signed area of the straight triangle in the (x, z) plane.
-pub(crate) fn area2(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
-    (b[0] - a[0]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[0] - a[0])
-}
-
-/// Where the P2 map of a counter-clockwise Triangle6 (straight doubled area `det0`) folds: the
-/// first of its nodes and centroid with det J ≤ 1e-8 det0, with that det; None if nowhere.
-fn tri6_fold(x: &[[f64; 3]; 6], det0: f64) -> Option<([f64; 3], f64)> {
-    let mut points: Vec<[f64; 2]> = vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5]];
-    points.push([1.0 / 3.0; 2]);
-    for xi in points {
-        let (n, dn) = crate::fem::element::tri6(&xi);
-        let (mut j, mut at) = ([[0.0; 2]; 2], [0.0; 3]);
-        for a in 0..6 {
-            for (r, &c) in [0, 2].iter().enumerate() {
-                for k in 0..2 {
-                    j[r][k] += x[a][c] * dn[a][k];
-                }
-            }
-            for c in 0..3 {
-                at[c] += n[a] * x[a][c];
-            }
-        }
-        let d = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-        if d <= 1e-8 * det0 {
-            return Some((at, d));
-        }
-    }
-    None
-}
 
 /// Compact, promote, orient, match faces and resolve groups of a triangle mesh.
 pub(super) fn build(path: &Path, raw: Raw) -> Result<Mesh> {
@@ -108,7 +75,7 @@ pub(super) fn build(path: &Path, raw: Raw) -> Result<Mesh> {
             }
         }
         let xs: [[f64; 3]; 6] = std::array::from_fn(|k| coords[cell[k] as usize]);
-        if let Some((at, d)) = tri6_fold(&xs, det.abs()) {
+        if let Some((at, d)) = fold_point(Family::Tri6, &xs, det.abs()) {
             return Err(err(format!(
                 "triangle {} (element tag) is tangled: det of its curved map is {d:.3e} at ({:.6}, {:.6}) \
                  (its mid-edge nodes fold it over)",

@@ -2,7 +2,8 @@
 //! x = 0 and y = 0 is a full sphere with exactly the quarter's discretisation, so quarter and full
 //! models can be compared without mesh differences (they must agree to solver tolerance).
 
-use super::{Mesh, TET10_FLIP, TET_FACES};
+use super::Mesh;
+use crate::reference_cell::{TET10_FLIP, TET_FACES};
 use crate::error::{Error, Result};
 
 /// Local face index in the flipped tet (vertices 1 and 2 swapped) of each local face.
@@ -119,7 +120,7 @@ mod tests {
         let v = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]];
         let mut coords: Vec<[f64; 3]> = v.to_vec();
         let mut tet = [0u32; 10];
-        for (k, &(a, b)) in crate::mesh::TET10_EDGES.iter().enumerate() {
+        for (k, &(a, b)) in crate::reference_cell::TET10_EDGES.iter().enumerate() {
             coords.push(std::array::from_fn(|d| 0.5 * (v[a][d] + v[b][d])));
             tet[4 + k] = 4 + k as u32;
         }

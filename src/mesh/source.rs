@@ -4,7 +4,8 @@
 
 use crate::error::{Error, Result};
 use crate::mesh::generate::BUILTIN_GEO;
-use crate::mesh::{gmsh, Family, Mesh};
+use crate::mesh::{gmsh, Mesh};
+use crate::reference_cell::Family;
 use crate::parallel::path_from_root;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;

@@ -8,7 +8,8 @@ use super::dist::{distribute, LocalMesh};
 use super::generate::{cached, generate, generate_with, COLUMN_GEO, SPHERE_GEO, SPHERE_QUARTER_GEO};
 use super::gmsh::read;
 use super::partition::{dual_graph, partition};
-use super::{sub, tet_det, Mesh, TET10_EDGES, TET10_FLIP, TET_FACES};
+use super::Mesh;
+use crate::reference_cell::{sub, tet_det, TET10_EDGES, TET10_FLIP, TET_FACES};
 use crate::error::Error;
 
 // ---------------------------------------------------------------- helpers

@@ -7,7 +7,7 @@ use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
-use crate::mesh::Family;
+use crate::reference_cell::Family;
 use crate::scene::BoundaryCondition;
 
 /// A constrained local dof and its value.

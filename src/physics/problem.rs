@@ -18,14 +18,15 @@ use crate::error::{Error, Result};
 pub use crate::fem::assembly::Discretization;
 use crate::fem::assembly::QpStateUse;
 use crate::fem::dofmap::DofMap;
-use crate::fem::element::{Tabulation, MAX_DOF, MAX_NODES};
+use crate::fem::element::{Tabulation, MAX_DOF};
+use crate::reference_cell::shape::MAX_NODES;
 use crate::fem::equal_order;
 use crate::fem::insert::{ElementInserter, GhostRows};
 use crate::fem::kernel::Stabilisation;
 use crate::fem::point::PointModel;
 use crate::fem::qp_store::QpStore;
 use crate::mesh::dist::LocalMesh;
-use crate::mesh::Family;
+use crate::reference_cell::Family;
 use crate::petsc::{IndexSet, Int, Mat, Scatter, TsProblem, TsRef, Vector};
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
@@ -673,7 +674,7 @@ pub fn mean_element_size(world: &SimpleCommunicator, mesh: &LocalMesh) -> f64 {
     let mut sum = 0.0;
     for t in &mesh.cells {
         let x = |i: usize| mesh.coords[t[i] as usize];
-        let m = crate::mesh::straight_measure(mesh.family, x);
+        let m = crate::reference_cell::straight_measure(mesh.family, x);
         sum += match mesh.family {
             Family::Tet10 => m.cbrt(),
             Family::Tri6 => m.sqrt(),

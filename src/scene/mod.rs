@@ -88,10 +88,10 @@ pub enum Geometry {
 
 impl Geometry {
     /// The mesh family this geometry is discretised with.
-    pub fn family(self) -> crate::mesh::Family {
+    pub fn family(self) -> crate::reference_cell::Family {
         match self {
-            Geometry::Solid => crate::mesh::Family::Tet10,
-            Geometry::Axisymmetric => crate::mesh::Family::Tri6,
+            Geometry::Solid => crate::reference_cell::Family::Tet10,
+            Geometry::Axisymmetric => crate::reference_cell::Family::Tri6,
         }
     }
 }

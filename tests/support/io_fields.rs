@@ -23,7 +23,7 @@ use std::time::Instant;
 use mpi::collective::SystemOperation;
 use mpi::traits::*;
 use poroplast::io::fields::{Field, FieldFile, FieldKind, OutputMesh};
-use poroplast::mesh::Family;
+use poroplast::reference_cell::Family;
 
 /// GMSH Tetrahedron10 edges, as local vertex pairs.
 const GMSH_EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (0, 2), (0, 3), (2, 3), (1, 3)];
