@@ -129,9 +129,9 @@ pub fn tri6_surface(coords: &[[f64; 3]; 6], tab: &Tabulation<6>, q: usize) -> Su
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::reference_cell::TET10_EDGES;
     use crate::fem::cell::{p1_gradients, Tet10};
     use crate::fem::quadrature;
+    use crate::reference_cell::TET10_EDGES;
 
     const REF: [[f64; 3]; 4] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 

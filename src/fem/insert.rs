@@ -11,9 +11,9 @@
 use super::dofmap::DofMap;
 use super::element::{ElementDofs, ElementMatrix, MAX_DOF};
 use crate::error::{Error, Result};
+use crate::petsc::{CsrBlock, Int, LocalCsr, Mat};
 use crate::reference_cell::shape::{MAX_NODES, MAX_VERTICES};
 use crate::reference_cell::Family;
-use crate::petsc::{CsrBlock, Int, LocalCsr, Mat};
 
 const GROUPS: usize = MAX_NODES + MAX_VERTICES;
 /// Marks a row node owned by another rank.
@@ -274,7 +274,7 @@ mod tests {
     #[test]
     fn fast_insertion_equals_the_plain_scatter() {
         for family in [Family::Tet10, Family::Tri6] {
-            let mesh = crate::fem::mms_tests::mesh(family, 3);
+            let mesh = crate::fem::test_util::mesh(family, 3);
             let (nranks, ncells) = (3, mesh.cells.len());
             let part: Vec<u32> = (0..ncells).map(|c| (c * nranks / ncells) as u32).collect();
             let ndof = family.components() * family.cell_nodes() + family.cell_vertices();

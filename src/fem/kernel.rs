@@ -18,11 +18,11 @@
 
 use super::cell::{p1_gradients, CellShape};
 use super::element::{ElementMatrix, Tabulation, MAX_DOF};
-use crate::reference_cell::shape::{MAX_NODES, MAX_VERTICES};
 use super::equal_order;
 use super::point::{PointFlux, PointModel, PointState, QpId, QpState};
 use crate::error::Result;
 use crate::material::idx;
+use crate::reference_cell::shape::{MAX_NODES, MAX_VERTICES};
 use nalgebra::{Matrix3, Vector3};
 use std::marker::PhantomData;
 

@@ -26,6 +26,4 @@ pub mod quadrature;
 pub mod surface;
 
 #[cfg(test)]
-mod kernel_tests;
-#[cfg(test)]
-mod mms_tests;
+pub(crate) mod test_util;

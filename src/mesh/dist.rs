@@ -4,8 +4,8 @@
 //! and the pieces agree without communication.
 
 use super::Mesh;
-use crate::reference_cell::{Family, MAX_CELL_NODES, MAX_FACE_NODES};
 use crate::error::{Error, Result};
+use crate::reference_cell::{Family, MAX_CELL_NODES, MAX_FACE_NODES};
 
 /// One rank's part of the mesh. See [`distribute`] for the numbering rules.
 #[derive(Debug, Clone, Default)]

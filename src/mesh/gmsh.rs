@@ -12,9 +12,9 @@ use std::path::Path;
 use std::str::{FromStr, SplitAsciiWhitespace};
 
 use super::{face_key, Mesh};
+use crate::error::{Error, Result};
 use crate::reference_cell::shape::fold_point;
 use crate::reference_cell::{sub, tet_det, Family, TET10_FLIP, TET_FACES};
-use crate::error::{Error, Result};
 
 /// Read a Gmsh MSH 4.1 ASCII file into a [`Mesh`].
 pub fn read(path: &Path) -> Result<Mesh> {

@@ -10,9 +10,9 @@ use std::path::Path;
 
 use super::gmsh::{finish, promote, used_nodes, Parts, Raw};
 use super::{face_key, Mesh};
+use crate::error::{Error, Result};
 use crate::reference_cell::shape::fold_point;
 use crate::reference_cell::{area2, Family, TRI6_FLIP, TRI6_SIDES};
-use crate::error::{Error, Result};
 
 /// Compact, promote, orient, match faces and resolve groups of a triangle mesh.
 pub(super) fn build(path: &Path, raw: Raw) -> Result<Mesh> {

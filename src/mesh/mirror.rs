@@ -3,8 +3,8 @@
 //! models can be compared without mesh differences (they must agree to solver tolerance).
 
 use super::Mesh;
-use crate::reference_cell::{TET10_FLIP, TET_FACES};
 use crate::error::{Error, Result};
+use crate::reference_cell::{TET10_FLIP, TET_FACES};
 
 /// Local face index in the flipped tet (vertices 1 and 2 swapped) of each local face.
 const FLIPPED_FACE: [u8; 4] = [0, 3, 2, 1];

@@ -5,8 +5,8 @@
 use crate::error::{Error, Result};
 use crate::mesh::generate::BUILTIN_GEO;
 use crate::mesh::{gmsh, Mesh};
-use crate::reference_cell::Family;
 use crate::parallel::path_from_root;
+use crate::reference_cell::Family;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use std::collections::BTreeMap;

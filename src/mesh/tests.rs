@@ -9,8 +9,8 @@ use super::generate::{cached, generate, generate_with, COLUMN_GEO, SPHERE_GEO, S
 use super::gmsh::read;
 use super::partition::{dual_graph, partition};
 use super::Mesh;
-use crate::reference_cell::{sub, tet_det, TET10_EDGES, TET10_FLIP, TET_FACES};
 use crate::error::Error;
+use crate::reference_cell::{sub, tet_det, TET10_EDGES, TET10_FLIP, TET_FACES};
 
 // ---------------------------------------------------------------- helpers
 

@@ -13,3 +13,10 @@ pub mod observers;
 pub mod probe;
 pub mod problem;
 pub mod verification;
+
+#[cfg(test)]
+mod assembly_tests;
+#[cfg(test)]
+pub(crate) mod kernel_tests;
+#[cfg(test)]
+mod mms_tests;

@@ -7,9 +7,9 @@
 
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
-use crate::reference_cell::shape::{p1_values as p1, p2_values as shapes};
 use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
+use crate::reference_cell::shape::{p1_values as p1, p2_values as shapes};
 use crate::reference_cell::Family;
 use crate::scene::{Probe as ProbeSpec, ProbeField};
 use mpi::collective::SystemOperation;

@@ -13,23 +13,23 @@
 //!   equal-order ties) against central differences of the element residual, U̇ moving with
 //!   shift × the perturbation as the time integrator's does.
 
-use super::cell::{CellShape, Tet10, Tri6Axi};
-use super::element::{tabulate_cell, ElementMatrix, MAX_DOF};
-use crate::reference_cell::shape::{MAX_NODES, MAX_VERTICES};
-use super::kernel::{CellKernel, ElementInput, ElementKernel, ElementValues, Stabilisation};
-use super::point::{PointModel, PointState, QpId, QpState};
-use super::quadrature;
+use crate::fem::cell::{CellShape, Tet10, Tri6Axi};
+use crate::fem::element::{tabulate_cell, ElementMatrix, MAX_DOF};
+use crate::fem::kernel::{CellKernel, ElementInput, ElementKernel, ElementValues, Stabilisation};
+use crate::fem::point::{PointModel, PointState, QpId, QpState};
+use crate::fem::quadrature;
 use crate::material::remodelling::to_sym6;
 use crate::material::test_util::Rng;
 use crate::material::{CompactionPenalty, HolmesMow, Permeability, PermeabilityModel, Remodelling};
-use crate::reference_cell::{Family, TET10_EDGES, TRI6_EDGES};
 use crate::physics::biphasic::Biphasic;
+use crate::reference_cell::shape::{MAX_NODES, MAX_VERTICES};
+use crate::reference_cell::{Family, TET10_EDGES, TRI6_EDGES};
 use nalgebra::{Matrix3, Vector3};
 use std::marker::PhantomData;
 
 /// Table 1 (µm, kPa, s): µ = 20 kPa, ν = 0.2, Φs = 0.6, the penalty, k0 = 3.7729 µm⁴/(nN s),
 /// ρ = 1000 kg/m³ and g along −z.
-pub(super) fn table1(gravity: bool) -> Biphasic {
+pub(crate) fn table1(gravity: bool) -> Biphasic {
     let solid = HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap();
     let pen = CompactionPenalty::new(0.6, 1000.0, 0.7, 2.0, 0.5).unwrap();
     let perm = Permeability::new(3.7729, 0.6, 4.638, 0.0848, PermeabilityModel::Isotropic).unwrap();
@@ -76,7 +76,7 @@ fn volume_and_moment<C: CellShape>(x: &[[f64; 3]; MAX_NODES]) -> (f64, [f64; 3])
 
 fn kernel<'a, C: CellShape>(
     model: &'a dyn PointModel,
-    tab: &'a super::element::Tabulation<MAX_NODES>,
+    tab: &'a crate::fem::element::Tabulation<MAX_NODES>,
     xi: &'a [[f64; 3]],
     stab: Stabilisation,
     equal_order: bool,
