@@ -150,9 +150,7 @@ fn units(code: &str, module: &[String]) -> Vec<(Vec<String>, String)> {
     let mut own = String::new();
     let mut out = Vec::new();
     let mut rest = code;
-    loop {
-        let Some(at) = find_inline_mod(rest) else { break };
-        let (name, open) = at;
+    while let Some((name, open)) = find_inline_mod(rest) {
         own.push_str(&rest[..open]);
         let end = block_end(rest, open);
         let mut inner = module.to_vec();
@@ -579,7 +577,7 @@ fn files_of_one_folder_form_no_cycle() {
     let mut edges = BTreeSet::new();
     for (i, j, is_test) in tree.edges() {
         // within one directory module: the files whose parent is the same module
-        if !is_test && tree.parent(i) == tree.parent(j) || tree.files[j].module == tree.parent(i) && !is_test {
+        if !is_test && (tree.parent(i) == tree.parent(j) || tree.files[j].module == tree.parent(i)) {
             let name = |k: usize| tree.files[k].path.display().to_string();
             edges.insert((name(i), name(j)));
         }

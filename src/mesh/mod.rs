@@ -9,7 +9,6 @@
 pub mod dist;
 pub mod generate;
 pub mod gmsh;
-pub mod meridian;
 pub mod mirror;
 pub mod partition;
 pub mod source;

@@ -8,9 +8,10 @@
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
-use super::gmsh::{finish, promote, used_nodes, Parts, Raw};
-use super::{face_key, Mesh};
+use super::build::{finish, promote, used_nodes, Parts};
+use super::msh41::Raw;
 use crate::error::{Error, Result};
+use crate::mesh::{face_key, Mesh};
 use crate::reference_cell::shape::fold_point;
 use crate::reference_cell::{area2, Family, TRI6_FLIP, TRI6_SIDES};
 
