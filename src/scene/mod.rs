@@ -4,6 +4,8 @@
 
 pub mod auto;
 pub mod overrides;
+#[cfg(test)]
+mod validation_tests;
 
 use crate::error::{Error, Result};
 use crate::material::{FlowForm, Integrator};

@@ -1,0 +1,194 @@
+//! Scene validation without MPI or PETSc: every kind of bad scene (TOML syntax and types,
+//! unknown keys at every level, non-physical values, inconsistent keys, bad overrides) gets one
+//! error naming the problem, from [`LoadedScene::load`] as `run` and `check` call it. The same
+//! message reaches the user as `poroplast: error: {message}`; that path, with an earlier run
+//! left intact and every rank stopping, is tested end to end in tests/bad_input.rs.
+
+use super::{LoadedScene, BUILTIN};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// A fresh directory for one scene file.
+fn scratch() -> PathBuf {
+    static N: AtomicUsize = AtomicUsize::new(0);
+    let d = std::env::temp_dir().join(format!(
+        "poroplast-validation-{}-{}",
+        std::process::id(),
+        N.fetch_add(1, Ordering::Relaxed)
+    ));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The message of loading builtin `scene` with lines replaced (`from` → `to`), written to a file,
+/// and `--set` overrides `sets`; panics if it loads.
+fn error_of(scene: &str, edits: &[(&str, &str)], sets: &[&str]) -> String {
+    let arg = if edits.is_empty() {
+        scene.to_string()
+    } else {
+        let mut text = BUILTIN.iter().find(|(n, _)| *n == scene).unwrap().1.to_string();
+        for (from, to) in edits {
+            assert!(text.contains(from), "scene {scene} has no `{from}`");
+            text = text.replacen(from, to, 1);
+        }
+        let p = scratch().join(format!("{scene}.toml"));
+        std::fs::write(&p, text).unwrap();
+        p.display().to_string()
+    };
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    match LoadedScene::load(&arg, &sets) {
+        Ok(_) => panic!("{scene} {edits:?} {sets:?} loads"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[track_caller]
+fn expect(scene: &str, edits: &[(&str, &str)], sets: &[&str], part: &str) {
+    let msg = error_of(scene, edits, sets);
+    assert!(msg.contains(part), "{scene} {edits:?} {sets:?}: `{part}` expected in: {msg}");
+    assert_eq!(msg.lines().count(), 1, "one line expected: {msg}");
+}
+
+#[test]
+fn toml_syntax_and_types_name_the_line_or_the_key() {
+    let p = scratch().join("syntax.toml");
+    std::fs::write(&p, "name = \"x\"\n[material\nmu = 1\n").unwrap();
+    let msg = LoadedScene::load(&p.display().to_string(), &[]).err().unwrap().to_string();
+    assert!(msg.contains("line 2"), "{msg}");
+    expect("cryer", &[("nu = 0.2", "nu = [0.2]")], &[], "line");
+    expect("reference", &[], &["time.dt=\"fast\""], "time.dt");
+    // A wrong type in the tagged [material] table, which has another list (gravity): the key.
+    expect(
+        "reference",
+        &[("phi_s = 0.6", "phi_s = [0.6]")],
+        &[],
+        "(`phi_s = [0.6]`): material.phi_s: invalid type: sequence, expected a number",
+    );
+    expect("terzaghi", &[], &["material.mu=soft"], "--set material.mu=soft: invalid type: string \"soft\"");
+    expect("terzaghi", &[], &["time.dt"], "--set time.dt: expected KEY=VALUE");
+    expect("no-such-scene", &[], &[], "not a builtin scene");
+}
+
+#[test]
+fn unknown_keys_at_every_level_are_named() {
+    for (set, field) in [
+        ("plates.speed=1", "speed"),
+        ("time.cfl=1", "cfl"),
+        ("output.vtk=true", "vtk"),
+        ("mesh.order=3", "order"),
+        ("fem.degree=3", "degree"),
+        ("solver.tol=1", "tol"),
+        ("material.penalty.k=1", "k"),
+        ("bc.0.slip=true", "slip"),
+    ] {
+        expect("reference", &[], &[set], &format!("unknown field `{field}`"));
+    }
+    expect("terzaghi", &[("nu = 0.2", "nu = 0.2\nviscosity = 1.0")], &[], "unknown field `viscosity`");
+    expect(
+        "terzaghi",
+        &[("name = \"terzaghi\"", "name = \"terzaghi\"\ngravity = true")],
+        &[],
+        "unknown field `gravity`",
+    );
+    expect("terzaghi", &[], &["material.viscosity=1"], "--set material.viscosity=1: unknown field `viscosity`");
+    expect("relaxation", &[("sigma_y = 2.0", "sigma_y = 2.0, eta = 1.0")], &[], "unknown field `eta`");
+}
+
+#[test]
+fn unknown_variants_list_the_choices() {
+    let rv = |from: &str, to: &str, part: &str| expect("relaxation", &[(from, to)], &[], part);
+    rv(
+        "sigma_y = 2.0",
+        "sigma_y = 2.0, form = \"40c\"",
+        "material.remodelling.form: unknown variant `40c`, expected `40b` or `40a`",
+    );
+    rv(
+        "sigma_y = 2.0",
+        "sigma_y = 2.0, integrator = \"rk4\"",
+        "material.remodelling.integrator: unknown variant `rk4`, expected one of `implicit`, `trapezoidal`, `explicit`",
+    );
+    rv(
+        "[output]",
+        "[solver]\npreset = \"amg\"\n\n[output]",
+        "solver.preset: unknown variant `amg`, expected one of `auto`, `direct`, `fieldsplit`, `lu`",
+    );
+    expect(
+        "terzaghi",
+        &[],
+        &["fem.element=\"Q2\""],
+        "--set fem.element=\"Q2\": unknown variant `Q2`, expected one of `P2-P1`, `P1-P1`, `auto`",
+    );
+}
+
+#[test]
+fn non_physical_values_are_named_with_their_value() {
+    for (set, part) in [
+        ("material.mu=-1", "material.mu = -1"),
+        ("material.mu=nan", "material.mu = NaN"),
+        ("material.mu=inf", "material.mu = inf"),
+        ("material.nu=-1.5", "material.nu = -1.5"),
+        ("material.phi_s=1.0", "material.phi_s = 1"),
+        ("material.phi_s=0.0", "material.phi_s = 0"),
+        ("material.k0=0.0", "material.k0 = 0"),
+        ("plates.compression=1.0", "plates.compression = 1"),
+        ("time.dt=0.0", "time.dt = 0"),
+        ("time.dt=-1.0", "time.dt = -1"),
+        ("plates.radius=0.0", "plates.radius = 0"),
+        ("time.land_on=[nan]", "time.land_on"),
+        ("plates.probe_point=[0.0, nan, 1.0]", "plates.probe_point = NaN"),
+    ] {
+        expect("reference", &[], &[set], part);
+    }
+    expect("terzaghi", &[("nu = 0.2", "nu = 0.5")], &[], "material.nu = 0.5");
+    expect("terzaghi", &[], &["material.nu=0.5"], "material.nu = 0.5");
+    expect("terzaghi", &[("permeability = 3.7729", "permeability = 0.0")], &[], "material.permeability = 0");
+    let rv = |from: &str, to: &str, part: &str| expect("relaxation", &[(from, to)], &[], part);
+    rv("lambda_p = 0.001", "lambda_p = -0.001", "material.remodelling.lambda_p = -0.001");
+    rv("sigma_y = 2.0", "sigma_y = nan", "material.remodelling.sigma_y = NaN");
+    rv("[[0.1180339887498949, 0.0, 0.0]", "[[-1.5, 0.0, 0.0]", "det(I + G)");
+    rv("fields_every = 10", "fields_every = 10\nfields_at = [2000.0]", "output.fields_at: 2000");
+    rv("[time]", "[time]\nerror_tolerance = -1e-3", "time.error_tolerance");
+    expect("terzaghi", &[], &["fem.stabilisation_fade=0"], "fem.stabilisation_fade = 0: must be positive");
+}
+
+#[test]
+fn inconsistent_keys_are_named_together() {
+    expect("reference", &[], &["plates.t_ramp=50.0"], "must be at least 2 t_ramp = 100");
+    expect("reference", &[], &["time.dt=10"], "time.dt = 10 exceeds time.dt_max = 2");
+    expect("terzaghi", &[], &["time.dt_min=1e3"], "time.dt_min = 1000: must be below the first step");
+    expect(
+        "terzaghi",
+        &[],
+        &["time.dt_max_ramp=0.1"],
+        "time.dt_max_ramp caps the steps of the plates' loading ramp: the scene has no [plates]",
+    );
+    expect(
+        "terzaghi",
+        &[],
+        &["mesh.grading=\"auto\""],
+        "scales the mesh sizes by the aggregate's radius: give mesh.params.R",
+    );
+    // Overrides are applied together, then checked: the second completes the table the first
+    // starts (the reference scene has no remodelling).
+    expect(
+        "reference",
+        &[],
+        &["material.remodelling.lambda_p=-1", "material.remodelling.sigma_y=2"],
+        "material.remodelling.lambda_p = -1: must be finite and >= 0",
+    );
+    // Permeable plates need a thickness, a non-negative permeability, and drainage.
+    expect("reference", &[], &["plates.permeability=3.7729e-4"], "plates.permeability needs plates.thickness");
+    expect("reference", &[], &["plates.thickness=100"], "plates.thickness is only used with");
+    expect(
+        "reference",
+        &[],
+        &["plates.permeability=-1", "plates.thickness=100"],
+        "plates.permeability = -1: must be >= 0",
+    );
+    expect(
+        "reference",
+        &[],
+        &["plates.permeability=1e-4", "plates.thickness=100", "plates.drainage=false"],
+        "plates.drainage = false seals",
+    );
+}
