@@ -1,8 +1,36 @@
 #!/usr/bin/env bash
-# README command 2: set up this machine and run the whole test suite (2-rank tests included).
+# README command 2: set up this machine and run the test suite, in tiers.
+#
+#   ci/test.sh          the default tier: the unit tests (no MPI), then every integration test,
+#                       one at a time (each launches mpirun -n 2 or less: two at once would put four
+#                       processes on two cores). A few minutes on a 2-core machine.
+#   ci/test.sh --fast   the unit tests and the tree's shape (tests/architecture.rs): seconds
+#                       after the build, no mpirun.
+#   ci/test.sh --slow   the slow tier: the accuracy benchmarks (tests marked #[ignore], each
+#                       naming why), one at a time. About a quarter of an hour.
+#
+# Extra arguments go to every cargo test call (e.g. a test name filter). CI (.ci/run) runs
+# ci/lint.sh (fmt, clippy, rustdoc) first, then the default tier.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+tier=default
+case "${1:-}" in
+  --fast) tier=fast; shift ;;
+  --slow) tier=slow; shift ;;
+esac
 ci/setup.sh
-ci/setup-paraview.sh
+[ "$tier" = fast ] || ci/setup-paraview.sh
 . ci/env.sh
-cargo test --release "$@"
+case "$tier" in
+  fast)
+    cargo test --release --lib "$@"
+    cargo test --release --test architecture "$@"
+    ;;
+  default)
+    cargo test --release --lib --bins "$@"
+    cargo test --release --test '*' "$@" -- --test-threads=1
+    ;;
+  slow)
+    cargo test --release --test '*' "$@" -- --ignored --test-threads=1
+    ;;
+esac

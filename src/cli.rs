@@ -4,6 +4,10 @@
 //! - `poroplast check SCENE [--set KEY=VALUE ...] [-- PETSC OPTIONS]`
 //! - `poroplast sweep STUDY.toml [--ranks-per-case k] [--out DIR] [-q] [-- PETSC OPTIONS]`
 //! - `poroplast scenes`, `poroplast show NAME`
+//!
+//! The `///` comments below are clap's help text, printed as written: brackets and angle
+//! brackets there are for the terminal, not rustdoc links or HTML.
+#![allow(rustdoc::broken_intra_doc_links, rustdoc::invalid_html_tags)]
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;

@@ -37,40 +37,46 @@ fn cryer_follows_the_series() {
 }
 
 /// Accuracy lost to stability: with the pressure stabilisation at full weight in every step
-/// (τ₀ → ∞) Cryer's peak is 2.2% low (measured 1.3344); faded as the steps resolve the drainage
-/// (the shipped scene, above) 0.41%. The undrained first step stays monotone with the fade
-/// (`undrained_first_step_has_no_pressure_oscillation` runs the shipped Terzaghi scene, which
-/// fades at the same τ₀).
+/// (τ₀ → ∞) Cryer's peak is more than 1.5% low; faded as the steps resolve the drainage (the
+/// shipped scene) it is within 1%. On the meridian of the shipped scene's mesh sizes, where the
+/// contrast is the 3-D one (measured: constant −2.30%, faded −0.69%; the 3-D quarter of
+/// `cryer_follows_the_series`: −2.2% and −0.41%) at a tenth of the cost. The undrained first
+/// step stays monotone with the fade (`undrained_first_step_has_no_pressure_oscillation` runs the
+/// shipped Terzaghi scene, which fades at the same τ₀).
 #[test]
 fn constant_stabilisation_costs_cryer_its_peak() {
     let dir = scratch("cryer_constant_stab");
-    run_ok(
-        2,
-        &[
-            "run",
-            &scene("cryer"),
-            "--set",
-            "fem.stabilisation_fade=1e9",
-            "--set",
-            "time.t_end=6",
-            "--out",
-            dir.to_str().unwrap(),
-            "-q",
-        ],
-    );
-    let p = History::read(&dir).col("p_center");
-    let peak = p.iter().cloned().fold(0.0, f64::max);
-    assert!(peak / 1.3643 - 1.0 < -0.015, "constant stabilisation: peak {peak}, expected > 1.5% low");
+    let mut peaks = vec![];
+    for (name, fade) in [("constant", "fem.stabilisation_fade=1e9"), ("faded", "time.t_end=6")] {
+        let out = dir.join(name);
+        let sets = ["--set", "mesh.geometry=axisymmetric", "--set", fade, "--set", "time.t_end=6"];
+        let mut args = vec!["run", "cryer", "--out", out.to_str().unwrap(), "-q"];
+        args.extend(sets);
+        run_ok(1, &args);
+        let p = History::read(&out).col("p_center");
+        peaks.push(p.iter().cloned().fold(0.0, f64::max) / 1.3643 - 1.0);
+    }
+    println!("peak error: constant {:+.2}%, faded {:+.2}%", 100.0 * peaks[0], 100.0 * peaks[1]);
+    assert!(peaks[0] < -0.015, "constant stabilisation: peak {:+.2}%, expected > 1.5% low", 100.0 * peaks[0]);
+    assert!(peaks[1].abs() < 0.01, "faded stabilisation: peak {:+.2}%, expected within 1%", 100.0 * peaks[1]);
 }
 
 /// The same problem on 1 and 2 ranks (METIS partition, ghost exchange, parallel assembly and
-/// AMG) gives the same answer to the solver tolerance (ksp_rtol 1e-8). Rise and peak only.
+/// AMG) gives the same answer to the solver tolerance (ksp_rtol 1e-8). Rise and peak only, on
+/// a mesh of twice the shipped size (h = R/4, 3 072 dofs; equality needs no accuracy), with the
+/// iterative preset (its AMG and fieldsplit differ between 1 and 2 ranks; LU would not).
 #[test]
 fn one_and_two_ranks_agree() {
     let dir = scratch("ranks");
-    let sc = scene_variant("cryer", &dir, &[("t_end = 60.0", "t_end = 5.0")]);
-    run_ok(1, &["run", &sc, "--out", dir.join("np1").to_str().unwrap(), "-q"]);
-    run_ok(2, &["run", &sc, "--out", dir.join("np2").to_str().unwrap(), "-q"]);
+    let sc = scene_variant(
+        "cryer",
+        &dir,
+        &[("t_end = 60.0", "t_end = 5.0"), ("params = { R = 100.0, h = 12.5,", "params = { R = 100.0, h = 25.0,")],
+    );
+    for (np, out) in [(1, "np1"), (2, "np2")] {
+        let out = dir.join(out);
+        run_ok(np, &["run", &sc, "--out", out.to_str().unwrap(), "-q", "--set", "solver.preset=\"fieldsplit\""]);
+    }
     let (h1, h2) = (History::read(&dir.join("np1")), History::read(&dir.join("np2")));
     assert_eq!(h1.col("time"), h2.col("time"));
     let d = h1.col("p_center").iter().zip(h2.col("p_center")).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);

@@ -3,7 +3,7 @@
 //! and `timings.txt`. Everything that can fail on bad input is checked before the run directory
 //! is touched, so a failed start never damages an earlier run's results.
 //!
-//! This module holds the entry points (`run`, `resume`) and the time loop ([`Run::execute`]);
+//! This module holds the entry points (`run`, `resume`) and the time loop (`Run::execute`);
 //! the rest, one concept a module: the set-up (`setup`), the `check` command (`check`), a time
 //! step and settling (`step`), the step controller (`schedule`) and the step rate it acts on
 //! (`rate`), the state between steps and the checkpoint files (`state`), writing and reading

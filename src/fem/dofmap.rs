@@ -3,7 +3,7 @@
 //! Global layout: rank r owns one contiguous block [u of its owned nodes (nc per node: xyz, or
 //! rz on the meridian, interleaved) | p of its owned vertices]. So the u and p index sets are
 //! contiguous per rank, the u block has block size nc (for AMG with rigid-body modes), and a
-//! global node g owned by rank s has u dofs nc g + vertex_ranges[s] + c, a global vertex v owned
+//! global node g owned by rank s has u dofs nc g + `vertex_ranges[s]` + c, a global vertex v owned
 //! by s has p dof nc node_ranges[s+1] + v.
 //! Local layout (what elements read and write): u of local node n at nc n + c, then p of local
 //! vertex m at nc n_nodes + m; owned entries come first in each part.

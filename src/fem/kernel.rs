@@ -40,7 +40,7 @@ pub struct ElementInput<'a> {
     pub qp_state: QpState<'a>,
 }
 
-/// Nodal values of one element: u[a][c] is component c of node a (its family's components).
+/// Nodal values of one element: `u[a][c]` is component c of node a (its family's components).
 #[derive(Debug, Clone, Copy)]
 pub struct ElementValues {
     pub u: [[f64; 3]; MAX_NODES],

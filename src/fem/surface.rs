@@ -1,7 +1,7 @@
 //! Quadrature on the boundary faces of either cell family: the 6-node triangle of a tetrahedral
 //! mesh (dA = |∂x/∂ξ × ∂x/∂η| dξ dη) and the 3-node line of a meridian mesh, which stands for the
 //! surface of revolution it sweeps (dA = 2πR |∂x/∂s| ds). Loads, drainage areas, probes and
-//! contact measures integrate through [`face_points`], so they are whole-body values on both.
+//! contact measures integrate through [`FaceRule::points`], so they are whole-body values on both.
 
 use super::element::{tabulate_tri6, tri6_surface, Tabulation};
 use super::quadrature;

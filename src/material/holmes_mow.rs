@@ -101,9 +101,9 @@ impl HolmesMow {
         m_scale(&m_dev(&inner), e)
     }
 
-    /// ∂S_sc/∂B_p [H] for the six symmetric unit directions H of [`super::remodelling::sym_basis`]:
-    /// with S = e G, ∂f[H] = (α1 + α2 I1e) tr(C H) − α2 tr(C B C H) and
-    /// ∂G[H] = α2 tr(C H) B + (α1 + α2 I1e) H − α2 (H C B + B C H), ∂S[H] = e (∂f[H] G + ∂G[H]).
+    /// ∂S_sc/∂B_p \[H\] for the six symmetric unit directions H of [`super::remodelling::sym_basis`]:
+    /// with S = e G, ∂f\[H\] = (α1 + α2 I1e) tr(C H) − α2 tr(C B C H) and
+    /// ∂G\[H\] = α2 tr(C H) B + (α1 + α2 I1e) H − α2 (H C B + B C H), ∂S\[H\] = e (∂f\[H\] G + ∂G\[H\]).
     pub fn stress_derivative_bp(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
         let core = self.core(kin, bp)?;
         let (a1, a2) = (self.alpha1, self.alpha2);

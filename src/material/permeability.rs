@@ -97,7 +97,7 @@ impl Permeability {
         Ok((k_tensor, dk))
     }
 
-    /// ∂K/∂B_p [H] = g1 H + g2 (H C B_p + B_p C H) for the six symmetric unit directions H of
+    /// ∂K/∂B_p \[H\] = g1 H + g2 (H C B_p + B_p C H) for the six symmetric unit directions H of
     /// [`super::remodelling::sym_basis`] (zero for the isotropic model).
     pub fn derivative_bp(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
         if self.model == PermeabilityModel::Isotropic {

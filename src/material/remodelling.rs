@@ -27,7 +27,7 @@ use nalgebra::{Matrix3, SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 
 /// The symmetric unit directions of the six components (00, 11, 22, 01, 02, 12): a symmetric
-/// matrix is Σ_s x_s sym_basis()[s].
+/// matrix is Σ_s x_s `sym_basis()[s]`.
 pub fn sym_basis() -> [Matrix3<f64>; 6] {
     std::array::from_fn(|s| {
         let mut x = [0.0; 6];

@@ -1,7 +1,7 @@
 //! The global quadratic tetrahedral mesh (as read from a file), its local node conventions, and face matching.
 //!
 //! Conventions (gmsh's, verified on a straight-sided order-2 mesh, see `tests::gmsh_tet10_edge_order`):
-//! * a tet has 10 nodes: vertices 0..4, then the mid-edge node `4 + k` on edge [`TET10_EDGES`]`[k]`;
+//! * a tet has 10 nodes: vertices 0..4, then the mid-edge node `4 + k` on edge `TET10_EDGES[k]`;
 //! * every tet is positively oriented: det [x1 - x0, x2 - x0, x3 - x0] > 0;
 //! * a boundary face has 6 nodes in gmsh Triangle6 order (3 vertices, then the mid-nodes of edges
 //!   01, 12, 20), oriented so that the right-hand rule on the 3 vertices gives the outward normal.

@@ -24,7 +24,7 @@ use mpi::topology::SimpleCommunicator;
 /// nN → mg under standard gravity: 1e-9 N / 9.81 m/s² = 1.0194e-10 kg = 1.0194e-4 mg.
 pub const NN_TO_MG: f64 = 1e-3 / 9.81;
 
-/// history.csv columns written by [`Experiment::row`], in order.
+/// history.csv columns written by `Experiment::row`, in order.
 pub const COLUMNS: [&str; 17] = [
     "plate_disp",
     "force_total_mg",

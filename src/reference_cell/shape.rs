@@ -13,7 +13,7 @@ const DL_TET: [[f64; 3]; 4] = [[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0
 const DL_TRI: [[f64; 2]; 3] = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
 
 /// P1 values (barycentric coordinates) of a family's cell at the reference point ξ (a
-/// triangle's in the first 3 slots; its ξ[2] is ignored).
+/// triangle's in the first 3 slots; its `ξ[2]` is ignored).
 #[inline]
 pub fn p1_values(family: Family, xi: &[f64; 3]) -> [f64; MAX_VERTICES] {
     match family {

@@ -340,7 +340,7 @@ fn yes() -> bool {
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct InitialSpec {
-    /// G = Grad u, rows i: G[i][j] = ∂u_i/∂X_j.
+    /// G = Grad u, rows i: `G[i][j]` = ∂u_i/∂X_j.
     pub displacement_gradient: [[f64; 3]; 3],
 }
 
