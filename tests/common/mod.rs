@@ -109,3 +109,22 @@ pub fn jacobian_errors(stdout: &str) -> Vec<(f64, f64)> {
         })
         .collect()
 }
+
+/// A converged value from `scripts/data/references.csv` (the one source of them: written by
+/// scripts/references.py, read by the scripts and these tests): `case`, `observable` → the
+/// extrapolated value.
+#[allow(dead_code)] // only the accuracy tests compare with converged values
+pub fn converged(case: &str, observable: &str) -> f64 {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/data/references.csv");
+    let text = std::fs::read_to_string(&path).expect("scripts/data/references.csv");
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (c, o, v) = (col("case"), col("observable"), col("extrapolated"));
+    lines
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .find(|f| f.len() > v && f[c] == case && f[o] == observable)
+        .unwrap_or_else(|| panic!("no converged {case} {observable} in {}", path.display()))[v]
+        .parse()
+        .unwrap()
+}
