@@ -1,25 +1,14 @@
-//! Checks of a run's set-up and solves: the `poroplast check` command, the PETSc options left
-//! unread after the first step, and `-poroplast_check_jacobian`.
+//! Checks of a run's set-up and solves: the `poroplast check` command and
+//! `-poroplast_check_jacobian`. (That every PETSc option was read after the first step is
+//! `petsc::options::ensure_all_used`'s.)
 
+use super::progress::{Progress, Stages, Step};
 use super::resolved;
-use super::step::{Progress, Stages, Step};
-use super::{petsc_args, with_petsc, Run, RunArgs};
-use crate::error::{Error, Result};
-use crate::petsc::options;
+use super::run::{Run, RunArgs};
+use super::{petsc_args, with_petsc};
+use crate::error::Result;
 use crate::scene::LoadedScene;
 use mpi::topology::SimpleCommunicator;
-
-/// Options PETSc reads outside object set-up (at init/finalize) that `options_left` may list.
-const IGNORED_OPTIONS: &[&str] = &[
-    "-log_view",
-    "-options_left",
-    "-malloc_dump",
-    "-malloc_debug",
-    "-info",
-    "-log_trace",
-    "-on_error_abort",
-    "-no_signal_handler",
-];
 
 /// Validates a scene as `run` does (`poroplast check`): the set-up — scene, mesh (orientation,
 /// folded elements), groups, plates against the mesh, anchor, probes, material — and the first
@@ -57,19 +46,6 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc:
             run.setup.solver_line
         ))
     })
-}
-
-/// Every PETSc option must have been read once a step has run; reports the others.
-pub(super) fn check_options() -> Result<()> {
-    let unused: Vec<String> =
-        options::unused()?.into_iter().filter(|o| !IGNORED_OPTIONS.contains(&o.as_str())).collect();
-    if unused.is_empty() {
-        return Ok(());
-    }
-    Err(Error::Options(format!(
-        "unknown or unused PETSc option(s): {} (check the spelling, or the solver they belong to)",
-        unused.join(" ")
-    )))
 }
 
 impl<'w> Run<'w> {

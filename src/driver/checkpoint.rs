@@ -2,10 +2,10 @@
 //! signal), writing it — the run state, the solver's state and a copy of the fields — and
 //! restoring one for `resume`. The files are `state`'s.
 
+use super::progress::Progress;
+use super::run::Run;
 use super::signals::StopRequest;
 use super::state::{self, Counters, RunState};
-use super::step::Progress;
-use super::Run;
 use crate::error::{Error, Result};
 use crate::io::recorder::Recorder;
 use crate::parallel::agree;

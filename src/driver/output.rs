@@ -2,9 +2,9 @@
 //! resume), the rows and fields of the steps (observed by `physics::observers`, written by
 //! `io::recorder`), the progress lines and `timings.txt`.
 
+use super::progress::{Progress, Stages, Step};
+use super::run::Run;
 use super::state::{self, Counters};
-use super::step::{Progress, Stages, Step};
-use super::Run;
 use crate::error::{Error, Result};
 use crate::io::recorder::{Recorder, StepRow};
 use crate::io::rundir;

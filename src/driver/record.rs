@@ -1,7 +1,7 @@
 //! The run record, `DIR/run.toml`: how a run was started — the scene, its overrides and the
 //! PETSc options — which `resume` reads to set the run up again.
 
-use super::{Run, RunArgs};
+use super::run::{Run, RunArgs};
 use crate::error::{Error, Result};
 use crate::io::rundir;
 use crate::scene::LoadedScene;

@@ -2,8 +2,9 @@
 //! and plates → problem → time stepper → observers. Everything that can fail on bad input
 //! fails here, before the run directory is touched.
 
+use super::run::{Run, SetupInfo, DEFAULT_STABILISATION};
+use super::schedule::Schedule;
 use super::state::{FileLayout, StepState};
-use super::{Run, Schedule, SetupInfo, DEFAULT_STABILISATION};
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::tabulate_cell;
@@ -30,7 +31,7 @@ use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use std::time::Instant;
 
-use super::RunArgs;
+use super::run::RunArgs;
 
 /// The mesh partitioned and distributed, with the mesh file's node and element counts (the
 /// numbering of the run state).

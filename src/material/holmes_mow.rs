@@ -101,7 +101,7 @@ impl HolmesMow {
         m_scale(&m_dev(&inner), e)
     }
 
-    /// ∂S_sc/∂B_p \[H\] for the six symmetric unit directions H of [`super::remodelling::sym_basis`]:
+    /// ∂S_sc/∂B_p \[H\] for the six symmetric unit directions H of [`super::tensor::sym_basis`]:
     /// with S = e G, ∂f\[H\] = (α1 + α2 I1e) tr(C H) − α2 tr(C B C H) and
     /// ∂G\[H\] = α2 tr(C H) B + (α1 + α2 I1e) H − α2 (H C B + B C H), ∂S\[H\] = e (∂f\[H\] G + ∂G\[H\]).
     pub fn stress_derivative_bp(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
@@ -112,7 +112,7 @@ impl HolmesMow {
         let i1 = (c * bp).trace();
         let cbc = c * bp * c;
         let cb = c * bp;
-        Ok(super::remodelling::sym_basis().map(|h| {
+        Ok(super::tensor::sym_basis().map(|h| {
             let tr_ch = (c * h).trace();
             let df = (a1 + a2 * i1) * tr_ch - a2 * (cbc * h).trace();
             let hcb = h * cb;

@@ -12,6 +12,7 @@ pub mod holmes_mow;
 pub mod penalty;
 pub mod permeability;
 pub mod remodelling;
+pub mod tensor;
 
 #[cfg(test)]
 pub(crate) mod test_util;

@@ -98,14 +98,14 @@ impl Permeability {
     }
 
     /// ∂K/∂B_p \[H\] = g1 H + g2 (H C B_p + B_p C H) for the six symmetric unit directions H of
-    /// [`super::remodelling::sym_basis`] (zero for the isotropic model).
+    /// [`super::tensor::sym_basis`] (zero for the isotropic model).
     pub fn derivative_bp(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
         if self.model == PermeabilityModel::Isotropic {
             return Ok([Matrix3::zeros(); 6]);
         }
         let [_, (g1, _), (g2, _)] = self.coefficients(kin.j)?;
         let cb = kin.c * bp;
-        Ok(super::remodelling::sym_basis().map(|h| {
+        Ok(super::tensor::sym_basis().map(|h| {
             let hcb = h * cb;
             h * g1 + (hcb + hcb.transpose()) * g2
         }))

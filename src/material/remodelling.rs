@@ -21,33 +21,11 @@
 //! √(2/3) σy at B_p^n) keeps B_p^n and has a zero tangent.
 
 use super::dual::{m_det, m_exp, m_mul, m_scale, m_trace_mul, m_transpose, Dual, Scalar, M3};
+use super::tensor::{from_sym6, to_sym6, SYM_PAIRS};
 use super::{domain_error, HolmesMow};
 use crate::error::{Error, Result};
 use nalgebra::{Matrix3, SMatrix, SVector};
 use serde::{Deserialize, Serialize};
-
-/// The symmetric unit directions of the six components (00, 11, 22, 01, 02, 12): a symmetric
-/// matrix is Σ_s x_s `sym_basis()[s]`.
-pub fn sym_basis() -> [Matrix3<f64>; 6] {
-    std::array::from_fn(|s| {
-        let mut x = [0.0; 6];
-        x[s] = 1.0;
-        from_sym6(&x)
-    })
-}
-
-/// (row, column) of the six symmetric components.
-pub const SYM_PAIRS: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
-
-/// The six components of a symmetric matrix (upper triangle).
-pub fn to_sym6(m: &Matrix3<f64>) -> [f64; 6] {
-    SYM_PAIRS.map(|(a, b)| 0.5 * (m[(a, b)] + m[(b, a)]))
-}
-
-/// The symmetric matrix of six components.
-pub fn from_sym6(x: &[f64]) -> Matrix3<f64> {
-    Matrix3::new(x[0], x[3], x[4], x[3], x[1], x[5], x[4], x[5], x[2])
-}
 
 fn sym_generic<T: Scalar>(x: &[T]) -> M3<T> {
     [[x[0], x[3], x[4]], [x[3], x[1], x[5]], [x[4], x[5], x[2]]]
@@ -406,6 +384,7 @@ mod tests {
     use super::super::test_util::{kin, Rng};
     use super::super::SolidLaw;
     use super::*;
+    use crate::material::tensor::sym_basis;
 
     fn table1() -> (HolmesMow, Remodelling) {
         (HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap(), Remodelling::new(0.001, 2.0).unwrap())

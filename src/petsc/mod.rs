@@ -324,6 +324,30 @@ pub mod options {
             .then(|| unsafe { CStr::from_ptr(buf.as_ptr()) }.to_string_lossy().into_owned()))
     }
 
+    /// Options PETSc reads outside object set-up (at init/finalize) that `options_left` may list.
+    const IGNORED_OPTIONS: &[&str] = &[
+        "-log_view",
+        "-options_left",
+        "-malloc_dump",
+        "-malloc_debug",
+        "-info",
+        "-log_trace",
+        "-on_error_abort",
+        "-no_signal_handler",
+    ];
+
+    /// Every PETSc option must have been read once a step has run; reports the others.
+    pub fn ensure_all_used() -> Result<()> {
+        let unused: Vec<String> = unused()?.into_iter().filter(|o| !IGNORED_OPTIONS.contains(&o.as_str())).collect();
+        if unused.is_empty() {
+            return Ok(());
+        }
+        Err(Error::Options(format!(
+            "unknown or unused PETSc option(s): {} (check the spelling, or the solver they belong to)",
+            unused.join(" ")
+        )))
+    }
+
     /// Options set but never queried by any PETSc object so far, as `-name` strings.
     pub fn unused() -> Result<Vec<String>> {
         let mut n: Int = 0;

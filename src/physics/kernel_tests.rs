@@ -18,7 +18,7 @@ use crate::fem::element::{tabulate_cell, ElementMatrix, MAX_DOF};
 use crate::fem::kernel::{CellKernel, ElementInput, ElementKernel, ElementValues, Stabilisation};
 use crate::fem::point::{PointModel, PointState, QpId, QpState};
 use crate::fem::quadrature;
-use crate::material::remodelling::to_sym6;
+use crate::material::tensor::to_sym6;
 use crate::material::test_util::Rng;
 use crate::material::{CompactionPenalty, HolmesMow, Permeability, PermeabilityModel, Remodelling};
 use crate::physics::biphasic::Biphasic;
