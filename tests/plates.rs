@@ -257,24 +257,38 @@ fn equal_order_jacobian_matches_central_differences() {
 /// runs check, the symmetry reduction and the rigid modes, does not depend on the stabilisation.
 fn assert_full_matches_quarter(name: &str, full_edits: &[(&str, &str)], petsc: &[&str]) {
     let dir = scratch(name);
-    const CONSTANT: (&str, &str) = ("stabilisation_fade = 0.03", "stabilisation_fade = 1e9");
-    let q = coarse_scene(&dir, &[CONSTANT]);
-    run_in(2, &q, &dir.join("quarter"), &[]);
     let full_dir = dir.join("full-scene");
     std::fs::create_dir_all(&full_dir).unwrap();
     let edits: Vec<(&str, &str)> = COARSE.iter().chain(full_edits).chain([&CONSTANT]).copied().collect();
     let full = scene_variant("reference", &full_dir, &edits);
     run_in(2, &full, &dir.join("full"), petsc);
-    let (hq, hf) = (History::read(&dir.join("quarter")), History::read(&dir.join("full")));
-    assert_eq!(hq.col("time"), hf.col("time"));
+    let (hq, hf) = (History::read(constant_quarter()), History::read(&dir.join("full")));
+    // The full run may end early (a shortened run): its rows are the quarter's first ones.
+    let n = hf.rows.len();
+    assert_eq!(hq.col("time")[..n], hf.col("time")[..], "the full sphere's steps differ from the quarter's");
     let peak = hq.col("force_total_mg").iter().cloned().fold(0.0, f64::max);
     for c in FORCES {
-        let d = max_abs_diff(&hq.col(c), &hf.col(c));
+        let d = max_abs_diff(&hq.col(c)[..n], &hf.col(c));
         assert!(d < 1e-2 * peak, "{c}: quarter and full differ by {d} mg (peak {peak})");
         assert!(d < 1e-6 * peak, "{c}: quarter and full differ by {d:e} mg, beyond solver tolerance");
     }
     let v0 = hq.col("fluid_volume")[0];
-    assert!(max_abs_diff(&hq.col("fluid_volume"), &hf.col("fluid_volume")) < 1e-8 * v0);
+    assert!(max_abs_diff(&hq.col("fluid_volume")[..n], &hf.col("fluid_volume")) < 1e-8 * v0);
+}
+
+/// The stabilisation at full weight (see [`assert_full_matches_quarter`]).
+const CONSTANT: (&str, &str) = ("stabilisation_fade = 0.03", "stabilisation_fade = 1e9");
+
+/// The coarse quarter with the constant stabilisation, run once per test process: the run
+/// directory (every full-sphere comparison reads it).
+fn constant_quarter() -> &'static Path {
+    static RUN: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+    RUN.get_or_init(|| {
+        let dir = scratch("plates-constant-quarter");
+        let q = coarse_scene(&dir, &[CONSTANT]);
+        run_in(2, &q, &dir.join("quarter"), &[]);
+        dir.join("quarter")
+    })
 }
 
 /// A full sphere made of the quarter mesh mirrored across both symmetry planes, with the rigid
@@ -287,7 +301,8 @@ fn quarter_and_full_sphere_agree() {
 
 /// The same mirrored full sphere with only the poles held in x and y: the rotation about z is
 /// free (`solver::FreeRigidModes`); the direct preset locks it at one dof, the AMG fieldsplit
-/// takes it as the Jacobian's null space.
+/// takes it as the Jacobian's null space (from the first Newton iteration on: the loading ramp
+/// shows it).
 #[test]
 fn full_sphere_with_free_rigid_modes_agrees() {
     let free: &[(&str, &str)] = &[
@@ -299,8 +314,11 @@ fn full_sphere_with_free_rigid_modes_agrees() {
         ),
     ];
     assert_full_matches_quarter("plates-full-free", free, &[]);
-    let amg: Vec<(&str, &str)> =
-        free.iter().copied().chain([("[output]", "[solver]\npreset = \"fieldsplit\"\n\n[output]")]).collect();
+    let amg: Vec<(&str, &str)> = free
+        .iter()
+        .copied()
+        .chain([("[output]", "[solver]\npreset = \"fieldsplit\"\n\n[output]"), ("t_end = 12.0", "t_end = 2.0")])
+        .collect();
     assert_full_matches_quarter("plates-full-free-amg", &amg, &[]);
 }
 
@@ -392,7 +410,7 @@ const REMODELLING: (&str, &str) =
 /// The largest u-row and p-row errors of `-poroplast_check_jacobian eps` over a 3 s coarse run.
 fn jacobian_check(name: &str, extra: &[(&str, &str)], eps: &str) -> (f64, f64, usize) {
     let dir = scratch(name);
-    let mut edits = vec![("t_end = 12.0", "t_end = 3.0")];
+    let mut edits = vec![("t_end = 12.0", "t_end = 2.0")];
     edits.extend(extra);
     let sc = coarse_scene(&dir, &edits);
     let e = jacobian_errors(&run_in(2, &sc, &dir.join("run"), &["-poroplast_check_jacobian", eps]));
@@ -455,7 +473,7 @@ fn jacobian_matches_central_differences_with_remodelling() {
 /// they are well below the first), and the residual history of the longest such solve.
 fn newton_orders(name: &str, extra: &[(&str, &str)]) -> (Vec<f64>, Vec<f64>) {
     let dir = scratch(name);
-    let mut edits = vec![("t_end = 12.0", "t_end = 3.0")];
+    let mut edits = vec![("t_end = 12.0", "t_end = 2.0")];
     edits.extend(extra);
     let sc = coarse_scene(&dir, &edits);
     let out = run_in(
