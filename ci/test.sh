@@ -3,11 +3,11 @@
 #
 #   ci/test.sh          the default tier: the unit tests (no MPI), then every integration test,
 #                       one at a time (each launches mpirun -n 2 or less: two at once would put four
-#                       processes on two cores). A few minutes on a 2-core machine.
+#                       processes on two cores). About 5 min on a 2-core machine, build done.
 #   ci/test.sh --fast   the unit tests and the tree's shape (tests/architecture.rs): seconds
 #                       after the build, no mpirun.
 #   ci/test.sh --slow   the slow tier: the accuracy benchmarks (tests marked #[ignore], each
-#                       naming why), one at a time. About a quarter of an hour.
+#                       naming why), one at a time. About a minute.
 #
 # Extra arguments go to every cargo test call (e.g. a test name filter). CI (.ci/run) runs
 # ci/lint.sh (fmt, clippy, rustdoc) first, then the default tier.
