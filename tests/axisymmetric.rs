@@ -168,19 +168,19 @@ fn meridian_experiment_matches_the_quarter() {
     run_ok(2, &["run", &scene("reference"), "--out", dir.join("quarter").to_str().unwrap(), "-q"]);
     let (a, q) = (History::read(&dir.join("axi")), History::read(&dir.join("quarter")));
     let at = value_at;
-    for (col, t, tol) in [
-        ("force_total_mg", 5.0, 0.01),
-        ("force_total_mg", 35.0, 0.01),
-        ("force_lower_mg", 5.0, 0.01),
-        ("height", 40.0, 0.003),
-        ("width", 5.0, 0.003),
-        ("fluid_volume", 5.0, 0.003),
-        ("fluid_volume", 100.0, 0.003),
-    ] {
-        let (x, y) = (at(&a, col, t), at(&q, col, t));
-        println!("{col} at {t} s: meridian {x:.5}, quarter {y:.5}");
-        assert!((x / y - 1.0).abs() < tol, "{col} at {t} s: meridian {x} vs quarter {y}");
-    }
+    meridian_agrees_with_quarter(
+        &a,
+        &q,
+        &[
+            ("force_total_mg", 5.0, 0.01),
+            ("force_total_mg", 35.0, 0.01),
+            ("force_lower_mg", 5.0, 0.01),
+            ("height", 40.0, 0.003),
+            ("width", 5.0, 0.003),
+            ("fluid_volume", 5.0, 0.003),
+            ("fluid_volume", 100.0, 0.003),
+        ],
+    );
     // The meridian's peak within its own mesh error of the converged value (measured −0.88%).
     let peak = a.col("force_total_mg").iter().cloned().fold(0.0, f64::max);
     assert!((peak / converged_peak() - 1.0).abs() < 0.03, "meridian peak {peak} mg");
@@ -213,24 +213,33 @@ fn shortened_meridian_experiment_matches_the_quarter() {
     }
     run_ok(2, &args);
     let (a, q) = (History::read(&dir.join("axi")), History::read(&dir.join("quarter")));
-    for (col, t, tol) in [
-        ("force_total_mg", 2.0, 0.01),
-        ("force_total_mg", 8.0, 0.01),
-        ("force_lower_mg", 2.0, 0.01),
-        ("height", 10.0, 0.003),
-        ("height", 12.0, 0.003),
-        ("width", 2.0, 0.003),
-        ("fluid_volume", 2.0, 0.003),
-        ("fluid_volume", 12.0, 0.003),
-    ] {
-        let (x, y) = (value_at(&a, col, t), value_at(&q, col, t));
-        println!("{col} at {t} s: meridian {x:.5}, quarter {y:.5}");
-        assert!((x / y - 1.0).abs() < tol, "{col} at {t} s: meridian {x} vs quarter {y}");
-    }
+    meridian_agrees_with_quarter(
+        &a,
+        &q,
+        &[
+            ("force_total_mg", 2.0, 0.01),
+            ("force_total_mg", 8.0, 0.01),
+            ("force_lower_mg", 2.0, 0.01),
+            ("height", 10.0, 0.003),
+            ("height", 12.0, 0.003),
+            ("width", 2.0, 0.003),
+            ("fluid_volume", 2.0, 0.003),
+            ("fluid_volume", 12.0, 0.003),
+        ],
+    );
     // The meridian's forces are whole-sphere values without a symmetry factor, like the quarter's.
     let settled = value_at(&a, "force_lower_mg", 0.0);
     let weight = 1e-9 * value_at(&a, "fluid_volume", 0.0);
     assert!((settled - weight).abs() < 1e-3 * weight, "settled {settled} mg vs weight {weight} mg");
+}
+
+/// Each (column, time, tolerance): the meridian's value relative to the quarter's within it.
+fn meridian_agrees_with_quarter(a: &History, q: &History, checks: &[(&str, f64, f64)]) {
+    for &(col, t, tol) in checks {
+        let (x, y) = (value_at(a, col, t), value_at(q, col, t));
+        println!("{col} at {t} s: meridian {x:.5}, quarter {y:.5}");
+        assert!((x / y - 1.0).abs() < tol, "{col} at {t} s: meridian {x} vs quarter {y}");
+    }
 }
 
 /// The value of `col` at the row of time `t` (which must exist).

@@ -55,6 +55,17 @@ fn spawn_with(np: usize, out: &Path, extra: &[&str]) -> Child {
         .expect("the run could not be started")
 }
 
+/// The uninterrupted run on 1 rank that the killed and stopped runs are compared with, run once
+/// per test process: its directory.
+fn uninterrupted() -> &'static Path {
+    static RUN: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+    RUN.get_or_init(|| {
+        let reference = scratch("restart_uninterrupted").join("reference");
+        assert!(spawn(1, &reference).wait().unwrap().success(), "the reference run failed");
+        reference
+    })
+}
+
 /// [`spawn_with`], once the run has written the checkpoint of `step`.
 fn running(np: usize, out: &Path, extra: &[&str], step: usize) -> Child {
     let mut child = spawn_with(np, out, extra);
@@ -126,8 +137,7 @@ fn resume(np: usize, dir: &Path) {
 #[test]
 fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
     let d = scratch("restart_same_ranks");
-    let reference = d.join("reference");
-    assert!(spawn(1, &reference).wait().unwrap().success(), "the reference run failed");
+    let reference = uninterrupted();
     let a = History::read(&reference);
     assert!(a.rows.len() > 30, "{} rows", a.rows.len());
 
@@ -233,8 +243,7 @@ fn the_iterative_solver_resumes_exactly_from_a_periodic_checkpoint() {
 #[test]
 fn a_two_rank_run_stopped_by_mpirun_resumes_on_one_rank() {
     let d = scratch("restart_other_ranks");
-    let reference = d.join("reference");
-    assert!(spawn(1, &reference).wait().unwrap().success(), "the reference run failed");
+    let reference = uninterrupted();
     // mpirun forwards SIGUSR1 to the ranks (SIGTERM it answers with SIGKILL after 1 s).
     let stopped = d.join("stopped");
     let mut child = running(2, &stopped, &[], 10);
