@@ -138,7 +138,7 @@ fn resume(np: usize, dir: &Path) {
 fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
     let d = scratch("restart_same_ranks");
     let reference = uninterrupted();
-    let a = History::read(&reference);
+    let a = History::read(reference);
     assert!(a.rows.len() > 30, "{} rows", a.rows.len());
 
     // kill -9 after the checkpoint of step 15: at most the steps since are lost, then redone.
@@ -253,7 +253,7 @@ fn a_two_rank_run_stopped_by_mpirun_resumes_on_one_rank() {
     assert!(why.starts_with("stopped by a signal after step"), "{why}");
     resume(1, &stopped);
     // Another partition: the same steps, values to solver tolerance.
-    assert_same_history(&History::read(&reference), &History::read(&stopped), 1e-6, "2 ranks, resumed on 1");
+    assert_same_history(&History::read(reference), &History::read(&stopped), 1e-6, "2 ranks, resumed on 1");
     // The fields written on 1 rank use their own mesh numbering (/mesh_1).
     let xdmf = std::fs::read_to_string(stopped.join("fields.xdmf")).unwrap();
     assert!(xdmf.contains("/mesh_1/coordinates") && xdmf.contains("/mesh/coordinates"));
