@@ -152,3 +152,34 @@ pub fn p1_gradients<C: CellShape>(dn: &[[f64; 3]; MAX_NODES]) -> [[f64; 3]; MAX_
     }
     g
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::element::tabulate_cell;
+    use crate::fem::quadrature;
+
+    /// On a distorted straight tet, the P1 gradients derived from the P2 ones are the exact
+    /// gradients of the barycentric coordinates: L_m is linear with L_m(v_n) = δ_mn.
+    #[test]
+    fn p1_gradients_are_the_barycentric_gradients_on_a_distorted_tet() {
+        let v = [[0.1, -0.2, 0.05], [1.3, 0.1, -0.1], [0.2, 0.9, 0.3], [-0.1, 0.3, 1.2]];
+        let mut c = [[0.0; 3]; MAX_NODES];
+        c[..4].copy_from_slice(&v);
+        for (e, &(a, b)) in TET10_EDGES.iter().enumerate() {
+            c[4 + e] = std::array::from_fn(|d| 0.5 * (v[a][d] + v[b][d]));
+        }
+        let q = quadrature::tet(5);
+        let tab = tabulate_cell(Family::Tet10, &q);
+        for k in 0..q.weights.len() {
+            let g1 = p1_gradients::<Tet10>(&Tet10::point(&c, &tab, k).unwrap().dn);
+            for m in 0..4 {
+                for n in 0..4 {
+                    let dot: f64 = (0..3).map(|d| g1[m][d] * (v[n][d] - v[0][d])).sum();
+                    let expect = if m == n { 1.0 } else { 0.0 } - if m == 0 { 1.0 } else { 0.0 };
+                    assert!((dot - expect).abs() < 1e-12);
+                }
+            }
+        }
+    }
+}

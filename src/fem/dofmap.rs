@@ -227,7 +227,7 @@ mod tests {
     #[test]
     fn dofs_number_every_node_and_vertex_once_across_ranks() {
         for family in [Family::Tet10, Family::Tri6] {
-            let mesh = crate::fem::test_util::mesh(family, 3);
+            let mesh = crate::mesh::test_util::structured(family, 3);
             let (nranks, ncells) = (3, mesh.cells.len());
             let part: Vec<u32> = (0..ncells).map(|c| (c * nranks / ncells) as u32).collect();
             let locals: Vec<_> = (0..nranks).map(|r| dist::distribute(&mesh, &part, nranks, r).unwrap()).collect();

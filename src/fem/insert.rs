@@ -274,7 +274,7 @@ mod tests {
     #[test]
     fn fast_insertion_equals_the_plain_scatter() {
         for family in [Family::Tet10, Family::Tri6] {
-            let mesh = crate::fem::test_util::mesh(family, 3);
+            let mesh = crate::mesh::test_util::structured(family, 3);
             let (nranks, ncells) = (3, mesh.cells.len());
             let part: Vec<u32> = (0..ncells).map(|c| (c * nranks / ncells) as u32).collect();
             let ndof = family.components() * family.cell_nodes() + family.cell_vertices();

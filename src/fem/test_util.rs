@@ -1,5 +1,5 @@
-//! Test fixtures of the element loops: a structured mesh of either family on the unit cube (or
-//! the meridian square) and the `Discretization` on it, one rank, nothing constrained.
+//! Test fixture of the element loops: the `Discretization` on a structured mesh of either family
+//! (`mesh::test_util`), one rank, nothing constrained.
 
 use super::assembly::Discretization;
 use super::dofmap::DofMap;
@@ -8,75 +8,8 @@ use super::kernel::Stabilisation;
 use super::point::PointModel;
 use super::qp_store::QpStore;
 use super::quadrature;
-use crate::mesh::{dist, Mesh};
-use crate::reference_cell::{Family, TET10_EDGES, TRI6_EDGES};
-
-/// The unit cube in n³ cubes of 6 Kuhn tetrahedra, or the meridian square [0, 1]² (x = r, z) in
-/// n² squares of 2 triangles; quadratic nodes on the half grid.
-pub(crate) fn mesh(family: Family, n: usize) -> Mesh {
-    let m = 2 * n + 1;
-    let (dims, nv) = match family {
-        Family::Tet10 => (3, 4),
-        Family::Tri6 => (2, 3),
-    };
-    let id = |g: [usize; 3]| -> u32 { (g[0] + m * (g[1] + m * g[2])) as u32 };
-    let total = m.pow(dims as u32);
-    let coords: Vec<[f64; 3]> = (0..total)
-        .map(|i| {
-            let g = [i % m, (i / m) % m, i / (m * m)];
-            let h = |k: usize| g[k] as f64 / (2 * n) as f64;
-            match family {
-                Family::Tet10 => [h(0), h(1), h(2)],
-                Family::Tri6 => [h(0), 0.0, h(1)],
-            }
-        })
-        .collect();
-    let mut cells = Vec::new();
-    let edges = family.edges();
-    let mut push = |verts: &[[usize; 3]]| {
-        let mut c = [u32::MAX; 10];
-        for (k, v) in verts.iter().enumerate() {
-            c[k] = id(*v);
-        }
-        for (e, &(a, b)) in edges.iter().enumerate() {
-            c[nv + e] = id(std::array::from_fn(|d| (verts[a][d] + verts[b][d]) / 2));
-        }
-        cells.push(c);
-    };
-    for k in 0..if dims == 3 { n } else { 1 } {
-        for j in 0..n {
-            for i in 0..n {
-                let o = [2 * i, 2 * j, 2 * k];
-                if dims == 2 {
-                    let v = |a: usize, b: usize| [o[0] + 2 * a, o[1] + 2 * b, 0];
-                    push(&[v(0, 0), v(1, 0), v(1, 1)]);
-                    push(&[v(0, 0), v(1, 1), v(0, 1)]);
-                    continue;
-                }
-                for perm in [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]] {
-                    let mut v = [o; 4];
-                    for s in 0..3 {
-                        v[s + 1] = v[s];
-                        v[s + 1][perm[s]] += 2;
-                    }
-                    // Positive orientation: swap vertices 1 and 2 of the odd permutations.
-                    let odd = matches!(perm, [0, 2, 1] | [1, 0, 2] | [2, 1, 0]);
-                    if odd {
-                        v.swap(1, 2);
-                    }
-                    push(&v);
-                }
-            }
-        }
-    }
-    let mut is_vertex = vec![false; coords.len()];
-    for c in &cells {
-        for &v in &c[..nv] {
-            is_vertex[v as usize] = true;
-        }
-    }
-    Mesh { family, coords, cells, is_vertex, ..Mesh::default() }
-}
+use crate::mesh::{dist, test_util::structured};
+use crate::reference_cell::Family;
 
 /// The element loops' input on the mesh of n (one rank, nothing constrained) for `model`: its
 /// qp state at the model's initial value, evolving.
@@ -87,7 +20,7 @@ pub(crate) fn discretization(
     stab: Stabilisation,
     q: &quadrature::Quadrature,
 ) -> Discretization {
-    let global = mesh(family, n);
+    let global = structured(family, n);
     let local = dist::distribute(&global, &vec![0; global.cells.len()], 1, 0).unwrap();
     let dofs = DofMap::new(&local);
     let n_local = dofs.n_local();
@@ -103,30 +36,5 @@ pub(crate) fn discretization(
         evolve: true,
         mesh: local,
         model,
-    }
-}
-
-#[test]
-fn kuhn_tetrahedra_are_positive_and_fill_the_cube() {
-    let m = mesh(Family::Tet10, 2);
-    let mut vol = 0.0;
-    for c in &m.cells {
-        let x = |i: usize| m.coords[c[i] as usize];
-        let d = crate::reference_cell::tet_det(x(0), x(1), x(2), x(3));
-        assert!(d > 0.0, "negative tet");
-        vol += d / 6.0;
-        for (e, &(a, b)) in TET10_EDGES.iter().enumerate() {
-            let mid = x(4 + e);
-            assert!((0..3).all(|k| (mid[k] - 0.5 * (x(a)[k] + x(b)[k])).abs() < 1e-15));
-        }
-    }
-    assert!((vol - 1.0).abs() < 1e-14);
-    let t = mesh(Family::Tri6, 2);
-    for c in &t.cells {
-        let x = |i: usize| t.coords[c[i] as usize];
-        assert!(crate::reference_cell::area2(x(0), x(1), x(2)) > 0.0);
-        for (e, &(a, b)) in TRI6_EDGES.iter().enumerate() {
-            assert!((0..3).all(|k| (x(3 + e)[k] - 0.5 * (x(a)[k] + x(b)[k])).abs() < 1e-15));
-        }
     }
 }

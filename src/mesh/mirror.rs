@@ -4,7 +4,7 @@
 
 use super::Mesh;
 use crate::error::{Error, Result};
-use crate::reference_cell::{TET10_FLIP, TET_FACES};
+use crate::reference_cell::{Family, TET10_FLIP, TET_FACES};
 
 /// Local face index in the flipped tet (vertices 1 and 2 swapped) of each local face.
 const FLIPPED_FACE: [u8; 4] = [0, 3, 2, 1];
@@ -14,7 +14,7 @@ const FLIPPED_FACE: [u8; 4] = [0, 3, 2, 1];
 /// are extended by their reflections (a point group off the plane gains the mirror node).
 pub fn mirror(mesh: &Mesh, plane: &str) -> Result<Mesh> {
     let err = |msg: String| Error::Mesh { path: format!("mirror across \"{plane}\""), msg };
-    if mesh.family != super::Family::Tet10 {
+    if mesh.family != Family::Tet10 {
         return Err(err("only a tetrahedral mesh can be mirrored (a meridian mesh is already the whole body)".into()));
     }
     let plane_faces = mesh.face_group(plane)?;
@@ -138,7 +138,7 @@ mod tests {
         // The face with all vertices at x = 0 is the plane.
         let plane = (0..4u32).find(|&f| faces[f as usize][..3].iter().all(|&n| coords[n as usize][0] == 0.0)).unwrap();
         let mesh = Mesh {
-            family: crate::mesh::Family::Tet10,
+            family: Family::Tet10,
             coords: coords.clone(),
             cells: vec![tet],
             faces: faces.clone(),

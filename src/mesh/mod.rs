@@ -1,10 +1,7 @@
-//! The global quadratic tetrahedral mesh (as read from a file), its local node conventions, and face matching.
-//!
-//! Conventions (gmsh's, verified on a straight-sided order-2 mesh, see `tests::gmsh_tet10_edge_order`):
-//! * a tet has 10 nodes: vertices 0..4, then the mid-edge node `4 + k` on edge `TET10_EDGES[k]`;
-//! * every tet is positively oriented: det [x1 - x0, x2 - x0, x3 - x0] > 0;
-//! * a boundary face has 6 nodes in gmsh Triangle6 order (3 vertices, then the mid-nodes of edges
-//!   01, 12, 20), oriented so that the right-hand rule on the 3 vertices gives the outward normal.
+//! The global mesh as read from a file: quadratic cells of one family (10-node tetrahedra, or
+//! 6-node triangles of a meridian), their outward boundary faces, named physical groups, and the
+//! face matching the partitioner and the distribution use. The node numbering of a cell and of a
+//! face is the reference cell's ([`crate::reference_cell`]).
 
 pub mod dist;
 pub mod generate;
@@ -13,6 +10,8 @@ pub mod mirror;
 pub mod partition;
 pub mod source;
 
+#[cfg(test)]
+pub(crate) mod test_util;
 #[cfg(test)]
 mod tests;
 
@@ -40,7 +39,7 @@ pub struct Mesh {
     pub face_groups: Vec<(String, Vec<u32>)>,
     /// Physical point name -> node indices (sorted).
     pub point_groups: Vec<(String, Vec<u32>)>,
-    /// The node is a corner of some tet (carries a P1 pressure dof).
+    /// The node is a corner of some cell (carries a P1 pressure dof).
     pub is_vertex: Vec<bool>,
 }
 
@@ -55,7 +54,7 @@ impl Mesh {
         find_group(&self.point_groups, name, "point")
     }
 
-    /// Tet indices of the physical volume `name`.
+    /// Cell indices of the physical volume `name` (a physical surface on the meridian).
     pub fn volume_group(&self, name: &str) -> Result<&[u32]> {
         find_group(&self.volume_groups, name, "volume")
     }

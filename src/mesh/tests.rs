@@ -10,6 +10,7 @@ use super::gmsh::read;
 use super::partition::{dual_graph, partition};
 use super::Mesh;
 use crate::error::Error;
+use crate::reference_cell::shape::tet10;
 use crate::reference_cell::{sub, tet_det, TET10_EDGES, TET10_FLIP, TET_FACES};
 
 // ---------------------------------------------------------------- helpers
@@ -75,27 +76,9 @@ fn keast4() -> Vec<([f64; 3], f64)> {
     q
 }
 
-/// Gradients (w.r.t. reference coordinates) of the 10 Tetrahedron10 shape functions at `xi`.
-fn tet10_grads(xi: [f64; 3]) -> [[f64; 3]; 10] {
-    let l = [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]];
-    let dl = [[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    let mut g = [[0.0; 3]; 10];
-    for i in 0..4 {
-        for d in 0..3 {
-            g[i][d] = (4.0 * l[i] - 1.0) * dl[i][d];
-        }
-    }
-    for (k, &(a, b)) in TET10_EDGES.iter().enumerate() {
-        for d in 0..3 {
-            g[4 + k][d] = 4.0 * (l[a] * dl[b][d] + l[b] * dl[a][d]);
-        }
-    }
-    g
-}
-
 /// det of the isoparametric Jacobian of tet `t` at `xi`.
 fn jac_det(mesh: &Mesh, t: usize, xi: [f64; 3]) -> f64 {
-    let g = tet10_grads(xi);
+    let (_, g) = tet10(&xi);
     let mut j = [[0.0; 3]; 3];
     for (k, &n) in mesh.cells[t].iter().enumerate() {
         let x = mesh.coords[n as usize];
