@@ -8,7 +8,7 @@
 use super::experiment::{self, Experiment};
 use super::observables;
 use super::probe::Probe;
-use super::problem::{rate, PoroProblem, Post};
+use super::problem::{backward_euler_rate, PoroProblem, Post};
 use super::verification::ExactFn;
 use crate::error::Result;
 use crate::mesh::dist::LocalMesh;
@@ -113,7 +113,7 @@ impl Observers {
     ) -> Result<Sample> {
         if self.experiment.is_some() || (fields && self.fields) || self.remodelling {
             let dt_eff = if dt > 0.0 { dt } else { 1.0 };
-            let udot = rate(u, prev, dt_eff)?;
+            let udot = backward_euler_rate(u, prev, dt_eff)?;
             Ok(Sample::Post(Box::new(problem.post_process(dt_eff, u, &udot)?)))
         } else {
             Ok(Sample::State(problem.localize(u)?))
