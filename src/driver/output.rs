@@ -1,5 +1,5 @@
 //! The run directory's outputs and the run log: opening the directory (or reopening it to
-//! resume), the rows and fields of the steps (observed by `physics::observers`, written by
+//! resume), the rows and fields of the steps (observed by `observe::observers`, written by
 //! `io::recorder`), the progress lines and `timings.txt`.
 
 use super::progress::{Progress, Stages, Step};
@@ -8,9 +8,9 @@ use super::state::{self, Counters};
 use crate::error::{Error, Result};
 use crate::io::recorder::{Recorder, StepRow};
 use crate::io::rundir;
+use crate::observe::observers::Sample;
 use crate::parallel::{agree, on_root};
 use crate::petsc::options;
-use crate::physics::observers::Sample;
 use mpi::traits::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;

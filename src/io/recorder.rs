@@ -1,12 +1,12 @@
 //! What a run writes per step: one `history.csv` row (the step, its observed values — the
 //! experiment's observables, the remodelling summary, probes, exact columns — and its iteration
-//! counts) and, when asked, the fields. The values come observed (`physics::observers`).
+//! counts) and, when asked, the fields. The values come observed (`observe::observers`).
 
 use crate::error::Result;
 use crate::io::fields::{restore_backup, Field, FieldFile, FieldKind, OutputMesh};
 use crate::io::history::History;
 use crate::mesh::dist::LocalMesh;
-use crate::physics::observers::Observed;
+use crate::observe::observers::Observed;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use std::path::{Path, PathBuf};

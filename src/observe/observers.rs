@@ -6,13 +6,13 @@
 //! the step's [`Observed`] values.
 
 use super::experiment::{self, Experiment};
-use super::observables;
 use super::probe::Probe;
-use super::problem::{backward_euler_rate, PoroProblem, Post};
+use super::remodelling_summary;
 use super::verification::ExactFn;
 use crate::error::Result;
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::Vector;
+use crate::physics::problem::{backward_euler_rate, PoroProblem, Post};
 use mpi::topology::SimpleCommunicator;
 
 /// What is observed besides the state itself; built (and validated) before the run directory
@@ -80,7 +80,7 @@ impl Observers {
             cols.extend(experiment::COLUMNS.iter().map(|c| c.to_string()));
         }
         if self.remodelling {
-            cols.extend(observables::COLUMNS.iter().map(|c| c.to_string()));
+            cols.extend(remodelling_summary::COLUMNS.iter().map(|c| c.to_string()));
         }
         cols.extend(self.probes.iter().map(|p| p.name.clone()));
         cols.extend(self.exact.iter().map(|(n, _)| n.clone()));
@@ -149,7 +149,7 @@ impl Observers {
             values.extend(o.values);
         }
         if let (Some(post), true) = (post, self.remodelling) {
-            values.extend(observables::observe(post, world));
+            values.extend(remodelling_summary::observe(post, world));
         }
         values.extend(self.probes.iter().map(|p| p.value(mesh, dofs, local, world)));
         values.extend(self.exact.iter().map(|(_, f)| f(t)));

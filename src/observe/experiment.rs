@@ -11,14 +11,14 @@
 //!   exactly at convergence);
 //! * the largest penetration of the quadratic surface into a plate, sampled between nodes.
 
-use super::contact::{Plates, Touch};
 use super::probe::{Probe, Quantity};
-use super::problem::Post;
 use crate::error::Result;
 use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
 use crate::parallel::{max, sum};
+use crate::physics::contact::{Plates, Touch};
+use crate::physics::problem::Post;
 use mpi::topology::SimpleCommunicator;
 
 /// nN → mg under standard gravity: 1e-9 N / 9.81 m/s² = 1.0194e-10 kg = 1.0194e-4 mg.
