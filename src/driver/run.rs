@@ -5,8 +5,9 @@
 use super::progress::{Progress, Stages};
 use super::schedule::Schedule;
 use super::signals::StopRequest;
-use super::state::{FileLayout, RunState, StepState};
+use super::state::StepState;
 use crate::error::{Error, Result};
+use crate::io::checkpoint::{FileLayout, RunState};
 use crate::io::rundir;
 use crate::observe::observers::Observers;
 use crate::parallel::on_root;

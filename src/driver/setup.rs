@@ -4,13 +4,14 @@
 
 use super::run::{Run, SetupInfo, DEFAULT_STABILISATION};
 use super::schedule::Schedule;
-use super::state::{FileLayout, StepState};
+use super::state::StepState;
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::tabulate_cell;
 use crate::fem::kernel::Stabilisation;
 use crate::fem::point::PointModel;
 use crate::fem::quadrature;
+use crate::io::checkpoint::FileLayout;
 use crate::mesh::dist::{self, LocalMesh};
 use crate::mesh::partition;
 use crate::mesh::source::{mesh_file, read_mesh};
