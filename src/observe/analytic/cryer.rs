@@ -46,7 +46,7 @@ pub struct CryerSeries {
 
 impl CryerSeries {
     /// Series for drained Poisson ratio `nu` (−1 < ν < 1/2), with enough roots that the truncation
-    /// error is below ~1e-16 for every τ ≥ `tau_min` (clamped to ≥ [`CRYER_MIN_TAU`]).
+    /// error is below ~1e-16 for every τ ≥ `tau_min` (clamped to ≥ 1e-8).
     pub fn new(nu: f64, tau_min: f64) -> Result<Self> {
         if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
             return Err(Error::Material(format!("Cryer solution needs -1 < nu < 0.5 (got {nu})")));

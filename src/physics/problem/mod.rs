@@ -1,9 +1,9 @@
 //! The discrete u–p problem F(t, U, U̇) = 0 that TS integrates: the element loop over the local
 //! cells (`fem::assembly`, either family), surface loads, drainage and constraint rows, assembled
 //! into PETSc vectors and matrices. This file holds the problem's state, its set-up, the qp
-//! state it commits, and what TS calls; the rest is by concern: [`residual`], [`jacobian`],
-//! [`constraints`], the plates' bounds and predictor ([`predictor`]), post-processing
-//! ([`post`]) and the finite-difference check of the Jacobian ([`fd_check`]).
+//! state it commits, and what TS calls; the rest is by concern, a file each: `residual`,
+//! `jacobian`, `constraints`, the plates' bounds and predictor (`predictor`), post-processing
+//! (`post`) and the finite-difference check of the Jacobian (`fd_check`).
 //!
 //! Constraints (prescribed u components or p) replace their rows by s (U_i − g_i) with a scale s
 //! comparable to the neighbouring diagonal; their columns are dropped from the Jacobian so the
