@@ -11,6 +11,7 @@ pub mod fem;
 pub mod io;
 pub mod material;
 pub mod mesh;
+pub mod observe;
 pub mod parallel;
 pub mod petsc;
 pub mod physics;

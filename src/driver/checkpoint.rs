@@ -1,12 +1,12 @@
 //! Checkpoints in a running run: when one is due (every N steps, every M minutes, on a stop
 //! signal), writing it — the run state, the solver's state and a copy of the fields — and
-//! restoring one for `resume`. The files are `state`'s.
+//! restoring one for `resume`. The files are `io::checkpoint`'s.
 
 use super::progress::Progress;
 use super::run::Run;
 use super::signals::StopRequest;
-use super::state::{self, Counters, RunState};
 use crate::error::{Error, Result};
+use crate::io::checkpoint::{self, Counters, RunState};
 use crate::io::recorder::Recorder;
 use crate::parallel::agree;
 use mpi::traits::*;
@@ -66,20 +66,20 @@ impl<'w> Run<'w> {
             outflow: self.observers.outflow(),
             ..pg.c.clone()
         };
-        let state = RunState::capture(self.world, self.ts.problem_mut(), &self.state, self.setup.layout, counters)?;
+        let state = self.state.capture(self.world, self.ts.problem_mut(), self.setup.layout, counters)?;
         // The solver's state between steps (the kept factorised Jacobian), per rank: a run
         // resumed on as many ranks continues exactly as this one. Where it cannot be saved the
         // solver starts afresh here, as a resumed run will.
         let solver = agree(self.world, self.ts.nonlinear_solver_state())?;
         let saved = crate::parallel::all(self.world, solver.is_some());
         let solver_written = match (&solver, saved) {
-            (Some(s), true) => state::write_solver(&rec.dir, pg.c.step, self.world.rank(), self.world.size(), s),
+            (Some(s), true) => checkpoint::write_solver(&rec.dir, pg.c.step, self.world.rank(), self.world.size(), s),
             _ => Ok(()),
         };
         agree(self.world, solver_written)?;
         // The fields as of now, for a resume that finds fields.h5 damaged; before the state,
         // so that every checkpoint has a copy with at least its steps.
-        rec.backup_fields(&state::fields_backup(&rec.dir))?;
+        rec.backup_fields(&checkpoint::fields_backup(&rec.dir))?;
         // Only at the checkpoints every N steps, which every run of the scene takes at the same
         // steps: restarting at wall-clock ones would make uninterrupted runs differ.
         if !saved && periodic {
@@ -93,7 +93,7 @@ impl<'w> Run<'w> {
     /// Sets the run state of a checkpoint: the step state (U, its rate, the qp state), the
     /// experiment's outflow and t. Returns the counters.
     pub(super) fn restore(&mut self, state: RunState) -> Result<Counters> {
-        let c = state.apply(self.ts.problem_mut(), &mut self.state)?;
+        let c = self.state.apply(self.ts.problem_mut(), state)?;
         self.observers.set_outflow(c.outflow);
         self.ts.set_time(c.t)?;
         Ok(c)

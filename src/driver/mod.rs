@@ -30,9 +30,9 @@ use record::RunRecord;
 use run::Run;
 pub use run::{RunArgs, DEFAULT_STABILISATION, EXIT_STOPPED};
 pub use schedule::Schedule;
-use state::RunState;
 
 use crate::error::{Error, Result};
+use crate::io::checkpoint::{self as checkpoint_file, Checkpoint, RunState};
 use crate::io::rundir;
 use crate::parallel::agree;
 use crate::petsc::{options, Petsc};
@@ -74,7 +74,7 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
     // Before anything is read: a run still going in `dir` keeps it.
     let lock = agree(world, rundir::lock(dir, world.rank() == 0))?;
     // Killed before its first checkpoint: the run starts again from t = 0 in its directory.
-    let checkpoints = agree(world, state::list(dir))?;
+    let checkpoints = agree(world, checkpoint_file::list(dir))?;
     let scene = agree(world, record.scene(dir))?;
     let mut options = record.petsc.clone();
     options.extend(petsc.iter().cloned());
@@ -90,16 +90,16 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
         let mut run = Run::setup(world, &scene, &args)?;
         run.lock = Some(lock);
         let per_elem = run.ts.problem().qp_state_per_elem();
-        let fingerprint = state::mesh_fingerprint(world, run.ts.problem().mesh());
+        let fingerprint = checkpoint_file::mesh_fingerprint(world, run.ts.problem().mesh());
         // The last checkpoint that can be read (a damaged one is passed over, with a warning).
         let mut found = None;
         for path in checkpoints.iter().rev() {
             match RunState::read(world, path, run.setup.layout, per_elem, fingerprint)? {
-                state::Checkpoint::Read(state) => {
+                Checkpoint::Read(state) => {
                     found = Some((path.clone(), state));
                     break;
                 }
-                state::Checkpoint::Damaged(e) => run.warn(&format!("{e}; trying the checkpoint before it")),
+                Checkpoint::Damaged(e) => run.warn(&format!("{e}; trying the checkpoint before it")),
             }
         }
         let Some((checkpoint, state)) = found else {
@@ -110,7 +110,7 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
             return run.execute(None);
         };
         // The solver's state, if saved on as many ranks as now (else it starts afresh).
-        let solver = state::read_solver(dir, state.counters.step, world.rank(), world.size());
+        let solver = checkpoint_file::read_solver(dir, state.counters.step, world.rank(), world.size());
         let found = crate::parallel::all(world, matches!(solver, Ok(Some(_))));
         match (solver, found) {
             (Ok(Some(s)), true) => run.ts.restore_nonlinear_solver_state(s),

@@ -1,16 +1,16 @@
 //! The run directory's outputs and the run log: opening the directory (or reopening it to
-//! resume), the rows and fields of the steps (observed by `physics::observers`, written by
+//! resume), the rows and fields of the steps (observed by `observe::observers`, written by
 //! `io::recorder`), the progress lines and `timings.txt`.
 
 use super::progress::{Progress, Stages, Step};
 use super::run::Run;
-use super::state::{self, Counters};
 use crate::error::{Error, Result};
+use crate::io::checkpoint::{self, Counters};
 use crate::io::recorder::{Recorder, StepRow};
 use crate::io::rundir;
+use crate::observe::observers::Sample;
 use crate::parallel::{agree, on_root};
 use crate::petsc::options;
-use crate::physics::observers::Sample;
 use mpi::traits::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -35,7 +35,7 @@ impl<'w> Run<'w> {
         let options = options::dump()?;
         on_root(self.world, || {
             // An earlier run's checkpoints and status (--force) are not this run's.
-            let old = dir.join(state::DIR);
+            let old = dir.join(checkpoint::DIR);
             if old.is_dir() {
                 std::fs::remove_dir_all(&old).map_err(|e| Error::io(&old, e))?;
             }
@@ -61,7 +61,7 @@ impl<'w> Run<'w> {
         let obs = &self.observers;
         // Rows of steps 0..=step.
         let counts = (c.step + 1, c.fields_written);
-        let backup = state::fields_backup(dir);
+        let backup = checkpoint::fields_backup(dir);
         let mesh = self.ts.problem().mesh();
         let (rec, warning) = Recorder::reopen(self.world, dir, mesh, (&obs.columns(), obs.fields), counts, &backup)?;
         if let Some(w) = warning {

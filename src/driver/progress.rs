@@ -1,8 +1,8 @@
 //! Where the time loop stands ([`Progress`]: the counters a checkpoint keeps, the ETA's recent
 //! step times), a step taken ([`Step`]) and the PETSc log stages of the loop ([`Stages`]).
 
-use super::state::Counters;
 use crate::error::Result;
+use crate::io::checkpoint::Counters;
 use crate::petsc::Stage;
 use std::collections::VecDeque;
 use std::time::Instant;

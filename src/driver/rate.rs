@@ -5,7 +5,7 @@
 
 use crate::error::Result;
 use crate::petsc::Vector;
-use crate::physics::problem::{rate, ErrorScales};
+use crate::physics::problem::{backward_euler_rate, ErrorScales};
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -19,7 +19,7 @@ pub struct StepRate {
 impl StepRate {
     /// The backward-Euler rate of the step from `prev` to `u` in dt.
     pub fn of(prev: &Vector, u: &Vector, dt: f64) -> Result<StepRate> {
-        Ok(StepRate { velocity: rate(u, prev, dt)?, dt })
+        Ok(StepRate { velocity: backward_euler_rate(u, prev, dt)?, dt })
     }
 
     /// Local error estimate of the backward-Euler step from `prev` to `u` in dt that followed

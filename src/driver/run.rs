@@ -5,12 +5,13 @@
 use super::progress::{Progress, Stages};
 use super::schedule::Schedule;
 use super::signals::StopRequest;
-use super::state::{FileLayout, RunState, StepState};
+use super::state::StepState;
 use crate::error::{Error, Result};
+use crate::io::checkpoint::{FileLayout, RunState};
 use crate::io::rundir;
+use crate::observe::observers::Observers;
 use crate::parallel::on_root;
 use crate::petsc::Ts;
-use crate::physics::observers::Observers;
 use crate::physics::problem::PoroProblem;
 use crate::scene::LoadedScene;
 use mpi::topology::SimpleCommunicator;

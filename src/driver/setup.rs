@@ -4,26 +4,27 @@
 
 use super::run::{Run, SetupInfo, DEFAULT_STABILISATION};
 use super::schedule::Schedule;
-use super::state::{FileLayout, StepState};
+use super::state::StepState;
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::tabulate_cell;
 use crate::fem::kernel::Stabilisation;
 use crate::fem::point::PointModel;
 use crate::fem::quadrature;
+use crate::io::checkpoint::FileLayout;
 use crate::mesh::dist::{self, LocalMesh};
 use crate::mesh::partition;
 use crate::mesh::source::{mesh_file, read_mesh};
+use crate::observe::experiment::Experiment;
+use crate::observe::observers::{mid_edge_nodes, Observers};
+use crate::observe::probe::Probe;
+use crate::observe::verification::exact_columns;
 use crate::parallel::{agree, broadcast_vec, on_root};
 use crate::petsc::{options, DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
 use crate::physics::contact::{Drainage, PlateLoading, Plates, DEFAULT_SEAL_GAP};
-use crate::physics::experiment::Experiment;
 use crate::physics::factory::{ellipticity_warning, model_of};
-use crate::physics::observers::{mid_edge_nodes, Observers};
-use crate::physics::probe::Probe;
-use crate::physics::problem::{mean_element_size, PoroProblem};
-use crate::physics::verification::exact_columns;
+use crate::physics::problem::PoroProblem;
 use crate::reference_cell::Family;
 use crate::scene::{LoadedScene, Material};
 use crate::solver;
@@ -115,7 +116,7 @@ fn plates(
     let anchor = agree(world, bc::point_group(local, &ps.anchor, &ctx))?.first().map(|&n| n as usize);
     let loading = PlateLoading { u_max: ps.compression * 2.0 * ps.radius, t_ramp: ps.t_ramp, t_end: ps.t_end };
     // Free-surface drainage conductance: γ k0 / h (a stiff Robin condition, p ≈ 0).
-    let beta_max = ps.drainage_penalty * model.conductivity() / mean_element_size(world, local);
+    let beta_max = ps.drainage_penalty * model.conductivity() / local.mean_size(world);
     let drain = Drainage {
         on: ps.drainage,
         beta_max,
@@ -264,22 +265,6 @@ fn singular_factorisations() -> Result<()> {
     options::set_default("mat_mumps_icntl_24", Some("1"))
 }
 
-/// Σ of the volumes of the straight (vertex) cells of the local elements: tetrahedra, or the rings
-/// the meridian triangles sweep (Pappus: 2π × centroid radius × area).
-fn straight_volume(mesh: &LocalMesh) -> f64 {
-    mesh.cells
-        .iter()
-        .map(|t| {
-            let x = |i: usize| mesh.coords[t[i] as usize];
-            let m = crate::reference_cell::straight_measure(mesh.family, x);
-            match mesh.family {
-                Family::Tet10 => m,
-                Family::Tri6 => 2.0 * std::f64::consts::PI * (x(0)[0] + x(1)[0] + x(2)[0]) / 3.0 * m,
-            }
-        })
-        .sum()
-}
-
 /// `-poroplast_check_jacobian [eps]`.
 fn check_jacobian_option() -> Result<Option<f64>> {
     solver::program_options::optional("poroplast_check_jacobian", Some(1e-7), "a relative step like 1e-7", |v| {
@@ -368,7 +353,7 @@ impl<'w> Run<'w> {
         let experiment = match (&s.plates, plate_faces) {
             (Some(ps), Some(faces)) => {
                 let mesh = ts.problem().mesh();
-                let volume = crate::parallel::sum(world, straight_volume(mesh));
+                let volume = mesh.volume(world);
                 let phi = ts.problem().model().solid_fraction();
                 Some(Experiment::new(mesh, faces, ps.radius, ps.probe_point, volume, phi, world, &scene.source)?)
             }

@@ -4,8 +4,8 @@
 use super::progress::{Progress, Stages, Step};
 use super::run::Run;
 use crate::error::{Error, Result};
+use crate::observe::observers::Sample;
 use crate::petsc::Stage;
-use crate::physics::observers::Sample;
 use std::time::Instant;
 
 impl<'w> Run<'w> {

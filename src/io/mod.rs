@@ -1,4 +1,6 @@
-//! Run output: the run directory, per-step field files (HDF5 + XDMF for ParaView) and the `history.csv` log.
+//! Run output: the run directory, per-step field files (HDF5 + XDMF for ParaView), the
+//! `history.csv` log and the checkpoint files.
+pub mod checkpoint;
 pub mod fields;
 pub mod history;
 pub mod recorder;

@@ -1,15 +1,65 @@
 //! What a run writes per step: one `history.csv` row (the step, its observed values — the
 //! experiment's observables, the remodelling summary, probes, exact columns — and its iteration
-//! counts) and, when asked, the fields. The values come observed (`physics::observers`).
+//! counts) and, when asked, the fields. The records are this module's: the observers
+//! (`observe::observers`) declare their [`Column`]s and produce [`Observed`] values and
+//! [`StepFields`]; the recorder adds the step's own columns around them.
 
 use crate::error::Result;
 use crate::io::fields::{restore_backup, Field, FieldFile, FieldKind, OutputMesh};
 use crate::io::history::History;
 use crate::mesh::dist::LocalMesh;
-use crate::physics::observers::Observed;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use std::path::{Path, PathBuf};
+
+/// How a `history.csv` column prints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ColumnKind {
+    /// The shortest decimal that parses back to the same value.
+    Real,
+    /// A count, printed as an integer (a non-integral value is an error).
+    Integer,
+}
+
+/// A `history.csv` column as an observer declares it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Column {
+    pub name: String,
+    pub kind: ColumnKind,
+}
+
+impl Column {
+    pub fn real(name: impl Into<String>) -> Column {
+        Column { name: name.into(), kind: ColumnKind::Real }
+    }
+
+    pub fn integer(name: impl Into<String>) -> Column {
+        Column { name: name.into(), kind: ColumnKind::Integer }
+    }
+}
+
+/// The observed values of a step: its `history.csv` columns between the step's (step, time,
+/// dt) and its iteration counts, and its fields if asked.
+pub struct Observed {
+    pub values: Vec<f64>,
+    pub fields: Option<StepFields>,
+}
+
+/// The fields of a step: per owned node, u (three components on both families: (u_r, 0, u_z) on
+/// the meridian) and p (P1, shown on the P2 nodes); per local element, the rest.
+pub struct StepFields {
+    pub u: Vec<f64>,
+    pub p: Vec<f64>,
+    pub j: Vec<f64>,
+    pub von_mises: Vec<f64>,
+    pub darcy_flux: Vec<f64>,
+    /// With a solid fraction.
+    pub porosity: Option<Vec<f64>>,
+    /// With plates: 0 free, 1 lower plate, 2 upper plate (per owned node).
+    pub contact: Option<Vec<f64>>,
+    /// With qp state: the element's mean ‖E_p‖.
+    pub norm_ep: Option<Vec<f64>>,
+}
 
 /// One step's row, besides the observed values.
 pub struct StepRow {
@@ -30,20 +80,20 @@ pub struct Recorder {
 }
 
 impl Recorder {
-    /// Creates `fields.h5/.xdmf` (if `fields`) and `history.csv` with `cols` in `dir`
-    /// (collective).
+    /// Creates `fields.h5/.xdmf` (if `fields`) and `history.csv` with the `observed` columns in
+    /// `dir` (collective).
     pub fn create(
         world: &SimpleCommunicator,
         dir: &Path,
         mesh: &LocalMesh,
-        cols: &[String],
+        observed: &[Column],
         fields: bool,
     ) -> Result<Recorder> {
         let (cells, coords) = output_mesh(mesh);
         let fields = if fields { Some(FieldFile::create(dir, world, &omesh(mesh, &coords, &cells))?) } else { None };
-        let colrefs: Vec<&str> = cols.iter().map(|c| c.as_str()).collect();
-        let history =
-            History::create(&dir.join("history.csv"), &colrefs, &integer_columns(&colrefs), world.rank() == 0)?;
+        let cols = history_columns(observed);
+        let (names, integer) = names(&cols);
+        let history = History::create(&dir.join("history.csv"), &names, &integer, world.rank() == 0)?;
         Ok(Recorder { dir: dir.to_path_buf(), fields, history })
     }
 
@@ -55,7 +105,7 @@ impl Recorder {
         world: &SimpleCommunicator,
         dir: &Path,
         mesh: &LocalMesh,
-        (cols, fields): (&[String], bool),
+        (observed, fields): (&[Column], bool),
         (rows, steps): (usize, usize),
         backup: &Path,
     ) -> Result<(Recorder, Option<String>)> {
@@ -79,9 +129,9 @@ impl Recorder {
         } else {
             None
         };
-        let colrefs: Vec<&str> = cols.iter().map(|c| c.as_str()).collect();
-        let history =
-            History::reopen(&dir.join("history.csv"), &colrefs, &integer_columns(&colrefs), rows, world.rank() == 0);
+        let cols = history_columns(observed);
+        let (names, integer) = names(&cols);
+        let history = History::reopen(&dir.join("history.csv"), &names, &integer, rows, world.rank() == 0);
         let history = crate::parallel::agree(world, history)?;
         let rec = Recorder { dir: dir.to_path_buf(), fields, history };
         Ok((rec, warning))
@@ -129,10 +179,19 @@ impl Recorder {
     }
 }
 
-/// The integer columns among `cols`.
-fn integer_columns<'a>(cols: &[&'a str]) -> Vec<&'a str> {
-    const INTEGER: [&str; 5] = ["step", "newton_its", "ksp_its", "contact_nodes_upper", "contact_nodes_lower"];
-    cols.iter().copied().filter(|c| INTEGER.contains(c)).collect()
+/// `history.csv`'s columns in [`Recorder::record`]'s order: the step, time and dt, the
+/// `observed` ones, the iterations and the wall time.
+fn history_columns(observed: &[Column]) -> Vec<Column> {
+    let mut cols = vec![Column::integer("step"), Column::real("time"), Column::real("dt")];
+    cols.extend_from_slice(observed);
+    cols.extend([Column::integer("newton_its"), Column::integer("ksp_its"), Column::real("wall_s")]);
+    cols
+}
+
+/// The names of `cols`, and those of its integer columns.
+fn names(cols: &[Column]) -> (Vec<&str>, Vec<&str>) {
+    let integer = cols.iter().filter(|c| c.kind == ColumnKind::Integer);
+    (cols.iter().map(|c| c.name.as_str()).collect(), integer.map(|c| c.name.as_str()).collect())
 }
 
 /// This rank's cells (global node ids) and owned node coordinates, for the fields file.
@@ -155,5 +214,19 @@ fn omesh<'a>(mesh: &LocalMesh, coords: &'a [[f64; 3]], cells: &'a [[u32; 10]]) -
         cell_offset: mesh.elem_offset,
         cells,
         family: mesh.family,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_step_columns_frame_the_observed_ones() {
+        let observed = [Column::real("force"), Column::integer("contact_nodes")];
+        let cols = history_columns(&observed);
+        let (names, integer) = names(&cols);
+        assert_eq!(names, ["step", "time", "dt", "force", "contact_nodes", "newton_its", "ksp_its", "wall_s"]);
+        assert_eq!(integer, ["step", "contact_nodes", "newton_its", "ksp_its"]);
     }
 }

@@ -2,9 +2,7 @@
 //! S_sc = 2 ∂(Ψ + U)/∂C (Holmes–Mow solid Ψ plus compaction penalty U(J)), and the referential
 //! conductivity K of Darcy's law Q = −K (Grad p − ϱf Fᵀ a_g).
 //!
-//! Fourth-order tangents are `SMatrix<f64, 9, 9>` with the row-major index map (i, j) → 3 i + j
-//! on both sides: `A[(idx(i, j), idx(k, l))] = ∂P_ij/∂F_kl` (see [`idx`]). This is an index
-//! convention on (row, column), independent of nalgebra's column-major storage.
+//! Fourth-order tangents and the other tensor helpers are in [`tensor`].
 
 pub mod dual;
 pub mod ellipticity;
@@ -18,21 +16,14 @@ pub mod tensor;
 pub(crate) mod test_util;
 
 use crate::error::{Error, Result};
-use nalgebra::{Matrix3, SMatrix};
+use nalgebra::Matrix3;
 
 pub use holmes_mow::HolmesMow;
 pub use penalty::CompactionPenalty;
 pub use permeability::{Permeability, PermeabilityModel};
 pub use remodelling::{FlowForm, Integrator, Remodelling};
-
-/// A fourth-order tensor ∂P_ij/∂F_kl stored at `[(idx(i, j), idx(k, l))]`.
-pub type Tangent = SMatrix<f64, 9, 9>;
-
-/// Row-major position of the pair (i, j) in a 9-vector: 3 i + j.
-#[inline(always)]
-pub const fn idx(i: usize, j: usize) -> usize {
-    3 * i + j
-}
+use tensor::{add_ik_lj, add_il_kj, add_outer};
+pub use tensor::{cof, idx, Tangent};
 
 /// A state outside a law's domain. The material code does not know where it is evaluated, so
 /// cell and point are 0; the caller fills them in with [`locate`] or [`AtPoint::at_point`].
@@ -110,15 +101,6 @@ impl Kinematics {
     }
 }
 
-/// Cofactor matrix cof A = det(A) A⁻ᵀ from the entries: cof_ij = A_{i1 j1} A_{i2 j2} − A_{i1 j2} A_{i2 j1},
-/// with i1 = i + 1, i2 = i + 2 (mod 3), likewise for j.
-pub fn cof(a: &Matrix3<f64>) -> Matrix3<f64> {
-    Matrix3::from_fn(|i, j| {
-        let (i1, i2, j1, j2) = ((i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3);
-        a[(i1, j1)] * a[(i2, j2)] - a[(i1, j2)] * a[(i2, j1)]
-    })
-}
-
 /// Solid response at one point: first and second Piola–Kirchhoff stresses and ∂P/∂F.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolidResponse {
@@ -192,60 +174,10 @@ pub(crate) fn check_phi_s(law: &str, phi_s: f64) -> Result<()> {
     }
 }
 
-/// A[ij, kl] += s X_ij Y_kl.
-#[inline]
-fn add_outer(a: &mut Tangent, s: f64, x: &Matrix3<f64>, y: &Matrix3<f64>) {
-    for i in 0..3 {
-        for j in 0..3 {
-            let sx = s * x[(i, j)];
-            for k in 0..3 {
-                for l in 0..3 {
-                    a[(idx(i, j), idx(k, l))] += sx * y[(k, l)];
-                }
-            }
-        }
-    }
-}
-
-/// A[ij, kl] += s X_ik Y_lj (the pattern of dF ↦ X dF Y).
-#[inline]
-fn add_ik_lj(a: &mut Tangent, s: f64, x: &Matrix3<f64>, y: &Matrix3<f64>) {
-    for i in 0..3 {
-        for j in 0..3 {
-            for k in 0..3 {
-                let sx = s * x[(i, k)];
-                for l in 0..3 {
-                    a[(idx(i, j), idx(k, l))] += sx * y[(l, j)];
-                }
-            }
-        }
-    }
-}
-
-/// A[ij, kl] += s X_il Y_kj (the pattern of dF ↦ X dFᵀ Y).
-#[inline]
-fn add_il_kj(a: &mut Tangent, s: f64, x: &Matrix3<f64>, y: &Matrix3<f64>) {
-    for i in 0..3 {
-        for j in 0..3 {
-            for k in 0..3 {
-                let sy = s * y[(k, j)];
-                for l in 0..3 {
-                    a[(idx(i, j), idx(k, l))] += sy * x[(i, l)];
-                }
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::test_util::{fd_gradient, fd_tangent, kin, rel_err, Rng};
     use super::*;
-
-    #[test]
-    fn index_map_is_row_major() {
-        assert_eq!((idx(0, 0), idx(0, 2), idx(1, 0), idx(2, 1), idx(2, 2)), (0, 2, 3, 7, 8));
-    }
 
     #[test]
     fn caller_fills_in_location() {

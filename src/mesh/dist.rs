@@ -6,6 +6,9 @@
 use super::Mesh;
 use crate::error::{Error, Result};
 use crate::reference_cell::{Family, MAX_CELL_NODES, MAX_FACE_NODES};
+use mpi::collective::SystemOperation;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
 
 /// One rank's part of the mesh. See [`distribute`] for the numbering rules.
 #[derive(Debug, Clone, Default)]
@@ -438,4 +441,55 @@ fn map_groups(groups: &[(String, Vec<u32>)], local: &[u32]) -> Vec<(String, Vec<
             (name.clone(), m)
         })
         .collect()
+}
+
+/// Measures of the local cells' straight (vertex) shapes, over all ranks. The element kernel's
+/// stabilisation length (`fem::cell::CellShape::h2`, the edge of the regular cell of a measure)
+/// is another measure, per cell and on the current shape.
+impl LocalMesh {
+    /// Mean edge-length scale: volume^(1/3) of the vertex tetrahedra, area^(1/2) of the vertex
+    /// triangles on the meridian; 1 for an empty mesh (collective).
+    pub fn mean_size(&self, world: &SimpleCommunicator) -> f64 {
+        let sum: f64 = (0..self.cells.len())
+            .map(|e| {
+                let m = self.straight_measure(e);
+                match self.family {
+                    Family::Tet10 => m.cbrt(),
+                    Family::Tri6 => m.sqrt(),
+                }
+            })
+            .sum();
+        let local = [sum, self.cells.len() as f64];
+        let mut global = [0.0; 2];
+        world.all_reduce_into(&local[..], &mut global[..], SystemOperation::sum());
+        if global[1] > 0.0 {
+            global[0] / global[1]
+        } else {
+            1.0
+        }
+    }
+
+    /// Volume of the straight (vertex) cells: tetrahedra, or the rings the meridian triangles
+    /// sweep (Pappus: 2π × centroid radius × area) (collective).
+    pub fn volume(&self, world: &SimpleCommunicator) -> f64 {
+        let local: f64 = (0..self.cells.len())
+            .map(|e| {
+                let m = self.straight_measure(e);
+                match self.family {
+                    Family::Tet10 => m,
+                    Family::Tri6 => {
+                        let x = |i: usize| self.coords[self.cells[e][i] as usize];
+                        2.0 * std::f64::consts::PI * (x(0)[0] + x(1)[0] + x(2)[0]) / 3.0 * m
+                    }
+                }
+            })
+            .sum();
+        crate::parallel::sum(world, local)
+    }
+
+    /// Volume (area on the meridian) of the straight cell through local cell e's vertices.
+    fn straight_measure(&self, e: usize) -> f64 {
+        let t = &self.cells[e];
+        crate::reference_cell::straight_measure(self.family, |i| self.coords[t[i] as usize])
+    }
 }

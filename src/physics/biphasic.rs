@@ -40,7 +40,7 @@
 
 use crate::error::{Error, Result};
 use crate::fem::point::{PointFields, PointFlux, PointModel, PointState, PointTangent, QpId, QpState};
-use crate::material::tensor::{from_sym6, to_sym6};
+use crate::material::tensor::{cof_cross, dcof, from_sym6, to_sym6};
 use crate::material::{
     cof, domain_error, idx, locate, AtPoint, CompactionPenalty, HolmesMow, Kinematics, Permeability, Remodelling,
     Solid, SolidLaw, Tangent,
@@ -390,37 +390,6 @@ impl PointModel for Biphasic {
     fn is_linear(&self) -> bool {
         false
     }
-}
-
-/// The bilinear part X(A, B) of the cofactor, cof(A + B) = cof A + X(A, B) + cof B; X(A, ·) is
-/// the derivative of cof at A, and X(A, L)_kl = ∂(cof A : L)/∂A_kl.
-fn cof_cross(a: &Matrix3<f64>, b: &Matrix3<f64>) -> Matrix3<f64> {
-    Matrix3::from_fn(|i, j| {
-        let (i1, i2, j1, j2) = ((i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3);
-        a[(i1, j1)] * b[(i2, j2)] + b[(i1, j1)] * a[(i2, j2)] - a[(i1, j2)] * b[(i2, j1)] - b[(i1, j2)] * a[(i2, j1)]
-    })
-}
-
-/// Levi-Civita symbol ε_ijk for indices in 0..3.
-fn levi(i: usize, j: usize, k: usize) -> f64 {
-    let (i, j, k) = (i as i32, j as i32, k as i32);
-    ((i - j) * (j - k) * (k - i) / 2) as f64
-}
-
-/// ∂(cof F)_ij/∂F_kl = ε_ikm ε_jln F_mn (= J (F⁻ᵀ_ij F⁻ᵀ_kl − F⁻ᵀ_il F⁻ᵀ_kj)), polynomial in F.
-fn dcof(f: &Matrix3<f64>) -> Tangent {
-    let mut a = Tangent::zeros();
-    for i in 0..3 {
-        for j in 0..3 {
-            for k in (0..3).filter(|&k| k != i) {
-                for l in (0..3).filter(|&l| l != j) {
-                    let (m, n) = (3 - i - k, 3 - j - l);
-                    a[(idx(i, j), idx(k, l))] = levi(i, k, m) * levi(j, l, n) * f[(m, n)];
-                }
-            }
-        }
-    }
-    a
 }
 
 /// The model's defining properties, tests 1–6: a consistent tangent, the linear small-strain

@@ -14,17 +14,17 @@
 //! S(g / g_s), S the smoothstep from 0 (g ≤ 0, in contact) to 1 (g ≥ g_s, free), and g_fm the
 //! smaller of m's gap to the nearer plate and the largest gap of f's other nodes: a face drains
 //! at m only where it opens towards the bath, so a vertex lifted inside a contact patch stays
-//! sealed (why: `Plates::drainage`). β_c is the plates' own conductance: 0 for impermeable plates (sealed
-//! contact, the default), or k_β / L for the paper's slightly permeable plates (permeability
-//! k_β, thickness L), a Robin outflow through the contact area into plates drained at their far
-//! face — an upper bound on what a closed porous plate can take (the paper's plates are
-//! impermeable on their other faces, so fluid entering them can only move sideways).
+//! sealed (why: `Plates::drainage`). β_c is the plates' own conductance: 0 for impermeable
+//! plates (sealed contact, the default), or k_β / L for the paper's slightly permeable plates
+//! (permeability k_β, thickness L), a Robin outflow through the contact area into plates drained
+//! at their far face — an upper bound on what a closed porous plate can take (the paper's plates
+//! are impermeable on their other faces, so fluid entering them can only move sideways).
 //! β_max = γ k0 / h (γ = 100 by default) makes the free surface a stiff Robin condition,
-//! p ≈ 0 (51a); g_s is the seal distance, default 0.01 R (1 µm, below the gap of the first
-//! vertex outside the contact edge on the default meshes, ≈ 5 µm). The paper's COMSOL contact
-//! distance, 0.1 µm, gives the same forces (peak 16.47 vs 16.56 mg on the default mesh) but
-//! a drainage switch so steep that Newton cycles between sealed and drained states at the
-//! lower contact edge (13 step cuts instead of 0 over the ramp). Why not switch p = 0 on and off: opening a Dirichlet condition on a
+//! p ≈ 0 (51a); g_s is the seal distance, default 0.01 R, below the gap of the first vertex
+//! outside the contact edge on the default meshes. Why not the paper's much smaller contact
+//! distance: it gives the same forces but a drainage switch so steep that Newton cycles between
+//! sealed and drained states at the lower contact edge (docs/numerics.md, *Drainage that
+//! follows contact*). Why not switch p = 0 on and off: opening a Dirichlet condition on a
 //! pressurised vertex is a jump in the boundary data; its discrete response (undrained
 //! compaction of the adjacent element) grows as Δt shrinks, so step cuts cannot resolve it,
 //! and at the contact edge a vertex can be bistable (drained it is drawn onto the plate,
@@ -36,10 +36,9 @@
 //! extrapolated, nodes on the lower plate moved with it), fixed during the Newton iteration — a
 //! semi-implicit conductance c(g̃ⁿ⁺¹) pⁿ⁺¹. Why: with the iterate's own gap, a vertex at a
 //! contact edge that is bistable (above) flips between sealed and drained from one Newton
-//! iterate to the next, and the active set cycles with it; measured on the default scene, the
-//! predicted gap takes 303 Newton iterations and 1 step cut instead of 519 and 8, with the peak
-//! force 0.3% and F(35 s) 0.01% from the implicit run (docs/numerics.md). `Current` keeps the
-//! fully implicit form, differentiated exactly.
+//! iterate to the next, and the active set cycles with it; the fixed gap costs a small
+//! time-discretisation error at contact events (measured in docs/numerics.md, *Whose gap opens
+//! the drainage*). `Current` keeps the fully implicit form, differentiated exactly.
 
 use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
@@ -259,10 +258,10 @@ impl Plates {
     /// linear one, so a corner inside a contact patch whose pressure dips below its
     /// neighbours' is pulled off the plate by a fraction of a µm; with its own gap it drained
     /// into the bath through a pocket sealed all round, its pressure collapsed and it lifted
-    /// further — 2 such holes at the peak on the default mesh, 19 at h = 8, enough outflow to
-    /// put the 3-D forces about 1% low at every mesh size (docs/studies.md). The meridian's
-    /// Line3 corners take p/6 and cannot lift, so there the rule only seals the half of an edge
-    /// vertex's share that faces the contact.
+    /// further, enough outflow to hold the 3-D forces low at every mesh size (docs/numerics.md,
+    /// *Faces drain only towards the bath*). The meridian's Line3 corners take p/6 and cannot
+    /// lift, so there the rule only seals the half of an edge vertex's share that faces the
+    /// contact.
     pub fn drainage(&self, mesh: &LocalMesh, dofs: &DofMap, u_local: &[f64], t: f64) -> Vec<Drain> {
         let d = &self.drain;
         if !d.on {

@@ -1,18 +1,13 @@
-//! Physics: pointwise models, boundary conditions, the discrete problem, observables and exact
-//! solutions for verification.
+//! Physics: the equations. The pointwise models (biphasic, linear), boundary conditions, the
+//! rigid plates' contact and drainage, the model built from a scene, and the discrete problem
+//! TS integrates. What a run observes of its states is `observe`.
 
-pub mod analytic;
 pub mod bc;
 pub mod biphasic;
 pub mod contact;
-pub mod experiment;
 pub mod factory;
 pub mod linear;
-pub mod observables;
-pub mod observers;
-pub mod probe;
 pub mod problem;
-pub mod verification;
 
 #[cfg(test)]
 mod assembly_tests;

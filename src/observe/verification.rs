@@ -1,7 +1,7 @@
 //! Exact-solution columns of the verification scenes (Terzaghi, Cryer) for history.csv.
 
+use super::analytic;
 use crate::error::{Error, Result};
-use crate::physics::analytic;
 use crate::scene::{LoadedScene, Material, Verification};
 
 /// An exact solution as a function of time.

@@ -7,7 +7,7 @@
 //! * the largest and the volume-averaged remodelling strain ‖E_p‖, E_p = ½(B_p⁻¹ − I);
 //! * the largest |det B_p − 1| (the integrator keeps it at round-off).
 
-use super::problem::Post;
+use crate::physics::problem::Post;
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;

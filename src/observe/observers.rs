@@ -1,18 +1,19 @@
-//! What a run observes of a converged state, as values for the recorder (`io::recorder`): the
+//! What a run observes of a converged state, as the recorder's records (`io::recorder`): the
 //! `history.csv` columns of the experiment, the remodelling summary, the probes and the exact
-//! solutions, and the fields. Observing is two phases, so that the state at t = 0 can be
-//! sampled before the first step (with the qp state it had) and observed after it:
-//! [`Observers::sample`] post-processes the state, [`Observers::observe`] turns a sample into
-//! the step's [`Observed`] values.
+//! solutions (declared by [`Observers::columns`]), and the fields. Observing is two phases, so
+//! that the state at t = 0 can be sampled before the first step (with the qp state it had) and
+//! observed after it: [`Observers::sample`] post-processes the state, [`Observers::observe`]
+//! turns a sample into the step's [`Observed`] values.
 
 use super::experiment::{self, Experiment};
-use super::observables;
 use super::probe::Probe;
-use super::problem::{rate, PoroProblem, Post};
+use super::remodelling_summary;
 use super::verification::ExactFn;
 use crate::error::Result;
+use crate::io::recorder::{Column, Observed, StepFields};
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::Vector;
+use crate::physics::problem::{backward_euler_rate, PoroProblem, Post};
 use mpi::topology::SimpleCommunicator;
 
 /// What is observed besides the state itself; built (and validated) before the run directory
@@ -48,43 +49,19 @@ impl Sample {
     }
 }
 
-/// The observed values of a step: its `history.csv` columns between the step's (step, time,
-/// dt) and its iteration counts, and its fields if asked.
-pub struct Observed {
-    pub values: Vec<f64>,
-    pub fields: Option<StepFields>,
-}
-
-/// The fields of a step: per owned node, u (three components on both families: (u_r, 0, u_z) on
-/// the meridian) and p (P1, shown on the P2 nodes); per local element, the rest.
-pub struct StepFields {
-    pub u: Vec<f64>,
-    pub p: Vec<f64>,
-    pub j: Vec<f64>,
-    pub von_mises: Vec<f64>,
-    pub darcy_flux: Vec<f64>,
-    /// With a solid fraction.
-    pub porosity: Option<Vec<f64>>,
-    /// With plates: 0 free, 1 lower plate, 2 upper plate (per owned node).
-    pub contact: Option<Vec<f64>>,
-    /// With qp state: the element's mean ‖E_p‖.
-    pub norm_ep: Option<Vec<f64>>,
-}
-
 impl Observers {
-    /// The `history.csv` columns: step, time, dt, then these observers', then the iterations
-    /// and the wall time.
-    pub fn columns(&self) -> Vec<String> {
-        let mut cols: Vec<String> = vec!["step".into(), "time".into(), "dt".into()];
+    /// The `history.csv` columns these observers fill, in the order of [`Observed::values`]
+    /// (the recorder adds the step's own around them).
+    pub fn columns(&self) -> Vec<Column> {
+        let mut cols = Vec::new();
         if self.experiment.is_some() {
-            cols.extend(experiment::COLUMNS.iter().map(|c| c.to_string()));
+            cols.extend(experiment::COLUMNS.iter().map(|&(name, kind)| Column { name: name.into(), kind }));
         }
         if self.remodelling {
-            cols.extend(observables::COLUMNS.iter().map(|c| c.to_string()));
+            cols.extend(remodelling_summary::COLUMNS.iter().map(|&c| Column::real(c)));
         }
-        cols.extend(self.probes.iter().map(|p| p.name.clone()));
-        cols.extend(self.exact.iter().map(|(n, _)| n.clone()));
-        cols.extend(["newton_its", "ksp_its", "wall_s"].map(String::from));
+        cols.extend(self.probes.iter().map(|p| Column::real(&p.name)));
+        cols.extend(self.exact.iter().map(|(n, _)| Column::real(n)));
         cols
     }
 
@@ -113,7 +90,7 @@ impl Observers {
     ) -> Result<Sample> {
         if self.experiment.is_some() || (fields && self.fields) || self.remodelling {
             let dt_eff = if dt > 0.0 { dt } else { 1.0 };
-            let udot = rate(u, prev, dt_eff)?;
+            let udot = backward_euler_rate(u, prev, dt_eff)?;
             Ok(Sample::Post(Box::new(problem.post_process(dt_eff, u, &udot)?)))
         } else {
             Ok(Sample::State(problem.localize(u)?))
@@ -149,7 +126,7 @@ impl Observers {
             values.extend(o.values);
         }
         if let (Some(post), true) = (post, self.remodelling) {
-            values.extend(observables::observe(post, world));
+            values.extend(remodelling_summary::observe(post, world));
         }
         values.extend(self.probes.iter().map(|p| p.value(mesh, dofs, local, world)));
         values.extend(self.exact.iter().map(|(_, f)| f(t)));

@@ -9,6 +9,7 @@ use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
+use crate::parallel::sum;
 use crate::reference_cell::shape::{p1_values as p1, p2_values as shapes};
 use crate::reference_cell::Family;
 use crate::scene::{Probe as ProbeSpec, ProbeField};
@@ -150,8 +151,9 @@ impl Probe {
             Where::Point(if owner == world.rank() { found } else { None })
         } else {
             let group = spec.group.as_deref().unwrap_or_default();
-            let faces = super::bc::face_group(mesh, group, &format!("{context}: probe \"{}\"", spec.name))?.to_vec();
-            let area = reduce_sum(world, integrate(mesh, &faces, |_| 1.0));
+            let faces =
+                crate::physics::bc::face_group(mesh, group, &format!("{context}: probe \"{}\"", spec.name))?.to_vec();
+            let area = sum(world, integrate(mesh, &faces, |_| 1.0));
             Where::Group(faces, area)
         };
         Ok(Probe { name: spec.name.clone(), quantity, scale: spec.scale, at })
@@ -198,8 +200,8 @@ impl Probe {
             }
         };
         let total = match &self.at {
-            Where::Point(_) => reduce_sum(world, v),
-            Where::Group(..) => reduce_sum(world, v),
+            Where::Point(_) => sum(world, v),
+            Where::Group(..) => sum(world, v),
         };
         total / self.scale
     }
@@ -278,10 +280,4 @@ fn integrate(mesh: &LocalMesh, faces: &[u32], f: impl Fn((&[u32], &[f64; 6], [f6
         }
     }
     sum
-}
-
-fn reduce_sum(world: &SimpleCommunicator, v: f64) -> f64 {
-    let mut t = 0.0;
-    world.all_reduce_into(&v, &mut t, SystemOperation::sum());
-    t
 }

@@ -11,38 +11,40 @@
 //!   exactly at convergence);
 //! * the largest penetration of the quadratic surface into a plate, sampled between nodes.
 
-use super::contact::{Plates, Touch};
 use super::probe::{Probe, Quantity};
-use super::problem::Post;
 use crate::error::Result;
 use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
+use crate::io::recorder::ColumnKind::{self, Integer, Real};
 use crate::mesh::dist::LocalMesh;
 use crate::parallel::{max, sum};
+use crate::physics::contact::{Plates, Touch};
+use crate::physics::problem::Post;
 use mpi::topology::SimpleCommunicator;
 
 /// nN → mg under standard gravity: 1e-9 N / 9.81 m/s² = 1.0194e-10 kg = 1.0194e-4 mg.
 pub const NN_TO_MG: f64 = 1e-3 / 9.81;
 
-/// history.csv columns written by `Experiment::row`, in order.
-pub const COLUMNS: [&str; 17] = [
-    "plate_disp",
-    "force_total_mg",
-    "force_constitutive_mg",
-    "force_pressure_mg",
-    "force_lower_mg",
-    "contact_radius_upper",
-    "contact_radius_lower",
-    "height",
-    "width",
-    "probe_p",
-    "probe_porosity",
-    "fluid_volume",
-    "outflow",
-    "outflow_total",
-    "max_penetration",
-    "contact_nodes_upper",
-    "contact_nodes_lower",
+/// history.csv columns of [`Experiment::observe`], in order, with their kind (the contact
+/// node counts are integers).
+pub const COLUMNS: [(&str, ColumnKind); 17] = [
+    ("plate_disp", Real),
+    ("force_total_mg", Real),
+    ("force_constitutive_mg", Real),
+    ("force_pressure_mg", Real),
+    ("force_lower_mg", Real),
+    ("contact_radius_upper", Real),
+    ("contact_radius_lower", Real),
+    ("height", Real),
+    ("width", Real),
+    ("probe_p", Real),
+    ("probe_porosity", Real),
+    ("fluid_volume", Real),
+    ("outflow", Real),
+    ("outflow_total", Real),
+    ("max_penetration", Real),
+    ("contact_nodes_upper", Integer),
+    ("contact_nodes_lower", Integer),
 ];
 
 pub struct Experiment {
