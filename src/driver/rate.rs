@@ -1,7 +1,7 @@
 //! The rate of the last accepted step: the velocity the next step's predictor extrapolates
 //! with (`PoroProblem::set_extrapolation`; the plates' contact correction of the guess is
 //! physics, `Plates::predict`) and the local error estimate the schedule's step controller
-//! (`Schedule::grow`, `Schedule::reject`) acts on.
+//! (`Schedule::next_nominal`, `Schedule::reject`) acts on.
 
 use crate::error::Result;
 use crate::petsc::Vector;

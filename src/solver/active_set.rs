@@ -275,7 +275,7 @@ impl ActiveSetNewton {
     /// iteration): the last iteration contracted by `lag.chord` or better, and the active set
     /// is the one they were set up with on every rank ([`Step::Chord`]) or differs from it in at
     /// most `lag.max_changes` dofs with a kept Jacobian for the update ([`Step::Updated`]).
-    fn chord(&self, contraction: f64) -> Step {
+    fn choose_step(&self, contraction: f64) -> Step {
         if self.lag.chord <= 0.0 || contraction > self.lag.chord {
             return Step::Assemble;
         }
@@ -535,7 +535,7 @@ impl ActiveSetNewton {
     /// allows, else — or if that solve fails — one with a new Jacobian. Returns whether it was
     /// a chord iteration, and the size of the low-rank update it went through (if any).
     fn newton_step(&mut self, snes: &Snes, ksp: &Ksp, x: &Vector, contraction: f64) -> Result<(bool, Option<usize>)> {
-        let how = self.chord(contraction);
+        let how = self.choose_step(contraction);
         if how != Step::Assemble {
             // What MatZeroRowsColumns puts in the active rows of the right-hand side.
             self.rhs.axpy(self.diag, &self.to_bound)?;
