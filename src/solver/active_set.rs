@@ -17,8 +17,8 @@
 use super::anderson::Anderson;
 use super::woodbury::ActiveSetUpdate;
 use crate::error::Result;
+use crate::parallel::sum_slice;
 use crate::petsc::{ffi, Int, Ksp, Mat, ShellSolve, Snes, SolverState, Vector};
-use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 
@@ -264,9 +264,7 @@ impl ActiveSetNewton {
     /// ranks (None without one). Collective.
     fn changes_since_setup(&self) -> Option<usize> {
         let here = symmetric_difference(self.pc_active.as_ref()?, &self.active);
-        let mut changed = 0;
-        self.world.all_reduce_into(&here, &mut changed, SystemOperation::sum());
-        Some(changed)
+        Some(sum_slice(&self.world, &[here])[0])
     }
 }
 
@@ -355,9 +353,7 @@ impl ActiveSetNewton {
     fn print_iteration(&self, it: usize, fnorm: f64, prev: &[Int], chord: bool, updated: Option<usize>) {
         let entered = self.active.iter().filter(|i| prev.binary_search(i).is_err()).count();
         let left = prev.iter().filter(|i| self.active.binary_search(i).is_err()).count();
-        let local = [self.active.len(), entered, left];
-        let mut tot = [0usize; 3];
-        self.world.all_reduce_into(&local[..], &mut tot[..], SystemOperation::sum());
+        let tot = sum_slice(&self.world, &[self.active.len(), entered, left]);
         if self.world.rank() == 0 {
             let chord = match (chord, updated) {
                 (true, Some(k)) => format!(", chord, update of {k}"),
