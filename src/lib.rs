@@ -8,6 +8,8 @@ pub mod cli;
 pub mod driver;
 pub mod error;
 pub mod fem;
+pub(crate) mod files;
+pub(crate) mod hash;
 pub mod io;
 pub mod material;
 pub mod mesh;

@@ -1,7 +1,9 @@
 //! Making per-rank outcomes collective: if any rank fails, every rank returns an error (the
 //! failing rank its own, the others the first failure's message), so no rank is left waiting
-//! in a collective call while another has returned. Also: work done by rank 0 alone
-//! ([`on_root`], [`path_from_root`]), broadcasts and reductions of small values.
+//! in a collective call while another has returned ([`agree`], and [`agree_ranked`] when the
+//! kind of failure matters); whether the ranks passed the same arguments ([`same_on_all`]).
+//! Also: work done by rank 0 alone ([`on_root`], [`path_from_root`]), broadcasts, and
+//! reductions of scalars and of slices ([`sum_slice`], [`max_slice`], [`reduce_to_root`]).
 
 use crate::error::{Error, Result};
 use mpi::collective::SystemOperation;
@@ -27,6 +29,29 @@ pub fn agree<T>(world: &SimpleCommunicator, local: Result<T>) -> Result<T> {
         Err(e) => Err(e),
         Ok(_) => Err(Error::Elsewhere { rank: first, msg: String::from_utf8_lossy(&msg).into_owned() }),
     }
+}
+
+/// [`agree`], and the gravest class of outcome on any rank: `class` ranks an error (≥ 1; a
+/// success is 0), so that a caller can tell, e.g., a failure that cuts a time step from one
+/// that ends the run, whichever rank it happened on.
+pub fn agree_ranked<T>(
+    world: &SimpleCommunicator,
+    local: Result<T>,
+    class: impl Fn(&Error) -> i32,
+) -> (Result<T>, i32) {
+    let mine = local.as_ref().err().map_or(0, class);
+    let mut worst = 0;
+    world.all_reduce_into(&mine, &mut worst, SystemOperation::max());
+    (agree(world, local), worst)
+}
+
+/// Whether `hash` (of a collective call's arguments, say) is the same on every rank.
+pub fn same_on_all(world: &SimpleCommunicator, hash: u64) -> bool {
+    // The maxima of h and of !h are h and !h only if every rank has h.
+    let send = [hash, !hash];
+    let mut recv = [0u64; 2];
+    world.all_reduce_into(&send[..], &mut recv[..], SystemOperation::max());
+    recv[0] == hash && !recv[1] == hash
 }
 
 /// Runs `f` on rank 0 only, its outcome made collective ([`agree`]): rank 0's value (None on
@@ -85,4 +110,30 @@ pub fn max(world: &SimpleCommunicator, v: f64) -> f64 {
     let mut t = 0.0;
     world.all_reduce_into(&v, &mut t, SystemOperation::max());
     t
+}
+
+/// Element-wise sum of `local` over ranks (the same length on every rank).
+pub fn sum_slice<T: Equivalence + Copy + Default>(world: &SimpleCommunicator, local: &[T]) -> Vec<T> {
+    let mut out = vec![T::default(); local.len()];
+    world.all_reduce_into(local, &mut out[..], SystemOperation::sum());
+    out
+}
+
+/// Element-wise maximum of `local` over ranks (the same length on every rank).
+pub fn max_slice<T: Equivalence + Copy + Default>(world: &SimpleCommunicator, local: &[T]) -> Vec<T> {
+    let mut out = vec![T::default(); local.len()];
+    world.all_reduce_into(local, &mut out[..], SystemOperation::max());
+    out
+}
+
+/// Element-wise sum over ranks into rank 0's `v` (the other ranks' are left as they were).
+pub fn reduce_to_root(world: &SimpleCommunicator, v: &mut [f64]) {
+    let root = world.process_at_rank(0);
+    if world.rank() == 0 {
+        let mut out = vec![0.0; v.len()];
+        root.reduce_into_root(&v[..], &mut out[..], SystemOperation::sum());
+        v.copy_from_slice(&out);
+    } else {
+        root.reduce_into(&v[..], SystemOperation::sum());
+    }
 }

@@ -14,10 +14,9 @@ use std::path::{Path, PathBuf};
 const MAX_LINES: usize = 600;
 
 /// Files still over the limit, each a few concepts to split into files of one (schema and
-/// validation by scene section; the field file's HDF5 layout and XDMF text; the active-set
-/// solver's bounds, reuse policy and saved state), with the size none may grow beyond. A file
-/// split below the limit must leave this list.
-const OVERSIZE: &[(&str, usize)] = &[("scene/mod.rs", 1264), ("io/fields.rs", 782), ("solver/active_set.rs", 657)];
+/// validation by scene section), with the size none may grow beyond. A file split below the
+/// limit must leave this list.
+const OVERSIZE: &[(&str, usize)] = &[("scene/mod.rs", 1264)];
 
 /// One source file: its module path (`["driver", "step"]`; the crate root is `[]`).
 struct File {

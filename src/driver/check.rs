@@ -1,8 +1,8 @@
-//! Checks of a run's set-up and solves: the `poroplast check` command and
-//! `-poroplast_check_jacobian`. (That every PETSc option was read after the first step is
-//! `petsc::options::ensure_all_used`'s.)
+//! The `poroplast check` command: a scene validated as `run` sets it up, through its first step.
+//! (That every PETSc option was read after the first step is `petsc::options::ensure_all_used`'s;
+//! the per-step Jacobian check, `-poroplast_check_jacobian`, is a step's: `step`.)
 
-use super::progress::{Progress, Stages, Step};
+use super::progress::{Progress, Stages};
 use super::resolved;
 use super::run::{Run, RunArgs};
 use super::{petsc_args, with_petsc};
@@ -46,22 +46,4 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc:
             run.setup.solver_line
         ))
     })
-}
-
-impl<'w> Run<'w> {
-    /// `-poroplast_check_jacobian`: the assembled Jacobian of the step against central
-    /// differences (rank 0 prints the errors).
-    pub(super) fn check_jacobian(&mut self, pg: &Progress, step: Step) -> Result<()> {
-        let Some(eps) = self.check_jacobian else { return Ok(()) };
-        let (problem, jac) = self.ts.problem_and_jacobian();
-        let (u, prev) = (&self.state.u, &self.state.prev);
-        let (eu, ep) = problem.jacobian_error(pg.c.t, step.dt, u, prev, jac, eps)?;
-        if self.rank0() {
-            println!(
-                "jacobian check: step {} t = {:.6e}: rel. error u rows {eu:.3e}, p rows {ep:.3e}",
-                pg.c.step, pg.c.t
-            );
-        }
-        Ok(())
-    }
 }

@@ -1,14 +1,13 @@
 //! The rate of the last accepted step: the velocity the next step's predictor extrapolates
 //! with (`PoroProblem::set_extrapolation`; the plates' contact correction of the guess is
 //! physics, `Plates::predict`) and the local error estimate the schedule's step controller
-//! (`Schedule::grow`, `Schedule::reject`) acts on.
+//! (`Schedule::next_nominal`, `Schedule::reject`) acts on.
 
 use crate::error::Result;
+use crate::parallel::{max_slice, sum_slice};
 use crate::petsc::Vector;
 use crate::physics::problem::{backward_euler_rate, ErrorScales};
-use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
-use mpi::traits::*;
 
 /// The velocity of an accepted step and its size.
 pub struct StepRate {
@@ -54,9 +53,7 @@ impl StepRate {
                 maxs[f] = maxs[f].max(uv[i].abs());
             }
         }
-        let (mut gs, mut gm) = ([0.0f64; 4], [0.0f64; 2]);
-        world.all_reduce_into(&sums[..], &mut gs[..], SystemOperation::sum());
-        world.all_reduce_into(&maxs[..], &mut gm[..], SystemOperation::max());
+        let (gs, gm) = (sum_slice(world, &sums), max_slice(world, &maxs));
         let rms = |f: usize| (gs[2 * f] / gs[2 * f + 1].max(1.0)).sqrt();
         let u_ref = gm[0].max(scales.u_floor);
         let p_ref = gm[1].max(scales.p_floor);

@@ -49,7 +49,7 @@ pub(super) struct Run<'w> {
     /// `-poroplast_check_jacobian [eps]`: after each step, compare the assembled Jacobian with
     /// central differences of the residual (`PoroProblem::jacobian_error`, relative step eps,
     /// default 1e-7) and print the errors.
-    pub(super) check_jacobian: Option<f64>,
+    pub(super) jacobian_check: Option<f64>,
     pub(super) setup: SetupInfo,
     /// The run directory's lock, once it is opened.
     pub(super) lock: Option<rundir::RunLock>,
@@ -96,7 +96,7 @@ impl<'w> Run<'w> {
             loop {
                 self.output_step(&mut rec, &mut pg, step, t_start, stages)?;
                 self.progress(&pg, step, t_start);
-                self.check_jacobian(&pg, step)?;
+                self.report_jacobian_error(&pg, step)?;
                 if self.schedule.done(pg.c.t) {
                     return Ok(());
                 }

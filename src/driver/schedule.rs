@@ -60,7 +60,7 @@ impl Schedule {
     /// would meet the tolerance, 0.9 dt err^(−1/2) (BE: local error ∝ dt²), within
     /// [MIN_SHRINK, MAX_GROWTH] × dt; it does not shrink below the nominal step while the error
     /// is within tolerance (a step shortened to land on a time is not a sign of trouble).
-    pub fn grow(&self, nominal: f64, taken: f64, t: f64, err: Option<f64>) -> f64 {
+    pub fn next_nominal(&self, nominal: f64, taken: f64, t: f64, err: Option<f64>) -> f64 {
         if self.at_kink(t) {
             return self.dt0;
         }
@@ -100,7 +100,7 @@ impl Schedule {
         while !self.done(t) && n < 1_000_000 {
             let dt = self.step(t, nominal);
             t += dt;
-            nominal = self.grow(nominal, dt, t, None);
+            nominal = self.next_nominal(nominal, dt, t, None);
             n += 1;
         }
         n
@@ -130,7 +130,7 @@ mod tests {
             let dt = s.step(t, nom);
             assert!(dt > 0.0);
             t += dt;
-            nom = s.grow(nom, dt, t, None);
+            nom = s.next_nominal(nom, dt, t, None);
             times.push(t);
         }
         assert!(times.iter().any(|&x| (x - 5.0).abs() < 1e-12), "{times:?}");
@@ -159,16 +159,16 @@ mod tests {
             dt_min: 1e-9,
         };
         // BE: error ∝ dt², so the step meeting the tolerance is 0.9 dt / √err, within [0.2, 2] dt.
-        assert!((s.grow(0.1, 0.1, 1.0, Some(0.81)) - 0.1).abs() < 1e-12);
-        assert!((s.grow(0.1, 0.1, 1.0, Some(0.09)) - 0.2).abs() < 1e-12);
-        assert!((s.grow(0.1, 0.1, 1.0, Some(1e-8)) - 0.2).abs() < 1e-12);
-        assert!((s.grow(0.1, 0.1, 1.0, Some(1.8)) - 0.1 * 0.9 / 1.8f64.sqrt()).abs() < 1e-12);
-        assert!((s.grow(3.0, 3.0, 1.0, Some(0.01)) - 4.0).abs() < 1e-12, "capped at dt_max");
+        assert!((s.next_nominal(0.1, 0.1, 1.0, Some(0.81)) - 0.1).abs() < 1e-12);
+        assert!((s.next_nominal(0.1, 0.1, 1.0, Some(0.09)) - 0.2).abs() < 1e-12);
+        assert!((s.next_nominal(0.1, 0.1, 1.0, Some(1e-8)) - 0.2).abs() < 1e-12);
+        assert!((s.next_nominal(0.1, 0.1, 1.0, Some(1.8)) - 0.1 * 0.9 / 1.8f64.sqrt()).abs() < 1e-12);
+        assert!((s.next_nominal(3.0, 3.0, 1.0, Some(0.01)) - 4.0).abs() < 1e-12, "capped at dt_max");
         // A step shortened to land on a time does not shrink the next one while within tolerance.
-        assert!((s.grow(0.5, 0.05, 1.0, Some(0.5)) - 0.5f64.min(0.1)).abs() < 1e-12);
+        assert!((s.next_nominal(0.5, 0.05, 1.0, Some(0.5)) - 0.5f64.min(0.1)).abs() < 1e-12);
         // No estimate (first step after a kink): geometric growth; on the kink: dt0.
-        assert!((s.grow(0.1, 0.1, 1.0, None) - 0.13).abs() < 1e-12);
-        assert!((s.grow(0.1, 0.1, 35.0, Some(0.5)) - 0.01).abs() < 1e-12);
+        assert!((s.next_nominal(0.1, 0.1, 1.0, None) - 0.13).abs() < 1e-12);
+        assert!((s.next_nominal(0.1, 0.1, 35.0, Some(0.5)) - 0.01).abs() < 1e-12);
         // Rejection above twice the tolerance, retrying with the step that would meet it.
         assert_eq!(s.reject(0.1, Some(1.9)), None);
         assert_eq!(s.reject(0.1, None), None);
@@ -196,7 +196,7 @@ mod tests {
             let dt = s.step(t, nom);
             steps.push((t, dt));
             t += dt;
-            nom = s.grow(nom, dt, t, None);
+            nom = s.next_nominal(nom, dt, t, None);
         }
         let ramp: Vec<f64> = steps.iter().filter(|(t, _)| *t < 5.0 - 1e-9).map(|&(_, dt)| dt).collect();
         assert!(ramp.iter().all(|&dt| dt <= 0.1 + 1e-12), "{ramp:?}");

@@ -2,7 +2,7 @@
 //! and plates → problem → time stepper → observers. Everything that can fail on bad input
 //! fails here, before the run directory is touched.
 
-use super::run::{Run, SetupInfo, DEFAULT_STABILISATION};
+use super::run::{Run, RunArgs, SetupInfo, DEFAULT_STABILISATION};
 use super::schedule::Schedule;
 use super::state::StepState;
 use crate::error::{Error, Result};
@@ -20,7 +20,7 @@ use crate::observe::observers::{mid_edge_nodes, Observers};
 use crate::observe::probe::Probe;
 use crate::observe::verification::exact_columns;
 use crate::parallel::{agree, broadcast_vec, on_root};
-use crate::petsc::{options, DmShell, Mat, Stage, Ts, Vector};
+use crate::petsc::{DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
 use crate::physics::contact::{Drainage, PlateLoading, Plates, DEFAULT_SEAL_GAP};
 use crate::physics::factory::{ellipticity_warning, model_of};
@@ -32,7 +32,6 @@ use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use std::time::Instant;
 
-use super::run::RunArgs;
 
 /// The mesh partitioned and distributed, with the mesh file's node and element counts (the
 /// numbering of the run state).
@@ -206,72 +205,6 @@ fn refuse_other_integrators(ts: &Ts<PoroProblem>) -> Result<()> {
     Ok(())
 }
 
-/// With contact: the active-set Newton (unless -snes_type names one of PETSc's VI solvers),
-/// with the policy's lag, and how it treats the free rigid modes (noted in the solver line);
-/// then whether the preconditioner uses the Schur matrix.
-fn configure_nonlinear_solver(
-    world: &SimpleCommunicator,
-    ts: &mut Ts<PoroProblem>,
-    policy: &solver::Policy,
-    free_modes: Option<solver::FreeRigidModes>,
-    solver_line: &mut String,
-) -> Result<()> {
-    let snes = ts.snes()?;
-    if let Some((lo, hi)) = &ts.problem().bounds {
-        if options::has("snes_type")? {
-            snes.set_vi_bounds(lo, hi)?;
-            if let Some(m) = free_modes {
-                solver_line.push_str(&format!("\nrigid modes left free by the plates (not handled): {}", m.describe()));
-                singular_factorisations()?;
-            }
-        } else {
-            let ksp = snes.ksp()?;
-            snes.lend_dm_to(&ksp)?;
-            ksp.set_from_options()?;
-            // Reusing a preconditioner needs a Krylov method to absorb the difference.
-            let mut lag = if ksp.type_name()? == "preonly" { solver::Lag::NEVER } else { policy.lag };
-            // No chord iterations when the Jacobian check assembles into the solve matrix
-            // between steps.
-            if options::has("poroplast_check_jacobian")? {
-                lag.chord = 0.0;
-            }
-            let mut newton = solver::ActiveSetNewton::new(world, lo, hi, ts.problem().u_row_scale(), lag)?;
-            newton.monitor = options::has("poroplast_newton_monitor")?;
-            newton.anderson = solver::anderson::Anderson::new(solver::anderson_depth()?);
-            if let Some(m) = free_modes {
-                // A factorisation gets the modes locked (nonsingular, updatable); a Krylov
-                // method with AMG their null space (a point lock defeats AMG).
-                let pin = ksp.pc()?.type_name()? == "lu";
-                let how = if pin { "locked at single dofs" } else { "the Jacobian's null space" };
-                solver_line.push_str(&format!("\nrigid modes left free by the plates ({how}): {}", m.describe()));
-                if !pin {
-                    singular_factorisations()?;
-                }
-                newton.set_free_modes(m, pin);
-            }
-            ts.set_nonlinear_solver(Box::new(newton))?;
-        }
-    }
-    if solver::finest_sor_enabled()? {
-        snes.ksp()?.set_pre_solve(solver::finest_level_sor)?;
-    }
-    ts.problem_mut().schur_needed = solver::use_schur_matrix(&snes, &ts.problem().schur)?;
-    solver::check_tolerances(&snes)
-}
-
-/// MUMPS, wherever it factors a block with the free rigid modes: leave the null pivots to the
-/// Krylov method.
-fn singular_factorisations() -> Result<()> {
-    options::set_default("mat_mumps_icntl_24", Some("1"))
-}
-
-/// `-poroplast_check_jacobian [eps]`.
-fn check_jacobian_option() -> Result<Option<f64>> {
-    solver::program_options::optional("poroplast_check_jacobian", Some(1e-7), "a relative step like 1e-7", |v| {
-        v.parse().ok()
-    })
-}
-
 impl<'w> Run<'w> {
     pub(super) fn setup(world: &'w SimpleCommunicator, scene: &LoadedScene, args: &RunArgs) -> Result<Run<'w>> {
         let t0 = Instant::now();
@@ -348,7 +281,13 @@ impl<'w> Run<'w> {
         ts.set_max_rejections(s.time.max_retries)?;
         ts.set_from_options()?;
         refuse_other_integrators(&ts)?;
-        configure_nonlinear_solver(world, &mut ts, &policy, free_modes, &mut solver_line)?;
+        let schur_needed =
+            solver::configure(world, &mut ts, &policy, free_modes, &mut solver_line, |p| solver::ProblemView {
+                bounds: p.bounds.as_ref().map(|(lo, hi)| (lo, hi)),
+                u_row_scale: p.u_row_scale(),
+                schur: &p.schur,
+            })?;
+        ts.problem_mut().schur_needed = schur_needed;
 
         let experiment = match (&s.plates, plate_faces) {
             (Some(ps), Some(faces)) => {
@@ -378,7 +317,7 @@ impl<'w> Run<'w> {
             observers,
             schedule,
             settle,
-            check_jacobian: check_jacobian_option()?,
+            jacobian_check: solver::jacobian_check_step()?,
             setup: SetupInfo {
                 mesh_path,
                 layout,

@@ -1,5 +1,6 @@
 //! A time step of the run: one step from the current state with the schedule's step control
-//! (`Run::advance`), gravity settling before t = 0 and the first step (`Run::first_step`).
+//! (`Run::advance`), gravity settling before t = 0 and the first step (`Run::first_step`), and
+//! the step's Jacobian against central differences (`-poroplast_check_jacobian`).
 
 use super::progress::{Progress, Stages, Step};
 use super::run::Run;
@@ -82,7 +83,7 @@ impl<'w> Run<'w> {
         pg.totals = totals;
         pg.c.newton += its.0;
         pg.c.ksp += its.1;
-        pg.c.nominal = self.schedule.grow(pg.c.nominal, taken, pg.c.t, err);
+        pg.c.nominal = self.schedule.next_nominal(pg.c.nominal, taken, pg.c.t, err);
         let kink = self.schedule.at_kink(pg.c.t);
         // The step's rate serves the contact predictor and the error estimate; not across a kink.
         let keep_rate = !kink && (self.ts.problem().plates.is_some() || self.schedule.tol.is_some());
@@ -147,5 +148,21 @@ impl<'w> Run<'w> {
             (Error::Diverged(m), Some(w)) => Error::Diverged(format!("{m}. Likely cause: {w}")),
             (e, _) => e,
         }
+    }
+
+    /// `-poroplast_check_jacobian`: the assembled Jacobian of the step against central
+    /// differences (rank 0 prints the errors).
+    pub(super) fn report_jacobian_error(&mut self, pg: &Progress, step: Step) -> Result<()> {
+        let Some(eps) = self.jacobian_check else { return Ok(()) };
+        let (problem, jac) = self.ts.problem_and_jacobian();
+        let (u, prev) = (&self.state.u, &self.state.prev);
+        let (eu, ep) = problem.jacobian_error(pg.c.t, step.dt, u, prev, jac, eps)?;
+        if self.rank0() {
+            println!(
+                "jacobian check: step {} t = {:.6e}: rel. error u rows {eu:.3e}, p rows {ep:.3e}",
+                pg.c.step, pg.c.t
+            );
+        }
+        Ok(())
     }
 }

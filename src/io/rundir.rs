@@ -9,6 +9,8 @@ use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
 use crate::error::{Error, Result};
+// Atomic writes live in `crate::files`; re-exported for the run directory's users.
+pub use crate::files::{write_atomically, write_text_atomically};
 
 /// Prepares `dir` for a run (root rank only; other ranks return `Ok` at once).
 ///
@@ -98,26 +100,6 @@ pub fn lock(dir: &Path, is_root: bool) -> Result<RunLock> {
 
 fn hostname() -> String {
     std::fs::read_to_string("/proc/sys/kernel/hostname").map(|h| h.trim().to_string()).unwrap_or_else(|_| "?".into())
-}
-
-/// Makes `path` by `write(tmp)` into `path.<pid>.tmp` (its directory created if missing), then
-/// renames it over `path`: a reader, or a resume after a kill, finds the old file or the new one,
-/// never a part of one. The temporary name is this process's, so several processes may write the
-/// same file (a sweep's groups, its summary.csv): each rename installs a whole one.
-pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    }
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(format!(".{}.tmp", std::process::id()));
-    let tmp = PathBuf::from(tmp);
-    write(&tmp)?;
-    std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
-}
-
-/// [`write_atomically`] of a text.
-pub fn write_text_atomically(path: &Path, text: &str) -> Result<()> {
-    write_atomically(path, |tmp| std::fs::write(tmp, text).map_err(|e| Error::io(tmp, e)))
 }
 
 /// Writes `contents` to `dir/name` (a plain file name, no separators), replacing any old file;

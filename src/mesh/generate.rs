@@ -11,6 +11,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
 use crate::error::{Error, Result};
+use crate::files::write_text_atomically;
+use crate::hash::Fnv;
 
 /// Full sphere (radius `R`, centre (0,0,R)): volume "aggregate", surface "surface", points "pole_bottom", "pole_top".
 pub const SPHERE_GEO: &str = include_str!("../../meshes/sphere.geo");
@@ -161,22 +163,6 @@ pub fn gmsh_version() -> Result<String> {
     Ok(VERSION.get_or_init(|| v).clone())
 }
 
-/// 64-bit FNV-1a: stable across Rust versions and platforms (std's hashers are not guaranteed to be).
-struct Fnv(u64);
-
-impl Fnv {
-    fn new() -> Self {
-        Fnv(0xcbf2_9ce4_8422_2325)
-    }
-    /// Length-prefixed so that field boundaries cannot be confused.
-    fn field(&mut self, bytes: &[u8]) {
-        for b in (bytes.len() as u64).to_le_bytes().iter().chain(bytes) {
-            self.0 ^= *b as u64;
-            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
-        }
-    }
-}
-
 /// Hash of everything that determines the generated mesh.
 fn cache_key(geo_source: &str, params: &[(String, f64)], order: usize, version: &str) -> String {
     let mut h = Fnv::new();
@@ -190,16 +176,7 @@ fn cache_key(geo_source: &str, params: &[(String, f64)], order: usize, version: 
     }
     h.field(&(order as u64).to_le_bytes());
     h.field(version.as_bytes());
-    format!("{:016x}", h.0)
-}
-
-/// Write `path` atomically (temporary file + rename).
-fn write_atomic(path: &Path, contents: &str) -> Result<()> {
-    let tmp = temp_path(path, "tmp");
-    std::fs::write(&tmp, contents).and_then(|_| std::fs::rename(&tmp, path)).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        Error::io(path, e)
-    })
+    format!("{:016x}", h.finish())
 }
 
 /// Path of `<stem>-<hash>.msh` in `cache_dir`, generating it from `geo_source` (saved as `<stem>-<hash>.geo`)
@@ -223,7 +200,7 @@ pub fn cached(
     }
     std::fs::create_dir_all(cache_dir).map_err(|e| Error::io(cache_dir, e))?;
     let geo = cache_dir.join(format!("{stem}-{key}.geo"));
-    write_atomic(&geo, geo_source)?;
+    write_text_atomically(&geo, geo_source)?;
     generate(&geo, params, order, &msh)?;
     Ok(msh)
 }

@@ -1,9 +1,11 @@
 //! The u/p field decomposition handed to PCFIELDSPLIT through a DMShell, with the rigid-body
 //! near-null space on u.
 
+use super::rigid::rigid_mode;
 use crate::error::Result;
 use crate::fem::dofmap::DofMap;
 use crate::mesh::dist::LocalMesh;
+use crate::parallel::sum_slice;
 use crate::petsc::{FieldDecomposition, IndexSet, Int, NullSpace, Snes, Vector};
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
@@ -52,8 +54,7 @@ impl Fields {
             sum[2] += x[2];
         }
         sum[3] = n as f64;
-        let mut tot = [0.0f64; 4];
-        world.all_reduce_into(&sum[..], &mut tot[..], SystemOperation::sum());
+        let tot = sum_slice(world, &sum);
         let c: [f64; 3] = std::array::from_fn(|d| tot[d] / tot[3].max(1.0));
         let coords: Vec<[f64; 3]> = mesh.coords[..n].iter().map(|x| [x[0] - c[0], x[1] - c[1], x[2] - c[2]]).collect();
         // Rigid-body modes of the full u block.
@@ -117,18 +118,13 @@ impl Fields {
 }
 
 /// Rigid-body mode m at displacement component c of a node at (centred) x: in 3-D (nc = 3) the
-/// translations e_c (m < 3) and the rotations e_k × x; on the meridian (nc = 2, components
-/// u_r, u_z) the translation along z, its one mode.
+/// six of [`rigid_mode`]; on the meridian (nc = 2, components u_r, u_z) the translation along z,
+/// its one mode.
 fn mode(nc: usize, m: usize, c: usize, x: [f64; 3]) -> f64 {
     if nc != 3 {
         return f64::from(u8::from(c == nc - 1));
     }
-    match m {
-        0..=2 => f64::from(u8::from(c == m)),
-        3 => [0.0, -x[2], x[1]][c],
-        4 => [x[2], 0.0, -x[0]][c],
-        _ => [-x[1], x[0], 0.0][c],
-    }
+    rigid_mode(m, &x)[c]
 }
 
 impl FieldDecomposition for Fields {

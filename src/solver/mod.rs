@@ -1,5 +1,5 @@
 //! Solver policy: default PETSc options per preset, chosen by problem size unless the scene
-//! names one; the u/p field decomposition handed to PCFIELDSPLIT through a DMShell (with the
+//! names one; the nonlinear solver set up on a run's time stepper ([`configure`]); the u/p field decomposition handed to PCFIELDSPLIT through a DMShell (with the
 //! rigid-body near-null space on u); the fixed-stress Schur approximation as the user Schur
 //! preconditioner; and, for contact, the active-set Newton with its chord and preconditioner lag.
 //!
@@ -29,12 +29,14 @@
 
 pub mod active_set;
 pub mod anderson;
+mod configure;
 mod fields;
 pub mod program_options;
 mod rigid;
 pub mod woodbury;
 
 pub use active_set::{ActiveSetNewton, Lag};
+pub use configure::{configure, jacobian_check_step, ProblemView};
 pub use fields::Fields;
 pub use rigid::FreeRigidModes;
 pub use woodbury::ActiveSetUpdate;

@@ -31,13 +31,21 @@ use crate::petsc::{Int, NullSpace, Vector};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 
-/// The candidate modes at reference position x: translation in x, in y, rotation about z.
-fn mode(m: usize, x: &[f64; 3]) -> [f64; 3] {
+/// Rigid-body mode m of 3-D displacements at (reference, or centred) position x: the
+/// translations e_m (m < 3), then the rotations e_k × x about x, y, z (m = 3 + k).
+pub(crate) fn rigid_mode(m: usize, x: &[f64; 3]) -> [f64; 3] {
     match m {
-        0 => [1.0, 0.0, 0.0],
-        1 => [0.0, 1.0, 0.0],
+        0..=2 => std::array::from_fn(|c| f64::from(u8::from(c == m))),
+        3 => [0.0, -x[2], x[1]],
+        4 => [x[2], 0.0, -x[0]],
         _ => [-x[1], x[0], 0.0],
     }
+}
+
+/// The candidate modes at reference position x (of the six of [`rigid_mode`]): translation in
+/// x, in y, rotation about z.
+fn candidate_mode(m: usize, x: &[f64; 3]) -> [f64; 3] {
+    rigid_mode([0, 1, 5][m.min(2)], x)
 }
 
 /// The free rigid modes of a scene (see the module docs).
@@ -65,7 +73,8 @@ impl FreeRigidModes {
         let scale = mesh.coords.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-300);
         let blocked_here: Vec<f64> = (0..3)
             .map(|m| {
-                let hit = constrained_u.iter().any(|&l| mode(m, &mesh.coords[l / 3])[l % 3].abs() > 1e-9 * scale);
+                let hit =
+                    constrained_u.iter().any(|&l| candidate_mode(m, &mesh.coords[l / 3])[l % 3].abs() > 1e-9 * scale);
                 f64::from(u8::from(hit))
             })
             .collect();
@@ -95,7 +104,7 @@ impl FreeRigidModes {
         let candidates = [(a, 0), (a, 1), (b, 0), (b, 1)];
         let value = |i: usize, m: usize| {
             let ((_, x, _), c) = candidates[i];
-            mode(m, &x)[c]
+            candidate_mode(m, &x)[c]
         };
         let mut best = (0.0, Vec::new());
         for set in (0..1usize << 4).filter(|s| s.count_ones() as usize == free.len()) {
@@ -150,7 +159,7 @@ impl FreeRigidModes {
                 w.fill(0.0);
                 for (n, p) in self.coords.iter().enumerate() {
                     let cur = [p[0] + xv[3 * n], p[1] + xv[3 * n + 1], p[2] + xv[3 * n + 2]];
-                    let t = mode(m, &cur);
+                    let t = candidate_mode(m, &cur);
                     w[3 * n..3 * n + 3].copy_from_slice(&t);
                 }
             }
@@ -158,5 +167,28 @@ impl FreeRigidModes {
         }
         super::orthonormalise(&mut modes)?;
         NullSpace::from_vectors(self.world.as_raw(), &modes)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{candidate_mode, rigid_mode};
+
+    #[test]
+    fn rigid_modes_are_translations_and_rotations() {
+        let x = [0.3, -1.2, 2.5];
+        for m in 0..3 {
+            let e: [f64; 3] = std::array::from_fn(|c| f64::from(u8::from(c == m)));
+            assert_eq!(rigid_mode(m, &x), e);
+            // A rotation e_k × x: orthogonal to its axis and to x, of length |e_k × x|.
+            let r = rigid_mode(3 + m, &x);
+            assert_eq!(r[m], 0.0);
+            assert!((r[0] * x[0] + r[1] * x[1] + r[2] * x[2]).abs() < 1e-15);
+        }
+        assert_eq!(rigid_mode(5, &x), [1.2, 0.3, 0.0]);
+        // The plates' candidates: x and y translation, rotation about z.
+        assert_eq!(candidate_mode(0, &x), [1.0, 0.0, 0.0]);
+        assert_eq!(candidate_mode(1, &x), [0.0, 1.0, 0.0]);
+        assert_eq!(candidate_mode(2, &x), [1.2, 0.3, 0.0]);
     }
 }

@@ -17,8 +17,8 @@
 //! the current active set.
 
 use crate::error::{Error, Result};
+use crate::parallel::sum_slice;
 use crate::petsc::{Int, Mat, Pc, Vector};
-use mpi::collective::SystemOperation;
 use mpi::datatype::PartitionMut;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -139,9 +139,7 @@ impl ActiveSetUpdate {
                 part[(k + m) * 2 * k + b] = zv[i];
             }
         }
-        let mut kmat = vec![0.0; 4 * k * k];
-        world.all_reduce_into(&part[..], &mut kmat[..], SystemOperation::sum());
-        let mut kmat = DMatrix::from_row_slice(2 * k, 2 * k, &kmat);
+        let mut kmat = DMatrix::from_row_slice(2 * k, 2 * k, &sum_slice(world, &part));
         kmat += DMatrix::identity(2 * k, 2 * k);
         let capacitance = kmat.lu();
         if !capacitance.is_invertible() {
@@ -169,11 +167,9 @@ impl ActiveSetUpdate {
                 part[k + m] = y[i];
             }
         }
-        let mut w = vec![0.0; 2 * k];
-        world.all_reduce_into(&part[..], &mut w[..], SystemOperation::sum());
         let alpha = self
             .capacitance
-            .solve(&DVector::from_vec(w))
+            .solve(&DVector::from_vec(sum_slice(world, &part)))
             .ok_or_else(|| Error::Diverged("active-set update: singular capacitance matrix".into()))?;
         for (zm, a) in self.z.iter().zip(alpha.iter()) {
             x.axpy(-a, zm)?;

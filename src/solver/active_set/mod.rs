@@ -13,17 +13,24 @@
 //! its symbolic analysis, the block size and the rigid-body near-null space are lost. Here the
 //! matrix keeps its size, block size and sparsity pattern ("workaround B" of the PETSc notes),
 //! so the preconditioner setup reuses what it can, and it may be lagged ([`Lag`]).
+//!
+//! This module holds the solver and its Newton loop; `bounds` the bounds and the active-set
+//! split; `reuse` the decisions to reuse an operator or preconditioner ([`Lag`]).
+
+mod bounds;
+mod reuse;
+
+pub use reuse::Lag;
 
 use super::anderson::Anderson;
 use super::woodbury::ActiveSetUpdate;
 use crate::error::Result;
+use crate::parallel::sum_slice;
 use crate::petsc::{ffi, Int, Ksp, Mat, ShellSolve, Snes, SolverState, Vector};
-use mpi::collective::SystemOperation;
+use bounds::{symmetric_difference, Bounds};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
-
-/// PETSc's vinewtonrsls tolerance for "at the bound" (absolute, in the unknowns' units).
-const AT_BOUND: f64 = 1e-8;
+use reuse::Step;
 
 /// Halvings of a Newton step that leaves the admissible domain (or fails the Armijo test when
 /// backtracking).
@@ -41,121 +48,6 @@ fn stagnates(norms: &[f64]) -> bool {
     }
     let best = |s: &[f64]| s.iter().copied().fold(f64::INFINITY, f64::min);
     best(&norms[n - STALL_WINDOW..]) > 0.1 * best(&norms[..n - STALL_WINDOW])
-}
-
-/// Size of the symmetric difference of two ascending index lists.
-fn symmetric_difference(a: &[Int], b: &[Int]) -> usize {
-    let (mut i, mut j, mut n) = (0, 0, 0);
-    while i < a.len() && j < b.len() {
-        match a[i].cmp(&b[j]) {
-            std::cmp::Ordering::Less => (i, n) = (i + 1, n + 1),
-            std::cmp::Ordering::Greater => (j, n) = (j + 1, n + 1),
-            std::cmp::Ordering::Equal => (i, j) = (i + 1, j + 1),
-        }
-    }
-    n + (a.len() - i) + (b.len() - j)
-}
-
-/// When to rebuild the preconditioner. A preconditioner built for an earlier Jacobian (an
-/// earlier iterate, or an earlier step) stays a good one while the Jacobian changes little;
-/// the Krylov method then needs a few more iterations instead of a new setup. A change of the
-/// active set by k dofs is a rank-2k change of the matrix, which costs a Krylov method up to
-/// about 2k more iterations. The preconditioner is rebuilt when more than `max_changes` dofs
-/// entered or left the active set since its setup, when the last solve needed more than
-/// `max_krylov` iterations (or failed), or after `max_reuse` reuses.
-#[derive(Debug, Clone, Copy)]
-pub struct Lag {
-    /// Reuse a preconditioner at most this many times (0: rebuild for every Jacobian).
-    pub max_reuse: usize,
-    /// Rebuild after a solve that needed more Krylov iterations than this.
-    pub max_krylov: usize,
-    /// Rebuild when more dofs than this entered or left the active set since the setup. With
-    /// chord iterations: the largest active-set change a chord iteration absorbs by a low-rank
-    /// update of a direct factorisation ([`ActiveSetUpdate`]; 0: none).
-    pub max_changes: usize,
-    /// Chord iterations: keep the last assembled Jacobian and its preconditioner (no assembly,
-    /// no setup) while each iteration reduces the free residual by at least this factor and
-    /// the active set is the one it was assembled with — or, with a direct factorisation,
-    /// differs from it in at most `max_changes` dofs. Such an iteration costs one residual and
-    /// one pair of triangular solves. When > 0, every assembly sets up a new preconditioner
-    /// (`max_reuse` and `max_krylov` apply only with 0: assemble at every iteration, and lag
-    /// the preconditioner instead).
-    pub chord: f64,
-}
-
-/// Where an iteration's step comes from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Step {
-    /// The kept operator and preconditioner, as they are.
-    Chord,
-    /// The kept factorisation with a low-rank update to the current active set.
-    Updated,
-    /// A new Jacobian (and preconditioner setup, unless lagged).
-    Assemble,
-}
-
-/// The bounds l ≤ x ≤ u (shared with the problem, which moves them with the plate), and the
-/// dofs held where they are (the free rigid modes' pins).
-struct Bounds {
-    lower: Vector,
-    upper: Vector,
-    pinned: Vec<Int>,
-}
-
-impl Bounds {
-    /// Clamps x into [l, u].
-    fn project(&self, x: &mut Vector) -> Result<()> {
-        let (lo, hi) = (self.lower.read()?, self.upper.read()?);
-        for ((xi, &l), &h) in x.write()?.iter_mut().zip(lo.iter()).zip(hi.iter()) {
-            *xi = xi.max(l).min(h);
-        }
-        Ok(())
-    }
-
-    /// From x and f = F(x): the active set, the Newton right-hand side −F on the free dofs and
-    /// 0 on the active ones, the step onto the bound on the active ones (0 elsewhere) in `to_bound`;
-    /// returns the free residual norm. The pinned dofs (ascending) are always active, with a
-    /// zero step.
-    fn split(
-        &self,
-        x: &Vector,
-        f: &Vector,
-        rhs: &mut Vector,
-        to_bound: &mut Vector,
-        active: &mut Vec<Int>,
-    ) -> Result<f64> {
-        let first = x.ownership_start();
-        active.clear();
-        {
-            let (xv, fv, lo, hi) = (x.read()?, f.read()?, self.lower.read()?, self.upper.read()?);
-            let (mut r, mut d) = (rhs.write()?, to_bound.write()?);
-            let mut pins = self.pinned.iter().peekable();
-            for i in 0..xv.len() {
-                if pins.next_if_eq(&&((first + i) as Int)).is_some() {
-                    active.push((first + i) as Int);
-                    r[i] = 0.0;
-                    d[i] = 0.0;
-                    continue;
-                }
-                let at_lower = xv[i] <= lo[i] + AT_BOUND && fv[i] > 0.0;
-                let at_upper = xv[i] >= hi[i] - AT_BOUND && fv[i] < 0.0;
-                if at_lower || at_upper {
-                    active.push((first + i) as Int);
-                    r[i] = 0.0;
-                    d[i] = if at_lower { lo[i] } else { hi[i] } - xv[i];
-                } else {
-                    r[i] = -fv[i];
-                    d[i] = 0.0;
-                }
-            }
-        }
-        rhs.norm2()
-    }
-}
-
-impl Lag {
-    /// A new preconditioner for every Jacobian.
-    pub const NEVER: Lag = Lag { max_reuse: 0, max_krylov: 0, max_changes: 0, chord: 0.0 };
 }
 
 /// The active-set Newton solver (a SNESSHELL inside TS).
@@ -256,17 +148,14 @@ impl ActiveSetNewton {
     /// Whether the preconditioner of the last setup may serve the current Jacobian (the same
     /// decision on every rank: the setup is collective).
     fn reuse_pc(&self) -> bool {
-        let Some(changed) = self.changes_since_setup() else { return false };
-        changed <= self.lag.max_changes && self.pc_uses < self.lag.max_reuse && self.last_krylov <= self.lag.max_krylov
+        self.lag.reuse_pc(self.changes_since_setup(), self.pc_uses, self.last_krylov)
     }
 
     /// How many dofs entered or left the active set since the last preconditioner setup, on all
     /// ranks (None without one). Collective.
     fn changes_since_setup(&self) -> Option<usize> {
         let here = symmetric_difference(self.pc_active.as_ref()?, &self.active);
-        let mut changed = 0;
-        self.world.all_reduce_into(&here, &mut changed, SystemOperation::sum());
-        Some(changed)
+        Some(sum_slice(&self.world, &[here])[0])
     }
 }
 
@@ -275,15 +164,11 @@ impl ActiveSetNewton {
     /// iteration): the last iteration contracted by `lag.chord` or better, and the active set
     /// is the one they were set up with on every rank ([`Step::Chord`]) or differs from it in at
     /// most `lag.max_changes` dofs with a kept Jacobian for the update ([`Step::Updated`]).
-    fn chord(&self, contraction: f64) -> Step {
-        if self.lag.chord <= 0.0 || contraction > self.lag.chord {
+    fn choose_step(&self, contraction: f64) -> Step {
+        if !self.lag.chord_allowed(contraction) {
             return Step::Assemble;
         }
-        match self.changes_since_setup() {
-            Some(0) => Step::Chord,
-            Some(k) if k <= self.lag.max_changes && self.jac.is_some() => Step::Updated,
-            _ => Step::Assemble,
-        }
+        self.lag.chord_step(self.changes_since_setup(), self.jac.is_some())
     }
 
     /// A chord step for an active set that differs from the factorised operator's: through the
@@ -355,9 +240,7 @@ impl ActiveSetNewton {
     fn print_iteration(&self, it: usize, fnorm: f64, prev: &[Int], chord: bool, updated: Option<usize>) {
         let entered = self.active.iter().filter(|i| prev.binary_search(i).is_err()).count();
         let left = prev.iter().filter(|i| self.active.binary_search(i).is_err()).count();
-        let local = [self.active.len(), entered, left];
-        let mut tot = [0usize; 3];
-        self.world.all_reduce_into(&local[..], &mut tot[..], SystemOperation::sum());
+        let tot = sum_slice(&self.world, &[self.active.len(), entered, left]);
         if self.world.rank() == 0 {
             let chord = match (chord, updated) {
                 (true, Some(k)) => format!(", chord, update of {k}"),
@@ -535,7 +418,7 @@ impl ActiveSetNewton {
     /// allows, else — or if that solve fails — one with a new Jacobian. Returns whether it was
     /// a chord iteration, and the size of the low-rank update it went through (if any).
     fn newton_step(&mut self, snes: &Snes, ksp: &Ksp, x: &Vector, contraction: f64) -> Result<(bool, Option<usize>)> {
-        let how = self.chord(contraction);
+        let how = self.choose_step(contraction);
         if how != Step::Assemble {
             // What MatZeroRowsColumns puts in the active rows of the right-hand side.
             self.rhs.axpy(self.diag, &self.to_bound)?;
@@ -630,15 +513,7 @@ impl ActiveSetNewton {
 
 #[cfg(test)]
 mod tests {
-    use super::{stagnates, symmetric_difference};
-
-    #[test]
-    fn active_set_changes_count_both_ways() {
-        assert_eq!(symmetric_difference(&[1, 3, 5], &[1, 3, 5]), 0);
-        assert_eq!(symmetric_difference(&[1, 3, 5], &[1, 4, 5, 9]), 3);
-        assert_eq!(symmetric_difference(&[], &[2, 7]), 2);
-        assert_eq!(symmetric_difference(&[2, 7], &[]), 2);
-    }
+    use super::stagnates;
 
     #[test]
     fn stagnation_is_a_residual_that_stopped_falling() {

@@ -1,0 +1,89 @@
+//! The nonlinear solver of a run, set up on its time stepper once PETSc has read the options:
+//! with contact, the active-set Newton (or one of PETSc's VI solvers when `-snes_type` names
+//! one) with the policy's lag, Anderson depth, monitor and treatment of the free rigid modes;
+//! the finest-level SOR hook; the Schur matrix; the tolerances checked.
+
+use super::{anderson, ActiveSetNewton, FreeRigidModes, Lag, Policy};
+use crate::error::Result;
+use crate::petsc::{options, Mat, Ts, TsProblem, Vector};
+use mpi::topology::SimpleCommunicator;
+
+/// What the solver set-up reads of the problem.
+pub struct ProblemView<'a> {
+    /// With contact: the bounds l ≤ x ≤ u (shared: the problem moves them with the plates).
+    pub bounds: Option<(&'a Vector, &'a Vector)>,
+    /// The scale of a u row of the Jacobian (the diagonal of an active dof's identity row).
+    pub u_row_scale: f64,
+    /// The fixed-stress Schur approximation, for a Schur fieldsplit.
+    pub schur: &'a Mat,
+}
+
+/// Sets up `ts`'s nonlinear solver for the problem `view` shows of it, noting in `solver_line`
+/// how the rigid modes the plates leave free (`free_modes`) are treated. Returns whether the
+/// preconditioner uses the Schur matrix (else nothing needs to assemble it).
+pub fn configure<P: TsProblem>(
+    world: &SimpleCommunicator,
+    ts: &mut Ts<P>,
+    policy: &Policy,
+    free_modes: Option<FreeRigidModes>,
+    solver_line: &mut String,
+    view: impl for<'a> Fn(&'a P) -> ProblemView<'a>,
+) -> Result<bool> {
+    let snes = ts.snes()?;
+    let problem = view(ts.problem());
+    if let Some((lo, hi)) = problem.bounds {
+        if options::has("snes_type")? {
+            snes.set_vi_bounds(lo, hi)?;
+            if let Some(m) = free_modes {
+                solver_line.push_str(&format!("\nrigid modes left free by the plates (not handled): {}", m.describe()));
+                singular_factorisations()?;
+            }
+        } else {
+            let ksp = snes.ksp()?;
+            snes.lend_dm_to(&ksp)?;
+            ksp.set_from_options()?;
+            // Reusing a preconditioner needs a Krylov method to absorb the difference.
+            let mut lag = if ksp.type_name()? == "preonly" { Lag::NEVER } else { policy.lag };
+            // No chord iterations when the Jacobian check assembles into the solve matrix
+            // between steps.
+            if options::has("poroplast_check_jacobian")? {
+                lag.chord = 0.0;
+            }
+            let mut newton = ActiveSetNewton::new(world, lo, hi, problem.u_row_scale, lag)?;
+            newton.monitor = options::has("poroplast_newton_monitor")?;
+            newton.anderson = anderson::Anderson::new(super::anderson_depth()?);
+            if let Some(m) = free_modes {
+                // A factorisation gets the modes locked (nonsingular, updatable); a Krylov
+                // method with AMG their null space (a point lock defeats AMG).
+                let pin = ksp.pc()?.type_name()? == "lu";
+                let how = if pin { "locked at single dofs" } else { "the Jacobian's null space" };
+                solver_line.push_str(&format!("\nrigid modes left free by the plates ({how}): {}", m.describe()));
+                if !pin {
+                    singular_factorisations()?;
+                }
+                newton.set_free_modes(m, pin);
+            }
+            ts.set_nonlinear_solver(Box::new(newton))?;
+        }
+    }
+    if super::finest_sor_enabled()? {
+        snes.ksp()?.set_pre_solve(super::finest_level_sor)?;
+    }
+    let schur_needed = super::use_schur_matrix(&snes, view(ts.problem()).schur)?;
+    super::check_tolerances(&snes)?;
+    Ok(schur_needed)
+}
+
+/// MUMPS, wherever it factors a block with the free rigid modes: leave the null pivots to the
+/// Krylov method.
+fn singular_factorisations() -> Result<()> {
+    options::set_default("mat_mumps_icntl_24", Some("1"))
+}
+
+/// `-poroplast_check_jacobian [eps]`: the relative step of the per-step Jacobian check (1e-7
+/// when given without one), None without the option.
+pub fn jacobian_check_step() -> Result<Option<f64>> {
+    super::program_options::optional("poroplast_check_jacobian", Some(1e-7), "a relative step like 1e-7", |v| {
+        v.parse().ok()
+    })
+}
