@@ -14,6 +14,7 @@ pub mod mesh;
 pub mod parallel;
 pub mod petsc;
 pub mod physics;
+pub mod range;
 pub mod reference_cell;
 pub mod scene;
 pub mod solver;

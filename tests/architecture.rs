@@ -13,13 +13,11 @@ use std::path::{Path, PathBuf};
 /// Longest source file allowed outside tests (lines).
 const MAX_LINES: usize = 600;
 
-/// Files still over the limit, each a few concepts to split into files of one (schema and
-/// validation by scene section; the problem's residual, Jacobian, constraints, predictor and
-/// post-processing; the field file's HDF5 layout and XDMF text; the active-set solver's bounds,
-/// reuse policy and saved state), with the size none may grow beyond. A file split below the
-/// limit must leave this list.
-const OVERSIZE: &[(&str, usize)] =
-    &[("scene/mod.rs", 1264), ("physics/problem.rs", 839), ("io/fields.rs", 782), ("solver/active_set.rs", 657)];
+/// Files still over the limit, each a few concepts to split into files of one (the problem's
+/// residual, Jacobian, constraints, predictor and post-processing; the field file's HDF5 layout
+/// and XDMF text; the active-set solver's bounds, reuse policy and saved state), with the size
+/// none may grow beyond. A file split below the limit must leave this list.
+const OVERSIZE: &[(&str, usize)] = &[("physics/problem.rs", 839), ("io/fields.rs", 782), ("solver/active_set.rs", 657)];
 
 /// One source file: its module path (`["driver", "step"]`; the crate root is `[]`).
 struct File {
