@@ -130,7 +130,7 @@ pub(super) const SECTION: Section = Section {
             "`-setnumber` parameters of the `.geo` (R, h, h_pole, r_pole, H, W, ...)",
         )
         .range(LENGTH)
-        .rule("finite; the lengths R, h, h_pole, H, W positive"),
+        .rule("the range is for the lengths R, h, h_pole, H, W; the others finite"),
         Key::new(
             "mesh.mirror",
             "",

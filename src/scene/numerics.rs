@@ -131,3 +131,19 @@ pub(super) const FEM_SECTION: Section = Section {
         .rule("P1-P1 not on the meridian"),
     ],
 };
+
+#[cfg(test)]
+mod tests {
+    use super::super::LoadedScene;
+
+    #[test]
+    fn equal_order_is_refused_on_the_meridian_when_loaded() {
+        let sets = ["mesh.geometry=\"axisymmetric\"".to_string(), "fem.element=\"P1-P1\"".to_string()];
+        let e = LoadedScene::load("reference", &sets).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "scene builtin:reference: fem.element = \"P1-P1\" is for tetrahedral meshes only (not the meridian)"
+        );
+        assert!(LoadedScene::load("reference", &sets[1..]).is_ok());
+    }
+}

@@ -88,3 +88,137 @@ const PETSC_SECTION: Section = Section {
     keys: &[Key::new("petsc.<option>", "", Unset::Absent(""), "a PETSc option and its value")
         .rule("a string, number or boolean")],
 };
+
+#[cfg(test)]
+mod tests {
+    use super::super::{LoadedScene, Material, Scene};
+    use super::*;
+    use std::collections::BTreeSet;
+
+    /// Every declared key name.
+    fn declared() -> BTreeSet<&'static str> {
+        sections().iter().flat_map(|s| s.keys.iter().map(|k| k.name)).collect()
+    }
+
+    /// The fields serde knows in the table at `path` of builtin `scene`, from its message for an
+    /// unknown key there ("expected one of `a`, `b`").
+    fn serde_fields(scene: &str, path: &str) -> Vec<String> {
+        let set = if path.is_empty() { "zz_unknown=1".to_string() } else { format!("{path}.zz_unknown=1") };
+        let e = LoadedScene::load(scene, &[set]).err().map(|e| e.to_string()).unwrap_or_default();
+        let expected = e.split_once("expected").map(|(_, rest)| rest).unwrap_or_else(|| panic!("{scene} {path}: {e}"));
+        expected.split('`').skip(1).step_by(2).map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn every_serde_field_is_declared() {
+        let keys = declared();
+        // (builtin scene, the table's path in the scene, its keys' prefix in the reference)
+        for (scene, path, prefix) in [
+            ("reference", "", ""),
+            ("reference", "mesh", "mesh."),
+            ("terzaghi", "material", "material."),
+            ("reference", "material", "material."),
+            ("reference", "material.penalty", "material.penalty."),
+            ("remodel_40", "material.remodelling", "material.remodelling."),
+            ("terzaghi", "bc.0", "bc."),
+            ("terzaghi", "time", "time."),
+            ("reference", "output", "output."),
+            ("cryer", "probe.0", "probe."),
+            ("terzaghi", "verification", "verification."),
+            ("cryer", "verification", "verification."),
+            ("reference", "plates", "plates."),
+            ("reference", "solver", "solver."),
+            ("reference", "fem", "fem."),
+        ] {
+            let fields = serde_fields(scene, path);
+            assert!(!fields.is_empty(), "{scene} {path}: {e:?}", e = fields);
+            for f in fields {
+                // a key, or a table whose keys are declared
+                let name = format!("{prefix}{f}");
+                let table = format!("{name}.");
+                assert!(
+                    keys.contains(name.as_str()) || keys.iter().any(|k| k.starts_with(&table)),
+                    "{name} (in {scene}'s [{path}]) has no declaration"
+                );
+            }
+        }
+        // Tables the shipped scenes do not have, and the tags of the tagged tables.
+        let traction = serde_fields("terzaghi", "bc.0");
+        assert!(traction.contains(&"traction".to_string()));
+        for name in ["bc.traction.normal", "bc.traction.vector", "initial.displacement_gradient", "material.model"] {
+            assert!(keys.contains(name), "{name}");
+        }
+        let initial = toml::from_str::<super::super::InitialSpec>("zz_unknown = 1").unwrap_err().to_string();
+        assert!(initial.contains("`displacement_gradient`"), "{initial}");
+    }
+
+    #[test]
+    fn the_declared_defaults_are_serdes() {
+        // The smallest scene of each model: every key with a default takes it.
+        let scene = |material: &str| -> toml::Table {
+            let text = format!(
+                "[mesh]\ngeo = \"g\"\n[material]\n{material}\n[time]\nt_end = 1.0\ndt = 0.1\n\
+                 [plates]\nradius = 1.0\ncompression = 0.1\nt_ramp = 1.0\nt_end = 2.0\n\
+                 [[probe]]\nname = \"p\"\nfield = \"p\"\ngroup = \"g\"\n\
+                 [[bc]]\ngroup = \"g\"\nroller = true\n"
+            );
+            let scene: Scene = toml::from_str(&text).unwrap();
+            toml::Table::try_from(&scene).unwrap()
+        };
+        let holmes_mow = "model = \"holmes_mow\"\nmu = 1.0\nnu = 0.2\nphi_s = 0.5\nk0 = 1.0\nkappa = 1.0\nm0 = 0.0\n\
+                          remodelling = { lambda_p = 1.0, sigma_y = 1.0 }";
+        let tables = [scene(holmes_mow), scene("model = \"linear\"\nmu = 1.0\nnu = 0.2\npermeability = 1.0")];
+        assert!(matches!(
+            toml::from_str::<Scene>(&toml::to_string(&tables[0]).unwrap()).unwrap().material,
+            Material::HolmesMow(_)
+        ));
+        let lookup = |t: &toml::Table, name: &str| -> Option<toml::Value> {
+            let mut here = toml::Value::Table(t.clone());
+            for part in name.split('.') {
+                here = match here {
+                    toml::Value::Array(a) => a.first()?.get(part)?.clone(),
+                    v => v.get(part)?.clone(),
+                };
+            }
+            Some(here)
+        };
+        let as_number = |v: &toml::Value| v.as_float().or(v.as_integer().map(|i| i as f64));
+        let mut checked = 0;
+        for s in sections() {
+            for k in s.keys {
+                let Unset::Value(text) = k.default else { continue };
+                let want: toml::Value = toml::from_str::<toml::Table>(&format!("v = {text}")).unwrap()["v"].clone();
+                // The key's section is in one of the two scenes (the model's keys in one only).
+                let got = tables.iter().filter_map(|t| lookup(t, k.name)).next();
+                let got = got.unwrap_or_else(|| panic!("{}: no default in the serialised scene", k.name));
+                let same = match (as_number(&want), as_number(&got)) {
+                    (Some(a), Some(b)) => a == b,
+                    _ => want == got,
+                };
+                assert!(same, "{}: declared default {text}, serde's {got}", k.name);
+                checked += 1;
+            }
+        }
+        assert!(checked >= 20, "{checked} defaults checked");
+        // A key declared absent by default is not in the serialised scene.
+        for name in ["time.dt_max", "plates.seal_gap", "fem.element", "material.permeability_c"] {
+            assert!(tables.iter().all(|t| lookup(t, name).is_none()), "{name}");
+        }
+    }
+
+    #[test]
+    fn docs_scene_reference_is_the_generated_one() {
+        let committed = include_str!("../../docs/scene-reference.md");
+        if committed != reference() {
+            let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/scene-reference.md");
+            if std::env::var_os("POROPLAST_WRITE_REFERENCE").is_some() {
+                std::fs::write(path, reference()).unwrap();
+            }
+            panic!(
+                "docs/scene-reference.md differs from the key declarations: regenerate it with \
+                 `poroplast scenes --keys > docs/scene-reference.md` (or run this test with \
+                 POROPLAST_WRITE_REFERENCE=1)"
+            );
+        }
+    }
+}
