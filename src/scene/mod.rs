@@ -4,7 +4,7 @@
 //!
 //! One file per section holds its serde types, their defaults, the declaration of its keys
 //! ([`key::Key`]: unit, default, valid range, description) and its checks, which read the ranges
-//! from those declarations; [`reference`] writes them all as the scene reference
+//! from those declarations; [`reference`](mod@reference) writes them all as the scene reference
 //! (docs/scene-reference.md). [`LoadedScene`] loads a scene (a file or a builtin, `--set`
 //! overrides, the `auto` choices of the measured chart in [`auto`]); `diagnose` words the errors
 //! that TOML and serde give.
