@@ -101,7 +101,12 @@ pub enum Command {
         petsc: Vec<String>,
     },
     /// List the scenes shipped in the binary.
-    Scenes,
+    Scenes {
+        /// Print every scene key instead (unit, default, valid range, description) as Markdown:
+        /// the text of docs/scene-reference.md.
+        #[arg(long)]
+        keys: bool,
+    },
     /// Print a shipped scene's TOML (a starting point for your own).
     Show {
         /// Name of a shipped scene.

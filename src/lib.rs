@@ -17,6 +17,7 @@ pub mod observe;
 pub mod parallel;
 pub mod petsc;
 pub mod physics;
+pub mod range;
 pub mod reference_cell;
 pub mod scene;
 pub mod solver;

@@ -8,7 +8,11 @@ use poroplast::sweep::{self, SweepArgs};
 
 fn main() {
     let cli = Cli::parse();
-    if let Command::Scenes = cli.command {
+    if let Command::Scenes { keys } = cli.command {
+        if keys {
+            print!("{}", poroplast::scene::reference::reference());
+            return;
+        }
         for (name, text) in BUILTIN {
             let desc = text.lines().find_map(|l| l.strip_prefix("description = ")).unwrap_or("").trim_matches('"');
             println!("{name:20} {desc}");
@@ -56,7 +60,7 @@ fn main() {
             sweep::sweep(&world, &args).map(|dir| format!("summary: {}", dir.join("summary.csv").display()))
         }
         // Answered above, before MPI.
-        Command::Scenes | Command::Show { .. } => return,
+        Command::Scenes { .. } | Command::Show { .. } => return,
     };
     let code = match result {
         Ok(msg) => {

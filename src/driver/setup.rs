@@ -81,7 +81,7 @@ fn constraints(
         Some(_) => solver::FreeRigidModes::find(world, dofs, local, &constrained_u),
         None => None,
     };
-    if matches!(s.material, Material::HolmesMow { drained: true, .. }) {
+    if matches!(&s.material, Material::HolmesMow(m) if m.drained) {
         cons.extend((0..local.n_vertices()).map(|v| Constraint { local: dofs.p_local(v), value: 0.0 }));
     }
     Ok((cons, ext, free_modes))
@@ -227,12 +227,6 @@ impl<'w> Run<'w> {
             Family::Tet10 => quadrature::tet(degree),
             Family::Tri6 => quadrature::tri(degree + 1),
         };
-        if local.family.axisymmetric() && s.fem.equal_order() {
-            return Err(Error::Scene {
-                path: scene.source.clone(),
-                msg: "fem.element = \"P1-P1\" is for tetrahedral meshes only (not the meridian)".into(),
-            });
-        }
         let (cons, ext, free_modes) = constraints(world, scene, &local, &dofs)?;
         let plates = plates(world, scene, &local, model.as_ref())?;
         let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
@@ -306,8 +300,8 @@ impl<'w> Run<'w> {
             fields: s.output.fields,
             mid_edges: if s.output.fields { mid_edge_nodes(ts.problem().mesh()) } else { Vec::new() },
         };
-        let settle = s.plates.is_some()
-            && matches!(&s.material, Material::HolmesMow { gravity, .. } if gravity.iter().any(|g| *g != 0.0));
+        let settle =
+            s.plates.is_some() && matches!(&s.material, Material::HolmesMow(m) if m.gravity.iter().any(|g| *g != 0.0));
         Ok(Run {
             world,
             scene: scene.clone(),

@@ -24,6 +24,7 @@ use super::dual::{m_det, m_exp, m_mul, m_scale, m_trace_mul, m_transpose, Dual, 
 use super::tensor::{from_sym6, to_sym6, SYM_PAIRS};
 use super::{domain_error, HolmesMow};
 use crate::error::{Error, Result};
+use crate::range::Range;
 use nalgebra::{Matrix3, SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 
@@ -102,15 +103,15 @@ const NX: usize = 7;
 const MAX_ITERATIONS: usize = 50;
 const TOLERANCE: f64 = 1e-14;
 
+/// The valid λp ((kPa s)⁻¹) and σy (kPa), which a scene's keys check too.
+pub const LAMBDA_P: Range = Range::NON_NEGATIVE;
+pub const SIGMA_Y: Range = Range::NON_NEGATIVE;
+
 impl Remodelling {
-    /// Requires λp >= 0 and σy >= 0, both finite.
+    /// Requires λp in [`LAMBDA_P`] and σy in [`SIGMA_Y`].
     pub fn new(lambda_p: f64, sigma_y: f64) -> Result<Self> {
-        if !(lambda_p >= 0.0 && lambda_p.is_finite()) {
-            return Err(Error::Material(format!("remodelling: lambda_p = {lambda_p} must be finite and >= 0")));
-        }
-        if !(sigma_y >= 0.0 && sigma_y.is_finite()) {
-            return Err(Error::Material(format!("remodelling: sigma_y = {sigma_y} must be finite and >= 0")));
-        }
+        LAMBDA_P.check("remodelling: lambda_p", lambda_p).map_err(Error::Material)?;
+        SIGMA_Y.check("remodelling: sigma_y", sigma_y).map_err(Error::Material)?;
         Ok(Remodelling { lambda_p, sigma_y, form: FlowForm::Referential, integrator: Integrator::Implicit })
     }
 

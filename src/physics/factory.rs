@@ -5,14 +5,13 @@ use crate::fem::point::PointModel;
 use crate::material::{ellipticity, HolmesMow};
 use crate::physics::biphasic::Biphasic;
 use crate::physics::linear::LinearPoroelastic;
-use crate::scene::{LoadedScene, Material};
+use crate::scene::{HolmesMowSpec, LoadedScene, Material, SolidSpec};
 
 /// The Holmes–Mow solid of a scene: from (µ, ν) by (56), or from its α's.
-fn holmes_mow(mu: Option<f64>, nu: Option<f64>, alpha: &Option<[f64; 3]>, phi_s: f64) -> Result<HolmesMow> {
-    match (mu, nu, alpha) {
-        (Some(mu), Some(nu), _) => HolmesMow::from_mu_nu(mu, nu, phi_s),
-        (_, _, Some(a)) => HolmesMow::new(phi_s, a[0], a[1], a[2], 1.0),
-        _ => Err(Error::Material("holmes_mow: give `mu` and `nu`, or `alpha` (not both)".into())),
+fn holmes_mow(spec: &HolmesMowSpec) -> Result<HolmesMow> {
+    match spec.solid().map_err(Error::Material)? {
+        SolidSpec::MuNu { mu, nu } => HolmesMow::from_mu_nu(mu, nu, spec.phi_s),
+        SolidSpec::Alpha(a) => HolmesMow::new(spec.phi_s, a[0], a[1], a[2], 1.0),
     }
 }
 
@@ -21,10 +20,10 @@ fn holmes_mow(mu: Option<f64>, nu: Option<f64>, alpha: &Option<[f64; 3]>, phi_s:
 /// every mesh. It names the compression limit (any elastic principal stretch below
 /// √(−α1/α2)) and the uniaxial-stress tension limit, where the lateral contraction reaches it.
 pub fn ellipticity_warning(scene: &LoadedScene) -> Result<Option<String>> {
-    let Material::HolmesMow { mu, nu, alpha, phi_s, .. } = &scene.scene.material else {
+    let Material::HolmesMow(spec) = &scene.scene.material else {
         return Ok(None);
     };
-    let solid = holmes_mow(*mu, *nu, alpha, *phi_s)?;
+    let solid = holmes_mow(spec)?;
     let Some(lam) = ellipticity::isochoric_compression_limit(&solid, 0.5)? else {
         return Ok(None);
     };
@@ -38,56 +37,49 @@ pub fn ellipticity_warning(scene: &LoadedScene) -> Result<Option<String>> {
          compression in uniaxial strain or stress too{tension}): strains above that localise, and the \
          solve stops converging there on any mesh (docs/studies.md, stability (f))",
         solid.alpha1,
-        nu.map(|n| format!(": nu = {n} > 1/3")).unwrap_or_default(),
+        spec.nu.map(|n| format!(": nu = {n} > 1/3")).unwrap_or_default(),
     )))
 }
 
 /// The scene's point model.
 pub fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
-    use crate::material::{CompactionPenalty, Permeability, PermeabilityModel, Remodelling};
-    let ctx = |e: Error| {
-        let msg = match e {
-            Error::Material(m) => m,
-            e => e.to_string(),
-        };
-        Error::Scene { path: scene.source.clone(), msg: format!("[material] {msg}") }
-    };
     match &scene.scene.material {
         Material::Linear { mu, nu, permeability } => Ok(Box::new(LinearPoroelastic::new(*mu, *nu, *permeability)?)),
-        Material::HolmesMow {
-            mu,
-            nu,
-            alpha,
-            phi_s,
-            k0,
-            kappa,
-            m0,
-            permeability_c,
-            penalty,
-            rho_s,
-            rho_f,
-            gravity,
-            remodelling,
-            ..
-        } => {
-            let solid = holmes_mow(*mu, *nu, alpha, *phi_s).map_err(ctx)?;
-            let pen = penalty
-                .as_ref()
-                .map(|p| CompactionPenalty::new(*phi_s, p.u0, p.j_cr, p.q, p.r))
-                .transpose()
-                .map_err(ctx)?;
-            let model = match permeability_c {
-                Some(c) => PermeabilityModel::RemodellingDependent { c: *c },
-                None => PermeabilityModel::Isotropic,
-            };
-            let perm = Permeability::new(*k0, *phi_s, *kappa, *m0, model).map_err(ctx)?;
-            let mut model = Biphasic::new(solid, pen, perm, *rho_s, *rho_f, *gravity).map_err(ctx)?;
-            if let Some(r) = remodelling {
-                let law = Remodelling::new(r.lambda_p, r.sigma_y).map_err(ctx)?;
-                model = model.with_remodelling(law.with_form(r.form).with_integrator(r.integrator));
-            }
+        Material::HolmesMow(spec) => {
+            let model = Biphasic::try_from(spec).map_err(|e| {
+                let msg = match e {
+                    Error::Material(m) => m,
+                    e => e.to_string(),
+                };
+                Error::Scene { path: scene.source.clone(), msg: format!("[material] {msg}") }
+            })?;
             Ok(Box::new(model))
         }
+    }
+}
+
+impl TryFrom<&HolmesMowSpec> for Biphasic {
+    type Error = Error;
+
+    /// The mixture of a scene's `[material]`: solid, penalty, permeability, densities, gravity
+    /// and remodelling, each checked by its law.
+    fn try_from(spec: &HolmesMowSpec) -> Result<Biphasic> {
+        use crate::material::{CompactionPenalty, Permeability, PermeabilityModel, Remodelling};
+        let solid = holmes_mow(spec)?;
+        let phi_s = spec.phi_s;
+        let penalty =
+            spec.penalty.as_ref().map(|p| CompactionPenalty::new(phi_s, p.u0, p.j_cr, p.q, p.r)).transpose()?;
+        let model = match spec.permeability_c {
+            Some(c) => PermeabilityModel::RemodellingDependent { c },
+            None => PermeabilityModel::Isotropic,
+        };
+        let perm = Permeability::new(spec.k0, phi_s, spec.kappa, spec.m0, model)?;
+        let mut mixture = Biphasic::new(solid, penalty, perm, spec.rho_s, spec.rho_f, spec.gravity)?;
+        if let Some(r) = &spec.remodelling {
+            let law = Remodelling::new(r.lambda_p, r.sigma_y)?;
+            mixture = mixture.with_remodelling(law.with_form(r.form).with_integrator(r.integrator));
+        }
+        Ok(mixture)
     }
 }
 

@@ -1,0 +1,73 @@
+//! The declaration of a scene key: its dotted name, unit, default, valid range, further rules
+//! and a one-line description. Each section file declares its keys next to its serde types and
+//! checks the ranges through them, so a range lives in one place; [`super::reference`] writes
+//! every section's table as the scene reference (`docs/scene-reference.md`).
+
+use crate::range::Range;
+
+/// One key of a scene file.
+#[derive(Debug, Clone, Copy)]
+pub struct Key {
+    /// Dotted path (`time.dt`, `material.remodelling.lambda_p`; `bc.group` for `[[bc]]` entries).
+    pub name: &'static str,
+    /// Unit ("" for dimensionless numbers, flags and names).
+    pub unit: &'static str,
+    /// What the key is when the scene leaves it out.
+    pub default: Unset,
+    /// The interval a number must lie in (None: not a number, or a rule below).
+    pub range: Option<Range>,
+    /// What else is checked: choices, rules between keys.
+    pub rule: &'static str,
+    /// What the key sets, in one line.
+    pub doc: &'static str,
+}
+
+/// What a key is when the scene leaves it out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Unset {
+    /// The scene must give it.
+    Required,
+    /// Nothing: the words say what that means (may be empty).
+    Absent(&'static str),
+    /// This value, written as TOML (tested against serde's default).
+    Value(&'static str),
+}
+
+impl Key {
+    /// A key with no range or rule.
+    pub const fn new(name: &'static str, unit: &'static str, default: Unset, doc: &'static str) -> Key {
+        Key { name, unit, default, range: None, rule: "", doc }
+    }
+
+    /// The same key with a valid range.
+    pub const fn range(self, range: Range) -> Key {
+        Key { range: Some(range), ..self }
+    }
+
+    /// The same key with a rule in words.
+    pub const fn rule(self, rule: &'static str) -> Key {
+        Key { rule, ..self }
+    }
+
+    /// Ok, or "name = v: what it must be" (a key without a range accepts anything).
+    pub fn check(&self, v: f64) -> Result<(), String> {
+        self.check_as(self.name, v)
+    }
+
+    /// As [`Key::check`] for a count, shown as an integer.
+    pub fn check_count(&self, n: usize) -> Result<(), String> {
+        self.range.map_or(Ok(()), |r| r.check_shown(self.name, n as f64, n))
+    }
+
+    /// As [`Key::check`], with the message naming `label` (an entry of a list, say).
+    pub fn check_as(&self, label: &str, v: f64) -> Result<(), String> {
+        self.range.map_or(Ok(()), |r| r.check(label, v))
+    }
+}
+
+/// A section of the reference: its title, a sentence, its keys.
+pub struct Section {
+    pub title: &'static str,
+    pub about: &'static str,
+    pub keys: &'static [Key],
+}

@@ -1,0 +1,305 @@
+//! `[material]`: the constitutive model (linear poroelasticity, or the finite-strain
+//! Holmes–Mow mixture with its penalty and remodelling), its keys and their checks.
+
+use super::key::{Key, Section, Unset};
+use crate::material::remodelling;
+use crate::material::{FlowForm, Integrator};
+use crate::range::Range;
+use serde::{Deserialize, Serialize};
+
+/// Constitutive model of the solid skeleton and the fluid flow. (Parsed once per run, so the
+/// size difference between the variants does not matter.)
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, tag = "model", rename_all = "snake_case")]
+pub enum Material {
+    /// Small-strain linear poroelasticity, incompressible constituents (Biot α = 1, M = ∞).
+    Linear {
+        /// Drained shear modulus µ (kPa).
+        mu: f64,
+        /// Drained Poisson ratio ν, in (-1, 0.5).
+        nu: f64,
+        /// Darcy conductivity k (µm⁴/(nN s)): Q = −k ∇p.
+        permeability: f64,
+    },
+    /// Finite-strain biphasic mixture (model.md §2–§3): Holmes–Mow solid, compaction penalty,
+    /// Holmes–Mow permeability, gravity.
+    HolmesMow(HolmesMowSpec),
+}
+
+/// The finite-strain biphasic mixture of `model = "holmes_mow"`.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct HolmesMowSpec {
+    /// Shear modulus µ (kPa) and Poisson ratio ν of Ψ/Φs; the α's follow from eq. (56) ...
+    #[serde(default)]
+    pub mu: Option<f64>,
+    #[serde(default)]
+    pub nu: Option<f64>,
+    /// ... or are given directly: [α0 (kPa), α1, α2] (α3 = 1).
+    #[serde(default)]
+    pub alpha: Option<[f64; 3]>,
+    /// Referential solid fraction Φs.
+    pub phi_s: f64,
+    /// Referential conductivity k0 (µm⁴/(nN s); 1 mm⁴/(N s) = 1000).
+    pub k0: f64,
+    /// Permeability exponents: k = k0 [(J − Φs)/(1 − Φs)]^κ exp(m0 (J² − 1)/2).
+    pub kappa: f64,
+    pub m0: f64,
+    /// Remodelling-dependent permeability (model.md (45)–(48)) with this c; isotropic if absent.
+    #[serde(default)]
+    pub permeability_c: Option<f64>,
+    /// Compaction penalty U(J) (model.md (33)); none if absent.
+    #[serde(default)]
+    pub penalty: Option<PenaltySpec>,
+    /// Visco-plastic remodelling of B_p (model.md §4); none if absent (B_p = I, no qp state).
+    #[serde(default)]
+    pub remodelling: Option<RemodellingSpec>,
+    /// Densities (kg/m³).
+    #[serde(default = "water")]
+    pub rho_s: f64,
+    #[serde(default = "water")]
+    pub rho_f: f64,
+    /// Gravity acceleration (m/s²).
+    #[serde(default)]
+    pub gravity: [f64; 3],
+    /// No fluid: p ≡ 0 everywhere, the drained skeleton alone (each step a static solve,
+    /// the limit a long hold relaxes to).
+    #[serde(default)]
+    pub drained: bool,
+}
+
+/// How a Holmes–Mow solid is given: by (µ, ν) or by its α's (never both).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SolidSpec {
+    /// Shear modulus (kPa) and Poisson ratio; the α's from eq. (56).
+    MuNu { mu: f64, nu: f64 },
+    /// [α0 (kPa), α1, α2], α3 = 1.
+    Alpha([f64; 3]),
+}
+
+/// Compaction penalty U(J) = Φs U0 H(J_cr − J) (J − J_cr)^{2q} / (J − Φs)^r.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PenaltySpec {
+    pub j_cr: f64,
+    /// U0 (kPa).
+    pub u0: f64,
+    pub q: f64,
+    pub r: f64,
+}
+
+/// Perzyna remodelling dB_p/dt = −2 γp B_p dev Σ, γp = λp [‖dev σ‖ − √(2/3) σy]₊ / ‖dev σ‖.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RemodellingSpec {
+    /// λp in (kPa s)⁻¹ (Table 1: 0.001 = 1 (MPa s)⁻¹).
+    pub lambda_p: f64,
+    /// Yield stress σy (kPa).
+    pub sigma_y: f64,
+    /// Which form of the paper's flow rule (40): "40b" (default, dB_p/dt = −2 γp B_p dev Σ,
+    /// what the paper says it solved) or "40a" (L b_e = −2 γp b_e dev σ: a rate 1/J faster).
+    #[serde(default)]
+    pub form: FlowForm,
+    /// Step integrator: "implicit" (default: the exponential map, unconditionally stable),
+    /// "trapezoidal" (half the step explicit, half implicit: second order, A-stable) or
+    /// "explicit" (forward Euler in B_p, conditionally stable: for stability studies).
+    #[serde(default)]
+    pub integrator: Integrator,
+}
+
+fn water() -> f64 {
+    1000.0
+}
+
+impl Material {
+    /// The parameters of the model in their ranges.
+    pub(super) fn validate(&self) -> Result<(), String> {
+        match self {
+            Material::Linear { mu, nu, permeability } => {
+                LINEAR_MU.check(*mu)?;
+                LINEAR_NU.check(*nu)?;
+                PERMEABILITY.check(*permeability)
+            }
+            Material::HolmesMow(hm) => hm.validate(),
+        }
+    }
+}
+
+impl HolmesMowSpec {
+    /// How the solid is given; Err: neither or both ways (the message without its section).
+    pub fn solid(&self) -> Result<SolidSpec, String> {
+        match (self.mu, self.nu, self.alpha) {
+            (Some(mu), Some(nu), None) => Ok(SolidSpec::MuNu { mu, nu }),
+            (None, None, Some(a)) => Ok(SolidSpec::Alpha(a)),
+            _ => Err("holmes_mow: give `mu` and `nu`, or `alpha` (not both)".into()),
+        }
+    }
+
+    fn validate(&self) -> Result<(), String> {
+        match self.solid().map_err(|m| format!("[material] {m}"))? {
+            SolidSpec::MuNu { mu, nu } => {
+                MU.check(mu)?;
+                NU.check(nu)?;
+            }
+            SolidSpec::Alpha(a) => ALPHA.check_as("material.alpha[0]", a[0])?,
+        }
+        PHI_S.check(self.phi_s)?;
+        K0.check(self.k0)?;
+        KAPPA.check(self.kappa)?;
+        M0.check(self.m0)?;
+        if let Some(c) = self.permeability_c {
+            PERMEABILITY_C.check(c)?;
+        }
+        if let Some(r) = &self.remodelling {
+            LAMBDA_P.check(r.lambda_p)?;
+            SIGMA_Y.check(r.sigma_y)?;
+        }
+        RHO_S.check(self.rho_s)?;
+        RHO_F.check(self.rho_f)?;
+        for g in self.gravity {
+            GRAVITY.check(g)?;
+        }
+        Ok(())
+    }
+}
+
+const POISSON: Range = Range::new(-1.0, false, 0.5, false, "Poisson ratio must lie in (-1, 0.5)");
+const DENSITY: Range = Range::NON_NEGATIVE.says("must be >= 0 (kg/m^3)");
+
+const LINEAR_MODEL: Key = Key::new(
+    "material.model",
+    "",
+    Unset::Required,
+    "`linear`: small-strain poroelasticity, incompressible constituents",
+);
+const LINEAR_MU: Key =
+    Key::new("material.mu", "kPa", Unset::Required, "drained shear modulus µ").range(Range::POSITIVE);
+const LINEAR_NU: Key = Key::new("material.nu", "", Unset::Required, "drained Poisson ratio ν").range(POISSON);
+const PERMEABILITY: Key =
+    Key::new("material.permeability", "µm⁴/(nN s)", Unset::Required, "Darcy conductivity k: Q = −k ∇p")
+        .range(Range::POSITIVE);
+
+const MODEL: Key = Key::new(
+    "material.model",
+    "",
+    Unset::Required,
+    "`holmes_mow`: the finite-strain biphasic mixture (Holmes–Mow solid, penalty, permeability, gravity)",
+);
+const MU: Key =
+    Key::new("material.mu", "kPa", Unset::Absent(""), "shear modulus µ of Ψ/Φs; with ν, the α's by eq. (56)")
+        .range(Range::POSITIVE)
+        .rule("`mu` and `nu`, or `alpha`");
+/// ν has one range in both models.
+const NU: Key = Key::new("material.nu", "", Unset::Absent(""), "Poisson ratio ν of Ψ/Φs").range(POISSON);
+const ALPHA: Key = Key::new("material.alpha", "kPa, –, –", Unset::Absent(""), "[α0, α1, α2] given directly (α3 = 1)")
+    .range(Range::POSITIVE)
+    .rule("the range is α0's; the law checks the others");
+const PHI_S: Key = Key::new("material.phi_s", "", Unset::Required, "referential solid fraction Φs").range(Range::new(
+    0.0,
+    false,
+    1.0,
+    false,
+    "solid fraction must lie in (0, 1)",
+));
+const K0: Key =
+    Key::new("material.k0", "µm⁴/(nN s)", Unset::Required, "referential conductivity k0 (1 mm⁴/(N s) = 1000)")
+        .range(Range::POSITIVE);
+const KAPPA: Key =
+    Key::new("material.kappa", "", Unset::Required, "exponent κ of k = k0 [(J − Φs)/(1 − Φs)]^κ exp(m0 (J² − 1)/2)")
+        .range(Range::FINITE)
+        .rule("≥ 0 when the model is built");
+const M0: Key = Key::new("material.m0", "", Unset::Required, "exponent m0 of the permeability").range(Range::FINITE);
+const PERMEABILITY_C: Key = Key::new(
+    "material.permeability_c",
+    "",
+    Unset::Absent("isotropic permeability"),
+    "c of the remodelling-dependent permeability (model.md (45)–(48))",
+)
+.range(Range::POSITIVE);
+const PENALTY: Key =
+    Key::new("material.penalty", "", Unset::Absent("no penalty"), "the compaction penalty U(J): a table, below");
+const REMODELLING: Key = Key::new(
+    "material.remodelling",
+    "",
+    Unset::Absent("none: B_p = I"),
+    "the visco-plastic remodelling of B_p: a table, below",
+);
+const RHO_S: Key = Key::new("material.rho_s", "kg/m³", Unset::Value("1000.0"), "solid density").range(DENSITY);
+const RHO_F: Key = Key::new("material.rho_f", "kg/m³", Unset::Value("1000.0"), "fluid density").range(DENSITY);
+const GRAVITY: Key =
+    Key::new("material.gravity", "m/s²", Unset::Value("[0.0, 0.0, 0.0]"), "gravity acceleration").range(Range::FINITE);
+const DRAINED: Key = Key::new(
+    "material.drained",
+    "",
+    Unset::Value("false"),
+    "no fluid: p = 0, each step a static solve of the skeleton",
+);
+
+/// λp's and σy's ranges are the law's own (`material::remodelling`).
+const LAMBDA_P: Key =
+    Key::new("material.remodelling.lambda_p", "1/(kPa s)", Unset::Required, "rate λp (Table 1: 0.001 = 1 (MPa s)⁻¹)")
+        .range(remodelling::LAMBDA_P);
+const SIGMA_Y: Key =
+    Key::new("material.remodelling.sigma_y", "kPa", Unset::Required, "yield stress σy").range(remodelling::SIGMA_Y);
+
+pub(super) const LINEAR_SECTION: Section = Section {
+    title: "[material], model = \"linear\"",
+    about: "Small-strain linear poroelasticity.",
+    keys: &[LINEAR_MODEL, LINEAR_MU, LINEAR_NU, PERMEABILITY],
+};
+
+pub(super) const HOLMES_MOW_SECTION: Section = Section {
+    title: "[material], model = \"holmes_mow\"",
+    about: "The finite-strain biphasic mixture (docs/model.md §2–§4).",
+    keys: &[
+        MODEL,
+        MU,
+        NU,
+        ALPHA,
+        PHI_S,
+        K0,
+        KAPPA,
+        M0,
+        PERMEABILITY_C,
+        PENALTY,
+        REMODELLING,
+        RHO_S,
+        RHO_F,
+        GRAVITY,
+        DRAINED,
+    ],
+};
+
+/// Checked by the law (`material::CompactionPenalty`) when the model is built.
+pub(super) const PENALTY_SECTION: Section = Section {
+    title: "material.penalty",
+    about: "U(J) = Φs U0 H(J_cr − J) (J − J_cr)^{2q} / (J − Φs)^r; checked when the model is built.",
+    keys: &[
+        Key::new("material.penalty.j_cr", "", Unset::Required, "J below which the penalty acts").rule("in (Φs, 1]"),
+        Key::new("material.penalty.u0", "kPa", Unset::Required, "its modulus U0").rule("≥ 0"),
+        Key::new("material.penalty.q", "", Unset::Required, "exponent q of (J − J_cr)^{2q}").rule("≥ 1"),
+        Key::new("material.penalty.r", "", Unset::Required, "exponent r of (J − Φs)^−r").rule("≥ 0"),
+    ],
+};
+
+pub(super) const REMODELLING_SECTION: Section = Section {
+    title: "material.remodelling",
+    about: "Perzyna flow dB_p/dt = −2 γp B_p dev Σ, γp = λp [‖dev σ‖ − √(2/3) σy]₊ / ‖dev σ‖.",
+    keys: &[
+        LAMBDA_P,
+        SIGMA_Y,
+        Key::new(
+            "material.remodelling.form",
+            "",
+            Unset::Value("\"40b\""),
+            "the paper's flow rule (40): `40b` (dB_p/dt = −2 γp B_p dev Σ) or `40a` (a rate 1/J faster)",
+        ),
+        Key::new(
+            "material.remodelling.integrator",
+            "",
+            Unset::Value("\"implicit\""),
+            "`implicit` (exponential map), `trapezoidal` (second order) or `explicit` (stability studies only)",
+        ),
+    ],
+};

@@ -1,0 +1,149 @@
+//! `[solver]` and `[fem]`: the solver preset, the element pair, the quadrature degree and the
+//! pressure stabilisation; their keys and checks.
+
+use super::key::{Key, Section, Unset};
+use super::mesh::Geometry;
+use crate::range::Range;
+use serde::{Deserialize, Serialize};
+
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    /// `auto` (default: `direct` for small systems, `fieldsplit` for large ones), `direct`
+    /// (Krylov with a reused MUMPS factorisation), `fieldsplit` (Schur fieldsplit, AMG on u with
+    /// rigid-body modes, fixed-stress Schur approximation) or `lu` (MUMPS for every Newton
+    /// system, the reference). See `solver`.
+    #[serde(default)]
+    pub preset: Option<crate::solver::Preset>,
+}
+
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct FemSpec {
+    /// Degree of the quadrature rule (default 2 for the linear model, exact on straight
+    /// elements; 3 for the finite-strain models). On a meridian mesh the triangle rule is one
+    /// degree higher (dV = 2πR dA).
+    #[serde(default)]
+    pub quadrature_degree: Option<usize>,
+    /// c of the pressure stabilisation (c / (λ + 2µ)) ∫ (ṗ − Πṗ)(q − Πq) that keeps the
+    /// undrained limit monotone next to drained boundaries (default 4: exact lumping; 0 off).
+    #[serde(default)]
+    pub stabilisation: Option<f64>,
+    /// τ₀: the stabilisation fades as a step resolves the drainage, weight c (1 − (τ/τ₀)²)₊ with
+    /// τ = c_v Δt / h² (`fem::kernel::Stabilisation`; default: constant). Taylor–Hood only:
+    /// P1–P1 keeps the constant weight, which its inf–sup stability needs.
+    #[serde(default)]
+    pub stabilisation_fade: Option<f64>,
+    /// The element: "P2-P1" (Taylor–Hood, default), "auto" (the measured best: P2–P1; see
+    /// [`super::auto`]) or "P1-P1" (equal order, unstable without
+    /// the stabilisation; `fem::equal_order`). With plates, P1–P1's contact bounds and contact
+    /// state are on the vertices (its mid-edge nodes follow their edges); its stabilisation
+    /// keeps the constant weight (`stabilisation_fade` is for Taylor–Hood only).
+    #[serde(default)]
+    pub element: Option<Element>,
+}
+
+/// The element pair of the u–p discretisation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+pub enum Element {
+    /// Taylor–Hood P2–P1.
+    #[serde(rename = "P2-P1")]
+    P2P1,
+    /// Equal-order P1–P1 (`fem::equal_order`).
+    #[serde(rename = "P1-P1")]
+    P1P1,
+    /// The measured best for the scene; resolved when the scene is loaded ([`super::auto`]).
+    #[serde(rename = "auto")]
+    Auto,
+}
+
+impl FemSpec {
+    /// Equal-order P1–P1 instead of Taylor–Hood.
+    pub fn equal_order(&self) -> bool {
+        self.element == Some(Element::P1P1)
+    }
+
+    /// Stabilisation, quadrature degree, and P1–P1 on tetrahedra only (`geometry`: the mesh's).
+    pub(super) fn validate(&self, geometry: Geometry) -> Result<(), String> {
+        if let Some(c) = self.stabilisation {
+            STABILISATION.check(c)?;
+        }
+        if let Some(t) = self.stabilisation_fade {
+            STABILISATION_FADE.check(t)?;
+        }
+        if let Some(q) = self.quadrature_degree {
+            QUADRATURE_DEGREE.check_count(q)?;
+        }
+        if geometry == Geometry::Axisymmetric && self.equal_order() {
+            return Err("fem.element = \"P1-P1\" is for tetrahedral meshes only (not the meridian)".into());
+        }
+        Ok(())
+    }
+}
+
+pub(super) const SOLVER_SECTION: Section = Section {
+    title: "[solver]",
+    about: "How the Newton systems are solved (docs/numerics.md).",
+    keys: &[Key::new(
+        "solver.preset",
+        "",
+        Unset::Absent("`auto`"),
+        "`auto` (`direct` for small systems, `fieldsplit` for large), `direct` (Krylov with a reused MUMPS \
+         factorisation), `fieldsplit` (Schur, AMG on u) or `lu` (MUMPS every Newton step)",
+    )],
+};
+
+const STABILISATION: Key = Key::new(
+    "fem.stabilisation",
+    "",
+    Unset::Absent("4"),
+    "c of the pressure stabilisation (c / (λ + 2µ)) ∫ (ṗ − Πṗ)(q − Πq) (4: exact lumping; 0: off)",
+)
+.range(Range::NON_NEGATIVE.says("must be >= 0"));
+const STABILISATION_FADE: Key = Key::new(
+    "fem.stabilisation_fade",
+    "",
+    Unset::Absent("constant weight"),
+    "τ₀: the weight fades as c (1 − (τ/τ₀)²)₊, τ = c_v Δt / h² (Taylor–Hood only)",
+)
+.range(Range::POSITIVE.says("must be positive (omit it for none)"));
+const QUADRATURE_DEGREE: Key = Key::new(
+    "fem.quadrature_degree",
+    "",
+    Unset::Absent("2 (linear model), 3 (finite strain)"),
+    "degree of the quadrature rule; one more on the meridian (dV = 2πr dA)",
+)
+.range(Range::new(1.0, true, 8.0, true, "use 1..8"));
+
+pub(super) const FEM_SECTION: Section = Section {
+    title: "[fem]",
+    about: "The discretisation.",
+    keys: &[
+        QUADRATURE_DEGREE,
+        STABILISATION,
+        STABILISATION_FADE,
+        Key::new(
+            "fem.element",
+            "",
+            Unset::Absent("`P2-P1`"),
+            "`P2-P1` (Taylor–Hood), `auto` (the measured best: P2-P1) or `P1-P1` (equal order, stabilised)",
+        )
+        .rule("P1-P1 not on the meridian"),
+    ],
+};
+
+#[cfg(test)]
+mod tests {
+    use super::super::LoadedScene;
+
+    #[test]
+    fn equal_order_is_refused_on_the_meridian_when_loaded() {
+        let sets = ["mesh.geometry=\"axisymmetric\"".to_string(), "fem.element=\"P1-P1\"".to_string()];
+        let e = LoadedScene::load("reference", &sets).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "scene builtin:reference: fem.element = \"P1-P1\" is for tetrahedral meshes only (not the meridian)"
+        );
+        assert!(LoadedScene::load("reference", &sets[1..]).is_ok());
+    }
+}

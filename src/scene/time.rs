@@ -1,0 +1,269 @@
+//! `[time]`, `[output]` and `[initial]`: the steps, what is written when, and the state at
+//! t = 0; their keys and their checks.
+
+use super::key::{Key, Section, Unset};
+use crate::range::Range;
+use serde::{Deserialize, Serialize};
+
+/// Time stepping: geometric growth from `dt` to `dt_max`, landing exactly on `t_end` and on
+/// every time in `land_on`.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeSpec {
+    pub t_end: f64,
+    /// First step (s).
+    pub dt: f64,
+    #[serde(default)]
+    pub dt_max: Option<f64>,
+    /// Largest step during the plates' loading ramp (0 to `plates.t_ramp`): backward Euler
+    /// over-integrates a flow that rises through the ramp (the remodelling) by a share of
+    /// Δt / t, which geometric growth keeps constant; a cap makes it shrink.
+    #[serde(default)]
+    pub dt_max_ramp: Option<f64>,
+    /// dt_{n+1} = min(growth · dt_n, dt_max); 1 = constant steps. With `error_tolerance`, only
+    /// where there is no error estimate (the first step after a kink of the loading).
+    #[serde(default = "one")]
+    pub growth: f64,
+    /// Choose the steps by a local error estimate (see `driver::rate::StepRate::error`): the
+    /// tolerance relative to each field's magnitude. Absent: geometric growth.
+    #[serde(default)]
+    pub error_tolerance: Option<f64>,
+    #[serde(default)]
+    pub land_on: Vec<f64>,
+    /// Retries (each cutting the step, by 0.25 by default) allowed when a solve fails.
+    #[serde(default = "default_retries")]
+    pub max_retries: usize,
+    /// A step cut below this (s) by failed solves ends the run with an error: the solve is not
+    /// converging there, and ever shorter steps would only make the run crawl (default 1e-6 dt).
+    #[serde(default)]
+    pub dt_min: Option<f64>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn default_retries() -> usize {
+    8
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Write fields every N steps (and always the last); 0 = last step only.
+    #[serde(default = "default_every")]
+    pub fields_every: usize,
+    /// Write fields at all (large runs in studies may only want history.csv).
+    #[serde(default = "yes")]
+    pub fields: bool,
+    /// Also write fields at these times (the time steps land on them).
+    #[serde(default)]
+    pub fields_at: Vec<f64>,
+    /// Write a checkpoint every N steps (0: not by steps).
+    #[serde(default = "default_checkpoint_every")]
+    pub checkpoint_every: usize,
+    /// Write a checkpoint when this much wall time (minutes) has passed since the last (0: not
+    /// by time).
+    #[serde(default = "default_checkpoint_minutes")]
+    pub checkpoint_minutes: f64,
+}
+fn default_checkpoint_every() -> usize {
+    25
+}
+fn default_checkpoint_minutes() -> f64 {
+    10.0
+}
+impl Default for OutputSpec {
+    fn default() -> Self {
+        OutputSpec {
+            fields_every: default_every(),
+            fields: yes(),
+            fields_at: vec![],
+            checkpoint_every: default_checkpoint_every(),
+            checkpoint_minutes: default_checkpoint_minutes(),
+        }
+    }
+}
+fn default_every() -> usize {
+    1
+}
+fn yes() -> bool {
+    true
+}
+
+/// An affine initial displacement u(X, 0) = G X (a homogeneous deformation F = I + G), e.g. a
+/// stretch applied at t = 0 and then held by the boundary conditions.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSpec {
+    /// G = Grad u, rows i: `G[i][j]` = ∂u_i/∂X_j.
+    pub displacement_gradient: [[f64; 3]; 3],
+}
+
+impl TimeSpec {
+    /// Positive steps and end time, growth >= 1, landing times (and `fields_at`) inside the
+    /// run; a ramp cap only with plates (`plates`: the scene has them).
+    pub(super) fn validate(&self, fields_at: &[f64], plates: bool) -> Result<(), String> {
+        for &a in self.land_on.iter().chain(fields_at) {
+            if !(a > 0.0 && a <= self.t_end) {
+                return Err(format!(
+                    "time.land_on / output.fields_at: {a} must lie in (0, time.t_end = {}]",
+                    self.t_end
+                ));
+            }
+        }
+        T_END.check(self.t_end)?;
+        DT.check(self.dt)?;
+        if let Some(m) = self.dt_max_ramp {
+            DT_MAX_RAMP.check(m)?;
+            if !plates {
+                return Err(
+                    "time.dt_max_ramp caps the steps of the plates' loading ramp: the scene has no [plates]".into()
+                );
+            }
+            if self.dt > m {
+                return Err(format!(
+                    "time.dt = {} exceeds time.dt_max_ramp = {m}: the first step must be <= it",
+                    self.dt
+                ));
+            }
+        }
+        if let Some(m) = self.dt_max {
+            DT_MAX.check(m)?;
+            if self.dt > m {
+                return Err(format!(
+                    "time.dt = {} exceeds time.dt_max = {m}: the first step must be <= dt_max",
+                    self.dt
+                ));
+            }
+        }
+        if let Some(e) = self.error_tolerance {
+            ERROR_TOLERANCE.check(e)?;
+        }
+        if let Some(m) = self.dt_min {
+            DT_MIN.check(m)?;
+            if m >= self.dt {
+                return Err(format!("time.dt_min = {m}: must be below the first step time.dt = {}", self.dt));
+            }
+        }
+        GROWTH.check(self.growth)
+    }
+}
+
+impl OutputSpec {
+    /// The checkpoint interval.
+    pub(super) fn validate(&self) -> Result<(), String> {
+        CHECKPOINT_MINUTES.check(self.checkpoint_minutes)
+    }
+}
+
+impl InitialSpec {
+    /// A finite displacement gradient with det(I + G) > 0.
+    pub(super) fn validate(&self) -> Result<(), String> {
+        for g in self.displacement_gradient.iter().flatten() {
+            DISPLACEMENT_GRADIENT.check(*g)?;
+        }
+        let f = nalgebra::Matrix3::from_fn(|i, j| self.displacement_gradient[i][j] + if i == j { 1.0 } else { 0.0 });
+        if f.determinant() <= 0.0 {
+            return Err(format!("initial.displacement_gradient: det(I + G) = {} must be > 0", f.determinant()));
+        }
+        Ok(())
+    }
+}
+
+const T_END: Key = Key::new("time.t_end", "s", Unset::Required, "end of the run").range(Range::POSITIVE);
+const DT: Key = Key::new("time.dt", "s", Unset::Required, "the first step, and again after each kink of the loading")
+    .range(Range::POSITIVE);
+const DT_MAX: Key =
+    Key::new("time.dt_max", "s", Unset::Absent("no cap"), "the largest step").range(Range::POSITIVE).rule("≥ dt");
+const DT_MAX_RAMP: Key = Key::new(
+    "time.dt_max_ramp",
+    "s",
+    Unset::Absent("no cap"),
+    "the largest step during the plates' loading ramp (backward Euler over-integrates the remodelling there)",
+)
+.range(Range::POSITIVE)
+.rule("≥ dt; needs [plates]");
+const GROWTH: Key =
+    Key::new("time.growth", "", Unset::Value("1.0"), "dt_{n+1} = min(growth dt_n, dt_max); 1: constant steps")
+        .range(Range::new(1.0, true, f64::INFINITY, false, "must be >= 1"));
+const ERROR_TOLERANCE: Key = Key::new(
+    "time.error_tolerance",
+    "",
+    Unset::Absent("geometric growth"),
+    "choose the steps by a local error estimate, relative to each field's magnitude",
+)
+.range(Range::POSITIVE);
+const DT_MIN: Key = Key::new(
+    "time.dt_min",
+    "s",
+    Unset::Absent("1e-6 dt"),
+    "a step cut below this by failed solves ends the run with an error",
+)
+.range(Range::POSITIVE)
+.rule("< dt");
+
+pub(super) const TIME_SECTION: Section = Section {
+    title: "[time]",
+    about: "Steps grow geometrically from `dt` to `dt_max` (or follow an error estimate), landing exactly on \
+            `t_end`, on `land_on` and on the kinks of the loading.",
+    keys: &[
+        T_END,
+        DT,
+        DT_MAX,
+        DT_MAX_RAMP,
+        GROWTH,
+        ERROR_TOLERANCE,
+        Key::new("time.land_on", "s", Unset::Value("[]"), "times the steps land on exactly").rule("in (0, t_end]"),
+        Key::new("time.max_retries", "", Unset::Value("8"), "retries of a failed step, each cutting it to 1/4")
+            .rule("an integer ≥ 0"),
+        DT_MIN,
+    ],
+};
+
+const CHECKPOINT_MINUTES: Key = Key::new(
+    "output.checkpoint_minutes",
+    "min",
+    Unset::Value("10.0"),
+    "a checkpoint when this much wall time has passed since the last (0: not by time)",
+)
+.range(Range::NON_NEGATIVE.says("must be >= 0 (0: not by time)"));
+
+pub(super) const OUTPUT_SECTION: Section = Section {
+    title: "[output]",
+    about: "history.csv gets a row every step; the fields and checkpoints are written as set here.",
+    keys: &[
+        Key::new(
+            "output.fields_every",
+            "",
+            Unset::Value("1"),
+            "fields every N steps, and always the last (0: the last only)",
+        )
+        .rule("an integer ≥ 0"),
+        Key::new("output.fields", "", Unset::Value("true"), "write fields at all"),
+        Key::new(
+            "output.fields_at",
+            "s",
+            Unset::Value("[]"),
+            "also write fields at these times (the steps land on them)",
+        )
+        .rule("in (0, time.t_end]"),
+        Key::new("output.checkpoint_every", "", Unset::Value("25"), "a checkpoint every N steps (0: not by steps)")
+            .rule("an integer ≥ 0"),
+        CHECKPOINT_MINUTES,
+    ],
+};
+
+const DISPLACEMENT_GRADIENT: Key = Key::new(
+    "initial.displacement_gradient",
+    "",
+    Unset::Required,
+    "G = Grad u of the affine initial state u(X, 0) = G X, rows i: G[i][j] = ∂u_i/∂X_j",
+)
+.range(Range::FINITE)
+.rule("det(I + G) > 0");
+
+pub(super) const INITIAL_SECTION: Section = Section {
+    title: "[initial]",
+    about: "The state at t = 0 (default: undeformed, p = 0).",
+    keys: &[DISPLACEMENT_GRADIENT],
+};
