@@ -162,18 +162,23 @@ pub fn gmsh_version() -> Result<String> {
 }
 
 /// 64-bit FNV-1a: stable across Rust versions and platforms (std's hashers are not guaranteed to be).
-struct Fnv(u64);
+/// (Also the sweep's case keys.)
+pub(crate) struct Fnv(u64);
 
 impl Fnv {
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Fnv(0xcbf2_9ce4_8422_2325)
     }
     /// Length-prefixed so that field boundaries cannot be confused.
-    fn field(&mut self, bytes: &[u8]) {
+    pub(crate) fn field(&mut self, bytes: &[u8]) {
         for b in (bytes.len() as u64).to_le_bytes().iter().chain(bytes) {
             self.0 ^= *b as u64;
             self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
         }
+    }
+    /// The hash as 16 hex digits.
+    pub(crate) fn hex(&self) -> String {
+        format!("{:016x}", self.0)
     }
 }
 
@@ -190,7 +195,7 @@ fn cache_key(geo_source: &str, params: &[(String, f64)], order: usize, version: 
     }
     h.field(&(order as u64).to_le_bytes());
     h.field(version.as_bytes());
-    format!("{:016x}", h.0)
+    h.hex()
 }
 
 /// Write `path` atomically (temporary file + rename).
