@@ -140,6 +140,23 @@ mod tests {
     }
 
     #[test]
+    fn a_pressure_falling_through_zero() {
+        // p falls through zero between t = 2 (p = 1) and t = 3 (p = -3): at t = 2.25.
+        let h = history(&[
+            ("time", &[0.0, 1.0, 2.0, 3.0]),
+            ("p", &[0.0, 2.0, 1.0, -3.0]),
+            ("height", &[2.0, 1.0, 1.0, 1.5]),
+            ("width", &[2.0, 2.0, 2.5, 3.0]),
+        ]);
+        assert_eq!(observe(&h, "max:p"), 2.0);
+        assert_eq!(observe(&h, "last:p"), -3.0);
+        assert!((observe(&h, "p@1.5") - 1.5).abs() < 1e-15);
+        assert!((observe(&h, "zero:p") - 2.25).abs() < 1e-15);
+        assert_eq!(observe(&h, "last:height/width"), 0.5);
+        assert!(observe(&h, "p@7").is_nan() && observe(&h, "max:q").is_nan());
+    }
+
+    #[test]
     fn errors_against_an_exact_column() {
         // p − p_exact = 0, −0.5, 1.5 at t = 0, 1, 2.
         let h = history(&[("time", &[0.0, 1.0, 2.0]), ("p", &[1.0, 1.5, 4.0]), ("p_exact", &[1.0, 2.0, 2.5])]);
