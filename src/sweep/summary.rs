@@ -1,5 +1,5 @@
 //! The sweep's `summary.csv`: one row per case in case order — its overrides, status, wall
-//! time, dofs, steps, step cuts, Newton and Krylov iterations (the [`COUNTERS`] of its record),
+//! time, dofs, steps, step cuts, Newton and Krylov iterations (the counters of its record),
 //! the observables of its history ([`super::observable`]), the error line and the case's run
 //! directory:
 //!
