@@ -204,7 +204,8 @@ def _sweep(root, text, ranks, k, counts=None):
     errors, lines = [], []
     p = subprocess.Popen(cmd, env=env(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1)
     for line in p.stdout:
-        print(line, end="", flush=True)
+        if not line.startswith("summary: "):     # the sweep's own summary: read below, then removed
+            print(line, end="", flush=True)
         lines.append(line)
         if line.startswith("poroplast: error:"):
             errors.append(line.strip())
