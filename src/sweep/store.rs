@@ -75,19 +75,29 @@ impl Signature {
 }
 
 /// The run directory of `case` (with signature `sig`) in the store `store`: a readable part —
-/// its scene's stem and its own overrides, at most 64 characters — and the signature's key.
+/// its scene's stem and its own overrides, at most 80 characters — and the signature's key.
 pub fn case_dir(store: &Path, case: &Case, sig: &Signature) -> PathBuf {
     let scene = case.own_scene.as_deref().unwrap_or(&case.scene);
-    let stem = Path::new(scene).file_stem().map(|x| x.to_string_lossy().into_owned()).unwrap_or_default();
-    let slug: String = std::iter::once(stem)
+    store.join(format!("{}-{}", slug(Some(stem(scene)), case), sig.key()))
+}
+
+/// A scene argument's file stem (a shipped scene's name is its own).
+fn stem(scene: &str) -> String {
+    Path::new(scene).file_stem().map(|x| x.to_string_lossy().into_owned()).unwrap_or_else(|| scene.to_string())
+}
+
+/// The readable part of a case's directory name: `scene` and the case's own overrides
+/// (`KEY-VALUE`), joined by `__`, other characters than `[A-Za-z0-9_.-]` as `_`, at most 80.
+fn slug(scene: Option<String>, case: &Case) -> String {
+    scene
+        .into_iter()
         .chain(case.pairs().iter().map(|(k, v)| format!("{k}-{v}")))
         .collect::<Vec<_>>()
         .join("__")
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.') { c } else { '_' })
-        .take(64)
-        .collect();
-    store.join(format!("{slug}-{}", sig.key()))
+        .take(80)
+        .collect()
 }
 
 /// The outcome of a case that ended (`case.toml` in its run directory).
@@ -209,19 +219,7 @@ struct LegacyRecord {
 /// A case's run directory name in sweep directories of earlier versions: its index, its own
 /// scene's stem if it has one, and its overrides (`003_material.mu-10__nu-0.3`).
 fn legacy_dir_name(case: &Case) -> String {
-    let scene = case
-        .own_scene
-        .as_deref()
-        .map(|s| Path::new(s).file_stem().map(|x| x.to_string_lossy().into_owned()).unwrap_or_else(|| s.to_string()));
-    let slug: String = scene
-        .into_iter()
-        .chain(case.pairs().iter().map(|(k, v)| format!("{k}-{v}")))
-        .collect::<Vec<_>>()
-        .join("__")
-        .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.') { c } else { '_' })
-        .take(80)
-        .collect();
+    let slug = slug(case.own_scene.as_deref().map(stem), case);
     if slug.is_empty() {
         format!("{:03}_base", case.index)
     } else {
