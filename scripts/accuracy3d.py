@@ -1,7 +1,7 @@
 """3-D accuracy per second: the candidate discretisations of the `reference` experiment (quarter
 sphere, the whole experiment to t_end = 60 s) against the meridian's, on one chart of error
 against wall time for the peak force and F(35 s). Errors are against the converged meridian
-values (`scripts/references.py`; --peak-ref / --f35-ref). Every case runs alone on --ranks ranks
+values (scripts/data/references.csv, written by `scripts/references.py`; --peak-ref / --f35-ref). Every case runs alone on --ranks ranks
 (one at a time, so the wall times are comparable); prints a table and writes the chart.
 
     python3 scripts/accuracy3d.py [--dir studies/accuracy3d] [--ranks 2] [--quick]
@@ -14,11 +14,11 @@ constant and off; stabilised equal-order P1–P1 (contact on the vertices); and 
 """
 import argparse
 import math
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import runner  # noqa: E402
+from poroplast_tools.cases import run_cases
+from poroplast_tools.refs import converged
+from poroplast_tools.tables import write_rows
 
 OBS = ("max:force_total_mg", "force_total_mg@35")
 P1 = ("fem.element", '"P1-P1"')
@@ -68,16 +68,18 @@ def main():
     ap.add_argument("--dir", type=Path, default=Path("studies/accuracy3d"))
     ap.add_argument("--ranks", type=int, default=2)
     ap.add_argument("--quick", action="store_true", help="only the cases of about 20 s or less")
-    ap.add_argument("--peak-ref", type=float, default=17.5855, help="converged peak (mg; references.py)")
-    ap.add_argument("--f35-ref", type=float, default=12.7546, help="converged F(35 s) (mg; references.py)")
+    ap.add_argument("--peak-ref", type=float, default=None,
+                    help="converged peak (mg; default: scripts/data/references.csv's)")
+    ap.add_argument("--f35-ref", type=float, default=None,
+                    help="converged F(35 s) (mg; default: scripts/data/references.csv's)")
     ap.add_argument("--out", type=Path, default=Path("docs/figures/accuracy3d.png"))
     a = ap.parse_args()
+    a.peak_ref = a.peak_ref or converged("reference", OBS[0])
+    a.f35_ref = a.f35_ref or converged("reference", OBS[1])
     cases = [c for c in CASES if c[3] or not a.quick]
     sets = [("time.t_end", 60), ("output.fields", "false")]
-    labels = {runner.slug(c[2]): c[1] for c in cases}
-    results = runner.run_cases("reference", [c[2] for c in cases], sets, a.dir, a.ranks, observables=OBS,
-                               names=[runner.slug(c[2]) for c in cases], label=lambda o: labels[runner.slug(o)],
-                               sweep=True, ranks_per_case=a.ranks)
+    results = run_cases("reference", [c[2] for c in cases], sets, a.dir, a.ranks, observe=OBS,
+                        sweep=True, ranks_per_case=a.ranks)
     rows = []
     for (series, label, _, _), (_, r) in zip(cases, results):
         if r.get("status") != "ok":
@@ -86,13 +88,13 @@ def main():
         rows.append({"series": series, "label": label, "dofs": int(r.get("dofs", 0)), "wall_s": r["wall_s"],
                      "steps": int(r["steps"]), "peak": r[OBS[0]], "f35": r[OBS[1]],
                      "peak_err": 100 * (r[OBS[0]] / a.peak_ref - 1), "f35_err": 100 * (r[OBS[1]] / a.f35_ref - 1)})
-    print(f"\nerrors against the converged meridian values (peak {a.peak_ref} mg, F(35 s) {a.f35_ref} mg); "
+    print(f"\nerrors against the converged meridian values (peak {a.peak_ref:.6g} mg, F(35 s) {a.f35_ref:.6g} mg); "
           f"wall time of the whole experiment (t_end = 60 s) on {a.ranks} rank(s)\n")
     print("| case | dofs | wall (s) | steps | peak (mg) | F(35 s) (mg) |\n|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['label']} | {r['dofs']:,} | {r['wall_s']:.1f} | {r['steps']} | {r['peak']:.3f} "
               f"({r['peak_err']:+.2f}%) | {r['f35']:.3f} ({r['f35_err']:+.2f}%) |")
-    runner.write_rows(a.dir / "accuracy3d.csv", rows)
+    write_rows(a.dir / "accuracy3d.csv", rows)
     plot(rows, a.out, a.ranks)
 
 

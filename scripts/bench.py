@@ -36,7 +36,9 @@ faded; 47 613 dofs), full (reference_full), cryer100k (cryer at h = 6.5 µm, 85k
 on the meridian: axi (reference_axi, the meridian's default mesh), axi_fine (reference with h = 5, surface and poles at 1 µm, the
 finest level of scripts/references.py), axi_remodel (remodel_155), axi_converged (the converged level of the
 whole experiment: h = 10, surface and poles at 2 µm, no stabilisation, ⅛ of the steps). For the
-reference scenes the accuracy line gives each value's error against the converged values (CONVERGED).
+reference scenes the accuracy line gives each value's error against the converged values of
+scripts/data/references.csv (the `reference` case). Every run is a one-case `poroplast sweep`
+into a fresh directory (never skipped: the timings are the point), its observables the sweep's.
 The large ones (fine, graded, full, cryer100k) take minutes per run on 2 cores.
 """
 import argparse
@@ -49,8 +51,10 @@ import tempfile
 import time
 from pathlib import Path
 
-import runner
-from runner import CONVERGED_LEVEL, refined_steps, scene_values
+from poroplast_tools.cases import run_cases, scene_values
+from poroplast_tools.history import timings
+from poroplast_tools.levels import CONVERGED_LEVEL, grid_cases, h_levels, refined_steps
+from poroplast_tools.refs import SHIPPED, references
 
 CASES = {   # shipped scene, --set overrides
     "default": ("reference", []),
@@ -73,9 +77,12 @@ CASES = {   # shipped scene, --set overrides
     # poles at 2 um, no stabilisation (it is the largest error on these meshes), 1/8 of the steps.
     "axi_converged": ("reference", CONVERGED_LEVEL + ["time.dt=0.0025", "time.dt_max=0.25", "time.growth=1.0333"]),
 }
-# The converged values of the elastic experiment (the reference scenes; scripts/references.py,
-# docs/studies.md): each case's error against them is printed beside its time.
-CONVERGED = {"peak_F_mg": 17.5855, "F35_mg": 12.7546, "p5_kPa": 10.330}
+# The accuracy columns: name -> the sweep's observable (NaN ones are left out).
+ACCURACY = {"peak_F_mg": "max:force_total_mg", "F35_mg": "force_total_mg@35", "p5_kPa": "probe_p@5",
+            "p_center_err": "maxerr:p_center@1:inf", "stress_zz_100": "stress_zz@100"}
+# The converged values of the elastic experiment (the `reference` case of references.csv): each
+# reference scene's error against them is printed beside its time.
+CONVERGED = {k: ("reference", ACCURACY[k]) for k in ("peak_F_mg", "F35_mg", "p5_kPa")}
 # -log_view events: PC setup (AMG hierarchies, factorisations), Krylov solves, submatrix copies
 # (the fieldsplit blocks and, with contact, the VI solver's reduced system).
 EVENTS = {"pc_setup": "PCSetUp", "ksp_solve": "KSPSolve", "factor": "MatLUFactorNum", "submatrix": "MatCreateSubMat"}
@@ -92,42 +99,40 @@ def log_view(path):
     return out
 
 
-def observables(h):
-    """The case's accuracy columns, whichever apply (runner.observe; NaN ones left out)."""
-    specs = {}
-    if "force_total_mg" in h:
-        specs.update(peak_F_mg="max:force_total_mg", F35_mg="force_total_mg@35", p5_kPa="probe_p@5")
-    if "p_center_exact" in h:
-        specs["p_center_err"] = "maxerr:p_center@1:inf"
-    if "stress_zz" in h and "force_total_mg" not in h:
-        specs["stress_zz_100"] = "stress_zz@100"
-    obs = {k: runner.observe(h, spec) for k, spec in specs.items()}
+def accuracy(result):
+    """The case's accuracy columns, whichever apply (the sweep's observables; NaN ones left out;
+    the relaxation's stress only where the scene has no plates)."""
+    obs = {k: result.get(spec, math.nan) for k, spec in ACCURACY.items()}
+    if not math.isnan(obs["peak_F_mg"]):
+        obs["stress_zz_100"] = math.nan
     return {k: v for k, v in obs.items() if not math.isnan(v)}
 
 
 def halved(scene, overrides):
-    """Overrides that halve every step of the case (`runner.refined_steps`)."""
+    """Overrides that halve every step of the case (`levels.refined_steps`)."""
     given = dict(o.split("=", 1) for o in overrides)
     return list(overrides) + [f"{k}={v!r}" for k, v in refined_steps(scene_values(scene)["time"], given, 0.5)]
 
 
 def run_once(scene, overrides, ranks, work, petsc=()):
-    """One run (runner.run_case, never skipped: the timings are the point) with -log_view."""
+    """One run (a one-case sweep into the fresh directory `work`: never skipped, the timings are
+    the point) with -log_view."""
     work.mkdir(parents=True, exist_ok=True)
     lv = work / "log_view.txt"
     t0 = time.time()
-    res = runner.run_case(scene, [tuple(o.split("=", 1)) for o in overrides], [], work, ranks,
-                          ("-log_view", f":{lv}", *petsc))
+    [(run, res)] = run_cases(scene, [[tuple(o.split("=", 1)) for o in overrides]], [], work, ranks,
+                             ("-log_view", f":{lv}", *petsc), list(ACCURACY.values()), sweep=True,
+                             ranks_per_case=ranks)
     if res["status"] != "ok":
-        raise SystemExit(f"bench.py: {scene} {' '.join(overrides)} failed: {res['error']} (see {work / 'log.txt'})")
+        raise SystemExit(f"bench.py: {scene} {' '.join(overrides)} failed: {res['error']} (see {work / 'sweep.log'})")
     wall = time.time() - t0
-    tm = runner.timings(work / "run")
+    tm = timings(run)
     r = dict(tm)
     r.update(log_view(lv))
     r["wall"] = wall
     r["rss_MiB"] = tm.get("max_rss_mib")           # the largest rank's peak resident memory
     r["assembly"] = tm["residual_assembly"] + tm["jacobian_assembly"] + tm.get("history_commit", 0.0)
-    r.update(observables(runner.history(work / "run")))
+    r.update(accuracy(res))
     return r
 
 
@@ -145,7 +150,7 @@ CALIBRATION = ["relaxation", "--column", "stress_zz", "--param", "material.remod
 def sweep_bench(a, work):
     """Cases per minute of 16 small cases one mpirun each, in a sweep with k = ranks and with
     k = 1; the calibration example's wall time one mpirun per run and one sweep per iteration."""
-    cases = runner.grid_cases([([k], [[v] for v in vs]) for k, vs in SWEEP_GRID])
+    cases = grid_cases([([k], [[v] for v in vs]) for k, vs in SWEEP_GRID])
     ways = [("one mpirun per case", False, a.ranks), (f"sweep, k = {a.ranks}", True, a.ranks),
             ("sweep, k = 1", True, 1)]
     print(f"{len(cases)} cases ({SWEEP_SCENE}, " + ", ".join(f"{k}={v}" for k, v in SWEEP_SETS)
@@ -155,8 +160,8 @@ def sweep_bench(a, work):
         walls = []
         for rep in range(a.repeat):
             t0 = time.time()
-            done = runner.run_cases(SWEEP_SCENE, cases, SWEEP_SETS, work / f"{name.replace(' ', '_')}-{rep}",
-                                    a.ranks, observables=["max:force_total_mg"], sweep=sweep, ranks_per_case=k)
+            done = run_cases(SWEEP_SCENE, cases, SWEEP_SETS, work / f"{name.replace(' ', '_')}-{rep}",
+                             a.ranks, observe=["max:force_total_mg"], sweep=sweep, ranks_per_case=k)
             walls.append(time.time() - t0)
             if any(r["status"] != "ok" for _, r in done):
                 raise SystemExit(f"bench.py: a case failed ({name})")
@@ -216,9 +221,9 @@ TARGET = {"peak": 0.01, "F35": 0.005, "wall": 60.0}
 
 def targets_bench(a, work):
     """Every 3-D plate scene to t_end = 60 s on 2 ranks: median wall time, errors, targets met."""
-    refs = runner.references()
+    refs = references()
     print(f"medians of {a.repeat} run(s), 2 ranks, t_end = 60 s; converged values from "
-          f"{runner.SHIPPED_REFERENCES.name}; "
+          f"{SHIPPED.name}; "
           f"work dir {work}")
     print("\n| scene | dofs | wall (s), median | runs (s) | steps | peak (mg) | F(35 s) (mg) | targets |")
     print("|---|---|---|---|---|---|---|---|")
@@ -269,8 +274,8 @@ def main():
 
     runs = []   # (label, scene, overrides)
     if a.scene:
-        # A mesh sweep (runner.h_levels: the scene's other sizes scaled with h), or the scene as it is.
-        levels = runner.h_levels(a.scene, a.h) if a.h else [[]]
+        # A mesh sweep (levels.h_levels: the scene's other sizes scaled with h), or the scene as it is.
+        levels = h_levels(a.scene, a.h) if a.h else [[]]
         for h, mesh in zip(a.h or [None], levels):
             ov = [f"{k}={v}" for k, v in mesh] + ([f"time.t_end={a.t_end!r}"] if a.t_end else [])
             runs.append((f"{a.scene}" + (f" h={h:g}" if h else ""), a.scene, ov))
@@ -282,6 +287,8 @@ def main():
     cols = ["dofs", "steps", "step_cuts", "error_rejections", "newton_its", "newton/step", "ksp/newton", "wall",
             "assembly", "pc_setup", "factor", "ksp_solve", "submatrix", "output", "rss_MiB"]
     work = Path(tempfile.mkdtemp(prefix="poroplast-bench-"))
+    refs = references()
+    converged = {k: refs[c][0] for k, c in CONVERGED.items()}
     print(f"medians of {a.repeat} run(s); times in s (-log_view: max over ranks); work dir {work}")
     for label, scene, ov in runs:
         base = None
@@ -297,8 +304,8 @@ def main():
             print(f"{label:>14} np={n}: " + "  ".join(
                 f"{k} {row[k]:.4g}" for k in cols if row.get(k) is not None) + f"  speed-up {base / row['wall']:.2f}")
             if obs:
-                err = lambda k, v: f" ({100 * (v / CONVERGED[k] - 1):+.2f}%)" if scene.startswith("reference") \
-                    and k in CONVERGED else ""
+                err = lambda k, v: f" ({100 * (v / converged[k] - 1):+.2f}%)" if scene.startswith("reference") \
+                    and k in converged else ""
                 print(f"{'':>14}       accuracy: " + "  ".join(f"{k} {v:.6g}{err(k, v)}" for k, v in obs.items()
                                                              if v is not None), flush=True)
         if not a.no_halved and obs:

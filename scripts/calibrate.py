@@ -5,8 +5,8 @@ interpolated at the data's times), the Jacobian by forward differences (one run 
 relative step 1e-3), parameters in log space (they are positive and of different scales). A
 trial step whose run fails counts as a worse fit (more damping). The uncertainties are the
 square roots of the diagonal of s² (JᵀJ)⁻¹, s² = Σr²/(n − p), at the optimum. Every run is a case
-of scripts/runner.py in STUDY/runs/cases/<its parameter values>/ (a completed one is not run
-again: an interrupted calibration continues): each iteration's n + 1 runs (the point and its n
+of the case store STUDY/runs/cases/ (`poroplast sweep`: a completed one is not run again, so an
+interrupted calibration continues): each iteration's n + 1 runs (the point and its n
 finite-difference neighbours; the point is complete after the first iteration) are one batch,
 one `mpirun -n RANKS poroplast sweep` (--ranks 2, --ranks-per-case K: 1 on a meridian, RANKS
 for 3-D), and each trial step one more; `--no-sweep` runs one mpirun per run, `--jobs N` of them
@@ -32,33 +32,38 @@ import threading
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import numpy as np  # noqa: E402
-import runner  # noqa: E402
-import labels  # noqa: E402
+import numpy as np
+
+from poroplast_tools import labels
+from poroplast_tools.cases import rank_options, run_cases, use_rank_options
+from poroplast_tools.history import at, history
 
 
 class Model:
     def __init__(self, a, keys):
-        self.a, self.keys, self.n = a, keys, 0
+        self.a, self.keys = a, keys
+        self.counts = {"ran": 0}       # the runs the sweeps had to make
         self.lock = threading.Lock()
         self.root = Path(a.dir) / "runs"
         self.sets = [tuple(s.split("=", 1)) for s in a.set]
 
-    def histories(self, points, what=None, tag=None):
-        """Runs the scene at each point (parameter values) — ONE batch of the study runner, the
-        completed runs skipped: a run is named by its values, so an interrupted calibration
-        continues — and returns their histories (None for a failed run). `what`: a name per
-        point for the progress lines."""
+    @property
+    def n(self):
+        return self.counts["ran"]
+
+    def histories(self, points, what=None):
+        """Runs the scene at each point (parameter values) — ONE batch, the completed runs
+        skipped (the store knows a run by its values), so an interrupted calibration continues —
+        and returns their histories (None for a failed run). `what`: a name per point, printed
+        before the batch."""
         cases = [[(k, repr(v)) for k, v in zip(self.keys, values)] for values in points]
-        names = [tag] if tag else [runner.slug(c) for c in cases]
-        label = dict(zip(map(tuple, cases), what or names))
+        for name, case in zip(what or [], cases):
+            print(f"{name}: " + " ".join(f"{k}={v}" for k, v in case), flush=True)
+        counts = {}
+        ran = run_cases(self.a.scene, cases, self.sets, self.root, self.a.ranks, counts=counts)
         with self.lock:
-            self.n += sum(runner.completed(self.root / "cases" / n, runner.signature(self.a.scene, c, self.sets, ()))
-                          is None for n, c in zip(names, cases))
-        ran = runner.run_cases(self.a.scene, cases, self.sets, self.root, self.a.ranks, names=names,
-                               label=lambda c: label[tuple(c)])
-        return [runner.history(d / "run") if r["status"] == "ok" else None for d, r in ran]
+            self.counts["ran"] += counts.get("ran", 0)
+        return [history(d) if r["status"] == "ok" else None for d, r in ran]
 
 
 def main():
@@ -73,13 +78,13 @@ def main():
     ap.add_argument("--t-min", type=float, default=-math.inf)
     ap.add_argument("--t-max", type=float, default=math.inf)
     ap.add_argument("--dir", required=True)
-    runner.rank_options(ap)
+    rank_options(ap)
     ap.add_argument("--max-it", type=int, default=15)
     ap.add_argument("--jobs", type=int, default=1, help="with --no-sweep: finite-difference runs at once")
     ap.add_argument("--ftol", type=float, default=1e-3,
                     help="stop when an iteration lowers the sum of squares by less than this fraction")
     a = ap.parse_args()
-    sweep = runner.use_rank_options(a)["sweep"]
+    sweep = use_rank_options(a)["sweep"]
     keys = [p.split("=", 1)[0] for p in a.param]
     x = [math.log(float(p.split("=", 1)[1])) for p in a.param]
     model = Model(a, keys)
@@ -88,7 +93,7 @@ def main():
     if a.synthetic:
         truth = dict(s.split("=", 1) for s in a.synthetic)
         syn = Model(a, list(truth))
-        [h] = syn.histories([[float(v) for v in truth.values()]], ["synthetic curve"], tag="synthetic")
+        [h] = syn.histories([[float(v) for v in truth.values()]], ["synthetic curve"])
         if h is None:
             sys.exit("calibrate.py: the synthetic run failed")
         td, vd = h["time"], h[a.column]
@@ -111,7 +116,7 @@ def main():
         else:
             with ThreadPoolExecutor(max_workers=a.jobs) as pool:
                 hs = [h for [h] in pool.map(lambda vw: model.histories([vw[0]], [vw[1]]), zip(vals, what))]
-        return [(None, None) if h is None else (np.array([runner.at(h, a.column, t) - v for t, v in data]), h)
+        return [(None, None) if h is None else (np.array([at(h, a.column, t) - v for t, v in data]), h)
                 for h in hs]
 
     def around(x, it):

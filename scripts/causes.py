@@ -11,17 +11,18 @@ shift itself moves with the steps.
 
 Writes DIR/causes.csv (variant, what it changes, the observables, their shifts) and prints the
 table; then the same for the no-remodelling gap (`reference_405`, its settling times:
-DIR/causes_reference.csv; --no-reference skips it). Completed variants are kept (scripts/runner.py), so an interrupted run continues.
+DIR/causes_reference.csv; --no-reference skips it). The variants of each table run as one
+batch (one `poroplast sweep`) whose cases are kept in DIR/cases, so an interrupted run continues.
 """
 import argparse
 import math
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import observables  # noqa: E402
-import runner  # noqa: E402
-from runner import CONVERGED_LEVEL, refined_steps, run_cases, scene_values, write_rows  # noqa: E402
+from poroplast_tools import fields
+from poroplast_tools.cases import rank_options, run_cases, scene_values, use_rank_options
+from poroplast_tools.levels import CONVERGED_LEVEL, refined_steps
+from poroplast_tools.tables import write_rows
 
 SCENE = "remodel_155"
 BASE = [tuple(s.split("=", 1)) for s in CONVERGED_LEVEL] + [("time.t_end", "60"), ("output.fields", "false"),
@@ -111,12 +112,11 @@ def reference_rows(root, ranks, step_scale):
     steps = [(k, f"{v:g}") for k, v in refined_steps(t, {}, step_scale)]
     base = [(k, v) for k, v in BASE if k != "time.t_end"]
     rows = []
-    for name, (what, sets) in REFERENCE_VARIANTS.items():
-        [(cdir, r)] = run_cases(REFERENCE_SCENE, [steps + sets], base, root / name, ranks, [],
-                                      [o for o in REFERENCE_OBSERVE if o not in observables.DERIVED], label=lambda _: name)
+    done = run_cases(REFERENCE_SCENE, [steps + sets for _, sets in REFERENCE_VARIANTS.values()], base, root, ranks,
+                     [], [o for o in REFERENCE_OBSERVE if o not in fields.DERIVED])
+    for (name, (what, _)), (cdir, r) in zip(REFERENCE_VARIANTS.items(), done):
         ok = r["status"] == "ok"
-        val = lambda o: (observables.DERIVED[o](cdir / "run") if o in observables.DERIVED else r.get(o)) \
-            if ok else float("nan")
+        val = lambda o: (fields.DERIVED[o](cdir) if o in fields.DERIVED else r.get(o)) if ok else float("nan")
         rows.append({"variant": name, "changes": what, "status": r["status"], **{o: val(o) for o in REFERENCE_OBSERVE}})
     for r in rows:
         for o in REFERENCE_OBSERVE:
@@ -145,25 +145,27 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--dir", default="studies/causes")
     ap.add_argument("--steps", type=float, default=0.125, help="step scale of every variant but the steps rows")
-    runner.rank_options(ap)
+    rank_options(ap)
     ap.add_argument("--only", nargs="+", choices=list(VARIANTS))
     ap.add_argument("--no-reference", action="store_true", help="skip the reference_405 variants")
     a = ap.parse_args()
-    runner.use_rank_options(a)
+    use_rank_options(a)
     root = Path(a.dir)
     (root / "scenes").mkdir(parents=True, exist_ok=True)
     scene_time = scene_values(SCENE)["time"]
     steps = lambda s: [(k, f"{v:g}") for k, v in refined_steps(scene_time, {}, s)]
-    rows = []
-    for name in a.only or VARIANTS:
+    names, scenes, cases = a.only or list(VARIANTS), [], []
+    for name in names:
         what, sets, edits = VARIANTS[name]
         if isinstance(sets, str):   # "steps:S": the base at another step scale
             sets = steps(float(sets.split(":")[1]))
         else:
             sets = steps(a.steps) + sets
-        scene = scene_text(edits, root / "scenes" / f"{name}.toml") if edits else SCENE
-        [(_, r)] = run_cases(scene, [sets], BASE, root / name, a.ranks, [], OBSERVE, label=lambda _: name)
-        rows.append({"variant": name, "changes": what, "status": r["status"], "wall_s": r.get("wall_s"),
+        scenes.append(scene_text(edits, root / "scenes" / f"{name}.toml") if edits else SCENE)
+        cases.append(sets)
+    rows = []
+    for name, (_, r) in zip(names, run_cases(scenes, cases, BASE, root, a.ranks, [], OBSERVE)):
+        rows.append({"variant": name, "changes": VARIANTS[name][0], "status": r["status"], "wall_s": r.get("wall_s"),
                      **{o: r.get(o, float("nan")) for o in OBSERVE}})
     base = next((r for r in rows if r["variant"] == "base"), None)
     for r in rows:

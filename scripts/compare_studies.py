@@ -10,11 +10,9 @@ isotropic and the remodelling-dependent permeability). Prints the table it plots
 import argparse
 import csv
 import math
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import labels  # noqa: E402
+from poroplast_tools import labels
 
 
 def series(study, x, observable, where):

@@ -3,10 +3,11 @@
 Runs a scene at mesh sizes h (mesh.params.h, with the other sizes — h_pole, h_edge, from the
 scene or --set — scaled in proportion) and time-step scales s (every step scaled by s: time.dt,
 time.dt_max and time.error_tolerance multiplied by s, time.growth raised to the power s;
-`runner.refined_steps`): each mesh level at one step level and each step level on one mesh (a
-cross; --full: every combination), as one batch through `scripts/runner.py` (one `poroplast
-sweep` on --ranks ranks, --ranks-per-case each: default 1 on a meridian, all for 3-D; completed
-cases are skipped, so an interrupted study continues). For each observable it estimates
+`levels.refined_steps`): each mesh level at one step level and each step level on one mesh (a
+cross; --full: every combination), as one batch (one `poroplast sweep` on --ranks ranks,
+--ranks-per-case each: default 1 on a meridian, all for 3-D; its cases kept in STUDY/cases:
+completed ones are skipped, so an interrupted study continues). For each observable (default:
+the sweep's list) it estimates
 
   * the observed orders p_h (from the three finest meshes, at the steps --mesh-steps, default the
     finest) and p_t (from the three finest Δt, on the mesh --time-mesh, default the finest),
@@ -24,7 +25,8 @@ cases are skipped, so an interrupted study continues). For each observable it es
     finest levels; convergence.csv says which (`order_h`, `order_t`: observed or formal),
   * the error of every case against Q*.
 
-Writes STUDY/summary.csv (the runner's), STUDY/convergence.csv (observable, Q*, error bar,
+The extrapolation is `poroplast_tools/richardson.py`'s. Writes STUDY/summary.csv (h, dt_scale,
+status, the counters and observables of each case), STUDY/convergence.csv (observable, Q*, error bar,
 p_h, p_t, the finest mesh's value at the mesh sequence's steps), STUDY/errors.csv (every case's error per observable), and
 STUDY/conv_<observable>.png (error against h per Δt level, and against Δt per mesh).
 
@@ -38,73 +40,10 @@ import math
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import study  # noqa: E402
-import runner  # noqa: E402
-from runner import (SIZES, h_levels, refined_steps, run_cases, scene_values, solve_order,  # noqa: E402,F401
-                    write_rows)
-
-
-def correction(q_coarse, q_fine, ratio, p):
-    if math.isnan(p):
-        return float("nan")
-    return (q_fine - q_coarse) / (ratio ** p - 1)
-
-
-def extrapolate(qh, qt, q_junction, hs, ss, formal_h, formal_t):
-    """Richardson on the mesh sequence qh (levels hs, at the step level S) and the step sequence qt
-    (levels ss, on the mesh H), with q_junction = Q(H, S): Q*, its error bar, the observed orders
-    and which orders were used (see the module docs)."""
-    p_h = solve_order(qh[-3:], (hs[-3] / hs[-2], hs[-2] / hs[-1]))
-    p_t = solve_order(qt[-3:], (ss[-3] / ss[-2], ss[-2] / ss[-1]))
-    ok = lambda p: 0.5 <= p <= 4.0  # NaN is not
-    use_h, use_t = (p_h if ok(p_h) else formal_h), (p_t if ok(p_t) else formal_t)
-    c_h = correction(qh[-2], qh[-1], hs[-2] / hs[-1], use_h)
-    c_t = correction(qt[-2], qt[-1], ss[-2] / ss[-1], use_t)
-    extrap = (qh[-1] + c_h) + (qt[-1] + c_t) - q_junction
-    fs_h, fs_t = (1.25 if ok(p_h) else 3.0), (1.25 if ok(p_t) else 3.0)
-    bar = fs_h * abs(c_h) + fs_t * abs(c_t)
-    if not ok(p_h):
-        bar = max(bar, abs(qh[-1] - qh[-2]))
-    if not ok(p_t):
-        bar = max(bar, abs(qt[-1] - qt[-2]))
-    return {"extrapolated": extrap, "error_bar": bar, "p_h": p_h, "p_t": p_t,
-            "order_h": "observed" if ok(p_h) else "formal", "order_t": "observed" if ok(p_t) else "formal",
-            "finest": qh[-1]}
-
-
-def cross(scene, hs, ss, sets, H, S, full=False):
-    """The cases of a study: (h, s, overrides) for each mesh level at the steps S and each step
-    level on the mesh H (every combination with `full`). `sets` are the study's --set values
-    ("KEY=VALUE"); sizes and time keys among them are scaled per level (`runner.h_levels`,
-    `runner.refined_steps`), the rest returned as the fixed (key, value) overrides of every case."""
-    t = scene_values(scene)
-    given = {k: v for k, v in (s.split("=", 1) for s in sets) if k.startswith("time.")}   # scaled per level
-    scaled = ("time.dt=", "time.dt_max=", "time.error_tolerance=", "time.growth=",
-              *(f"mesh.params.{k}=" for k in SIZES))
-    fixed = [tuple(s.split("=", 1)) for s in sets if not s.startswith(scaled)]
-    cases = []
-    for h, mesh in zip(hs, h_levels(scene, hs, sets)):
-        for s in ss:
-            if not (full or h == H or s == S):
-                continue
-            cases.append((h, s, mesh + [(k, f"{v:g}") for k, v in refined_steps(t["time"], given, s)]))
-    return cases, fixed
-
-
-def run_study(scene, hs, ss, sets, root, ranks, observe, H, S, full=False):
-    """Runs the study's cases (completed ones are skipped): {(h, s): (case dir, result)}."""
-    cases, fixed = cross(scene, hs, ss, sets, H, S, full)
-    names = {tuple(ov): f"h = {h:g}, dt x {s:g}" for h, s, ov in cases}
-    ran = run_cases(scene, [ov for _, _, ov in cases], fixed, Path(root), ranks, [], observe,
-                          label=lambda ov: names[tuple(ov)])
-    return {(h, s): r for (h, s, _), r in zip(cases, ran)}
-
-
-def converge(values, hs, ss, H, S, formal_h=2.0, formal_t=1.0):
-    """Extrapolates one observable from {(h, s): value} (NaN for a failed case) of a cross."""
-    q = lambda h, s: values.get((h, s), float("nan"))
-    return extrapolate([q(h, S) for h in hs], [q(H, s) for s in ss], q(H, S), hs, ss, formal_h, formal_t)
+from poroplast_tools.cases import rank_options, use_rank_options
+from poroplast_tools.convergence import run_study
+from poroplast_tools.richardson import converge
+from poroplast_tools.tables import write_rows
 
 
 def main():
@@ -113,16 +52,16 @@ def main():
     ap.add_argument("--h", required=True, help="mesh sizes, coarse to fine, e.g. 30,25,20,15")
     ap.add_argument("--dt-scale", default="1,0.5,0.25,0.125", help="time-step scales, coarse to fine")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
-    ap.add_argument("--observe", nargs="+", default=study.DEFAULT_OBSERVE)
+    ap.add_argument("--observe", nargs="+", default=None, help="observables (default: the sweep's list)")
     ap.add_argument("--dir", required=True)
-    runner.rank_options(ap)
+    rank_options(ap)
     ap.add_argument("--formal-h", type=float, default=2.0)
     ap.add_argument("--formal-t", type=float, default=1.0)
     ap.add_argument("--time-mesh", type=float, help="the mesh h of the step sequence (default: the finest)")
     ap.add_argument("--mesh-steps", type=float, help="the step scale of the mesh sequence (default: the finest)")
     ap.add_argument("--full", action="store_true", help="every mesh level at every step level")
     a = ap.parse_args()
-    runner.use_rank_options(a)
+    use_rank_options(a)
     hs = [float(x) for x in a.h.split(",")]
     ss = [float(x) for x in a.dt_scale.split(",")]
     if len(hs) < 3 or len(ss) < 3:
@@ -135,30 +74,33 @@ def main():
     root.mkdir(parents=True, exist_ok=True)
     results = {k: r for k, (_, r) in run_study(a.scene, hs, ss, a.set, root, a.ranks, a.observe, H, S,
                                                 a.full).items()}
+    # The summary's numbers: the counters, then the observables (every spec holds ':' or '@').
+    numbers = [k for k in next(iter(results.values())) if k not in ("status", "error")]
+    observe = [k for k in numbers if ":" in k or "@" in k]
 
     with open(root / "summary.csv", "w", newline="") as f:
-        cols = ["h", "dt_scale", "status"] + list(study.COUNTERS) + a.observe
+        cols = ["h", "dt_scale", "status"] + numbers
         w = csv.DictWriter(f, fieldnames=cols)
         w.writeheader()
         for (h, s), r in results.items():
             w.writerow({"h": h, "dt_scale": s, **{k: r.get(k, float("nan")) for k in cols[2:]}})
 
     ok = lambda o: {k: r.get(o, float("nan")) for k, r in results.items() if r["status"] == "ok"}
-    rows = [{"observable": o, **converge(ok(o), hs, ss, H, S, a.formal_h, a.formal_t)} for o in a.observe]
+    rows = [{"observable": o, **converge(ok(o), hs, ss, H, S, a.formal_h, a.formal_t)} for o in observe]
     write_rows(root / "convergence.csv", rows)
     ref = {r["observable"]: r["extrapolated"] for r in rows}
     with open(root / "errors.csv", "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["h", "dt_scale", "wall_s"] + a.observe)
+        w.writerow(["h", "dt_scale", "wall_s"] + observe)
         for (h, s), r in results.items():
             w.writerow([h, s, r.get("wall_s", float("nan"))]
                        + [abs(r.get(o, float("nan")) - ref[o]) / abs(ref[o]) if ref[o] else float("nan")
-                          for o in a.observe])
+                          for o in observe])
     print(f"{'observable':24} {'extrapolated':>14} {'± bar':>10} {'p_h':>6} {'p_t':>6} {'finest':>12}  orders used")
     for r in rows:
         print(f"{r['observable']:24} {r['extrapolated']:14.6g} {r['error_bar']:10.2g} {r['p_h']:6.2f} "
               f"{r['p_t']:6.2f} {r['finest']:12.6g}  h {r['order_h']}, dt {r['order_t']}")
-    plot(root, hs, ss, results, a.observe, ref)
+    plot(root, hs, ss, results, observe, ref)
 
 
 def plot(root, hs, ss, results, observe, ref):

@@ -1,12 +1,12 @@
 """Converged references of the experiment, on the meridian: one command.
 
-For each reference case (a shipped scene and its observables) this runs
-`scripts/convergence_study.py` on the axisymmetric model (`--set mesh.geometry=axisymmetric`):
+For each reference case (a shipped scene and its observables) this runs a convergence study
+(as `scripts/convergence_study.py` does) on the axisymmetric model (`--set mesh.geometry=axisymmetric`):
 four surface-graded mesh levels with every size scaled together — bulk h, and the surface and
 pole sizes at h/5 (h_surf, h_pole; the grading depth w_surf = 30 µm stays) — down to 1 µm at the
 surface, at one step level, and four or five step levels (every step scaled,
-`runner.refined_steps`) on one mesh, then Richardson extrapolation with error bars
-(convergence_study.py's docstring says how). The time steps, not the mesh, set most of these
+`poroplast_tools.levels.refined_steps`) on one mesh, then Richardson extrapolation with error
+bars (`poroplast_tools/richardson.py` says how). The time steps, not the mesh, set most of these
 bars, so the step levels go further (to 1/32 or 1/64 of the scene's steps) on the h = 10 µm mesh.
 Completed cases are kept, so an interrupted run continues.
 
@@ -20,14 +20,13 @@ Cost on this project's 2-core machine: see docs/studies.md.
 """
 import argparse
 import csv
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import convergence_study  # noqa: E402
-import runner  # noqa: E402
-from runner import write_rows  # noqa: E402
-import observables  # noqa: E402
+from poroplast_tools import fields
+from poroplast_tools.cases import rank_options, use_rank_options
+from poroplast_tools.convergence import run_study
+from poroplast_tools.richardson import converge
+from poroplast_tools.tables import write_rows
 
 MESH = "14.142,10,7.071,5"   # bulk h, coarse to fine (surface and poles at h/5)
 STEPS = "0.25,0.125,0.0625,0.03125"
@@ -36,8 +35,8 @@ R405 = "material.remodelling"
 
 
 def case(scene, observe, sets=(), steps=STEPS, time_mesh=10, mesh_steps=0.25, mesh=MESH, w_surf=30):
-    """A reference case: the scene, its observables (history ones as in study.py, or names of
-    observables.DERIVED), more --set overrides, the step scales, the mesh h of the step levels,
+    """A reference case: the scene, its observables (the sweep's, of the history, or names of
+    fields.DERIVED), more --set overrides, the step scales, the mesh h of the step levels,
     the step scale of the mesh levels, the mesh levels and the surface grading depth (µm)."""
     return dict(scene=scene, observe=observe, sets=list(sets), steps=steps, time_mesh=time_mesh,
                 mesh_steps=mesh_steps, mesh=mesh, w_surf=w_surf)
@@ -116,16 +115,16 @@ def run_case(name, root, ranks):
     # constant weight, c = 4, the peak is 0.42% low; without it 0.12%; docs/studies.md).
     sets = ["mesh.geometry=axisymmetric", "mesh.params.h_pole=4", "mesh.params.h_surf=4",
             f"mesh.params.w_surf={c['w_surf']:g}", "fem.stabilisation=0", *c["sets"]]
-    history_obs = [o for o in c["observe"] if o not in observables.DERIVED]
+    history_obs = [o for o in c["observe"] if o not in fields.DERIVED]
     print(f"references: {name}: {c['scene']} --h {c['mesh']} --dt-scale {c['steps']} " + " ".join(sets), flush=True)
-    results = convergence_study.run_study(c["scene"], hs, ss, sets, root / name, ranks, history_obs, H, S)
+    results = run_study(c["scene"], hs, ss, sets, root / name, ranks, history_obs, H, S)
     rows = []
     for o in c["observe"]:
         values = {}
         for k, (cdir, r) in results.items():
             if r["status"] == "ok":
-                values[k] = observables.DERIVED[o](cdir / "run") if o in observables.DERIVED else r.get(o, float("nan"))
-        e = convergence_study.converge(values, hs, ss, H, S)
+                values[k] = fields.DERIVED[o](cdir) if o in fields.DERIVED else r.get(o, float("nan"))
+        e = converge(values, hs, ss, H, S)
         rows.append({"case": name, "observable": o, "extrapolated": e["extrapolated"], "error_bar": e["error_bar"],
                      "relative_bar": e["error_bar"] / abs(e["extrapolated"]) if e["extrapolated"] else float("nan"),
                      "p_h": e["p_h"], "p_t": e["p_t"], "finest": e["finest"],
@@ -154,9 +153,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--dir", default="studies/references")
     ap.add_argument("--cases", nargs="+", default=DEFAULT, choices=list(CASES) + ["all"])
-    runner.rank_options(ap)
+    rank_options(ap)
     a = ap.parse_args()
-    runner.use_rank_options(a)
+    use_rank_options(a)
     root = Path(a.dir)
     names = list(CASES) if "all" in a.cases else a.cases
     out = root / "references.csv"

@@ -3,11 +3,12 @@
 scenes remodel_40, remodel_155, remodel_155_c2, elastic_155, remodel_405, reference_405 and four
 variants of remodel_405 (lambda_p = 0.1, 0.5 (MPa s)^-1; sigma_y = 1, 4 kPa) on 2 MPI ranks (one
 `poroplast sweep` for the cases to run: 3-D ones one at a time on both ranks, meridians two at a
-time on one each; --ranks, --ranks-per-case, --no-sweep as scripts/runner.py's),
+time on one each; --ranks, --ranks-per-case, --no-sweep as in the other study scripts),
 then draws the probe curves (Figs 4, 11), the force sweeps (Figs 7-9) and mid-plane sections
 (Figs 3, 5-6, 11c) into <out>/figures/, and writes <out>/summary.csv (also printed).
-Every case runs through scripts/runner.py into <out>/cases/<case>/run (its log beside it); a case
-that completed with the same settings is not run again, so an interrupted study resumes.
+Every case is a case of the store <out>/cases (`poroplast sweep`; the sweep's lines in
+<out>/sweep.log); a case that completed with the same settings is not run again, so an
+interrupted study resumes.
 With --axisymmetric every case runs on its meridian (`--set mesh.geometry=axisymmetric`; the
 section figures then show the meridian itself, mirrored), by default into runs/reproduce_axi.
 
@@ -31,9 +32,12 @@ import matplotlib.pyplot as plt
 import matplotlib.tri as mtri
 from matplotlib.colors import TwoSlopeNorm
 
-import observables
-import runner
-from runner import ROOT, history, timings, write_rows
+from poroplast_tools import fields
+from poroplast_tools import cases as store
+from poroplast_tools.cases import ROOT, find_case
+from poroplast_tools.history import at as value_at, history, timings
+from poroplast_tools.refs import references
+from poroplast_tools.tables import write_rows
 
 # case -> (builtin scene, `--set` overrides, t_end of the loading in s)
 R405 = "material.remodelling"
@@ -84,15 +88,25 @@ def case_overrides(case):
     return [tuple(x.split("=", 1)) for x in sets]
 
 
+def extra_sets():
+    return [tuple(x.split("=", 1)) for x in EXTRA_SETS]
+
+
 def run_cases(out, names):
-    """Runs the cases (runner.run_cases: completed ones skipped; the ETA weighted by each case's
-    t_end, which its cost roughly scales with)."""
-    done = runner.run_cases([CASES[c][0] for c in names], [case_overrides(c) for c in names],
-                            [tuple(x.split("=", 1)) for x in EXTRA_SETS], out, RANKS[0],
-                            names=names, weights=[CASES[c][2] for c in names])
-    failed = [c for c, (_, r) in zip(names, done) if r["status"] != "ok"]
+    """Runs the cases (one sweep: completed ones skipped); returns {case: run directory}."""
+    done = store.run_cases([CASES[c][0] for c in names], [case_overrides(c) for c in names], extra_sets(), out,
+                           RANKS[0])
+    failed = [f"{c} ({r['error']})" for c, (_, r) in zip(names, done) if r["status"] != "ok"]
     if failed:
-        print(f"failed: {', '.join(failed)}; see {out / 'cases'}/<case>/log.txt")
+        print(f"failed: {', '.join(failed)}; see {out / 'sweep.log'}")
+    return {c: d for c, (d, _) in zip(names, done)}
+
+
+def case_dirs(out):
+    """The run directories of the completed cases in the store (a missing one: a path that does
+    not exist)."""
+    return {c: find_case(out, CASES[c][0], case_overrides(c), extra_sets()) or out / "cases" / f"(no run of {c})"
+            for c in CASES}
 
 
 # ---------------------------------------------------------------- summary
@@ -100,7 +114,7 @@ def run_cases(out, names):
 def summarise(case, d):
     h, tim, t_end = history(d), timings(d), CASES.get(case, (None, None, 405.0))[2]
     t, th = h["time"], t_end - 5.0                   # th: end of the hold
-    at = lambda col, x: None if math.isnan(v := runner.at(h, col, x)) else v
+    at = lambda col, x: None if math.isnan(v := value_at(h, col, x)) else v
     s = {k: tim.get(v) for k, v in [("wall_s", "total"), ("steps", "steps"), ("newton", "newton_its"),
                                      ("krylov", "ksp_its"), ("step_cuts", "step_cuts")]}
     f = h["force_total_mg"]
@@ -235,23 +249,23 @@ def fig_soft(dirs, out):
 
 def zone_stats(dirs):
     """remodel_40: σ_VM and ‖E_p‖ in the centre vs next to the contact zones (Figs 5-6 text;
-    volume means over the regions of scripts/observables.py), and remodel_405's positive-pressure
+    volume means over the regions of scripts/poroplast_tools/fields.py), and remodel_405's positive-pressure
     region (Fig 3)."""
     if have(dirs, ["remodel_40"], "fields.h5"):
         run = dirs["remodel_40"]
-        f = observables.fields(run)
+        f = fields.fields(run)
         for t in (5, 15, 35, 40, 60):
             vm = f.at("von_mises", t)
-            zm = lambda name, zone: observables.zone_mean(run, name, zone, t)
+            zm = lambda name, zone: fields.zone_mean(run, name, zone, t)
             print(f"  t = {t:3d} s: σ_VM max {vm.max():5.2f} kPa at (r, z) = ({f.r[vm.argmax()]:.0f}, "
                   f"{f.z[vm.argmax()]:.0f}) µm; mean centre {zm('von_mises', 'centre'):5.2f}, contact zones "
                   f"{zm('von_mises', 'contact'):5.2f} kPa; ‖E_p‖ centre {zm('norm_ep', 'centre'):.3f}, "
                   f"contact {zm('norm_ep', 'contact'):.3f}")
-        t, before, after = observables.detachment(run, 35.0)
+        t, before, after = fields.detachment(run, 35.0)
         print(f"  upper detachment after t = {t:.3f} s: largest σ_VM {before:.2f} kPa before, {after:.2f} kPa after")
     if have(dirs, ["remodel_405"], "fields.h5"):
         for t in (35.0, 45.0, 60.0):
-            share, where, angle = observables.bubble(dirs["remodel_405"], t)
+            share, where, angle = fields.bubble(dirs["remodel_405"], t)
             print(f"  remodel_405, t = {t:g} s: p > 0 in {100 * share:.1f}% of the volume, p⁺-weighted mean "
                   f"distance from the centre {where:.3f} R at {angle:.0f}° from the axis")
 
@@ -263,11 +277,11 @@ def split_kink(dirs):
     if not have(dirs, ["reference_405"], "fields.h5"):
         return
     run = dirs["reference_405"]
-    h, f = history(run), observables.fields(run)
+    h, f = history(run), fields.fields(run)
     T = [t for t in f.times if 200.0 <= t <= 300.0]
     if len(T) < 2:
         return print("  reference_405 has no field outputs between 200 and 300 s (an older scene)")
-    fp = lambda t: runner.at(h, "force_pressure_mg", t)
+    fp = lambda t: value_at(h, "force_pressure_mg", t)
     t0, t1 = max(zip(T, T[1:]), key=lambda w: (fp(w[0]) - fp(w[1])) / (w[1] - w[0]))
     X = f.f["/mesh/coordinates"][:]
     r, rho = np.hypot(X[:, 0], X[:, 1]), np.hypot(np.hypot(X[:, 0], X[:, 1]), X[:, 2] - f.radius)
@@ -276,7 +290,7 @@ def split_kink(dirs):
     k = top[np.argmin(p1[top] - p0[top])]
     gap = lambda t: 2 * f.radius - X[k, 2] - f.at("u", t)[k, 2]
     print(f"  the pressure part falls fastest between {t0:g} and {t1:g} s ({fp(t0):.3f} -> {fp(t1):.3f} mg); "
-          f"the upper-surface vertex at r = {r[k]:.1f} µm (contact radius {runner.at(h, 'contact_radius_upper', t0):.1f} µm) "
+          f"the upper-surface vertex at r = {r[k]:.1f} µm (contact radius {value_at(h, 'contact_radius_upper', t0):.1f} µm) "
           f"goes from p = {p0[k]:.2f} to {p1[k]:.2f} kPa, its gap to the plate from {1e3 * gap(t0):.0f} to {1e3 * gap(t1):.0f} nm")
 
 
@@ -323,38 +337,38 @@ REPORTED = [
     ("λp 1 → 0.1: total-force peak change (mg)", "+≈ 2", "λp 1 → 0.1: total-force peak change (mg)",
      lambda d: _diff(d, "lambda_0.1", "remodel_405", "peak_F_mg")),
     ("largest σ_VM, last step in upper contact (kPa)", "≈ 4.0", ("remodel_40", "vm_max_before_detach"),
-     lambda d: _fields(d, "remodel_40", lambda r: observables.detachment(r, 35.0)[1])),
+     lambda d: _fields(d, "remodel_40", lambda r: fields.detachment(r, 35.0)[1])),
     ("largest σ_VM, first step after the detachment (kPa)", "≈ 3.5", ("remodel_40", "vm_max_after_detach"),
-     lambda d: _fields(d, "remodel_40", lambda r: observables.detachment(r, 35.0)[2])),
+     lambda d: _fields(d, "remodel_40", lambda r: fields.detachment(r, 35.0)[2])),
     ("mean σ_VM in the contact zones at 35 s (kPa)", "", ("remodel_40", "vm_contact@35"),
-     lambda d: _fields(d, "remodel_40", lambda r: observables.zone_mean(r, "von_mises", "contact", 35.0))),
+     lambda d: _fields(d, "remodel_40", lambda r: fields.zone_mean(r, "von_mises", "contact", 35.0))),
     ("mean σ_VM in the contact zones at 40 s (kPa)", "", ("remodel_40", "vm_contact@40"),
-     lambda d: _fields(d, "remodel_40", lambda r: observables.zone_mean(r, "von_mises", "contact", 40.0))),
+     lambda d: _fields(d, "remodel_40", lambda r: fields.zone_mean(r, "von_mises", "contact", 40.0))),
     ("σ_VM contact zones over centre at 40 s", "≈ 10", ("remodel_40", "vm_contact/centre@40"),
-     lambda d: _fields(d, "remodel_40", lambda r: observables.zone_ratio(r, "von_mises", 40.0))),
+     lambda d: _fields(d, "remodel_40", lambda r: fields.zone_ratio(r, "von_mises", 40.0))),
     ("σ_VM 10-µm layer under the plates over centre at 40 s", "≈ 10", ("remodel_40", "vm_contact10/centre@40"),
-     lambda d: _fields(d, "remodel_40", lambda r: observables.zone_ratio(r, "von_mises", 40.0, 10.0))),
+     lambda d: _fields(d, "remodel_40", lambda r: fields.zone_ratio(r, "von_mises", 40.0, 10.0))),
     ("largest σ_VM over the centre's mean at 40 s", "≈ 10", ("remodel_40", "vm_max/centre@40"),
-     lambda d: _fields(d, "remodel_40", observables.DERIVED["vm_max/centre@40"])),
+     lambda d: _fields(d, "remodel_40", fields.DERIVED["vm_max/centre@40"])),
     ("‖E_p‖ 10-µm layer over centre (60 s)", "≈ 0", ("remodel_40", "ep_contact10/centre@60"),
-     lambda d: _fields(d, "remodel_40", lambda r: observables.zone_ratio(r, "norm_ep", 60.0, 10.0))),
+     lambda d: _fields(d, "remodel_40", lambda r: fields.zone_ratio(r, "norm_ep", 60.0, 10.0))),
     ("‖E_p‖ contact zones over centre (frozen, 60 s)", "≈ 0 (\"almost none\")", ("remodel_40", "ep_contact/centre@60"),
-     lambda d: _fields(d, "remodel_40", lambda r: observables.zone_ratio(r, "norm_ep", 60.0))),
+     lambda d: _fields(d, "remodel_40", lambda r: fields.zone_ratio(r, "norm_ep", 60.0))),
     ("H/W after 60 s rest, c = 2 minus isotropic, 10 s compression", "< 0", "H/W c = 2 minus isotropic, 10 s compression",
      lambda d: None if None in (_hw(d, "hw_10_c2"), _hw(d, "hw_10")) else _hw(d, "hw_10_c2") - _hw(d, "hw_10")),
     ("H/W after 60 s rest, c = 2 minus isotropic, 65 s compression", "> 0", "H/W c = 2 minus isotropic, 65 s compression",
      lambda d: None if None in (_hw(d, "hw_65_c2"), _hw(d, "hw_65")) else _hw(d, "hw_65_c2") - _hw(d, "hw_65")),
     ("no remodelling: 95% of the hold's force relaxation done at (s)", "\"soon after the ramp\"",
      ("reference_405", "settle95:force_total_mg"),
-     lambda d: _fields(d, "reference_405", lambda r: observables.settle_time(r, "force_total_mg", 5.0, 400.0, 0.05))),
+     lambda d: _fields(d, "reference_405", lambda r: fields.settle_time(r, "force_total_mg", 5.0, 400.0, 0.05))),
     *[(f"p > 0 share of the volume at {t} s", "bubble from 35 s", ("remodel_155", f"bubble_share@{t}"),
-       (lambda t: lambda d: _fields(d, "remodel_405", lambda r: observables.bubble(r, float(t))[0]))(t)) for t in (35, 45, 60)],
+       (lambda t: lambda d: _fields(d, "remodel_405", lambda r: fields.bubble(r, float(t))[0]))(t)) for t in (35, 45, 60)],
     *[(f"p⁺-weighted distance from the centre at {t} s (R)", "travels outward", ("remodel_155", f"bubble_where@{t}"),
-       (lambda t: lambda d: _fields(d, "remodel_405", lambda r: observables.bubble(r, float(t))[1]))(t)) for t in (35, 45, 60)],
+       (lambda t: lambda d: _fields(d, "remodel_405", lambda r: fields.bubble(r, float(t))[1]))(t)) for t in (35, 45, 60)],
     *[(f"p⁺-weighted angle from the axis at {t} s (°)", "", ("remodel_155", f"bubble_angle@{t}"),
-       (lambda t: lambda d: _fields(d, "remodel_405", lambda r: observables.bubble(r, float(t))[2]))(t)) for t in (35, 45, 60)],
+       (lambda t: lambda d: _fields(d, "remodel_405", lambda r: fields.bubble(r, float(t))[2]))(t)) for t in (35, 45, 60)],
     ("no remodelling: lowest p(X_U) in the hold (kPa)", "≥ 0", ("reference_405", "min_hold405:probe_p"),
-     lambda d: _fields(d, "reference_405", lambda r: observables.hold_min(r, "probe_p", 5.0, 400.0))),
+     lambda d: _fields(d, "reference_405", lambda r: fields.hold_min(r, "probe_p", 5.0, 400.0))),
     ("R = 900 µm: p(X_U) crosses zero (s)", "no crossing", ("remodel_155_R900", "zero:probe_p"),
      lambda d: _summary(d, "remodel_155_R900", "t_p_neg_s")),
     ("R = 900 µm: lowest p(X_U) in the hold (kPa)", "≥ 0", ("remodel_155_R900", "min_hold:probe_p"),
@@ -368,7 +382,7 @@ def reported(dirs, out, refs, label):
     <out>/reported.csv."""
     conv = {}
     if refs and Path(refs).exists():
-        for (case, obs), v in runner.references(refs).items():
+        for (case, obs), v in references(refs).items():
             conv[(case, obs)] = v
             if case == "combined":
                 conv[obs] = v
@@ -497,9 +511,9 @@ def main():
     ap.add_argument("--references", metavar="CSV", help="references.csv for the table of reported numbers "
                     "(default: DIR/references.csv of --converged, else studies/references/references.csv, "
                     "else the shipped scripts/data/references.csv)")
-    runner.rank_options(ap)
+    store.rank_options(ap)
     a = ap.parse_args()
-    runner.use_rank_options(a)
+    store.use_rank_options(a)
     RANKS[0] = a.ranks
     if a.axisymmetric:
         EXTRA_SETS.append("mesh.geometry=axisymmetric")
@@ -507,9 +521,9 @@ def main():
             a.out = "runs/reproduce_axi"
     out = Path(a.out) if Path(a.out).is_absolute() else ROOT / a.out
     out.mkdir(parents=True, exist_ok=True)
+    dirs = case_dirs(out)
     if not a.plots_only:
-        run_cases(out, a.only or list(CASES))
-    dirs = {c: out / "cases" / c / "run" for c in CASES}
+        dirs.update(run_cases(out, a.only or list(CASES)))
     dirs.update({k: Path(v) for k, v in (x.split("=", 1) for x in a.dirs)})
     write_summary(dirs, out)
     refs = a.references

@@ -19,21 +19,10 @@ against the same value.
 import argparse
 import csv
 import math
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import labels  # noqa: E402
-
-
-def pareto(points):
-    """The points no other point beats in both time and error (sorted by time)."""
-    front, best = [], math.inf
-    for p in sorted(points, key=lambda p: (p["wall_s"], p["error"])):
-        if p["error"] < best:
-            front.append(p)
-            best = p["error"]
-    return front
+from poroplast_tools import labels
+from poroplast_tools.tables import pareto
 
 
 def name(p):

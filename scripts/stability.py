@@ -12,23 +12,23 @@
   Δt_max = 0.125 s (the seed paper's limit), 2, 5 and 10 s: force against time, and F(35 s) and
   the final H/W against the 0.125 s run (`stability_steps.png`, `stability_steps.csv`).
 
-Every run goes through the study runner (scripts/runner.py; resumable) into DIR/<group>/cases/<case>/.
+Every run is a case of the store DIR/<group>/cases (`poroplast sweep`; resumable).
 """
 import argparse
 import csv
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import runner  # noqa: E402
+from poroplast_tools.cases import rank_options, run_cases, use_rank_options
+from poroplast_tools.history import at, history
 
 
 def run(scene, overrides, group, ranks):
     """One case of DIR/<group> (skipped if complete): its run directory, or exits on failure."""
-    [(case, r)] = runner.run_cases(scene, [overrides], [], group, ranks)
+    [(case, r)] = run_cases(scene, [overrides], [], group, ranks)
     if r["status"] != "ok":
         sys.exit(f"stability.py: {case} failed: {r['error']}")
-    return case / "run"
+    return case
 
 
 def finish(fig, ax, path, title, xlabel, ylabel):
@@ -62,11 +62,11 @@ def undrained(root, plt):
 
 def remodelling(root, plt):
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    ref = runner.history(run("relaxation", [("time.t_end", "1000"), ("time.dt_max", "0.5")], root / "remodelling", 1))
+    ref = history(run("relaxation", [("time.t_end", "1000"), ("time.dt_max", "0.5")], root / "remodelling", 1))
     ax.plot(ref["time"], ref["stress_zz"], "k-", lw=1, label="Δt ≤ 0.5 s (reference)")
     for dt, mark in (("50", "o"), ("200", "s")):
         for integ in ("implicit", "explicit"):
-            h = runner.history(run("relaxation", [("time.t_end", "1000"), ("time.dt", dt), ("time.dt_max", dt),
+            h = history(run("relaxation", [("time.t_end", "1000"), ("time.dt", dt), ("time.dt_max", dt),
                                            ("time.growth", "1.0"), ("time.land_on", "[]"),
                                            ("material.remodelling.integrator", f'"{integ}"')],
                             root / "remodelling", 1))
@@ -81,8 +81,8 @@ def steps(root, plt, ranks):
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     rows, ref = [], None
     for dt_max in ("0.125", "2", "5", "10"):
-        h = runner.history(run("remodel_40", [("time.dt_max", dt_max), ("output.fields", "false")], root / "steps", ranks))
-        f35, hw = runner.at(h, "force_total_mg", 35.0), h["height"][-1] / h["width"][-1]
+        h = history(run("remodel_40", [("time.dt_max", dt_max), ("output.fields", "false")], root / "steps", ranks))
+        f35, hw = at(h, "force_total_mg", 35.0), h["height"][-1] / h["width"][-1]
         ref = ref or (f35, hw)
         rows.append({"dt_max": dt_max, "steps": len(h["time"]) - 1, "largest_dt": max(h["dt"]),
                      "F35_mg": f35, "F35_error": f35 / ref[0] - 1, "final_HW": hw, "HW_error": hw - ref[1]})
@@ -105,9 +105,9 @@ def main():
     ap.add_argument("--dir", required=True)
     ap.add_argument("--only", nargs="+", choices=["undrained", "remodelling", "steps"],
                     default=["undrained", "remodelling", "steps"])
-    runner.rank_options(ap)
+    rank_options(ap)
     a = ap.parse_args()
-    runner.use_rank_options(a)
+    use_rank_options(a)
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

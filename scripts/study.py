@@ -1,19 +1,19 @@
 """Parameter studies as batch jobs.
 
-One scene, a grid of `--set` overrides: every combination is a case, run into its own directory;
-the cases to run go to one `mpirun -n RANKS poroplast sweep` (RANKS = --ranks, 2 by default;
---ranks-per-case K each: by default 1 on a meridian, RANKS for 3-D; --no-sweep: one mpirun per
-case, see scripts/runner.py). A case that completed with the same scene, `--set` values and
-PETSc options is skipped (another `--set` runs it again), so an interrupted study
-continues where it stopped (a failed case is tried again). Writes
+One scene, a grid of `--set` overrides: every combination is a case. The cases go to one
+`mpirun -n RANKS poroplast sweep` (RANKS = --ranks, 2 by default; --ranks-per-case K each: by
+default 1 on a meridian, RANKS for 3-D; --no-sweep: one mpirun per case), which keeps them in
+the case store STUDY/cases: a case that completed with the same scene, `--set` values and PETSc
+options is skipped (another `--set` runs it again), so an interrupted study continues where it
+stopped (a failed case is tried again), and studies into one STUDY share their cases. Writes
 
-  STUDY/summary.csv      one row per case: the overrides, status, wall time, steps, step cuts,
-                         Newton and Krylov iterations, dofs, and the observables
+  STUDY/summary.csv      one row per case: the overrides, status, wall time, dofs, steps, step
+                         cuts, Newton and Krylov iterations, the observables, error, run directory
   STUDY/<observable>.png each observable against the first grid key (a line per combination
                          of the other keys)
   STUDY/curve_<col>.png  with --curves COL: COL(t) of every case on one figure (the paper's
                          force–time figures)
-  STUDY/cases/<case>/    the case's run directory (run/), its log and result (case.json)
+  STUDY/cases/<case>-<key>/  each case's run directory, with its outcome (case.toml)
 
     python3 scripts/study.py reference --grid mesh.params.h=20,15 --grid plates.compression=0.2,0.3 \\
         --dir studies/h_u [--set time.t_end=60] [--observe max:force_total_mg force_total_mg@35] \\
@@ -25,9 +25,9 @@ e.g. last:height/width), `COL@T` (interpolated at time T), `zero:COL` (the first
 from positive to zero or below); against an exact solution (a column COL_exact): `err:COL@T`
 (|COL − COL_exact| at T), `maxerr:COL@T0:T1` (the largest over T0 ≤ t ≤ T1); `--orders` prints
 the observables along the first grid key with the observed order between successive levels.
-The running, caching and reading are `scripts/runner.py`'s. Default, for the plates experiment: peak force, F(35 s),
-p(X_U) at 5 and 30 s, its zero crossing, final H/W. Run from the repository root after
-`cargo build --release`.
+The sweep evaluates the observables (the one grammar: src/sweep/observable.rs); its default, for
+the plates experiment: peak force, F(35 s), p(X_U) at 5 and 30 s, its zero crossing, final H/W.
+Run from the repository root after `cargo build --release`.
 """
 import argparse
 import csv
@@ -36,14 +36,11 @@ import math
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import labels  # noqa: E402
-import runner  # noqa: E402
-from runner import (BIN, COUNTERS, grid_cases, history, observe, parse_grid, run_cases,  # noqa: E402,F401
-                    slug, solve_order)
-
-DEFAULT_OBSERVE = ["max:force_total_mg", "force_total_mg@35", "probe_p@5", "probe_p@30", "zero:probe_p",
-                   "last:height/width"]
+from poroplast_tools import labels
+from poroplast_tools.cases import BIN, rank_options, run_cases, use_rank_options
+from poroplast_tools.history import history
+from poroplast_tools.levels import grid_cases, parse_grid
+from poroplast_tools.richardson import solve_order
 
 
 def plot(rows, keys, observables, study):
@@ -81,7 +78,7 @@ def plot(rows, keys, observables, study):
     return files
 
 
-def plot_curves(cases, study, columns):
+def plot_curves(cases, done, study, columns):
     """COL(t) of every completed case, one figure per column."""
     import matplotlib
     matplotlib.use("Agg")
@@ -89,11 +86,10 @@ def plot_curves(cases, study, columns):
     files = []
     for col in columns:
         fig, ax = plt.subplots(figsize=(6, 3.8))
-        for case in cases:
-            cdir = study / "cases" / slug(case)
-            if not (cdir / "case.json").exists():
+        for case, (cdir, result) in zip(cases, done):
+            if result["status"] != "ok":
                 continue
-            h = history(cdir / "run")
+            h = history(cdir)
             if col in h:
                 ax.plot(h["time"], h[col], label=labels.case(case) or "base")
         ax.set_xlabel("time (s)")
@@ -111,7 +107,7 @@ def plot_curves(cases, study, columns):
 def print_orders(rows, keys, observables):
     """The observables as errors along the first grid key (a table per combination of the other
     keys), with the observed order between successive levels: log(e_i / e_i+1) / log(x_i / x_i+1)
-    (`runner.solve_order` with the limit 0)."""
+    (`richardson.solve_order` with the limit 0)."""
     x_key, others = keys[0], keys[1:]
     for g in sorted({tuple(r[k] for k in others) for r in rows}):
         sel = [r for r in rows if tuple(r[k] for k in others) == g and r["status"] == "ok"]
@@ -138,8 +134,9 @@ def main():
                     help="a grid axis (repeatable: the cases are all combinations)")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="an override for every case")
     ap.add_argument("--dir", required=True, help="study directory (created; reused to continue)")
-    ap.add_argument("--observe", nargs="+", default=DEFAULT_OBSERVE)
-    runner.rank_options(ap)
+    ap.add_argument("--observe", nargs="+", default=None,
+                    help="summary observables (default: the sweep's list, for the plates experiment)")
+    rank_options(ap)
     ap.add_argument("--no-plots", action="store_true")
     ap.add_argument("--curves", nargs="+", default=[], metavar="COL",
                     help="history columns to plot against time, one line per case")
@@ -147,7 +144,7 @@ def main():
                     help="print each observable (an error: err:, maxerr:) per level of the first grid axis "
                          "with the observed order between successive levels")
     a = ap.parse_args(argv)
-    runner.use_rank_options(a)
+    use_rank_options(a)
     if not BIN.exists():
         sys.exit(f"study.py: {BIN} not found: run `cargo build --release` first")
     study = Path(a.dir)
@@ -160,28 +157,29 @@ def main():
         {"scene": a.scene, "grid": a.grid, "set": a.set, "observe": a.observe, "ranks": a.ranks,
          "petsc": petsc}, indent=1))
 
+    done = run_cases(a.scene, cases, sets, study, a.ranks, petsc, a.observe)
+    # The summary's numbers: the counters, then the observables (every spec holds ':' or '@').
+    numbers = [k for k in done[0][1] if k not in ("status", "error")] if done else []
+    observables = [k for k in numbers if ":" in k or "@" in k]
     rows = []
-    for case, (_, result) in zip(cases, run_cases(a.scene, cases, sets, study, a.ranks, petsc, a.observe)):
+    for case, (cdir, result) in zip(cases, done):
         row = dict(case)
-        row.update({"status": result["status"], "error": result.get("error", "")})
-        for k in COUNTERS:
-            row[k] = result.get(k, float("nan"))
-        for o in a.observe:
-            row[o] = result.get(o, float("nan"))
+        row.update(result)
+        row["dir"] = cdir.relative_to(study.resolve()) if cdir.is_relative_to(study.resolve()) else cdir
         rows.append(row)
 
-    cols = keys + ["status"] + list(COUNTERS) + a.observe + ["error"]
+    cols = keys + ["status"] + numbers + ["error", "dir"]
     with open(study / "summary.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=cols)
         w.writeheader()
         for r in rows:
             w.writerow({k: r[k] for k in cols})
     # One line per axis: the first key of a linked axis stands for it.
-    figs = [] if a.no_plots or not keys else plot(rows, [ks[0] for ks, _ in axes], a.observe, study)
+    figs = [] if a.no_plots or not keys else plot(rows, [ks[0] for ks, _ in axes], observables, study)
     if not a.no_plots:
-        figs += plot_curves(cases, study, a.curves)
+        figs += plot_curves(cases, done, study, a.curves)
     if a.orders and axes:
-        print_orders(rows, [ks[0] for ks, _ in axes], a.observe)
+        print_orders(rows, [ks[0] for ks, _ in axes], observables)
     failed = sum(r["status"] != "ok" for r in rows)
     print(f"summary: {study / 'summary.csv'} ({len(rows)} cases, {failed} failed)"
           + (f"; figures: {', '.join(figs)}" if figs else ""))

@@ -2,7 +2,7 @@
 //! - `poroplast run [SCENE] [--set KEY=VALUE ...] [--out DIR] [--force] [-q] [-- PETSC OPTIONS]`
 //! - `poroplast resume DIR [-q] [-- PETSC OPTIONS]` (continue from the last checkpoint)
 //! - `poroplast check SCENE [--set KEY=VALUE ...] [-- PETSC OPTIONS]`
-//! - `poroplast sweep STUDY.toml [--ranks-per-case k] [--out DIR] [-q] [-- PETSC OPTIONS]`
+//! - `poroplast sweep STUDY.toml [--ranks-per-case k] [--out DIR] [--cases-dir DIR] [-q] [-- PETSC OPTIONS]`
 //! - `poroplast scenes`, `poroplast show NAME`
 //!
 //! The `///` comments below are clap's help text, printed as written: brackets and angle
@@ -80,10 +80,11 @@ pub enum Command {
     ///
     /// The MPI ranks form groups of k (--ranks-per-case); each group runs one case at a time,
     /// taking the next free case when it is done. Writes DIR/summary.csv (one row per case:
-    /// overrides, status, wall time, dofs, steps, iterations, observables, error) and
-    /// DIR/cases/NNN_<overrides>/ (each case's run directory). The same command with
-    /// --out DIR continues an interrupted sweep: completed cases are skipped, interrupted ones
-    /// resume from their checkpoints. See docs/user-guide.md for the STUDY.toml format.
+    /// overrides, status, wall time, dofs, steps, iterations, observables, error, directory)
+    /// and DIR/cases/<case>-<key>/ (each case's run directory, named after what it runs). The
+    /// same command with --out DIR continues an interrupted sweep: completed cases are skipped,
+    /// interrupted ones resume from their checkpoints. See docs/user-guide.md for the
+    /// STUDY.toml format.
     Sweep {
         /// The study file (.toml).
         study: PathBuf,
@@ -93,6 +94,10 @@ pub enum Command {
         /// Sweep directory (default: runs/sweep-<study name>-<UTC timestamp>); give it to continue a sweep.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Case store shared with other sweeps (default: DIR/cases): a case any of them completed
+        /// (same scene, overrides and PETSc options) is not run again.
+        #[arg(long, value_name = "DIR")]
+        cases_dir: Option<PathBuf>,
         /// No progress lines.
         #[arg(long, short)]
         quiet: bool,

@@ -41,6 +41,11 @@ impl Fnv {
     pub fn finish(&self) -> u64 {
         self.0
     }
+
+    /// The hash value as 16 hex digits (names of cached meshes and stored cases).
+    pub fn hex(&self) -> String {
+        format!("{:016x}", self.0)
+    }
 }
 
 #[cfg(test)]

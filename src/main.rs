@@ -55,8 +55,8 @@ fn main() {
             driver::resume(&world, &dir, &petsc, !quiet).map(|dir| dir.display().to_string())
         }
         Command::Check { scene, set, petsc } => driver::check(&world, &scene, &set, &petsc),
-        Command::Sweep { study, ranks_per_case, out, quiet, petsc } => {
-            let args = SweepArgs { study, ranks_per_case, out, petsc, progress: !quiet };
+        Command::Sweep { study, ranks_per_case, out, cases_dir, quiet, petsc } => {
+            let args = SweepArgs { study, ranks_per_case, out, cases_dir, petsc, progress: !quiet };
             sweep::sweep(&world, &args).map(|dir| format!("summary: {}", dir.join("summary.csv").display()))
         }
         // Answered above, before MPI.

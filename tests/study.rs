@@ -1,5 +1,8 @@
-//! The study runner (`scripts/study.py`): a grid of `--set` overrides run as batch jobs on 2
-//! ranks, one summary row per case, failed cases reported and retried, completed ones skipped.
+//! The study scripts end to end: `scripts/study.py` (a grid of `--set` overrides run as one sweep
+//! on 2 ranks, one summary row per case, failed cases reported and retried, completed ones
+//! skipped), the convergence study, the calibration and `reproduce.py` on tiny cases; and the
+//! scripts' Python unit tests (`scripts/tests`: Richardson, the references reader, the study
+//! file and summary rows, the field observables), which need no solver.
 
 mod common;
 use common::*;
@@ -26,14 +29,15 @@ fn study(args: &[&str]) -> (bool, String) {
     script("study.py", args)
 }
 
-/// Runs Python `code` with the scripts importable; it must print "ok".
-fn python_ok(code: &str) {
-    let out = Command::new("python3").arg("-c").arg(code).current_dir(scripts_dir()).output().unwrap();
-    assert!(
-        out.status.success() && String::from_utf8_lossy(&out.stdout).contains("ok"),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+#[test]
+fn python_unit_tests_pass() {
+    let out = Command::new("python3")
+        .args(["-m", "unittest", "discover", "-s", "scripts/tests", "-t", "scripts"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("python3 could not be started");
+    let text = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && text.contains("OK"), "{text}");
 }
 
 #[test]
@@ -101,10 +105,18 @@ fn a_study_runs_its_grid_and_continues_where_it_stopped() {
         rows.iter().map(|r| (r["material.mu"].clone(), r["material.nu"].clone())).collect();
     assert_eq!(pairs, [("12".into(), "0.2".into()), ("24".into(), "0.3".into())]);
     assert!(linked.join("curve_settlement.png").exists());
-    // Again: the completed cases are skipped, the failed ones tried again.
+    // Again: the completed cases are skipped (their rows as they were: not run again), the
+    // failed ones tried again.
+    let wall = |rows: &[std::collections::HashMap<String, String>]| -> Vec<String> {
+        let mut ok: Vec<String> = rows.iter().filter(|r| r["status"] == "ok").map(|r| r["wall_s"].clone()).collect();
+        ok.sort();
+        ok
+    };
+    let before = wall(&csv_rows(&summary));
     let (_, out) = study(&args);
     assert!(out.contains("4 cases, 2 already complete, 2 to run"), "{out}");
-    assert_eq!(out.matches("complete, skipped").count(), 2, "{out}");
+    assert_eq!(out.matches("sweep: case ").count(), 2, "{out}");
+    assert_eq!(wall(&csv_rows(&std::fs::read_to_string(d.join("summary.csv")).unwrap())), before);
     // Another --set for the same cases runs them again (a case is complete for what it ran).
     let changed: Vec<&str> =
         args.iter().map(|a| if *a == "time.t_end=0.004" { "time.t_end=0.003" } else { a }).collect();
@@ -115,27 +127,9 @@ fn a_study_runs_its_grid_and_continues_where_it_stopped() {
     assert_eq!(ok, [0.003, 0.003], "{rows:?}");
 }
 
-#[test]
-fn study_observables_are_read_from_the_history() {
-    // p falls through zero between t = 2 (p = 1) and t = 3 (p = -3): at t = 2.25.
-    let code = "import study\n\
-        h = {'time': [0, 1, 2, 3], 'p': [0.0, 2.0, 1.0, -3.0], 'height': [2.0, 1.0, 1.0, 1.5], 'width': [2.0, 2.0, 2.5, 3.0]}\n\
-        assert study.observe(h, 'max:p') == 2.0\n\
-        assert study.observe(h, 'last:p') == -3.0\n\
-        assert abs(study.observe(h, 'p@1.5') - 1.5) < 1e-15\n\
-        assert abs(study.observe(h, 'zero:p') - 2.25) < 1e-15\n\
-        assert study.observe(h, 'last:height/width') == 0.5\n\
-        import math\n\
-        assert math.isnan(study.observe(h, 'p@7')) and math.isnan(study.observe(h, 'max:q'))\n\
-        print('ok')";
-    python_ok(code);
-}
-
 /// The convergence study end to end on a tiny case (Terzaghi, 3 meshes at the finest steps and 3
-/// step levels on the finest mesh: 5 runs): it writes its tables with one row per observable;
-/// its order estimate and Richardson correction recover a known C h^p error, and its cross
-/// design (mesh levels at one step level, step levels on another mesh) recovers Q* exactly
-/// from additive errors 2e-3 h² + 0.3 Δt-scale.
+/// step levels on the finest mesh: 5 runs): it writes its tables with one row per observable.
+/// (Its extrapolation recovering known errors: scripts/tests/test_richardson.py.)
 #[test]
 fn convergence_study_extrapolates() {
     let dir = scratch("convergence_study");
@@ -154,21 +148,6 @@ fn convergence_study_extrapolates() {
     assert_eq!(rows.len(), 2, "{conv}");
     assert!(rows.iter().all(|r| r["finest"].parse::<f64>().unwrap().is_finite()), "{conv}");
     assert_eq!(std::fs::read_to_string(d.join("errors.csv")).unwrap().lines().count(), 6);
-    let code = "import convergence_study as c\n\
-        q = [1 + 2 * h**1.5 for h in (3.0, 2.0, 1.5)]\n\
-        p = c.solve_order(q, (1.5, 2 / 1.5))\n\
-        assert abs(p - 1.5) < 1e-9, p\n\
-        assert abs(q[2] + c.correction(q[1], q[2], 2 / 1.5, p) - 1.0) < 1e-9\n\
-        import math\n\
-        assert math.isnan(c.solve_order([1.0, 2.0, 1.5], (2.0, 2.0)))\n\
-        hs, ss, Q = [20.0, 15.0, 10.0, 5.0], [1.0, 0.5, 0.25, 0.125], lambda h, s: 1 + 2e-3 * h**2 + 0.3 * s\n\
-        r = c.extrapolate([Q(h, 0.5) for h in hs], [Q(10.0, s) for s in ss], Q(10.0, 0.5), hs, ss, 2, 1)\n\
-        assert abs(r['extrapolated'] - 1) < 1e-12 and abs(r['p_h'] - 2) < 1e-6 and abs(r['p_t'] - 1) < 1e-6, r\n\
-        import speed_accuracy as s\n\
-        pts = [dict(wall_s=w, error=e) for w, e in [(1, 0.1), (2, 0.2), (3, 0.01), (4, 0.05), (5, 0.001)]]\n\
-        assert [(p['wall_s'], p['error']) for p in s.pareto(pts)] == [(1, 0.1), (3, 0.01), (5, 0.001)]\n\
-        print('ok')";
-    python_ok(code);
 }
 
 /// Calibration recovers known parameters from the code's own curve: (λp, σy) = (0.5 (MPa s)⁻¹,
@@ -239,47 +218,6 @@ fn split_csv(line: &str) -> Vec<String> {
     }
     out.push(cur);
     out
-}
-
-/// The run observables of scripts/observables.py on a synthetic run with known answers: the
-/// meridian's volume weights revolve each triangle exactly (Pappus: a rectangle r ≤ a, 0 ≤ z ≤ H
-/// in two triangles gives the cylinder πa²H), a region mean and the positive-pressure share are
-/// the weighted ones, fields between two outputs are interpolated linearly, the upper detachment
-/// is the last row in contact, and the settle time of F = 1 + e^(−t/10) from t = 5 to 400 at 5%
-/// is 5 + 10 ln 20 s.
-#[test]
-fn observables_measure_known_fields() {
-    let dir = scratch("observables");
-    let code = r#"
-import h5py, math, os, numpy as np, observables as o
-run = "RUN"
-os.makedirs(run, exist_ok=True)
-a, H = 30.0, 200.0
-X = np.array([[0, 0, 0], [a, 0, 0], [a, 0, H], [0, 0, H]], float)
-mid = lambda i, j: (X[i] + X[j]) / 2
-X = np.vstack([X, mid(0, 1), mid(1, 2), mid(2, 0), mid(2, 3), mid(3, 0)])
-top = np.array([[0, 1, 2, 4, 5, 6], [0, 2, 3, 6, 7, 8]])
-with h5py.File(run + "/fields.h5", "w") as f:
-    f["/mesh/coordinates"], f["/mesh/topology"], f["/time"] = X, top, np.array([0.0, 10.0])
-    f["/fields/von_mises/000000"], f["/fields/von_mises/000001"] = np.array([1.0, 3.0]), np.array([3.0, 5.0])
-    f["/fields/p/000000"], f["/fields/p/000001"] = np.array([1.0, 1, 1, -5, 0, 0, 0, 0, 0]), np.zeros(9)
-F = o.fields(run)
-assert abs(F.w.sum() - math.pi * a * a * H) < 1e-9 * F.w.sum(), F.w.sum()
-w = F.w / F.w.sum()
-assert abs(F.mean(F.at("von_mises", 5.0), np.ones(2, bool)) - (2 * w[0] + 4 * w[1])) < 1e-12
-share, where, angle = o.bubble(run, 0.0)
-assert abs(share - w[0]) < 1e-12 and abs(w[0] - 2 / 3) < 1e-12, (share, w)
-with open(run + "/history.csv", "w") as h:
-    h.write("time,force_total_mg,contact_nodes_upper,max_von_mises\n")
-    for x in np.arange(0, 400.001, 0.01):
-        h.write(f"{x},{1 + math.exp(-x / 10)},{5 if x <= 37.2 else 0},{4 if x <= 37.2 else 3}\n")
-s = o.settle_time(run, "force_total_mg", 5.0, 400.0, 0.05)
-assert abs(s - (5 + 10 * math.log(20))) < 1e-3, s
-d = o.detachment(run, 35.0)
-assert abs(d[0] - 37.2) < 1e-6 and d[1:] == (4.0, 3.0), d
-print("ok")
-"#;
-    python_ok(&code.replace("RUN", &dir.join("run").display().to_string()));
 }
 
 /// `reproduce.py` end to end on one case (remodel_40 on the meridian, about 2 s): the run, its

@@ -1,7 +1,9 @@
 //! `poroplast sweep`: the cases of a study under one mpirun, in groups of k ranks — each case's
 //! history equal to the same case run alone; a bad case failing alone; a sweep killed with
-//! `kill -9` resuming to the same summary; bad input refused before anything is written.
-//! The scene: the axisymmetric reference on a coarse meridian, to t = 3 s (part of the ramp).
+//! `kill -9` resuming to the same summary, and a sweep directory of the earlier layout
+//! continued; sweeps sharing a case store running each case once; bad input refused before
+//! anything is written. The scene: the axisymmetric reference on a coarse meridian, to t = 3 s
+//! (part of the ramp).
 
 mod common;
 use common::*;
@@ -45,15 +47,22 @@ fn sweep(np: usize, study: &Path, out: &Path, k: usize) -> std::process::Output 
     poroplast(np, &["sweep", &study.display().to_string(), "--out", &out.display().to_string(), "-k", &k.to_string()])
 }
 
+/// A sweep on 2 ranks, one case per rank, its cases in the store `cases`.
+fn sweep_in(study: &Path, out: &Path, cases: &Path) -> std::process::Output {
+    let (s, o, c) = (study.display().to_string(), out.display().to_string(), cases.display().to_string());
+    poroplast(2, &["sweep", &s, "--out", &o, "--cases-dir", &c, "-k", "1"])
+}
+
 fn ok(out: &std::process::Output, what: &str) -> String {
     expect_success(out, what)
 }
 
-/// The case directories of a sweep, in case order.
+/// The case directories of a sweep, in case order (summary.csv's `dir`, relative to the sweep
+/// directory or absolute).
 fn case_dirs(root: &Path) -> Vec<PathBuf> {
-    let mut d: Vec<PathBuf> = std::fs::read_dir(root.join("cases")).unwrap().map(|e| e.unwrap().path()).collect();
-    d.sort();
-    d
+    let (header, rows) = summary(root);
+    let dir = header.iter().position(|h| h == "dir").unwrap();
+    rows.iter().map(|r| root.join(&r[dir])).collect()
 }
 
 /// summary.csv as rows of fields (plain fields: these studies have no quoted ones).
@@ -169,8 +178,11 @@ fn cases_with_their_own_scenes() {
     let scenes: Vec<&str> = rows.iter().map(|r| r[col("scene")].as_str()).collect();
     assert_eq!(scenes, ["reference_axi", file.as_str(), "reference_axi"]);
     assert!(rows.iter().all(|r| r[col("status")] == "ok"), "{rows:?}");
+    // The shipped scene and its file are two cases (a case is its scene's name or path and text).
     let dirs = case_dirs(&root);
-    assert!(dirs[1].ends_with("001_reference_axi"), "{}", dirs[1].display());
+    let name = |i: usize| dirs[i].file_name().unwrap().to_string_lossy().into_owned();
+    assert!(name(0).starts_with("reference_axi-") && name(1).starts_with("reference_axi-"), "{dirs:?}");
+    assert_ne!(dirs[0], dirs[1]);
     let diff = history_difference(&History::read(&dirs[0]), &History::read(&dirs[1]), "name and file");
     assert!(diff <= 1e-10, "the scene by name and by file differ by {diff:e}");
     let peak = |r: &Vec<String>| r[col("max:force_total_mg")].parse::<f64>().unwrap();
@@ -252,7 +264,7 @@ fn a_killed_sweep_resumes_to_the_same_summary() {
     let start = Instant::now();
     let checkpointed = || {
         killed.join("cases").is_dir()
-            && case_dirs(&killed).iter().any(|c| {
+            && std::fs::read_dir(killed.join("cases")).unwrap().map(|e| e.unwrap().path()).any(|c| {
                 std::fs::read_dir(c.join("checkpoints")).is_ok_and(|mut e| e.next().is_some())
                     && !c.join("case.toml").exists()
             })
@@ -298,6 +310,59 @@ fn a_killed_sweep_resumes_to_the_same_summary() {
     // Completed: a third run has nothing to do.
     let stdout = ok(&sweep(2, &study, &killed, 2), "the sweep again");
     assert!(stdout.contains("4 already complete, 0 to run"), "{stdout}");
+
+    // The uninterrupted sweep as an earlier version left it (cases/NNN_<overrides>/, each
+    // case.toml with its overrides only): continued, its cases move into the store, complete.
+    let before = std::fs::read_to_string(reference.join("summary.csv")).unwrap();
+    for (i, (dir, case)) in case_dirs(&reference).iter().zip(grid_cases()).enumerate() {
+        let record = std::fs::read_to_string(dir.join("case.toml")).unwrap();
+        let legacy: String = record
+            .lines()
+            .filter(|l| !l.starts_with("scene") && !l.starts_with("petsc"))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        std::fs::write(dir.join("case.toml"), legacy).unwrap();
+        let name = case.iter().map(|s| s.replace('=', "-")).collect::<Vec<_>>().join("__");
+        std::fs::rename(dir, reference.join("cases").join(format!("{i:03}_{name}"))).unwrap();
+    }
+    let stdout = ok(&sweep(2, &study, &reference, 1), "the sweep of the earlier layout");
+    assert!(stdout.contains("4 case(s) of an earlier version's layout moved"), "{stdout}");
+    assert!(stdout.contains("4 already complete, 0 to run"), "{stdout}");
+    assert_eq!(std::fs::read_to_string(reference.join("summary.csv")).unwrap(), before);
+}
+
+#[test]
+fn sweeps_sharing_a_store_run_each_case_once() {
+    // Study b shares one case with study a, names it twice, and adds one: only that one runs,
+    // and b's summary has b's observables of a's case (read from its history when b's summary
+    // is written).
+    let d = scratch("sweep_shared");
+    let store = d.join("store");
+    let study = |name: &str, mus: &[&str], observe: &str| {
+        let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
+        let cases: String = mus.iter().map(|m| format!("[[case]]\nset = [\"material.mu={m}\"]\n")).collect();
+        let p = d.join(name);
+        std::fs::write(&p, format!("scene = \"reference_axi\"\nset = [{}]\n{observe}\n{cases}", set.join(", ")))
+            .unwrap();
+        p
+    };
+    let a = study("a.toml", &["15", "25"], "");
+    let stdout = ok(&sweep_in(&a, &d.join("a"), &store), "study a");
+    assert!(stdout.contains("2 cases, 0 already complete, 2 to run"), "{stdout}");
+    let b = study("b.toml", &["25", "35", "25"], "observe = [\"last:time\", \"max:force_total_mg\"]");
+    let stdout = ok(&sweep_in(&b, &d.join("b"), &store), "study b");
+    assert!(stdout.contains("3 cases, 2 already complete, 1 to run"), "{stdout}");
+    assert_eq!(stdout.matches("sweep: case ").count(), 1, "{stdout}");
+    assert!(stdout.contains("sweep: case 1 (material.mu=35) ok"), "{stdout}");
+    let (a_dirs, b_dirs) = (case_dirs(&d.join("a")), case_dirs(&d.join("b")));
+    assert!(a_dirs[1] == b_dirs[0] && b_dirs[0] == b_dirs[2] && b_dirs[0].starts_with(&store), "{a_dirs:?} {b_dirs:?}");
+    let (ha, ra) = summary(&d.join("a"));
+    let (hb, rb) = summary(&d.join("b"));
+    let value = |h: &[String], r: &Vec<String>, c: &str| r[h.iter().position(|x| x == c).unwrap()].clone();
+    assert_eq!(value(&hb, &rb[0], "last:time"), "3");
+    assert_eq!(value(&hb, &rb[0], "max:force_total_mg"), value(&ha, &ra[1], "max:force_total_mg"));
+    assert_eq!(value(&hb, &rb[2], "wall_s"), value(&ha, &ra[1], "wall_s"));
+    assert!(!ha.contains(&"last:time".to_string()) && ha.contains(&"zero:probe_p".to_string()), "{ha:?}");
 }
 
 #[test]

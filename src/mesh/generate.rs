@@ -176,7 +176,7 @@ fn cache_key(geo_source: &str, params: &[(String, f64)], order: usize, version: 
     }
     h.field(&(order as u64).to_le_bytes());
     h.field(version.as_bytes());
-    format!("{:016x}", h.finish())
+    h.hex()
 }
 
 /// Path of `<stem>-<hash>.msh` in `cache_dir`, generating it from `geo_source` (saved as `<stem>-<hash>.geo`)

@@ -1,6 +1,6 @@
-//! `poroplast sweep STUDY.toml [--ranks-per-case k]`: the cases of a study (a base scene and a
-//! grid or list of `--set` overrides, or a list of cases with their own scenes, see [`study`])
-//! run under one `mpirun -n N`.
+//! `poroplast sweep STUDY.toml [--ranks-per-case k] [--out DIR] [--cases-dir DIR]`: the cases of
+//! a study (a base scene and a grid or list of `--set` overrides, or a list of cases with their
+//! own scenes, see [`study`]) run under one `mpirun -n N`.
 //!
 //! - The world splits into N/k groups of k consecutive ranks; each group runs one case at a
 //!   time on its own communicator, through the driver's public entry points ([`driver::run`],
@@ -13,16 +13,22 @@
 //!   would have to be one that runs no case, or a thread, since world rank 0 runs cases too;
 //!   rsmpi 0.8 has no one-sided atomics. The file system the run directories need anyway is
 //!   the coordinator.)
+//! - The cases live in a case store ([`store`]): each in a run directory named after what it
+//!   runs (scene, overrides, PETSc options), with `case.toml`, its outcome, once it has ended.
+//!   The store is the sweep directory's `cases/`, or one that several sweeps share
+//!   (`--cases-dir`): a case any of them has completed is not run again.
 //! - The sweep directory (`--out`, default `runs/sweep-<study>-<UTC time>`) holds `study.toml`
 //!   (the study file) and `sweep.toml` (the command line's `-- PETSC OPTIONS`), both written at
-//!   the first session, which a later session must match; `summary.csv`, `claims/` (this
-//!   session's), and `cases/NNN_<overrides>/`, each case's run directory with `case.toml`, its
-//!   outcome, once it has ended.
+//!   the first session, which a later session must match; `summary.csv` ([`summary`]: a row per
+//!   case, with the observables of [`observable`]), `claims/` (this session's) and, by default,
+//!   the store `cases/`.
 //! - A failed case (a bad override, a solve that does not converge) is recorded with its error
 //!   line; the group goes on to the next case.
-//! - Resuming: the same command with `--out DIR`. Cases whose `case.toml` says ok are skipped;
-//!   a case with a run directory and no outcome (killed, or stopped by a signal) continues
-//!   from its last checkpoint ([`driver::resume`]); a failed case runs again.
+//! - Resuming: the same command with `--out DIR`. Complete cases are skipped; a case with a run
+//!   directory and no outcome (killed, or stopped by a signal) continues from its last
+//!   checkpoint ([`driver::resume`]); a failed case runs again. A sweep directory of an earlier
+//!   version (`cases/NNN_<overrides>/`) has its cases moved into the store first
+//!   ([`store::adopt_legacy`]).
 //! - A stop signal (SIGTERM, SIGINT, SIGUSR1) makes running cases checkpoint and stop (the
 //!   driver's own handling), and every group stop before its next case; exit code 75 then.
 //!   A signal that arrives while a case is being set up, before its time loop, is the
@@ -30,21 +36,24 @@
 //! - summary.csv is rewritten by a group's leader after each case and by world rank 0 at the
 //!   end, in case order, so a killed sweep leaves a usable partial one.
 
+pub mod observable;
 pub mod schedule;
+pub mod store;
 pub mod study;
 pub mod summary;
 
 use crate::driver::{self, signals::StopRequest, RunArgs};
 use crate::error::{Error, Result};
 use crate::io::rundir;
-use crate::parallel::{agree, broadcast_vec, on_root};
+use crate::parallel::{agree, broadcast_vec, on_root, path_from_root};
 use crate::scene::LoadedScene;
 use mpi::topology::{Color, SimpleCommunicator};
 use mpi::traits::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use store::{CaseRecord, Signature};
 use study::{Case, Study};
-use summary::{CaseResult, State};
+use summary::{Observations, Row, State};
 
 /// What `poroplast sweep` was asked to do.
 #[derive(Debug, Clone)]
@@ -54,15 +63,48 @@ pub struct SweepArgs {
     /// Ranks of each case (k); must divide the world's size.
     pub ranks_per_case: usize,
     pub out: Option<PathBuf>,
+    /// The case store (default: the sweep directory's `cases/`).
+    pub cases_dir: Option<PathBuf>,
     /// PETSc options of every case (after the study's own).
     pub petsc: Vec<String>,
     /// A progress line per case ended.
     pub progress: bool,
 }
 
-/// A case's run directory in the sweep directory `root`.
-pub fn case_dir(root: &Path, case: &Case) -> PathBuf {
-    root.join("cases").join(case.dir_name())
+/// The cases of a sweep as the store knows them: each case's signature and run directory.
+struct Plan {
+    sigs: Vec<Signature>,
+    dirs: Vec<PathBuf>,
+}
+
+/// What rank 0 sends the others of the signatures (they read no scene file again).
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Signatures {
+    case: Vec<Signature>,
+}
+
+impl Plan {
+    /// The signatures (rank 0's, who reads the scenes) and directories of the study's cases in
+    /// the store `store`; `petsc`: the command line's options.
+    fn of(world: &SimpleCommunicator, study: &Study, petsc: &[String], store: &Path) -> Result<Plan> {
+        let text = on_root(world, || {
+            let mut options = study.petsc.clone();
+            options.extend(petsc.iter().cloned());
+            let case = study
+                .cases
+                .iter()
+                .map(|c| Signature::of(&c.scene, study.overrides(c), options.clone()))
+                .collect::<Result<Vec<_>>>()?;
+            toml::to_string(&Signatures { case }).map_err(|e| Error::Sweep(format!("the cases' signatures: {e}")))
+        })?;
+        let mut bytes = text.unwrap_or_default().into_bytes();
+        broadcast_vec(world, 0, &mut bytes);
+        let sigs = toml::from_str::<Signatures>(&String::from_utf8_lossy(&bytes))
+            .map_err(|e| Error::Sweep(format!("the cases' signatures: {e}")))?
+            .case;
+        let dirs = study.cases.iter().zip(&sigs).map(|(c, s)| store::case_dir(store, c, s)).collect();
+        Ok(Plan { sigs, dirs })
+    }
 }
 
 /// Runs a study; returns the sweep directory. Any case failed: an error saying how many (the
@@ -94,19 +136,36 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
             crate::parallel::broadcast_path(world, Some(&rundir::default_run_dir(&format!("sweep-{}", study.name))))
         }
     };
-    // The directory (locked for the session), and the cases' order, by rank 0.
+    // The directory (locked for the session), the store, and the cases' order, by rank 0.
     let _lock = agree(world, open_dir(&root, &text, &args.petsc, world.rank() == 0))?;
+    let store = match &args.cases_dir {
+        Some(dir) => path_from_root(world, || {
+            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, format!("cannot create the case store: {e}")))?;
+            std::fs::canonicalize(dir).map_err(|e| Error::io(dir, e))
+        })?,
+        None => root.join("cases"),
+    };
+    let plan = Plan::of(world, &study, &args.petsc, &store)?;
+    let observations = Observations::new(&study.observe);
     let mut order: Vec<u64> = on_root(world, || {
         schedule::reset_claims(&root)?;
-        let todo = schedule::todo(&root, &study);
+        let moved = store::adopt_legacy(&root, &study, &plan.dirs, &plan.sigs)?;
+        let todo = schedule::todo(&plan.dirs, &plan.sigs);
         let order = schedule::order(&study, &todo)?;
-        write_summary(&root, &study)?;
+        let rows = write_summary(&root, &study, &plan, &observations)?;
         if args.progress {
+            if moved > 0 {
+                println!(
+                    "sweep {}: {moved} case(s) of an earlier version's layout moved into the case store {}",
+                    root.display(),
+                    store.display()
+                );
+            }
+            let complete = rows.iter().filter(|r| matches!(&r.state, State::Ended(r) if r.ok())).count();
             println!(
-                "sweep {}: {} cases, {} already complete, {} to run in {} group(s) of {k} rank(s)",
+                "sweep {}: {} cases, {complete} already complete, {} to run in {} group(s) of {k} rank(s)",
                 root.display(),
                 study.cases.len(),
-                study.cases.len() - todo.len(),
                 todo.len(),
                 n / k
             );
@@ -123,7 +182,16 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
     let group = world
         .split_by_color(Color::with_value(color as i32))
         .ok_or_else(|| Error::Mpi("splitting the ranks into groups gave no communicator".into()))?;
-    let ctx = Group { comm: &group, index: color, root: &root, study: &study, args, stop: &stop };
+    let ctx = Group {
+        comm: &group,
+        index: color,
+        root: &root,
+        study: &study,
+        plan: &plan,
+        observations: &observations,
+        args,
+        stop: &stop,
+    };
     let r = ctx.run(order, complete_before);
     drop(group);
 
@@ -134,7 +202,7 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
     world.barrier();
     let written = on_root(world, || {
         schedule::reset_claims(&root)?;
-        write_summary(&root, &study).map(drop)
+        write_summary(&root, &study, &plan, &observations).map(drop)
     });
     let code = match &r {
         Ok(()) => 0,
@@ -154,8 +222,9 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
     }
     written?;
     if worst == 1 {
+        let cases = args.cases_dir.as_ref().map(|c| format!(" --cases-dir {}", c.display())).unwrap_or_default();
         return Err(Error::Stopped(format!(
-            "sweep stopped by a signal; running cases checkpointed. Continue with `poroplast sweep {} --out {}{}` \
+            "sweep stopped by a signal; running cases checkpointed. Continue with `poroplast sweep {} --out {}{cases}{}` \
              (and the same --ranks-per-case or another)",
             args.study.display(),
             root.display(),
@@ -163,11 +232,8 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
         )));
     }
     let failed = on_root(world, || {
-        Ok(study
-            .cases
-            .iter()
-            .filter(|c| CaseResult::read(&case_dir(&root, c), &study.overrides(c)).is_some_and(|r| !r.ok()))
-            .count() as u64)
+        Ok(plan.dirs.iter().zip(&plan.sigs).filter(|(d, s)| CaseRecord::read(d, s).is_some_and(|r| !r.ok())).count()
+            as u64)
     })?;
     let mut failed = failed.unwrap_or(0);
     world.process_at_rank(0).broadcast_into(&mut failed);
@@ -268,25 +334,24 @@ fn same_options(root: &Path, petsc: &[String]) -> Result<bool> {
 /// The state of a case claimed in this session that has not ended.
 const RUNNING: &str = "running";
 
-/// summary.csv from every case's state on disk; returns the states (case, state, run directory).
-fn write_summary(root: &Path, study: &Study) -> Result<Vec<(Case, State, String)>> {
-    let states: Vec<(Case, State, String)> = study
+/// summary.csv from every case's state on disk; returns the rows.
+fn write_summary(root: &Path, study: &Study, plan: &Plan, observations: &Observations) -> Result<Vec<Row>> {
+    let rows: Vec<Row> = study
         .cases
         .iter()
-        .map(|c| {
-            let dir = case_dir(root, c);
-            let state = match CaseResult::read(&dir, &study.overrides(c)) {
+        .zip(plan.dirs.iter().zip(&plan.sigs))
+        .map(|(c, (dir, sig))| {
+            let state = match CaseRecord::read(dir, sig) {
                 Some(r) => State::Ended(r),
-                None if schedule::claimed(root, c.index) => State::Open(RUNNING),
+                None if schedule::claimed(root, dir) => State::Open(RUNNING),
                 None if dir.join("run.toml").exists() => State::Open("interrupted"),
                 None => State::Open("pending"),
             };
-            let rel = dir.strip_prefix(root).unwrap_or(&dir).display().to_string();
-            (c.clone(), state, rel)
+            Row { case: c.clone(), state, dir: dir.clone() }
         })
         .collect();
-    summary::write(root, study, &states)?;
-    Ok(states)
+    summary::write(root, study, &rows, observations)?;
+    Ok(rows)
 }
 
 /// One group of ranks, running cases one after another.
@@ -295,6 +360,8 @@ struct Group<'a> {
     index: usize,
     root: &'a Path,
     study: &'a Study,
+    plan: &'a Plan,
+    observations: &'a Observations,
     args: &'a SweepArgs,
     stop: &'a StopRequest,
 }
@@ -307,6 +374,7 @@ impl Group<'_> {
     /// Claims and runs cases until none is left (or a stop signal, or a failure of the sweep
     /// itself — a failed case is not one).
     fn run(&self, order: Vec<usize>, complete_before: usize) -> Result<()> {
+        let order = order.into_iter().map(|i| (i, schedule::claim_name(&self.plan.dirs[i]))).collect();
         let mut dispenser = schedule::Dispenser::new(self.root, order, self.index);
         let started = Instant::now();
         loop {
@@ -320,19 +388,42 @@ impl Group<'_> {
                 return Ok(());
             }
             let case = &self.study.cases[index as usize];
+            let (dir, sig) = (&self.plan.dirs[case.index], &self.plan.sigs[case.index]);
+            // Kept from another sweep sharing the store while this group has the case; that
+            // sweep may have completed it meanwhile.
+            let _claim = agree(
+                self.comm,
+                if self.leader() {
+                    store::claim(dir, || {
+                        if self.args.progress {
+                            println!(
+                                "sweep: case {} ({}) is being run by another sweep: waiting for it",
+                                case.index,
+                                case.label()
+                            );
+                        }
+                    })
+                    .map(Some)
+                } else {
+                    Ok(None)
+                },
+            )?;
+            let done = self.leader() && CaseRecord::read(dir, sig).is_some_and(|r| r.ok());
+            if crate::parallel::any(self.comm, done) {
+                continue;
+            }
             let t = Instant::now();
             let outcome = self.run_case(case);
             if let Err(e @ Error::Stopped(_)) = outcome {
                 return Err(e);
             }
-            let dir = case_dir(self.root, case);
             let failed = outcome.err().map(|e| e.to_string());
             on_root(self.comm, || {
-                let record = CaseResult::of(&dir, self.study.overrides(case), failed.clone(), &self.study.observe);
-                record.write(&dir)?;
-                let states = write_summary(self.root, self.study)?;
+                let record = CaseRecord::of(dir, sig, failed.clone());
+                record.write(dir)?;
+                let rows = write_summary(self.root, self.study, self.plan, self.observations)?;
                 if self.args.progress {
-                    self.progress(&states, case, &record, t.elapsed().as_secs_f64(), started, complete_before);
+                    self.progress(&rows, case, &record, t.elapsed().as_secs_f64(), started, complete_before);
                 }
                 Ok(())
             })?;
@@ -342,11 +433,10 @@ impl Group<'_> {
     /// One case on this group: continued from its checkpoint when an earlier session left its
     /// run unfinished, else run from the start.
     fn run_case(&self, case: &Case) -> Result<PathBuf> {
-        let dir = case_dir(self.root, case);
-        let set = self.study.overrides(case);
+        let dir = &self.plan.dirs[case.index];
         // A failed case's record goes (it runs again); an unfinished run continues.
         let resume = on_root(self.comm, || {
-            let record = dir.join(summary::RECORD);
+            let record = dir.join(store::RECORD);
             if record.exists() {
                 std::fs::remove_file(&record).map_err(|e| Error::io(&record, e))?;
                 return Ok(false);
@@ -358,30 +448,28 @@ impl Group<'_> {
             if self.leader() && self.args.progress {
                 println!("sweep: case {} ({}) continues its interrupted run", case.index, case.label());
             }
-            // Nothing added: the run's record holds the options it started with (the study's,
-            // then the command line's, which `open_dir` has checked are this session's too).
-            return driver::resume(self.comm, &dir, &[], false);
+            // Nothing added: the run's record holds the options it started with (its
+            // signature's, which are this session's: they name its directory).
+            return driver::resume(self.comm, dir, &[], false);
         }
-        let mut petsc = self.study.petsc.clone();
-        petsc.extend(self.args.petsc.iter().cloned());
-        let run = RunArgs { scene: case.scene.clone(), set, out: Some(dir), force: true, petsc, progress: false };
+        let sig = &self.plan.sigs[case.index];
+        let run = RunArgs {
+            scene: case.scene.clone(),
+            set: sig.set.clone(),
+            out: Some(dir.clone()),
+            force: true,
+            petsc: sig.petsc.clone(),
+            progress: false,
+        };
         driver::run(self.comm, &run)
     }
 
     /// The progress line of a case just ended (the group's leader): the sweep's counts from the
-    /// `states` [`write_summary`] has just read, and the ETA at the pace of this session.
-    fn progress(
-        &self,
-        states: &[(Case, State, String)],
-        case: &Case,
-        r: &CaseResult,
-        secs: f64,
-        started: Instant,
-        complete_before: usize,
-    ) {
+    /// `rows` [`write_summary`] has just read, and the ETA at the pace of this session.
+    fn progress(&self, rows: &[Row], case: &Case, r: &CaseRecord, secs: f64, started: Instant, complete_before: usize) {
         let (mut ok, mut failed, mut running) = (0usize, 0usize, 0usize);
-        for (_, state, _) in states {
-            match state {
+        for row in rows {
+            match &row.state {
                 State::Ended(r) if r.ok() => ok += 1,
                 State::Ended(_) => failed += 1,
                 State::Open(RUNNING) => running += 1,

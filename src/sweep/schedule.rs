@@ -2,13 +2,16 @@
 //! estimated), and claims made by creating a file exclusively.
 //!
 //! A group's leader takes the next case by walking the order and creating
-//! `DIR/claims/NNN` with `O_CREAT | O_EXCL` (`create_new`): the file system makes exactly one
-//! creation succeed, so each case goes to one group, whichever asks first — no coordinating
-//! rank, no message to wait for, no thread. `claims/` belongs to one session: world rank 0
-//! empties it at the start, while it holds the sweep directory's lock.
+//! `DIR/claims/<case>` (the name of the case's directory in the store) with
+//! `O_CREAT | O_EXCL` (`create_new`): the file system makes exactly one creation succeed, so
+//! each case goes to one group, whichever asks first — no coordinating rank, no message to wait
+//! for, no thread. `claims/` belongs to one session: world rank 0 empties it at the start, while
+//! it holds the sweep directory's lock. (Another sweep sharing the store is kept out of a case
+//! by the case's own claim lock, `store::claim`.)
 
+use super::store::{CaseRecord, Signature};
 use super::study::{Case, Study};
-use super::summary::{label_key, read_wall_times, CaseResult};
+use super::summary::{label_key, read_wall_times};
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 
@@ -26,9 +29,14 @@ pub fn reset_claims(root: &Path) -> Result<()> {
     std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))
 }
 
-/// Whether case `index` has been claimed in this session.
-pub fn claimed(root: &Path, index: usize) -> bool {
-    claims_dir(root).join(format!("{index:03}")).exists()
+/// The claim name of a case: its directory's name in the store.
+pub fn claim_name(dir: &Path) -> String {
+    dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default()
+}
+
+/// Whether the case in `dir` has been claimed in this session.
+pub fn claimed(root: &Path, dir: &Path) -> bool {
+    claims_dir(root).join(claim_name(dir)).exists()
 }
 
 /// The order in which the cases to run are tried: by estimated cost, longest first (a case
@@ -52,13 +60,14 @@ pub fn order(study: &Study, todo: &[usize]) -> Result<Vec<usize>> {
 /// A group leader's walk through the order.
 pub struct Dispenser {
     root: PathBuf,
-    order: Vec<usize>,
+    /// The cases to try, in order: (case index, claim name).
+    order: Vec<(usize, String)>,
     next: usize,
     who: String,
 }
 
 impl Dispenser {
-    pub fn new(root: &Path, order: Vec<usize>, group: usize) -> Dispenser {
+    pub fn new(root: &Path, order: Vec<(usize, String)>, group: usize) -> Dispenser {
         Dispenser {
             root: root.to_path_buf(),
             order,
@@ -70,14 +79,14 @@ impl Dispenser {
     /// The next case this group claims, or None when every case is taken.
     pub fn claim(&mut self) -> Result<Option<usize>> {
         use std::io::Write;
-        while let Some(&index) = self.order.get(self.next) {
+        while let Some((index, name)) = self.order.get(self.next) {
             self.next += 1;
-            let path = claims_dir(&self.root).join(format!("{index:03}"));
+            let path = claims_dir(&self.root).join(name);
             match std::fs::OpenOptions::new().write(true).create_new(true).open(&path) {
                 Ok(mut f) => {
                     // Who has it, for a person looking (the claim is the file's existence).
                     let _ = f.write_all(self.who.as_bytes());
-                    return Ok(Some(index));
+                    return Ok(Some(*index));
                 }
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
                 Err(e) => return Err(Error::io(&path, format!("cannot claim the case: {e}"))),
@@ -87,13 +96,12 @@ impl Dispenser {
     }
 }
 
-/// The cases left to run: those without a record of a completed run.
-pub fn todo(root: &Path, study: &Study) -> Vec<usize> {
-    study
-        .cases
-        .iter()
-        .filter(|c| !CaseResult::read(&super::case_dir(root, c), &study.overrides(c)).is_some_and(|r| r.ok()))
-        .map(|c| c.index)
+/// The cases left to run: those without a record of a completed run, each case of the store
+/// once (two cases of a study that run the same are one: the first stands for both).
+pub fn todo(dirs: &[PathBuf], sigs: &[Signature]) -> Vec<usize> {
+    let mut seen = std::collections::BTreeSet::new();
+    (0..dirs.len())
+        .filter(|&i| seen.insert(&dirs[i]) && !CaseRecord::read(&dirs[i], &sigs[i]).is_some_and(|r| r.ok()))
         .collect()
 }
 
@@ -106,16 +114,17 @@ mod tests {
         let root = std::env::temp_dir().join(format!("poroplast-claims-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&root);
         reset_claims(&root).unwrap();
-        let mut a = Dispenser::new(&root, vec![2, 0, 1], 0);
-        let mut b = Dispenser::new(&root, vec![2, 0, 1], 1);
+        let order: Vec<(usize, String)> = [2, 0, 1].iter().map(|&i| (i, format!("case-{i}"))).collect();
+        let mut a = Dispenser::new(&root, order.clone(), 0);
+        let mut b = Dispenser::new(&root, order, 1);
         assert_eq!(a.claim().unwrap(), Some(2));
         assert_eq!(b.claim().unwrap(), Some(0));
         assert_eq!(a.claim().unwrap(), Some(1));
         assert_eq!(b.claim().unwrap(), None);
         assert_eq!(a.claim().unwrap(), None);
-        assert!(claimed(&root, 1));
+        assert!(claimed(&root, Path::new("/store/case-1")));
         reset_claims(&root).unwrap();
-        assert!(!claimed(&root, 1));
+        assert!(!claimed(&root, Path::new("/store/case-1")));
         let _ = std::fs::remove_dir_all(&root);
     }
 }

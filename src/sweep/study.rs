@@ -5,7 +5,7 @@
 //! scene = "reference_axi"          # base scene: a shipped scene's name or a file (relative to STUDY.toml)
 //! set = ["time.t_end=10"]          # --set overrides of every case (optional)
 //! petsc = ["-ksp_rtol", "1e-8"]    # PETSc options of every case (optional)
-//! observe = ["max:force_total_mg"] # summary.csv observables (optional, see `summary`)
+//! observe = ["max:force_total_mg"] # summary.csv observables (optional, see `observable`)
 //! estimate_from = "old/summary.csv" # wall times of an earlier sweep: run the longest cases first (optional)
 //!
 //! [[grid]]                         # an axis: every combination of the axes is a case
@@ -98,9 +98,6 @@ pub struct Case {
     pub set: Vec<String>,
 }
 
-/// The observables of summary.csv when the study names none (NaN where a column is missing).
-pub const DEFAULT_OBSERVE: [&str; 3] = ["max:force_total_mg", "last:force_total_mg", "last:height/width"];
-
 impl Case {
     /// The case's overrides as (key, value).
     pub fn pairs(&self) -> Vec<(String, String)> {
@@ -121,28 +118,6 @@ impl Case {
             "(base scene)".into()
         } else {
             parts.join(" ")
-        }
-    }
-
-    /// The case's run directory name: its index, its own scene's stem if it has one, and its
-    /// overrides (`003_material.mu-10__nu-0.3`, `004_remodel_40__time.t_end-20`).
-    pub fn dir_name(&self) -> String {
-        let scene = self.own_scene.as_deref().map(|s| {
-            Path::new(s).file_stem().map(|x| x.to_string_lossy().into_owned()).unwrap_or_else(|| s.to_string())
-        });
-        let slug: String = scene
-            .into_iter()
-            .chain(self.pairs().iter().map(|(k, v)| format!("{k}-{v}")))
-            .collect::<Vec<_>>()
-            .join("__")
-            .chars()
-            .map(|c| if c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.') { c } else { '_' })
-            .take(80)
-            .collect();
-        if slug.is_empty() {
-            format!("{:03}_base", self.index)
-        } else {
-            format!("{:03}_{slug}", self.index)
         }
     }
 }
@@ -198,7 +173,7 @@ impl Study {
             name,
             set: file.set,
             petsc: file.petsc,
-            observe: file.observe.unwrap_or_else(|| DEFAULT_OBSERVE.iter().map(|s| s.to_string()).collect()),
+            observe: file.observe.unwrap_or_else(|| super::observable::DEFAULT.iter().map(|s| s.to_string()).collect()),
             estimate_from,
             cases: resolved,
         })
@@ -328,14 +303,14 @@ mod tests {
         assert_eq!(s.cases[3].set, ["material.mu=20.5", "mesh.params.h=15", "mesh.params.h_pole=2"]);
         assert_eq!(s.overrides(&s.cases[0])[0], "time.t_end=5");
         assert_eq!(s.keys(), ["material.mu", "mesh.params.h", "mesh.params.h_pole"]);
-        assert_eq!(s.cases[2].dir_name(), "002_material.mu-20.5__mesh.params.h-20__mesh.params.h_pole-4");
     }
 
     #[test]
     fn case_list_and_bad_files() {
         let s = parse("scene = \"x\"\n[[case]]\nset = [\"a=1\"]\n[[case]]\nset = []\n").unwrap();
         assert_eq!(s.cases.len(), 2);
-        assert_eq!(s.cases[1].dir_name(), "001_base");
+        assert_eq!(s.cases[1].label(), "(base scene)");
+        assert_eq!(s.observe, crate::sweep::observable::DEFAULT);
         let msg = |t: &str| parse(t).unwrap_err().to_string();
         assert!(msg("scene = \"x\"\n").contains("no cases"));
         assert!(msg("scene = \"x\"\nbogus = 1\n[[case]]\nset=[]\n").contains("bogus"));
@@ -352,15 +327,13 @@ mod tests {
             parse("[[case]]\nscene = \"remodel_40\"\nset = [\"a=1\"]\n[[case]]\nscene = \"dir/my.toml\"\n").unwrap();
         assert_eq!((s.cases[0].scene.as_str(), s.cases[1].scene.as_str()), ("remodel_40", "dir/my.toml"));
         assert_eq!(s.cases[0].label(), "scene=remodel_40 a=1");
-        assert_eq!(s.cases[0].dir_name(), "000_remodel_40__a-1");
-        assert_eq!(s.cases[1].dir_name(), "001_my");
         assert_eq!(s.scenes(), ["remodel_40", "dir/my.toml"]);
         assert!(s.per_case_scenes());
         let s =
             parse("scene = \"x\"\n[[case]]\nset = []\n[[case]]\nscene = \"y\"\nset = []\n[[case]]\nscene = \"x\"\n")
                 .unwrap();
         assert_eq!(s.scenes(), ["x", "y"]);
-        assert_eq!((s.cases[0].own_scene.as_deref(), s.cases[0].dir_name().as_str()), (None, "000_base"));
+        assert_eq!(s.cases[0].own_scene.as_deref(), None);
         let g = parse("scene = \"x\"\n[[grid]]\nkey = \"a\"\nvalues = [1]\n").unwrap();
         assert!(!g.per_case_scenes() && g.cases[0].scene == "x");
         let e = parse("[[case]]\nscene = \"x\"\n[[case]]\nset = []\n").unwrap_err().to_string();

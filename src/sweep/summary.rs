@@ -1,36 +1,23 @@
-//! A case's outcome (`case.toml` in its run directory, written when it ends) and the sweep's
-//! `summary.csv`: one row per case in case order — its overrides, status, wall time, dofs,
-//! steps, step cuts, Newton and Krylov iterations, the observables, the error line and the
-//! run directory.
+//! The sweep's `summary.csv`: one row per case in case order — its overrides, status, wall
+//! time, dofs, steps, step cuts, Newton and Krylov iterations (the counters of its record),
+//! the observables of its history ([`super::observable`]), the error line and the case's run
+//! directory:
 //!
-//! Observables are read from the case's `history.csv`, as `scripts/study.py` reads them:
-//! `max:COL`, `min:COL`, `last:COL`, `last:A/B` (a ratio), `COL@T` (interpolated at time T),
-//! `zero:COL` (the first time COL falls from positive to zero or below); empty where they do
-//! not apply (no such column, a failed case).
+//! `case, [scene,] KEYS..., status, wall_s, dofs, steps, step_cuts, newton_its, ksp_its,
+//! OBSERVABLES..., error, dir`
+//!
+//! The observables are evaluated when the summary is written, not when a case ends, so that a
+//! case another study ran (a shared store) has this study's; each history is read once per
+//! session ([`Observations`]).
 
+use super::observable::{self, observe};
+use super::store::CaseRecord;
 use super::study::{Case, Study};
 use crate::error::{Error, Result};
 use crate::io::rundir;
-use serde::{Deserialize, Serialize};
+use std::cell::RefCell;
 use std::collections::BTreeMap;
-use std::path::Path;
-
-/// The record of a case that ended (`case.toml`).
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct CaseResult {
-    /// "ok" or "failed".
-    pub status: String,
-    /// The error line of a failed case.
-    #[serde(default)]
-    pub error: String,
-    /// The case's overrides (all of them, the study's first): a record of another case is not this one's.
-    pub set: Vec<String>,
-    /// The counters of timings.txt (`wall_s` its total), where it was written.
-    #[serde(default)]
-    pub counters: BTreeMap<String, f64>,
-    #[serde(default)]
-    pub observables: BTreeMap<String, f64>,
-}
+use std::path::{Path, PathBuf};
 
 /// summary.csv column ← timings.txt key.
 const COUNTERS: [(&str, &str); 6] = [
@@ -42,61 +29,56 @@ const COUNTERS: [(&str, &str); 6] = [
     ("ksp_its", "ksp_its"),
 ];
 
-pub const RECORD: &str = "case.toml";
+/// The counters of the timings.txt in a run directory (summary.csv's names).
+pub fn counters(dir: &Path) -> BTreeMap<String, f64> {
+    let timings = read_timings(&dir.join("timings.txt"));
+    COUNTERS.iter().filter_map(|(c, k)| timings.get(*k).map(|v| (c.to_string(), *v))).collect()
+}
 
-impl CaseResult {
-    /// The outcome of a case whose run ended in `dir` (`error`: its error, if it failed), with
-    /// the counters and observables the run directory holds — of an ok case only: a failed run
-    /// may have ended before writing them, and those in the directory would be an earlier run's.
-    pub fn of(dir: &Path, set: Vec<String>, error: Option<String>, observe: &[String]) -> CaseResult {
-        let timings = if error.is_none() { read_timings(&dir.join("timings.txt")) } else { BTreeMap::new() };
-        let counters = COUNTERS.iter().filter_map(|(c, k)| timings.get(*k).map(|v| (c.to_string(), *v))).collect();
-        let observables = match (&error, read_history(&dir.join("history.csv"))) {
-            (None, Some(h)) => {
-                observe.iter().map(|o| (o.clone(), observe_one(&h, o))).filter(|(_, v)| v.is_finite()).collect()
-            }
-            _ => BTreeMap::new(),
-        };
-        CaseResult {
-            status: if error.is_some() { "failed".into() } else { "ok".into() },
-            // One line: the first of the message.
-            error: error.map(|e| e.lines().next().unwrap_or_default().to_string()).unwrap_or_default(),
-            set,
-            counters,
-            observables,
+/// The observables of the cases that ended ok, each history read once (a case's history does
+/// not change once it has ended).
+pub struct Observations {
+    observe: Vec<String>,
+    seen: RefCell<BTreeMap<PathBuf, Vec<f64>>>,
+}
+
+impl Observations {
+    pub fn new(observe: &[String]) -> Observations {
+        Observations { observe: observe.to_vec(), seen: RefCell::new(BTreeMap::new()) }
+    }
+
+    /// The observables of the case that ended ok in `dir` (NaN where one does not apply).
+    fn of(&self, dir: &Path) -> Vec<f64> {
+        if let Some(v) = self.seen.borrow().get(dir) {
+            return v.clone();
         }
-    }
-
-    /// The record in `dir`, if there is one and it is of a case with these overrides.
-    pub fn read(dir: &Path, set: &[String]) -> Option<CaseResult> {
-        let text = std::fs::read_to_string(dir.join(RECORD)).ok()?;
-        let r: CaseResult = toml::from_str(&text).ok()?;
-        (r.set == set).then_some(r)
-    }
-
-    /// Writes the record into `dir` (atomically: a reader finds the whole record or none).
-    pub fn write(&self, dir: &Path) -> Result<()> {
-        let path = dir.join(RECORD);
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        let text = toml::to_string(self).map_err(|e| Error::io(&path, e))?;
-        rundir::write_text_atomically(&path, &format!("# the outcome of this case of a poroplast sweep\n{text}"))
-    }
-
-    pub fn ok(&self) -> bool {
-        self.status == "ok"
+        let values: Vec<f64> = match observable::read_history(dir) {
+            Some(h) => self.observe.iter().map(|o| observe(&h, o)).collect(),
+            None => vec![f64::NAN; self.observe.len()],
+        };
+        self.seen.borrow_mut().insert(dir.to_path_buf(), values.clone());
+        values
     }
 }
 
 /// A case's state as the summary shows it.
 pub enum State {
-    Ended(CaseResult),
-    /// Not ended: "running" (claimed in this session), "interrupted" (a run directory from an
-    /// earlier session, to resume) or "pending".
+    Ended(CaseRecord),
+    /// Not ended: "running" (claimed in this session), "interrupted" (a run directory without
+    /// an outcome, to resume) or "pending".
     Open(&'static str),
 }
 
-/// Writes `summary.csv` in `root` from the states of all cases (in case order).
-pub fn write(root: &Path, study: &Study, states: &[(Case, State, String)]) -> Result<()> {
+/// A case's row: the case, its state and its run directory.
+pub struct Row {
+    pub case: Case,
+    pub state: State,
+    pub dir: PathBuf,
+}
+
+/// Writes `summary.csv` in `root` from the rows of all cases (in case order); the `dir` column
+/// is relative to `root` where the directory is in it.
+pub fn write(root: &Path, study: &Study, rows: &[Row], observations: &Observations) -> Result<()> {
     let keys = study.keys();
     let mut out = String::new();
     let scenes = study.per_case_scenes();
@@ -111,7 +93,8 @@ pub fn write(root: &Path, study: &Study, states: &[(Case, State, String)]) -> Re
     header.extend(["error".into(), "dir".into()]);
     out.push_str(&header.iter().map(|h| csv_field(h)).collect::<Vec<_>>().join(","));
     out.push('\n');
-    for (case, state, dir) in states {
+    let num = |v: f64| if v.is_finite() { format!("{v}") } else { String::new() };
+    for Row { case, state, dir } in rows {
         let pairs = case.pairs();
         let mut row: Vec<String> = vec![case.index.to_string()];
         if scenes {
@@ -120,12 +103,15 @@ pub fn write(root: &Path, study: &Study, states: &[(Case, State, String)]) -> Re
         for k in &keys {
             row.push(pairs.iter().rev().find(|(pk, _)| pk == k).map(|(_, v)| v.clone()).unwrap_or_default());
         }
-        let num = |m: &BTreeMap<String, f64>, k: &str| m.get(k).map(|v| format!("{v}")).unwrap_or_default();
         match state {
             State::Ended(r) => {
                 row.push(r.status.clone());
-                row.extend(COUNTERS.iter().map(|(c, _)| num(&r.counters, c)));
-                row.extend(study.observe.iter().map(|o| num(&r.observables, o)));
+                row.extend(COUNTERS.iter().map(|(c, _)| r.counters.get(*c).map_or(String::new(), |v| num(*v))));
+                if r.ok() {
+                    row.extend(observations.of(dir).into_iter().map(num));
+                } else {
+                    row.extend(std::iter::repeat_n(String::new(), study.observe.len()));
+                }
                 row.push(r.error.clone());
             }
             State::Open(s) => {
@@ -133,7 +119,7 @@ pub fn write(root: &Path, study: &Study, states: &[(Case, State, String)]) -> Re
                 row.extend(std::iter::repeat_n(String::new(), COUNTERS.len() + study.observe.len() + 1));
             }
         }
-        row.push(dir.clone());
+        row.push(dir.strip_prefix(root).unwrap_or(dir).display().to_string());
         out.push_str(&row.iter().map(|f| csv_field(f)).collect::<Vec<_>>().join(","));
         out.push('\n');
     }
@@ -181,55 +167,6 @@ fn read_timings(path: &Path) -> BTreeMap<String, f64> {
         .collect()
 }
 
-/// history.csv as columns.
-fn read_history(path: &Path) -> Option<BTreeMap<String, Vec<f64>>> {
-    let text = std::fs::read_to_string(path).ok()?;
-    let mut lines = text.lines();
-    let names: Vec<String> = lines.next()?.split(',').map(|s| s.trim().to_string()).collect();
-    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
-    for l in lines.filter(|l| !l.trim().is_empty()) {
-        for (i, v) in l.split(',').enumerate().take(names.len()) {
-            cols[i].push(v.trim().parse().unwrap_or(f64::NAN));
-        }
-    }
-    Some(names.into_iter().zip(cols).collect())
-}
-
-/// The observable `spec` of a history (NaN where it does not apply).
-fn observe_one(h: &BTreeMap<String, Vec<f64>>, spec: &str) -> f64 {
-    let nan = f64::NAN;
-    let col = |c: &str| h.get(c).filter(|v| !v.is_empty());
-    if let Some((kind, c)) = spec.split_once(':') {
-        if kind == "last" {
-            if let Some((a, b)) = c.split_once('/') {
-                return match (col(a), col(b)) {
-                    (Some(a), Some(b)) if b[b.len() - 1] != 0.0 => a[a.len() - 1] / b[b.len() - 1],
-                    _ => nan,
-                };
-            }
-        }
-        let Some(v) = col(c) else { return nan };
-        return match kind {
-            "max" => v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-            "min" => v.iter().copied().fold(f64::INFINITY, f64::min),
-            "last" => v[v.len() - 1],
-            "zero" => {
-                let Some(t) = col("time") else { return nan };
-                (1..v.len())
-                    .find(|&i| v[i - 1] > 0.0 && v[i] <= 0.0)
-                    .map_or(nan, |i| t[i - 1] + (t[i] - t[i - 1]) * v[i - 1] / (v[i - 1] - v[i]))
-            }
-            _ => nan,
-        };
-    }
-    let Some((c, when)) = spec.split_once('@') else { return nan };
-    let (Some(v), Some(t), Ok(when)) = (col(c), col("time"), when.parse::<f64>()) else { return nan };
-    (1..t.len().min(v.len())).find(|&i| t[i - 1] <= when && when <= t[i]).map_or(nan, |i| {
-        let w = if t[i] > t[i - 1] { (when - t[i - 1]) / (t[i] - t[i - 1]) } else { 1.0 };
-        v[i - 1] + w * (v[i] - v[i - 1])
-    })
-}
-
 /// Wall times by case label from an earlier summary.csv (`estimate_from`), as cost estimates.
 pub fn read_wall_times(path: &Path, study: &Study) -> Result<BTreeMap<Vec<(String, String)>, f64>> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, format!("estimate_from: {e}")))?;
@@ -270,26 +207,12 @@ pub fn label_key(case: &Case, keys: &[String]) -> Vec<(String, String)> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::store::Signature;
     use super::*;
 
     #[test]
-    fn observables_of_a_history() {
-        let mut h = BTreeMap::new();
-        h.insert("time".to_string(), vec![0.0, 1.0, 2.0]);
-        h.insert("f".to_string(), vec![1.0, 3.0, -1.0]);
-        h.insert("g".to_string(), vec![2.0, 2.0, 4.0]);
-        assert_eq!(observe_one(&h, "max:f"), 3.0);
-        assert_eq!(observe_one(&h, "min:f"), -1.0);
-        assert_eq!(observe_one(&h, "last:f/g"), -0.25);
-        assert_eq!(observe_one(&h, "f@0.5"), 2.0);
-        assert_eq!(observe_one(&h, "zero:f"), 1.75);
-        assert!(observe_one(&h, "max:nope").is_nan());
-        assert!(observe_one(&h, "f@5").is_nan());
-        assert_eq!(csv_field("a,b"), "\"a,b\"");
-    }
-
-    #[test]
     fn csv_fields_read_back_what_csv_field_writes() {
+        assert_eq!(csv_field("a,b"), "\"a,b\"");
         let row = ["1", "[5, 10]", "", "say \"hi\", twice", "x"];
         let line = row.iter().map(|f| csv_field(f)).collect::<Vec<_>>().join(",");
         assert_eq!(csv_fields(&line), row);
@@ -298,46 +221,47 @@ mod tests {
     }
 
     #[test]
-    fn wall_times_of_cases_with_array_values() {
-        // An array value is quoted in summary.csv ("[5, 10]"): the columns after it must not shift.
+    fn summary_rows_with_array_values_and_observables() {
+        // An array value is quoted in summary.csv ("[5, 10]"): the columns after it must not
+        // shift. The observables come from each ok case's history; a failed case has none.
         let study = Study::parse(
             Path::new("s.toml"),
-            "scene = \"x\"\n[[case]]\nset = [\"output.fields_at=[5, 10]\", \"material.mu=15\"]\n\
-             [[case]]\nset = [\"output.fields_at=[1, 2, 3]\", \"material.mu=25\"]\n",
+            "scene = \"cryer\"\nobserve = [\"max:f\", \"f@0.5\"]\n\
+             [[case]]\nset = [\"output.fields_at=[5, 10]\", \"material.mu=15\"]\n\
+             [[case]]\nset = [\"output.fields_at=[1, 2, 3]\", \"material.mu=25\"]\n\
+             [[case]]\nset = [\"material.mu=35\"]\n",
         )
         .unwrap();
         let root = std::env::temp_dir().join(format!("poroplast-summary-{}", std::process::id()));
-        std::fs::create_dir_all(&root).unwrap();
-        let states: Vec<(Case, State, String)> = study
+        let _ = std::fs::remove_dir_all(&root);
+        let rows: Vec<Row> = study
             .cases
             .iter()
-            .zip([3.0, 9.0])
+            .zip([3.0, 9.0, 1.0])
             .map(|(c, wall)| {
-                let mut r = CaseResult::of(&root, study.overrides(c), None, &[]);
+                let dir = root.join("cases").join(c.index.to_string());
+                std::fs::create_dir_all(&dir).unwrap();
+                std::fs::write(dir.join("history.csv"), format!("time,f\n0,{wall}\n1,0\n")).unwrap();
+                let sig = Signature::of(&c.scene, study.overrides(c), vec![]).unwrap();
+                let failed = (c.index == 2).then(|| "diverged".to_string());
+                let mut r = CaseRecord::of(&dir, &sig, failed);
                 r.counters.insert("wall_s".into(), wall);
-                (c.clone(), State::Ended(r), format!("cases/{}", c.dir_name()))
+                Row { case: c.clone(), state: State::Ended(r), dir }
             })
             .collect();
-        write(&root, &study, &states).unwrap();
+        write(&root, &study, &rows, &Observations::new(&study.observe)).unwrap();
         let text = std::fs::read_to_string(root.join("summary.csv")).unwrap();
-        assert!(text.contains("\"[5, 10]\""), "{text}");
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(
+            lines[0],
+            "case,output.fields_at,material.mu,status,wall_s,dofs,steps,step_cuts,newton_its,ksp_its,max:f,f@0.5,error,dir"
+        );
+        assert_eq!(lines[1], "0,\"[5, 10]\",15,ok,3,,,,,,3,1.5,,cases/0");
+        assert_eq!(lines[3], "2,,35,failed,1,,,,,,,,diverged,cases/2");
         let walls = read_wall_times(&root.join("summary.csv"), &study).unwrap();
         let keys = study.label_keys();
         assert_eq!(walls.get(&label_key(&study.cases[0], &keys)), Some(&3.0), "{walls:?}");
         assert_eq!(walls.get(&label_key(&study.cases[1], &keys)), Some(&9.0), "{walls:?}");
         let _ = std::fs::remove_dir_all(&root);
-    }
-
-    #[test]
-    fn a_failed_case_has_no_counters() {
-        // A failed rerun must not show the timings.txt of the run before it.
-        let dir = std::env::temp_dir().join(format!("poroplast-failed-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("timings.txt"), "total = 12.5\nsteps = 7\n").unwrap();
-        let ok = CaseResult::of(&dir, vec![], None, &[]);
-        assert_eq!(ok.counters.get("wall_s"), Some(&12.5));
-        let failed = CaseResult::of(&dir, vec![], Some("diverged\nmore".into()), &[]);
-        assert!(failed.counters.is_empty() && failed.error == "diverged" && !failed.ok());
-        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -1,8 +1,8 @@
-"""Observables of a finished run that `study.py`'s history columns do not give: region means of
-the cell fields, the positive-pressure region ("pressure bubble"), and the events of a history
-(the upper plate's detachment, the time a decay settles). Each takes a run directory and returns
-a float (NaN where it does not apply), so that `references.py` can extrapolate it like a
-history observable.
+"""Observables of a finished run that the sweep's observables of its history (`max:COL`,
+`COL@T`, ...) do not give: region means of the cell fields, the positive-pressure region
+("pressure bubble"), and the events of a history (the upper plate's detachment, the time a decay
+settles). Each takes a run directory and returns a float (NaN where it does not apply), so that
+`references.py` can extrapolate it like a history observable (`DERIVED`, by name).
 
 Regions, in reference coordinates (the paper's Figs 5-6 text): the centre, cells whose centroid
 has r < 30 µm and |z − R| < 30 µm; the contact zones, r < 40 µm and within 30 µm of either plate.
@@ -14,15 +14,15 @@ from pathlib import Path
 
 import numpy as np
 
-import runner
+from . import history as runs
 
 CENTRE_HALF = 30.0    # µm: the centre region's half-size
 CONTACT_R = 40.0      # µm: the contact zones' radius
 CONTACT_DEPTH = 30.0  # µm: ... and depth from the plate
 
 
-# A run's history.csv (runner.history), read once for the several observables of one run.
-history = lru_cache(maxsize=4)(runner.history)
+# A run's history.csv, read once for the several observables of one run.
+history = lru_cache(maxsize=4)(runs.history)
 
 
 class Fields:
@@ -130,7 +130,7 @@ def settle_time(run, col, t0, t1, fraction):
     t1 (linear between rows): e.g. 0.05 for the time 95% of the relaxation has happened."""
     h = history(run)
     t, v = h["time"], h[col]
-    v0, v1 = runner.at(h, col, t0), runner.at(h, col, t1)
+    v0, v1 = runs.at(h, col, t0), runs.at(h, col, t1)
     target = v1 + fraction * (v0 - v1)
     for i in range(1, len(t)):
         if t[i] > t0 and (v[i - 1] - target) * (v[i] - target) <= 0 and v[i] != v[i - 1]:
@@ -161,7 +161,7 @@ DERIVED = {
     "ep_contact10/centre@60": lambda run: zone_ratio(run, "norm_ep", 60.0, 10.0),
     "vm_contact10/centre@40": lambda run: zone_ratio(run, "von_mises", 40.0, 10.0),
     # the largest σ_VM anywhere (a point value) over the centre's mean
-    **{f"vm_max/centre@{t:g}": (lambda t: lambda run: runner.at(history(run), "max_von_mises", t)
+    **{f"vm_max/centre@{t:g}": (lambda t: lambda run: runs.at(history(run), "max_von_mises", t)
                                 / zone_mean(run, "von_mises", "centre", t))(t) for t in (40.0, 60.0)},
     "detach_t": lambda run: detachment(run, 35.0)[0],
     "vm_max_before_detach": lambda run: detachment(run, 35.0)[1],

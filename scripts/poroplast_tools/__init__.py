@@ -1,0 +1,18 @@
+"""The study scripts' shared core (the scripts in scripts/ are thin command lines over it).
+
+  * cases       running cases: a study file of [[case]] entries, ONE `poroplast sweep` for them
+                into the case store DIR/cases (the sweep keeps the cases: completed ones are
+                skipped, interrupted ones resumed); the results read from its summary.csv;
+                the scripts' rank options; scenes' values
+  * levels      grids of overrides, mesh levels (h with the other sizes scaled), step levels
+  * history     reading a run: history.csv, timings.txt, a column at a time
+  * richardson  observed orders, Richardson corrections and extrapolation with error bars
+  * convergence the convergence-study design (mesh levels x step levels) and its extrapolation
+  * refs        scripts/data/references.csv, the converged values
+  * fields      observables of a run's fields (region means, the pressure bubble) and events
+  * labels      figure labels in the docs' units
+  * tables      CSV tables and the Pareto front
+
+Observables of histories (`max:COL`, `COL@T`, ...) are evaluated by `poroplast sweep` alone
+(src/sweep/observable.rs); the scripts read them from the summary.
+"""

@@ -1,0 +1,62 @@
+"""Reading a run directory: history.csv as columns, timings.txt as numbers, a column at a time.
+
+The observables of a history (`max:COL`, `COL@T`, `zero:COL`, ...) are not evaluated here but
+by `poroplast sweep` (the one grammar); `at` is the plain interpolation that figures and fits need.
+"""
+import csv
+from pathlib import Path
+
+import numpy as np
+
+
+def _file(path, name):
+    path = Path(path)
+    return path / name if path.is_dir() else path
+
+
+def history(path):
+    """history.csv (of a run directory, or the file) as {column: array}; rows that do not parse
+    (a run still writing) are dropped; {} without rows."""
+    with open(_file(path, "history.csv")) as f:
+        r = csv.reader(f)
+        head = next(r)
+        rows = []
+        for row in r:
+            try:
+                if len(row) == len(head):
+                    rows.append([float(x) for x in row])
+            except ValueError:
+                pass
+    if not rows:
+        return {}
+    a = np.array(rows)
+    return {k: a[:, i] for i, k in enumerate(head)}
+
+
+def timings(path):
+    """timings.txt (of a run directory, or the file) as {key: number}; {} without the file."""
+    out = {}
+    path = _file(path, "timings.txt")
+    if not path.exists():
+        return out
+    for line in open(path):
+        if " = " in line:
+            k, v = line.split(" = ", 1)
+            try:
+                out[k.strip()] = float(v)
+            except ValueError:
+                pass
+    return out
+
+
+def at(h, col, when):
+    """Column `col` of a history interpolated linearly at time `when` (NaN outside the run or
+    without the column)."""
+    if col not in h or len(h.get("time", ())) == 0:
+        return float("nan")
+    t, v = h["time"], h[col]
+    if not t[0] <= when <= t[-1]:
+        return float("nan")
+    i = max(1, int(np.searchsorted(t, when, side="left")))
+    w = (when - t[i - 1]) / (t[i] - t[i - 1]) if t[i] > t[i - 1] else 1.0
+    return float(v[i - 1] + w * (v[i] - v[i - 1]))
