@@ -32,7 +32,6 @@ use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use std::time::Instant;
 
-
 /// The mesh partitioned and distributed, with the mesh file's node and element counts (the
 /// numbering of the run state).
 pub(super) struct Distributed {

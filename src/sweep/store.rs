@@ -19,8 +19,8 @@
 
 use super::study::{Case, Study};
 use crate::error::{Error, Result};
-use crate::io::rundir;
 use crate::hash::Fnv;
+use crate::io::rundir;
 use crate::scene::BUILTIN;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
