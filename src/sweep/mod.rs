@@ -36,6 +36,7 @@
 //! - summary.csv is rewritten by a group's leader after each case and by world rank 0 at the
 //!   end, in case order, so a killed sweep leaves a usable partial one.
 
+pub mod counters;
 pub mod observable;
 pub mod schedule;
 pub mod store;

@@ -112,7 +112,7 @@ pub struct CaseRecord {
     pub scene_text: String,
     pub set: Vec<String>,
     pub petsc: Vec<String>,
-    /// The counters of timings.txt (`wall_s` its total; summary.rs's `COUNTERS`), of an ok case.
+    /// The counters of timings.txt (`wall_s` its total; `counters::COUNTERS`), of an ok case.
     #[serde(default)]
     pub counters: BTreeMap<String, f64>,
 }
@@ -125,7 +125,7 @@ impl CaseRecord {
     /// failed), with the counters of its timings.txt — of an ok case only: a failed run may have
     /// ended before writing them, and those in the directory would be an earlier run's.
     pub fn of(dir: &Path, sig: &Signature, error: Option<String>) -> CaseRecord {
-        let counters = if error.is_none() { super::summary::counters(dir) } else { BTreeMap::new() };
+        let counters = if error.is_none() { super::counters::counters(dir) } else { BTreeMap::new() };
         CaseRecord {
             status: if error.is_some() { "failed".into() } else { "ok".into() },
             // One line: the first of the message.

@@ -10,6 +10,7 @@
 //! case another study ran (a shared store) has this study's; each history is read once per
 //! session ([`Observations`]).
 
+use super::counters::COUNTERS;
 use super::observable::{self, observe};
 use super::store::CaseRecord;
 use super::study::{Case, Study};
@@ -18,22 +19,6 @@ use crate::io::rundir;
 use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-
-/// summary.csv column ← timings.txt key.
-const COUNTERS: [(&str, &str); 6] = [
-    ("wall_s", "total"),
-    ("dofs", "dofs"),
-    ("steps", "steps"),
-    ("step_cuts", "step_cuts"),
-    ("newton_its", "newton_its"),
-    ("ksp_its", "ksp_its"),
-];
-
-/// The counters of the timings.txt in a run directory (summary.csv's names).
-pub fn counters(dir: &Path) -> BTreeMap<String, f64> {
-    let timings = read_timings(&dir.join("timings.txt"));
-    COUNTERS.iter().filter_map(|(c, k)| timings.get(*k).map(|v| (c.to_string(), *v))).collect()
-}
 
 /// The observables of the cases that ended ok, each history read once (a case's history does
 /// not change once it has ended).
@@ -156,15 +141,6 @@ fn csv_fields(line: &str) -> Vec<String> {
     }
     fields.push(field);
     fields
-}
-
-/// `key = value` numbers of timings.txt.
-fn read_timings(path: &Path) -> BTreeMap<String, f64> {
-    let text = std::fs::read_to_string(path).unwrap_or_default();
-    text.lines()
-        .filter_map(|l| l.split_once(" = "))
-        .filter_map(|(k, v)| v.trim().parse::<f64>().ok().map(|v| (k.trim().to_string(), v)))
-        .collect()
 }
 
 /// Wall times by case label from an earlier summary.csv (`estimate_from`), as cost estimates.
