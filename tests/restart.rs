@@ -13,8 +13,8 @@ use std::process::{Child, Command};
 use std::time::{Duration, Instant};
 
 const SETS: [&str; 6] = [
-    "mesh.params.h=30",
-    "mesh.params.h_pole=9",
+    "mesh.params.h=40",
+    "mesh.params.h_pole=20",
     "time.t_end=8",
     "output.checkpoint_every=5",
     "output.fields_every=4",
@@ -296,13 +296,13 @@ fn resume_refuses_what_it_cannot_continue_and_restarts_what_never_checkpointed()
     assert!(!run.join("checkpoints").exists(), "the earlier run's checkpoints were left behind");
 }
 
-/// The same on the meridian (`mesh.geometry = axisymmetric`, finer so that the run outlasts the
+/// The same on the meridian (`mesh.geometry = axisymmetric`, fine enough that the run outlasts the
 /// signal): killed after the checkpoint of step 10 and resumed, the history of the uninterrupted
 /// run to 1e-10.
 #[test]
 fn a_killed_meridian_run_resumes_to_the_uninterrupted_history() {
     let d = scratch("restart_meridian");
-    let meridian = ["mesh.geometry=axisymmetric", "mesh.params.h=10", "mesh.params.h_pole=3"];
+    let meridian = ["mesh.geometry=axisymmetric", "mesh.params.h=15", "mesh.params.h_pole=5"];
     let reference = d.join("reference");
     assert!(spawn_with(1, &reference, &meridian).wait().unwrap().success(), "the reference run failed");
     let a = History::read(&reference);
