@@ -97,7 +97,9 @@ fn mpirun(ranks: usize, dir: &Path, args: &[&str]) -> Output {
         .arg(dir)
         .args(args)
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        // No 2 s wait before the ranks of a failed launch are killed (tests/common/mod.rs).
+        .env("OMPI_MCA_odls_base_sigkill_timeout", "0");
     run_limited(c, Duration::from_secs(120))
 }
 
