@@ -28,7 +28,7 @@ case "$tier" in
     ;;
   default)
     cargo test --release --lib --bins "$@"
-    cargo test --release --test '*' "$@" -- --test-threads=1
+    cargo test --release --test '*' "$@" -- --test-threads="$(nproc)"
     ;;
   slow)
     cargo test --release --test '*' "$@" -- --ignored --test-threads=1

@@ -49,6 +49,7 @@ fn spawn_with(np: usize, out: &Path, extra: &[&str]) -> Child {
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         .env("OMPI_MCA_btl", "self,vader")
         .env("OMPI_MCA_pml", "ob1")
+        .env("OMPI_MCA_hwloc_base_binding_policy", NO_BINDING)
         .env("POROPLAST_CACHE", cache_dir())
         .process_group(0)
         .spawn()
@@ -136,6 +137,7 @@ fn resume(np: usize, dir: &Path) {
 
 #[test]
 fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
+    let _cores = cores(1); // every run of the test, one at a time
     let d = scratch("restart_same_ranks");
     let reference = uninterrupted();
     let a = History::read(reference);
@@ -188,6 +190,7 @@ fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
 
 #[test]
 fn a_run_directory_in_use_is_refused() {
+    let _cores = cores(1); // every run of the test, one at a time
     let d = scratch("restart_in_use");
     let run = d.join("run");
     let mut child = running(1, &run, &[], 5);
@@ -207,9 +210,10 @@ fn a_run_directory_in_use_is_refused() {
 
 #[test]
 fn signals_that_arrive_twice_still_stop_with_a_checkpoint() {
-    // A scheduler signals every process of a job and mpirun forwards the signal too: a rank
-    // can get it twice (or SIGINT from the terminal and SIGTERM from mpirun). Still one clean
-    // stop with a checkpoint.
+    let _cores = cores(1); // every run of the test, one at a time
+                           // A scheduler signals every process of a job and mpirun forwards the signal too: a rank
+                           // can get it twice (or SIGINT from the terminal and SIGTERM from mpirun). Still one clean
+                           // stop with a checkpoint.
     let d = scratch("restart_two_signals");
     let run = d.join("run");
     let mut child = running(1, &run, &[], 5);
@@ -223,9 +227,10 @@ fn signals_that_arrive_twice_still_stop_with_a_checkpoint() {
 
 #[test]
 fn the_iterative_solver_resumes_exactly_from_a_periodic_checkpoint() {
-    // The fieldsplit preset's AMG keeps its interpolation between setups, which a checkpoint
-    // cannot save: at the periodic checkpoints the uninterrupted run renews it, as a resumed
-    // one starts.
+    let _cores = cores(1); // every run of the test, one at a time
+                           // The fieldsplit preset's AMG keeps its interpolation between setups, which a checkpoint
+                           // cannot save: at the periodic checkpoints the uninterrupted run renews it, as a resumed
+                           // one starts.
     let d = scratch("restart_fieldsplit");
     let fieldsplit = ["solver.preset=\"fieldsplit\""];
     let reference = d.join("reference");
@@ -242,6 +247,7 @@ fn the_iterative_solver_resumes_exactly_from_a_periodic_checkpoint() {
 
 #[test]
 fn a_two_rank_run_stopped_by_mpirun_resumes_on_one_rank() {
+    let _cores = cores(2); // its runs, on 2 ranks and then 1
     let d = scratch("restart_other_ranks");
     let reference = uninterrupted();
     // mpirun forwards SIGUSR1 to the ranks (SIGTERM it answers with SIGKILL after 1 s).
@@ -261,6 +267,7 @@ fn a_two_rank_run_stopped_by_mpirun_resumes_on_one_rank() {
 
 #[test]
 fn resume_refuses_what_it_cannot_continue_and_restarts_what_never_checkpointed() {
+    let _cores = cores(1); // every run of the test, one at a time
     let d = scratch("restart_refusals");
     let fails = |dir: &Path, expect: &str| {
         let out = poroplast(1, &["resume", &dir.display().to_string()]);
@@ -301,6 +308,7 @@ fn resume_refuses_what_it_cannot_continue_and_restarts_what_never_checkpointed()
 /// run to 1e-10.
 #[test]
 fn a_killed_meridian_run_resumes_to_the_uninterrupted_history() {
+    let _cores = cores(1); // every run of the test, one at a time
     let d = scratch("restart_meridian");
     let meridian = ["mesh.geometry=axisymmetric", "mesh.params.h=15", "mesh.params.h_pole=5"];
     let reference = d.join("reference");

@@ -31,6 +31,7 @@ fn study(args: &[&str]) -> (bool, String) {
 
 #[test]
 fn python_unit_tests_pass() {
+    let _cores = cores(1); // Python alone
     let out = Command::new("python3")
         .args(["-m", "unittest", "discover", "-s", "scripts/tests", "-t", "scripts"])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
@@ -42,6 +43,7 @@ fn python_unit_tests_pass() {
 
 #[test]
 fn a_study_runs_its_grid_and_continues_where_it_stopped() {
+    let _cores = cores(2); // its scripts run the sweep on 2 ranks
     let dir = scratch("study");
     let d = dir.join("mu_nu");
     let args = [
@@ -132,6 +134,7 @@ fn a_study_runs_its_grid_and_continues_where_it_stopped() {
 /// (Its extrapolation recovering known errors: scripts/tests/test_richardson.py.)
 #[test]
 fn convergence_study_extrapolates() {
+    let _cores = cores(2); // its scripts run the sweep on 2 ranks
     let dir = scratch("convergence_study");
     let d = dir.join("terzaghi");
     let terzaghi = scene("terzaghi");
@@ -155,6 +158,7 @@ fn convergence_study_extrapolates() {
 /// iteration's runs one sweep on 2 ranks, two at a time on 1 rank each.
 #[test]
 fn calibration_recovers_synthetic_parameters() {
+    let _cores = cores(2); // its scripts run the sweep on 2 ranks
     let dir = scratch("calibration");
     let (ok, text) = script(
         "calibrate.py",
@@ -227,6 +231,7 @@ fn split_csv(line: &str) -> Vec<String> {
 /// inversion) and empty for the cases not run.
 #[test]
 fn reproduce_writes_the_reported_table() {
+    let _cores = cores(2); // its scripts run the sweep on 2 ranks
     let dir = scratch("reproduce");
     let (ok, text) = script(
         "reproduce.py",

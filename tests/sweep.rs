@@ -91,6 +91,7 @@ fn history_difference(a: &History, b: &History, what: &str) -> f64 {
 
 #[test]
 fn cases_equal_the_same_cases_run_alone() {
+    let _cores = cores(2); // the sweep on 2 ranks
     let d = scratch("sweep_equal");
     let study = grid_study(&d, &[]);
     let t = Instant::now();
@@ -133,6 +134,7 @@ fn cases_equal_the_same_cases_run_alone() {
 
 #[test]
 fn a_bad_case_fails_alone() {
+    let _cores = cores(2); // the sweep on 2 ranks
     let d = scratch("sweep_bad_case");
     let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
     let text = format!(
@@ -159,8 +161,9 @@ fn a_bad_case_fails_alone() {
 
 #[test]
 fn cases_with_their_own_scenes() {
-    // No base scene: each case names its own — a shipped scene by name, the same scene by its
-    // file (the same case: the same history), and the name again with an override.
+    let _cores = cores(2); // the sweep on 2 ranks
+                           // No base scene: each case names its own — a shipped scene by name, the same scene by its
+                           // file (the same case: the same history), and the name again with an override.
     let d = scratch("sweep_scenes");
     let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
     let file = scene("reference_axi");
@@ -198,11 +201,12 @@ fn cases_with_their_own_scenes() {
 
 #[test]
 fn each_case_runs_once_when_the_groups_end_at_different_times() {
-    // A long case (the second) among short ones on 2 groups: one group runs the long case while
-    // the other runs the short ones and ends first. Its ranks must wait for the other group
-    // before the claims are cleared, or that group, when its long case ends, would find the
-    // short ones after it unclaimed and run them again (before the fix: whenever world rank 0's
-    // group took the first case, as it usually does).
+    let _cores = cores(2); // the sweep on 2 ranks
+                           // A long case (the second) among short ones on 2 groups: one group runs the long case while
+                           // the other runs the short ones and ends first. Its ranks must wait for the other group
+                           // before the claims are cleared, or that group, when its long case ends, would find the
+                           // short ones after it unclaimed and run them again (before the fix: whenever world rank 0's
+                           // group took the first case, as it usually does).
     let d = scratch("sweep_once");
     let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
     let text = format!(
@@ -238,6 +242,7 @@ fn children(pid: u32) -> Vec<u32> {
 
 #[test]
 fn a_killed_sweep_resumes_to_the_same_summary() {
+    let _cores = cores(2); // the sweep on 2 ranks
     let d = scratch("sweep_killed");
     // Longer cases (t = 30 s, about 40 steps): the kill comes while one is early in its run.
     let study = grid_study(&d, &["output.checkpoint_every=3", "time.t_end=30"]);
@@ -333,9 +338,10 @@ fn a_killed_sweep_resumes_to_the_same_summary() {
 
 #[test]
 fn sweeps_sharing_a_store_run_each_case_once() {
-    // Study b shares one case with study a, names it twice, and adds one: only that one runs,
-    // and b's summary has b's observables of a's case (read from its history when b's summary
-    // is written).
+    let _cores = cores(2); // the sweep on 2 ranks
+                           // Study b shares one case with study a, names it twice, and adds one: only that one runs,
+                           // and b's summary has b's observables of a's case (read from its history when b's summary
+                           // is written).
     let d = scratch("sweep_shared");
     let store = d.join("store");
     let study = |name: &str, mus: &[&str], observe: &str| {
@@ -367,6 +373,7 @@ fn sweeps_sharing_a_store_run_each_case_once() {
 
 #[test]
 fn bad_input_is_refused_before_anything_is_written() {
+    let _cores = cores(2); // the sweep on 2 ranks
     let d = scratch("sweep_bad_input");
     let study = grid_study(&d, &[]);
     let root = d.join("sweep");
@@ -398,9 +405,10 @@ fn bad_input_is_refused_before_anything_is_written() {
 
 #[test]
 fn petsc_options_do_not_pass_from_a_case_to_the_next() {
-    // One group runs the three cases in turn: the first's PETSc option (a loose Newton
-    // tolerance) must not reach the third, which must equal its run alone; the fieldsplit
-    // preconditioner (Schur complement, GAMG, hypre) set up again after PETSc was finalised.
+    let _cores = cores(2); // the sweep on 2 ranks
+                           // One group runs the three cases in turn: the first's PETSc option (a loose Newton
+                           // tolerance) must not reach the third, which must equal its run alone; the fieldsplit
+                           // preconditioner (Schur complement, GAMG, hypre) set up again after PETSc was finalised.
     let d = scratch("sweep_isolation");
     let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
     let text = format!(
@@ -448,8 +456,9 @@ fn snapshot(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
 
 #[test]
 fn a_session_with_other_petsc_options_is_refused() {
-    // The command line's `-- OPTIONS` are part of a sweep: a later session with others would
-    // skip cases run with the first ones and run (or resume) the rest with its own.
+    let _cores = cores(2); // the sweep on 2 ranks
+                           // The command line's `-- OPTIONS` are part of a sweep: a later session with others would
+                           // skip cases run with the first ones and run (or resume) the rest with its own.
     let d = scratch("sweep_options");
     let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
     let study = d.join("opts.toml");

@@ -1,11 +1,65 @@
-//! Shared helpers for the integration tests: run the binary under mpirun, read history.csv.
+//! Shared helpers for the integration tests: run the binary under mpirun on cores shared by the
+//! tests of a binary, read history.csv.
+// Each test binary uses some of these.
+#![allow(dead_code)]
 
+use std::cell::Cell;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use std::sync::{Condvar, Mutex};
 
-/// Runs `poroplast <args>` on `np` MPI ranks.
-#[allow(dead_code)] // study.rs runs scripts, not the binary
+/// The machine's cores, of which a test holds one per MPI rank it runs. The tests of one binary
+/// run as many at a time as there are cores (`ci/test.sh`), so 1-rank runs go side by side
+/// while a 2-rank run has the two cores of a 2-core machine to itself: no more processes than
+/// cores, whose MPI ranks would otherwise spin against each other.
+pub struct Cores {
+    n: usize,
+}
+
+static FREE: Mutex<Option<usize>> = Mutex::new(None);
+static RELEASED: Condvar = Condvar::new();
+
+thread_local! {
+    /// Cores the current test's thread holds: a launch within them takes no more.
+    static HELD: Cell<usize> = const { Cell::new(0) };
+}
+
+/// Waits for `n` cores (at most the machine's). A test that launches several runs at once, or
+/// must not share the machine, takes them all first: a thread that holds some and waits for more
+/// could wait for another that does the same.
+pub fn cores(n: usize) -> Cores {
+    let total = std::thread::available_parallelism().map_or(1, |c| c.get());
+    let held = HELD.get();
+    let need = n.min(total).saturating_sub(held);
+    if need > 0 {
+        let mut free = FREE.lock().unwrap_or_else(|e| e.into_inner());
+        while *free.get_or_insert(total) < need {
+            free = RELEASED.wait(free).unwrap_or_else(|e| e.into_inner());
+        }
+        *free.as_mut().unwrap() -= need;
+        HELD.set(held + need);
+    }
+    Cores { n: need }
+}
+
+impl Drop for Cores {
+    fn drop(&mut self) {
+        if self.n > 0 {
+            let mut free = FREE.lock().unwrap_or_else(|e| e.into_inner());
+            *free.as_mut().unwrap() += self.n;
+            HELD.set(HELD.get() - self.n);
+            RELEASED.notify_all();
+        }
+    }
+}
+
+/// Open MPI binds the ranks of a job of one or two to cores, counted from the first: two 1-rank
+/// jobs side by side would share core 0 (measured: twice the time). Unbound, each has a core.
+pub const NO_BINDING: &str = "none";
+
+/// Runs `poroplast <args>` on `np` MPI ranks, on `np` cores.
 pub fn poroplast(np: usize, args: &[&str]) -> Output {
+    let _cores = cores(np);
     let mut cmd = Command::new("mpirun");
     cmd.args(["-n", &np.to_string(), "--oversubscribe"]).arg(env!("CARGO_BIN_EXE_poroplast")).args(args);
     cmd.env("OMPI_ALLOW_RUN_AS_ROOT", "1").env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
@@ -14,18 +68,17 @@ pub fn poroplast(np: usize, args: &[&str]) -> Output {
     // the others, which have finished too: a failing case then costs 2 s instead of 0.2 s. The
     // tests that stop runs by signals launch mpirun themselves and keep the default.
     cmd.env("OMPI_MCA_odls_base_sigkill_timeout", "0");
+    cmd.env("OMPI_MCA_hwloc_base_binding_policy", NO_BINDING);
     cmd.env("POROPLAST_CACHE", cache_dir());
     cmd.output().expect("mpirun could not be started")
 }
 
 /// Runs and panics with both output streams if the run failed.
-#[allow(dead_code)] // study.rs runs scripts, not the binary
 pub fn run_ok(np: usize, args: &[&str]) -> String {
     expect_success(&poroplast(np, args), &format!("poroplast {args:?} on {np} rank(s)"))
 }
 
 /// The standard output of a finished process; panics with both streams if it failed.
-#[allow(dead_code)] // study.rs runs scripts, not the binary
 pub fn expect_success(out: &std::process::Output, what: &str) -> String {
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     assert!(
@@ -50,13 +103,11 @@ pub fn scratch(name: &str) -> PathBuf {
 }
 
 /// Path of a shipped scene file.
-#[allow(dead_code)] // restart.rs names its scene by name
 pub fn scene(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/scenes").join(format!("{name}.toml")).display().to_string()
 }
 
 /// Writes a variant of a shipped scene with some lines replaced (`from` → `to`), into `dir`.
-#[allow(dead_code)] // not every test binary edits a scene
 pub fn scene_variant(name: &str, dir: &Path, edits: &[(&str, &str)]) -> String {
     let mut text = std::fs::read_to_string(scene(name)).unwrap();
     for (from, to) in edits {
@@ -69,13 +120,11 @@ pub fn scene_variant(name: &str, dir: &Path, edits: &[(&str, &str)]) -> String {
 }
 
 /// history.csv as named columns.
-#[allow(dead_code)] // bad_input.rs and study.rs read no history.csv
 pub struct History {
     pub names: Vec<String>,
     pub rows: Vec<Vec<f64>>,
 }
 
-#[allow(dead_code)] // as for `History`
 impl History {
     pub fn read(dir: &Path) -> History {
         let text = std::fs::read_to_string(dir.join("history.csv")).expect("history.csv");
@@ -95,7 +144,6 @@ impl History {
 }
 
 /// Parses `jacobian check: ... u rows X, p rows Y` lines.
-#[allow(dead_code)] // only the tests that run the Jacobian check use it
 pub fn jacobian_errors(stdout: &str) -> Vec<(f64, f64)> {
     stdout
         .lines()
@@ -113,7 +161,6 @@ pub fn jacobian_errors(stdout: &str) -> Vec<(f64, f64)> {
 /// A converged value from `scripts/data/references.csv` (the one source of them: written by
 /// scripts/references.py, read by the scripts and these tests): `case`, `observable` → the
 /// extrapolated value.
-#[allow(dead_code)] // only the accuracy tests compare with converged values
 pub fn converged(case: &str, observable: &str) -> f64 {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/data/references.csv");
     let text = std::fs::read_to_string(&path).expect("scripts/data/references.csv");
