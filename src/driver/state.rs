@@ -9,11 +9,10 @@ use crate::error::Result;
 use crate::fem::dofmap::DofMap;
 use crate::io::checkpoint::{mesh_fingerprint, Counters, FileLayout, RunState, Snapshot};
 use crate::mesh::dist::LocalMesh;
+use crate::parallel::reduce_to_root;
 use crate::petsc::Vector;
 use crate::physics::problem::PoroProblem;
-use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
-use mpi::traits::*;
 
 /// The state between steps, with one owner (the run). Its third part, the committed qp state,
 /// is held by the problem, whose assembly reads it: [`StepState::commit`] commits it with the
@@ -40,18 +39,6 @@ impl StepState {
         problem.commit(&self.prev, &self.u, dt)?;
         self.rate = if keep_rate && dt > 0.0 { Some(StepRate::of(&self.prev, &self.u, dt)?) } else { None };
         problem.set_extrapolation(self.rate.as_ref().map(|r| &r.velocity))
-    }
-}
-
-/// Sum over ranks into rank 0 (the other ranks' buffers are left as they were).
-fn reduce_to_root(world: &SimpleCommunicator, v: &mut [f64]) {
-    let root = world.process_at_rank(0);
-    if world.rank() == 0 {
-        let mut out = vec![0.0; v.len()];
-        root.reduce_into_root(&v[..], &mut out[..], SystemOperation::sum());
-        v.copy_from_slice(&out);
-    } else {
-        root.reduce_into(&v[..], SystemOperation::sum());
     }
 }
 

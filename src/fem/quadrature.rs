@@ -25,8 +25,8 @@
 //! | tri | 8 | 16 | Dunavant degree 8 (S3, 3 × S21, S111) |
 //!
 //! Asking for a degree with no rule of its own returns the next higher rule (tet 4 → 5, tri 3 → 4,
-//! tri 7 → 8); asking beyond the highest degree returns the highest rule ([`TET_MAX_DEGREE`],
-//! [`TRI_MAX_DEGREE`]); degree 0 returns the one-point rule.
+//! tri 7 → 8); asking beyond the highest degree returns the highest rule (tet 7,
+//! tri 8); degree 0 returns the one-point rule.
 
 /// A quadrature rule: points in reference coordinates and their weights.
 #[derive(Debug, Clone, PartialEq)]
@@ -37,21 +37,19 @@ pub struct Quadrature {
     pub weights: Vec<f64>,
 }
 
+#[cfg(test)]
 impl Quadrature {
     /// Number of points.
     pub fn len(&self) -> usize {
         self.weights.len()
     }
-
-    /// True when the rule has no point (never the case for the rules built here).
-    pub fn is_empty(&self) -> bool {
-        self.weights.is_empty()
-    }
 }
 
 /// Highest polynomial degree integrated exactly by a tetrahedron rule of this module.
+#[cfg(test)]
 pub const TET_MAX_DEGREE: usize = 7;
 /// Highest polynomial degree integrated exactly by a triangle rule of this module.
+#[cfg(test)]
 pub const TRI_MAX_DEGREE: usize = 8;
 
 /// Builder that expands barycentric orbits into points.

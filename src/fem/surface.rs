@@ -10,6 +10,8 @@ use crate::reference_cell::Family;
 /// A quadrature point of a boundary face.
 #[derive(Debug, Clone, Copy)]
 pub struct FacePoint {
+    /// The point (the tests check the normal's orientation against it).
+    #[cfg_attr(not(test), allow(dead_code))]
     pub x: [f64; 3],
     /// Weight: the rule's weight times the area element (times 2πR on the meridian).
     pub w: f64,

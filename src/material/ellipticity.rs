@@ -24,85 +24,24 @@
 //! the same criterion holds for the eigenvalues of C_e = B_p^½ C B_p^½ (those of C B_p).
 //! A volumetric penalty U(J) adds J² U'' (F⁻ᵀN)⊗(F⁻ᵀN), zero on that shear: it cannot cure it.
 //!
-//! The sampled [`min_acoustic_eigenvalue`] stays as the independent reference (`tests`).
+//! The sampled minimum over directions of Q's eigenvalues stays as the independent reference,
+//! with the closed form's own test version (`tests`).
 
-use super::{idx, HolmesMow, Tangent};
+use super::HolmesMow;
 use crate::error::{Error, Result};
-use nalgebra::{Matrix3, Vector3};
-
-/// Directions on the unit sphere (a Fibonacci lattice; N and −N give the same Q, so the upper
-/// half suffices).
-fn directions(n: usize) -> impl Iterator<Item = Vector3<f64>> {
-    let golden = std::f64::consts::PI * (1.0 + 5f64.sqrt());
-    (0..n).map(move |i| {
-        let z = 1.0 - (i as f64 + 0.5) / n as f64; // (0, 1]
-        let r = (1.0 - z * z).sqrt();
-        let th = golden * i as f64;
-        Vector3::new(r * th.cos(), r * th.sin(), z)
-    })
-}
-
-/// Q_ik(N) = A_iJkL N_J N_L.
-fn acoustic_tensor(a: &Tangent, n: &Vector3<f64>) -> Matrix3<f64> {
-    Matrix3::from_fn(|i, k| {
-        let mut q = 0.0;
-        for j in 0..3 {
-            for l in 0..3 {
-                q += a[(idx(i, j), idx(k, l))] * n[j] * n[l];
-            }
-        }
-        q
-    })
-}
-
-/// The smallest eigenvalue of Q(N) over 1000 directions N: negative where the law has lost
-/// strong ellipticity. Any law; it can miss a loss by a thin margin (the minimising N is a
-/// principal axis, generally not on the lattice).
-pub fn min_acoustic_eigenvalue(a: &Tangent) -> f64 {
-    directions(1000).map(|n| acoustic_tensor(a, &n).symmetric_eigenvalues().min()).fold(f64::INFINITY, f64::min)
-}
 
 /// −α1/α2 when α1 < 0 (then α2 = (α3 − α1)/2 > 0): the Holmes–Mow solid is strongly elliptic
 /// exactly where every eigenvalue of the elastic C_e exceeds it (module docs). None when
 /// α1 ≥ 0: no small stretch makes it lose ellipticity (with α2 ≥ 0 nothing does; with α2 < 0,
-/// ν < 0 by (56), large stretches can, see [`is_strongly_elliptic`]).
+/// ν < 0 by (56), large stretches can: the module's bounds).
 pub fn critical_stretch_squared(law: &HolmesMow) -> Option<f64> {
     (law.alpha1 < 0.0 && law.alpha2 > 0.0).then(|| -law.alpha1 / law.alpha2)
-}
-
-/// Whether the Holmes–Mow solid is strongly elliptic at the elastic right Cauchy–Green tensor
-/// C_e = B_p^½ C B_p^½ (symmetric; its eigenvalues are those of C B_p), from the module's
-/// closed form. Exact for α2 ≥ 0. For α2 < 0 the bounds leave α1 + α2 c_max > 0 ≥
-/// α1 + α2 (c_mid + c_max) undecided: None there, since a longitudinal mode can go before the
-/// shear (test `negative_alpha2_gap_is_real`; with α3 = 1, as (56) gives, none was seen to).
-/// None also when C_e is not finite or not positive definite.
-pub fn is_strongly_elliptic(law: &HolmesMow, c_e: &Matrix3<f64>) -> Option<bool> {
-    // The eigen-solver iterates without bound on NaN: check first.
-    if !c_e.iter().all(|x| x.is_finite()) {
-        return None;
-    }
-    let mut c: [f64; 3] = c_e.symmetric_eigenvalues().into();
-    c.sort_by(f64::total_cmp);
-    if c[0] <= 0.0 {
-        return None;
-    }
-    let (a1, a2) = (law.alpha1, law.alpha2);
-    // Lower and upper bounds of min m·Q(N)m / e over unit m, N; equal for α2 ≥ 0.
-    let (lower, upper) =
-        if a2 >= 0.0 { (a1 + a2 * c[0], a1 + a2 * c[0]) } else { (a1 + a2 * (c[1] + c[2]), a1 + a2 * c[2]) };
-    if lower > 0.0 {
-        Some(true)
-    } else if upper <= 0.0 {
-        Some(false)
-    } else {
-        None
-    }
 }
 
 /// The stretch λ of isochoric uniaxial compression F = diag(λ^−½, λ^−½, λ), B_p = I, below
 /// which the law is not strongly elliptic, if that happens for some λ in [`lambda_min`, 1].
 /// Along the path C has eigenvalues λ² < 1 < 1/λ, so for α2 ≥ 0 it is √(−α1/α2) exactly. For
-/// α2 < 0 the lower bound α1 + 2 α2/λ of [`is_strongly_elliptic`] proves ellipticity for
+/// α2 < 0 the lower bound α1 + 2 α2/λ (module docs) proves ellipticity for
 /// λ > 2|α2|/α1, which is below ½ for every admissible law (α1 = α3 + 2|α2| > 4|α2|); an error
 /// if `lambda_min` is not above it (the closed form does not decide there).
 pub fn isochoric_compression_limit(law: &HolmesMow, lambda_min: f64) -> Result<Option<f64>> {
@@ -133,8 +72,70 @@ pub fn uniaxial_stress_tension_limit(law: &HolmesMow) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::super::test_util::{kin, Rng};
-    use super::super::{CompactionPenalty, Solid, SolidLaw, SolidResponse};
+    use super::super::{idx, CompactionPenalty, Solid, SolidLaw, SolidResponse, Tangent};
     use super::*;
+    use nalgebra::{Matrix3, Vector3};
+
+    /// Directions on the unit sphere (a Fibonacci lattice; N and −N give the same Q, so the upper
+    /// half suffices).
+    fn directions(n: usize) -> impl Iterator<Item = Vector3<f64>> {
+        let golden = std::f64::consts::PI * (1.0 + 5f64.sqrt());
+        (0..n).map(move |i| {
+            let z = 1.0 - (i as f64 + 0.5) / n as f64; // (0, 1]
+            let r = (1.0 - z * z).sqrt();
+            let th = golden * i as f64;
+            Vector3::new(r * th.cos(), r * th.sin(), z)
+        })
+    }
+
+    /// Q_ik(N) = A_iJkL N_J N_L.
+    fn acoustic_tensor(a: &Tangent, n: &Vector3<f64>) -> Matrix3<f64> {
+        Matrix3::from_fn(|i, k| {
+            let mut q = 0.0;
+            for j in 0..3 {
+                for l in 0..3 {
+                    q += a[(idx(i, j), idx(k, l))] * n[j] * n[l];
+                }
+            }
+            q
+        })
+    }
+
+    /// The smallest eigenvalue of Q(N) over 1000 directions N: negative where the law has lost
+    /// strong ellipticity. Any law; it can miss a loss by a thin margin (the minimising N is a
+    /// principal axis, generally not on the lattice).
+    pub fn min_acoustic_eigenvalue(a: &Tangent) -> f64 {
+        directions(1000).map(|n| acoustic_tensor(a, &n).symmetric_eigenvalues().min()).fold(f64::INFINITY, f64::min)
+    }
+
+    /// Whether the Holmes–Mow solid is strongly elliptic at the elastic right Cauchy–Green tensor
+    /// C_e = B_p^½ C B_p^½ (symmetric; its eigenvalues are those of C B_p), from the module's
+    /// closed form. Exact for α2 ≥ 0. For α2 < 0 the bounds leave α1 + α2 c_max > 0 ≥
+    /// α1 + α2 (c_mid + c_max) undecided: None there, since a longitudinal mode can go before the
+    /// shear (test `negative_alpha2_gap_is_real`; with α3 = 1, as (56) gives, none was seen to).
+    /// None also when C_e is not finite or not positive definite.
+    pub fn is_strongly_elliptic(law: &HolmesMow, c_e: &Matrix3<f64>) -> Option<bool> {
+        // The eigen-solver iterates without bound on NaN: check first.
+        if !c_e.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        let mut c: [f64; 3] = c_e.symmetric_eigenvalues().into();
+        c.sort_by(f64::total_cmp);
+        if c[0] <= 0.0 {
+            return None;
+        }
+        let (a1, a2) = (law.alpha1, law.alpha2);
+        // Lower and upper bounds of min m·Q(N)m / e over unit m, N; equal for α2 ≥ 0.
+        let (lower, upper) =
+            if a2 >= 0.0 { (a1 + a2 * c[0], a1 + a2 * c[0]) } else { (a1 + a2 * (c[1] + c[2]), a1 + a2 * c[2]) };
+        if lower > 0.0 {
+            Some(true)
+        } else if upper <= 0.0 {
+            Some(false)
+        } else {
+            None
+        }
+    }
 
     const NUS: [f64; 5] = [0.2, 0.35, 0.4, 0.45, 0.49];
     const ID: Matrix3<f64> = Matrix3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0);

@@ -24,6 +24,7 @@ pub struct HolmesMow {
 /// What stress, energy and tangent share: the exponent f = α1 (I1e − 3) + α2 (I2e − 3) − α3 ln I3e,
 /// exp f, and G = ∂f/∂C = (α1 + α2 I1e) B_p − α2 B_p C B_p − α3 C⁻¹ (so S = 2 Φs α0 e^f G).
 struct Core {
+    #[cfg_attr(not(test), allow(dead_code))] // Ψ only
     exponent: f64,
     exp_f: f64,
     g: Matrix3<f64>,

@@ -84,9 +84,12 @@ pub struct Remodelling {
 #[derive(Clone, Copy, Debug)]
 pub struct Update {
     pub bp: Matrix3<f64>,
-    /// Δγ = Δt γp (0 on the elastic branch).
+    /// Δγ = Δt γp (0 on the elastic branch). Read by the tests of the local solve, as are the
+    /// iterations.
+    #[cfg_attr(not(test), allow(dead_code))]
     pub dgamma: f64,
     /// Local Newton iterations (0 on the elastic branch).
+    #[cfg_attr(not(test), allow(dead_code))]
     pub iterations: usize,
 }
 

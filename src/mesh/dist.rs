@@ -6,9 +6,7 @@
 use super::Mesh;
 use crate::error::{Error, Result};
 use crate::reference_cell::{Family, MAX_CELL_NODES, MAX_FACE_NODES};
-use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
-use mpi::traits::*;
 
 /// One rank's part of the mesh. See [`distribute`] for the numbering rules.
 #[derive(Debug, Clone, Default)]
@@ -459,9 +457,7 @@ impl LocalMesh {
                 }
             })
             .sum();
-        let local = [sum, self.cells.len() as f64];
-        let mut global = [0.0; 2];
-        world.all_reduce_into(&local[..], &mut global[..], SystemOperation::sum());
+        let global = crate::parallel::sum_slice(world, &[sum, self.cells.len() as f64]);
         if global[1] > 0.0 {
             global[0] / global[1]
         } else {

@@ -50,11 +50,13 @@ impl Mesh {
     }
 
     /// Node indices of the physical point `name`.
+    #[cfg(test)]
     pub fn point_group(&self, name: &str) -> Result<&[u32]> {
         find_group(&self.point_groups, name, "point")
     }
 
     /// Cell indices of the physical volume `name` (a physical surface on the meridian).
+    #[cfg(test)]
     pub fn volume_group(&self, name: &str) -> Result<&[u32]> {
         find_group(&self.volume_groups, name, "volume")
     }
@@ -64,12 +66,8 @@ impl Mesh {
         &self.cells[e][..self.family.cell_nodes()]
     }
 
-    /// The nodes of boundary face f.
-    pub fn face(&self, f: usize) -> &[u32] {
-        &self.faces[f][..self.family.face_nodes()]
-    }
-
     /// Number of cell corner nodes (P1 pressure nodes).
+    #[cfg(test)]
     pub fn n_vertices(&self) -> usize {
         self.is_vertex.iter().filter(|&&v| v).count()
     }

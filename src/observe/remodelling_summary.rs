@@ -7,10 +7,9 @@
 //! * the largest and the volume-averaged remodelling strain ‖E_p‖, E_p = ½(B_p⁻¹ − I);
 //! * the largest |det B_p − 1| (the integrator keeps it at round-off).
 
+use crate::parallel::{max_slice, sum_slice};
 use crate::physics::problem::Post;
-use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
-use mpi::traits::*;
 
 /// history.csv columns of [`observe`], in order.
 pub const COLUMNS: [&str; 7] =
@@ -19,11 +18,8 @@ pub const COLUMNS: [&str; 7] =
 /// The row of [`COLUMNS`] for a post-processed state (all ranks).
 pub fn observe(post: &Post, world: &SimpleCommunicator) -> [f64; 7] {
     let local = [post.volume, post.int_cauchy[0][0], post.int_cauchy[1][1], post.int_cauchy[2][2], post.int_norm_ep];
-    let mut tot = [0.0; 5];
-    world.all_reduce_into(&local[..], &mut tot[..], SystemOperation::sum());
-    let local_max = [post.max_von_mises, post.max_norm_ep, post.max_det_bp_dev];
-    let mut top = [0.0; 3];
-    world.all_reduce_into(&local_max[..], &mut top[..], SystemOperation::max());
+    let tot = sum_slice(world, &local);
+    let top = max_slice(world, &[post.max_von_mises, post.max_norm_ep, post.max_det_bp_dev]);
     let v = tot[0];
     [tot[1] / v, tot[2] / v, tot[3] / v, top[0], top[1], tot[4] / v, top[2]]
 }

@@ -150,12 +150,8 @@ impl Biphasic {
         Biphasic { remodel: Some(remodel), ..self }
     }
 
-    /// Referential solid fraction Φs.
-    pub fn phi_s(&self) -> f64 {
-        self.phi_s
-    }
-
     /// ϱf a_g in kPa/µm.
+    #[cfg(test)]
     pub fn fluid_weight(&self) -> Vector3<f64> {
         self.rho_f_g
     }

@@ -31,11 +31,6 @@ impl LinearPoroelastic {
         Ok(LinearPoroelastic { lambda: 2.0 * mu * nu / (1.0 - 2.0 * nu), mu, k })
     }
 
-    /// Consolidation coefficient c = k (λ + 2µ).
-    pub fn consolidation_coefficient(&self) -> f64 {
-        self.k * (self.lambda + 2.0 * self.mu)
-    }
-
     fn flux_terms(&self, s: &PointState) -> PointFlux {
         let eps = 0.5 * (s.grad_u + s.grad_u.transpose());
         let stress = Matrix3::identity() * (self.lambda * eps.trace() - s.p) + eps * (2.0 * self.mu);

@@ -46,7 +46,7 @@ pub mod summary;
 use crate::driver::{self, signals::StopRequest, RunArgs};
 use crate::error::{Error, Result};
 use crate::io::rundir;
-use crate::parallel::{agree, broadcast_vec, on_root, path_from_root};
+use crate::parallel::{agree, agree_ranked, broadcast_vec, on_root, path_from_root};
 use crate::scene::LoadedScene;
 use mpi::topology::{Color, SimpleCommunicator};
 use mpi::traits::*;
@@ -205,21 +205,13 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
         schedule::reset_claims(&root)?;
         write_summary(&root, &study, &plan, &observations).map(drop)
     });
-    let code = match &r {
-        Ok(()) => 0,
-        Err(Error::Stopped(_)) => 1,
-        Err(_) => 2,
-    };
-    let mut worst = 0;
-    world.all_reduce_into(&code, &mut worst, mpi::collective::SystemOperation::max());
+    let (r, worst) = agree_ranked(world, r, |e| if matches!(e, Error::Stopped(_)) { 1 } else { 2 });
     if worst == 2 {
-        agree(
-            world,
-            r.map_err(|e| match e {
-                Error::Stopped(m) => Error::Sweep(m),
-                e => e,
-            }),
-        )?;
+        // A rank stopped by the signal while another failed: the failure is the sweep's.
+        r.map_err(|e| match e {
+            Error::Stopped(m) => Error::Sweep(m),
+            e => e,
+        })?;
     }
     written?;
     if worst == 1 {

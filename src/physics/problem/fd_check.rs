@@ -3,8 +3,6 @@
 use super::{backward_euler_rate, PoroProblem};
 use crate::error::Result;
 use crate::petsc::{Mat, Vector};
-use mpi::collective::SystemOperation;
-use mpi::traits::*;
 
 impl PoroProblem {
     /// Directional finite-difference check of the assembled Jacobian at state `u` of a backward
@@ -64,8 +62,7 @@ impl PoroProblem {
                 sums[k + 1] += jv[i].powi(2);
             }
         }
-        let mut tot = [0.0f64; 4];
-        self.world.all_reduce_into(&sums[..], &mut tot[..], SystemOperation::sum());
+        let tot = crate::parallel::sum_slice(&self.world, &sums);
         Ok(((tot[0] / tot[1]).sqrt(), (tot[2] / tot[3].max(f64::MIN_POSITIVE)).sqrt()))
     }
 }

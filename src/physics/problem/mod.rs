@@ -37,7 +37,6 @@ use crate::fem::qp_store::QpStore;
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::{IndexSet, Mat, Scatter, TsProblem, TsRef, Vector};
 use crate::reference_cell::shape::MAX_NODES;
-use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use std::time::Instant;
@@ -172,19 +171,13 @@ impl PoroProblem {
     /// naming the first failure (its rank's message), a domain error if the failure anywhere
     /// was one, so TS can cut the step.
     fn collective(&self, local: Result<()>) -> Result<()> {
-        let code: i32 = match &local {
-            Ok(()) => 0,
-            Err(Error::Domain { .. }) => 1,
-            Err(_) => 2,
-        };
-        let mut worst = 0i32;
-        self.world.all_reduce_into(&code, &mut worst, SystemOperation::max());
-        match (worst, crate::parallel::agree(&self.world, local)) {
-            (_, Ok(())) => Ok(()),
-            (1, Err(Error::Elsewhere { rank, msg })) => {
+        let class = |e: &Error| if matches!(e, Error::Domain { .. }) { 1 } else { 2 };
+        match crate::parallel::agree_ranked(&self.world, local, class) {
+            (Ok(()), _) => Ok(()),
+            (Err(Error::Elsewhere { rank, msg }), 1) => {
                 Err(Error::Domain { cell: 0, point: 0, j: f64::NAN, msg: format!("on rank {rank}: {msg}") })
             }
-            (_, Err(e)) => Err(e),
+            (Err(e), _) => Err(e),
         }
     }
 
