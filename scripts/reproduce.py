@@ -71,8 +71,6 @@ CASES = {
 }
 T_RAMP = 5.0
 PROBE = (40.0, 0.0, 190.0)       # X_U, um
-VTK_EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]   # mid-edge nodes 4..9 of a tet10
-TRI6_EDGES = [(0, 1), (1, 2), (2, 0)]                            # mid-edge nodes 3..5 of a tri6
 EXTRA_SETS = []   # --set overrides of every case (--axisymmetric)
 RANKS = [2]       # MPI ranks per case (--ranks)
 
@@ -411,7 +409,7 @@ class Section:
         top = self.f["/mesh/topology"][:]
         self.times = self.f["/time"][:]
         meridian = top.shape[1] == 6
-        nv, edges = (3, TRI6_EDGES) if meridian else (4, VTK_EDGES)
+        nv, edges = (3, fields.TRI6_EDGES) if meridian else (4, fields.TET10_EDGES)
         on = np.abs(self.X[top[:, :nv], 1]) < 1e-9
         tris, owner = [], []
         for c in np.nonzero(on.sum(1) == 3)[0]:

@@ -16,6 +16,11 @@ import numpy as np
 
 from . import history as runs
 
+# The mid-edge nodes of fields.h5's cells, in the order of XDMF's Tetra_10 and Tri_6 (VTK's):
+# nodes 4..9 of a tetrahedron, 3..5 of a triangle, on these vertex pairs. The writer permutes
+# gmsh's order into this one (src/io/fields/layout.rs).
+TET10_EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
+TRI6_EDGES = [(0, 1), (1, 2), (2, 0)]
 CENTRE_HALF = 30.0    # µm: the centre region's half-size
 CONTACT_R = 40.0      # µm: the contact zones' radius
 CONTACT_DEPTH = 30.0  # µm: ... and depth from the plate
