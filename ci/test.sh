@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # README command 2: set up this machine and run the test suite, in tiers.
 #
-#   ci/test.sh          the default tier: the unit tests (no MPI), then every integration test,
-#                       one at a time (each launches mpirun -n 2 or less: two at once would put four
-#                       processes on two cores). About 5 min on a 2-core machine, build done.
+#   ci/test.sh          the default tier: the unit tests (no MPI), then the integration tests,
+#                       as many at a time as there are cores, each holding a core per MPI rank it
+#                       launches (tests/common::cores: never more ranks than cores). About 4 min on
+#                       a 2-core machine once built (docs/developer.md).
 #   ci/test.sh --fast   the unit tests and the tree's shape (tests/architecture.rs): seconds
 #                       after the build, no mpirun.
 #   ci/test.sh --slow   the slow tier: the accuracy benchmarks (tests marked #[ignore], each
