@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Check a poroplast run's fields.h5 + fields.xdmf (written by src/io/fields.rs).
+"""Check a poroplast run's fields.h5 + fields.xdmf (written by src/io/fields/).
 
 Usage: check_fields.py RUN_DIR [--steps K] [--expect expect.json] [--straight-edges]
 
