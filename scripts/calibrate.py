@@ -2,12 +2,13 @@
 
 Levenberg–Marquardt on the residuals r_i = model(t_i) − data(t_i) (the model's history column
 interpolated at the data's times), the Jacobian by forward differences (one run per parameter,
-relative step 1e-3), parameters in log space (they are positive and of different scales). A
+relative step 1e-3) whose runs take the point's own time steps (`time.steps`: a step cut or an
+error rejection in one run and not in the other would make the difference jump), parameters in log space (they are positive and of different scales). A
 trial step whose run fails counts as a worse fit (more damping). The uncertainties are the
 square roots of the diagonal of s² (JᵀJ)⁻¹, s² = Σr²/(n − p), at the optimum. Every run is a case
 of the case store STUDY/runs/cases/ (`poroplast sweep`: a completed one is not run again, so an
-interrupted calibration continues): each iteration's n + 1 runs (the point and its n
-finite-difference neighbours; the point is complete after the first iteration) are one batch,
+interrupted calibration continues): each iteration's n finite-difference neighbours are one
+batch (the point is the last accepted trial, complete; the first iteration runs it first),
 one `mpirun -n RANKS poroplast sweep` (--ranks 2, --ranks-per-case K: 1 on a meridian, RANKS
 for 3-D), and each trial step one more; `--no-sweep` runs one mpirun per run, `--jobs N` of them
 at once. STUDY/calibration.png shows the data and the fitted curve. The fit
@@ -51,12 +52,13 @@ class Model:
     def n(self):
         return self.counts["ran"]
 
-    def histories(self, points, what=None):
+    def histories(self, points, what=None, steps=None):
         """Runs the scene at each point (parameter values) — ONE batch, the completed runs
         skipped (the store knows a run by its values), so an interrupted calibration continues —
         and returns their histories (None for a failed run). `what`: a name per point, printed
-        before the batch."""
-        cases = [[(k, repr(v)) for k, v in zip(self.keys, values)] for values in points]
+        before the batch; `steps`: the `time.steps` every run takes (None: its own)."""
+        given = [("time.steps", steps)] if steps else []
+        cases = [[(k, repr(v)) for k, v in zip(self.keys, values)] + given for values in points]
         for name, case in zip(what or [], cases):
             print(f"{name}: " + " ".join(f"{k}={v}" for k, v in case), flush=True)
         counts = {}
@@ -107,33 +109,36 @@ def main():
     if len(data) <= len(keys):
         sys.exit(f"calibrate.py: {len(data)} data points for {len(keys)} parameters")
 
-    def residuals(points, what):
-        """The residuals and history of a run at each point (log-parameters), one batch; (None,
-        None) for a failed run. Without sweeps and with --jobs N, N runs at a time."""
+    def residuals(points, what, steps=None):
+        """The residuals and history of a run at each point (log-parameters), one batch, each
+        run taking `steps` if given; (None, None) for a failed run. Without sweeps and with
+        --jobs N, N runs at a time."""
         vals = [[math.exp(v) for v in xs] for xs in points]
         if sweep or a.jobs == 1:
-            hs = model.histories(vals, what)
+            hs = model.histories(vals, what, steps)
         else:
             with ThreadPoolExecutor(max_workers=a.jobs) as pool:
-                hs = [h for [h] in pool.map(lambda vw: model.histories([vw[0]], [vw[1]]), zip(vals, what))]
+                hs = [h for [h] in pool.map(lambda vw: model.histories([vw[0]], [vw[1]], steps), zip(vals, what))]
         return [(None, None) if h is None else (np.array([at(h, a.column, t) - v for t, v in data]), h)
                 for h in hs]
 
-    def around(x, it):
-        """x and its finite-difference neighbours x + h e_k: n + 1 runs in one batch (x, the last
-        accepted trial, is already complete after the first iteration)."""
-        return [x] + [x + h * np.eye(len(x))[k] for k in range(len(x))], \
-            [f"iteration {it}: the point"] + [f"iteration {it}: d {k}" for k in keys]
+    def neighbours(x, it, hist):
+        """x's finite-difference neighbours x + h e_k, one batch, taking the steps of x's run."""
+        steps = "[" + ",".join(repr(float(t)) for t in hist["time"][1:]) + "]"
+        return residuals([x + h * np.eye(len(x))[k] for k in range(len(x))],
+                         [f"iteration {it}: d {k}" for k in keys], steps)
 
     x = np.array(x)
     lam, h = 1e-2, 1e-3
     log = []
     for it in range(a.max_it):
-        (r, hist), *shifted = residuals(*around(x, it + 1))
+        # The point: the last accepted trial (complete) or, first, the start.
+        [(r, hist)] = residuals([x], [f"iteration {it + 1}: the point"])
         if r is None:
             sys.exit("calibrate.py: the run at the initial parameters failed")
         if it == 0:
             cost, best = float(r @ r), hist
+        shifted = neighbours(x, it + 1, hist)
         if any(rk is None for rk, _ in shifted):
             sys.exit("calibrate.py: a finite-difference run failed (see its log under runs/)")
         jac = np.column_stack([(rk - r) / h for rk, _ in shifted])

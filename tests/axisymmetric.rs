@@ -407,3 +407,45 @@ fn trapezoidal_remodelling_halves_the_peak_error() {
     assert!(errors[0].abs() < 1.2, "trapezoidal: peak {:+.2}% from the converged value", errors[0]);
     assert!(errors[0] - errors[1] > 0.6, "backward Euler {:+.2}% against trapezoidal {:+.2}%", errors[1], errors[0]);
 }
+
+/// `time.steps`: a run given another's accepted step times takes exactly those steps. Given its
+/// own, it repeats its history to solver tolerance (the adaptive run reached some of its steps
+/// after a rejection or a cut, from another Newton guess); at a parameter 0.1% away it takes the
+/// same steps, so
+/// that its values differ from the first run's by the parameter's effect only (calibration's
+/// finite differences; adaptive steps chosen anew can jump, a step cut here and not there).
+#[test]
+fn a_run_given_the_steps_of_another_takes_them() {
+    let dir = scratch("axi_given_steps");
+    let base = [
+        "mesh.params.h=25",
+        "mesh.params.h_pole=5",
+        "plates.t_ramp=2",
+        "plates.t_end=4",
+        "time.t_end=6.5",
+        "time.error_tolerance=1e-2",
+        "output.fields=false",
+        "output.fields_at=[]",
+    ];
+    run_axi(1, &scene("remodel_40"), &dir.join("adaptive"), &base, &[]);
+    let a = History::read(&dir.join("adaptive"));
+    let times = a.col("time");
+    let steps = format!("time.steps=[{}]", times[1..].iter().map(|t| format!("{t:?}")).collect::<Vec<_>>().join(","));
+    let with = |extra: &[&str]| -> Vec<String> {
+        base.iter().map(|s| s.to_string()).chain([steps.clone()]).chain(extra.iter().map(|s| s.to_string())).collect()
+    };
+    let sets = with(&[]);
+    run_axi(1, &scene("remodel_40"), &dir.join("replayed"), &sets.iter().map(String::as_str).collect::<Vec<_>>(), &[]);
+    let b = History::read(&dir.join("replayed"));
+    assert_eq!(b.col("time"), times, "the replayed run's steps");
+    for c in ["force_total_mg", "probe_p", "height", "max_norm_ep", "fluid_volume"] {
+        let scale = a.col(c).iter().fold(1e-12f64, |m, v| m.max(v.abs()));
+        let d = a.col(c).iter().zip(b.col(c)).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+        assert!(d <= 1e-9 * scale, "{c}: the replayed run differs by {d:e} (scale {scale})");
+    }
+    let sets = with(&["material.remodelling.lambda_p=0.001001"]);
+    run_axi(1, &scene("remodel_40"), &dir.join("nearby"), &sets.iter().map(String::as_str).collect::<Vec<_>>(), &[]);
+    let c = History::read(&dir.join("nearby"));
+    assert_eq!(c.col("time"), times, "a nearby parameter's steps");
+    assert!(c.col("max_norm_ep").last() > a.col("max_norm_ep").last(), "λp up, more remodelling");
+}

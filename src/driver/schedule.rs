@@ -19,6 +19,9 @@ pub struct Schedule {
     pub tol: Option<f64>,
     /// A step cut below this by failed solves is an error (see `TimeSpec::dt_min`).
     pub dt_min: f64,
+    /// The steps are given (`time.steps`, among the landing times): every step ends at the next
+    /// landing time, whatever the growth and the error estimate.
+    pub replay: bool,
 }
 
 /// The step controller's limits: a step may grow by at most `MAX_GROWTH` and shrink by at
@@ -61,6 +64,9 @@ impl Schedule {
     /// [MIN_SHRINK, MAX_GROWTH] × dt; it does not shrink below the nominal step while the error
     /// is within tolerance (a step shortened to land on a time is not a sign of trouble).
     pub fn next_nominal(&self, nominal: f64, taken: f64, t: f64, err: Option<f64>) -> f64 {
+        if self.replay {
+            return f64::INFINITY;
+        }
         if self.at_kink(t) {
             return self.dt0;
         }
@@ -86,7 +92,7 @@ impl Schedule {
     }
     /// Whether an error estimate rejects the step, and the step to retry with.
     pub fn reject(&self, taken: f64, err: Option<f64>) -> Option<f64> {
-        match err {
+        match err.filter(|_| !self.replay) {
             Some(e) if e > REJECT && taken > 1e-3 * self.dt0 => Some(taken * (0.9 / e.sqrt()).max(MIN_SHRINK)),
             _ => None,
         }
@@ -123,6 +129,7 @@ mod tests {
             cap: None,
             tol: None,
             dt_min: 1e-9,
+            replay: false,
         };
         let (mut t, mut nom) = (0.0, s.dt0);
         let mut times = vec![];
@@ -157,6 +164,7 @@ mod tests {
             cap: None,
             tol: Some(1e-3),
             dt_min: 1e-9,
+            replay: false,
         };
         // BE: error ∝ dt², so the step meeting the tolerance is 0.9 dt / √err, within [0.2, 2] dt.
         assert!((s.next_nominal(0.1, 0.1, 1.0, Some(0.81)) - 0.1).abs() < 1e-12);
@@ -189,6 +197,7 @@ mod tests {
             cap: Some((5.0, 0.1)),
             tol: None,
             dt_min: 1e-9,
+            replay: false,
         };
         let (mut t, mut nom) = (0.0, s.dt0);
         let mut steps = vec![];
@@ -204,5 +213,38 @@ mod tests {
         assert_eq!(ramp.len(), 54, "{ramp:?}");
         let after = steps.iter().map(|&(_, dt)| dt).fold(0.0, f64::max);
         assert!(after > 1.0, "the cap ends with the ramp: largest step {after}");
+    }
+
+    #[test]
+    fn given_steps_are_taken_as_they_are() {
+        // As setup builds it from time.steps = [0.1, 0.3, 0.35, 2.0, 7.0] with a kink at 5 s.
+        let given = vec![0.1, 0.3, 0.35, 2.0, 7.0];
+        let s = Schedule {
+            t_end: 10.0,
+            dt0: f64::INFINITY,
+            dt_max: 1.0,
+            growth: 1.3,
+            land_on: given.clone(),
+            kinks: vec![5.0],
+            cap: Some((5.0, 0.1)),
+            tol: None,
+            dt_min: 1e-9,
+            replay: true,
+        };
+        let (mut t, mut nom) = (0.0, s.dt0);
+        let mut times = vec![];
+        while !s.done(t) {
+            let dt = s.step(t, nom);
+            t += dt;
+            // Neither an error estimate, the cap, dt_max nor the kink changes the next step.
+            nom = s.next_nominal(nom, dt, t, Some(100.0));
+            assert_eq!(s.reject(dt, Some(100.0)), None);
+            times.push(t);
+        }
+        // The given times, the kink and the end, exactly.
+        assert_eq!(times, [0.1, 0.3, 0.35, 2.0, 5.0, 7.0, 10.0]);
+        assert_eq!(s.remaining(0.0, s.dt0), times.len());
+        // A step that a failed solve cut short (to 1.0) ends at the next given time.
+        assert_eq!(s.step(1.0, nom), 1.0);
     }
 }

@@ -177,16 +177,19 @@ fn initial_state(
 /// The time steps of the scene (landing on the loading's kinks and the output times).
 fn schedule(scene: &LoadedScene, kinks: Vec<f64>) -> Schedule {
     let (t, o) = (&scene.scene.time, &scene.scene.output);
+    let replay = !t.steps.is_empty();
     Schedule {
         t_end: t.t_end,
-        dt0: t.dt,
+        // Given steps: each nominal step reaches the next landing time.
+        dt0: if replay { f64::INFINITY } else { t.dt },
         dt_max: t.dt_max.unwrap_or(t.t_end),
         growth: t.growth,
-        land_on: t.land_on.iter().chain(&o.fields_at).copied().collect(),
+        land_on: t.land_on.iter().chain(&o.fields_at).chain(&t.steps).copied().collect(),
         kinks,
         cap: t.dt_max_ramp.zip(scene.scene.plates.as_ref()).map(|(m, p)| (p.t_ramp, m)),
-        tol: t.error_tolerance,
+        tol: t.error_tolerance.filter(|_| !replay),
         dt_min: t.dt_min.unwrap_or(1e-6 * t.dt),
+        replay,
     }
 }
 

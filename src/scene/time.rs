@@ -30,6 +30,13 @@ pub struct TimeSpec {
     pub error_tolerance: Option<f64>,
     #[serde(default)]
     pub land_on: Vec<f64>,
+    /// The end times of the steps, in order: the run takes exactly these (a failed solve still
+    /// cuts a step, whose rest then ends at the next of them), the step controller and the
+    /// growth unused. Replaying one run's accepted steps (its history.csv `time` column) makes
+    /// runs at nearby parameters take the same steps, so that a result is a smooth function of
+    /// the parameters (calibration's finite differences); adaptive steps chosen anew would jump.
+    #[serde(default)]
+    pub steps: Vec<f64>,
     /// Retries (each cutting the step, by 0.25 by default) allowed when a solve fails.
     #[serde(default = "default_retries")]
     pub max_retries: usize,
@@ -113,6 +120,16 @@ impl TimeSpec {
         }
         T_END.check(self.t_end)?;
         DT.check(self.dt)?;
+        let mut last = 0.0;
+        for (i, &s) in self.steps.iter().enumerate() {
+            if !(s > last && s <= self.t_end) {
+                return Err(format!(
+                    "time.steps[{i}] = {s}: the step end times must increase from above 0 to at most time.t_end = {}",
+                    self.t_end
+                ));
+            }
+            last = s;
+        }
         if let Some(m) = self.dt_max_ramp {
             DT_MAX_RAMP.check(m)?;
             if !plates {
@@ -214,6 +231,13 @@ pub(super) const TIME_SECTION: Section = Section {
         GROWTH,
         ERROR_TOLERANCE,
         Key::new("time.land_on", "s", Unset::Value("[]"), "times the steps land on exactly").rule("in (0, t_end]"),
+        Key::new(
+            "time.steps",
+            "s",
+            Unset::Value("[]"),
+            "the end times of the steps to take, replacing the growth and the error control (a run's history.csv `time`)",
+        )
+        .rule("increasing, in (0, t_end]"),
         Key::new("time.max_retries", "", Unset::Value("8"), "retries of a failed step, each cutting it to 1/4")
             .rule("an integer ≥ 0"),
         DT_MIN,

@@ -135,6 +135,14 @@ fn non_physical_values_are_named_with_their_value() {
         ("time.dt=-1.0", "time.dt = -1"),
         ("plates.radius=0.0", "plates.radius = 0"),
         ("time.land_on=[nan]", "time.land_on"),
+        ("time.steps=[1.0, 0.5]", "time.steps[1] = 0.5: the step end times must increase"),
+        ("time.steps=[0.0]", "time.steps[0] = 0"),
+        ("time.steps=[1.0, 1.0]", "time.steps[1] = 1"),
+        (
+            "time.steps=[1.0, 200.0]",
+            "time.steps[1] = 200: the step end times must increase from above 0 to at most time.t_end = 100",
+        ),
+        ("time.steps=[nan]", "time.steps[0] = NaN"),
         ("plates.probe_point=[0.0, nan, 1.0]", "plates.probe_point = NaN"),
     ] {
         expect("reference", &[], &[set], part);
