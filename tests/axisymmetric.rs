@@ -35,7 +35,7 @@ fn cryer_on_the_meridian(name: &str, h: &str, dt_max: &str) -> (f64, f64, usize)
     let (hs, hp, dt) =
         (format!("mesh.params.h={h}"), format!("mesh.params.h_pole={h}"), format!("time.dt_max={dt_max}"));
     let sets = [hs.as_str(), hp.as_str(), dt.as_str(), "time.growth=1.1", "time.t_end=6"];
-    run_axi(2, &scene("cryer"), &dir, &sets, &[]);
+    run_axi(1, &scene("cryer"), &dir, &sets, &[]);
     let h = History::read(&dir);
     let (t, p, pe) = (h.col("time"), h.col("p_center"), h.col("p_center_exact"));
     let peak = p.iter().cloned().fold(0.0, f64::max);
@@ -78,7 +78,7 @@ fn cryer_on_the_meridian_within_a_tenth_of_a_percent() {
 #[test]
 fn terzaghi_on_the_meridian_column() {
     let dir = scratch("axi_terzaghi");
-    run_axi(2, &scene("terzaghi"), &dir, &[], &[]);
+    run_axi(1, &scene("terzaghi"), &dir, &[], &[]);
     let h = History::read(&dir);
     let (t, p, pe) = (h.col("time"), h.col("p_bottom"), h.col("p_bottom_exact"));
     let (s, se) = (h.col("settlement"), h.col("settlement_exact"));
@@ -398,7 +398,7 @@ fn trapezoidal_remodelling_halves_the_peak_error() {
         let out = dir.join(integrator);
         let set = format!("material.remodelling.integrator=\"{integrator}\"");
         let sets = ["time.t_end=5", "output.fields=false", "output.fields_at=[]", set.as_str()];
-        run_axi(2, "remodel_40", &out, &sets, &[]);
+        run_axi(1, "remodel_40", &out, &sets, &[]);
         let peak = History::read(&out).col("force_total_mg").iter().cloned().fold(0.0, f64::max);
         let err = (peak / converged - 1.0) * 100.0;
         println!("{integrator}: peak {peak:.4} mg ({err:+.2}%)");
