@@ -19,13 +19,13 @@ its step is below 1e-5 (log space), or after `--max-it` iterations.
         --param material.remodelling.lambda_p=0.001 --param material.remodelling.sigma_y=2.0 \\
         --dir studies/calib [--set KEY=VALUE ...] [--t-min 0 --t-max 40] [--max-it 15]
 
-`--data`: a CSV with columns `time` and the value (named like --column, or `value`; lines
-starting with # are comments). A
+`--data`: a CSV file, the format of poroplast_tools/measured.py (docs/user-guide.md): a header
+line, `time` in s and the value, a force in mg, uN or nN (`force_uN`, or --data-unit), lines
+starting with # comments; a malformed file is refused with the problem and its line. A
 synthetic curve for testing the fit: `--synthetic KEY=VALUE ...` runs the scene with those
 values first and fits to its own history.
 """
 import argparse
-import csv
 import json
 import math
 import sys
@@ -38,6 +38,7 @@ import numpy as np
 from poroplast_tools import labels
 from poroplast_tools.cases import rank_options, run_cases, use_rank_options
 from poroplast_tools.history import at, history
+from poroplast_tools.measured import DataError, check_within, read_curve
 
 
 class Model:
@@ -73,7 +74,10 @@ def main():
     ap.add_argument("scene")
     ap.add_argument("--param", action="append", required=True, metavar="KEY=INITIAL")
     ap.add_argument("--column", required=True, help="history.csv column to fit (e.g. force_total_mg)")
-    ap.add_argument("--data", help="CSV with time and the measured value")
+    ap.add_argument("--data", help="CSV with time and the measured value (see the format above)")
+    ap.add_argument("--data-column", help="the data's column (default: found from --column's name)")
+    ap.add_argument("--data-unit", choices=["mg", "uN", "nN"],
+                    help="the data's force unit (default: the column name's suffix, else mg)")
     ap.add_argument("--synthetic", action="append", default=[], metavar="KEY=VALUE",
                     help="fit to the scene's own curve with these values (a test of the fit)")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
@@ -100,9 +104,10 @@ def main():
             sys.exit("calibrate.py: the synthetic run failed")
         td, vd = h["time"], h[a.column]
     elif a.data:
-        rows = list(csv.DictReader(line for line in open(a.data) if not line.startswith("#")))
-        col = a.column if a.column in rows[0] else "value"
-        td, vd = [float(r["time"]) for r in rows], [float(r[col]) for r in rows]
+        try:
+            td, vd, _ = read_curve(a.data, a.column, a.data_unit, a.data_column)
+        except DataError as e:
+            sys.exit(f"calibrate.py: {e}")
     else:
         sys.exit("calibrate.py: give --data or --synthetic")
     data = [(t, v) for t, v in zip(td, vd) if a.t_min <= t <= a.t_max and t > 0]
@@ -136,6 +141,11 @@ def main():
         [(r, hist)] = residuals([x], [f"iteration {it + 1}: the point"])
         if r is None:
             sys.exit("calibrate.py: the run at the initial parameters failed")
+        if it == 0 and a.data:
+            try:
+                check_within(a.data, [t for t, _ in data], float(hist["time"][-1]))
+            except DataError as e:
+                sys.exit(f"calibrate.py: {e}")
         if it == 0:
             cost, best = float(r @ r), hist
         shifted = neighbours(x, it + 1, hist)

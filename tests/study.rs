@@ -247,3 +247,54 @@ fn reproduce_writes_the_reported_table() {
     let ratio: f64 = row("σ_VM contact zones over centre at 40 s")["meridian, scene mesh"].parse().unwrap();
     assert!(ratio > 1.0 && ratio < 3.0, "{ratio}");
 }
+
+/// A lab's malformed data file gets one line naming the problem (and its line), a non-zero exit
+/// and no Python traceback: before any run, or, for times after the run's end, after the first.
+#[test]
+fn calibration_refuses_malformed_data_clearly() {
+    let _cores = cores(1); // at most one 1-rank run
+    let dir = scratch("calibration_bad_data");
+    let cases: [(&str, &str, &str); 9] = [
+        ("empty", "", "empty"),
+        ("no_header", "1,2\n2,3\n", "no header line"),
+        ("wrong_column", "time,height\n1,2\n", "no data column"),
+        ("not_a_number", "time,stress_zz\n1,abc\n", "line 2: `abc` in column `stress_zz` is not a number"),
+        ("unsorted", "time,stress_zz\n2,1\n1,1\n", "line 3: time 1 s comes before"),
+        ("duplicate", "time,stress_zz\n1,1\n1,1\n", "line 3: time 1 s repeats"),
+        ("nan", "time,stress_zz\n1,nan\n", "finite number"),
+        ("no_time", "stress_zz\n1\n", "no time column"),
+        (
+            "after_the_end",
+            "time,stress_zz\n1,-1\n20,-1\n",
+            "1 data times after the run's end (t_end = 10 s), the first 20 s",
+        ),
+    ];
+    for (name, text, part) in cases {
+        let data = dir.join(format!("{name}.csv"));
+        std::fs::write(&data, text).unwrap();
+        let (ok, out) = script(
+            "calibrate.py",
+            &[
+                "relaxation",
+                "--column",
+                "stress_zz",
+                "--param",
+                "material.remodelling.lambda_p=0.001",
+                "--data",
+                data.to_str().unwrap(),
+                "--set",
+                "time.t_end=10",
+                "--set",
+                "time.land_on=[10.0]",
+                "--ranks",
+                "1",
+                "--dir",
+                dir.join(name).to_str().unwrap(),
+            ],
+        );
+        assert!(!ok, "{name}: accepted\n{out}");
+        assert!(!out.contains("Traceback"), "{name}: a traceback\n{out}");
+        let line = out.lines().find(|l| l.starts_with("calibrate.py: ")).unwrap_or_else(|| panic!("{name}: {out}"));
+        assert!(line.contains(part) && line.contains(&format!("{name}.csv")), "{name}: `{part}` expected in: {line}");
+    }
+}
