@@ -38,6 +38,7 @@ import numpy as np
 from poroplast_tools import labels
 from poroplast_tools.cases import rank_options, run_cases, use_rank_options
 from poroplast_tools.history import at, history
+from poroplast_tools.identify import report as identifiability
 from poroplast_tools.measured import DataError, check_within, read_curve
 
 
@@ -61,7 +62,8 @@ class Model:
         given = [("time.steps", steps)] if steps else []
         cases = [[(k, repr(v)) for k, v in zip(self.keys, values)] + given for values in points]
         for name, case in zip(what or [], cases):
-            print(f"{name}: " + " ".join(f"{k}={v}" for k, v in case), flush=True)
+            print(f"{name}: " + " ".join(f"{k}={v}" for k, v in case[:len(self.keys)])
+                  + (" (the point's steps)" if steps else ""), flush=True)
         counts = {}
         ran = run_cases(self.a.scene, cases, self.sets, self.root, self.a.ranks, counts=counts)
         with self.lock:
@@ -133,6 +135,23 @@ def main():
         return residuals([x + h * np.eye(len(x))[k] for k in range(len(x))],
                          [f"iteration {it}: d {k}" for k in keys], steps)
 
+    def identifiable(jac, hist):
+        """Prints the sensitivity table at the start point and the near-collinear pairs; exits
+        naming every parameter that moves no data point."""
+        scale = math.sqrt(sum(v * v for _, v in data) / len(data))
+        lines, refusals, warnings = identifiability(jac, keys, scale)
+        print("\n".join(lines), flush=True)
+        for w in warnings:
+            print(f"calibrate.py: warning: {w}", flush=True)
+        if refusals:
+            def why(k):
+                vm = hist.get("max_von_mises") if k.endswith("lambda_p") else None
+                return (f" (remodelling flows only where the von Mises stress exceeds sigma_y: its largest value "
+                        f"in this run is {max(vm):.4g} kPa; is sigma_y above it?)") if vm is not None and len(vm) else ""
+            sys.exit("calibrate.py: " + "; ".join(
+                f"{k} has no effect on {a.column} at the data's times (a {100 * h:g}% change moved no data point): "
+                f"it cannot be identified from these data{why(k)}" for k in refusals))
+
     x = np.array(x)
     lam, h = 1e-2, 1e-3
     log = []
@@ -152,6 +171,8 @@ def main():
         if any(rk is None for rk, _ in shifted):
             sys.exit("calibrate.py: a finite-difference run failed (see its log under runs/)")
         jac = np.column_stack([(rk - r) / h for rk, _ in shifted])
+        if it == 0:
+            identifiable(jac, hist)
         jtj, jtr = jac.T @ jac, jac.T @ r
         improved = False
         while lam < 1e8:

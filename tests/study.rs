@@ -187,6 +187,7 @@ fn calibration_recovers_synthetic_parameters() {
         ],
     );
     assert!(ok, "{text}");
+    assert!(text.contains("sensitivity at the start point") && !text.contains("warning"), "{text}");
     assert!(dir.join("calibration.png").exists());
     let json = std::fs::read_to_string(dir.join("calibration.json")).unwrap();
     let value = |key: &str| -> f64 {
@@ -297,4 +298,42 @@ fn calibration_refuses_malformed_data_clearly() {
         let line = out.lines().find(|l| l.starts_with("calibrate.py: ")).unwrap_or_else(|| panic!("{name}: {out}"));
         assert!(line.contains(part) && line.contains(&format!("{name}.csv")), "{name}: `{part}` expected in: {line}");
     }
+}
+
+/// A parameter the data cannot identify is refused at the start point with the reason: with
+/// σy far above every stress of the relaxation scene nothing flows, so λp moves no data point.
+#[test]
+fn calibration_refuses_a_parameter_without_effect() {
+    let _cores = cores(1); // one 1-rank run at a time
+    let dir = scratch("calibration_no_effect");
+    let (ok, out) = script(
+        "calibrate.py",
+        &[
+            "relaxation",
+            "--column",
+            "stress_zz",
+            "--param",
+            "material.remodelling.lambda_p=0.001",
+            "--synthetic",
+            "material.remodelling.lambda_p=0.0005",
+            "--set",
+            "material.remodelling.sigma_y=1000",
+            "--set",
+            "time.t_end=10",
+            "--set",
+            "time.land_on=[10.0]",
+            "--ranks",
+            "1",
+            "--dir",
+            dir.to_str().unwrap(),
+        ],
+    );
+    assert!(!ok, "accepted:\n{out}");
+    assert!(out.contains("sensitivity at the start point"), "{out}");
+    let line = out.lines().find(|l| l.starts_with("calibrate.py: ")).unwrap_or_else(|| panic!("{out}"));
+    assert!(
+        line.contains("material.remodelling.lambda_p has no effect on stress_zz")
+            && line.contains("is sigma_y above it?"),
+        "{line}"
+    );
 }

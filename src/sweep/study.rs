@@ -110,15 +110,31 @@ impl Case {
             .collect()
     }
 
-    /// How the case is named in progress lines: its own scene, if any, and its overrides.
+    /// How the case is named in progress lines: its own scene, if any, and its overrides; a
+    /// list value of more than 4 items shown by its first and last (`time.steps=[0.05, …(36), 10.0]`).
     pub fn label(&self) -> String {
         let mut parts: Vec<String> = self.own_scene.iter().map(|s| format!("scene={s}")).collect();
-        parts.extend(self.set.iter().cloned());
+        parts.extend(self.set.iter().map(|s| short_list(s)));
         if parts.is_empty() {
             "(base scene)".into()
         } else {
             parts.join(" ")
         }
+    }
+}
+
+/// `key=[a,b,...,z]` with more than 4 items as `key=[a, …(n), z]`; anything else as it is.
+fn short_list(set: &str) -> String {
+    match set.split_once('=') {
+        Some((k, v)) if v.trim().starts_with('[') && v.trim().ends_with(']') => {
+            let items: Vec<&str> = v.trim()[1..v.trim().len() - 1].split(',').map(str::trim).collect();
+            if items.len() > 4 {
+                format!("{k}=[{}, …({}), {}]", items[0], items.len(), items[items.len() - 1])
+            } else {
+                set.to_string()
+            }
+        }
+        _ => set.to_string(),
     }
 }
 
@@ -327,6 +343,9 @@ mod tests {
             parse("[[case]]\nscene = \"remodel_40\"\nset = [\"a=1\"]\n[[case]]\nscene = \"dir/my.toml\"\n").unwrap();
         assert_eq!((s.cases[0].scene.as_str(), s.cases[1].scene.as_str()), ("remodel_40", "dir/my.toml"));
         assert_eq!(s.cases[0].label(), "scene=remodel_40 a=1");
+        assert_eq!(short_list("time.steps=[0.5,1,1.5,2,3]"), "time.steps=[0.5, …(5), 3]");
+        assert_eq!(short_list("time.land_on=[1.0, 2.0]"), "time.land_on=[1.0, 2.0]");
+        assert_eq!(short_list("a=1"), "a=1");
         assert_eq!(s.scenes(), ["remodel_40", "dir/my.toml"]);
         assert!(s.per_case_scenes());
         let s =

@@ -1,0 +1,37 @@
+"""The identifiability report flags a parameter without effect and a near-collinear pair, and its
+table gives the first-order effect of a 10% change."""
+import math
+import unittest
+
+import numpy as np
+
+from poroplast_tools.identify import report
+
+
+class Identify(unittest.TestCase):
+    def test_effect_of_ten_percent(self):
+        # Curve c(t) = a t: dc/dln a = a t. With a = 2 at t = 1..4 the +10% change is 0.2 t.
+        t = np.arange(1.0, 5.0)
+        lines, refusals, warnings = report(np.column_stack([2.0 * t]), ["a"], scale=1.0)
+        rms = 0.2 * math.sqrt(np.mean(t ** 2))
+        self.assertIn(f"a: {rms:.3g} ", lines[1])
+        self.assertEqual((refusals, warnings), ([], []))
+
+    def test_a_parameter_without_effect_is_refused(self):
+        t = np.arange(1.0, 5.0)
+        _, refusals, warnings = report(np.column_stack([t, np.zeros(4)]), ["a", "b"], scale=1.0)
+        self.assertEqual(refusals, ["b"])
+        self.assertEqual(warnings, [])
+
+    def test_collinear_pair_is_warned(self):
+        t = np.arange(1.0, 5.0)
+        # Columns t and 3 t + tiny: one parameter's change is undone by the other's.
+        jac = np.column_stack([t, 3 * t + 1e-4 * t ** 2, np.exp(-t)])
+        _, refusals, warnings = report(jac, ["a", "b", "c"], scale=1.0)
+        self.assertEqual(refusals, [])
+        self.assertEqual(len(warnings), 1)
+        self.assertIn("a and b move the curve alike", warnings[0])
+
+
+if __name__ == "__main__":
+    unittest.main()
