@@ -4,8 +4,14 @@ Levenberg–Marquardt on the residuals r_i = model(t_i) − data(t_i) (the model
 interpolated at the data's times), the Jacobian by forward differences (one run per parameter,
 relative step 1e-3) whose runs take the point's own time steps (`time.steps`: a step cut or an
 error rejection in one run and not in the other would make the difference jump), parameters in log space (they are positive and of different scales). A
-trial step whose run fails counts as a worse fit (more damping). The uncertainties are the
-square roots of the diagonal of s² (JᵀJ)⁻¹, s² = Σr²/(n − p), at the optimum. Every run is a case
+trial step whose run fails counts as a worse fit (more damping). The residuals are weighted by
+the noise model (--noise: absolute, relative, or each point's sigma from the data file;
+poroplast_tools/fitstats.py); the standard errors are the square roots of the diagonal of
+s² (JᵀJ)⁻¹ with J at the optimum (its own finite-difference runs if the last step moved it),
+printed with the correlations, s (the estimated noise level) or χ²/(n − p) (a stated sigma).
+Before the first step the start point's sensitivities are printed, near-collinear parameter
+pairs warned of, and a parameter that moves no data point refused (poroplast_tools/identify.py).
+Every run is a case
 of the case store STUDY/runs/cases/ (`poroplast sweep`: a completed one is not run again, so an
 interrupted calibration continues): each iteration's n finite-difference neighbours are one
 batch (the point is the last accepted trial, complete; the first iteration runs it first),
@@ -38,6 +44,7 @@ import numpy as np
 from poroplast_tools import labels
 from poroplast_tools.cases import rank_options, run_cases, use_rank_options
 from poroplast_tools.history import at, history
+from poroplast_tools.fitstats import MODELS as NOISE_MODELS, uncertainty, weights
 from poroplast_tools.identify import report as identifiability
 from poroplast_tools.measured import DataError, check_within, read_curve
 
@@ -82,6 +89,10 @@ def main():
                     help="the data's force unit (default: the column name's suffix, else mg)")
     ap.add_argument("--synthetic", action="append", default=[], metavar="KEY=VALUE",
                     help="fit to the scene's own curve with these values (a test of the fit)")
+    ap.add_argument("--noise", choices=NOISE_MODELS,
+                    help="the noise model (poroplast_tools/fitstats.py): one unknown sigma (absolute), sigma "
+                         "proportional to the value (relative), or each point's sigma from the data file (data); "
+                         "default: data if the file has a sigma column, else absolute")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--t-min", type=float, default=-math.inf)
     ap.add_argument("--t-max", type=float, default=math.inf)
@@ -104,17 +115,24 @@ def main():
         [h] = syn.histories([[float(v) for v in truth.values()]], ["synthetic curve"])
         if h is None:
             sys.exit("calibrate.py: the synthetic run failed")
-        td, vd = h["time"], h[a.column]
+        td, vd, sd = h["time"], h[a.column], None
     elif a.data:
         try:
-            td, vd, _ = read_curve(a.data, a.column, a.data_unit, a.data_column)
+            td, vd, sd = read_curve(a.data, a.column, a.data_unit, a.data_column)
         except DataError as e:
             sys.exit(f"calibrate.py: {e}")
     else:
         sys.exit("calibrate.py: give --data or --synthetic")
-    data = [(t, v) for t, v in zip(td, vd) if a.t_min <= t <= a.t_max and t > 0]
+    kept = [(t, v, None if sd is None else sd[i]) for i, (t, v) in enumerate(zip(td, vd))
+            if a.t_min <= t <= a.t_max and t > 0]
+    data = [(t, v) for t, v, _ in kept]
     if len(data) <= len(keys):
         sys.exit(f"calibrate.py: {len(data)} data points for {len(keys)} parameters")
+    noise = a.noise or ("data" if sd is not None else "absolute")
+    try:
+        w = weights(noise, [v for _, v in data], None if sd is None else [e for _, _, e in kept])
+    except ValueError as e:
+        sys.exit(f"calibrate.py: --noise {noise}: {e}")
 
     def residuals(points, what, steps=None):
         """The residuals and history of a run at each point (log-parameters), one batch, each
@@ -126,7 +144,7 @@ def main():
         else:
             with ThreadPoolExecutor(max_workers=a.jobs) as pool:
                 hs = [h for [h] in pool.map(lambda vw: model.histories([vw[0]], [vw[1]], steps), zip(vals, what))]
-        return [(None, None) if h is None else (np.array([at(h, a.column, t) - v for t, v in data]), h)
+        return [(None, None) if h is None else (w * np.array([at(h, a.column, t) - v for t, v in data]), h)
                 for h in hs]
 
     def neighbours(x, it, hist):
@@ -170,9 +188,9 @@ def main():
         shifted = neighbours(x, it + 1, hist)
         if any(rk is None for rk, _ in shifted):
             sys.exit("calibrate.py: a finite-difference run failed (see its log under runs/)")
-        jac = np.column_stack([(rk - r) / h for rk, _ in shifted])
+        jac, jac_at = np.column_stack([(rk - r) / h for rk, _ in shifted]), x.copy()
         if it == 0:
-            identifiable(jac, hist)
+            identifiable(jac / w[:, None], hist)   # in the data's units
         jtj, jtr = jac.T @ jac, jac.T @ r
         improved = False
         while lam < 1e8:
@@ -189,18 +207,29 @@ def main():
               + "  ".join(f"{k} = {v:.6g}" for k, v in vals.items()), flush=True)
         if not improved or np.max(np.abs(step)) < 1e-5 or gain < a.ftol:
             break
-    # Uncertainties at the optimum, from the last Jacobian (log parameters: relative errors).
-    s2 = cost / max(len(r) - len(x), 1)
-    try:
-        rel = np.sqrt(np.maximum(np.diag(np.linalg.inv(jtj)) * s2, 0.0))
-    except np.linalg.LinAlgError:
-        rel = [math.nan] * len(x)
+    # Uncertainties from the Jacobian at the optimum (the last accepted step moved x: once more
+    # there), in log parameters: relative errors.
+    if not np.array_equal(jac_at, x):
+        shifted = neighbours(x, "at the optimum", best)
+        if any(rk is None for rk, _ in shifted):
+            sys.exit("calibrate.py: a finite-difference run at the optimum failed (see its log under runs/)")
+        jac = np.column_stack([(rk - r) / h for rk, _ in shifted])
+    rel, corr, s2, chi2 = uncertainty(jac, r, noise)
     result = {k: {"value": math.exp(v), "sigma": math.exp(v) * float(e)} for k, v, e in zip(keys, x, rel)}
+    result["noise"] = {"model": noise, "s": math.sqrt(s2), "chi2_per_dof": chi2}
+    result["correlation"] = {"keys": keys, "matrix": [[float(c) for c in row] for row in corr]}
     result["rms"] = math.sqrt(cost / len(r))
     result["runs"] = model.n
     (Path(a.dir) / "calibration.json").write_text(json.dumps({"result": result, "log": log}, indent=1))
     for k in keys:
-        print(f"{k} = {result[k]['value']:.6g} ± {result[k]['sigma']:.2g}")
+        print(f"{k} = {result[k]['value']:.6g} ± {result[k]['sigma']:.2g} (one standard error)")
+    print({"absolute": f"noise model: absolute, sigma estimated from the residuals: {math.sqrt(s2):.3g}",
+           "relative": f"noise model: relative, sigma/value estimated from the residuals: {math.sqrt(s2):.3g}",
+           "data": f"noise model: each point's sigma from the data file; chi2 per degree of freedom {chi2:.3g} "
+                   "(near 1 if the model and the stated sigma fit)"}[noise])
+    if len(keys) > 1:
+        print("correlations: " + "; ".join(f"{keys[i]} ~ {keys[j]}: {corr[i, j]:+.3f}"
+                                             for i in range(len(keys)) for j in range(i + 1, len(keys))))
     plot(a, data, best, result, keys)
     print(f"rms residual {result['rms']:.3g}, {model.n} runs; {Path(a.dir) / 'calibration.json'}")
 
