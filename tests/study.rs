@@ -153,6 +153,18 @@ fn convergence_study_extrapolates() {
     assert_eq!(std::fs::read_to_string(d.join("errors.csv")).unwrap().lines().count(), 6);
 }
 
+/// `calibrate.py` on σ_zz(t) of the relaxation scene, fitting λp from 1 (MPa s)⁻¹, with more
+/// arguments `extra`, into `dir`; for the short cases (`short`) to t = 10 s on 1 rank.
+fn calibrate_relaxation(dir: &std::path::Path, short: bool, extra: &[&str]) -> (bool, String) {
+    let mut args = vec!["relaxation", "--column", "stress_zz", "--param", "material.remodelling.lambda_p=0.001"];
+    args.extend(extra);
+    if short {
+        args.extend(["--set", "time.t_end=10", "--set", "time.land_on=[10.0]", "--ranks", "1"]);
+    }
+    args.extend(["--dir", dir.to_str().unwrap()]);
+    script("calibrate.py", &args)
+}
+
 /// Calibration recovers known parameters from the code's own curve: (λp, σy) = (0.5 (MPa s)⁻¹,
 /// 1.5 kPa) from σ_zz(t) of the relaxation scene, starting at (1 (MPa s)⁻¹, 2 kPa): each
 /// iteration's runs one sweep on 2 ranks, two at a time on 1 rank each.
@@ -160,14 +172,10 @@ fn convergence_study_extrapolates() {
 fn calibration_recovers_synthetic_parameters() {
     let _cores = cores(2); // its scripts run the sweep on 2 ranks
     let dir = scratch("calibration");
-    let (ok, text) = script(
-        "calibrate.py",
+    let (ok, text) = calibrate_relaxation(
+        &dir,
+        false,
         &[
-            "relaxation",
-            "--column",
-            "stress_zz",
-            "--param",
-            "material.remodelling.lambda_p=0.001",
             "--param",
             "material.remodelling.sigma_y=2.0",
             "--synthetic",
@@ -182,8 +190,6 @@ fn calibration_recovers_synthetic_parameters() {
             "2",
             "--ranks-per-case",
             "1",
-            "--dir",
-            dir.to_str().unwrap(),
         ],
     );
     assert!(ok, "{text}");
@@ -273,26 +279,7 @@ fn calibration_refuses_malformed_data_clearly() {
     for (name, text, part) in cases {
         let data = dir.join(format!("{name}.csv"));
         std::fs::write(&data, text).unwrap();
-        let (ok, out) = script(
-            "calibrate.py",
-            &[
-                "relaxation",
-                "--column",
-                "stress_zz",
-                "--param",
-                "material.remodelling.lambda_p=0.001",
-                "--data",
-                data.to_str().unwrap(),
-                "--set",
-                "time.t_end=10",
-                "--set",
-                "time.land_on=[10.0]",
-                "--ranks",
-                "1",
-                "--dir",
-                dir.join(name).to_str().unwrap(),
-            ],
-        );
+        let (ok, out) = calibrate_relaxation(&dir.join(name), true, &["--data", data.to_str().unwrap()]);
         assert!(!ok, "{name}: accepted\n{out}");
         assert!(!out.contains("Traceback"), "{name}: a traceback\n{out}");
         let line = out.lines().find(|l| l.starts_with("calibrate.py: ")).unwrap_or_else(|| panic!("{name}: {out}"));
@@ -306,27 +293,10 @@ fn calibration_refuses_malformed_data_clearly() {
 fn calibration_refuses_a_parameter_without_effect() {
     let _cores = cores(1); // one 1-rank run at a time
     let dir = scratch("calibration_no_effect");
-    let (ok, out) = script(
-        "calibrate.py",
-        &[
-            "relaxation",
-            "--column",
-            "stress_zz",
-            "--param",
-            "material.remodelling.lambda_p=0.001",
-            "--synthetic",
-            "material.remodelling.lambda_p=0.0005",
-            "--set",
-            "material.remodelling.sigma_y=1000",
-            "--set",
-            "time.t_end=10",
-            "--set",
-            "time.land_on=[10.0]",
-            "--ranks",
-            "1",
-            "--dir",
-            dir.to_str().unwrap(),
-        ],
+    let (ok, out) = calibrate_relaxation(
+        &dir,
+        true,
+        &["--synthetic", "material.remodelling.lambda_p=0.0005", "--set", "material.remodelling.sigma_y=1000"],
     );
     assert!(!ok, "accepted:\n{out}");
     assert!(out.contains("sensitivity at the start point"), "{out}");
