@@ -43,7 +43,7 @@ import numpy as np
 
 from poroplast_tools import labels
 from poroplast_tools.cases import rank_options, run_cases, use_rank_options
-from poroplast_tools.history import at, history
+from poroplast_tools.history import at, given_steps, history
 from poroplast_tools.fitstats import MODELS as NOISE_MODELS, uncertainty, weights
 from poroplast_tools.identify import report as identifiability
 from poroplast_tools.measured import DataError, check_within, read_curve
@@ -147,11 +147,14 @@ def main():
         return [(None, None) if h is None else (w * np.array([at(h, a.column, t) - v for t, v in data]), h)
                 for h in hs]
 
-    def neighbours(x, it, hist):
-        """x's finite-difference neighbours x + h e_k, one batch, taking the steps of x's run."""
-        steps = "[" + ",".join(repr(float(t)) for t in hist["time"][1:]) + "]"
-        return residuals([x + h * np.eye(len(x))[k] for k in range(len(x))],
-                         [f"iteration {it}: d {k}" for k in keys], steps)
+    def jacobian(x, r, it, hist):
+        """d r / d x at x (residuals r, history hist) by forward differences: x's neighbours
+        x + h e_k, one batch, taking the steps of x's run."""
+        shifted = residuals([x + h * np.eye(len(x))[k] for k in range(len(x))],
+                            [f"iteration {it}: d {k}" for k in keys], given_steps(hist))
+        if any(rk is None for rk, _ in shifted):
+            sys.exit(f"calibrate.py: a finite-difference run ({it}) failed (see its log under runs/)")
+        return np.column_stack([(rk - r) / h for rk, _ in shifted])
 
     def identifiable(jac, hist):
         """Prints the sensitivity table at the start point and the near-collinear pairs; exits
@@ -159,8 +162,8 @@ def main():
         scale = math.sqrt(sum(v * v for _, v in data) / len(data))
         lines, refusals, warnings = identifiability(jac, keys, scale)
         print("\n".join(lines), flush=True)
-        for w in warnings:
-            print(f"calibrate.py: warning: {w}", flush=True)
+        for msg in warnings:
+            print(f"calibrate.py: warning: {msg}", flush=True)
         if refusals:
             def why(k):
                 vm = hist.get("max_von_mises") if k.endswith("lambda_p") else None
@@ -173,24 +176,20 @@ def main():
     x = np.array(x)
     lam, h = 1e-2, 1e-3
     log = []
+    # The point of each iteration: the start, then the last accepted trial (r, best).
+    [(r, best)] = residuals([x], ["the start point"])
+    if r is None:
+        sys.exit("calibrate.py: the run at the initial parameters failed")
+    if a.data:
+        try:
+            check_within(a.data, [t for t, _ in data], float(best["time"][-1]))
+        except DataError as e:
+            sys.exit(f"calibrate.py: {e}")
+    cost = float(r @ r)
     for it in range(a.max_it):
-        # The point: the last accepted trial (complete) or, first, the start.
-        [(r, hist)] = residuals([x], [f"iteration {it + 1}: the point"])
-        if r is None:
-            sys.exit("calibrate.py: the run at the initial parameters failed")
-        if it == 0 and a.data:
-            try:
-                check_within(a.data, [t for t, _ in data], float(hist["time"][-1]))
-            except DataError as e:
-                sys.exit(f"calibrate.py: {e}")
+        jac, jac_at = jacobian(x, r, it + 1, best), x.copy()
         if it == 0:
-            cost, best = float(r @ r), hist
-        shifted = neighbours(x, it + 1, hist)
-        if any(rk is None for rk, _ in shifted):
-            sys.exit("calibrate.py: a finite-difference run failed (see its log under runs/)")
-        jac, jac_at = np.column_stack([(rk - r) / h for rk, _ in shifted]), x.copy()
-        if it == 0:
-            identifiable(jac / w[:, None], hist)   # in the data's units
+            identifiable(jac / w[:, None], best)   # in the data's units
         jtj, jtr = jac.T @ jac, jac.T @ r
         improved = False
         while lam < 1e8:
@@ -210,10 +209,7 @@ def main():
     # Uncertainties from the Jacobian at the optimum (the last accepted step moved x: once more
     # there), in log parameters: relative errors.
     if not np.array_equal(jac_at, x):
-        shifted = neighbours(x, "at the optimum", best)
-        if any(rk is None for rk, _ in shifted):
-            sys.exit("calibrate.py: a finite-difference run at the optimum failed (see its log under runs/)")
-        jac = np.column_stack([(rk - r) / h for rk, _ in shifted])
+        jac = jacobian(x, r, "at the optimum", best)
     rel, corr, s2, chi2 = uncertainty(jac, r, noise)
     result = {k: {"value": math.exp(v), "sigma": math.exp(v) * float(e)} for k, v, e in zip(keys, x, rel)}
     result["noise"] = {"model": noise, "s": math.sqrt(s2), "chi2_per_dof": chi2}

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from poroplast_tools.cases import rank_options, run_cases, use_rank_options
-from poroplast_tools.history import history
+from poroplast_tools.history import given_steps, history
 
 STEPS = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6]
 
@@ -55,8 +55,7 @@ def main():
     t0 = np.asarray(h0["time"], dtype=float)
     times = np.arange(a.every, t0[-1] + 1e-9 * t0[-1], a.every)
     c0 = np.interp(times, t0, np.asarray(h0[a.column], dtype=float))
-    steps = "[" + ",".join(repr(float(t)) for t in t0[1:]) + "]"
-    modes = {"adaptive": [], "replayed": [("time.steps", steps)]}
+    modes = {"adaptive": [], "replayed": [("time.steps", given_steps(h0))]}
     cases = [[(key, repr(theta * (1 + h)))] + extra for extra in modes.values() for h in STEPS]
     hs = runs(cases)
     quotients = {}

@@ -33,6 +33,12 @@ def history(path):
     return {k: a[:, i] for i, k in enumerate(head)}
 
 
+def given_steps(h):
+    """The `time.steps` value that makes a run take the accepted steps of history `h` (every
+    time after the first row, exactly as written)."""
+    return "[" + ",".join(repr(float(t)) for t in h["time"][1:]) + "]"
+
+
 def timings(path):
     """timings.txt (of a run directory, or the file) as {key: number}; {} without the file."""
     out = {}
