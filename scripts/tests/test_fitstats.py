@@ -5,7 +5,7 @@ import unittest
 
 import numpy as np
 
-from poroplast_tools.fitstats import uncertainty, weights
+from poroplast_tools.fitstats import Noise, floor_fraction, quantile, stacked_weights, uncertainty, weights
 
 
 def line_fit(t, y, w):
@@ -60,6 +60,45 @@ class FitStats(unittest.TestCase):
         jac = np.column_stack([np.ones(5), np.ones(5)])
         sd, corr, _, _ = uncertainty(jac, np.zeros(5), "absolute")
         self.assertTrue(all(math.isnan(x) for x in sd))
+
+    def test_relative_noise_above_a_floor_is_estimated(self):
+        # A force that falls to zero (contact lost) with σ_i = √((ρ y_i)² + f²), ρ = 3%, f = 0.02:
+        # ρ recovered from 4000 points (its estimate's sd about 1.5%), the zeros weighted 1/f.
+        rng = np.random.default_rng(4)
+        y = np.r_[np.linspace(2.0, 0.1, 2000), np.zeros(2000)]
+        sigma = np.sqrt((0.03 * y) ** 2 + 0.02 ** 2)
+        d = sigma * rng.standard_normal(y.size)
+        noise = Noise("relative+floor", y, floor=0.02)
+        w, rho = noise.weights(d, y.size)
+        self.assertAlmostEqual(rho, 0.03, delta=0.03 * 0.06)
+        self.assertAlmostEqual(float(np.sum((w * d) ** 2)), y.size, delta=1e-6 * y.size)
+        np.testing.assert_allclose(w[-1], 1 / 0.02)
+        # Plain relative noise on the same data has no floor: the zeros get 1e3 / max|y|.
+        self.assertAlmostEqual(weights("relative", y)[-1], 1 / 2e-3)
+        with self.assertRaises(ValueError):
+            Noise("relative+floor", y)
+
+    def test_a_floor_that_explains_the_residuals_alone_gives_no_relative_part(self):
+        self.assertEqual(floor_fraction(np.full(10, 0.01), np.ones(10), 0.02, 10), 0.0)
+        # One point, y = 1, d = 0.05, f = 0.03: ρ² = 0.05² − 0.03² exactly.
+        self.assertAlmostEqual(floor_fraction(np.array([0.05]), np.array([1.0]), 0.03, 1), 0.04, delta=1e-12)
+
+    def test_stacked_curves_share_the_degrees_of_freedom(self):
+        # Two absolute curves of 30 and 10 points, p = 4: dof 27 and 9; σ_e² = Σ d_e² / dof_e.
+        d = np.r_[np.full(30, 0.3), np.full(10, 2.0)]
+        noises = [Noise("absolute", np.ones(30)), Noise("absolute", np.ones(10))]
+        w, scales = stacked_weights(noises, d, 4)
+        np.testing.assert_allclose(scales, [math.sqrt(30 * 0.09 / 27), math.sqrt(10 * 4.0 / 9)])
+        self.assertAlmostEqual(float(np.sum((w * d) ** 2)), 36.0, delta=1e-12)
+
+    def test_quantiles_are_the_tables(self):
+        # Student's t at 97.5% (1, 10, 30 dof), the normal 97.5% and one-σ points.
+        self.assertAlmostEqual(quantile(0.95, 1), 12.7062047, delta=1e-6)
+        self.assertAlmostEqual(quantile(0.95, 10), 2.2281389, delta=1e-6)
+        self.assertAlmostEqual(quantile(0.95, 30), 2.0422725, delta=1e-6)
+        self.assertAlmostEqual(quantile(0.95), 1.9599640, delta=1e-6)
+        self.assertAlmostEqual(quantile(math.erf(1 / math.sqrt(2))), 1.0, delta=1e-12)
+        self.assertAlmostEqual(quantile(0.99, 3), 5.8409093, delta=1e-6)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,218 @@
+"""Least squares over an abstract model: Levenberg–Marquardt, the noise's re-weighting, and the
+statistics of the optimum (standard errors, Wald and profile-likelihood intervals).
+
+The model is `evaluate(points, what, replay=None)`: a batch of points (arrays of the fitted
+variables, log-parameters in the calibration) to a list with, per point, (d, state) — d the
+differences model − data at the data points, `state` what the run leaves that the next batch may
+replay (the calibration: its histories, whose time steps its finite-difference neighbours take) —
+or None for a failed run. `what` names each point (printed by the model). One call is one batch
+(the calibration: one `poroplast sweep`).
+
+The noise is `weigh(d, p)`: the per-point weights w that give w d unit variance at the
+differences d of a fit of p parameters (poroplast_tools/fitstats.Noise per curve, stacked). LM
+minimises |w d|² with w fixed; at its optimum the weights are estimated anew, and where they
+changed other than by a common factor (several curves, each its own σ; a noise floor) the fit
+goes on from there with them, until they settle (`rounds`). A common factor leaves the optimum
+where it is: one curve with one unknown σ needs one round.
+
+The statistics (`stats`) linearise at the optimum: the covariance of the variables is (JᵀJ)⁻¹
+with J the Jacobian of w d (unit variance), the Wald interval x̂ ± z σ with z Student's t of
+n − p degrees of freedom when w was estimated from the residuals, the normal z when σ was given
+(fitstats.quantile). `profile` computes the profile likelihood on a grid about the optimum: see
+there for its approximation."""
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .fitstats import quantile
+
+LEVELS = {"68": math.erf(1 / math.sqrt(2)), "95": 0.95}   # one σ (68.27%) and 95%
+
+
+class FitError(Exception):
+    """A run the fit cannot do without failed (the start point, a finite-difference neighbour)."""
+
+
+@dataclass
+class Optimum:
+    x: np.ndarray            # the fitted variables
+    d: np.ndarray            # differences model − data there
+    state: object            # the model's state there (replayed by its neighbours)
+    w: np.ndarray            # the noise weights estimated there (unit variance)
+    jac: np.ndarray          # d d / d x there (unweighted)
+    log: list = field(default_factory=list)   # one entry per LM iteration
+
+    @property
+    def r(self):
+        return self.w * self.d
+
+    @property
+    def cost(self):
+        return float(self.r @ self.r)
+
+
+def forward_jacobian(evaluate, x, d, state, keys, label, h=1e-3):
+    """d d / d x at x by forward differences: the neighbours x + h e_k, one batch, each
+    replaying x's `state`."""
+    eye = np.eye(len(x))
+    shifted = evaluate([x + h * eye[k] for k in range(len(x))], [f"{label}: d {k}" for k in keys], state)
+    if any(s is None for s in shifted):
+        raise FitError(f"a finite-difference run ({label}) failed")
+    return np.column_stack([(dk - d) / h for dk, _ in shifted])
+
+
+def fit(evaluate, weigh, x0, keys, max_it=15, ftol=1e-3, xtol=1e-5, rounds=4, say=print,
+        first_jacobian=None, jacobian=forward_jacobian):
+    """The optimum (`Optimum`) of |w d(x)|² from x0 (variables named `keys`). LM: damping λ on
+    diag(JᵀJ), λ/3 after an accepted step, ×4 after a worse or failed trial; an iteration ends
+    after one accepted step; the fit stops when one lowers the cost by less than `ftol`
+    (relative), moves x by less than `xtol` (max norm), or after `max_it` iterations, and then
+    re-weights (see the module). `first_jacobian(jac, state)` sees the start's Jacobian (the
+    identifiability report). `jacobian`: as forward_jacobian."""
+    x = np.asarray(x0, dtype=float)
+    [start] = evaluate([x], ["the start point"])
+    if start is None:
+        raise FitError("the run at the initial parameters failed")
+    d, state = start
+    w = weigh(d, len(x))
+    log, jac, jac_at, lam = [], None, None, 1e-2
+    for rnd in range(rounds):
+        cost = float((w * d) @ (w * d))
+        for it in range(max_it):
+            if jac_at is None or not np.array_equal(jac_at, x):
+                jac, jac_at = jacobian(evaluate, x, d, state, keys, f"iteration {len(log) + 1}"), x.copy()
+            if first_jacobian and not log:
+                first_jacobian(jac, state)
+            wj, r = w[:, None] * jac, w * d
+            jtj, jtr = wj.T @ wj, wj.T @ r
+            improved, gain, step = False, 0.0, np.zeros_like(x)
+            while lam < 1e8:
+                step = np.linalg.solve(jtj + lam * np.diag(np.diag(jtj)), -jtr)
+                [trial] = evaluate([x + step], [f"iteration {len(log) + 1}: trial step, damping {lam:.3g}"])
+                tcost = math.inf if trial is None else float((w * trial[0]) @ (w * trial[0]))
+                if tcost < cost:
+                    gain = 1 - tcost / cost
+                    x, (d, state), cost, lam, improved = x + step, trial, tcost, lam / 3, True
+                    break
+                lam *= 4
+            log.append({"iteration": len(log) + 1, "cost": cost, **{k: math.exp(v) for k, v in zip(keys, x)}})
+            say(f"iteration {len(log)}: rms {math.sqrt(cost / len(d)):.4g}  "
+                + "  ".join(f"{k} = {math.exp(v):.6g}" for k, v in zip(keys, x)))
+            if not improved or np.max(np.abs(step)) < xtol or gain < ftol:
+                break
+        new = weigh(d, len(x))
+        ratio = new / w
+        w = new
+        if np.ptp(ratio) <= 0.02 * np.mean(ratio):   # a common factor: the optimum stays
+            break
+        say(f"the noise weights changed by up to {100 * (np.max(ratio) / np.min(ratio) - 1):.3g}% "
+            "between the data points: fitting on with the new ones")
+    if not np.array_equal(jac_at, x):
+        jac = jacobian(evaluate, x, d, state, keys, "at the optimum")
+    return Optimum(x, d, state, w, jac, log)
+
+
+@dataclass
+class Stats:
+    rel: np.ndarray          # standard errors of the variables (relative errors of log-parameters)
+    corr: np.ndarray         # their correlation matrix
+    dof: int                 # n − p
+    estimated: bool          # σ estimated from the residuals (t quantiles) or given (normal)
+    chi2: float              # |w d|² / (n − p)
+
+    def z(self, level):
+        return quantile(level, self.dof if self.estimated else None)
+
+    def wald(self, x, level):
+        """[lo, hi] of each parameter exp(x) at `level`: exp(x ± z σ), NaN where σ is."""
+        z = self.z(level)
+        return [[math.exp(v - z * e), math.exp(v + z * e)] if math.isfinite(e) else [math.nan, math.nan]
+                for v, e in zip(x, self.rel)]
+
+
+def stats(opt, estimated):
+    """The statistics of the optimum `opt` (`estimated`: whether its weights were estimated from
+    the residuals)."""
+    wj = opt.w[:, None] * opt.jac
+    n, p = wj.shape
+    dof = max(n - p, 1)
+    try:
+        cov = np.linalg.inv(wj.T @ wj)
+        rel = np.sqrt(np.maximum(np.diag(cov), 0.0))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            corr = cov / np.outer(rel, rel)
+    except np.linalg.LinAlgError:
+        rel, corr = np.full(p, math.nan), np.full((p, p), math.nan)
+    return Stats(rel, corr, dof, estimated, opt.cost / dof)
+
+
+def conditional(opt, k, delta, r=None, x=None):
+    """The point with variable k at x̂_k + delta and the others where the linearisation at the
+    optimum puts their minimum: δ_o = −J_o⁺ (r + J_k δ) (weighted J and r). Given the residuals
+    `r` of a point `x` with that x_k, one Gauss–Newton step from there with J frozen instead."""
+    wj = opt.w[:, None] * opt.jac
+    others = [j for j in range(len(opt.x)) if j != k]
+    if x is None:
+        x = opt.x.copy()
+        x[k] += delta
+        r = opt.r + wj[:, k] * delta
+    x = np.array(x, dtype=float)
+    if others:
+        x[others] -= np.linalg.lstsq(wj[:, others], r, rcond=None)[0]
+    return x
+
+
+def profile(evaluate, opt, st, keys, multiples=(0.5, 1, 1.5, 2, 2.5, 3, 4), correct=True, say=print):
+    """The profile likelihood of every variable: for x_k = x̂_k + m σ_k (m = ±multiples, σ_k its
+    standard error) the cost |w d|² at the others' conditional optimum, approximated by the
+    linearisation at the optimum (`conditional`), the points of all variables ONE batch; with
+    `correct` (and more than one variable) one Gauss–Newton step more from each point, J
+    frozen at the optimum, a second batch, the lower cost of the two kept. The weights are the
+    optimum's. Returns {key: {"delta": [...], "cost": [...], "interval68": [lo, hi], ...}}, the
+    intervals where cost − cost(x̂) reaches z² (`interval`), in exp(x)."""
+    grid = [(k, m * st.rel[k]) for k in range(len(keys)) if math.isfinite(st.rel[k]) and st.rel[k] > 0
+            for m in sorted([-m for m in multiples] + list(multiples))]
+    points = [conditional(opt, k, delta) for k, delta in grid]
+    costs, rs = _costs(evaluate(points, [f"profile of {keys[k]}: {delta:+.3g}" for k, delta in grid]), opt.w)
+    if correct and len(keys) > 1:
+        ran = [i for i, c in enumerate(costs) if math.isfinite(c)]
+        say(f"profile: one Gauss-Newton correction of the other parameters at {len(ran)} points")
+        fixed = [conditional(opt, grid[i][0], 0.0, rs[i], points[i]) for i in ran]
+        better, _ = _costs(evaluate(fixed, [f"profile of {keys[grid[i][0]]}: {grid[i][1]:+.3g}, corrected"
+                                            for i in ran]), opt.w)
+        for i, c in zip(ran, better):
+            costs[i] = min(costs[i], c)
+    out = {}
+    for k, key in enumerate(keys):
+        rows = [(delta, c) for (j, delta), c in zip(grid, costs) if j == k]
+        out[key] = {"delta": [d for d, _ in rows], "cost": [c for _, c in rows]}
+        for name, level in LEVELS.items():
+            out[key][f"interval{name}"] = interval(opt.x[k], opt.cost, rows, st.z(level))
+    return out
+
+
+def interval(x, cost0, rows, z):
+    """[lo, hi] in exp(x): on each side of x the δ where the signed root ±√(cost − cost0) of
+    the profile (rows of (δ, cost)) reaches z, interpolated linearly between the grid points
+    (exact for a linear model); None on a side the grid does not reach."""
+    ends = []
+    for sign in (-1, 1):
+        side = sorted([(abs(d), c) for d, c in rows if d * sign > 0 and math.isfinite(c)])
+        prev = (0.0, 0.0)
+        end = None
+        for a, c in side:
+            root = math.sqrt(max(c - cost0, 0.0))
+            if root >= z:
+                a0, r0 = prev
+                end = a0 + (a - a0) * (z - r0) / (root - r0) if root > r0 else a
+                break
+            prev = (a, max(prev[1], root))
+        ends.append(None if end is None else math.exp(x + sign * end))
+    return ends
+
+
+def _costs(results, w):
+    """(|w d|² of each result, inf for a failed run; w d of each, None for a failed run)."""
+    rs = [None if out is None else w * out[0] for out in results]
+    return [math.inf if r is None else float(r @ r) for r in rs], rs
