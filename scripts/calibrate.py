@@ -1,88 +1,192 @@
-"""Calibration: fit scene parameters to a measured curve by least squares over batch runs.
+"""Calibration: fit scene parameters to measured curves by least squares over batch runs.
 
-Levenberg–Marquardt on the residuals r_i = model(t_i) − data(t_i) (the model's history column
-interpolated at the data's times), the Jacobian by forward differences (one run per parameter,
-relative step 1e-3) whose runs take the point's own time steps (`time.steps`: a step cut or an
-error rejection in one run and not in the other would make the difference jump), parameters in log space (they are positive and of different scales). A
-trial step whose run fails counts as a worse fit (more damping). The residuals are weighted by
-the noise model (--noise: absolute, relative, or each point's sigma from the data file;
-poroplast_tools/fitstats.py); the standard errors are the square roots of the diagonal of
-s² (JᵀJ)⁻¹ with J at the optimum (its own finite-difference runs if the last step moved it),
-printed with the correlations, s (the estimated noise level) or χ²/(n − p) (a stated sigma).
+One curve (a scene, --data or --synthetic, --column) or several experiments at once
+(--experiments FILE.toml: each its data, scene, overrides, column, noise model and time range;
+the format in poroplast_tools/experiments.py and docs/user-guide.md). The parameters (--param
+KEY=START) are shared by every experiment, or one experiment's own (KEY@NAME=START), and fitted
+in log space (they are positive and of different scales).
+
+The fit (poroplast_tools/fit.py) is Levenberg–Marquardt on the residuals r_i = w_i (model(t_i) −
+data(t_i)) of every experiment stacked, the model's history column interpolated at the data's
+times. The Jacobian is by forward differences (relative step 1e-3), whose runs take the point's
+own time steps, each experiment its own run's (`time.steps`: a step cut in one run and not in
+the other would make the difference jump). A trial step whose run fails counts as a worse fit.
+The weights w_i come from each experiment's noise model (--noise: absolute, relative, data: each
+point's sigma from the file, relative+floor: sigma_i = sqrt((rho y_i)^2 + floor^2), the floor
+given by --noise-floor; poroplast_tools/fitstats.py): the sigma (or rho) of each experiment is
+estimated from its own residuals with its share of the degrees of freedom, n_e − p n_e / n, so
+that the stacked weighted residuals have unit variance; where that changes the weights other
+than by a common factor (several experiments, a floor) the fit goes on with the new ones until
+they settle. The standard errors are the square roots of the diagonal of (JᵀJ)⁻¹ with J the
+weighted Jacobian at the optimum (its own finite-difference runs if the last step moved it);
+the Wald intervals value·exp(±z·sigma/value) with z Student's t of n − p degrees of freedom when
+a sigma was estimated, the normal z when every sigma is given (--noise data), for 68.27% and
+95%. --profile adds profile-likelihood intervals: the cost on a grid of each parameter about the
+optimum (--profile-grid, in standard errors) with the others at their conditional optimum as
+the Jacobian at the optimum predicts it, then one Gauss–Newton step more with that Jacobian; the
+interval where the cost rises by z² (the same z); all profile points of all parameters one
+sweep (and the corrections a second one).
+
 Before the first step the start point's sensitivities are printed, near-collinear parameter
 pairs warned of, and a parameter that moves no data point refused (poroplast_tools/identify.py).
-Every run is a case
-of the case store STUDY/runs/cases/ (`poroplast sweep`: a completed one is not run again, so an
-interrupted calibration continues): each iteration's n finite-difference neighbours are one
-batch (the point is the last accepted trial, complete; the first iteration runs it first),
-one `mpirun -n RANKS poroplast sweep` (--ranks 2, --ranks-per-case K: 1 on a meridian, RANKS
-for 3-D), and each trial step one more; `--no-sweep` runs one mpirun per run, `--jobs N` of them
-at once. STUDY/calibration.png shows the data and the fitted curve. The fit
-stops when an iteration lowers the sum of squares by less than `--ftol` (default 0.1%), when
-its step is below 1e-5 (log space), or after `--max-it` iterations.
+Every run is a case of the case store STUDY/runs/cases/ (`poroplast sweep`: a completed one is
+not run again, so an interrupted calibration continues): each iteration's finite-difference
+neighbours of all experiments are one batch, one `mpirun -n RANKS poroplast sweep` (--ranks 2,
+--ranks-per-case K: 1 on a meridian, RANKS for 3-D), and each trial step one more; `--no-sweep`
+runs one mpirun per run, `--jobs N` points at once. The fit stops when an iteration lowers the
+sum of squares by less than `--ftol` (default 0.1%), when its step is below 1e-5 (log space),
+or after `--max-it` iterations.
 
     python3 scripts/calibrate.py remodel_40 --data measured.csv --column force_total_mg \\
         --param material.remodelling.lambda_p=0.001 --param material.remodelling.sigma_y=2.0 \\
-        --dir studies/calib [--set KEY=VALUE ...] [--t-min 0 --t-max 40] [--max-it 15]
+        --dir studies/calib [--set KEY=VALUE ...] [--t-min 0 --t-max 40] [--max-it 15] [--profile]
+    python3 scripts/calibrate.py --experiments aggregates.toml \\
+        --param material.remodelling.lambda_p=0.001 --param material.mu@r150=2.5 --dir studies/calib2
 
 `--data`: a CSV file, the format of poroplast_tools/measured.py (docs/user-guide.md): a header
 line, `time` in s and the value, a force in mg, uN or nN (`force_uN`, or --data-unit), lines
 starting with # comments; a malformed file is refused with the problem and its line. A
 synthetic curve for testing the fit: `--synthetic KEY=VALUE ...` runs the scene with those
-values first and fits to its own history.
+values first and fits to its own history (an experiment: `synthetic = {...}`, with noise).
+
+Writes STUDY/calibration.json: per parameter (its label, KEY or KEY@NAME) value, sigma,
+interval68, interval95 (and profile68, profile95 with --profile; null where the grid does not
+reach the threshold); noise (model, s, chi2_per_dof), experiments (per experiment: noise model,
+s, floor, points, rms), intervals (z and dof), correlation, rms, runs; and the iterations' log.
+STUDY/calibration.png: data and fit, one panel per experiment; STUDY/profile.png the profiles.
 """
 import argparse
 import json
 import math
 import sys
-import threading
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
 
+from poroplast_tools import experiments as exps
 from poroplast_tools import labels
 from poroplast_tools.cases import rank_options, run_cases, use_rank_options
+from poroplast_tools.fit import LEVELS, FitError, fit, profile, stats
+from poroplast_tools.fitstats import MODELS as NOISE_MODELS, Noise, stacked_weights
 from poroplast_tools.history import at, given_steps, history
-from poroplast_tools.fitstats import MODELS as NOISE_MODELS, uncertainty, weights
 from poroplast_tools.identify import report as identifiability
 from poroplast_tools.measured import DataError, check_within, read_curve
 
 
-class Model:
-    def __init__(self, a, keys):
-        self.a, self.keys = a, keys
-        self.counts = {"ran": 0}       # the runs the sweeps had to make
-        self.lock = threading.Lock()
-        self.root = Path(a.dir) / "runs"
+class Runs:
+    """The experiments' model: runs of their scenes at points (log-parameters), one batch per
+    call; `evaluate` is the fit's model (poroplast_tools/fit.py)."""
+
+    def __init__(self, a, experiments, params, sweep):
+        self.a, self.experiments, self.params, self.sweep = a, experiments, params, sweep
         self.sets = [tuple(s.split("=", 1)) for s in a.set]
+        self.root = Path(a.dir) / "runs"
+        self.ran = 0                 # the runs the sweeps had to make
+        self.data = None             # per experiment: (times, values) once read
+        self.checked = False
 
-    @property
-    def n(self):
-        return self.counts["ran"]
-
-    def histories(self, points, what=None, steps=None):
-        """Runs the scene at each point (parameter values) — ONE batch, the completed runs
-        skipped (the store knows a run by its values), so an interrupted calibration continues —
-        and returns their histories (None for a failed run). `what`: a name per point, printed
-        before the batch; `steps`: the `time.steps` every run takes (None: its own)."""
-        given = [("time.steps", steps)] if steps else []
-        cases = [[(k, repr(v)) for k, v in zip(self.keys, values)] + given for values in points]
-        for name, case in zip(what or [], cases):
-            print(f"{name}: " + " ".join(f"{k}={v}" for k, v in case[:len(self.keys)])
-                  + (" (the point's steps)" if steps else ""), flush=True)
+    def histories(self, cases, what=None):
+        """Runs (scene, overrides) cases — ONE batch, the completed ones skipped — and returns
+        their histories (None for a failed run). `what`: lines printed before the batch."""
+        for line in what or []:
+            print(line, flush=True)
         counts = {}
-        ran = run_cases(self.a.scene, cases, self.sets, self.root, self.a.ranks, counts=counts)
-        with self.lock:
-            self.counts["ran"] += counts.get("ran", 0)
+        ran = run_cases([s for s, _ in cases], [c for _, c in cases], self.sets, self.root, self.a.ranks,
+                        counts=counts)
+        self.ran += counts.get("ran", 0)
         return [history(d) if r["status"] == "ok" else None for d, r in ran]
+
+    def case(self, e, x, steps=None):
+        """Experiment e's case at x: its overrides, the parameters that apply to it, the steps."""
+        values = [(p.key, repr(math.exp(v))) for p, v in zip(self.params, x) if p.applies(e)]
+        return e.scene, e.sets + values + ([("time.steps", steps)] if steps else [])
+
+    def evaluate(self, points, what, replay=None):
+        """Per point (log-parameters) the stacked differences model − data of every experiment
+        and their histories, or None if a run failed; every experiment's run at every point one
+        batch (--no-sweep --jobs N: N points at once), each replaying the steps of its
+        experiment's history in `replay`."""
+        ne = len(self.experiments)
+        cases = [self.case(e, x, given_steps(replay[i]) if replay else None)
+                 for x in points for i, e in enumerate(self.experiments)]
+        lines = [f"{name}: " + " ".join(f"{p.label}={math.exp(v):.6g}" for p, v in zip(self.params, x))
+                 + (" (the point's steps)" if replay else "") for name, x in zip(what, points)]
+        if self.sweep or self.a.jobs == 1 or not points:
+            hs = self.histories(cases, lines)
+        else:
+            with ThreadPoolExecutor(max_workers=self.a.jobs) as pool:
+                hs = [h for part in pool.map(lambda i: self.histories(cases[i * ne:(i + 1) * ne], lines[i:i + 1]),
+                                             range(len(points))) for h in part]
+        out = []
+        for i in range(len(points)):
+            group = hs[i * ne:(i + 1) * ne]
+            if any(h is None for h in group):
+                out.append(None)
+                continue
+            if not self.checked:
+                self.check(group)
+            d = [np.array([at(h, e.column, t) for t in ts]) - vs
+                 for e, h, (ts, vs) in zip(self.experiments, group, self.data)]
+            out.append((np.concatenate(d), group))
+        return out
+
+    def check(self, group):
+        """Refuses data times after a run's end (once, at the first runs)."""
+        for e, h, (ts, _) in zip(self.experiments, group, self.data):
+            try:
+                check_within(e.data or e.name, ts, float(h["time"][-1]))
+            except DataError as err:
+                sys.exit(f"calibrate.py: {err}")
+        self.checked = True
+
+
+def synthesise(runs, experiments):
+    """The synthetic experiments' data: their runs (one batch) at the `synthetic` values,
+    sampled at their steps or every `synthetic_every` s, with Gaussian noise of σ_i =
+    √((synthetic_noise y_i)² + synthetic_floor²) (seeded); written to STUDY/synthetic_NAME.csv.
+    {name: (times, values)}."""
+    todo = [e for e in experiments if e.synthetic]
+    if not todo:
+        return {}
+    cases = [(e.scene, e.sets + [(k, repr(v)) for k, v in e.synthetic.items()]) for e in todo]
+    hs = runs.histories(cases, [f"synthetic curve {e.name}: " + " ".join(f"{k}={v}" for k, v in e.synthetic.items())
+                                for e in todo])
+    out = {}
+    for e, h in zip(todo, hs):
+        if h is None:
+            sys.exit(f"calibrate.py: the synthetic run of {e.name} failed")
+        t_end = float(h["time"][-1])
+        ts = (np.arange(1, int(t_end / e.synthetic_every + 1e-9) + 1) * e.synthetic_every if e.synthetic_every
+              else h["time"][h["time"] > 0])
+        ys = np.array([at(h, e.column, t) for t in ts])
+        rng = np.random.default_rng(e.seed)
+        ys = ys + np.sqrt((e.synthetic_noise * ys) ** 2 + e.synthetic_floor ** 2) * rng.standard_normal(ys.size)
+        out[e.name] = (list(ts), list(ys))
+        with open(Path(runs.a.dir) / f"synthetic_{e.name}.csv", "w") as f:
+            f.write(f"# synthetic: {e.scene} {e.synthetic} noise {e.synthetic_noise} floor {e.synthetic_floor} "
+                    f"seed {e.seed}\ntime,{e.column}\n" + "".join(f"{t!r},{y!r}\n" for t, y in zip(ts, ys)))
+    return out
+
+
+def single(a):
+    """The one experiment of the single-curve command line."""
+    if not a.scene or not a.column:
+        sys.exit("calibrate.py: give a scene and --column, or --experiments FILE")
+    if not a.data and not a.synthetic:
+        sys.exit("calibrate.py: give --data or --synthetic")
+    return exps.Experiment(
+        name=Path(a.scene).stem, scene=a.scene, column=a.column, data=None if a.synthetic else a.data,
+        data_column=a.data_column, unit=a.data_unit, noise=a.noise, noise_floor=a.noise_floor,
+        t_min=a.t_min, t_max=a.t_max, synthetic={k: float(v) for k, v in (s.split("=", 1) for s in a.synthetic)})
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("scene")
-    ap.add_argument("--param", action="append", required=True, metavar="KEY=INITIAL")
-    ap.add_argument("--column", required=True, help="history.csv column to fit (e.g. force_total_mg)")
+    ap.add_argument("scene", nargs="?", help="the scene (with --experiments: the experiments' default)")
+    ap.add_argument("--experiments", metavar="FILE.toml", help="several experiments at once (see above)")
+    ap.add_argument("--param", action="append", required=True, metavar="KEY[@EXPERIMENT]=START")
+    ap.add_argument("--column", help="history.csv column to fit (e.g. force_total_mg)")
     ap.add_argument("--data", help="CSV with time and the measured value (see the format above)")
     ap.add_argument("--data-column", help="the data's column (default: found from --column's name)")
     ap.add_argument("--data-unit", choices=["mg", "uN", "nN"],
@@ -91,160 +195,208 @@ def main():
                     help="fit to the scene's own curve with these values (a test of the fit)")
     ap.add_argument("--noise", choices=NOISE_MODELS,
                     help="the noise model (poroplast_tools/fitstats.py): one unknown sigma (absolute), sigma "
-                         "proportional to the value (relative), or each point's sigma from the data file (data); "
-                         "default: data if the file has a sigma column, else absolute")
+                         "proportional to the value (relative), each point's sigma from the data file (data), or "
+                         "relative above a given floor (relative+floor, --noise-floor); default: data if the file "
+                         "has a sigma column, else absolute")
+    ap.add_argument("--noise-floor", type=exps.floor_value, metavar="F[UNIT]",
+                    help="relative+floor: the floor's sigma, in the column's unit or with one (0.05uN, 0.5nN)")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--t-min", type=float, default=-math.inf)
     ap.add_argument("--t-max", type=float, default=math.inf)
     ap.add_argument("--dir", required=True)
     rank_options(ap)
     ap.add_argument("--max-it", type=int, default=15)
-    ap.add_argument("--jobs", type=int, default=1, help="with --no-sweep: finite-difference runs at once")
+    ap.add_argument("--jobs", type=int, default=1, help="with --no-sweep: points run at once")
     ap.add_argument("--ftol", type=float, default=1e-3,
                     help="stop when an iteration lowers the sum of squares by less than this fraction")
+    ap.add_argument("--profile", action="store_true", help="profile-likelihood intervals (one more sweep or two)")
+    ap.add_argument("--profile-grid", default="0.5,1,1.5,2,2.5,3,4", metavar="M,M,...",
+                    help="the profile's points on each side of the optimum, in standard errors (log space)")
     a = ap.parse_args()
     sweep = use_rank_options(a)["sweep"]
-    keys = [p.split("=", 1)[0] for p in a.param]
-    x = [math.log(float(p.split("=", 1)[1])) for p in a.param]
-    model = Model(a, keys)
     Path(a.dir).mkdir(parents=True, exist_ok=True)
-
-    if a.synthetic:
-        truth = dict(s.split("=", 1) for s in a.synthetic)
-        syn = Model(a, list(truth))
-        [h] = syn.histories([[float(v) for v in truth.values()]], ["synthetic curve"])
-        if h is None:
-            sys.exit("calibrate.py: the synthetic run failed")
-        td, vd, sd = h["time"], h[a.column], None
-    elif a.data:
-        try:
-            td, vd, sd = read_curve(a.data, a.column, a.data_unit, a.data_column)
-        except DataError as e:
-            sys.exit(f"calibrate.py: {e}")
-    else:
-        sys.exit("calibrate.py: give --data or --synthetic")
-    kept = [(t, v, None if sd is None else sd[i]) for i, (t, v) in enumerate(zip(td, vd))
-            if a.t_min <= t <= a.t_max and t > 0]
-    data = [(t, v) for t, v, _ in kept]
-    if len(data) <= len(keys):
-        sys.exit(f"calibrate.py: {len(data)} data points for {len(keys)} parameters")
-    noise = a.noise or ("data" if sd is not None else "absolute")
     try:
-        w = weights(noise, [v for _, v in data], None if sd is None else [e for _, _, e in kept])
-    except ValueError as e:
-        sys.exit(f"calibrate.py: --noise {noise}: {e}")
-
-    def residuals(points, what, steps=None):
-        """The residuals and history of a run at each point (log-parameters), one batch, each
-        run taking `steps` if given; (None, None) for a failed run. Without sweeps and with
-        --jobs N, N runs at a time."""
-        vals = [[math.exp(v) for v in xs] for xs in points]
-        if sweep or a.jobs == 1:
-            hs = model.histories(vals, what, steps)
+        if a.experiments:
+            defaults = {k: v for k, v in {"scene": a.scene, "column": a.column, "noise": a.noise,
+                                          "noise_floor": a.noise_floor, "unit": a.data_unit}.items() if v is not None}
+            experiments = exps.read(a.experiments, defaults)
         else:
-            with ThreadPoolExecutor(max_workers=a.jobs) as pool:
-                hs = [h for [h] in pool.map(lambda vw: model.histories([vw[0]], [vw[1]], steps), zip(vals, what))]
-        return [(None, None) if h is None else (w * np.array([at(h, a.column, t) - v for t, v in data]), h)
-                for h in hs]
+            experiments = [single(a)]
+        params = exps.params(a.param, experiments)
+        multiples = [float(m) for m in a.profile_grid.split(",")]
+    except (exps.ExperimentError, ValueError) as e:
+        sys.exit(f"calibrate.py: {e}")
+    runs = Runs(a, experiments, params, sweep)
 
-    def jacobian(x, r, it, hist):
-        """d r / d x at x (residuals r, history hist) by forward differences: x's neighbours
-        x + h e_k, one batch, taking the steps of x's run."""
-        shifted = residuals([x + h * np.eye(len(x))[k] for k in range(len(x))],
-                            [f"iteration {it}: d {k}" for k in keys], given_steps(hist))
-        if any(rk is None for rk, _ in shifted):
-            sys.exit(f"calibrate.py: a finite-difference run ({it}) failed (see its log under runs/)")
-        return np.column_stack([(rk - r) / h for rk, _ in shifted])
+    # The data (files before any run; synthetic curves from one batch), their noise models.
+    curves = {}
+    for e in experiments:
+        if e.data:
+            try:
+                curves[e.name] = read_curve(e.data, e.column, e.unit, e.data_column)
+            except DataError as err:
+                sys.exit(f"calibrate.py: {err}")
+    curves.update({k: (t, v, None) for k, (t, v) in synthesise(runs, experiments).items()})
+    runs.data, noises = [], []
+    for e in experiments:
+        td, vd, sd = curves[e.name]
+        keep = [i for i, t in enumerate(td) if e.t_min <= t <= e.t_max and t > 0]
+        ts, vs = np.array(td)[keep], np.array(vd)[keep]
+        runs.data.append((list(ts), vs))
+        e.noise = e.noise or ("data" if sd is not None else "absolute")
+        try:
+            noises.append(Noise(e.noise, vs, None if sd is None else np.array(sd)[keep], e.noise_floor))
+        except ValueError as err:
+            sys.exit(f"calibrate.py: {e.name}: --noise {e.noise}: {err}")
+    n = sum(len(ts) for ts, _ in runs.data)
+    if n <= len(params):
+        sys.exit(f"calibrate.py: {n} data points for {len(params)} parameters")
+    keys = [p.label for p in params]
 
-    def identifiable(jac, hist):
+    def identifiable(jac, group):
         """Prints the sensitivity table at the start point and the near-collinear pairs; exits
         naming every parameter that moves no data point."""
-        scale = math.sqrt(sum(v * v for _, v in data) / len(data))
-        lines, refusals, warnings = identifiability(jac, keys, scale)
+        values = np.concatenate([vs for _, vs in runs.data])
+        lines, refusals, warnings = identifiability(jac, keys, math.sqrt(float(values @ values) / len(values)))
         print("\n".join(lines), flush=True)
         for msg in warnings:
             print(f"calibrate.py: warning: {msg}", flush=True)
         if refusals:
+            vm = [float(max(h["max_von_mises"])) for h in group if len(h.get("max_von_mises", ()))]
+
             def why(k):
-                vm = hist.get("max_von_mises") if k.endswith("lambda_p") else None
                 return (f" (remodelling flows only where the von Mises stress exceeds sigma_y: its largest value "
-                        f"in this run is {max(vm):.4g} kPa; is sigma_y above it?)") if vm is not None and len(vm) else ""
+                        f"in this run is {max(vm):.4g} kPa; is sigma_y above it?)") if vm and k.split("@")[0].endswith(
+                    "lambda_p") else ""
+            columns = ", ".join(sorted({e.column for e in experiments}))
             sys.exit("calibrate.py: " + "; ".join(
-                f"{k} has no effect on {a.column} at the data's times (a {100 * h:g}% change moved no data point): "
+                f"{k} has no effect on {columns} at the data's times (a 0.1% change moved no data point): "
                 f"it cannot be identified from these data{why(k)}" for k in refusals))
 
-    x = np.array(x)
-    lam, h = 1e-2, 1e-3
-    log = []
-    # The point of each iteration: the start, then the last accepted trial (r, best).
-    [(r, best)] = residuals([x], ["the start point"])
-    if r is None:
-        sys.exit("calibrate.py: the run at the initial parameters failed")
-    if a.data:
-        try:
-            check_within(a.data, [t for t, _ in data], float(best["time"][-1]))
-        except DataError as e:
-            sys.exit(f"calibrate.py: {e}")
-    cost = float(r @ r)
-    for it in range(a.max_it):
-        jac, jac_at = jacobian(x, r, it + 1, best), x.copy()
-        if it == 0:
-            identifiable(jac / w[:, None], best)   # in the data's units
-        jtj, jtr = jac.T @ jac, jac.T @ r
-        improved = False
-        while lam < 1e8:
-            step = np.linalg.solve(jtj + lam * np.diag(np.diag(jtj)), -jtr)
-            [(rt, ht)] = residuals([x + step], [f"iteration {it + 1}: trial step, damping {lam:.3g}"])
-            if rt is not None and float(rt @ rt) < cost:
-                gain = 1 - float(rt @ rt) / cost
-                x, r, best, cost, lam, improved = x + step, rt, ht, float(rt @ rt), lam / 3, True
-                break
-            lam *= 4
-        vals = {k: math.exp(v) for k, v in zip(keys, x)}
-        log.append({"iteration": it + 1, "cost": cost, **vals})
-        print(f"iteration {it + 1}: rms {math.sqrt(cost / len(r)):.4g}  "
-              + "  ".join(f"{k} = {v:.6g}" for k, v in vals.items()), flush=True)
-        if not improved or np.max(np.abs(step)) < 1e-5 or gain < a.ftol:
-            break
-    # Uncertainties from the Jacobian at the optimum (the last accepted step moved x: once more
-    # there), in log parameters: relative errors.
-    if not np.array_equal(jac_at, x):
-        jac = jacobian(x, r, "at the optimum", best)
-    rel, corr, s2, chi2 = uncertainty(jac, r, noise)
-    result = {k: {"value": math.exp(v), "sigma": math.exp(v) * float(e)} for k, v, e in zip(keys, x, rel)}
-    result["noise"] = {"model": noise, "s": math.sqrt(s2), "chi2_per_dof": chi2}
-    result["correlation"] = {"keys": keys, "matrix": [[float(c) for c in row] for row in corr]}
-    result["rms"] = math.sqrt(cost / len(r))
-    result["runs"] = model.n
-    (Path(a.dir) / "calibration.json").write_text(json.dumps({"result": result, "log": log}, indent=1))
-    for k in keys:
-        print(f"{k} = {result[k]['value']:.6g} ± {result[k]['sigma']:.2g} (one standard error)")
-    print({"absolute": f"noise model: absolute, sigma estimated from the residuals: {math.sqrt(s2):.3g}",
-           "relative": f"noise model: relative, sigma/value estimated from the residuals: {math.sqrt(s2):.3g}",
-           "data": f"noise model: each point's sigma from the data file; chi2 per degree of freedom {chi2:.3g} "
-                   "(near 1 if the model and the stated sigma fit)"}[noise])
+    def weigh(d, p):
+        return stacked_weights(noises, d, p)[0]
+
+    try:
+        opt = fit(runs.evaluate, weigh, np.log([p.start for p in params]), keys, max_it=a.max_it, ftol=a.ftol,
+                  say=lambda s: print(s, flush=True), first_jacobian=identifiable)
+    except FitError as e:
+        sys.exit(f"calibrate.py: {e} (see its log under runs/)")
+    st = stats(opt, any(noise.estimated for noise in noises))
+    prof = (profile(runs.evaluate, opt, st, keys, multiples, say=lambda s: print(s, flush=True))
+            if a.profile else None)
+    result = report(a, experiments, params, noises, runs, opt, st, prof)
+    (Path(a.dir) / "calibration.json").write_text(json.dumps({"result": result, "log": opt.log}, indent=1))
+    plot(a, experiments, runs.data, opt.state, result, keys)
+    if prof:
+        plot_profile(a, opt, st, prof, keys)
+    print(f"rms residual {result['rms']:.3g}, {runs.ran} runs; {Path(a.dir) / 'calibration.json'}")
+
+
+def report(a, experiments, params, noises, runs, opt, st, prof):
+    """calibration.json's result, printed as it is made."""
+    keys = [p.label for p in params]
+    _, scales = stacked_weights(noises, opt.d, len(keys))
+    result = {}
+    wald = {name: st.wald(opt.x, level) for name, level in LEVELS.items()}
+    how = f"Student's t, {st.dof} degrees of freedom" if st.estimated else "normal: sigma given"
+    for k, key in enumerate(keys):
+        value = math.exp(opt.x[k])
+        result[key] = {"value": value, "sigma": value * float(st.rel[k]),
+                       **{f"interval{name}": wald[name][k] for name in LEVELS}}
+        print(f"{key} = {value:.6g} ± {result[key]['sigma']:.2g} (one standard error); "
+              + ", ".join(f"{name}%: [{lo:.6g}, {hi:.6g}]" for name, (lo, hi) in
+                          ((name, wald[name][k]) for name in LEVELS)) + f" (Wald, {how})")
+        if prof:
+            for name in LEVELS:
+                result[key][f"profile{name}"] = prof[key][f"interval{name}"]
+            print(f"  profile: " + ", ".join(
+                f"{name}%: [{_end(prof[key][f'interval{name}'][0])}, {_end(prof[key][f'interval{name}'][1])}]"
+                for name in LEVELS))
+    shapes, at = [], 0
+    result["experiments"] = []
+    for e, noise, s, (ts, vs) in zip(experiments, noises, scales, runs.data):
+        rel = noise.shape * opt.d[at:at + len(ts)]
+        at += len(ts)
+        shapes.append(rel)
+        result["experiments"].append({"name": e.name, "scene": e.scene, "column": e.column, "points": len(ts),
+                                      "noise": e.noise, "s": s, "floor": e.noise_floor,
+                                      "rms": math.sqrt(float(rel @ rel) / len(ts))})
+        print(f"{e.name}: noise model {e.noise}: " + {
+            "absolute": f"sigma estimated from the residuals: {s:.3g}",
+            "relative": f"sigma/value estimated from the residuals: {s:.3g}",
+            "relative+floor": f"sigma/value estimated from the residuals: {s:.3g}, above the floor "
+                              f"{e.noise_floor or 0:.3g}",
+            "data": "each point's sigma from the data file"}[e.noise])
+    if len(experiments) == 1:
+        e, s = experiments[0], scales[0]
+        result["noise"] = {"model": e.noise, "s": s,
+                           "chi2_per_dof": s * s if e.noise in ("absolute", "relative") else st.chi2}
+    else:
+        result["noise"] = {"model": "per experiment", "s": None, "chi2_per_dof": st.chi2}
+    if not any(n.estimated for n in noises):
+        print(f"chi2 per degree of freedom {st.chi2:.3g} (near 1 if the model and the stated sigma fit)")
+    result["intervals"] = {"dof": st.dof if st.estimated else None,
+                           **{f"z{name}": st.z(level) for name, level in LEVELS.items()}}
+    result["correlation"] = {"keys": keys, "matrix": [[float(c) for c in row] for row in st.corr]}
     if len(keys) > 1:
-        print("correlations: " + "; ".join(f"{keys[i]} ~ {keys[j]}: {corr[i, j]:+.3f}"
+        print("correlations: " + "; ".join(f"{keys[i]} ~ {keys[j]}: {st.corr[i, j]:+.3f}"
                                              for i in range(len(keys)) for j in range(i + 1, len(keys))))
-    plot(a, data, best, result, keys)
-    print(f"rms residual {result['rms']:.3g}, {model.n} runs; {Path(a.dir) / 'calibration.json'}")
+    allr = np.concatenate(shapes)
+    result["rms"] = math.sqrt(float(allr @ allr) / len(allr))
+    result["runs"] = runs.ran
+    return result
 
 
-def plot(a, data, h, result, keys):
-    """STUDY/calibration.png: the data and the fitted run's curve."""
+def _end(v):
+    return "open (beyond the grid)" if v is None else f"{v:.6g}"
+
+
+def plot(a, experiments, data, histories, result, keys):
+    """STUDY/calibration.png: each experiment's data and fitted curve, one panel each."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    ax.plot(h["time"], h[a.column], "-", label="fit: " + ", ".join(
-        labels.value(k, result[k]['value']) for k in keys))
-    ax.plot([t for t, _ in data], [v for _, v in data], "o", ms=3, label="data")
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel(labels.column(a.column))
-    ax.set_title(f"{a.scene}: rms residual {result['rms']:.3g}")
-    ax.legend(fontsize=8)
+    ne = len(experiments)
+    fig, axes = plt.subplots(1, ne, figsize=(6.4 if ne == 1 else 4.2 * ne, 4.2), squeeze=False)
+    for ax, e, h, (ts, vs), info in zip(axes[0], experiments, histories, data, result["experiments"]):
+        mine = [p for p in keys if "@" not in p or p.endswith("@" + e.name)]
+        ax.plot(h["time"], h[e.column], "-", label="fit: " + ", ".join(
+            labels.value(k.split("@")[0], result[k]["value"]) for k in mine))
+        ax.plot(ts, vs, "o", ms=3, label="data")
+        ax.set_xlabel("t (s)")
+        ax.set_ylabel(labels.column(e.column))
+        ax.set_title(f"{e.name}: rms residual {info['rms']:.3g}" if ne > 1 else
+                     f"{e.scene}: rms residual {result['rms']:.3g}", fontsize=9)
+        ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(Path(a.dir) / "calibration.png", dpi=120)
+    plt.close(fig)
+
+
+def plot_profile(a, opt, st, prof, keys):
+    """STUDY/profile.png: each parameter's profile (cost rise) against the Wald parabola, the
+    68% and 95% thresholds and both intervals."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, len(keys), figsize=(4.2 * len(keys), 3.8), squeeze=False)
+    for k, (ax, key) in enumerate(zip(axes[0], keys)):
+        p = prof[key]
+        v = [math.exp(opt.x[k] + d) for d in p["delta"]]
+        ax.plot(v, [c - opt.cost for c in p["cost"]], "o-", ms=3, label="profile")
+        fine = np.linspace(min(p["delta"]), max(p["delta"]), 100)
+        ax.plot(np.exp(opt.x[k] + fine), (fine / st.rel[k]) ** 2, ":", label="Wald (linear)")
+        for name, level in LEVELS.items():
+            ax.axhline(st.z(level) ** 2, color="grey", lw=0.6)
+            for end in p[f"interval{name}"]:
+                if end is not None:
+                    ax.axvline(end, color="C3", lw=0.6, ls="--")
+        ax.axvline(math.exp(opt.x[k]), color="k", lw=0.6)
+        ax.set_xlabel(key, fontsize=8)
+        ax.set_ylabel("cost rise (weighted, unit variance)")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(Path(a.dir) / "profile.png", dpi=120)
     plt.close(fig)
 
 

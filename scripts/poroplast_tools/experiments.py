@@ -1,0 +1,184 @@
+"""The experiments of a calibration: the curves one parameter set must fit, each with its scene,
+its overrides, its data and its noise model; and the fitted parameters, shared by all
+experiments or one experiment's own.
+
+An experiments file (TOML; paths relative to it):
+
+    scene = "remodel_40"                  # defaults for every experiment (each may override)
+    column = "force_total_mg"
+    set = ["mesh.geometry=axisymmetric", "material.mu=2.5"]
+    noise = "relative+floor"
+    noise_floor = "0.05uN"
+
+    [[experiment]]
+    name = "r150"                         # letters, digits, _ and -
+    data = "aggregate3.csv"
+    set = ["mesh.params.R=150", "plates.radius=150"]
+    t_max = 70
+
+    [[experiment]]
+    name = "r100_hold30"
+    set = ["mesh.params.R=100", "plates.radius=100", "plates.t_end=40"]
+    synthetic = { "material.remodelling.lambda_p" = 0.002 }   # a curve of the model itself
+    synthetic_noise = 0.02                # its Gaussian noise: σ = √((0.02 y)² + floor²)
+    synthetic_floor = 0.001               # (in the column's unit)
+    synthetic_every = 1.0                 # s between its data times (default: the run's steps)
+    seed = 1
+
+An experiment's keys: name, scene, column, set (after the file's), data, data_column, unit,
+noise, noise_floor, t_min, t_max, synthetic, synthetic_noise, synthetic_floor,
+synthetic_every, seed; the file's: the same but name and data, and [[experiment]].
+
+Parameters (`--param`): `KEY=START` is shared by every experiment; `KEY@NAME=START` is experiment
+NAME's own (e.g. each aggregate its own µ: `--param material.mu@r150=2.5 --param
+material.mu@r100=2.5`); an experiment without a value of KEY keeps its scene's.
+"""
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .fitstats import MODELS
+from .measured import FORCE_UNITS
+
+KEYS = {"name", "scene", "column", "set", "data", "data_column", "unit", "noise", "noise_floor", "t_min",
+        "t_max", "synthetic", "synthetic_noise", "synthetic_floor", "synthetic_every", "seed"}
+NAME = re.compile(r"^[A-Za-z0-9_-]+$")
+
+
+class ExperimentError(Exception):
+    """A malformed experiments file or parameter: the message says what and where."""
+
+
+@dataclass
+class Experiment:
+    name: str
+    scene: str
+    column: str
+    sets: list = field(default_factory=list)      # (key, value) overrides after the common --set
+    data: str = None                              # the CSV file (None: synthetic)
+    data_column: str = None
+    unit: str = None
+    noise: str = None                             # None: data if the file has sigma, else absolute
+    noise_floor: float = None                     # in the column's unit (mg for forces)
+    t_min: float = float("-inf")
+    t_max: float = float("inf")
+    synthetic: dict = field(default_factory=dict)  # {key: value} of the synthetic curve's run
+    synthetic_noise: float = 0.0
+    synthetic_floor: float = 0.0
+    synthetic_every: float = None
+    seed: int = 0
+
+
+@dataclass
+class Param:
+    key: str                 # the scene key
+    start: float
+    experiment: str = None   # None: shared
+
+    @property
+    def label(self):
+        return self.key if self.experiment is None else f"{self.key}@{self.experiment}"
+
+    def applies(self, e):
+        return self.experiment is None or self.experiment == e.name
+
+
+def floor_value(text):
+    """A noise floor `0.01` (the column's unit) or with a force unit (`0.05uN`) in mg."""
+    s = str(text).strip()
+    for u, scale in FORCE_UNITS.items():
+        if s.endswith(u):
+            return float(s[:-len(u)]) * scale
+    return float(s)
+
+
+def overrides(items, where):
+    out = []
+    for s in items:
+        if "=" not in str(s):
+            raise ExperimentError(f"{where}: `{s}` is not KEY=VALUE")
+        out.append(tuple(str(s).split("=", 1)))
+    return out
+
+
+def read(path, defaults):
+    """The experiments of the file `path`; `defaults` (a dict of Experiment fields, from the
+    command line) below the file's own."""
+    import tomllib
+    path = Path(path)
+    try:
+        top = tomllib.loads(path.read_text())
+    except FileNotFoundError:
+        raise ExperimentError(f"{path}: no such file")
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
+        raise ExperimentError(f"{path}: not TOML: {e}")
+    runs = top.pop("experiment", None)
+    if not isinstance(runs, list) or not runs:
+        raise ExperimentError(f"{path}: no [[experiment]] table")
+    bad = set(top) - (KEYS - {"name", "data"})
+    if bad:
+        raise ExperimentError(f"{path}: unknown key(s) {sorted(bad)} (an experiment's keys go in [[experiment]])")
+    out = []
+    for i, entry in enumerate(runs):
+        where = f"{path}, experiment {i + 1}"
+        bad = set(entry) - KEYS
+        if bad:
+            raise ExperimentError(f"{where}: unknown key(s) {sorted(bad)}; expected some of {sorted(KEYS)}")
+        merged = {**defaults, **top, **entry}
+        merged["set"] = list(defaults.get("set", [])) + list(top.get("set", [])) + list(entry.get("set", []))
+        name = entry.get("name")
+        if not isinstance(name, str) or not NAME.match(name):
+            raise ExperimentError(f"{where}: a `name` of letters, digits, _ and - is needed")
+        if name in (e.name for e in out):
+            raise ExperimentError(f"{where}: the name `{name}` is taken")
+        where = f"{path}, experiment `{name}`"
+        for k in ("scene", "column"):
+            if not merged.get(k):
+                raise ExperimentError(f"{where}: no `{k}` (in the experiment, the file, or the command line)")
+        if ("data" in entry) == bool(entry.get("synthetic")):
+            raise ExperimentError(f"{where}: give either `data` (a CSV file) or `synthetic` (a table of values)")
+        if merged.get("noise") is not None and merged["noise"] not in MODELS:
+            raise ExperimentError(f"{where}: noise `{merged['noise']}`: expected one of {', '.join(MODELS)}")
+        try:
+            e = Experiment(
+                name=name, scene=str(merged["scene"]), column=str(merged["column"]),
+                sets=overrides(merged["set"], where),
+                data=str(path.parent / entry["data"]) if "data" in entry else None,
+                data_column=merged.get("data_column"), unit=merged.get("unit"), noise=merged.get("noise"),
+                noise_floor=None if merged.get("noise_floor") is None else floor_value(merged["noise_floor"]),
+                t_min=float(merged.get("t_min", float("-inf"))), t_max=float(merged.get("t_max", float("inf"))),
+                synthetic={k: float(v) for k, v in (entry.get("synthetic") or {}).items()},
+                synthetic_noise=float(merged.get("synthetic_noise", 0.0)),
+                synthetic_floor=float(merged.get("synthetic_floor", 0.0)),
+                synthetic_every=None if merged.get("synthetic_every") is None else float(merged["synthetic_every"]),
+                seed=int(merged.get("seed", i)))
+        except (TypeError, ValueError) as err:
+            raise ExperimentError(f"{where}: {err}")
+        out.append(e)
+    return out
+
+
+def params(items, experiments):
+    """The `--param KEY=START` / `KEY@NAME=START` items as Params, checked against the
+    experiments' names."""
+    out = []
+    names = [e.name for e in experiments]
+    for item in items:
+        if "=" not in item:
+            raise ExperimentError(f"--param `{item}`: expected KEY=START or KEY@EXPERIMENT=START")
+        key, start = item.split("=", 1)
+        key, _, name = key.partition("@")
+        if name and name not in names:
+            raise ExperimentError(f"--param `{item}`: no experiment `{name}` (the experiments: {', '.join(names)})")
+        try:
+            p = Param(key, float(start), name or None)
+        except ValueError:
+            raise ExperimentError(f"--param `{item}`: `{start}` is not a number")
+        if not p.start > 0:
+            raise ExperimentError(f"--param `{item}`: the fit works in log parameters; the start must be positive")
+        if p.label in (q.label for q in out) or any(
+                q.key == p.key and (q.experiment is None) != (p.experiment is None) for q in out):
+            raise ExperimentError(f"--param `{item}`: {key} is given twice (shared and per experiment, or repeated)")
+        out.append(p)
+    return out
+
