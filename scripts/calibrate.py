@@ -315,7 +315,9 @@ def report(a, experiments, params, noises, runs, opt, st, prof):
     shapes, at = [], 0
     result["experiments"] = []
     for e, noise, s, (ts, vs) in zip(experiments, noises, scales, runs.data):
-        rel = noise.shape * opt.d[at:at + len(ts)]
+        # In the noise model's shape: the data's unit (absolute), a fraction of the value
+        # (relative, and relative+floor above its floor), the stated sigma (data).
+        rel = opt.w[at:at + len(ts)] * opt.d[at:at + len(ts)] * (s if noise.estimated and s > 0 else 1.0)
         at += len(ts)
         shapes.append(rel)
         result["experiments"].append({"name": e.name, "scene": e.scene, "column": e.column, "points": len(ts),

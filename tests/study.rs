@@ -206,6 +206,81 @@ fn calibration_recovers_synthetic_parameters() {
     assert!((lp / 0.0005 - 1.0).abs() < 0.02 && (sy / 1.5 - 1.0).abs() < 0.02, "recovered {lp}, {sy}:\n{text}");
 }
 
+/// Two experiments at once with a shared parameter: λp of a remodelling aggregate on a coarse
+/// meridian from two synthetic force curves (R = 150 µm at 30% and R = 100 µm at 20%, both
+/// λp = 0.002 (kPa s)⁻¹, 2% relative noise above a 0.005 mg floor that the contact loss leaves
+/// alone), fitted from 0.0015 with the noise model relative+floor. The truth must lie in the
+/// printed 95% Wald interval and in the profile's, whose points of both experiments are one
+/// sweep (2 × 4 cases).
+#[test]
+fn calibration_fits_two_experiments_with_a_shared_parameter() {
+    let _cores = cores(2); // its scripts run the sweep on 2 ranks
+    let dir = scratch("calibration_experiments");
+    let file = dir.join("experiments.toml");
+    std::fs::write(
+        &file,
+        r#"scene = "remodel_40"
+column = "force_total_mg"
+set = ["mesh.geometry=axisymmetric", "mesh.params.h=75", "mesh.params.h_pole=20", "material.mu=2.5",
+       "material.remodelling.sigma_y=0.5", "plates.t_ramp=5", "plates.t_end=25", "time.t_end=30",
+       "time.dt=0.2", "time.dt_max=4", "output.fields_every=0", "output.fields_at=[]"]
+noise = "relative+floor"
+noise_floor = 0.005
+synthetic_noise = 0.02
+synthetic_floor = 0.005
+synthetic_every = 1.0
+
+[[experiment]]
+name = "r150"
+set = ["mesh.params.R=150", "plates.radius=150"]
+synthetic = { "material.remodelling.lambda_p" = 0.002 }
+seed = 1
+
+[[experiment]]
+name = "r100"
+set = ["mesh.params.R=100", "plates.radius=100", "plates.compression=0.2"]
+synthetic = { "material.remodelling.lambda_p" = 0.002 }
+seed = 2
+"#,
+    )
+    .unwrap();
+    let (ok, text) = script(
+        "calibrate.py",
+        &[
+            "--experiments",
+            file.to_str().unwrap(),
+            "--param",
+            "material.remodelling.lambda_p=0.0015",
+            "--profile",
+            "--profile-grid",
+            "1,2.5",
+            "--ftol",
+            "0.01",
+            "--ranks",
+            "2",
+            "--dir",
+            dir.join("fit").to_str().unwrap(),
+        ],
+    );
+    assert!(ok, "{text}");
+    // "KEY = V ± S (...); 68%: [lo, hi], 95%: [lo, hi] (Wald, ...)" and "  profile: 68%: [...], 95%: [...]".
+    let bracket = |line: &str| -> (f64, f64) {
+        let at = line.find("95%: [").unwrap_or_else(|| panic!("{line}")) + 6;
+        let inner = &line[at..at + line[at..].find(']').unwrap()];
+        let (lo, hi) = inner.split_once(", ").unwrap();
+        (lo.parse().unwrap(), hi.parse().unwrap())
+    };
+    let wald = text.lines().find(|l| l.starts_with("material.remodelling.lambda_p = ")).unwrap_or_else(|| panic!("{text}"));
+    let profile = text.lines().find(|l| l.starts_with("  profile: ")).unwrap_or_else(|| panic!("{text}"));
+    for (what, (lo, hi)) in [("Wald", bracket(wald)), ("profile", bracket(profile))] {
+        assert!(lo < 0.002 && 0.002 < hi && hi / lo < 1.5, "{what} 95% interval [{lo}, {hi}]:\n{text}");
+    }
+    assert!(text.contains("8 cases, 0 already complete, 8 to run"), "the profile is not one sweep:\n{text}");
+    let json = std::fs::read_to_string(dir.join("fit/calibration.json")).unwrap();
+    assert!(["interval68", "interval95", "profile68", "profile95"].iter().all(|k| json.contains(k)), "{json}");
+    assert!(dir.join("fit/calibration.png").exists() && dir.join("fit/profile.png").exists());
+}
+
 /// CSV text (no quoting beyond what the summary needs) as rows of named fields.
 fn csv_rows(text: &str) -> Vec<std::collections::HashMap<String, String>> {
     let mut lines = text.lines();

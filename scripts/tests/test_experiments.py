@@ -1,0 +1,125 @@
+"""The experiments file and the parameters (shared, KEY@NAME), and the calibration's model of
+several experiments: every experiment at every point one batch, each replaying its own steps,
+the parameters applied where they belong (run_cases stubbed: no solver)."""
+import math
+import tempfile
+import types
+import unittest
+from pathlib import Path
+from unittest import mock
+
+import numpy as np
+
+import calibrate
+from poroplast_tools import experiments as exps
+
+FILE = """
+scene = "remodel_40"
+column = "force_total_mg"
+set = ["mesh.geometry=axisymmetric"]
+noise = "relative+floor"
+noise_floor = "0.098uN"
+
+[[experiment]]
+name = "a"
+data = "a.csv"
+set = ["mesh.params.R=150"]
+t_max = 70
+
+[[experiment]]
+name = "b"
+scene = "reference_axi"
+noise = "absolute"
+synthetic = { "material.mu" = 3 }
+synthetic_noise = 0.02
+"""
+
+
+class ExperimentsFile(unittest.TestCase):
+    def write(self, text):
+        d = Path(tempfile.mkdtemp())
+        (d / "e.toml").write_text(text)
+        return d / "e.toml"
+
+    def test_defaults_and_overrides(self):
+        path = self.write(FILE)
+        a, b = exps.read(path, {"set": ["time.dt=0.1"], "column": "stress_zz"})
+        self.assertEqual((a.name, a.scene, a.column), ("a", "remodel_40", "force_total_mg"))
+        self.assertEqual(a.sets, [("time.dt", "0.1"), ("mesh.geometry", "axisymmetric"), ("mesh.params.R", "150")])
+        self.assertEqual(a.data, str(path.parent / "a.csv"))
+        self.assertEqual((a.t_max, a.noise), (70.0, "relative+floor"))
+        self.assertAlmostEqual(a.noise_floor, 0.098 / 9.80665, delta=1e-15)      # in mg
+        self.assertEqual((b.scene, b.noise, b.data, b.synthetic, b.synthetic_noise),
+                         ("reference_axi", "absolute", None, {"material.mu": 3.0}, 0.02))
+
+    def test_malformed_files_are_refused_with_the_reason(self):
+        for text, part in [
+            ("scene = 'x'", "no [[experiment]] table"),
+            ("colour = 1\n[[experiment]]\nname = 'a'\ndata = 'a.csv'", "unknown key(s) ['colour']"),
+            ("[[experiment]]\nname = 'a'\ndata = 'a.csv'\ncolumn = 'c'", "no `scene`"),
+            ("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a b'\ndata = 'a.csv'", "a `name` of letters"),
+            ("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a'", "either `data`"),
+            ("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a'\ndata = 'x'\n[[experiment]]\nname = 'a'\n"
+             "data = 'y'", "the name `a` is taken"),
+            ("scene = 's'\ncolumn = 'c'\nnoise = 'poisson'\n[[experiment]]\nname = 'a'\ndata = 'x'", "poisson"),
+            ("scene = [", "not TOML"),
+        ]:
+            with self.assertRaises(exps.ExperimentError) as e:
+                exps.read(self.write(text), {})
+            self.assertIn(part, str(e.exception))
+
+    def test_parameters_shared_and_per_experiment(self):
+        es = exps.read(self.write(FILE), {})
+        ps = exps.params(["material.remodelling.lambda_p=0.001", "material.mu@a=2.5"], es)
+        self.assertEqual([p.label for p in ps], ["material.remodelling.lambda_p", "material.mu@a"])
+        self.assertEqual([[p.applies(e) for e in es] for p in ps], [[True, True], [True, False]])
+        for items, part in [(["material.mu@c=1"], "no experiment `c`"), (["material.mu=-1"], "positive"),
+                            (["material.mu=1", "material.mu@a=2"], "given twice"), (["material.mu"], "KEY=START"),
+                            (["material.mu=x"], "not a number")]:
+            with self.assertRaises(exps.ExperimentError) as e:
+                exps.params(items, es)
+            self.assertIn(part, str(e.exception))
+
+
+class OneBatch(unittest.TestCase):
+    """calibrate.Runs over two experiments: one run_cases call per evaluate()."""
+
+    def test_every_experiment_at_every_point_is_one_batch(self):
+        es = [exps.Experiment("a", "s1", "f", sets=[("R", "150")]), exps.Experiment("b", "s2", "f")]
+        ps = exps.params(["lp=0.002", "mu@b=3"], es)
+        a = types.SimpleNamespace(set=["time.dt=0.1"], dir=tempfile.mkdtemp(), ranks=2, jobs=1)
+        runs = calibrate.Runs(a, es, ps, sweep=True)
+        runs.data = [([1.0, 2.0], np.array([0.0, 0.0])), ([1.5], np.array([1.0]))]
+        runs.checked = True
+        calls = []
+
+        def run_cases(scenes, cases, sets, root, ranks, counts=None):
+            calls.append((scenes, cases, sets))
+            return [(Path(f"/run{i}"), {"status": "ok"}) for i in range(len(cases))]
+
+        # Each run's history: the value equals the run's index + time (so the differences tell
+        # which run and which data time they come from).
+        def history(d):
+            i = int(str(d)[4:])
+            return {"time": np.array([0.0, 1.0, 2.0]), "f": np.array([i, i + 1.0, i + 2.0])}
+
+        replay = [{"time": np.array([0.0, 0.5, 2.0])}, {"time": np.array([0.0, 1.5, 2.0])}]
+        x = [np.log([0.002, 3.0]), np.log([0.004, 6.0])]
+        with mock.patch.object(calibrate, "run_cases", run_cases), mock.patch.object(calibrate, "history", history), \
+                mock.patch("builtins.print"):
+            out = runs.evaluate(x, ["p", "q"], replay)
+        [(scenes, cases, sets)] = calls
+        self.assertEqual(scenes, ["s1", "s2", "s1", "s2"])
+        self.assertEqual(sets, [("time.dt", "0.1")])
+        self.assertEqual(cases[0], [("R", "150"), ("lp", repr(math.exp(math.log(0.002)))), ("time.steps", "[0.5,2.0]")])
+        self.assertEqual(cases[1], [("lp", repr(math.exp(math.log(0.002)))), ("mu", repr(math.exp(math.log(3.0)))),
+                                    ("time.steps", "[1.5,2.0]")])
+        self.assertEqual(cases[2][1], ("lp", repr(math.exp(math.log(0.004)))))
+        # Point p: runs 0 (a: values 1, 2 at t = 1, 2) and 1 (b: 1 + 1.5 − 1 at t = 1.5); q: 2, 3.
+        np.testing.assert_allclose(out[0][0], [1.0, 2.0, 1.5])
+        np.testing.assert_allclose(out[1][0], [3.0, 4.0, 3.5])
+        self.assertEqual(len(out[1][1]), 2)
+
+
+if __name__ == "__main__":
+    unittest.main()
