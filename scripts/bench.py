@@ -182,7 +182,7 @@ def sweep_bench(a, work):
                             "--dir", str(d)], check=True, stdout=subprocess.DEVNULL)
             walls.append(time.time() - t0)
             res = json.loads((d / "calibration.json").read_text())["result"]
-            fit = {k: v["value"] for k, v in res.items() if isinstance(v, dict)} | {"runs": res["runs"]}
+            fit = {k: v["value"] for k, v in res.items() if isinstance(v, dict) and "value" in v} | {"runs": res["runs"]}
         calib.append((name, statistics.median(walls), walls, fit))
     print(f"\n| way ({len(cases)} cases, {a.ranks} ranks) | wall (s), median | cases/min | runs (s) |")
     print("|---|---|---|---|")
