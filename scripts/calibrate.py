@@ -217,8 +217,11 @@ def main():
     Path(a.dir).mkdir(parents=True, exist_ok=True)
     try:
         if a.experiments:
-            defaults = {k: v for k, v in {"scene": a.scene, "column": a.column, "noise": a.noise,
-                                          "noise_floor": a.noise_floor, "unit": a.data_unit}.items() if v is not None}
+            given = {"scene": a.scene, "column": a.column, "noise": a.noise, "noise_floor": a.noise_floor,
+                     "unit": a.data_unit, "data_column": a.data_column,
+                     "t_min": a.t_min if math.isfinite(a.t_min) else None,
+                     "t_max": a.t_max if math.isfinite(a.t_max) else None}
+            defaults = {k: v for k, v in given.items() if v is not None}
             experiments = exps.read(a.experiments, defaults)
         else:
             experiments = [single(a)]
