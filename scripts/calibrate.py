@@ -387,8 +387,9 @@ def plot_profile(a, opt, st, prof, keys):
     fig, axes = plt.subplots(1, len(keys), figsize=(4.2 * len(keys), 3.8), squeeze=False)
     for k, (ax, key) in enumerate(zip(axes[0], keys)):
         p = prof[key]
-        v = [math.exp(opt.x[k] + d) for d in p["delta"]]
-        ax.plot(v, [c - opt.cost for c in p["cost"]], "o-", ms=3, label="profile")
+        rows = sorted(list(zip(p["delta"], p["cost"])) + [(0.0, opt.cost)])     # with the optimum
+        ax.plot([math.exp(opt.x[k] + d) for d, _ in rows], [c - opt.cost for _, c in rows], "o-", ms=3,
+                label="profile")
         fine = np.linspace(min(p["delta"]), max(p["delta"]), 100)
         ax.plot(np.exp(opt.x[k] + fine), (fine / st.rel[k]) ** 2, ":", label="Wald (linear)")
         for name, level in LEVELS.items():
@@ -398,6 +399,7 @@ def plot_profile(a, opt, st, prof, keys):
                     ax.axvline(end, color="C3", lw=0.6, ls="--")
         ax.axvline(math.exp(opt.x[k]), color="k", lw=0.6)
         ax.set_xlabel(key, fontsize=8)
+        ax.tick_params(axis="x", labelrotation=30, labelsize=7)
         ax.set_ylabel("cost rise (weighted, unit variance)")
         ax.legend(fontsize=7)
     fig.tight_layout()
