@@ -270,7 +270,8 @@ seed = 2
         let (lo, hi) = inner.split_once(", ").unwrap();
         (lo.parse().unwrap(), hi.parse().unwrap())
     };
-    let wald = text.lines().find(|l| l.starts_with("material.remodelling.lambda_p = ")).unwrap_or_else(|| panic!("{text}"));
+    let wald =
+        text.lines().find(|l| l.starts_with("material.remodelling.lambda_p = ")).unwrap_or_else(|| panic!("{text}"));
     let profile = text.lines().find(|l| l.starts_with("  profile: ")).unwrap_or_else(|| panic!("{text}"));
     for (what, (lo, hi)) in [("Wald", bracket(wald)), ("profile", bracket(profile))] {
         assert!(lo < 0.002 && 0.002 < hi && hi / lo < 1.5, "{what} 95% interval [{lo}, {hi}]:\n{text}");
