@@ -21,11 +21,11 @@ they settle. The standard errors are the square roots of the diagonal of (JᵀJ)
 weighted Jacobian at the optimum (its own finite-difference runs if the last step moved it);
 the Wald intervals value·exp(±z·sigma/value) with z Student's t of n − p degrees of freedom when
 a sigma was estimated, the normal z when every sigma is given (--noise data), for 68.27% and
-95%. --profile adds profile-likelihood intervals: the cost on a grid of each parameter about the
-optimum (--profile-grid, in standard errors) with the others at their conditional optimum as
-the Jacobian at the optimum predicts it, then one Gauss–Newton step more with that Jacobian; the
-interval where the cost rises by z² (the same z); all profile points of all parameters one
-sweep (and the corrections a second one).
+95%. --profile adds profile-likelihood intervals: the cost (a run) on a grid of each parameter
+about the optimum (--profile-grid, in standard errors) with the others at their conditional
+optimum as the Jacobian at the optimum predicts it (a linearisation; the cost is then at or
+above the true profile); the interval where the cost rises by z² (the same z); all profile
+points of all parameters and experiments one sweep.
 
 Before the first step the start point's sensitivities are printed, near-collinear parameter
 pairs warned of, and a parameter that moves no data point refused (poroplast_tools/identify.py).
@@ -285,8 +285,7 @@ def main():
     except FitError as e:
         sys.exit(f"calibrate.py: {e} (see its log under runs/)")
     st = stats(opt, any(noise.estimated for noise in noises))
-    prof = (profile(runs.evaluate, opt, st, keys, multiples, say=lambda s: print(s, flush=True))
-            if a.profile else None)
+    prof = profile(runs.evaluate, opt, st, keys, multiples) if a.profile else None
     result = report(a, experiments, params, noises, runs, opt, st, prof)
     (Path(a.dir) / "calibration.json").write_text(json.dumps({"result": result, "log": opt.log}, indent=1))
     plot(a, experiments, runs.data, opt.state, result, keys)

@@ -12,6 +12,11 @@
   * fields      observables of a run's fields (region means, the pressure bubble) and events
   * labels      figure labels in the docs' units
   * tables      CSV tables and the Pareto front
+  * fit         least squares over an abstract model: Levenberg-Marquardt, re-weighting,
+                standard errors, Wald and profile-likelihood intervals
+  * fitstats    noise models and their weights, quantiles; measured: a lab's CSV curve;
+                identify: identifiability at the start; experiments: a calibration's
+                experiments file and parameters
 
 Observables of histories (`max:COL`, `COL@T`, ...) are evaluated by `poroplast sweep` alone
 (src/sweep/observable.rs); the scripts read them from the summary.

@@ -147,42 +147,33 @@ def stats(opt, estimated):
     return Stats(rel, corr, dof, estimated, opt.cost / dof)
 
 
-def conditional(opt, k, delta, r=None, x=None):
+def conditional(opt, k, delta):
     """The point with variable k at x̂_k + delta and the others where the linearisation at the
-    optimum puts their minimum: δ_o = −J_o⁺ (r + J_k δ) (weighted J and r). Given the residuals
-    `r` of a point `x` with that x_k, one Gauss–Newton step from there with J frozen instead."""
+    optimum puts their minimum: δ_o = −J_o⁺ (r̂ + J_k δ) (weighted J and r)."""
     wj = opt.w[:, None] * opt.jac
     others = [j for j in range(len(opt.x)) if j != k]
-    if x is None:
-        x = opt.x.copy()
-        x[k] += delta
-        r = opt.r + wj[:, k] * delta
-    x = np.array(x, dtype=float)
+    x = opt.x.copy()
+    x[k] += delta
     if others:
-        x[others] -= np.linalg.lstsq(wj[:, others], r, rcond=None)[0]
+        x[others] -= np.linalg.lstsq(wj[:, others], opt.r + wj[:, k] * delta, rcond=None)[0]
     return x
 
 
-def profile(evaluate, opt, st, keys, multiples=(0.5, 1, 1.5, 2, 2.5, 3, 4), correct=True, say=print):
+def profile(evaluate, opt, st, keys, multiples=(0.5, 1, 1.5, 2, 2.5, 3, 4)):
     """The profile likelihood of every variable: for x_k = x̂_k + m σ_k (m = ±multiples, σ_k its
-    standard error) the cost |w d|² at the others' conditional optimum, approximated by the
-    linearisation at the optimum (`conditional`), the points of all variables ONE batch; with
-    `correct` (and more than one variable) one Gauss–Newton step more from each point, J
-    frozen at the optimum, a second batch, the lower cost of the two kept. The weights are the
-    optimum's. Returns {key: {"delta": [...], "cost": [...], "interval68": [lo, hi], ...}}, the
-    intervals where cost − cost(x̂) reaches z² (`interval`), in exp(x)."""
+    standard error) the cost |w d|² (a run: the true cost) at the others' conditional optimum as
+    the linearisation at the optimum predicts it (`conditional`); the points of all variables
+    ONE batch, the optimum's weights. Where the prediction misses the conditional optimum the
+    cost lies above the true profile (the interval is a little short); a Gauss–Newton step more
+    with J frozen at the optimum was tried and raised the cost instead (the residuals' own
+    curvature, which a frozen J does not see, dominates that step). Returns {key: {"delta":
+    [...], "cost": [...], "interval68": [lo, hi], "interval95": ...}}, the intervals where cost −
+    cost(x̂) reaches z² (`interval`), in exp(x)."""
     grid = [(k, m * st.rel[k]) for k in range(len(keys)) if math.isfinite(st.rel[k]) and st.rel[k] > 0
             for m in sorted([-m for m in multiples] + list(multiples))]
-    points = [conditional(opt, k, delta) for k, delta in grid]
-    costs, rs = _costs(evaluate(points, [f"profile of {keys[k]}: {delta:+.3g}" for k, delta in grid]), opt.w)
-    if correct and len(keys) > 1:
-        ran = [i for i, c in enumerate(costs) if math.isfinite(c)]
-        say(f"profile: one Gauss-Newton correction of the other parameters at {len(ran)} points")
-        fixed = [conditional(opt, grid[i][0], 0.0, rs[i], points[i]) for i in ran]
-        better, _ = _costs(evaluate(fixed, [f"profile of {keys[grid[i][0]]}: {grid[i][1]:+.3g}, corrected"
-                                            for i in ran]), opt.w)
-        for i, c in zip(ran, better):
-            costs[i] = min(costs[i], c)
+    results = evaluate([conditional(opt, k, delta) for k, delta in grid],
+                       [f"profile of {keys[k]}: {delta:+.3g}" for k, delta in grid])
+    costs = [math.inf if out is None else float((opt.w * out[0]) @ (opt.w * out[0])) for out in results]
     out = {}
     for k, key in enumerate(keys):
         rows = [(delta, c) for (j, delta), c in zip(grid, costs) if j == k]
@@ -211,8 +202,3 @@ def interval(x, cost0, rows, z):
         ends.append(None if end is None else math.exp(x + sign * end))
     return ends
 
-
-def _costs(results, w):
-    """(|w d|² of each result, inf for a failed run; w d of each, None for a failed run)."""
-    rs = [None if out is None else w * out[0] for out in results]
-    return [math.inf if r is None else float(r @ r) for r in rs], rs
