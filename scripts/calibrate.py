@@ -91,6 +91,8 @@ class Runs:
         their histories (None for a failed run). `what`: lines printed before the batch."""
         for line in what or []:
             print(line, flush=True)
+        if not cases:
+            return []
         counts = {}
         ran = run_cases([s for s, _ in cases], [c for _, c in cases], self.sets, self.root, self.a.ranks,
                         counts=counts)
@@ -104,23 +106,32 @@ class Runs:
 
     def evaluate(self, points, what, replay=None):
         """Per point (log-parameters) the stacked differences model − data of every experiment
-        and their histories, or None if a run failed; every experiment's run at every point one
-        batch (--no-sweep --jobs N: N points at once), each replaying the steps of its
-        experiment's history in `replay`."""
+        and the state {"x", "histories"}, or None if a run failed; every experiment's run at
+        every point one batch (--no-sweep --jobs N: N points at once), each replaying the steps
+        of its experiment's history in the state `replay`. An experiment whose parameters are
+        those of `replay` (a neighbour that moves another experiment's own parameter) is not
+        run: its history is replay's."""
         ne = len(self.experiments)
-        cases = [self.case(e, x, given_steps(replay[i]) if replay else None)
-                 for x in points for i, e in enumerate(self.experiments)]
+        runs, keep = [], {}           # the cases to run; (point, experiment) -> replay's history
+        for j, x in enumerate(points):
+            for i, e in enumerate(self.experiments):
+                if replay and self.case(e, x) == self.case(e, replay["x"]):
+                    keep[j, i] = replay["histories"][i]
+                else:
+                    runs.append((j, i, self.case(e, x, given_steps(replay["histories"][i]) if replay else None)))
         lines = [f"{name}: " + " ".join(f"{p.label}={math.exp(v):.6g}" for p, v in zip(self.params, x))
                  + (" (the point's steps)" if replay else "") for name, x in zip(what, points)]
+        cases = [c for _, _, c in runs]
         if self.sweep or self.a.jobs == 1 or not points:
             hs = self.histories(cases, lines)
         else:
             with ThreadPoolExecutor(max_workers=self.a.jobs) as pool:
-                hs = [h for part in pool.map(lambda i: self.histories(cases[i * ne:(i + 1) * ne], lines[i:i + 1]),
+                hs = [h for part in pool.map(lambda j: self.histories([c for k, _, c in runs if k == j], lines[j:j + 1]),
                                              range(len(points))) for h in part]
+        got = {**keep, **{(j, i): h for (j, i, _), h in zip(runs, hs)}}
         out = []
-        for i in range(len(points)):
-            group = hs[i * ne:(i + 1) * ne]
+        for j, x in enumerate(points):
+            group = [got[j, i] for i in range(ne)]
             if any(h is None for h in group):
                 out.append(None)
                 continue
@@ -128,7 +139,7 @@ class Runs:
                 self.check(group)
             d = [np.array([at(h, e.column, t) for t in ts]) - vs
                  for e, h, (ts, vs) in zip(self.experiments, group, self.data)]
-            out.append((np.concatenate(d), group))
+            out.append((np.concatenate(d), {"x": np.array(x), "histories": group}))
         return out
 
     def check(self, group):
@@ -256,7 +267,7 @@ def main():
         sys.exit(f"calibrate.py: {n} data points for {len(params)} parameters")
     keys = [p.label for p in params]
 
-    def identifiable(jac, group):
+    def identifiable(jac, state):
         """Prints the sensitivity table at the start point and the near-collinear pairs; exits
         naming every parameter that moves no data point."""
         values = np.concatenate([vs for _, vs in runs.data])
@@ -265,7 +276,7 @@ def main():
         for msg in warnings:
             print(f"calibrate.py: warning: {msg}", flush=True)
         if refusals:
-            vm = [float(max(h["max_von_mises"])) for h in group if len(h.get("max_von_mises", ()))]
+            vm = [float(max(h["max_von_mises"])) for h in state["histories"] if len(h.get("max_von_mises", ()))]
 
             def why(k):
                 return (f" (remodelling flows only where the von Mises stress exceeds sigma_y: its largest value "
@@ -288,7 +299,7 @@ def main():
     prof = profile(runs.evaluate, opt, st, keys, multiples) if a.profile else None
     result = report(a, experiments, params, noises, runs, opt, st, prof)
     (Path(a.dir) / "calibration.json").write_text(json.dumps({"result": result, "log": opt.log}, indent=1))
-    plot(a, experiments, runs.data, opt.state, result, keys)
+    plot(a, experiments, runs.data, opt.state["histories"], result, keys)
     if prof:
         plot_profile(a, opt, st, prof, keys)
     print(f"rms residual {result['rms']:.3g}, {runs.ran} runs; {Path(a.dir) / 'calibration.json'}")

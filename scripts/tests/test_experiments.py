@@ -103,7 +103,8 @@ class OneBatch(unittest.TestCase):
             i = int(str(d)[4:])
             return {"time": np.array([0.0, 1.0, 2.0]), "f": np.array([i, i + 1.0, i + 2.0])}
 
-        replay = [{"time": np.array([0.0, 0.5, 2.0])}, {"time": np.array([0.0, 1.5, 2.0])}]
+        replay = {"x": np.log([0.001, 3.0]),
+                  "histories": [{"time": np.array([0.0, 0.5, 2.0])}, {"time": np.array([0.0, 1.5, 2.0])}]}
         x = [np.log([0.002, 3.0]), np.log([0.004, 6.0])]
         with mock.patch.object(calibrate, "run_cases", run_cases), mock.patch.object(calibrate, "history", history), \
                 mock.patch("builtins.print"):
@@ -118,7 +119,19 @@ class OneBatch(unittest.TestCase):
         # Point p: runs 0 (a: values 1, 2 at t = 1, 2) and 1 (b: 1 + 1.5 − 1 at t = 1.5); q: 2, 3.
         np.testing.assert_allclose(out[0][0], [1.0, 2.0, 1.5])
         np.testing.assert_allclose(out[1][0], [3.0, 4.0, 3.5])
-        self.assertEqual(len(out[1][1]), 2)
+        self.assertEqual(len(out[1][1]["histories"]), 2)
+        np.testing.assert_array_equal(out[1][1]["x"], x[1])
+
+        # A neighbour that moves only b's own µ: a is not run again, its history is replay's.
+        calls.clear()
+        replay = {"x": x[0], "histories": [history(Path("/run7")), history(Path("/run8"))]}
+        with mock.patch.object(calibrate, "run_cases", run_cases), mock.patch.object(calibrate, "history", history), \
+                mock.patch("builtins.print"):
+            [(d, state)] = runs.evaluate([x[0] + [0.0, 1e-3]], ["d mu@b"], replay)
+        [(scenes, cases, _)] = calls
+        self.assertEqual(scenes, ["s2"])
+        self.assertIs(state["histories"][0], replay["histories"][0])
+        np.testing.assert_allclose(d, [8.0, 9.0, 0.5])      # a: run 7 at t = 1, 2; b: the new run 0
 
 
 if __name__ == "__main__":
