@@ -32,7 +32,9 @@ pairs warned of, and a parameter that moves no data point refused (poroplast_too
 Every run is a case of the case store STUDY/runs/cases/ (`poroplast sweep`: a completed one is
 not run again, so an interrupted calibration continues): each iteration's finite-difference
 neighbours of all experiments are one batch, one `mpirun -n RANKS poroplast sweep` (--ranks 2,
---ranks-per-case K: 1 on a meridian, RANKS for 3-D), and each trial step one more; `--no-sweep`
+--ranks-per-case K: 1 on a meridian, RANKS for 3-D), and each trial step one more (a neighbour
+that moves another experiment's own parameter takes this experiment's curve from the point's
+run: nothing to run); `--no-sweep`
 runs one mpirun per run, `--jobs N` points at once. The fit stops when an iteration lowers the
 sum of squares by less than `--ftol` (default 0.1%), when its step is below 1e-5 (log space),
 or after `--max-it` iterations.
