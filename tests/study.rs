@@ -222,8 +222,8 @@ fn calibration_fits_two_experiments_with_a_shared_parameter() {
         r#"scene = "remodel_40"
 column = "force_total_mg"
 set = ["mesh.geometry=axisymmetric", "mesh.params.h=75", "mesh.params.h_pole=20", "material.mu=2.5",
-       "material.remodelling.sigma_y=0.5", "plates.t_ramp=5", "plates.t_end=25", "time.t_end=30",
-       "time.dt=0.2", "time.dt_max=4", "output.fields_every=0", "output.fields_at=[]"]
+       "material.remodelling.sigma_y=0.5", "plates.t_ramp=5", "plates.t_end=25", "time.t_end=26",
+       "time.dt=1.0", "time.dt_max=5", "output.fields_every=0", "output.fields_at=[]"]
 noise = "relative+floor"
 noise_floor = 0.005
 synthetic_noise = 0.02
