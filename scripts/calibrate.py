@@ -190,7 +190,8 @@ def single(a):
         sys.exit("calibrate.py: give --data or --synthetic")
     return exps.Experiment(
         name=Path(a.scene).stem, scene=a.scene, column=a.column, data=None if a.synthetic else a.data,
-        data_column=a.data_column, unit=a.data_unit, noise=a.noise, noise_floor=a.noise_floor,
+        data_column=a.data_column, unit=a.data_unit,
+        noise=a.noise or ("relative+floor" if a.noise_floor is not None else None), noise_floor=a.noise_floor,
         t_min=a.t_min, t_max=a.t_max, synthetic={k: float(v) for k, v in (s.split("=", 1) for s in a.synthetic)})
 
 
@@ -212,7 +213,8 @@ def main():
                          "relative above a given floor (relative+floor, --noise-floor); default: data if the file "
                          "has a sigma column, else absolute")
     ap.add_argument("--noise-floor", type=exps.floor_value, metavar="F[UNIT]",
-                    help="relative+floor: the floor's sigma, in the column's unit or with one (0.05uN, 0.5nN)")
+                    help="relative+floor (implied without --noise): the floor's sigma, in the column's unit or with one "
+                         "(0.05uN, 0.5nN)")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--t-min", type=float, default=-math.inf)
     ap.add_argument("--t-max", type=float, default=math.inf)

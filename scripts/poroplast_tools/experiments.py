@@ -61,6 +61,7 @@ class Experiment:
     data_column: str = None
     unit: str = None
     noise: str = None                             # None: data if the file has sigma, else absolute
+                                                  # (relative+floor if a floor is given)
     noise_floor: float = None                     # in the column's unit (mg for forces)
     t_min: float = float("-inf")
     t_max: float = float("inf")
@@ -146,7 +147,8 @@ def read(path, defaults):
                 name=name, scene=str(merged["scene"]), column=str(merged["column"]),
                 sets=overrides(merged["set"], where),
                 data=str(path.parent / entry["data"]) if "data" in entry else None,
-                data_column=merged.get("data_column"), unit=merged.get("unit"), noise=merged.get("noise"),
+                data_column=merged.get("data_column"), unit=merged.get("unit"),
+                noise=merged.get("noise") or ("relative+floor" if merged.get("noise_floor") is not None else None),
                 noise_floor=None if merged.get("noise_floor") is None else floor_value(merged["noise_floor"]),
                 t_min=float(merged.get("t_min", float("-inf"))), t_max=float(merged.get("t_max", float("inf"))),
                 synthetic={k: float(v) for k, v in (entry.get("synthetic") or {}).items()},

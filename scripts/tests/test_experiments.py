@@ -51,6 +51,10 @@ class ExperimentsFile(unittest.TestCase):
         self.assertAlmostEqual(a.noise_floor, 0.098 / 9.80665, delta=1e-15)      # in mg
         self.assertEqual((b.scene, b.noise, b.data, b.synthetic, b.synthetic_noise),
                          ("reference_axi", "absolute", None, {"material.mu": 3.0}, 0.02))
+        # A floor without a noise model means relative+floor.
+        [c] = exps.read(self.write("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'c'\ndata = 'x'\n"
+                                   "noise_floor = 0.01"), {})
+        self.assertEqual((c.noise, c.noise_floor), ("relative+floor", 0.01))
 
     def test_malformed_files_are_refused_with_the_reason(self):
         for text, part in [
