@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
 # README command 2: set up this machine and run the test suite, in tiers.
 #
-#   ci/test.sh          the default tier: the unit tests (no MPI), then the integration tests,
-#                       as many at a time as there are cores, each holding a core per MPI rank it
-#                       launches (tests/common::cores: never more ranks than cores). About 4 min on
-#                       a 2-core machine once built (docs/developer.md).
+#   ci/test.sh          the default tier: the unit tests (no MPI), then the integration test
+#                       binaries side by side (ci/run-tests.sh), each running as many tests at a
+#                       time as there are cores, every test holding a core per MPI rank it launches
+#                       from one pool (tests/common::cores: never more ranks than cores).
 #   ci/test.sh --fast   the unit tests and the tree's shape (tests/architecture.rs): seconds
 #                       after the build, no mpirun.
 #   ci/test.sh --slow   the slow tier: the accuracy benchmarks (tests marked #[ignore], each
 #                       naming why), one at a time. About a minute.
 #
-# Extra arguments go to every cargo test call (e.g. a test name filter). CI (.ci/run) runs
+# Extra arguments go to every test binary (e.g. a test name filter). CI (.ci/run) runs
 # ci/lint.sh (fmt, clippy, rustdoc) first, then the default tier.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,8 +28,8 @@ case "$tier" in
     cargo test --release --test architecture "$@"
     ;;
   default)
-    cargo test --release --lib --bins "$@"
-    cargo test --release --test '*' "$@" -- --test-threads="$(nproc)"
+    cargo test --release --lib --bins -- "$@"
+    ci/run-tests.sh "$@"
     ;;
   slow)
     cargo test --release --test '*' "$@" -- --ignored --test-threads=1

@@ -4,52 +4,67 @@
 #![allow(dead_code)]
 
 use std::cell::Cell;
+use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::sync::{Condvar, Mutex};
 
-/// The machine's cores, of which a test holds one per MPI rank it runs. The tests of one binary
-/// run as many at a time as there are cores (`ci/test.sh`), so 1-rank runs go side by side
-/// while a 2-rank run has the two cores of a 2-core machine to itself: no more processes than
-/// cores, whose MPI ranks would otherwise spin against each other.
+/// The machine's cores, of which a test holds one per MPI rank it runs. The test binaries run
+/// side by side, each with as many tests at a time as there are cores (`ci/test.sh`), and take
+/// cores from one pool: 1-rank runs go side by side while a 2-rank run has the two cores of a
+/// 2-core machine to itself: no more processes than cores, whose MPI ranks would otherwise spin
+/// against each other. The pool is a lock file per core (`CARGO_TARGET_TMPDIR/cores/`), so the
+/// kernel frees a crashed test's cores.
 pub struct Cores {
     n: usize,
+    _locks: Vec<File>,
 }
-
-static FREE: Mutex<Option<usize>> = Mutex::new(None);
-static RELEASED: Condvar = Condvar::new();
 
 thread_local! {
     /// Cores the current test's thread holds: a launch within them takes no more.
     static HELD: Cell<usize> = const { Cell::new(0) };
 }
 
-/// Waits for `n` cores (at most the machine's). A test that launches several runs at once, or
-/// must not share the machine, takes them all first: a thread that holds some and waits for more
-/// could wait for another that does the same.
+/// Waits for `n` cores (at most the machine's). Cores are taken one waiter at a time (the gate
+/// lock), so a 2-rank test is not starved by 1-rank ones, and a waiter never holds some cores
+/// while another waits for them. A test that launches several runs at once, or must not share
+/// the machine, takes them all first.
 pub fn cores(n: usize) -> Cores {
     let total = std::thread::available_parallelism().map_or(1, |c| c.get());
     let held = HELD.get();
     let need = n.min(total).saturating_sub(held);
-    if need > 0 {
-        let mut free = FREE.lock().unwrap_or_else(|e| e.into_inner());
-        while *free.get_or_insert(total) < need {
-            free = RELEASED.wait(free).unwrap_or_else(|e| e.into_inner());
-        }
-        *free.as_mut().unwrap() -= need;
-        HELD.set(held + need);
+    if need == 0 {
+        return Cores { n: 0, _locks: Vec::new() };
     }
-    Cores { n: need }
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cores");
+    std::fs::create_dir_all(&dir).expect("the cores' lock directory");
+    let open = |name: String| {
+        let file = std::fs::OpenOptions::new().create(true).truncate(false).write(true).open(dir.join(name));
+        file.expect("a core's lock file")
+    };
+    let gate = open("gate".into());
+    gate.lock().expect("the cores' gate");
+    let mut taken: Vec<File> = Vec::new();
+    loop {
+        for i in 0..total {
+            // A core this thread took is locked against its new handle too: never taken twice.
+            let core = open(format!("core{i}"));
+            if taken.len() < need && core.try_lock().is_ok() {
+                taken.push(core);
+            }
+        }
+        if taken.len() == need {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    HELD.set(held + need);
+    Cores { n: need, _locks: taken }
 }
 
 impl Drop for Cores {
     fn drop(&mut self) {
-        if self.n > 0 {
-            let mut free = FREE.lock().unwrap_or_else(|e| e.into_inner());
-            *free.as_mut().unwrap() += self.n;
-            HELD.set(HELD.get() - self.n);
-            RELEASED.notify_all();
-        }
+        // The lock files close (and unlock) after this.
+        HELD.set(HELD.get() - self.n);
     }
 }
 

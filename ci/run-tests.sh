@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# The integration test binaries of the default tier, side by side: built by one cargo call, then
+# started at once, each with --test-threads=$(nproc). They share the machine's cores through
+# tests/common::cores (a lock file per core), so no more MPI ranks run than there are cores,
+# and a binary's last long test no longer leaves a core idle while the next binary waits.
+# Each binary's output is printed whole as it ends; the exit status is non-zero if any failed.
+# Extra arguments go to every binary (e.g. a test name filter). Called by ci/test.sh.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bins=$(cargo test --release --test '*' --no-run --message-format=json \
+  | python3 -c '
+import json, sys
+for line in sys.stdin:
+    m = json.loads(line)
+    if m.get("reason") == "compiler-artifact" and m.get("profile", {}).get("test") and m.get("executable"):
+        print(m["executable"])')
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+start=$SECONDS
+declare -A name_of
+for b in $bins; do
+  name=$(basename "$b" | sed 's/-[0-9a-f]*$//')
+  "$b" --test-threads="$(nproc)" "$@" >"$out/$name.log" 2>&1 &
+  name_of[$!]=$name
+done
+failed=()
+for _ in "${!name_of[@]}"; do
+  # The binaries in the order they end (wait -n -p: bash 5.1).
+  if wait -n -p done; then rc=0; else rc=$?; fi
+  name=${name_of[$done]}
+  echo "     Ran tests/$name.rs in $((SECONDS - start)) s (rc $rc)"
+  cat "$out/$name.log"
+  [ "$rc" = 0 ] || failed+=("$name")
+done
+echo "integration tests: ${#name_of[@]} binaries side by side in $((SECONDS - start)) s"
+if [ "${#failed[@]}" -gt 0 ]; then
+  echo "FAILED: ${failed[*]}" >&2
+  exit 1
+fi
