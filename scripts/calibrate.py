@@ -61,125 +61,18 @@ import argparse
 import json
 import math
 import sys
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
 
 from poroplast_tools import experiments as exps
-from poroplast_tools import labels
-from poroplast_tools.cases import rank_options, run_cases, use_rank_options
+from poroplast_tools import fitplots
+from poroplast_tools.cases import rank_options, use_rank_options
 from poroplast_tools.fit import LEVELS, FitError, fit, profile, stats
 from poroplast_tools.fitstats import MODELS as NOISE_MODELS, Noise, stacked_weights
-from poroplast_tools.history import at, given_steps, history
 from poroplast_tools.identify import report as identifiability
-from poroplast_tools.measured import DataError, check_within, read_curve
-
-
-class Runs:
-    """The experiments' model: runs of their scenes at points (log-parameters), one batch per
-    call; `evaluate` is the fit's model (poroplast_tools/fit.py)."""
-
-    def __init__(self, a, experiments, params, sweep):
-        self.a, self.experiments, self.params, self.sweep = a, experiments, params, sweep
-        self.sets = [tuple(s.split("=", 1)) for s in a.set]
-        self.root = Path(a.dir) / "runs"
-        self.ran = 0                 # the runs the sweeps had to make
-        self.data = None             # per experiment: (times, values) once read
-        self.checked = False
-
-    def histories(self, cases, what=None):
-        """Runs (scene, overrides) cases — ONE batch, the completed ones skipped — and returns
-        their histories (None for a failed run). `what`: lines printed before the batch."""
-        for line in what or []:
-            print(line, flush=True)
-        if not cases:
-            return []
-        counts = {}
-        ran = run_cases([s for s, _ in cases], [c for _, c in cases], self.sets, self.root, self.a.ranks,
-                        counts=counts)
-        self.ran += counts.get("ran", 0)
-        return [history(d) if r["status"] == "ok" else None for d, r in ran]
-
-    def case(self, e, x, steps=None):
-        """Experiment e's case at x: its overrides, the parameters that apply to it, the steps."""
-        values = [(p.key, repr(math.exp(v))) for p, v in zip(self.params, x) if p.applies(e)]
-        return e.scene, e.sets + values + ([("time.steps", steps)] if steps else [])
-
-    def evaluate(self, points, what, replay=None):
-        """Per point (log-parameters) the stacked differences model − data of every experiment
-        and the state {"x", "histories"}, or None if a run failed; every experiment's run at
-        every point one batch (--no-sweep --jobs N: N points at once), each replaying the steps
-        of its experiment's history in the state `replay`. An experiment whose parameters are
-        those of `replay` (a neighbour that moves another experiment's own parameter) is not
-        run: its history is replay's."""
-        ne = len(self.experiments)
-        runs, keep = [], {}           # the cases to run; (point, experiment) -> replay's history
-        for j, x in enumerate(points):
-            for i, e in enumerate(self.experiments):
-                if replay and self.case(e, x) == self.case(e, replay["x"]):
-                    keep[j, i] = replay["histories"][i]
-                else:
-                    runs.append((j, i, self.case(e, x, given_steps(replay["histories"][i]) if replay else None)))
-        lines = [f"{name}: " + " ".join(f"{p.label}={math.exp(v):.6g}" for p, v in zip(self.params, x))
-                 + (" (the point's steps)" if replay else "") for name, x in zip(what, points)]
-        cases = [c for _, _, c in runs]
-        if self.sweep or self.a.jobs == 1 or not points:
-            hs = self.histories(cases, lines)
-        else:
-            with ThreadPoolExecutor(max_workers=self.a.jobs) as pool:
-                hs = [h for part in pool.map(lambda j: self.histories([c for k, _, c in runs if k == j], lines[j:j + 1]),
-                                             range(len(points))) for h in part]
-        got = {**keep, **{(j, i): h for (j, i, _), h in zip(runs, hs)}}
-        out = []
-        for j, x in enumerate(points):
-            group = [got[j, i] for i in range(ne)]
-            if any(h is None for h in group):
-                out.append(None)
-                continue
-            if not self.checked:
-                self.check(group)
-            d = [np.array([at(h, e.column, t) for t in ts]) - vs
-                 for e, h, (ts, vs) in zip(self.experiments, group, self.data)]
-            out.append((np.concatenate(d), {"x": np.array(x), "histories": group}))
-        return out
-
-    def check(self, group):
-        """Refuses data times after a run's end (once, at the first runs)."""
-        for e, h, (ts, _) in zip(self.experiments, group, self.data):
-            try:
-                check_within(e.data or e.name, ts, float(h["time"][-1]))
-            except DataError as err:
-                sys.exit(f"calibrate.py: {err}")
-        self.checked = True
-
-
-def synthesise(runs, experiments):
-    """The synthetic experiments' data: their runs (one batch) at the `synthetic` values,
-    sampled at their steps or every `synthetic_every` s, with Gaussian noise of σ_i =
-    √((synthetic_noise y_i)² + synthetic_floor²) (seeded); written to STUDY/synthetic_NAME.csv.
-    {name: (times, values)}."""
-    todo = [e for e in experiments if e.synthetic]
-    if not todo:
-        return {}
-    cases = [(e.scene, e.sets + [(k, repr(v)) for k, v in e.synthetic.items()]) for e in todo]
-    hs = runs.histories(cases, [f"synthetic curve {e.name}: " + " ".join(f"{k}={v}" for k, v in e.synthetic.items())
-                                for e in todo])
-    out = {}
-    for e, h in zip(todo, hs):
-        if h is None:
-            sys.exit(f"calibrate.py: the synthetic run of {e.name} failed")
-        t_end = float(h["time"][-1])
-        ts = (np.arange(1, int(t_end / e.synthetic_every + 1e-9) + 1) * e.synthetic_every if e.synthetic_every
-              else h["time"][h["time"] > 0])
-        ys = np.array([at(h, e.column, t) for t in ts])
-        rng = np.random.default_rng(e.seed)
-        ys = ys + np.sqrt((e.synthetic_noise * ys) ** 2 + e.synthetic_floor ** 2) * rng.standard_normal(ys.size)
-        out[e.name] = (list(ts), list(ys))
-        with open(Path(runs.a.dir) / f"synthetic_{e.name}.csv", "w") as f:
-            f.write(f"# synthetic: {e.scene} {e.synthetic} noise {e.synthetic_noise} floor {e.synthetic_floor} "
-                    f"seed {e.seed}\ntime,{e.column}\n" + "".join(f"{t!r},{y!r}\n" for t, y in zip(ts, ys)))
-    return out
+from poroplast_tools.measured import DataError, read_curve
+from poroplast_tools.runmodel import Runs, synthesise
 
 
 def single(a):
@@ -244,7 +137,7 @@ def main():
         multiples = [float(m) for m in a.profile_grid.split(",")]
     except (exps.ExperimentError, ValueError) as e:
         sys.exit(f"calibrate.py: {e}")
-    runs = Runs(a, experiments, params, sweep)
+    runs = Runs(a.dir, experiments, params, [tuple(s.split("=", 1)) for s in a.set], a.ranks, sweep, a.jobs)
 
     # The data (files before any run; synthetic curves from one batch), their noise models.
     curves = {}
@@ -254,7 +147,10 @@ def main():
                 curves[e.name] = read_curve(e.data, e.column, e.unit, e.data_column)
             except DataError as err:
                 sys.exit(f"calibrate.py: {err}")
-    curves.update({k: (t, v, None) for k, (t, v) in synthesise(runs, experiments).items()})
+    try:
+        curves.update({k: (t, v, None) for k, (t, v) in synthesise(runs, experiments).items()})
+    except FitError as err:
+        sys.exit(f"calibrate.py: {err}")
     runs.data, noises = [], []
     for e in experiments:
         td, vd, sd = curves[e.name]
@@ -299,13 +195,15 @@ def main():
                   say=lambda s: print(s, flush=True), first_jacobian=identifiable)
     except FitError as e:
         sys.exit(f"calibrate.py: {e} (see its log under runs/)")
+    except DataError as e:
+        sys.exit(f"calibrate.py: {e}")
     st = stats(opt, any(noise.estimated for noise in noises))
     prof = profile(runs.evaluate, opt, st, keys, multiples) if a.profile else None
     result = report(a, experiments, params, noises, runs, opt, st, prof)
     (Path(a.dir) / "calibration.json").write_text(json.dumps({"result": result, "log": opt.log}, indent=1))
-    plot(a, experiments, runs.data, opt.state["histories"], result, keys)
+    fitplots.curves(a.dir, experiments, runs.data, opt.state["histories"], result, keys)
     if prof:
-        plot_profile(a, opt, st, prof, keys)
+        fitplots.profiles(a.dir, opt, st, prof, keys)
     print(f"rms residual {result['rms']:.3g}, {runs.ran} runs; {Path(a.dir) / 'calibration.json'}")
 
 
@@ -368,57 +266,6 @@ def report(a, experiments, params, noises, runs, opt, st, prof):
 
 def _end(v):
     return "open (beyond the grid)" if v is None else f"{v:.6g}"
-
-
-def plot(a, experiments, data, histories, result, keys):
-    """STUDY/calibration.png: each experiment's data and fitted curve, one panel each."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    ne = len(experiments)
-    fig, axes = plt.subplots(1, ne, figsize=(6.4 if ne == 1 else 4.2 * ne, 4.2), squeeze=False)
-    for ax, e, h, (ts, vs), info in zip(axes[0], experiments, histories, data, result["experiments"]):
-        mine = [p for p in keys if "@" not in p or p.endswith("@" + e.name)]
-        ax.plot(h["time"], h[e.column], "-", label="fit: " + ", ".join(
-            labels.value(k.split("@")[0], result[k]["value"]) for k in mine))
-        ax.plot(ts, vs, "o", ms=3, label="data")
-        ax.set_xlabel("t (s)")
-        ax.set_ylabel(labels.column(e.column))
-        ax.set_title(f"{e.name}: rms residual {info['rms']:.3g}" if ne > 1 else
-                     f"{e.scene}: rms residual {result['rms']:.3g}", fontsize=9)
-        ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(Path(a.dir) / "calibration.png", dpi=120)
-    plt.close(fig)
-
-
-def plot_profile(a, opt, st, prof, keys):
-    """STUDY/profile.png: each parameter's profile (cost rise) against the Wald parabola, the
-    68% and 95% thresholds and both intervals."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, len(keys), figsize=(4.2 * len(keys), 3.8), squeeze=False)
-    for k, (ax, key) in enumerate(zip(axes[0], keys)):
-        p = prof[key]
-        rows = sorted(list(zip(p["delta"], p["cost"])) + [(0.0, opt.cost)])     # with the optimum
-        ax.plot([math.exp(opt.x[k] + d) for d, _ in rows], [c - opt.cost for _, c in rows], "o-", ms=3,
-                label="profile")
-        fine = np.linspace(min(p["delta"]), max(p["delta"]), 100)
-        ax.plot(np.exp(opt.x[k] + fine), (fine / st.rel[k]) ** 2, ":", label="Wald (linear)")
-        for name, level in LEVELS.items():
-            ax.axhline(st.z(level) ** 2, color="grey", lw=0.6)
-            for end in p[f"interval{name}"]:
-                if end is not None:
-                    ax.axvline(end, color="C3", lw=0.6, ls="--")
-        ax.axvline(math.exp(opt.x[k]), color="k", lw=0.6)
-        ax.set_xlabel(key, fontsize=8)
-        ax.tick_params(axis="x", labelrotation=30, labelsize=7)
-        ax.set_ylabel("cost rise (weighted, unit variance)")
-        ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(Path(a.dir) / "profile.png", dpi=120)
-    plt.close(fig)
 
 
 if __name__ == "__main__":

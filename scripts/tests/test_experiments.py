@@ -3,15 +3,14 @@ several experiments: every experiment at every point one batch, each replaying i
 the parameters applied where they belong (run_cases stubbed: no solver)."""
 import math
 import tempfile
-import types
 import unittest
 from pathlib import Path
 from unittest import mock
 
 import numpy as np
 
-import calibrate
 from poroplast_tools import experiments as exps
+from poroplast_tools import runmodel
 
 FILE = """
 scene = "remodel_40"
@@ -86,13 +85,12 @@ class ExperimentsFile(unittest.TestCase):
 
 
 class OneBatch(unittest.TestCase):
-    """calibrate.Runs over two experiments: one run_cases call per evaluate()."""
+    """runmodel.Runs over two experiments: one run_cases call per evaluate()."""
 
     def test_every_experiment_at_every_point_is_one_batch(self):
         es = [exps.Experiment("a", "s1", "f", sets=[("R", "150")]), exps.Experiment("b", "s2", "f")]
         ps = exps.params(["lp=0.002", "mu@b=3"], es)
-        a = types.SimpleNamespace(set=["time.dt=0.1"], dir=tempfile.mkdtemp(), ranks=2, jobs=1)
-        runs = calibrate.Runs(a, es, ps, sweep=True)
+        runs = runmodel.Runs(tempfile.mkdtemp(), es, ps, [("time.dt", "0.1")], ranks=2, sweep=True)
         runs.data = [([1.0, 2.0], np.array([0.0, 0.0])), ([1.5], np.array([1.0]))]
         runs.checked = True
         calls = []
@@ -110,7 +108,7 @@ class OneBatch(unittest.TestCase):
         replay = {"x": np.log([0.001, 3.0]),
                   "histories": [{"time": np.array([0.0, 0.5, 2.0])}, {"time": np.array([0.0, 1.5, 2.0])}]}
         x = [np.log([0.002, 3.0]), np.log([0.004, 6.0])]
-        with mock.patch.object(calibrate, "run_cases", run_cases), mock.patch.object(calibrate, "history", history), \
+        with mock.patch.object(runmodel, "run_cases", run_cases), mock.patch.object(runmodel, "history", history), \
                 mock.patch("builtins.print"):
             out = runs.evaluate(x, ["p", "q"], replay)
         [(scenes, cases, sets)] = calls
@@ -129,7 +127,7 @@ class OneBatch(unittest.TestCase):
         # A neighbour that moves only b's own µ: a is not run again, its history is replay's.
         calls.clear()
         replay = {"x": x[0], "histories": [history(Path("/run7")), history(Path("/run8"))]}
-        with mock.patch.object(calibrate, "run_cases", run_cases), mock.patch.object(calibrate, "history", history), \
+        with mock.patch.object(runmodel, "run_cases", run_cases), mock.patch.object(runmodel, "history", history), \
                 mock.patch("builtins.print"):
             [(d, state)] = runs.evaluate([x[0] + [0.0, 1e-3]], ["d mu@b"], replay)
         [(scenes, cases, _)] = calls

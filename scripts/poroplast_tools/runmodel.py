@@ -1,0 +1,122 @@
+"""The experiments' model for a fit: runs of their scenes at parameter points, each batch one
+`poroplast sweep` (poroplast_tools/cases.py), and the synthetic curves a fit can be tested on.
+
+`Runs.evaluate` is the model of poroplast_tools/fit.py: per point (log-parameters) the stacked
+differences model − data of every experiment, each experiment's history column interpolated at
+its data's times. A finite-difference neighbour replays the time steps of its point's run
+(`time.steps`): a step cut in one run and not in the other would make the difference jump.
+"""
+import math
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+from .cases import run_cases
+from .fit import FitError
+from .history import at, given_steps, history
+from .measured import check_within
+
+
+class Runs:
+    """The experiments' model: runs of their scenes at points (log-parameters), one batch per
+    call; `evaluate` is the fit's model (poroplast_tools/fit.py)."""
+
+    def __init__(self, study, experiments, params, sets=(), ranks=2, sweep=True, jobs=1):
+        self.study, self.experiments, self.params = Path(study), experiments, params
+        self.sweep, self.ranks, self.jobs = sweep, ranks, jobs
+        self.sets = list(sets)
+        self.root = self.study / "runs"
+        self.ran = 0                 # the runs the sweeps had to make
+        self.data = None             # per experiment: (times, values) once read
+        self.checked = False
+
+    def histories(self, cases, what=None):
+        """Runs (scene, overrides) cases — ONE batch, the completed ones skipped — and returns
+        their histories (None for a failed run). `what`: lines printed before the batch."""
+        for line in what or []:
+            print(line, flush=True)
+        if not cases:
+            return []
+        counts = {}
+        ran = run_cases([s for s, _ in cases], [c for _, c in cases], self.sets, self.root, self.ranks,
+                        counts=counts)
+        self.ran += counts.get("ran", 0)
+        return [history(d) if r["status"] == "ok" else None for d, r in ran]
+
+    def case(self, e, x, steps=None):
+        """Experiment e's case at x: its overrides, the parameters that apply to it, the steps."""
+        values = [(p.key, repr(math.exp(v))) for p, v in zip(self.params, x) if p.applies(e)]
+        return e.scene, e.sets + values + ([("time.steps", steps)] if steps else [])
+
+    def evaluate(self, points, what, replay=None):
+        """Per point (log-parameters) the stacked differences model − data of every experiment
+        and the state {"x", "histories"}, or None if a run failed; every experiment's run at
+        every point one batch (--no-sweep --jobs N: N points at once), each replaying the steps
+        of its experiment's history in the state `replay`. An experiment whose parameters are
+        those of `replay` (a neighbour that moves another experiment's own parameter) is not
+        run: its history is replay's."""
+        ne = len(self.experiments)
+        runs, keep = [], {}           # the cases to run; (point, experiment) -> replay's history
+        for j, x in enumerate(points):
+            for i, e in enumerate(self.experiments):
+                if replay and self.case(e, x) == self.case(e, replay["x"]):
+                    keep[j, i] = replay["histories"][i]
+                else:
+                    runs.append((j, i, self.case(e, x, given_steps(replay["histories"][i]) if replay else None)))
+        lines = [f"{name}: " + " ".join(f"{p.label}={math.exp(v):.6g}" for p, v in zip(self.params, x))
+                 + (" (the point's steps)" if replay else "") for name, x in zip(what, points)]
+        cases = [c for _, _, c in runs]
+        if self.sweep or self.jobs == 1 or not points:
+            hs = self.histories(cases, lines)
+        else:
+            with ThreadPoolExecutor(max_workers=self.jobs) as pool:
+                hs = [h for part in pool.map(lambda j: self.histories([c for k, _, c in runs if k == j], lines[j:j + 1]),
+                                             range(len(points))) for h in part]
+        got = {**keep, **{(j, i): h for (j, i, _), h in zip(runs, hs)}}
+        out = []
+        for j, x in enumerate(points):
+            group = [got[j, i] for i in range(ne)]
+            if any(h is None for h in group):
+                out.append(None)
+                continue
+            if not self.checked:
+                self.check(group)
+            d = [np.array([at(h, e.column, t) for t in ts]) - vs
+                 for e, h, (ts, vs) in zip(self.experiments, group, self.data)]
+            out.append((np.concatenate(d), {"x": np.array(x), "histories": group}))
+        return out
+
+    def check(self, group):
+        """Refuses data times after a run's end (once, at the first runs): a DataError."""
+        for e, h, (ts, _) in zip(self.experiments, group, self.data):
+            check_within(e.data or e.name, ts, float(h["time"][-1]))
+        self.checked = True
+
+
+def synthesise(runs, experiments):
+    """The synthetic experiments' data: their runs (one batch) at the `synthetic` values,
+    sampled at their steps or every `synthetic_every` s, with Gaussian noise of σ_i =
+    √((synthetic_noise y_i)² + synthetic_floor²) (seeded); written to STUDY/synthetic_NAME.csv.
+    {name: (times, values)}."""
+    todo = [e for e in experiments if e.synthetic]
+    if not todo:
+        return {}
+    cases = [(e.scene, e.sets + [(k, repr(v)) for k, v in e.synthetic.items()]) for e in todo]
+    hs = runs.histories(cases, [f"synthetic curve {e.name}: " + " ".join(f"{k}={v}" for k, v in e.synthetic.items())
+                                for e in todo])
+    out = {}
+    for e, h in zip(todo, hs):
+        if h is None:
+            raise FitError(f"the synthetic run of {e.name} failed")
+        t_end = float(h["time"][-1])
+        ts = (np.arange(1, int(t_end / e.synthetic_every + 1e-9) + 1) * e.synthetic_every if e.synthetic_every
+              else h["time"][h["time"] > 0])
+        ys = np.array([at(h, e.column, t) for t in ts])
+        rng = np.random.default_rng(e.seed)
+        ys = ys + np.sqrt((e.synthetic_noise * ys) ** 2 + e.synthetic_floor ** 2) * rng.standard_normal(ys.size)
+        out[e.name] = (list(ts), list(ys))
+        with open(runs.study / f"synthetic_{e.name}.csv", "w") as f:
+            f.write(f"# synthetic: {e.scene} {e.synthetic} noise {e.synthetic_noise} floor {e.synthetic_floor} "
+                    f"seed {e.seed}\ntime,{e.column}\n" + "".join(f"{t!r},{y!r}\n" for t, y in zip(ts, ys)))
+    return out
