@@ -118,5 +118,5 @@ def synthesise(runs, experiments):
         out[e.name] = (list(ts), list(ys))
         with open(runs.study / f"synthetic_{e.name}.csv", "w") as f:
             f.write(f"# synthetic: {e.scene} {e.synthetic} noise {e.synthetic_noise} floor {e.synthetic_floor} "
-                    f"seed {e.seed}\ntime,{e.column}\n" + "".join(f"{t!r},{y!r}\n" for t, y in zip(ts, ys)))
+                    f"seed {e.seed}\ntime,{e.column}\n" + "".join(f"{float(t)!r},{float(y)!r}\n" for t, y in zip(ts, ys)))
     return out

@@ -3,6 +3,7 @@ several experiments: every experiment at every point one batch, each replaying i
 the parameters applied where they belong (run_cases stubbed: no solver)."""
 import math
 import tempfile
+import types
 import unittest
 from pathlib import Path
 from unittest import mock
@@ -11,6 +12,7 @@ import numpy as np
 
 from poroplast_tools import experiments as exps
 from poroplast_tools import runmodel
+from poroplast_tools.measured import read_curve
 
 FILE = """
 scene = "remodel_40"
@@ -138,3 +140,23 @@ class OneBatch(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class Synthetic(unittest.TestCase):
+    """runmodel.synthesise: the noisy curve it fits to is the file it writes, in the lab format."""
+
+    def test_the_written_curve_reads_back_as_data(self):
+        study = Path(tempfile.mkdtemp())
+        e = exps.Experiment("s", "scene", "force_total_mg", synthetic={"material.mu": 2.5}, synthetic_noise=0.02,
+                            synthetic_floor=0.005, synthetic_every=1.0, seed=4)
+        h = {"time": np.array([0.0, 0.5, 1.5, 3.0]), "force_total_mg": np.array([0.0, 1.0, 3.0, 6.0])}
+        runs = types.SimpleNamespace(study=study, histories=lambda cases, what: [h])
+        with mock.patch("builtins.print"):
+            [(ts, ys)] = runmodel.synthesise(runs, [e]).values()
+        self.assertEqual(list(ts), [1.0, 2.0, 3.0])
+        # Noise of 2% of 2, 4, 6 mg: within 5 sigma of the model's values.
+        for y, exact in zip(ys, [2.0, 4.0, 6.0]):
+            self.assertLess(abs(y - exact), 5 * math.hypot(0.02 * exact, 0.005))
+        self.assertNotEqual(list(ys), [2.0, 4.0, 6.0])
+        t, v, s = read_curve(study / "synthetic_s.csv", "force_total_mg")
+        self.assertEqual((list(t), list(v), s), (list(ts), list(ys), None))
