@@ -1,28 +1,34 @@
 #!/usr/bin/env bash
-# The integration test binaries of the default tier, side by side: built by one cargo call, then
-# started at once, each with --test-threads=$(nproc). They share the machine's cores through
-# tests/common::cores (a lock file per core), so no more MPI ranks run than there are cores,
-# and a binary's last long test no longer leaves a core idle while the next binary waits.
-# Each binary's output is printed whole as it ends; the exit status is non-zero if any failed.
-# Extra arguments go to every binary (e.g. a test name filter). Called by ci/test.sh.
+# The default tier's tests: everything built by one cargo call (so cargo packs the compiles on
+# the cores), the unit tests run first, then the integration test binaries side by side, each
+# with --test-threads=$(nproc). They share the machine's cores through tests/common::cores (a
+# lock file per core): no more MPI ranks run than there are cores, and a binary's last long test
+# no longer leaves a core idle while the next binary waits. Each binary's output is printed whole
+# as it ends; the exit status is non-zero if any failed. Extra arguments go to every test binary
+# (e.g. a test name filter). Called by ci/test.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bins=$(cargo test --release --test '*' --no-run --message-format=json \
+# "KIND PATH" per test executable: lib/bin (unit tests) or test (integration tests).
+built=$(cargo test --release --lib --bins --tests --no-run --message-format=json \
   | python3 -c '
 import json, sys
 for line in sys.stdin:
     m = json.loads(line)
     if m.get("reason") == "compiler-artifact" and m.get("profile", {}).get("test") and m.get("executable"):
-        print(m["executable"])')
+        print(m["target"]["kind"][0], m["executable"])')
+while read -r kind exe; do
+  [ "$kind" = test ] || "$exe" "$@"
+done <<<"$built"
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 start=$SECONDS
 declare -A name_of
-for b in $bins; do
-  name=$(basename "$b" | sed 's/-[0-9a-f]*$//')
-  "$b" --test-threads="$(nproc)" "$@" >"$out/$name.log" 2>&1 &
+while read -r kind exe; do
+  [ "$kind" = test ] || continue
+  name=$(basename "$exe" | sed 's/-[0-9a-f]*$//')
+  "$exe" --test-threads="$(nproc)" "$@" >"$out/$name.log" 2>&1 &
   name_of[$!]=$name
-done
+done <<<"$built"
 failed=()
 for _ in "${!name_of[@]}"; do
   # The binaries in the order they end (wait -n -p: bash 5.1).

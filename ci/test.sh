@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # README command 2: set up this machine and run the test suite, in tiers.
 #
-#   ci/test.sh          the default tier: the unit tests (no MPI), then the integration test
-#                       binaries side by side (ci/run-tests.sh), each running as many tests at a
+#   ci/test.sh          the default tier (ci/run-tests.sh): the unit tests (no MPI), then the
+#                       integration test binaries side by side, each running as many tests at a
 #                       time as there are cores, every test holding a core per MPI rank it launches
 #                       from one pool (tests/common::cores: never more ranks than cores).
 #   ci/test.sh --fast   the unit tests and the tree's shape (tests/architecture.rs): seconds
@@ -28,7 +28,6 @@ case "$tier" in
     cargo test --release --test architecture "$@"
     ;;
   default)
-    cargo test --release --lib --bins -- "$@"
     ci/run-tests.sh "$@"
     ;;
   slow)
