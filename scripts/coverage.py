@@ -89,12 +89,9 @@ def jitter(a, p, times, curve, extra):
 
 
 def fit_command(a, p, data, fdir, extra):
-    keys, truth = syn.FITS[p]
-    cmd = [sys.executable, str(CALIBRATE), syn.SCENE, "--data", str(data), "--column", syn.COLUMN,
-           "--noise", a.noise, "--ranks", "1", "--ranks-per-case", "1", "--dir", str(fdir),
-           "--ftol", repr(a.ftol), "--max-it", str(a.max_it)]
-    cmd += [f"--param={k}={v!r}" for k, v in syn.start(truth, keys, a.start_factor).items()]
-    return cmd + [f"--set={k}={v}" for k, v in syn.sets(a.level, truth, keys) + extra]
+    return [sys.executable, str(CALIBRATE), *syn.calibrate_args(p, a.level, a.start_factor, extra),
+            "--data", str(data), "--noise", a.noise, "--ranks", "1", "--ranks-per-case", "1", "--dir", str(fdir),
+            "--ftol", repr(a.ftol), "--max-it", str(a.max_it)]
 
 
 def run_fit(a, p, data, fdir, extra):

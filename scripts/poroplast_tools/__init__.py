@@ -12,6 +12,8 @@
   * fields      observables of a run's fields (region means, the pressure bubble) and events
   * labels      figure labels in the docs' units
   * tables      CSV tables and the Pareto front
+  * synthetic   the calibration's synthetic experiment: the meridian case, its truths, noisy data sets
+  * coverage    a calibration's confidence intervals, whether they hold the truth, coverage rates
 
 Observables of histories (`max:COL`, `COL@T`, ...) are evaluated by `poroplast sweep` alone
 (src/sweep/observable.rs); the scripts read them from the summary.

@@ -54,6 +54,15 @@ def start(truth, keys, factor):
     return {k: truth[k] * factor for k in keys}
 
 
+def calibrate_args(p, level, factor, extra=()):
+    """scripts/calibrate.py's arguments for the p-parameter fit of this case, from the truth ×
+    `factor`, the other parameters at their true values (`extra`: more overrides); the caller
+    adds --data, --noise, the ranks and --dir."""
+    keys, truth = FITS[p]
+    return ([SCENE, "--column", COLUMN] + [f"--param={k}={v!r}" for k, v in start(truth, keys, factor).items()]
+            + [f"--set={k}={v}" for k, v in sets(level, truth, keys) + list(extra)])
+
+
 def data_times(time, value, every=1.0, floor=0.01):
     """The data's times: every `every` s from `every` to the run's end, where the true curve is
     above `floor` × its largest value (after the contact opens the force is 0 for every
