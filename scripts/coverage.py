@@ -174,7 +174,7 @@ def main():
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="more overrides of every run (e.g. a shorter experiment for a test)")
     ap.add_argument("--every", type=float, default=1.0, help="seconds between data points")
-    ap.add_argument("--floor", type=float, default=0.05,
+    ap.add_argument("--floor", type=float, default=0.05,   # synthetic.data_times' default
                     help="data only where the true force is above this fraction of its peak (at the contact's "
                          "opening the runs' steps differ between nearby parameter values: jitter.csv)")
     ap.add_argument("--jobs", type=int, default=2, help="fits side by side (each on 1 rank)")
