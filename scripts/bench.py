@@ -264,6 +264,18 @@ def targets_bench(a, work):
 FIT_TARGET, FIT_NOISE, FIT_SEED = 60.0, 0.02, 41
 
 
+def critical_path(log):
+    """The seconds a calibration's sweeps spent running cases, from its sweep.log: per sweep, its
+    busiest group's runs one after another; the wall time beyond it is start-ups and Python."""
+    total = 0.0
+    for sweep in log.split("\n$ mpirun")[1:]:
+        groups = {}
+        for seconds, group in re.findall(r" ok in ([0-9.]+) s \[group (\d+)\]", sweep):
+            groups[group] = groups.get(group, 0.0) + float(seconds)
+        total += max(groups.values(), default=0.0)
+    return total
+
+
 def fit_bench(a, work):
     """A 3-parameter fit of one synthetic meridian curve on 2 ranks, --repeat times: medians of
     wall time, runs, sweeps and seconds per run; the errors in units of sigma; the model's
@@ -294,18 +306,20 @@ def fit_bench(a, work):
         log = (d / "runs" / "sweep.log").read_text()
         run_s = [float(x) for x in re.findall(r" ok in ([0-9.]+) s", log)]
         rows.append({"wall": wall, "runs": res["runs"], "sweeps": log.count("\n$ mpirun"),
-                     "run_s": statistics.median(run_s), "run_total": sum(run_s),
+                     "run_s": statistics.median(run_s), "run_total": sum(run_s), "path": critical_path(log),
                      **{k: normalised_error(res[k]["value"], res[k]["sigma"], truth[k]) for k in keys},
                      **{f"{k}/sigma": res[k]["sigma"] / res[k]["value"] for k in keys}})
         print(f"  run {rep + 1}: {wall:.1f} s, {res['runs']} runs", flush=True)
     med = lambda key: statistics.median(r[key] for r in rows)
     walls = ", ".join(f"{r['wall']:.1f}" for r in rows)
     print(f"\n| wall (s), median | runs (s) | runs | sweeps | s per run (median) | runs' seconds (sum) | "
+          f"runs' critical path (s) | "
           f"errors / sigma ({', '.join(k.split('.')[-1] for k in keys)}) | sigma / value | "
           f"discretisation error / noise (rms, largest) | target {FIT_TARGET:g} s |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     print(f"| {med('wall'):.1f} | {walls} | "
           f"{med('runs'):.0f} | {med('sweeps'):.0f} | {med('run_s'):.2f} | {med('run_total'):.1f} | "
+          f"{med('path'):.1f} | "
           + ", ".join(f"{med(k):+.2f}" for k in keys) + " | "
           + ", ".join(f"{100 * med(k + '/sigma'):.2g}%" for k in keys) + " | "
           f"{math.sqrt(float(np.mean(disc ** 2))):.2f}, {float(np.max(np.abs(disc))):.2f} (t = "
