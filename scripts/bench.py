@@ -15,6 +15,7 @@ the time.
     python3 scripts/bench.py --scene cryer --h 12.5 8.33      # a scene at several mesh sizes (default cryer)
     python3 scripts/bench.py --sweep [--repeat 3] [--ranks 2]  # many small cases: one mpirun each or sweeps
     python3 scripts/bench.py --targets [--repeat 3]            # every 3-D plate scene against issue 27's targets
+    python3 scripts/bench.py --fit [--repeat 3] [--level coarse]  # a 3-parameter fit of a meridian curve (issue 38)
 
 `--targets`: every shipped 3-D plate scene (and `reference` at the parameters matched to FEBio's
 Holmes-Mow, mu = 33.33 kPa) run alone to t_end = 60 s on 2 ranks, --repeat times: the median wall
@@ -30,6 +31,14 @@ groups) — with the cases per minute of each (medians of --repeat), then the ca
 ranks one at a time, the scripts' default before sweeps; on 1 rank two at a time, `--no-sweep
 --ranks 1 --jobs 2`) and one sweep per batch (k = 1): its wall time and fitted values each way.
 
+`--fit`: a three-parameter fit (µ, λp, σy) of one synthetic meridian curve, the coverage study's
+case and its first data set (poroplast_tools/synthetic.py; scripts/coverage.py), by
+scripts/calibrate.py on 2 ranks from the truth × 1.1, --repeat times into fresh directories:
+the median wall time with the runs, the sweeps and the seconds per run (where the time goes),
+and the accuracy beside it: each estimate's error against the truth in units of its standard
+error, and the model's discretisation error (its true curve against the `fine` level's at the
+data times, in units of the noise). Target (issue 38): 60 s.
+
 Cases: default (the `reference` scene), remodel (remodel_40), fine (reference at h = 10 µm,
 h_pole = 4 µm), graded (reference on a surface-graded mesh, h_surf = 5 µm, the stabilisation
 faded; 47 613 dofs), full (reference_full), cryer100k (cryer at h = 6.5 µm, 85k dofs), relaxation;
@@ -44,6 +53,7 @@ The large ones (fine, graded, full, cryer100k) take minutes per run on 2 cores.
 import argparse
 import json
 import math
+import re
 import statistics
 import subprocess
 import sys
@@ -51,8 +61,12 @@ import tempfile
 import time
 from pathlib import Path
 
+import numpy as np
+
+from poroplast_tools import synthetic as syn
 from poroplast_tools.cases import run_cases, scene_values
-from poroplast_tools.history import timings
+from poroplast_tools.coverage import normalised_error
+from poroplast_tools.history import history, timings
 from poroplast_tools.levels import CONVERGED_LEVEL, grid_cases, h_levels, refined_steps
 from poroplast_tools.refs import SHIPPED, references
 
@@ -246,6 +260,72 @@ def targets_bench(a, work):
               f"{med('steps'):.0f} | {cells} |", flush=True)
 
 
+# --fit: the fit's target wall time (s), issue 38; the noise and data set of the fitted curve.
+FIT_TARGET, FIT_NOISE, FIT_SEED = 60.0, 0.02, 41
+
+
+def critical_path(log):
+    """The seconds a calibration's sweeps spent running cases, from its sweep.log: per sweep, its
+    busiest group's runs one after another; the wall time beyond it is start-ups and Python."""
+    total = 0.0
+    for sweep in log.split("\n$ mpirun")[1:]:
+        groups = {}
+        for seconds, group in re.findall(r" ok in ([0-9.]+) s \[group (\d+)\]", sweep):
+            groups[group] = groups.get(group, 0.0) + float(seconds)
+        total += max(groups.values(), default=0.0)
+    return total
+
+
+def fit_bench(a, work):
+    """A 3-parameter fit of one synthetic meridian curve on 2 ranks, --repeat times: medians of
+    wall time, runs, sweeps and seconds per run; the errors in units of sigma; the model's
+    discretisation error against the fine level."""
+    keys, truth = syn.FITS[3]
+    levels = [a.level, "fine"]
+    out = run_cases(syn.SCENE, [syn.truth_case(truth) + syn.LEVELS[lv] for lv in levels], syn.CASE, work / "truth",
+                    2, ranks_per_case=1)
+    if any(r["status"] != "ok" for _, r in out):
+        raise SystemExit(f"bench.py: a truth run failed (see {work / 'truth' / 'sweep.log'})")
+    (h, hf) = [history(d) for d, _ in out]
+    times = syn.data_times(h["time"], h[syn.COLUMN])
+    curve = np.interp(times, h["time"], h[syn.COLUMN])
+    disc = (curve - np.interp(times, hf["time"], hf[syn.COLUMN])) / (FIT_NOISE * np.abs(curve))
+    data = work / "data.csv"
+    syn.write_curve(data, times, syn.noisy(curve, FIT_NOISE, FIT_SEED, 0), comment="bench.py --fit")
+    print(f"3-parameter fit ({', '.join(k.split('.')[-1] for k in keys)}) of {len(times)} points, "
+          f"{100 * FIT_NOISE:g}% noise, level {a.level}, 2 ranks; medians of {a.repeat}; work dir {work}", flush=True)
+    rows = []
+    for rep in range(a.repeat):
+        d = work / f"fit-{rep}"
+        t0 = time.time()
+        subprocess.run([sys.executable, str(Path(__file__).parent / "calibrate.py"),
+                        *syn.calibrate_args(3, a.level, 1.1), "--data", str(data), "--noise", "relative",
+                        "--ranks", "2", "--dir", str(d)], check=True, stdout=subprocess.DEVNULL)
+        wall = time.time() - t0
+        res = json.loads((d / "calibration.json").read_text())["result"]
+        log = (d / "runs" / "sweep.log").read_text()
+        run_s = [float(x) for x in re.findall(r" ok in ([0-9.]+) s", log)]
+        rows.append({"wall": wall, "runs": res["runs"], "sweeps": log.count("\n$ mpirun"),
+                     "run_s": statistics.median(run_s), "run_total": sum(run_s), "path": critical_path(log),
+                     **{k: normalised_error(res[k]["value"], res[k]["sigma"], truth[k]) for k in keys},
+                     **{f"{k}/sigma": res[k]["sigma"] / res[k]["value"] for k in keys}})
+        print(f"  run {rep + 1}: {wall:.1f} s, {res['runs']} runs", flush=True)
+    med = lambda key: statistics.median(r[key] for r in rows)
+    walls = ", ".join(f"{r['wall']:.1f}" for r in rows)
+    print(f"\n| wall (s), median | runs (s) | runs | sweeps | s per run (median) | runs' seconds (sum) | "
+          f"runs' critical path (s) | "
+          f"errors / sigma ({', '.join(k.split('.')[-1] for k in keys)}) | sigma / value | "
+          f"discretisation error / noise (rms, largest) | target {FIT_TARGET:g} s |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    print(f"| {med('wall'):.1f} | {walls} | "
+          f"{med('runs'):.0f} | {med('sweeps'):.0f} | {med('run_s'):.2f} | {med('run_total'):.1f} | "
+          f"{med('path'):.1f} | "
+          + ", ".join(f"{med(k):+.2f}" for k in keys) + " | "
+          + ", ".join(f"{100 * med(k + '/sigma'):.2g}%" for k in keys) + " | "
+          f"{math.sqrt(float(np.mean(disc ** 2))):.2f}, {float(np.max(np.abs(disc))):.2f} (t = "
+          f"{times[int(np.argmax(np.abs(disc)))]:g} s) | {'met' if med('wall') <= FIT_TARGET else 'missed'} |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--case", nargs="+", choices=list(CASES), default=None)
@@ -262,7 +342,12 @@ def main():
                     help="every 3-D plate scene to t_end = 60 s on 2 ranks against the 3-D targets (issue 27)")
     ap.add_argument("--no-halved", action="store_true",
                     help="skip the accuracy check (one run with halved steps and tolerances, 10x tighter Newton)")
+    ap.add_argument("--fit", action="store_true",
+                    help="a 3-parameter fit of one synthetic meridian curve on 2 ranks (issue 38's 60 s target)")
+    ap.add_argument("--level", choices=list(syn.LEVELS), default="coarse", help="--fit: the model's mesh and steps")
     a = ap.parse_args()
+    if a.fit:
+        return fit_bench(a, Path(tempfile.mkdtemp(prefix="poroplast-bench-fit-")))
     if a.targets:
         return targets_bench(a, Path(tempfile.mkdtemp(prefix="poroplast-bench-targets-")))
     if a.sweep:

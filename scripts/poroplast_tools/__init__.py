@@ -17,6 +17,9 @@
   * fitstats    noise models and their weights, quantiles; measured: a lab's CSV curve;
                 identify: identifiability at the start; experiments: a calibration's
                 experiments file and parameters
+  * runmodel    a fit's model: the experiments' runs at parameter points; fitplots: its figures
+  * synthetic   the calibration's synthetic experiment: the meridian case, its truths, noisy data sets
+  * coverage    a calibration's confidence intervals, whether they hold the truth, coverage rates
 
 Observables of histories (`max:COL`, `COL@T`, ...) are evaluated by `poroplast sweep` alone
 (src/sweep/observable.rs); the scripts read them from the summary.

@@ -100,6 +100,13 @@ class FitStats(unittest.TestCase):
         self.assertAlmostEqual(quantile(math.erf(1 / math.sqrt(2))), 1.0, delta=1e-12)
         self.assertAlmostEqual(quantile(0.99, 3), 5.8409093, delta=1e-6)
 
+    def test_quantiles_of_one_and_two_degrees_of_freedom_are_the_closed_forms(self):
+        # One dof: Cauchy, t_p = tan(π (p − 1/2)); two: t_p = (2p − 1)/√(2p(1 − p)); p = (1 + level)/2.
+        for p in (0.6, 0.8413447460685429, 0.975, 0.995):
+            self.assertAlmostEqual(quantile(2 * p - 1, 1), math.tan(math.pi * (p - 0.5)), delta=1e-9)
+            self.assertAlmostEqual(quantile(2 * p - 1, 2), (2 * p - 1) / math.sqrt(2 * p * (1 - p)), delta=1e-9)
+        self.assertAlmostEqual(quantile(0.95, 1e7), 1.959963984540054, delta=1e-6)    # the normal limit
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -1,0 +1,300 @@
+"""Coverage of the calibration's intervals: do its nominal 68% and 95% intervals hold the truth
+68% and 95% of the time? (issue 38, item 2)
+
+A truth run of the meridian case (poroplast_tools/synthetic.py: R = 150 µm, µ = 2.5 kPa,
+σy = 0.5 kPa, λp = 0.002 (kPa s)⁻¹, 30% in 10 s, hold to 70 s, release by 80 s; for the
+3-parameter fit λp = 0.02, where µ, λp and σy are each identifiable: synthetic.py says why);
+--sets data sets of its force at 1 s intervals with independent Gaussian noise (--noise-level ×
+the value, seeded), written as lab CSV files; each fitted by scripts/calibrate.py (its command
+line and calibration.json only) for 1 parameter (λp) and 3 (µ, λp, σy), from the truth ×
+--start-factor.
+Counts how often the intervals hold the truth (calibration.json's `interval68`/`interval95`,
+else the same Wald intervals in log space from value and sigma: poroplast_tools/coverage.py).
+
+    python3 scripts/coverage.py --dir studies/coverage [--sets 50] [--params 1 3] [--jobs 2]
+    python3 scripts/coverage.py --dir /tmp/cov --sets 5 --params 1        # a quick check
+
+Before the fits, the model's jitter: runs at each fitted parameter × (1 + k/100), k = −3 … 3,
+and at each data time the largest deviation from a cubic in the parameter, against the noise
+(it must be far below 1 for the intervals to mean anything), with the standard errors and
+correlations the linearised model predicts (jitter.csv).
+Writes DIR/coverage.csv (one row per fit: estimates, sigmas, intervals, covered flags, runs,
+seconds), DIR/coverage.png (normalised errors against a standard normal; coverage rates with
+Wilson 95% error bars) and a table on the console. Resumable: every run is a case of the shared
+store DIR/store/cases (each fit's runs/cases links to it; completed runs are not run again,
+e.g. the common start point's), and a fit with its calibration.json is not run again.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import statistics
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+from poroplast_tools import coverage as cov
+from poroplast_tools import synthetic as syn
+from poroplast_tools.cases import run_cases
+from poroplast_tools.history import history
+
+CALIBRATE = Path(__file__).resolve().parent / "calibrate.py"
+JITTER_STEPS = [k / 100 for k in range(-3, 4)]
+
+
+def short(key):
+    return key.split(".")[-1]
+
+
+def runs_ok(a, cases, sets):
+    """The histories of the cases (one sweep in the shared store); exits if one failed."""
+    out = run_cases(syn.SCENE, cases, sets, Path(a.dir) / "store", a.ranks, ranks_per_case=1)
+    bad = [str(d) for d, r in out if r["status"] != "ok"]
+    if bad:
+        sys.exit(f"coverage.py: runs failed: {', '.join(bad)}")
+    return [history(d) for d, _ in out]
+
+
+def jitter(a, p, times, curve, extra):
+    """Per parameter of the p-parameter fit: the largest deviation, over the data times, of the
+    curve from a cubic in the parameter (runs at θ (1 + k/100), k = −3 … 3, their own steps), in
+    units of the noise; and the standard errors and correlations the linearised model predicts
+    at the truth for the noise (central differences of the ±1% runs)."""
+    keys, truth = syn.FITS[p]
+    cases = [[(k, repr(v * (1 + s) if k == key else v)) for k, v in truth.items()]
+             for key in keys for s in JITTER_STEPS]
+    hs = runs_ok(a, cases, syn.sets(a.level, truth, truth) + extra)
+    noise = a.noise_level * np.abs(curve)
+    x = np.array(JITTER_STEPS)
+    rows, cols = [], []
+    for i, key in enumerate(keys):
+        f = np.array([np.interp(times, h["time"], h[syn.COLUMN]) for h in hs[i * 7:(i + 1) * 7]])
+        dev = f - np.array([np.polyval(np.polyfit(x, f[:, j], 3), x) for j in range(len(times))]).T
+        worst = np.max(np.abs(dev), axis=0) / noise
+        j = int(np.argmax(worst))
+        cols.append((f[4] - f[2]) / math.log(1.01 / 0.99) / noise)   # d F / d ln θ, in noise units
+        rows.append({"params": p, "param": key, "jitter_over_noise_max": float(worst[j]), "at_time": float(times[j]),
+                     "jitter_over_noise_median": float(np.median(worst))})
+    cv = np.linalg.inv(np.column_stack(cols).T @ np.column_stack(cols))
+    sd = np.sqrt(np.diag(cv))
+    for i, r in enumerate(rows):
+        r["predicted_rel_sigma"] = float(sd[i])
+        r["predicted_corr"] = " ".join(f"{c:+.4f}" for c in cv[i] / (sd[i] * sd))
+    return rows
+
+
+def fit_command(a, p, data, fdir, extra):
+    return [sys.executable, str(CALIBRATE), *syn.calibrate_args(p, a.level, a.start_factor, extra),
+            "--data", str(data), "--noise", a.noise, "--ranks", "1", "--ranks-per-case", "1", "--dir", str(fdir),
+            "--ftol", repr(a.ftol), "--max-it", str(a.max_it)]
+
+
+def run_fit(a, p, data, fdir, extra):
+    """One calibrate.py fit into fdir (its runs in the shared store); (ok, seconds)."""
+    (fdir / "runs").mkdir(parents=True, exist_ok=True)
+    link = fdir / "runs" / "cases"
+    if not link.exists():
+        link.symlink_to(os.path.relpath(Path(a.dir).resolve() / "store" / "cases", link.parent.resolve()))
+    t0 = time.time()
+    with open(fdir / "fit.log", "w") as log:
+        ok = subprocess.run(fit_command(a, p, data, fdir, extra), stdout=log,
+                            stderr=subprocess.STDOUT).returncode == 0
+    seconds = time.time() - t0
+    if ok:
+        (fdir / "seconds.txt").write_text(f"{seconds:.3f}\n")
+    return ok, seconds
+
+
+def row_of(p, i, fdir, n, noise):
+    """The coverage.csv row of a finished fit."""
+    keys, truth = syn.FITS[p]
+    res = json.loads((fdir / "calibration.json").read_text())["result"]
+    secs = fdir / "seconds.txt"
+    row = {"params": p, "set": i, "runs": res["runs"],
+           "seconds": float(secs.read_text()) if secs.exists() else math.nan,
+           "noise_s": res["noise"]["s"], "dof": n - p}
+    for k in keys:
+        e = res[k]
+        iv = cov.intervals(e, cov.dof(noise, n, p))
+        row |= {f"{short(k)}_truth": truth[k], f"{short(k)}_value": e["value"], f"{short(k)}_sigma": e["sigma"],
+                f"{short(k)}_z": cov.normalised_error(e["value"], e["sigma"], truth[k])}
+        for name, (lo, hi) in iv.items():
+            row |= {f"{short(k)}_lo{name}": lo, f"{short(k)}_hi{name}": hi,
+                    f"{short(k)}_covered{name}": int(cov.covers((lo, hi), truth[k]))}
+    return row
+
+
+def experiment(a, p, extra):
+    """The truth run of the p-parameter fit's case, its data times and true curve, the jitter
+    rows, and its data sets' files (written once: the same seed gives the same files)."""
+    keys, truth = syn.FITS[p]
+    [h] = runs_ok(a, [syn.truth_case(truth)], syn.sets(a.level, truth, truth) + extra)
+    times = syn.data_times(h["time"], h[syn.COLUMN], a.every, a.floor)
+    curve = np.interp(times, h["time"], h[syn.COLUMN])
+    print(f"{p}-parameter case ({', '.join(f'{short(k)} = {v:g}' for k, v in truth.items())}): "
+          f"{len(times)} data times {times[0]:g} ... {times[-1]:g} s, peak {curve.max():.4g} mg", flush=True)
+    jit = [] if a.no_jitter else jitter(a, p, times, curve, extra)
+    for r in jit:
+        print(f"  {short(r['param'])}: jitter (largest deviation from a cubic over ±3%) "
+              f"{r['jitter_over_noise_max']:.2e} × the noise (t = {r['at_time']:g} s), median "
+              f"{r['jitter_over_noise_median']:.1e}; predicted sigma/value {r['predicted_rel_sigma']:.3g}, "
+              f"correlations {r['predicted_corr']}", flush=True)
+    folder = Path(a.dir) / "data" / f"fit{p}"
+    folder.mkdir(parents=True, exist_ok=True)
+    files = []
+    for i in range(a.sets):
+        path = folder / f"set_{i:03d}.csv"
+        if not path.exists():
+            sig = a.noise_level * np.abs(curve) if a.noise == "data" else None
+            syn.write_curve(path, times, syn.noisy(curve, a.noise_level, a.seed + p, i), sig,
+                            f"synthetic: {syn.COLUMN} of the truth, {100 * a.noise_level:g}% Gaussian noise, "
+                            f"seed {a.seed + p}, set {i}")
+        files.append(path)
+    return len(times), jit, files
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--dir", required=True)
+    ap.add_argument("--sets", type=int, default=50, help="synthetic data sets (5: a quick check)")
+    ap.add_argument("--params", type=int, nargs="+", choices=sorted(syn.FITS), default=[1, 3],
+                    help="fits of 1 parameter (λp) and/or 3 (µ, λp, σy)")
+    ap.add_argument("--noise-level", type=float, default=0.02, help="the noise's sigma / value")
+    ap.add_argument("--noise", choices=["relative", "data"], default="relative",
+                    help="the fits' noise model: relative (sigma estimated from the residuals; Student t "
+                         "intervals) or data (the files state each point's sigma; normal intervals)")
+    ap.add_argument("--seed", type=int, default=38)
+    ap.add_argument("--start-factor", type=float, default=1.1, help="the fits start at the truth times this")
+    ap.add_argument("--level", choices=list(syn.LEVELS), default="coarse", help="mesh and steps")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="more overrides of every run (e.g. a shorter experiment for a test)")
+    ap.add_argument("--every", type=float, default=1.0, help="seconds between data points")
+    ap.add_argument("--floor", type=float, default=0.05,   # synthetic.data_times' default
+                    help="data only where the true force is above this fraction of its peak (at the contact's "
+                         "opening the runs' steps differ between nearby parameter values: jitter.csv)")
+    ap.add_argument("--jobs", type=int, default=2, help="fits side by side (each on 1 rank)")
+    ap.add_argument("--ranks", type=int, default=2, help="ranks of the truth and jitter runs' sweeps")
+    ap.add_argument("--ftol", type=float, default=1e-3, help="calibrate.py --ftol")
+    ap.add_argument("--max-it", type=int, default=15, help="calibrate.py --max-it")
+    ap.add_argument("--no-jitter", action="store_true", help="skip the jitter check")
+    a = ap.parse_args()
+    t_start = time.time()
+    root = Path(a.dir)
+    root.mkdir(parents=True, exist_ok=True)
+    extra = [tuple(s.split("=", 1)) for s in a.set]
+
+    cases = {p: experiment(a, p, extra) for p in a.params}
+    jit = [r for p in a.params for r in cases[p][1]]
+    if jit:
+        with open(root / "jitter.csv", "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(jit[0]))
+            w.writeheader()
+            w.writerows(jit)
+
+    jobs = [(p, i, root / f"fit{p}" / f"set_{i:03d}") for p in a.params for i in range(a.sets)]
+    todo = [(p, i, d) for p, i, d in jobs if not (d / "calibration.json").exists()]
+    print(f"{len(jobs)} fits, {len(jobs) - len(todo)} done, {len(todo)} to run, {a.jobs} at a time", flush=True)
+    failed = []
+
+    def one(job):
+        p, i, d = job
+        ok, s = run_fit(a, p, cases[p][2][i], d, extra)
+        print(f"fit of {p} parameter(s), set {i}: " + (f"{s:.1f} s" if ok else f"FAILED ({d / 'fit.log'})"),
+              flush=True)
+        if not ok:
+            failed.append(job)
+
+    with ThreadPoolExecutor(max_workers=a.jobs) as pool:
+        list(pool.map(one, todo))
+
+    rows = [row_of(p, i, d, cases[p][0], a.noise) for p, i, d in jobs if (d / "calibration.json").exists()]
+    fields = ["params", "set", "runs", "seconds", "noise_s", "dof"]
+    for k in sorted({k for p in a.params for k in syn.FITS[p][0]}, key=list(syn.ISSUE).index):
+        fields += [f"{short(k)}_{c}" for c in ("truth", "value", "sigma", "z", "lo68", "hi68", "covered68",
+                                                "lo95", "hi95", "covered95")]
+    with open(root / "coverage.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields)
+        w.writeheader()
+        w.writerows(rows)
+    summary = table(rows, a)
+    plot(root / "coverage.png", rows, summary, a)
+    print(f"\n{root / 'coverage.csv'}, {root / 'coverage.png'}; this invocation {time.time() - t_start:.0f} s"
+          + (f"; {len(failed)} fit(s) failed" if failed else ""))
+    if failed:
+        sys.exit(1)
+
+
+def table(rows, a):
+    """Prints the coverage table; returns its entries, (p, key) -> {name: rate}."""
+    out = {}
+    print(f"\n| fit | parameter | n | 68% covered | 95% covered | mean z | sd z | runs per fit | s per fit |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for p in a.params:
+        mine = [r for r in rows if r["params"] == p]
+        if not mine:
+            continue
+        for k in syn.FITS[p][0]:
+            s = short(k)
+            rates = {name: cov.rate([r[f"{s}_covered{name}"] for r in mine]) for name in cov.LEVELS}
+            out[p, k] = rates
+            z = [r[f"{s}_z"] for r in mine]
+            cells = []
+            for name, (kk, n, frac, (lo, hi)) in rates.items():
+                cells.append(f"{kk}/{n} = {100 * frac:.0f}% [{100 * lo:.0f}, {100 * hi:.0f}]"
+                             + ("" if cov.on_target(name, frac) else " (off target)"))
+            print(f"| {p} | {s} | {len(mine)} | {cells[0]} | {cells[1]} | {statistics.mean(z):+.2f} | "
+                  f"{statistics.stdev(z) if len(z) > 1 else math.nan:.2f} | "
+                  f"{statistics.median(r['runs'] for r in mine):.0f} | "
+                  f"{statistics.median(r['seconds'] for r in mine):.1f} |")
+    print("(coverage: covered/n = rate [Wilson 95% interval]; z = ln(estimate/truth) / (sigma/estimate), "
+          "standard normal for honest intervals; targets 68 ± 10%, 95 ± 5%)")
+    return out
+
+
+def plot(path, rows, summary, a):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from statistics import NormalDist
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.3))
+    labels = []
+    for (p, k), rates in summary.items():
+        z = sorted(r[f"{short(k)}_z"] for r in rows if r["params"] == p)
+        q = [NormalDist().inv_cdf((j + 0.5) / len(z)) for j in range(len(z))]
+        ax1.plot(q, z, "o", ms=3, label=f"{p}-parameter fit: {short(k)}")
+        labels.append(f"{p}p: {short(k)}")
+    lim = 3.5
+    ax1.plot([-lim, lim], [-lim, lim], "k-", lw=0.8, label="standard normal")
+    ax1.set_xlabel("standard normal quantile")
+    ax1.set_ylabel("(ln estimate − ln truth) / (σ / estimate), sorted")
+    ax1.set_title("normalised errors")
+    ax1.legend(fontsize=7)
+    for m, name in enumerate(cov.LEVELS):
+        nominal = 0.68 if name == "68" else 0.95
+        ax2.axhspan(nominal - cov.TARGETS[name], min(nominal + cov.TARGETS[name], 1.0), color=f"C{m}", alpha=0.12)
+        ax2.axhline(nominal, color=f"C{m}", lw=0.8)
+        xs = np.arange(len(summary)) + (m - 0.5) * 0.15
+        fr = [r[name][2] for r in summary.values()]
+        lo = [r[name][2] - r[name][3][0] for r in summary.values()]
+        hi = [r[name][3][1] - r[name][2] for r in summary.values()]
+        ax2.errorbar(xs, fr, yerr=[lo, hi], fmt="o", color=f"C{m}", capsize=3, label=f"{name}% intervals")
+    ax2.set_xticks(range(len(summary)))
+    ax2.set_xticklabels(labels, fontsize=8)
+    ax2.set_ylabel("fraction of fits whose interval holds the truth")
+    n = max((r["68"][1] for r in summary.values()), default=0)
+    ax2.set_title(f"coverage over {n} data sets (bands: targets; bars: Wilson 95%)")
+    ax2.set_ylim(0.4, 1.02)
+    ax2.legend(fontsize=7, loc="lower right")
+    fig.suptitle(f"meridian case, {a.level} level, {100 * a.noise_level:g}% noise, --noise {a.noise}", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()

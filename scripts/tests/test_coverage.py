@@ -1,0 +1,124 @@
+"""The coverage study's pure parts (Student's t is fitstats.quantile's, tested there): the log-space
+Wald intervals, the counting of covered fits against an exactly solvable fit (t intervals cover
+at their nominal rate, normal ones with few points do not), Wilson's interval, and the synthetic
+data sets read back by the lab-format reader."""
+import math
+import tempfile
+import unittest
+from pathlib import Path
+
+import numpy as np
+
+from poroplast_tools import coverage as cov
+from poroplast_tools import synthetic as syn
+from poroplast_tools.fitstats import quantile
+from poroplast_tools.measured import read_curve
+
+
+class DegreesOfFreedom(unittest.TestCase):
+    def test_degrees_of_freedom_of_the_noise_models(self):
+        self.assertEqual(cov.dof("relative", 74, 3), 71)
+        self.assertEqual(cov.dof("absolute", 74, 1), 73)
+        self.assertIsNone(cov.dof("data", 74, 3))
+
+
+class Intervals(unittest.TestCase):
+    def test_wald_interval_in_log_space(self):
+        # ±1 sigma of a normal: q = 1, so the interval is value · e^(±sigma/value).
+        lo, hi = cov.wald(0.002, 5e-5, cov.LEVELS["68"])
+        self.assertAlmostEqual(lo, 0.002 * math.exp(-0.025), delta=1e-15)
+        self.assertAlmostEqual(hi, 0.002 * math.exp(0.025), delta=1e-15)
+        lo, hi = cov.wald(2.5, 0.05, 0.95, 10)
+        self.assertAlmostEqual(math.log(hi / 2.5), 2.228138851986274 * 0.02, delta=1e-10)
+        self.assertAlmostEqual(lo * hi, 2.5 ** 2, delta=1e-12)          # symmetric in ln θ
+
+    def test_the_calibrations_own_intervals_come_first(self):
+        entry = {"value": 1.0, "sigma": 0.1, "interval68": [0.5, 1.5]}
+        iv = cov.intervals(entry, 20)
+        self.assertEqual(iv["68"], [0.5, 1.5])
+        self.assertEqual(iv["95"], cov.wald(1.0, 0.1, 0.95, 20))
+
+    def test_covers_is_inclusive_and_normalised_error(self):
+        self.assertTrue(cov.covers([1.0, 2.0], 1.0))
+        self.assertTrue(cov.covers([1.0, 2.0], 2.0))
+        self.assertFalse(cov.covers([1.0, 2.0], 2.0000001))
+        self.assertAlmostEqual(cov.normalised_error(2.0 * math.exp(0.03), 0.01 * 2.0 * math.exp(0.03), 2.0), 3.0,
+                               delta=1e-12)
+
+    def test_counting_on_an_exact_fit(self):
+        # ln y_i = ln θ + ε_i, n = 5 points, ε ~ N(0, 0.1²): the estimate is exp(mean ln y), its
+        # standard error (of ln θ) the sample sd / √n with n − 1 = 4 degrees of freedom. Intervals
+        # with t(4) cover at their nominal rate exactly; normal quantiles cover 2 F4(1.96) − 1 at
+        # "95%" (F4, t's CDF for ν = 4, in closed form: 1/2 + (3/8) u (1 − u²/12), u = t/√(1 + t²/4))
+        # — the counting must tell them apart.
+        rng = np.random.default_rng(1)
+        theta, n, reps = 0.002, 5, 20000
+        ln = math.log(theta) + 0.1 * rng.standard_normal((reps, n))
+        est = np.exp(ln.mean(axis=1))
+        rel = ln.std(axis=1, ddof=1) / math.sqrt(n)
+        for name, level in cov.LEVELS.items():
+            flags_t = [cov.covers(cov.intervals({"value": v, "sigma": v * s}, cov.dof("relative", n, 1))[name], theta)
+                       for v, s in zip(est, rel)]
+            k, total, frac, (lo, hi) = cov.rate(flags_t)
+            self.assertEqual(total, reps)
+            self.assertLess(abs(frac - level), 4 * math.sqrt(level * (1 - level) / reps))
+            self.assertLess(lo, level)
+            self.assertGreater(hi, level)
+        flags_z = [cov.covers(cov.wald(v, v * s, 0.95), theta) for v, s in zip(est, rel)]
+        u = 1.959963984540054 / math.sqrt(1 + 1.959963984540054 ** 2 / 4)
+        exact = 2 * (0.5 + 0.375 * u * (1 - u * u / 12)) - 1
+        self.assertAlmostEqual(quantile(exact, 4), 1.959963984540054, delta=1e-9)
+        self.assertLess(abs(cov.rate(flags_z)[2] - exact), 4 * math.sqrt(exact * (1 - exact) / reps))
+        self.assertFalse(cov.on_target("95", cov.rate(flags_z)[2]))
+        self.assertTrue(cov.on_target("95", cov.rate(flags_t)[2]))
+
+    def test_wilson_interval(self):
+        z = 1.96
+        self.assertEqual(cov.wilson(0, 10)[0], 0.0)
+        self.assertAlmostEqual(cov.wilson(0, 10)[1], z * z / (10 + z * z), delta=1e-15)
+        self.assertAlmostEqual(cov.wilson(10, 10)[0], 10 / (10 + z * z), delta=1e-15)
+        lo, hi = cov.wilson(34, 50)
+        self.assertAlmostEqual(lo, 0.5419, delta=1e-4)        # 34/50 (Wilson 1927, z = 1.96)
+        self.assertAlmostEqual(hi, 0.7924, delta=1e-4)
+
+    def test_targets(self):
+        self.assertTrue(cov.on_target("68", 0.58))
+        self.assertFalse(cov.on_target("68", 0.57))
+        self.assertTrue(cov.on_target("95", 1.0))
+        self.assertFalse(cov.on_target("95", 0.89))
+
+
+class SyntheticData(unittest.TestCase):
+    def test_data_times_stop_where_the_force_is_gone(self):
+        t = [0.0, 10.0, 20.0, 30.0]
+        f = [0.0, 10.0, 10.0, 0.0]
+        times = syn.data_times(t, f, every=1.0, floor=0.05)
+        self.assertEqual(list(times), [float(x) for x in range(1, 30)])    # f(29) = 1 > 0.5, f(30) = 0
+        self.assertEqual(list(syn.data_times(t, f, every=5.0, floor=0.6)), [10.0, 15.0, 20.0])   # f(25) = 5 < 6
+
+    def test_noise_is_seeded_independent_and_relative(self):
+        v = np.full(20000, 3.0)
+        a, b = syn.noisy(v, 0.02, 38, 0), syn.noisy(v, 0.02, 38, 1)
+        np.testing.assert_array_equal(a, syn.noisy(v, 0.02, 38, 0))
+        self.assertLess(abs(np.corrcoef(a, b)[0, 1]), 4 / math.sqrt(v.size))
+        self.assertLess(abs(np.std(a / v - 1) / 0.02 - 1), 4 / math.sqrt(2 * v.size))
+
+    def test_a_data_set_reads_back_in_the_lab_format(self):
+        times, values = [1.0, 2.0, 3.5], [0.25, 1.0 / 3.0, 4.0]
+        with tempfile.TemporaryDirectory() as d:
+            path = Path(d) / "set.csv"
+            syn.write_curve(path, np.array(times), np.array(values), [0.1, 0.2, 0.3], "a test")
+            t, v, s = read_curve(path, syn.COLUMN)
+        self.assertEqual((t, v, s), (times, values, [0.1, 0.2, 0.3]))
+
+    def test_fits_are_on_the_cases_parameters(self):
+        for p, (keys, truth) in syn.FITS.items():
+            self.assertEqual(len(keys), p)
+            self.assertTrue(set(keys) <= set(truth))
+            fixed = dict(syn.sets("coarse", truth, keys))
+            self.assertFalse(set(keys) & set(fixed))
+            self.assertTrue(all(k in fixed for k in truth if k not in keys))
+
+
+if __name__ == "__main__":
+    unittest.main()
