@@ -15,7 +15,7 @@ the time.
     python3 scripts/bench.py --scene cryer --h 12.5 8.33      # a scene at several mesh sizes (default cryer)
     python3 scripts/bench.py --sweep [--repeat 3] [--ranks 2]  # many small cases: one mpirun each or sweeps
     python3 scripts/bench.py --targets [--repeat 3]            # every 3-D plate scene against issue 27's targets
-    python3 scripts/bench.py --fit [--repeat 3] [--level coarse]  # a 3-parameter fit of a meridian curve (issue 38)
+    python3 scripts/bench.py --fit [--repeat 3] [--level coarse]  # a 3-parameter fit of a meridian curve
 
 `--targets`: every shipped 3-D plate scene (and `reference` at the parameters matched to FEBio's
 Holmes-Mow, mu = 33.33 kPa) run alone to t_end = 60 s on 2 ranks, --repeat times: the median wall
@@ -37,7 +37,7 @@ scripts/calibrate.py on 2 ranks from the truth × 1.1, --repeat times into fresh
 the median wall time with the runs, the sweeps and the seconds per run (where the time goes),
 and the accuracy beside it: each estimate's error against the truth in units of its standard
 error, and the model's discretisation error (its true curve against the `fine` level's at the
-data times, in units of the noise). Target (issue 38): 60 s.
+data times, in units of the noise). Target: 60 s.
 
 Cases: default (the `reference` scene), remodel (remodel_40), fine (reference at h = 10 µm,
 h_pole = 4 µm), graded (reference on a surface-graded mesh, h_surf = 5 µm, the stabilisation
@@ -260,7 +260,7 @@ def targets_bench(a, work):
               f"{med('steps'):.0f} | {cells} |", flush=True)
 
 
-# --fit: the fit's target wall time (s), issue 38; the noise and data set of the fitted curve.
+# --fit: the fit's target wall time (s); the noise and data set of the fitted curve.
 FIT_TARGET, FIT_NOISE, FIT_SEED = 60.0, 0.02, 41
 
 
@@ -343,7 +343,7 @@ def main():
     ap.add_argument("--no-halved", action="store_true",
                     help="skip the accuracy check (one run with halved steps and tolerances, 10x tighter Newton)")
     ap.add_argument("--fit", action="store_true",
-                    help="a 3-parameter fit of one synthetic meridian curve on 2 ranks (issue 38's 60 s target)")
+                    help="a 3-parameter fit of one synthetic meridian curve on 2 ranks (the 60 s target)")
     ap.add_argument("--level", choices=list(syn.LEVELS), default="coarse", help="--fit: the model's mesh and steps")
     a = ap.parse_args()
     if a.fit:

@@ -1,5 +1,5 @@
 """Coverage of the calibration's intervals: do its nominal 68% and 95% intervals hold the truth
-68% and 95% of the time? (issue 38, item 2)
+68% and 95% of the time?
 
 A truth run of the meridian case (poroplast_tools/synthetic.py: R = 150 µm, µ = 2.5 kPa,
 σy = 0.5 kPa, λp = 0.002 (kPa s)⁻¹, 30% in 10 s, hold to 70 s, release by 80 s; for the

@@ -1,4 +1,4 @@
-"""The synthetic experiment that checks the calibration (issue 38): the meridian case a new user
+"""The synthetic experiment that checks the calibration: the meridian case a new user
 calibrated, its true parameters and the fits' start points, its discretisation levels, and noisy
 data sets in the lab's CSV format (poroplast_tools/measured.py).
 
