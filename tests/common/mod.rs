@@ -24,10 +24,12 @@ thread_local! {
     static HELD: Cell<usize> = const { Cell::new(0) };
 }
 
-/// Waits for `n` cores (at most the machine's). Cores are taken one waiter at a time (the gate
-/// lock), so a 2-rank test is not starved by 1-rank ones, and a waiter never holds some cores
-/// while another waits for them. A test that launches several runs at once, or must not share
-/// the machine, takes them all first.
+/// Waits for `n` cores (at most the machine's), taken all at once or not at all: a waiter never
+/// holds some cores while it waits for more (two 2-rank tests each holding one would wait for
+/// each other forever). No queue: whenever cores are free, a waiting test that fits takes them,
+/// so a 2-rank test does not keep a core idle while it waits for the second (it may wait longer
+/// behind 1-rank tests; the work is the same). A test that launches several runs at once, or
+/// must not share the machine, takes them all first.
 pub fn cores(n: usize) -> Cores {
     let total = std::thread::available_parallelism().map_or(1, |c| c.get());
     let held = HELD.get();
@@ -37,28 +39,23 @@ pub fn cores(n: usize) -> Cores {
     }
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cores");
     std::fs::create_dir_all(&dir).expect("the cores' lock directory");
-    let open = |name: String| {
-        let file = std::fs::OpenOptions::new().create(true).truncate(false).write(true).open(dir.join(name));
-        file.expect("a core's lock file")
-    };
-    let gate = open("gate".into());
-    gate.lock().expect("the cores' gate");
-    let mut taken: Vec<File> = Vec::new();
     loop {
+        let mut taken: Vec<File> = Vec::new();
         for i in 0..total {
             // A core this thread took is locked against its new handle too: never taken twice.
-            let core = open(format!("core{i}"));
+            let core = std::fs::OpenOptions::new().create(true).truncate(false).write(true).open(dir.join(format!("core{i}")));
+            let core = core.expect("a core's lock file");
             if taken.len() < need && core.try_lock().is_ok() {
                 taken.push(core);
             }
         }
         if taken.len() == need {
-            break;
+            HELD.set(held + need);
+            return Cores { n: need, _locks: taken };
         }
-        std::thread::sleep(std::time::Duration::from_millis(20));
+        drop(taken);
+        std::thread::sleep(std::time::Duration::from_millis(10));
     }
-    HELD.set(held + need);
-    Cores { n: need, _locks: taken }
 }
 
 impl Drop for Cores {
