@@ -105,19 +105,20 @@ def iterate(evaluate, searches, w, keys, max_it, ftol=0.0, xtol=1e-5, atol=None,
     converged, when an accepted step lowers its cost by less than `ftol` (relative) or moves x
     by less than `xtol` (max norm), or, with `atol`, when the Gauss–Newton step at its current
     Jacobian predicts a decrease below `atol` (absolute: the profile needs the cost, not the
-    point); unconverged after `max_it` iterations of this call, when no trial lowers the cost, or
-    when a run fails. `after(search, cost)` sees each iteration's end; `on_jacobian(search)` each
+    point; checked once more after the last of `max_it` iterations); unconverged after `max_it`
+    iterations of this call, when no trial lowers the cost, or when a run fails. `after(search, cost)` sees each iteration's end; `on_jacobian(search)` each
     new Jacobian."""
     for s in searches:
         s.done = s.converged = False
     count = 0
     while True:
         active = [s for s in searches if not s.done]
-        if not active or count >= max_it:
+        if not active:
+            return
+        if count >= max_it and atol is None:
             for s in active:
                 s.done = True
             return
-        count += 1
         forward_jacobians(evaluate, [s for s in active if s.jac_at is None or not np.array_equal(s.jac_at, s.x)],
                           keys)
         pending = []
@@ -131,6 +132,11 @@ def iterate(evaluate, searches, w, keys, max_it, ftol=0.0, xtol=1e-5, atol=None,
                 s.done = s.converged = True
                 continue
             pending.append(s)
+        if count >= max_it:             # with atol: the last point's Jacobian checked, no more steps
+            for s in pending:
+                s.done = True
+            return
+        count += 1
         trials = {id(s): 0 for s in pending}
         moved = {}
         while pending:
@@ -255,60 +261,3 @@ def stats(opt, estimated):
     except np.linalg.LinAlgError:
         rel, corr = np.full(p, math.nan), np.full((p, p), math.nan)
     return Stats(rel, corr, dof, estimated, opt.cost / dof)
-
-
-def conditional(opt, k, delta):
-    """The point with variable k at x̂_k + delta and the others where the linearisation at the
-    optimum puts their minimum: δ_o = −J_o⁺ (r̂ + J_k δ) (weighted J and r)."""
-    wj = opt.w[:, None] * opt.jac
-    others = [j for j in range(len(opt.x)) if j != k]
-    x = opt.x.copy()
-    x[k] += delta
-    if others:
-        x[others] -= np.linalg.lstsq(wj[:, others], opt.r + wj[:, k] * delta, rcond=None)[0]
-    return x
-
-
-def profile(evaluate, opt, st, keys, multiples=(0.5, 1, 1.5, 2, 2.5, 3, 4)):
-    """The profile likelihood of every variable: for x_k = x̂_k + m σ_k (m = ±multiples, σ_k its
-    standard error) the cost |w d|² (a run: the true cost) at the others' conditional optimum as
-    the linearisation at the optimum predicts it (`conditional`); the points of all variables
-    ONE batch, the optimum's weights. Where the prediction misses the conditional optimum the
-    cost lies above the true profile (the interval is a little short); a Gauss–Newton step more
-    with J frozen at the optimum was tried and raised the cost instead (the residuals' own
-    curvature, which a frozen J does not see, dominates that step). Returns {key: {"delta":
-    [...], "cost": [...], "interval68": [lo, hi], "interval95": ...}}, the intervals where cost −
-    cost(x̂) reaches z² (`interval`), in exp(x)."""
-    grid = [(k, m * st.rel[k]) for k in range(len(keys)) if math.isfinite(st.rel[k]) and st.rel[k] > 0
-            for m in sorted([-m for m in multiples] + list(multiples))]
-    results = evaluate([conditional(opt, k, delta) for k, delta in grid],
-                       [f"profile of {keys[k]}: {delta:+.3g}" for k, delta in grid])
-    costs = [math.inf if out is None else float((opt.w * out[0]) @ (opt.w * out[0])) for out in results]
-    out = {}
-    for k, key in enumerate(keys):
-        rows = [(delta, c) for (j, delta), c in zip(grid, costs) if j == k]
-        out[key] = {"delta": [d for d, _ in rows], "cost": [c for _, c in rows]}
-        for name, level in LEVELS.items():
-            out[key][f"interval{name}"] = interval(opt.x[k], opt.cost, rows, st.z(level))
-    return out
-
-
-def interval(x, cost0, rows, z):
-    """[lo, hi] in exp(x): on each side of x the δ where the signed root ±√(cost − cost0) of
-    the profile (rows of (δ, cost)) reaches z, interpolated linearly between the grid points
-    (exact for a linear model); None on a side the grid does not reach."""
-    ends = []
-    for sign in (-1, 1):
-        side = sorted([(abs(d), c) for d, c in rows if d * sign > 0 and math.isfinite(c)])
-        prev = (0.0, 0.0)
-        end = None
-        for a, c in side:
-            root = math.sqrt(max(c - cost0, 0.0))
-            if root >= z:
-                a0, r0 = prev
-                end = a0 + (a - a0) * (z - r0) / (root - r0) if root > r0 else a
-                break
-            prev = (a, max(prev[1], root))
-        ends.append(None if end is None else math.exp(x + sign * end))
-    return ends
-

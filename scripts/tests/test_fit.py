@@ -6,7 +6,8 @@ import unittest
 
 import numpy as np
 
-from poroplast_tools.fit import FitError, fit, profile, stats
+from poroplast_tools.fit import FitError, fit, stats
+from poroplast_tools.profile import profile
 from poroplast_tools.fitstats import Noise, quantile, stacked_weights
 
 QUIET = dict(say=lambda *_: None)
@@ -73,7 +74,7 @@ class Decay(unittest.TestCase):
         evaluate = model_of(curve, data)
         opt = fit(evaluate, weigh, np.log([1.0, 1.0]), ["A", "tau"], **EXACT)
         st = stats(opt, True)
-        prof = profile(evaluate, opt, st, ["A", "tau"], multiples=(0.5, 1, 1.5, 2, 2.5, 3))
+        prof = profile(evaluate, opt, st, ["A", "tau"], multiples=(0.5, 1, 1.5, 2, 2.5, 3), **QUIET)
         w, wald_off = opt.w, 0.0
 
         def cost(x):
@@ -141,7 +142,7 @@ class Linear(unittest.TestCase):
         evaluate = self.evaluate_for(y)
         opt = fit(evaluate, absolute(y), [0.0, 0.0], ["a", "b"], **EXACT)
         st = stats(opt, True)
-        prof = profile(evaluate, opt, st, ["a", "b"])
+        prof = profile(evaluate, opt, st, ["a", "b"], **QUIET)
         for k, key in enumerate(["a", "b"]):
             for name, level in (("68", math.erf(1 / math.sqrt(2))), ("95", 0.95)):
                 np.testing.assert_allclose(prof[key][f"interval{name}"], st.wald(opt.x, level)[k], rtol=1e-6)
