@@ -145,7 +145,11 @@ def iterate(evaluate, searches, w, keys, max_it, ftol=0.0, xtol=1e-5, atol=None,
                 wj, r = w[:, None] * s.jac, w * s.d
                 jtj = wj.T @ wj
                 step = np.zeros_like(s.x)
-                step[s.free] = np.linalg.solve(jtj + s.lam * np.diag(np.diag(jtj)), -(wj.T @ r))
+                damped = jtj + s.lam * np.diag(np.diag(jtj))
+                try:
+                    step[s.free] = np.linalg.solve(damped, -(wj.T @ r))
+                except np.linalg.LinAlgError:   # a variable that moves nothing here: no step along it
+                    step[s.free] = np.linalg.lstsq(damped, -(wj.T @ r), rcond=None)[0]
                 steps.append(step)
             out = evaluate([s.x + step for s, step in zip(pending, steps)],
                            [s.label(f"trial step, damping {s.lam:.3g}") for s in pending])
