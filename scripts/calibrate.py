@@ -21,11 +21,23 @@ they settle. The standard errors are the square roots of the diagonal of (JᵀJ)
 weighted Jacobian at the optimum (its own finite-difference runs if the last step moved it);
 the Wald intervals value·exp(±z·sigma/value) with z Student's t of n − p degrees of freedom when
 a sigma was estimated, the normal z when every sigma is given (--noise data), for 68.27% and
-95%. --profile adds profile-likelihood intervals: the cost (a run) on a grid of each parameter
-about the optimum (--profile-grid, in standard errors) with the others at their conditional
-optimum as the Jacobian at the optimum predicts it (a linearisation; the cost is then at or
-above the true profile); the interval where the cost rises by z² (the same z); all profile
-points of all parameters and experiments one sweep.
+95%. --profile adds profile-likelihood intervals (poroplast_tools/profile.py): each parameter on a
+grid about the optimum (--profile-grid, in standard errors; default 1,2,3,4.5,6), the others
+re-optimised there by the fit's own LM (at most --profile-max-it steps, converged when the
+Gauss–Newton step predicts a cost decrease below 0.02), walking outward from the optimum: each
+point starts from the better of the previous point's optimum extrapolated along the path and
+that optimum unchanged. All points still walking move in step: each inner iteration's
+finite-difference runs of all of them (each replaying its own point's steps) are one sweep, their
+trial steps one more. A side stops once the cost has risen by the 95% threshold; each end is
+where the rise reaches z² (the same z), interpolated linearly in √rise between grid points. An
+end is printed "open (beyond the grid)" where the grid never reaches the threshold and "unknown"
+where the point that reaches it did not converge or a run failed (null in the JSON, the reason in
+profileNN_open); one parameter has nothing to re-optimise: its grid is one sweep. A parameter
+whose estimate correlates above 0.99 with another's is flagged: its Wald interval takes their
+ridge as straight and is not to be trusted; the profile's is (an open end: the data do not bound
+it), unless its crossing point did not converge (then neither is). A profile point below the
+optimum's cost (the fit stopped early on a flat ridge) is warned of; the rises are then taken
+from it.
 
 Before the first step the start point's sensitivities are printed, near-collinear parameter
 pairs warned of, and a parameter that moves no data point refused (poroplast_tools/identify.py).
@@ -52,8 +64,10 @@ synthetic curve for testing the fit: `--synthetic KEY=VALUE ...` runs the scene 
 values first and fits to its own history (an experiment: `synthetic = {...}`, with noise).
 
 Writes STUDY/calibration.json: per parameter (its label, KEY or KEY@NAME) value, sigma,
-interval68, interval95 (and profile68, profile95 with --profile; null where the grid does not
-reach the threshold); noise (model, s, chi2_per_dof), experiments (per experiment: noise model,
+interval68, interval95 (and profile68, profile95 with --profile: null where no end was found,
+profile68_open, profile95_open the reason per end: "grid", "unconverged", "failed", or null;
+collinear_with and trust for a near-collinear parameter; profile_lower_cost when a profile
+point beat the optimum); noise (model, s, chi2_per_dof), experiments (per experiment: noise model,
 s, floor, points, rms), intervals (z and dof), correlation, rms, runs; and the iterations' log.
 STUDY/calibration.png: data and fit, one panel per experiment; STUDY/profile.png the profiles.
 """

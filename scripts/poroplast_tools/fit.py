@@ -1,12 +1,19 @@
 """Least squares over an abstract model: Levenberg–Marquardt, the noise's re-weighting, and the
-statistics of the optimum (standard errors, Wald and profile-likelihood intervals).
+statistics of the optimum (standard errors, Wald intervals; the profile likelihood is
+poroplast_tools/profile.py, whose inner fits are this module's `iterate`).
 
 The model is `evaluate(points, what, replay=None)`: a batch of points (arrays of the fitted
 variables, log-parameters in the calibration) to a list with, per point, (d, state) — d the
 differences model − data at the data points, `state` what the run leaves that the next batch may
 replay (the calibration: its histories, whose time steps its finite-difference neighbours take) —
-or None for a failed run. `what` names each point (printed by the model). One call is one batch
-(the calibration: one `poroplast sweep`).
+or None for a failed run. `what` names each point (printed by the model); `replay` is one state
+for every point or a list, one per point. One call is one batch (the calibration: one `poroplast
+sweep`).
+
+The LM loop (`iterate`) moves several `Search`es in step, each with its own free variables and
+damping: one iteration's finite-difference neighbours of all of them are one batch, their trial
+steps one more. The main fit (`fit`) is one search of all variables; the profile's inner fits
+are one search per profile point, of all variables but the profiled one.
 
 The noise is `weigh(d, p)`: the per-point weights w that give w d unit variance at the
 differences d of a fit of p parameters (poroplast_tools/fitstats.Noise per curve, stacked). LM
@@ -18,8 +25,7 @@ where it is: one curve with one unknown σ needs one round.
 The statistics (`stats`) linearise at the optimum: the covariance of the variables is (JᵀJ)⁻¹
 with J the Jacobian of w d (unit variance), the Wald interval x̂ ± z σ with z Student's t of
 n − p degrees of freedom when w was estimated from the residuals, the normal z when σ was given
-(fitstats.quantile). `profile` computes the profile likelihood on a grid about the optimum: see
-there for its approximation."""
+(fitstats.quantile)."""
 import math
 from dataclasses import dataclass, field
 
