@@ -57,6 +57,8 @@ def profiles(study, opt, st, prof, keys):
                 if end is not None:
                     ax.axvline(end, color="C3", lw=0.6, ls="--")
         ax.axvline(math.exp(opt.x[k]), color="k", lw=0.6)
+        if max(abs(d) for d in p["delta"] + [0.0]) > 1:     # the grid spans more than a factor e
+            ax.set_xscale("log")
         ax.set_xlabel(key, fontsize=8)
         ax.tick_params(axis="x", labelrotation=30, labelsize=7)
         ax.set_ylabel("cost rise (weighted, unit variance)")
