@@ -12,7 +12,10 @@ of all of them one batch (each replaying its own point's steps) and their trial 
 An inner fit is converged when the Gauss–Newton step at its last Jacobian predicts a cost
 decrease below `atol` (0.02: the 95% end moves by < 0.3% of its distance from the optimum, the
 68% end by < 1%); after `max_it` steps without that it is flagged unconverged. A side stops once
-its cost rise reaches the 95% threshold (or an inner fit fails).
+its cost rise reaches the 95% threshold (or an inner fit fails); where √rise jumps by more than
+z95 from the last point below the threshold to the first above (a flat stretch and then a wall,
+as along the yield stress's ridge: the linear interpolation would put the end too close), that
+bracket is bisected, continuing from the point below, at most `REFINE` times per side.
 
 Honesty: a side whose crossing point's inner fit did not converge (or failed) has no end (None,
 `why` "unconverged"/"failed"): its cost there is only an upper bound of the profile, the interval
@@ -28,6 +31,7 @@ from .fit import LEVELS, Search, _cost, iterate
 
 MULTIPLES = (1, 2, 3, 4.5, 6)      # the default grid, in standard errors
 ATOL = 0.02
+REFINE = 3          # bisections of a side's crossing bracket where √rise jumps by more than z95
 
 
 @dataclass
@@ -80,30 +84,34 @@ def profile(evaluate, opt, st, keys, multiples=MULTIPLES, max_it=4, atol=ATOL, s
     return Profile(curves, cost0, lower)
 
 
-def _walk(evaluate, opt, st, keys, ks, ms, rows, max_it, atol, say):
-    """The continuation outward on both sides of every variable in ks, all sides in step."""
-    stop = max(st.z(level) for level in LEVELS.values()) ** 2
-    sides = [{"k": k, "sign": sign, "path": [(0.0, opt.x.copy())]} for k in ks for sign in (-1, 1)]
-    for m in ms:
-        walking = [s for s in sides if not s.get("stopped")]
+def _walk(evaluate, opt, st, keys, ks, ms, rows, max_it, atol, say, refine=REFINE):
+    """The continuation outward on both sides of every variable in ks, all sides in step: each
+    side goes to the next grid multiple until its rise passes the 95% threshold; where √rise
+    jumps by more than z95 between the last point below and the point above (a flat stretch, then
+    a wall: the linear interpolation would put the end too close), the bracket is bisected, at
+    most `refine` times per side."""
+    z95 = max(st.z(level) for level in LEVELS.values())
+    sides = [{"k": k, "sign": sign, "path": [(0.0, 0.0, opt.x.copy(), 0.0)], "next": ms[0], "above": None,
+              "refined": 0} for k in ks for sign in (-1, 1)]
+    while True:
+        walking = [s for s in sides if s["next"] is not None]
         if not walking:
             return
         points, labels, owner = [], [], []
         for side in walking:
-            k = side["k"]
+            k, m = side["k"], side["next"]
             delta = side["sign"] * m * st.rel[k]
             side["delta"] = delta
-            (d1, x1) = side["path"][-1]
+            _, d1, x1, _ = side["path"][-1]
             if len(side["path"]) == 1:
                 guess = conditional(opt, k, delta)
             else:
-                d0, x0 = side["path"][-2]
+                _, d0, x0, _ = side["path"][-2]
                 guess = x1 + (x1 - x0) * (delta - d1) / (d1 - d0)
             kept = x1.copy()
             kept[k] = opt.x[k] + delta
             guess[k] = kept[k]
-            name = f"profile of {keys[k]} {side['sign'] * m:+g} sigma"
-            side["name"] = name
+            side["name"] = name = f"profile of {keys[k]} {side['sign'] * m:+g} sigma"
             for x, how in ((guess, "start (extrapolated)"), (kept, "start (the previous point's others)")):
                 points.append(x)
                 labels.append(f"{name}: {how}")
@@ -115,7 +123,7 @@ def _walk(evaluate, opt, st, keys, ks, ms, rows, max_it, atol, say):
                       if o is side and out is not None]
             if not starts:
                 rows[side["k"]].append((side["delta"], math.inf, "failed"))
-                side["stopped"] = True
+                side["next"] = None
                 continue
             _, x, (d, state) = min(starts, key=lambda t: t[0])
             search = Search(x.copy(), d, state, [j for j in range(len(keys)) if j != side["k"]], side["name"])
@@ -126,14 +134,27 @@ def _walk(evaluate, opt, st, keys, ks, ms, rows, max_it, atol, say):
             search = side.pop("search", None)
             if search is None:
                 continue
-            cost = _cost(opt.w, search.d)
+            m, cost = side["next"], _cost(opt.w, search.d)
             status = "failed" if search.failed else "ok" if search.converged else "unconverged"
             rows[side["k"]].append((side["delta"], cost, status))
-            side["path"].append((side["delta"], search.x.copy()))
             say(f"{side['name']}: cost rise {cost - opt.cost:.3g}"
                 + ("" if status == "ok" else f" ({status}: the others' re-optimisation did not finish)"))
-            if search.failed or cost - opt.cost >= stop:
-                side["stopped"] = True
+            root = math.sqrt(max(cost - opt.cost, 0.0))
+            if search.failed:
+                side["next"] = None
+                continue
+            if root < z95:
+                side["path"].append((m, side["delta"], search.x.copy(), root))
+                if side["above"] is None:
+                    side["next"] = next((g for g in ms if g > m), None)
+                    continue
+            else:
+                side["above"] = (m, root)
+            (m_lo, _, _, r_lo), (m_hi, r_hi) = side["path"][-1], side["above"]
+            if r_hi - r_lo > z95 and side["refined"] < refine:
+                side["next"], side["refined"] = (m_lo + m_hi) / 2, side["refined"] + 1
+            else:
+                side["next"] = None
 
 
 def interval(x, cost0, rows, z):
