@@ -160,7 +160,8 @@ def _walk(evaluate, opt, st, keys, ks, ms, rows, max_it, atol, say, refine=REFIN
 def interval(x, cost0, rows, z):
     """([lo, hi] in exp(x), [why_lo, why_hi]): on each side of x the δ where the signed root
     ±√(cost − cost0) of the profile (rows of (δ, cost, status)) reaches z, interpolated linearly
-    from the last converged point below it (exact for a linear model). None where the grid does
+    from the last point below it (exact for a linear model; an unconverged point below it
+    too: the crossing lies beyond a point whose upper bound is below z). None where the grid does
     not reach it (why "grid") or where the point that reaches it is not converged ("unconverged",
     "failed": its cost is only an upper bound of the profile)."""
     ends, whys = [], []
@@ -170,11 +171,11 @@ def interval(x, cost0, rows, z):
         end, why = None, "grid"
         for a, c, status in side:
             root = math.sqrt(max(c - cost0, 0.0)) if math.isfinite(c) else math.inf
-            if status != "ok":
-                if root >= z:
-                    why = status
-                    break
-                continue                # below the threshold: the crossing lies further out
+            if status != "ok" and root >= z:
+                why = status
+                break
+            # An unconverged point below the threshold counts too: its cost is an upper bound of
+            # the profile, so the crossing lies beyond it.
             if root >= z:
                 a0, r0 = prev
                 end, why = a0 + (a - a0) * (z - r0) / (root - r0) if root > r0 else a, None
