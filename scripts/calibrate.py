@@ -21,11 +21,23 @@ they settle. The standard errors are the square roots of the diagonal of (JᵀJ)
 weighted Jacobian at the optimum (its own finite-difference runs if the last step moved it);
 the Wald intervals value·exp(±z·sigma/value) with z Student's t of n − p degrees of freedom when
 a sigma was estimated, the normal z when every sigma is given (--noise data), for 68.27% and
-95%. --profile adds profile-likelihood intervals: the cost (a run) on a grid of each parameter
-about the optimum (--profile-grid, in standard errors) with the others at their conditional
-optimum as the Jacobian at the optimum predicts it (a linearisation; the cost is then at or
-above the true profile); the interval where the cost rises by z² (the same z); all profile
-points of all parameters and experiments one sweep.
+95%. --profile adds profile-likelihood intervals (poroplast_tools/profile.py): each parameter on a
+grid about the optimum (--profile-grid, in standard errors; default 1,2,3,4.5,6), the others
+re-optimised there by the fit's own LM (at most --profile-max-it steps, converged when the
+Gauss–Newton step predicts a cost decrease below 0.02), walking outward from the optimum: each
+point starts from the better of the previous point's optimum extrapolated along the path and
+that optimum unchanged. All points still walking move in step: each inner iteration's
+finite-difference runs of all of them (each replaying its own point's steps) are one sweep, their
+trial steps one more. A side stops once the cost has risen by the 95% threshold; each end is
+where the rise reaches z² (the same z), interpolated linearly in √rise between grid points. An
+end is printed "open (beyond the grid)" where the grid never reaches the threshold and "unknown"
+where the point that reaches it did not converge or a run failed (null in the JSON, the reason in
+profileNN_open); one parameter has nothing to re-optimise: its grid is one sweep. A parameter
+whose estimate correlates above 0.99 with another's is flagged: its Wald interval takes their
+ridge as straight and is not to be trusted; the profile's is (an open end: the data do not bound
+it), unless its crossing point did not converge (then neither is). A profile point below the
+optimum's cost (the fit stopped early on a flat ridge) is warned of; the rises are then taken
+from it.
 
 Before the first step the start point's sensitivities are printed, near-collinear parameter
 pairs warned of, and a parameter that moves no data point refused (poroplast_tools/identify.py).
@@ -52,8 +64,10 @@ synthetic curve for testing the fit: `--synthetic KEY=VALUE ...` runs the scene 
 values first and fits to its own history (an experiment: `synthetic = {...}`, with noise).
 
 Writes STUDY/calibration.json: per parameter (its label, KEY or KEY@NAME) value, sigma,
-interval68, interval95 (and profile68, profile95 with --profile; null where the grid does not
-reach the threshold); noise (model, s, chi2_per_dof), experiments (per experiment: noise model,
+interval68, interval95 (and profile68, profile95 with --profile: null where no end was found,
+profile68_open, profile95_open the reason per end: "grid", "unconverged", "failed", or null;
+collinear_with and trust for a near-collinear parameter; profile_lower_cost when a profile
+point beat the optimum); noise (model, s, chi2_per_dof), experiments (per experiment: noise model,
 s, floor, points, rms), intervals (z and dof), correlation, rms, runs; and the iterations' log.
 STUDY/calibration.png: data and fit, one panel per experiment; STUDY/profile.png the profiles.
 """
@@ -68,10 +82,11 @@ import numpy as np
 from poroplast_tools import experiments as exps
 from poroplast_tools import fitplots
 from poroplast_tools.cases import rank_options, use_rank_options
-from poroplast_tools.fit import LEVELS, FitError, fit, profile, stats
+from poroplast_tools.fit import LEVELS, FitError, fit, stats
 from poroplast_tools.fitstats import MODELS as NOISE_MODELS, Noise, stacked_weights
-from poroplast_tools.identify import report as identifiability
+from poroplast_tools.identify import COLLINEAR, report as identifiability
 from poroplast_tools.measured import DataError, read_curve
+from poroplast_tools.profile import ATOL, MULTIPLES, profile
 from poroplast_tools.runmodel import Runs, synthesise
 
 
@@ -117,9 +132,13 @@ def main():
     ap.add_argument("--jobs", type=int, default=1, help="with --no-sweep: points run at once")
     ap.add_argument("--ftol", type=float, default=1e-3,
                     help="stop when an iteration lowers the sum of squares by less than this fraction")
-    ap.add_argument("--profile", action="store_true", help="profile-likelihood intervals (one more sweep or two)")
-    ap.add_argument("--profile-grid", default="0.5,1,1.5,2,2.5,3,4", metavar="M,M,...",
+    ap.add_argument("--profile", action="store_true",
+                    help="profile-likelihood intervals (one parameter: one sweep; more: the others re-optimised at "
+                         "each point, a few sweeps per grid point)")
+    ap.add_argument("--profile-grid", default=",".join(f"{m:g}" for m in MULTIPLES), metavar="M,M,...",
                     help="the profile's points on each side of the optimum, in standard errors (log space)")
+    ap.add_argument("--profile-max-it", type=int, default=4,
+                    help="the others' re-optimisation at a profile point: at most this many LM steps")
     a = ap.parse_args()
     sweep = use_rank_options(a)["sweep"]
     Path(a.dir).mkdir(parents=True, exist_ok=True)
@@ -198,7 +217,11 @@ def main():
     except DataError as e:
         sys.exit(f"calibrate.py: {e}")
     st = stats(opt, any(noise.estimated for noise in noises))
-    prof = profile(runs.evaluate, opt, st, keys, multiples) if a.profile else None
+    before = runs.ran
+    prof = profile(runs.evaluate, opt, st, keys, multiples, a.profile_max_it, ATOL,
+                   say=lambda s: print(s, flush=True)) if a.profile else None
+    if prof:
+        print(f"the profile took {runs.ran - before} runs", flush=True)
     result = report(a, experiments, params, noises, runs, opt, st, prof)
     (Path(a.dir) / "calibration.json").write_text(json.dumps({"result": result, "log": opt.log}, indent=1))
     fitplots.curves(a.dir, experiments, runs.data, opt.state["histories"], result, keys)
@@ -221,12 +244,26 @@ def report(a, experiments, params, noises, runs, opt, st, prof):
         print(f"{key} = {value:.6g} ± {result[key]['sigma']:.2g} (one standard error); "
               + ", ".join(f"{name}%: [{lo:.6g}, {hi:.6g}]" for name, (lo, hi) in
                           ((name, wald[name][k]) for name in LEVELS)) + f" (Wald, {how})")
-        if prof:
+        if prof and key in prof.curves:
+            p = prof[key]
             for name in LEVELS:
-                result[key][f"profile{name}"] = prof[key][f"interval{name}"]
+                result[key][f"profile{name}"] = p[f"interval{name}"]
+                result[key][f"profile{name}_open"] = p[f"why{name}"]
             print(f"  profile: " + ", ".join(
-                f"{name}%: [{_end(prof[key][f'interval{name}'][0])}, {_end(prof[key][f'interval{name}'][1])}]"
-                for name in LEVELS))
+                f"{name}%: [{_end(p[f'interval{name}'][0], p[f'why{name}'][0])}, "
+                f"{_end(p[f'interval{name}'][1], p[f'why{name}'][1])}]" for name in LEVELS))
+        partners = [keys[j] for j in range(len(keys)) if j != k and abs(st.corr[k, j]) > COLLINEAR]
+        if partners:
+            result[key]["collinear_with"] = partners
+            result[key]["trust"] = trust = _trust(prof, key)
+            print(f"  near-collinear with {', '.join(partners)}: the Wald interval takes their ridge as straight and "
+                  "is not to be trusted; " + {
+                      "profile": "trust the profile interval",
+                      "profile-open": "trust the profile interval: an open end means the data do not bound it "
+                                      "within the grid",
+                      "neither": "neither interval is reliable: the profile's re-optimisation did not converge "
+                                 "where it crosses the threshold",
+                      "none": "run with --profile"}[trust])
     shapes, at = [], 0
     result["experiments"] = []
     for e, noise, s, (ts, vs) in zip(experiments, noises, scales, runs.data):
@@ -255,6 +292,12 @@ def report(a, experiments, params, noises, runs, opt, st, prof):
     result["intervals"] = {"dof": st.dof if st.estimated else None,
                            **{f"z{name}": st.z(level) for name, level in LEVELS.items()}}
     result["correlation"] = {"keys": keys, "matrix": [[float(c) for c in row] for row in st.corr]}
+    if prof and prof.lower:
+        key, delta, cost = prof.lower
+        result["profile_lower_cost"] = {"key": key, "delta": delta, "cost": cost, "optimum_cost": opt.cost}
+        print(f"calibrate.py: warning: the profile of {key} found a cost {opt.cost - cost:.3g} below the optimum's "
+              f"(at {delta:+.3g} in log {key}): the fit stopped early on a flat ridge; the profile intervals are "
+              "taken from that lower cost, the Wald ones are centred on the stopped point")
     if len(keys) > 1:
         print("correlations: " + "; ".join(f"{keys[i]} ~ {keys[j]}: {st.corr[i, j]:+.3f}"
                                              for i in range(len(keys)) for j in range(i + 1, len(keys))))
@@ -264,8 +307,23 @@ def report(a, experiments, params, noises, runs, opt, st, prof):
     return result
 
 
-def _end(v):
-    return "open (beyond the grid)" if v is None else f"{v:.6g}"
+def _end(v, why=None):
+    if v is not None:
+        return f"{v:.6g}"
+    return {"grid": "open (beyond the grid)", "unconverged": "unknown (the others' re-optimisation did not converge)",
+            "failed": "unknown (a run failed)"}.get(why, "open (beyond the grid)")
+
+
+def _trust(prof, key):
+    """Which interval of a near-collinear parameter to trust: "profile" (both 95% ends found),
+    "profile-open" (an end beyond the grid: the data do not bound it), "neither" (an end whose
+    re-optimisation did not converge or failed), "none" (no profile)."""
+    if not prof or key not in prof.curves:
+        return "none"
+    whys = prof[key]["why95"]
+    if any(w in ("unconverged", "failed") for w in whys):
+        return "neither"
+    return "profile-open" if any(w == "grid" for w in whys) else "profile"
 
 
 if __name__ == "__main__":

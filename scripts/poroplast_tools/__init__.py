@@ -12,8 +12,9 @@
   * fields      observables of a run's fields (region means, the pressure bubble) and events
   * labels      figure labels in the docs' units
   * tables      CSV tables and the Pareto front
-  * fit         least squares over an abstract model: Levenberg-Marquardt, re-weighting,
-                standard errors, Wald and profile-likelihood intervals
+  * fit         least squares over an abstract model: Levenberg-Marquardt (several searches in
+                step, one batch per iteration), re-weighting, standard errors, Wald intervals
+  * profile     profile-likelihood intervals, the others re-optimised by fit's LM
   * fitstats    noise models and their weights, quantiles; measured: a lab's CSV curve;
                 identify: identifiability at the start; experiments: a calibration's
                 experiments file and parameters

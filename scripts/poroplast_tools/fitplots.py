@@ -38,11 +38,18 @@ def profiles(study, opt, st, prof, keys):
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, len(keys), figsize=(4.2 * len(keys), 3.8), squeeze=False)
     for k, (ax, key) in enumerate(zip(axes[0], keys)):
+        if key not in prof.curves:
+            continue
         p = prof[key]
-        rows = sorted(list(zip(p["delta"], p["cost"])) + [(0.0, opt.cost)])     # with the optimum
-        ax.plot([math.exp(opt.x[k] + d) for d, _ in rows], [c - opt.cost for _, c in rows], "o-", ms=3,
+        rows = sorted([(d, c, s) for d, c, s in zip(p["delta"], p["cost"], p["status"]) if math.isfinite(c)]
+                      + [(0.0, opt.cost, "ok")])     # with the optimum
+        ax.plot([math.exp(opt.x[k] + d) for d, _, _ in rows], [c - prof.cost0 for _, c, _ in rows], "o-", ms=3,
                 label="profile")
-        fine = np.linspace(min(p["delta"]), max(p["delta"]), 100)
+        bad = [(d, c) for d, c, s in rows if s != "ok"]
+        if bad:
+            ax.plot([math.exp(opt.x[k] + d) for d, _ in bad], [c - prof.cost0 for _, c in bad], "x", color="C3",
+                    label="re-optimisation unconverged")
+        fine = np.linspace(min(p["delta"] + [0.0]), max(p["delta"] + [0.0]), 100)
         ax.plot(np.exp(opt.x[k] + fine), (fine / st.rel[k]) ** 2, ":", label="Wald (linear)")
         for name, level in LEVELS.items():
             ax.axhline(st.z(level) ** 2, color="grey", lw=0.6)
@@ -50,6 +57,8 @@ def profiles(study, opt, st, prof, keys):
                 if end is not None:
                     ax.axvline(end, color="C3", lw=0.6, ls="--")
         ax.axvline(math.exp(opt.x[k]), color="k", lw=0.6)
+        if max(abs(d) for d in p["delta"] + [0.0]) > 1:     # the grid spans more than a factor e
+            ax.set_xscale("log")
         ax.set_xlabel(key, fontsize=8)
         ax.tick_params(axis="x", labelrotation=30, labelsize=7)
         ax.set_ylabel("cost rise (weighted, unit variance)")

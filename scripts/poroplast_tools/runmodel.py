@@ -53,19 +53,22 @@ class Runs:
         """Per point (log-parameters) the stacked differences model − data of every experiment
         and the state {"x", "histories"}, or None if a run failed; every experiment's run at
         every point one batch (--no-sweep --jobs N: N points at once), each replaying the steps
-        of its experiment's history in the state `replay`. An experiment whose parameters are
-        those of `replay` (a neighbour that moves another experiment's own parameter) is not
-        run: its history is replay's."""
+        of its experiment's history in the state `replay` (one state for every point, or a list
+        with one per point, None: the run's own steps; the profile's inner fits batch the
+        neighbours of several points). An experiment whose parameters are those of its replayed
+        state (a neighbour that moves another experiment's own parameter) is not run: its
+        history is the state's."""
         ne = len(self.experiments)
+        replays = replay if isinstance(replay, list) else [replay] * len(points)
         runs, keep = [], {}           # the cases to run; (point, experiment) -> replay's history
-        for j, x in enumerate(points):
+        for j, (x, rp) in enumerate(zip(points, replays)):
             for i, e in enumerate(self.experiments):
-                if replay and self.case(e, x) == self.case(e, replay["x"]):
-                    keep[j, i] = replay["histories"][i]
+                if rp and self.case(e, x) == self.case(e, rp["x"]):
+                    keep[j, i] = rp["histories"][i]
                 else:
-                    runs.append((j, i, self.case(e, x, given_steps(replay["histories"][i]) if replay else None)))
+                    runs.append((j, i, self.case(e, x, given_steps(rp["histories"][i]) if rp else None)))
         lines = [f"{name}: " + " ".join(f"{p.label}={math.exp(v):.6g}" for p, v in zip(self.params, x))
-                 + (" (the point's steps)" if replay else "") for name, x in zip(what, points)]
+                 + (" (the point's steps)" if rp else "") for name, x, rp in zip(what, points, replays)]
         cases = [c for _, _, c in runs]
         if self.sweep or self.jobs == 1 or not points:
             hs = self.histories(cases, lines)
