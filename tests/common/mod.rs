@@ -43,7 +43,8 @@ pub fn cores(n: usize) -> Cores {
         let mut taken: Vec<File> = Vec::new();
         for i in 0..total {
             // A core this thread took is locked against its new handle too: never taken twice.
-            let core = std::fs::OpenOptions::new().create(true).truncate(false).write(true).open(dir.join(format!("core{i}")));
+            let core =
+                std::fs::OpenOptions::new().create(true).truncate(false).write(true).open(dir.join(format!("core{i}")));
             let core = core.expect("a core's lock file");
             if taken.len() < need && core.try_lock().is_ok() {
                 taken.push(core);
