@@ -1,5 +1,5 @@
-"""The statistics of a least-squares fit: the noise model's weights, and the parameters' standard
-errors and correlations from the Jacobian at the optimum.
+"""The statistics of a least-squares fit: the noise models' weights and the intervals' quantiles
+(the standard errors and correlations from the Jacobian at the optimum: `fit.stats`).
 
 Noise models (the residuals are r_i = w_i (model_i − data_i)):
 
@@ -19,11 +19,7 @@ that give the weighted residuals unit variance, from the degrees of freedom the 
 (a fit over several curves grants each n_e − p n_e / n: the parameters' share). `quantile` gives
 the two-sided z of a level: Student's t with n − p degrees of freedom when σ is estimated from the
 residuals, the normal one when it is given.
-
-The covariance of the parameters is s² (JᵀJ)⁻¹ with J the Jacobian of the weighted residuals at
-the optimum; its square-rooted diagonal are the standard errors (in the fit's variables: the
-calibration fits ln θ, so they are relative errors of θ) and its normalised form the correlation
-matrix."""
+"""
 import functools
 import math
 
@@ -45,25 +41,6 @@ def weights(noise, values, sigmas=None):
             raise ValueError("the noise model `data` needs a sigma column in the data file")
         return 1.0 / np.asarray(sigmas, dtype=float)
     raise ValueError(f"unknown noise model `{noise}`: expected one of {', '.join(MODELS)}")
-
-
-def uncertainty(jac, r, noise):
-    """(standard errors, correlation matrix, s², χ²/(n − p)) of a fit with Jacobian `jac` (n × p)
-    of the weighted residuals `r` at the optimum. NaN where JᵀJ is singular."""
-    jac, r = np.asarray(jac, dtype=float), np.asarray(r, dtype=float)
-    n, p = jac.shape
-    dof = max(n - p, 1)
-    chi2 = float(r @ r) / dof
-    s2 = 1.0 if noise == "data" else chi2
-    try:
-        cov = s2 * np.linalg.inv(jac.T @ jac)
-    except np.linalg.LinAlgError:
-        nan = np.full((p, p), math.nan)
-        return np.full(p, math.nan), nan, s2, chi2
-    sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        corr = cov / np.outer(sd, sd)
-    return sd, corr, s2, chi2
 
 
 class Noise:

@@ -1,19 +1,23 @@
-"""The fit's standard errors against the closed form of a straight-line fit, for each noise model,
-and the weights of the noise models."""
+"""The fit's standard errors (fit.stats) against the closed form of a straight-line fit, for the
+noise models' weights, and those weights."""
 import math
 import unittest
 
 import numpy as np
 
-from poroplast_tools.fitstats import Noise, floor_fraction, quantile, stacked_weights, uncertainty, weights
+from poroplast_tools.fit import Optimum, stats
+from poroplast_tools.fitstats import Noise, floor_fraction, quantile, stacked_weights, weights
 
 
-def line_fit(t, y, w):
-    """Weighted least squares of y = a + b t: the optimum, the weighted residuals and their
-    Jacobian (columns d r/d a, d r/d b)."""
-    jac = np.column_stack([w, w * t])
-    coef, *_ = np.linalg.lstsq(jac, w * y, rcond=None)
-    return coef, w * (coef[0] + coef[1] * t - y), jac
+def line_fit(t, y, noise, dof):
+    """Weighted least squares of y = a + b t (weights 1/σ of the noise model's shape) as the fit's
+    optimum: the coefficients, the differences, the noise's weights and s there, the unweighted
+    Jacobian (columns d/d a, d/d b)."""
+    jac = np.column_stack([np.ones_like(t), t])
+    coef, *_ = np.linalg.lstsq(noise.shape[:, None] * jac, noise.shape * y, rcond=None)
+    d = coef[0] + coef[1] * t - y
+    w, s = noise.weights(d, dof)
+    return Optimum(coef, d, None, w, jac), s
 
 
 class FitStats(unittest.TestCase):
@@ -25,25 +29,24 @@ class FitStats(unittest.TestCase):
 
     def test_known_sigma_gives_the_textbook_errors(self):
         # sd(b)² = S / (S Stt − St²) with S = Σ 1/σ², St = Σ t/σ², Stt = Σ t²/σ².
-        w = weights("data", self.y, self.sigma)
-        _, r, jac = line_fit(self.t, self.y, w)
-        sd, corr, s2, chi2 = uncertainty(jac, r, "data")
+        opt, s = line_fit(self.t, self.y, Noise("data", self.y, self.sigma), 19)
+        st = stats(opt, False)
         S, St, Stt = (np.sum(self.t ** k / self.sigma ** 2) for k in (0, 1, 2))
         det = S * Stt - St ** 2
-        self.assertAlmostEqual(sd[0], math.sqrt(Stt / det), delta=1e-12)
-        self.assertAlmostEqual(sd[1], math.sqrt(S / det), delta=1e-12)
-        self.assertAlmostEqual(corr[0, 1], -St / math.sqrt(S * Stt), delta=1e-12)
-        self.assertEqual(s2, 1.0)
-        self.assertAlmostEqual(chi2, float(r @ r) / 19, delta=1e-15)
+        self.assertAlmostEqual(st.rel[0], math.sqrt(Stt / det), delta=1e-12)
+        self.assertAlmostEqual(st.rel[1], math.sqrt(S / det), delta=1e-12)
+        self.assertAlmostEqual(st.corr[0, 1], -St / math.sqrt(S * Stt), delta=1e-12)
+        self.assertEqual(s, 1.0)
+        self.assertAlmostEqual(st.chi2, float(np.sum((opt.d / self.sigma) ** 2)) / 19, delta=1e-15)
 
     def test_absolute_noise_is_estimated_from_the_residuals(self):
         # Unweighted: sd(b)² = s² / Σ (t − t̄)², s² = Σ r² / (n − 2).
-        _, r, jac = line_fit(self.t, self.y, weights("absolute", self.y))
-        sd, corr, s2, _ = uncertainty(jac, r, "absolute")
-        self.assertAlmostEqual(s2, float(r @ r) / 19, delta=1e-15)
-        self.assertAlmostEqual(sd[1], math.sqrt(s2 / np.sum((self.t - self.t.mean()) ** 2)), delta=1e-12)
-        self.assertAlmostEqual(corr[1, 0], corr[0, 1], delta=1e-15)
-        self.assertAlmostEqual(corr[0, 0], 1.0, delta=1e-12)
+        opt, s = line_fit(self.t, self.y, Noise("absolute", self.y), 19)
+        st = stats(opt, True)
+        self.assertAlmostEqual(s * s, float(opt.d @ opt.d) / 19, delta=1e-15)
+        self.assertAlmostEqual(st.rel[1], math.sqrt(s * s / np.sum((self.t - self.t.mean()) ** 2)), delta=1e-12)
+        self.assertAlmostEqual(st.corr[1, 0], st.corr[0, 1], delta=1e-15)
+        self.assertAlmostEqual(st.corr[0, 0], 1.0, delta=1e-12)
 
     def test_weights_of_the_noise_models(self):
         y = np.array([2.0, -4.0, 0.0])
@@ -58,8 +61,8 @@ class FitStats(unittest.TestCase):
 
     def test_singular_jacobian_gives_nan(self):
         jac = np.column_stack([np.ones(5), np.ones(5)])
-        sd, corr, _, _ = uncertainty(jac, np.zeros(5), "absolute")
-        self.assertTrue(all(math.isnan(x) for x in sd))
+        st = stats(Optimum(np.zeros(2), np.zeros(5), None, np.ones(5), jac), True)
+        self.assertTrue(all(math.isnan(x) for x in st.rel))
 
     def test_relative_noise_above_a_floor_is_estimated(self):
         # A force that falls to zero (contact lost) with σ_i = √((ρ y_i)² + f²), ρ = 3%, f = 0.02:
