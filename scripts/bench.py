@@ -64,6 +64,7 @@ from pathlib import Path
 import numpy as np
 
 from poroplast_tools import synthetic as syn
+from poroplast_tools.measured import write_curve
 from poroplast_tools.cases import run_cases, scene_values
 from poroplast_tools.coverage import normalised_error
 from poroplast_tools.history import history, timings
@@ -291,7 +292,7 @@ def fit_bench(a, work):
     curve = np.interp(times, h["time"], h[syn.COLUMN])
     disc = (curve - np.interp(times, hf["time"], hf[syn.COLUMN])) / (FIT_NOISE * np.abs(curve))
     data = work / "data.csv"
-    syn.write_curve(data, times, syn.noisy(curve, FIT_NOISE, FIT_SEED, 0), comment="bench.py --fit")
+    write_curve(data, times, syn.noisy(curve, FIT_NOISE, FIT_SEED, 0), comment="bench.py --fit")
     print(f"3-parameter fit ({', '.join(k.split('.')[-1] for k in keys)}) of {len(times)} points, "
           f"{100 * FIT_NOISE:g}% noise, level {a.level}, 2 ranks; medians of {a.repeat}; work dir {work}", flush=True)
     rows = []

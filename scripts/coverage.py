@@ -40,6 +40,7 @@ import numpy as np
 
 from poroplast_tools import coverage as cov
 from poroplast_tools import synthetic as syn
+from poroplast_tools.measured import write_curve
 from poroplast_tools.cases import run_cases
 from poroplast_tools.history import history
 
@@ -151,7 +152,7 @@ def experiment(a, p, extra):
         path = folder / f"set_{i:03d}.csv"
         if not path.exists():
             sig = a.noise_level * np.abs(curve) if a.noise == "data" else None
-            syn.write_curve(path, times, syn.noisy(curve, a.noise_level, a.seed + p, i), sig,
+            write_curve(path, times, syn.noisy(curve, a.noise_level, a.seed + p, i), sig,
                             f"synthetic: {syn.COLUMN} of the truth, {100 * a.noise_level:g}% Gaussian noise, "
                             f"seed {a.seed + p}, set {i}")
         files.append(path)

@@ -140,3 +140,13 @@ def _is_number(s):
         return True
     except ValueError:
         return False
+
+
+def write_curve(path, times, values, sigmas=None, comment="", column="force_mg"):
+    """A curve as a lab writes it, for `read_curve`: a comment line, then `time,COLUMN[,sigma]`."""
+    with open(path, "w") as f:
+        if comment:
+            f.write(f"# {comment}\n")
+        f.write(f"time,{column}" + (",sigma" if sigmas is not None else "") + "\n")
+        for i, (t, v) in enumerate(zip(times, values)):
+            f.write(f"{float(t)!r},{float(v)!r}" + (f",{float(sigmas[i])!r}" if sigmas is not None else "") + "\n")

@@ -15,7 +15,8 @@ import numpy as np
 from .cases import run_cases
 from .fit import FitError
 from .history import at, given_steps, history
-from .measured import check_within
+from .measured import check_within, write_curve
+from .synthetic import noisy
 
 
 class Runs:
@@ -116,10 +117,9 @@ def synthesise(runs, experiments):
         ts = (np.arange(1, int(t_end / e.synthetic_every + 1e-9) + 1) * e.synthetic_every if e.synthetic_every
               else h["time"][h["time"] > 0])
         ys = np.array([at(h, e.column, t) for t in ts])
-        rng = np.random.default_rng(e.seed)
-        ys = ys + np.sqrt((e.synthetic_noise * ys) ** 2 + e.synthetic_floor ** 2) * rng.standard_normal(ys.size)
+        ys = noisy(ys, e.synthetic_noise, e.seed, floor=e.synthetic_floor)
         out[e.name] = (list(ts), list(ys))
-        with open(runs.study / f"synthetic_{e.name}.csv", "w") as f:
-            f.write(f"# synthetic: {e.scene} {e.synthetic} noise {e.synthetic_noise} floor {e.synthetic_floor} "
-                    f"seed {e.seed}\ntime,{e.column}\n" + "".join(f"{float(t)!r},{float(y)!r}\n" for t, y in zip(ts, ys)))
+        write_curve(runs.study / f"synthetic_{e.name}.csv", ts, ys, column=e.column,
+                    comment=f"synthetic: {e.scene} {e.synthetic} noise {e.synthetic_noise} floor {e.synthetic_floor} "
+                            f"seed {e.seed}")
     return out

@@ -75,19 +75,10 @@ def data_times(time, value, every=1.0, floor=0.05):
     return grid[f > floor * float(np.max(np.abs(value)))]
 
 
-def noisy(values, rel, seed, index):
-    """The values with independent Gaussian noise of standard deviation rel × |value|; data set
-    `index` of the seed `seed` (the same every time, independent of the others)."""
+def noisy(values, rel, seed, index=None, floor=0.0):
+    """The values with independent Gaussian noise of standard deviation √((rel value)² + floor²);
+    data set `index` of the seed `seed` (the same every time, independent of the others; None:
+    the seed's own generator)."""
     v = np.asarray(values, dtype=float)
-    rng = np.random.default_rng([seed, index])
-    return v + rel * np.abs(v) * rng.standard_normal(v.size)
-
-
-def write_curve(path, times, values, sigmas=None, comment=""):
-    """A data set as a lab writes it (measured.py): `time,force_mg[,sigma]`, a comment first."""
-    with open(path, "w") as f:
-        if comment:
-            f.write(f"# {comment}\n")
-        f.write("time,force_mg" + (",sigma" if sigmas is not None else "") + "\n")
-        for i, (t, v) in enumerate(zip(times, values)):
-            f.write(f"{float(t)!r},{float(v)!r}" + (f",{float(sigmas[i])!r}" if sigmas is not None else "") + "\n")
+    rng = np.random.default_rng(seed if index is None else [seed, index])
+    return v + np.hypot(rel * np.abs(v), floor) * rng.standard_normal(v.size)

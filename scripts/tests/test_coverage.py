@@ -12,7 +12,7 @@ import numpy as np
 from poroplast_tools import coverage as cov
 from poroplast_tools import synthetic as syn
 from poroplast_tools.fitstats import quantile
-from poroplast_tools.measured import read_curve
+from poroplast_tools.measured import read_curve, write_curve
 
 
 class DegreesOfFreedom(unittest.TestCase):
@@ -107,7 +107,7 @@ class SyntheticData(unittest.TestCase):
         times, values = [1.0, 2.0, 3.5], [0.25, 1.0 / 3.0, 4.0]
         with tempfile.TemporaryDirectory() as d:
             path = Path(d) / "set.csv"
-            syn.write_curve(path, np.array(times), np.array(values), [0.1, 0.2, 0.3], "a test")
+            write_curve(path, np.array(times), np.array(values), [0.1, 0.2, 0.3], "a test")
             t, v, s = read_curve(path, syn.COLUMN)
         self.assertEqual((t, v, s), (times, values, [0.1, 0.2, 0.3]))
 
