@@ -111,7 +111,7 @@ def run_fit(a, p, data, fdir, extra):
     return ok, seconds
 
 
-def row_of(p, i, fdir, n, noise):
+def row_of(p, i, fdir, n):
     """The coverage.csv row of a finished fit."""
     keys, truth = syn.FITS[p]
     res = json.loads((fdir / "calibration.json").read_text())["result"]
@@ -121,7 +121,7 @@ def row_of(p, i, fdir, n, noise):
            "noise_s": res["noise"]["s"], "dof": n - p}
     for k in keys:
         e = res[k]
-        iv = cov.intervals(e, cov.dof(noise, n, p))
+        iv = cov.intervals(e)
         row |= {f"{short(k)}_truth": truth[k], f"{short(k)}_value": e["value"], f"{short(k)}_sigma": e["sigma"],
                 f"{short(k)}_z": cov.normalised_error(e["value"], e["sigma"], truth[k])}
         for name, (lo, hi) in iv.items():
@@ -213,7 +213,7 @@ def main():
     with ThreadPoolExecutor(max_workers=a.jobs) as pool:
         list(pool.map(one, todo))
 
-    rows = [row_of(p, i, d, cases[p][0], a.noise) for p, i, d in jobs if (d / "calibration.json").exists()]
+    rows = [row_of(p, i, d, cases[p][0]) for p, i, d in jobs if (d / "calibration.json").exists()]
     fields = ["params", "set", "runs", "seconds", "noise_s", "dof"]
     for k in sorted({k for p in a.params for k in syn.FITS[p][0]}, key=list(syn.ISSUE).index):
         fields += [f"{short(k)}_{c}" for c in ("truth", "value", "sigma", "z", "lo68", "hi68", "covered68",

@@ -1,40 +1,21 @@
 """Coverage of a fit's confidence intervals: the intervals of a calibration's result, whether they
 hold the truth, and how often, with the binomial uncertainty of that rate.
 
-The calibration fits ln θ, so its intervals are Wald intervals in log space,
-θ · exp(± q σ/θ), with σ the standard error of θ (σ/θ that of ln θ) and q the quantile of
-Student's t with n − p degrees of freedom when σ comes from the residuals (noise models
-`absolute` and `relative`), of the standard normal when the data state it (`data`).
-`calibration.json` may hold them already (`interval68`, `interval95`); otherwise they are
-computed here the same way.
+The intervals judged are those `calibration.json` holds (`interval68`, `interval95`): Wald
+intervals in log space, θ · exp(± q σ/θ), q Student's t with n − p degrees of freedom when σ
+comes from the residuals, the normal one when the data state it (fit.Stats).
 """
 import math
 
 from .fit import LEVELS          # nominal levels: ±1 σ of a normal (68.27%); 95%
-from .fitstats import quantile   # Student's t (dof) or the normal (None), two-sided
 
 TARGETS = {"68": 0.10, "95": 0.05}                  # the aim: 68 ± 10% and 95 ± 5%
 
 
-def dof(noise, n, p):
-    """The degrees of freedom of the intervals' quantile: n − p when the noise level is estimated
-    from the residuals, None (normal) when the data state each point's sigma."""
-    return None if noise == "data" else n - p
-
-
-def wald(value, sigma, level, dof=None):
-    """[lo, hi]: the Wald interval of level `level` of a parameter fitted in log space,
-    value · exp(± q σ/value)."""
-    q = quantile(level, dof)
-    half = q * sigma / value
-    return [value * math.exp(-half), value * math.exp(half)]
-
-
-def intervals(entry, dof=None):
-    """{"68": [lo, hi], "95": [lo, hi]} of one parameter's entry of calibration.json: its own
-    `interval68`/`interval95` when it has them, else `wald` of its value and sigma."""
-    return {name: list(entry[f"interval{name}"]) if f"interval{name}" in entry
-            else wald(entry["value"], entry["sigma"], level, dof) for name, level in LEVELS.items()}
+def intervals(entry):
+    """{"68": [lo, hi], "95": [lo, hi]} of one parameter's entry of calibration.json (the Wald
+    intervals calibrate.py writes: fit.Stats.wald)."""
+    return {name: list(entry[f"interval{name}"]) for name in LEVELS}
 
 
 def covers(interval, truth):

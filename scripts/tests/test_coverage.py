@@ -11,32 +11,41 @@ import numpy as np
 
 from poroplast_tools import coverage as cov
 from poroplast_tools import synthetic as syn
+from poroplast_tools.fit import Stats
 from poroplast_tools.fitstats import quantile
 from poroplast_tools.measured import read_curve, write_curve
 
 
+def wald(value, sigma, level, dof=None):
+    """[lo, hi] of one parameter by the calibration's own Wald interval (fit.Stats.wald): Student's
+    t of `dof` degrees of freedom (σ estimated), the normal one (None: σ given)."""
+    st = Stats(np.array([sigma / value]), None, dof or 1, dof is not None, math.nan)
+    return st.wald([math.log(value)], level)[0]
+
+
 class DegreesOfFreedom(unittest.TestCase):
-    def test_degrees_of_freedom_of_the_noise_models(self):
-        self.assertEqual(cov.dof("relative", 74, 3), 71)
-        self.assertEqual(cov.dof("absolute", 74, 1), 73)
-        self.assertIsNone(cov.dof("data", 74, 3))
+    def test_the_quantile_follows_the_noise_model(self):
+        # n − p degrees of freedom when σ is estimated (absolute, relative), the normal when stated.
+        self.assertEqual(Stats(None, None, 71, True, 0.0).z(0.95), quantile(0.95, 71))
+        self.assertEqual(Stats(None, None, 73, True, 0.0).z(0.95), quantile(0.95, 73))
+        self.assertEqual(Stats(None, None, 71, False, 0.0).z(0.95), quantile(0.95))
 
 
 class Intervals(unittest.TestCase):
     def test_wald_interval_in_log_space(self):
         # ±1 sigma of a normal: q = 1, so the interval is value · e^(±sigma/value).
-        lo, hi = cov.wald(0.002, 5e-5, cov.LEVELS["68"])
+        lo, hi = wald(0.002, 5e-5, cov.LEVELS["68"])
         self.assertAlmostEqual(lo, 0.002 * math.exp(-0.025), delta=1e-15)
         self.assertAlmostEqual(hi, 0.002 * math.exp(0.025), delta=1e-15)
-        lo, hi = cov.wald(2.5, 0.05, 0.95, 10)
+        lo, hi = wald(2.5, 0.05, 0.95, 10)
         self.assertAlmostEqual(math.log(hi / 2.5), 2.228138851986274 * 0.02, delta=1e-10)
         self.assertAlmostEqual(lo * hi, 2.5 ** 2, delta=1e-12)          # symmetric in ln θ
 
-    def test_the_calibrations_own_intervals_come_first(self):
-        entry = {"value": 1.0, "sigma": 0.1, "interval68": [0.5, 1.5]}
-        iv = cov.intervals(entry, 20)
+    def test_the_calibrations_own_intervals_are_judged(self):
+        entry = {"value": 1.0, "sigma": 0.1, "interval68": [0.5, 1.5], "interval95": wald(1.0, 0.1, 0.95, 20)}
+        iv = cov.intervals(entry)
         self.assertEqual(iv["68"], [0.5, 1.5])
-        self.assertEqual(iv["95"], cov.wald(1.0, 0.1, 0.95, 20))
+        self.assertEqual(iv["95"], wald(1.0, 0.1, 0.95, 20))
 
     def test_covers_is_inclusive_and_normalised_error(self):
         self.assertTrue(cov.covers([1.0, 2.0], 1.0))
@@ -57,14 +66,13 @@ class Intervals(unittest.TestCase):
         est = np.exp(ln.mean(axis=1))
         rel = ln.std(axis=1, ddof=1) / math.sqrt(n)
         for name, level in cov.LEVELS.items():
-            flags_t = [cov.covers(cov.intervals({"value": v, "sigma": v * s}, cov.dof("relative", n, 1))[name], theta)
-                       for v, s in zip(est, rel)]
+            flags_t = [cov.covers(wald(v, v * s, level, n - 1), theta) for v, s in zip(est, rel)]
             k, total, frac, (lo, hi) = cov.rate(flags_t)
             self.assertEqual(total, reps)
             self.assertLess(abs(frac - level), 4 * math.sqrt(level * (1 - level) / reps))
             self.assertLess(lo, level)
             self.assertGreater(hi, level)
-        flags_z = [cov.covers(cov.wald(v, v * s, 0.95), theta) for v, s in zip(est, rel)]
+        flags_z = [cov.covers(wald(v, v * s, 0.95), theta) for v, s in zip(est, rel)]
         u = 1.959963984540054 / math.sqrt(1 + 1.959963984540054 ** 2 / 4)
         exact = 2 * (0.5 + 0.375 * u * (1 - u * u / 12)) - 1
         self.assertAlmostEqual(quantile(exact, 4), 1.959963984540054, delta=1e-9)
