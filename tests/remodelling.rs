@@ -102,8 +102,9 @@ fn relaxed_error(h: &History) -> f64 {
     (dev - k).abs() / k
 }
 
-/// The shipped scene on 1 and 2 ranks against the ODE: the elastic state at t = 0, σ_zz and σ_xx
-/// at 10, 50, 100 s within 0.5%, the relaxed state at 1000 s to 1e-6, det B_p = 1 to 1e-10.
+/// The shipped scene on 2 ranks (and on 1 rank to 100 s) against the ODE: the elastic state at
+/// t = 0, σ_zz and σ_xx at 10, 50, 100 s within 0.5%, the relaxed state at 1000 s to 1e-6,
+/// det B_p = 1 to 1e-10; the two rank counts' common rows agree to round-off.
 #[test]
 fn relaxation_matches_the_ode() {
     let ode = Ode::new();
@@ -113,7 +114,8 @@ fn relaxation_matches_the_ode() {
     let mut runs = vec![];
     for np in [2, 1] {
         let dir = scratch(&format!("relaxation-np{np}"));
-        let h = run_relaxation(np, &dir, &[]);
+        // The relaxed state is checked once: the second rank count stops at 100 s.
+        let h = run_relaxation(np, &dir, if np == 1 { &[("t_end = 1000.0", "t_end = 100.0")] } else { &[] });
         // t = 0: the elastic response of the FE model is the exact homogeneous state.
         let (xx0, zz0) = (value_at(&h, "stress_xx", 0.0), value_at(&h, "stress_zz", 0.0));
         assert!((zz0 - szz0).abs() < 1e-10 * szz0.abs() && (xx0 - sxx0).abs() < 1e-10 * sxx0.abs());
@@ -126,21 +128,27 @@ fn relaxation_matches_the_ode() {
             println!("np {np}, t = {t}: stress_zz {got:.6} vs exact {w:.6} ({ez:+.2e}); stress_xx {gxx:.6} vs {wxx:.6} ({ex:+.2e})");
             assert!(ez.abs() < 5e-3 && ex.abs() < 5e-3);
         }
-        let rel = relaxed_error(&h);
         let det = h.col("det_bp_max_dev").iter().cloned().fold(0.0, f64::max);
-        let vm = *h.col("max_von_mises").last().unwrap();
-        println!("np {np}: relaxed |dev sigma| rel. error {rel:.2e}, von Mises {vm:.10} (sigma_y = {SIGMA_Y}), max |det B_p - 1| {det:.2e}");
-        assert!(rel < 1e-6 && (vm - SIGMA_Y).abs() < 1e-6 * SIGMA_Y);
-        assert!(det < 1e-10);
+        assert!(det < 1e-10, "np {np}: max |det B_p - 1| {det:.2e}");
+        if np == 2 {
+            let rel = relaxed_error(&h);
+            let vm = *h.col("max_von_mises").last().unwrap();
+            println!("np {np}: relaxed |dev sigma| rel. error {rel:.2e}, von Mises {vm:.10} (sigma_y = {SIGMA_Y}), max |det B_p - 1| {det:.2e}");
+            assert!(rel < 1e-6 && (vm - SIGMA_Y).abs() < 1e-6 * SIGMA_Y);
+        }
         // The remodelling strain grows monotonically and is homogeneous.
         let (mx, mean) = (h.col("max_norm_ep"), h.col("mean_norm_ep"));
         assert!(mx.windows(2).all(|w| w[1] >= w[0] - 1e-15));
         assert!(mx.iter().zip(&mean).all(|(a, b)| (a - b).abs() <= 1e-12 * a.max(1e-300)));
         runs.push(h);
     }
-    assert_eq!(runs[0].col("time"), runs[1].col("time"));
-    let d =
-        runs[0].col("stress_zz").iter().zip(runs[1].col("stress_zz")).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    let n = runs[1].rows.len();
+    assert_eq!(runs[0].col("time")[..n], runs[1].col("time")[..]);
+    let d = runs[0].col("stress_zz")[..n]
+        .iter()
+        .zip(runs[1].col("stress_zz"))
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
     println!("1 vs 2 ranks: max |stress_zz difference| {d:.2e} kPa");
     assert!(d < 1e-12);
 }

@@ -185,7 +185,7 @@ fn calibration_recovers_synthetic_parameters() {
             "--set",
             "time.t_end=100",
             "--set",
-            "time.dt_max=1.0",
+            "time.dt_max=5.0",
             "--ranks",
             "2",
             "--ranks-per-case",
@@ -314,7 +314,7 @@ fn split_csv(line: &str) -> Vec<String> {
 /// inversion) and empty for the cases not run.
 #[test]
 fn reproduce_writes_the_reported_table() {
-    let _cores = cores(2); // its scripts run the sweep on 2 ranks
+    let _cores = cores(1); // one 1-rank sweep (and Python between its runs)
     let dir = scratch("reproduce");
     let (ok, text) = script(
         "reproduce.py",
@@ -384,8 +384,8 @@ fn calibration_refuses_a_parameter_without_effect() {
     );
 }
 
-/// The coverage study end to end on a tiny case (the meridian experiment shortened to 10 s, two
-/// data sets, λp alone): coverage.csv's intervals are log-symmetric about the estimate, their
+/// The coverage study end to end on a tiny case (the meridian experiment shortened to 10 s on a
+/// mesh of h = 100 µm, two data sets, λp alone): coverage.csv's intervals are log-symmetric about the estimate, their
 /// 95% half-width is Student's t(0.975, 14) = 2.1447866879 (a table value; 15 data points, one
 /// parameter) standard errors, the covered flags and normalised errors follow from the numbers
 /// in the same row, the console's count agrees, and a second invocation runs nothing.
@@ -407,6 +407,12 @@ fn the_coverage_study_counts_consistently_and_resumes() {
         "plates.t_end=8",
         "--set",
         "time.t_end=10",
+        "--set",
+        "mesh.params.h=100",
+        "--set",
+        "mesh.params.h_pole=40",
+        "--set",
+        "mesh.params.r_pole=100",
         "--every",
         "0.5",
     ];

@@ -14,7 +14,7 @@ from poroplast_tools.fitstats import Noise, quantile, stacked_weights
 
 QUIET = dict(say=lambda *_: None)
 EXACT = dict(QUIET, ftol=1e-14, xtol=1e-12, max_it=50)   # converged to rounding
-N_COVERAGE = 2000
+N_COVERAGE = 500
 
 
 def model_of(curve, data):
@@ -289,8 +289,9 @@ class Relaxation(unittest.TestCase):
                 hits[k] += self.covers(k, lo, hi)
                 lo, hi = self.linearised(opt, st, data, k, st.z(0.95))
                 linear[k] += self.covers(k, lo, hi)
-        # Measured: 95.3% and 94.1% (56 model runs per profile); the linearised profile's 77.3%
-        # and 77.8%. 2000 fits: the binomial standard deviation of the rate is 0.5%.
+        # Measured: 95.0% and 94.8% (56 model runs per profile; 2000 fits gave 95.3% and 94.1%);
+        # the linearised profile's 77.3% and 77.8% (2000 fits). 500 fits: the binomial standard
+        # deviation of a 95% rate is 1.0%, so the tolerance is 3 of them.
         np.testing.assert_allclose(hits / n, [0.95, 0.95], atol=0.03)
         self.assertTrue(np.all(linear / n < 0.92), linear / n)
 
