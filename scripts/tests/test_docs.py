@@ -8,7 +8,7 @@ docs/scene-reference.md included):
   (GitHub's slugs);
 * `model.md §n` (and `§n–§m`) references, also in src/ and scripts/, name a numbered section;
 * prose references to a section, `numerics.md, *Title*` or `performance.md, "Title"`, name a
-  heading (or a bold run-in heading) of that file;
+  heading (or a bold run-in heading) of that file, also in src/, meshes/ and scripts/;
 * no "issue N": a reader cannot resolve it.
 
 Pure Python, no solver; well under a second.
@@ -128,9 +128,11 @@ class DocsTest(unittest.TestCase):
     def test_named_sections_resolve(self):
         bad = []
         pattern = re.compile(r"([\w/-]+\.md)[,:]? \(?(?:\"([^\"]{1,80})\"|\*([^*]{1,80})\*)")
-        for f in doc_files() + [p for p in sorted((ROOT / "scripts").rglob("*.py")) if p.name != "test_docs.py"]:
+        others = sorted((ROOT / "src").rglob("*.rs")) + sorted((ROOT / "meshes").rglob("*.toml")) + sorted((ROOT / "scripts").rglob("*.toml"))
+        others += [p for p in sorted((ROOT / "scripts").rglob("*.py")) if p.name != "test_docs.py"]
+        for f in doc_files() + others:
             for m in pattern.finditer(f.read_text(encoding="utf-8")):
-                name = m.group(2) or m.group(3)
+                name = re.sub(r"\n\s*(?://[/!]?|#)?\s*", " ", m.group(2) or m.group(3))  # across comment lines
                 dest = resolve(m.group(1), f)
                 if dest is None:
                     bad.append(f"{f.relative_to(ROOT)}: {m.group(0)}: no such file")
