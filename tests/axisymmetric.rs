@@ -92,7 +92,7 @@ fn terzaghi_on_the_meridian_column() {
 }
 
 /// A 3 s remodelling run of the Fig 11 scene (remodelling-dependent permeability (45), c = 2)
-/// on its meridian, λp ten times Table 1's, drainage by `gap`: the largest u-row and p-row
+/// on a coarse meridian (h = 40, h_pole = 12 µm), λp ten times Table 1's, drainage by `gap`: the largest u-row and p-row
 /// errors of `-poroplast_check_jacobian eps` and the number of checks.
 fn meridian_jacobian(name: &str, gap: &str, eps: &str) -> (f64, f64, usize) {
     let dir = scratch(name);
@@ -104,6 +104,8 @@ fn meridian_jacobian(name: &str, gap: &str, eps: &str) -> (f64, f64, usize) {
         "time.land_on=[]",
         "output.fields_at=[]",
         "material.remodelling.lambda_p=0.01",
+        "mesh.params.h=40",
+        "mesh.params.h_pole=12",
         drainage.as_str(),
     ];
     let out = run_axi(2, &scene("remodel_155_c2"), &dir, &sets, &["-poroplast_check_jacobian", eps]);
@@ -114,9 +116,9 @@ fn meridian_jacobian(name: &str, gap: &str, eps: &str) -> (f64, f64, usize) {
 
 /// The meridian element's Jacobian — hoop terms, 2πR weights, remodelling's consistent tangent,
 /// the (45) permeability, contact and drainage — against central differences of its residual.
-/// Measured (ε = 1e-7): predicted drainage gap u rows 3.4e-9, p rows 2.2e-10; the implicit gap's
-/// p rows 9.2e-5 at ε = 1e-6 and 9.2e-6 at 1e-7 (the difference formula's O(ε) at vertices on a
-/// plate, as in 3-D).
+/// Measured (ε = 1e-7): predicted drainage gap u rows 6.3e-9, p rows 3.1e-10; the implicit gap's
+/// p rows 2.5e-4 at ε = 1e-6 and 2.5e-5 at 1e-7 (the difference formula's O(ε) at vertices on a
+/// plate, as in 3-D). (The scene's mesh, three times the cost: 3.7e-9, 2.5e-10; 9.3e-5, 9.3e-6.)
 #[test]
 fn meridian_jacobian_matches_central_differences() {
     let (u, p, n) = meridian_jacobian("axi_jacobian_predicted", "predicted", "1e-7");
@@ -418,8 +420,8 @@ fn trapezoidal_remodelling_halves_the_peak_error() {
 fn a_run_given_the_steps_of_another_takes_them() {
     let dir = scratch("axi_given_steps");
     let base = [
-        "mesh.params.h=25",
-        "mesh.params.h_pole=5",
+        "mesh.params.h=50",
+        "mesh.params.h_pole=15",
         "plates.t_ramp=2",
         "plates.t_end=4",
         "time.t_end=6.5",
