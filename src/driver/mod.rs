@@ -67,7 +67,7 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
     let status = std::fs::read_to_string(dir.join("status.txt")).unwrap_or_default();
     if status.starts_with("completed") {
         if world.rank() == 0 {
-            println!("{}: the run has {}; nothing to resume", dir.display(), status.trim());
+            crate::console::line(&format!("{}: the run has {}; nothing to resume", dir.display(), status.trim()));
         }
         return Ok(dir.to_path_buf());
     }

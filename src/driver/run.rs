@@ -121,7 +121,7 @@ impl<'w> Run<'w> {
 
     pub(super) fn say(&self, s: &str) {
         if self.rank0() && self.args.progress {
-            println!("{s}");
+            crate::console::line(s);
         }
     }
 

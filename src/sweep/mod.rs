@@ -156,20 +156,20 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
         let rows = write_summary(&root, &study, &plan, &observations)?;
         if args.progress {
             if moved > 0 {
-                println!(
+                crate::console::line(&format!(
                     "sweep {}: {moved} case(s) of an earlier version's layout moved into the case store {}",
                     root.display(),
                     store.display()
-                );
+                ));
             }
             let complete = rows.iter().filter(|r| matches!(&r.state, State::Ended(r) if r.ok())).count();
-            println!(
+            crate::console::line(&format!(
                 "sweep {}: {} cases, {complete} already complete, {} to run in {} group(s) of {k} rank(s)",
                 root.display(),
                 study.cases.len(),
                 todo.len(),
                 n / k
-            );
+            ));
         }
         Ok(order.into_iter().map(|i| i as u64).collect())
     })?
@@ -389,11 +389,11 @@ impl Group<'_> {
                 if self.leader() {
                     store::claim(dir, || {
                         if self.args.progress {
-                            println!(
+                            crate::console::line(&format!(
                                 "sweep: case {} ({}) is being run by another sweep: waiting for it",
                                 case.index,
                                 case.label()
-                            );
+                            ));
                         }
                     })
                     .map(Some)
@@ -439,7 +439,11 @@ impl Group<'_> {
         let resume = crate::parallel::any(self.comm, resume == Some(true));
         if resume {
             if self.leader() && self.args.progress {
-                println!("sweep: case {} ({}) continues its interrupted run", case.index, case.label());
+                crate::console::line(&format!(
+                    "sweep: case {} ({}) continues its interrupted run",
+                    case.index,
+                    case.label()
+                ));
             }
             // Nothing added: the run's record holds the options it started with (its
             // signature's, which are this session's: they name its directory).
@@ -474,12 +478,12 @@ impl Group<'_> {
         let left = total - ok - failed;
         let eta = started.elapsed().as_secs_f64() / ended_now as f64 * left as f64;
         let what = if r.ok() { format!("ok in {secs:.1} s") } else { format!("FAILED in {secs:.1} s: {}", r.error) };
-        println!(
+        crate::console::line(&format!(
             "sweep: case {} ({}) {what} [group {}] — {ok}/{total} done, {running} running, {failed} failed, eta {}",
             case.index,
             case.label(),
             self.index,
             crate::io::fmt_duration(eta)
-        );
+        ));
     }
 }
