@@ -22,7 +22,9 @@
 //!   the first session, which a later session must match; `summary.csv` ([`summary`]: a row per
 //!   case, with the observables of [`observable`]), `claims/` (this session's) and, by default,
 //!   the store `cases/`.
-//! - A failed case (a bad override, a solve that does not converge) is recorded with its error
+//! - Every case's scene is loaded with its overrides before anything is written: an unknown key
+//!   or a value out of range is the sweep's error, naming the case. A case that fails later (its
+//!   set-up, a solve that does not converge) is recorded with its error
 //!   line; the group goes on to the next case.
 //! - Resuming: the same command with `--out DIR`. Complete cases are skipped; a case with a run
 //!   directory and no outcome (killed, or stopped by a signal) continues from its last
@@ -131,6 +133,15 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
         agree(world, LoadedScene::load(scene, &study.set).map(|_| ()))
             .map_err(|e| Error::Sweep(format!("{what}: {e}")))?;
     }
+    // Every case's overrides against its scene (rank 0): a typo in a grid key would otherwise
+    // fail every case after the sweep directory had been made.
+    on_root(world, || {
+        study.cases.iter().try_for_each(|case| {
+            LoadedScene::load(&case.scene, &study.overrides(case))
+                .map(drop)
+                .map_err(|e| Error::Sweep(format!("case {} ({}): {e}", case.index, case.label())))
+        })
+    })?;
     let root = match &args.out {
         Some(o) => o.clone(),
         None => {
