@@ -129,6 +129,25 @@ fn assert_same_history(a: &History, b: &History, tol: f64, what: &str) {
     }
 }
 
+/// A resumed run's summary is the whole run's: the uninterrupted run's peak force and largest
+/// p (to 1e-10; its step and place the same), and the same steps.
+fn assert_same_summary(a: &Path, b: &Path, what: &str) {
+    let (sa, sb) = (Summary::read(a), Summary::read(b));
+    let close = |k: &str| {
+        let (x, y) = (sa.num(k).unwrap(), sb.num(k).unwrap());
+        assert!((x - y).abs() <= 1e-10 * x.abs().max(1.0), "{what}: {k} {y} vs the uninterrupted {x}");
+    };
+    for k in ["plates.peak_force_mg", "pressure.max_p_kPa"] {
+        close(k);
+    }
+    for k in ["steps", "t_end_s", "plates.peak_force_time_s", "pressure.max_p_time_s"] {
+        assert_eq!(sa.num(k), sb.num(k), "{what}: {k}");
+    }
+    assert_eq!(sa.max_p_at(), sb.max_p_at(), "{what}: the place of the largest p");
+    let status = std::fs::read_to_string(b.join("status.txt")).unwrap();
+    assert!(status.starts_with("completed: ") && status.contains("summary.toml"), "{what}: {status}");
+}
+
 fn resume(np: usize, dir: &Path) {
     run_ok(np, &["resume", &dir.display().to_string(), "-q"]);
     let status = std::fs::read_to_string(dir.join("status.txt")).unwrap();
@@ -166,13 +185,16 @@ fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
     assert!(stderr.contains("the damaged file is kept as"), "{stderr}");
     assert!(killed.join("fields.damaged.h5").is_file());
     assert_same_history(&a, &History::read(&killed), 1e-10, "kill -9, damaged files, resumed");
+    assert_same_summary(reference, &killed, "kill -9, resumed");
     let xdmf = std::fs::read_to_string(killed.join("fields.xdmf")).unwrap();
     let ref_xdmf = std::fs::read_to_string(reference.join("fields.xdmf")).unwrap();
     assert_eq!(xdmf.matches("<Time Value=").count(), ref_xdmf.matches("<Time Value=").count());
 
-    // SIGTERM: a checkpoint at the next step boundary, a clean stop with exit code 75.
+    // SIGTERM: a checkpoint at the next step boundary, a clean stop with exit code 75. After
+    // the checkpoint of step 20 (t = 5.08 s), past the largest p (at the end of the ramp, 5 s):
+    // the resumed run's summary has it from the checkpoint.
     let stopped = d.join("stopped");
-    let mut child = running(1, &stopped, &[], 10);
+    let mut child = running(1, &stopped, &[], 20);
     signal(&child, "-TERM");
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(75), "exit code of a stopped run");
@@ -182,6 +204,7 @@ fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
     assert!(rows_at_stop < a.rows.len(), "stopped after {rows_at_stop} rows of {}", a.rows.len());
     resume(1, &stopped);
     assert_same_history(&a, &History::read(&stopped), 1e-10, "SIGTERM, resumed");
+    assert_same_summary(reference, &stopped, "SIGTERM, resumed");
     // The fields continue too: one XDMF step per fields.h5 step, times increasing.
     let xdmf = std::fs::read_to_string(stopped.join("fields.xdmf")).unwrap();
     let ref_xdmf = std::fs::read_to_string(reference.join("fields.xdmf")).unwrap();

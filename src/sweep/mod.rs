@@ -39,11 +39,13 @@
 //!   end, in case order, so a killed sweep leaves a usable partial one.
 
 pub mod counters;
-pub mod observable;
 pub mod schedule;
 pub mod store;
 pub mod study;
 pub mod summary;
+
+/// The observables of a history (the grammar lives with the history's reader, in `io`).
+pub use crate::io::observable;
 
 use crate::driver::{self, signals::StopRequest, RunArgs};
 use crate::error::{Error, Result};
