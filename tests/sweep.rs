@@ -1,5 +1,5 @@
 //! `poroplast sweep`: the cases of a study under one mpirun, in groups of k ranks — each case's
-//! history equal to the same case run alone; a case failing at its set-up failing alone; a sweep killed with
+//! history equal to the same case run alone; a bad case failing alone; a sweep killed with
 //! `kill -9` resuming to the same summary, and a sweep directory of the earlier layout
 //! continued; sweeps sharing a case store running each case once; bad input refused before
 //! anything is written. The scene: the axisymmetric reference on a coarse meridian, to t = 3 s
@@ -138,7 +138,7 @@ fn a_bad_case_fails_alone() {
     let d = scratch("sweep_bad_case");
     let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
     let text = format!(
-        "scene = \"reference_axi\"\nset = [{}]\n[[case]]\nset = [\"material.mu=15\"]\n[[case]]\nset = [\"plates.radius=90\"]\n\
+        "scene = \"reference_axi\"\nset = [{}]\n[[case]]\nset = [\"material.mu=15\"]\n[[case]]\nset = [\"material.mu=-3\"]\n\
          [[case]]\nset = [\"plates.group=nowhere\"]\n[[case]]\nset = [\"material.mu=25\"]\n",
         set.join(", ")
     );
@@ -153,7 +153,7 @@ fn a_bad_case_fails_alone() {
     let col = |n: &str| header.iter().position(|h| h == n).unwrap();
     let status: Vec<&str> = rows.iter().map(|r| r[col("status")].as_str()).collect();
     assert_eq!(status, ["ok", "failed", "failed", "ok"]);
-    assert!(rows[1][col("error")].contains("plates.radius"), "{:?}", rows[1]);
+    assert!(rows[1][col("error")].contains("material.mu"), "{:?}", rows[1]);
     assert!(rows[2][col("error")].contains("physical group"), "{:?}", rows[2]);
     assert!(rows[0][col("max:force_total_mg")].parse::<f64>().unwrap() > 0.0);
     assert!(rows[3][col("steps")].parse::<usize>().unwrap() > 0);
@@ -389,14 +389,15 @@ fn bad_input_is_refused_before_anything_is_written() {
         ("scene = \"reference_axi\"\nsets = []\n[[case]]\nset = []\n", "unknown field `sets`"),
         ("scene = \"no_such_scene\"\n[[case]]\nset = []\n", "base scene"),
         ("scene = \"reference_axi\"\n", "no cases"),
-        // A typo in a grid key, and a value out of range in one case: found before any case runs.
+        // A typo in a grid key, and a value of the wrong type in one case: found before any case
+        // runs (a value out of range fails its case alone: `a_bad_case_fails_alone`).
         (
             "scene = \"reference_axi\"\n[[grid]]\nkey = \"material.muu\"\nvalues = [15, 25]\n",
             "case 0 (material.muu=15): scene builtin:reference_axi: --set material.muu=15: unknown field `muu`",
         ),
         (
-            "scene = \"reference_axi\"\n[[case]]\nset = [\"material.mu=15\"]\n[[case]]\nset = [\"material.nu=0.7\"]\n",
-            "case 1 (material.nu=0.7)",
+            "scene = \"reference_axi\"\n[[case]]\nset = [\"material.mu=15\"]\n[[case]]\nset = [\"material.mu=soft\"]\n",
+            "case 1 (material.mu=soft)",
         ),
     ] {
         let bad = d.join("bad.toml");

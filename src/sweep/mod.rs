@@ -22,9 +22,10 @@
 //!   the first session, which a later session must match; `summary.csv` ([`summary`]: a row per
 //!   case, with the observables of [`observable`]), `claims/` (this session's) and, by default,
 //!   the store `cases/`.
-//! - Every case's scene is loaded with its overrides before anything is written: an unknown key
-//!   or a value out of range is the sweep's error, naming the case. A case that fails later (its
-//!   set-up, a solve that does not converge) is recorded with its error
+//! - Every case's overrides are read into its scene before anything is written: an unknown key
+//!   (or a value of the wrong type) is the sweep's error, naming the case. A case that fails
+//!   later (a value out of range, its set-up, a solve that does not converge) is recorded with
+//!   its error
 //!   line; the group goes on to the next case.
 //! - Resuming: the same command with `--out DIR`. Complete cases are skipped; a case with a run
 //!   directory and no outcome (killed, or stopped by a signal) continues from its last
@@ -135,11 +136,12 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
         agree(world, LoadedScene::load(scene, &study.set).map(|_| ()))
             .map_err(|e| Error::Sweep(format!("{what}: {e}")))?;
     }
-    // Every case's overrides against its scene (rank 0): a typo in a grid key would otherwise
-    // fail every case after the sweep directory had been made.
+    // Every case's override keys against its scene (rank 0): a typo in a grid key would
+    // otherwise fail every case after the sweep directory had been made. (A value out of range
+    // is the failure of its case alone, recorded in the summary.)
     on_root(world, || {
         study.cases.iter().try_for_each(|case| {
-            LoadedScene::load(&case.scene, &study.overrides(case))
+            LoadedScene::check_keys(&case.scene, &study.overrides(case))
                 .map(drop)
                 .map_err(|e| Error::Sweep(format!("case {} ({}): {e}", case.index, case.label())))
         })
