@@ -298,8 +298,10 @@ fn a_two_rank_run_stopped_by_mpirun_resumes_on_one_rank() {
 fn ctrl_c_to_mpirun_stops_the_ranks_with_a_checkpoint() {
     let _cores = cores(2);
     let d = scratch("restart_sigint_mpirun");
+    // mpirun takes its time to pass the signal on (measured: 13 steps, about 1 s): a longer run,
+    // lest it complete first.
     let stopped = d.join("stopped");
-    let mut child = running(2, &stopped, &[], 10);
+    let mut child = running(2, &stopped, &["time.t_end=30"], 10);
     signal(&child, "-INT");
     let status = child.wait().unwrap();
     let why = std::fs::read_to_string(stopped.join("status.txt")).unwrap();
