@@ -25,7 +25,7 @@ e.g. last:height/width), `COL@T` (interpolated at time T), `zero:COL` (the first
 from positive to zero or below); against an exact solution (a column COL_exact): `err:COL@T`
 (|COL − COL_exact| at T), `maxerr:COL@T0:T1` (the largest over T0 ≤ t ≤ T1); `--orders` prints
 the observables along the first grid key with the observed order between successive levels.
-The sweep evaluates the observables (the one grammar: src/sweep/observable.rs); its default, for
+The sweep evaluates the observables (the one grammar: src/io/observable.rs); its default, for
 the plates experiment: peak force, F(35 s), p(X_U) at 5 and 30 s, its zero crossing, final H/W.
 Run from the repository root after `cargo build --release`.
 """

@@ -26,8 +26,10 @@ pub enum Command {
     /// Run a scene and write its results into a run directory.
     ///
     /// Writes DIR/history.csv (one row per step), DIR/fields.h5 + DIR/fields.xdmf (open the
-    /// .xdmf in ParaView), DIR/scene.toml (the resolved scene), DIR/petsc_options.txt and
-    /// DIR/timings.txt. PETSc options go after `--`, e.g.
+    /// .xdmf in ParaView), DIR/scene.toml (the resolved scene), DIR/petsc_options.txt,
+    /// DIR/timings.txt and, at the end, DIR/summary.toml (peak force, force at the end of the
+    /// hold, contact opening, H/W, largest p; draw the run with `scripts/plot_run.py DIR`). PETSc
+    /// options go after `--`, e.g.
     /// `mpirun -n 2 poroplast run cryer -- -ksp_monitor -log_view`.
     Run {
         /// A scene file (.toml) or the name of a shipped scene (see `poroplast scenes`).

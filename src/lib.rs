@@ -5,6 +5,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod cli;
+pub mod console;
 pub mod driver;
 pub mod error;
 pub(crate) mod fem;

@@ -2,6 +2,7 @@
 
 use clap::Parser;
 use poroplast::cli::{Cli, Command};
+use poroplast::console;
 use poroplast::driver::{self, RunArgs};
 use poroplast::scene::BUILTIN;
 use poroplast::sweep::{self, SweepArgs};
@@ -10,18 +11,18 @@ fn main() {
     let cli = Cli::parse();
     if let Command::Scenes { keys } = cli.command {
         if keys {
-            print!("{}", poroplast::scene::reference::reference());
+            console::print(&poroplast::scene::reference::reference());
             return;
         }
         for (name, text) in BUILTIN {
             let desc = text.lines().find_map(|l| l.strip_prefix("description = ")).unwrap_or("").trim_matches('"');
-            println!("{name:20} {desc}");
+            console::line(&format!("{name:20} {desc}"));
         }
         return;
     }
     if let Command::Show { name } = &cli.command {
         match BUILTIN.iter().find(|(n, _)| n == name) {
-            Some((_, text)) => print!("{text}"),
+            Some((_, text)) => console::print(text),
             None => {
                 eprintln!("poroplast: no shipped scene named \"{name}\" (see `poroplast scenes`)");
                 std::process::exit(2);
@@ -65,7 +66,7 @@ fn main() {
     let code = match result {
         Ok(msg) => {
             if rank0 {
-                println!("{msg}");
+                console::line(&msg);
             }
             0
         }

@@ -351,3 +351,29 @@ fn fails_as(np: usize, earlier: &Path, args: &[&str], expect: &str, what: &str) 
     assert!(!stderr.contains("panicked"), "{what}: panic:\n{stderr}");
     assert_eq!(before, snapshot(earlier), "{what}: the earlier run directory changed");
 }
+
+/// `poroplast check my.toml | head -1`: the reader goes away and the output is a closed pipe.
+/// Every command that prints must end quietly (exit 0, no panic), not with Rust's "failed
+/// printing to stdout" (exit 101). The pipe's read end is closed before the command starts, so
+/// that every write fails (a reader closing later would race with a short output).
+#[test]
+fn a_closed_standard_output_is_a_quiet_exit() {
+    let _cores = cores(1); // `check` takes a step on one rank (an MPI singleton)
+    for args in [&["scenes"][..], &["scenes", "--keys"], &["show", "reference"], &["check", "reference_axi"]] {
+        let (reader, writer) = std::io::pipe().unwrap();
+        drop(reader);
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_poroplast"))
+            .args(args)
+            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+            .env("OMPI_MCA_btl", "self,vader")
+            .env("OMPI_MCA_pml", "ob1")
+            .env("POROPLAST_CACHE", cache_dir())
+            .stdout(writer)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "{args:?} into a closed pipe: {}\n{stderr}", out.status);
+        assert!(stderr.is_empty(), "{args:?} into a closed pipe wrote to standard error:\n{stderr}");
+    }
+}

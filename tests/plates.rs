@@ -62,13 +62,13 @@ fn meridian_peak() -> f64 {
     })
 }
 
-/// The coarse scene (P2–P1, active-set Newton, MUMPS) on 2 ranks, run once per test process:
-/// its run directory.
+/// The coarse scene (P2–P1, active-set Newton, MUMPS) on 2 ranks, run once per test process,
+/// with the fields of every step (for the summary's largest p): its run directory.
 fn coarse_two_ranks() -> &'static Path {
     static RUN: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
     RUN.get_or_init(|| {
         let dir = scratch("plates-coarse");
-        run_in(2, &coarse_scene(&dir, &[]), &dir.join("np2"), &[]);
+        run_in(2, &coarse_scene(&dir, &[("fields_every = 5", "fields_every = 1")]), &dir.join("np2"), &[]);
         dir.join("np2")
     })
 }
@@ -658,4 +658,47 @@ fn long_hold_with_long_steps(geometry: &str) {
     assert!(hw < 0.8, "H/W after the release {hw}: the remodelled shape should persist");
     let det = h.col("det_bp_max_dev").iter().cloned().fold(0.0, f64::max);
     assert!(det < 1e-10, "det B_p drifted by {det}");
+}
+
+/// The run summary against the history and fields it summarises (the coarse protocol on 2
+/// ranks: ramp to 2 s, hold to 8 s, release by 10 s): the peak force and its time to every
+/// digit written, the force at the end of the hold interpolated between the rows around 8 s,
+/// the contact opening at the first step of the release whose force vanishes, H/W, µN = 9.81 mg;
+/// the largest p, its step and node those of the fields written at every step.
+#[test]
+fn the_summary_tells_the_history() {
+    let run = coarse_two_ranks();
+    let (h, s) = (History::read(run), Summary::read(run));
+    let (t, f) = (h.col("time"), h.col("force_total_mg"));
+    let num = |k: &str| s.num(k).unwrap_or_else(|| panic!("no {k} in summary.toml"));
+    let ipk = (0..f.len()).fold(0, |b, i| if f[i] > f[b] { i } else { b });
+    assert_eq!((num("plates.peak_force_mg"), num("plates.peak_force_time_s")), (f[ipk], t[ipk]));
+    assert_eq!(num("plates.peak_force_uN"), f[ipk] * 9.81);
+    assert_eq!((num("plates.ramp_end_s"), num("plates.hold_end_s"), num("plates.release_end_s")), (2.0, 8.0, 10.0));
+    let i = t.iter().position(|&x| x >= 8.0).unwrap();
+    let f8 = f[i - 1] + (8.0 - t[i - 1]) / (t[i] - t[i - 1]) * (f[i] - f[i - 1]);
+    assert!((num("plates.hold_end_force_mg") - f8).abs() <= 1e-12 * f8, "F(8 s) = {f8}");
+    assert!((num("plates.hold_end_force_uN") - 9.81 * f8).abs() <= 1e-12 * f8);
+    let k = (0..t.len()).find(|&i| t[i] > 8.0 && f[i] == 0.0).expect("the force vanishes in the release");
+    assert!(f[k - 1] > 0.0 && t[k] <= 10.0 + 1e-9, "opening at t = {}", t[k]);
+    assert_eq!(num("plates.contact_opening_time_s"), t[k]);
+    let last = t.len() - 1;
+    assert_eq!(num("plates.final_height_over_width"), h.col("height")[last] / h.col("width")[last]);
+    assert_eq!(num("steps"), last as f64);
+    assert_eq!(num("t_end_s"), t[last]);
+    // The largest p of every step, against the fields of every step: the same value, step and node.
+    let (p_max, p_t, p_at) = (num("pressure.max_p_kPa"), num("pressure.max_p_time_s"), s.max_p_at());
+    let file = hdf5_metno::File::open(run.join("fields.h5")).unwrap();
+    let x: Vec<f64> = file.dataset("mesh/coordinates").unwrap().read_raw().unwrap();
+    let times: Vec<f64> = file.dataset("time").unwrap().read_raw().unwrap();
+    assert_eq!(times, t, "fields of every step");
+    let mut largest = (f64::MIN, 0.0, [0.0; 3]);
+    for (k, &tk) in times.iter().enumerate() {
+        let p: Vec<f64> = file.dataset(&format!("fields/p/{k:06}")).unwrap().read_raw().unwrap();
+        let n = (0..p.len()).fold(0, |b, i| if p[i] > p[b] { i } else { b });
+        if p[n] > largest.0 {
+            largest = (p[n], tk, [x[3 * n], x[3 * n + 1], x[3 * n + 2]]);
+        }
+    }
+    assert_eq!((p_max, p_t, p_at), largest, "the largest p, its time and place");
 }

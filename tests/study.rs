@@ -1,6 +1,6 @@
 //! The study scripts end to end: `scripts/study.py` (a grid of `--set` overrides run as one sweep
 //! on 2 ranks, one summary row per case, failed cases reported and retried, completed ones
-//! skipped), the convergence study, the calibration and `reproduce.py` on tiny cases; and the
+//! skipped), the convergence study, the calibration, `reproduce.py` and `plot_run.py` on tiny cases; and the
 //! scripts' Python unit tests (`scripts/tests`: Richardson, the references reader, the study
 //! file and summary rows, the field observables), which need no solver.
 
@@ -442,4 +442,33 @@ fn the_coverage_study_counts_consistently_and_resumes() {
     assert!(out.contains(&format!("| 1 | lambda_p | 2 | {covered68}/2 = ")), "{out}");
     let (ok, again) = script("coverage.py", &args);
     assert!(ok && again.contains("2 fits, 2 done, 0 to run") && !again.contains(", 1 to run"), "{again}");
+}
+
+/// `plot_run.py` on a run directory as the solver writes it (the meridian reference with
+/// remodelling, coarse, ramp 1 s, released by 3 s): both figures, from the solver's own
+/// history.csv, scene.toml, summary.toml and fields.h5. (What they draw:
+/// scripts/tests/test_runplots.py.)
+#[test]
+fn plot_run_draws_a_meridian_run() {
+    let dir = scratch("plot_run");
+    let run = dir.join("run");
+    let sets = [
+        "mesh.params.h=25",
+        "mesh.params.h_pole=5",
+        "plates.t_ramp=1",
+        "plates.t_end=3",
+        "time.t_end=4",
+        "material.remodelling={ lambda_p = 0.001, sigma_y = 2.0 }",
+    ];
+    let mut args = vec!["run", "reference_axi", "--out", run.to_str().unwrap(), "-q"];
+    sets.iter().for_each(|s| args.extend(["--set", s]));
+    run_ok(1, &args);
+    let _cores = cores(1); // Python alone
+    let (ok, out) = script("plot_run.py", &[run.to_str().unwrap()]);
+    assert!(ok, "{out}");
+    for png in ["plot_history.png", "plot_fields.png"] {
+        let bytes = std::fs::read(run.join(png)).unwrap_or_else(|e| panic!("{png}: {e}\n{out}"));
+        assert!(bytes.starts_with(b"\x89PNG") && bytes.len() > 10_000, "{png}: {} bytes", bytes.len());
+    }
+    assert!(!out.contains("note:"), "{out}");
 }

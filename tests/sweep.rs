@@ -139,7 +139,7 @@ fn a_bad_case_fails_alone() {
     let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
     let text = format!(
         "scene = \"reference_axi\"\nset = [{}]\n[[case]]\nset = [\"material.mu=15\"]\n[[case]]\nset = [\"material.mu=-3\"]\n\
-         [[case]]\nset = [\"material.bogus=1\"]\n[[case]]\nset = [\"material.mu=25\"]\n",
+         [[case]]\nset = [\"plates.group=nowhere\"]\n[[case]]\nset = [\"material.mu=25\"]\n",
         set.join(", ")
     );
     let study = d.join("bad.toml");
@@ -154,7 +154,7 @@ fn a_bad_case_fails_alone() {
     let status: Vec<&str> = rows.iter().map(|r| r[col("status")].as_str()).collect();
     assert_eq!(status, ["ok", "failed", "failed", "ok"]);
     assert!(rows[1][col("error")].contains("material.mu"), "{:?}", rows[1]);
-    assert!(rows[2][col("error")].contains("bogus"), "{:?}", rows[2]);
+    assert!(rows[2][col("error")].contains("physical group"), "{:?}", rows[2]);
     assert!(rows[0][col("max:force_total_mg")].parse::<f64>().unwrap() > 0.0);
     assert!(rows[3][col("steps")].parse::<usize>().unwrap() > 0);
 }
@@ -389,6 +389,16 @@ fn bad_input_is_refused_before_anything_is_written() {
         ("scene = \"reference_axi\"\nsets = []\n[[case]]\nset = []\n", "unknown field `sets`"),
         ("scene = \"no_such_scene\"\n[[case]]\nset = []\n", "base scene"),
         ("scene = \"reference_axi\"\n", "no cases"),
+        // A typo in a grid key, and a value of the wrong type in one case: found before any case
+        // runs (a value out of range fails its case alone: `a_bad_case_fails_alone`).
+        (
+            "scene = \"reference_axi\"\n[[grid]]\nkey = \"material.muu\"\nvalues = [15, 25]\n",
+            "case 0 (material.muu=15): scene builtin:reference_axi: --set material.muu=15: unknown field `muu`",
+        ),
+        (
+            "scene = \"reference_axi\"\n[[case]]\nset = [\"material.mu=15\"]\n[[case]]\nset = [\"material.mu=soft\"]\n",
+            "case 1 (material.mu=soft)",
+        ),
     ] {
         let bad = d.join("bad.toml");
         std::fs::write(&bad, text).unwrap();

@@ -43,6 +43,18 @@ fn cryer_follows_the_series() {
     let last = p.len() - 1;
     assert!((t[last] - 60.0).abs() < 1e-9, "the meridian run ends at {} s", t[last]);
     assert!(p[last] < 0.05 && (p[last] - pe[last]).abs() < 0.01, "late p_c {} vs {}", p[last], pe[last]);
+    // The run summary's largest p is the Mandel–Cryer peak at the centre (a vertex of the
+    // meridian, (r, z) = (0, R)): the centre probe's largest value, at its step, within 1% of
+    // the exact 1.3643.
+    let s = Summary::read(&axi);
+    let ipk = (0..p.len()).fold(0, |b, i| if p[i] > p[b] { i } else { b });
+    let p_max = s.num("pressure.max_p_kPa").unwrap();
+    assert!((p_max - p[ipk]).abs() < 1e-12, "largest p {p_max} vs the centre's {}", p[ipk]);
+    assert_eq!(s.num("pressure.max_p_time_s"), Some(t[ipk]));
+    let [r, _, z] = s.max_p_at();
+    assert!(r.abs() < 1e-9 && (z - 100.0).abs() < 1e-6, "largest p at (r, z) = ({r}, {z})");
+    assert!((p_max / 1.3643 - 1.0).abs() < 0.01, "largest p {p_max} vs the exact peak 1.3643");
+    assert!(s.num("plates.peak_force_mg").is_none(), "no plates, no forces");
 }
 
 /// Accuracy lost to stability: with the pressure stabilisation at full weight in every step

@@ -23,5 +23,5 @@
   * coverage    a calibration's confidence intervals, whether they hold the truth, coverage rates
 
 Observables of histories (`max:COL`, `COL@T`, ...) are evaluated by `poroplast sweep` alone
-(src/sweep/observable.rs); the scripts read them from the summary.
+(src/io/observable.rs); the scripts read them from the summary.
 """

@@ -8,6 +8,7 @@ use super::signals::StopRequest;
 use crate::error::{Error, Result};
 use crate::io::checkpoint::{self, Counters, RunState};
 use crate::io::recorder::Recorder;
+use crate::observe::pressure_peak::PressurePeak;
 use crate::parallel::agree;
 use mpi::traits::*;
 use std::path::PathBuf;
@@ -61,9 +62,10 @@ impl<'w> Run<'w> {
     fn checkpoint(&mut self, rec: &Recorder, pg: &mut Progress, t_start: Instant, periodic: bool) -> Result<PathBuf> {
         let counters = Counters {
             cuts: pg.c.cuts + self.ts.rejections()?,
-            wall_s: pg.c.wall_s + t_start.elapsed().as_secs_f64() + self.setup.seconds,
+            wall_s: self.wall_so_far(pg, t_start),
             fields_written: rec.fields_written(),
             outflow: self.observers.outflow(),
+            pressure_peak: self.observers.pressure_peak.to_array(),
             ..pg.c.clone()
         };
         let state = self.state.capture(self.world, self.ts.problem_mut(), self.setup.layout, counters)?;
@@ -95,6 +97,7 @@ impl<'w> Run<'w> {
     pub(super) fn restore(&mut self, state: RunState) -> Result<Counters> {
         let c = self.state.apply(self.ts.problem_mut(), state)?;
         self.observers.set_outflow(c.outflow);
+        self.observers.pressure_peak = PressurePeak::from_array(c.pressure_peak);
         self.ts.set_time(c.t)?;
         Ok(c)
     }

@@ -8,8 +8,8 @@
 //! and settling (`step`), where the loop stands (`progress`), the step controller (`schedule`) and the step rate it acts on
 //! (`rate`), the state between steps and the checkpoint files (`state`), writing and reading
 //! checkpoints in a run (`checkpoint`), the run directory's outputs and log (`output`), what the
-//! scene resolved to and its expected accuracy (`resolved`), the run record `run.toml` (`record`)
-//! and stop signals (`signals`).
+//! scene resolved to and its expected accuracy (`resolved`), the run record `run.toml` (`record`),
+//! the run summary `summary.toml` (`summary`) and stop signals (`signals`).
 
 mod check;
 mod checkpoint;
@@ -24,6 +24,7 @@ mod setup;
 pub(crate) mod signals;
 pub mod state;
 mod step;
+mod summary;
 
 pub use check::check;
 use record::RunRecord;
@@ -67,7 +68,7 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
     let status = std::fs::read_to_string(dir.join("status.txt")).unwrap_or_default();
     if status.starts_with("completed") {
         if world.rank() == 0 {
-            println!("{}: the run has {}; nothing to resume", dir.display(), status.trim());
+            crate::console::line(&format!("{}: the run has {}; nothing to resume", dir.display(), status.trim()));
         }
         return Ok(dir.to_path_buf());
     }

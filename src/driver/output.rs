@@ -164,11 +164,17 @@ impl<'w> Run<'w> {
         ));
     }
 
+    /// Wall time of the run so far (s): the set-up, the sessions before this one (a resume), and
+    /// this one's loop since `t_start`.
+    pub(super) fn wall_so_far(&self, pg: &Progress, t_start: Instant) -> f64 {
+        pg.c.wall_s + t_start.elapsed().as_secs_f64() + self.setup.seconds
+    }
+
     /// timings.txt, and the closing line of a completed run.
     pub(super) fn finish(&self, dir: &Path, pg: &Progress, t_start: Instant, completed: bool) -> Result<()> {
         let timers = self.ts.problem().timers;
         let cuts = pg.c.cuts + self.ts.rejections()?;
-        let total = pg.c.wall_s + t_start.elapsed().as_secs_f64() + self.setup.seconds;
+        let total = self.wall_so_far(pg, t_start);
         let assembly = timers.residual_s + timers.jacobian_s;
         let rss = crate::parallel::max(self.world, peak_rss_mib());
         let summary = format!(

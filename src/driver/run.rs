@@ -104,14 +104,22 @@ impl<'w> Run<'w> {
                 step = self.advance(&mut pg, stages)?;
             }
         })();
-        // Whatever ended the run, the directory says so, with the timings so far.
-        let status = match &r {
-            Ok(()) => format!("completed: {} steps, t = {}\n", pg.c.step, pg.c.t),
-            Err(e @ Error::Stopped(_)) => format!("{e}\n"),
-            Err(e) => format!("failed after step {} (t = {}): {e}\n", pg.c.step, pg.c.t),
+        // Whatever ended the run, the directory says so, with the timings so far; a completed
+        // run with its summary.
+        let finished = self.finish(&rec.dir, &pg, t_start, r.is_ok());
+        let summary = match (&r, &finished) {
+            (Ok(()), Ok(())) => self.summarise(&rec.dir, self.wall_so_far(&pg, t_start), pg.c.step, pg.c.t),
+            _ => Ok(None),
+        };
+        let status = match (&r, &summary) {
+            (Ok(()), Ok(Some(s))) => format!("completed: {} steps, t = {}; {}\n", pg.c.step, pg.c.t, s.headline()),
+            (Ok(()), _) => format!("completed: {} steps, t = {}\n", pg.c.step, pg.c.t),
+            (Err(e @ Error::Stopped(_)), _) => format!("{e}\n"),
+            (Err(e), _) => format!("failed after step {} (t = {}): {e}\n", pg.c.step, pg.c.t),
         };
         on_root(self.world, || rundir::write_text(&rec.dir, "status.txt", &status))?;
-        self.finish(&rec.dir, &pg, t_start, r.is_ok())?;
+        finished?;
+        summary?;
         r.map(|()| rec.dir)
     }
 
@@ -121,7 +129,7 @@ impl<'w> Run<'w> {
 
     pub(super) fn say(&self, s: &str) {
         if self.rank0() && self.args.progress {
-            println!("{s}");
+            crate::console::line(s);
         }
     }
 

@@ -300,6 +300,7 @@ impl<'w> Run<'w> {
             exact: exact_columns(scene)?,
             remodelling: ts.problem().has_qp_state(),
             fields: s.output.fields,
+            pressure_peak: Default::default(),
             mid_edges: if s.output.fields { mid_edge_nodes(ts.problem().mesh()) } else { Vec::new() },
         };
         let settle =

@@ -158,10 +158,10 @@ impl<'w> Run<'w> {
         let (u, prev) = (&self.state.u, &self.state.prev);
         let (eu, ep) = problem.jacobian_error(pg.c.t, step.dt, u, prev, jac, eps)?;
         if self.rank0() {
-            println!(
+            crate::console::line(&format!(
                 "jacobian check: step {} t = {:.6e}: rel. error u rows {eu:.3e}, p rows {ep:.3e}",
                 pg.c.step, pg.c.t
-            );
+            ));
         }
         Ok(())
     }

@@ -50,6 +50,9 @@ pub struct Counters {
     pub fields_written: usize,
     /// Time-integrated outflow of the experiment so far.
     pub outflow: f64,
+    /// The largest nodal p so far, its time and place (`observe::pressure_peak`: p, t, x, y, z;
+    /// p = −∞ in a checkpoint of an earlier version, which did not keep it).
+    pub pressure_peak: [f64; 5],
 }
 
 impl Counters {
@@ -68,13 +71,20 @@ impl Counters {
             self.wall_s,
             self.fields_written as f64,
             self.outflow,
+            self.pressure_peak[0],
+            self.pressure_peak[1],
+            self.pressure_peak[2],
+            self.pressure_peak[3],
+            self.pressure_peak[4],
         ]
     }
 
     fn from_slice(v: &[f64]) -> Option<Counters> {
-        if v.len() != 13 || v[0] != FORMAT {
+        // 13 counters in checkpoints of earlier versions, 18 with the pressure peak.
+        if !(v.len() == 13 || v.len() == 18) || v[0] != FORMAT {
             return None;
         }
+        let unknown = [f64::NEG_INFINITY, f64::NAN, f64::NAN, f64::NAN, f64::NAN];
         let n = |x: f64| x as usize;
         Some(Counters {
             step: n(v[1]),
@@ -89,6 +99,7 @@ impl Counters {
             wall_s: v[10],
             fields_written: n(v[11]),
             outflow: v[12],
+            pressure_peak: v.get(13..18).map_or(unknown, |p| [p[0], p[1], p[2], p[3], p[4]]),
         })
     }
 }
@@ -332,8 +343,12 @@ mod tests {
             wall_s: 2.0,
             fields_written: 5,
             outflow: 7.5e3,
+            pressure_peak: [4.5, 2.0, 10.0, 0.0, 190.0],
         };
         assert_eq!(Counters::from_slice(&c.to_vec()), Some(c.clone()));
+        // A checkpoint of an earlier version (13 counters, no pressure peak) still reads.
+        let old = Counters::from_slice(&c.to_vec()[..13]).unwrap();
+        assert_eq!((old.step, old.outflow, old.pressure_peak[0]), (17, 7.5e3, f64::NEG_INFINITY));
         let mut v = c.to_vec();
         v[0] = 2.0;
         assert_eq!(Counters::from_slice(&v), None);

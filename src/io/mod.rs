@@ -1,8 +1,9 @@
 //! Run output: the run directory, per-step field files (HDF5 + XDMF for ParaView), the
-//! `history.csv` log and the checkpoint files.
+//! `history.csv` log (and the observables read from it) and the checkpoint files.
 pub mod checkpoint;
 pub mod fields;
 pub mod history;
+pub mod observable;
 pub mod recorder;
 pub mod rundir;
 

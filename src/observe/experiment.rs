@@ -22,8 +22,11 @@ use crate::physics::contact::{Plates, Touch};
 use crate::physics::problem::Post;
 use mpi::topology::SimpleCommunicator;
 
-/// nN → mg under standard gravity: 1e-9 N / 9.81 m/s² = 1.0194e-10 kg = 1.0194e-4 mg.
-pub const NN_TO_MG: f64 = 1e-3 / 9.81;
+/// The g of the forces in mg (m/s²): 1 mg-force = 9.81 µN.
+pub const G: f64 = 9.81;
+
+/// nN → mg under g: 1e-9 N / 9.81 m/s² = 1.0194e-10 kg = 1.0194e-4 mg.
+pub const NN_TO_MG: f64 = 1e-3 / G;
 
 /// history.csv columns of [`Experiment::observe`], in order, with their kind (the contact
 /// node counts are integers).

@@ -1,11 +1,12 @@
 //! What a run observes of its converged states, above the equations (`physics`) and below the
 //! output (`io`) and the run (`driver`): the observers that turn a state into a step's
 //! `history.csv` values and fields (io's record types), the plates experiment's observables,
-//! probes, the remodelling summary, and the exact solutions of the verification scenes.
+//! probes, the remodelling summary, the run's largest pore pressure, and the exact solutions of the verification scenes.
 
 pub mod analytic;
 pub mod experiment;
 pub mod observers;
+pub mod pressure_peak;
 pub mod probe;
 pub mod remodelling_summary;
 pub mod verification;

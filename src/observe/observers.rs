@@ -6,6 +6,7 @@
 //! turns a sample into the step's [`Observed`] values.
 
 use super::experiment::{self, Experiment};
+use super::pressure_peak::PressurePeak;
 use super::probe::Probe;
 use super::remodelling_summary;
 use super::verification::ExactFn;
@@ -28,6 +29,8 @@ pub struct Observers {
     pub remodelling: bool,
     /// Write fields at all.
     pub fields: bool,
+    /// The largest nodal p of the steps observed so far (with a checkpoint's, after a resume).
+    pub pressure_peak: PressurePeak,
     /// The owned mid-edge nodes and their edges' ends ([`mid_edge_nodes`]): where the fields show
     /// the P1 pressure interpolated (empty without fields).
     pub mid_edges: Vec<(usize, usize, usize)>,
@@ -128,6 +131,7 @@ impl Observers {
         if let (Some(post), true) = (post, self.remodelling) {
             values.extend(remodelling_summary::observe(post, world));
         }
+        self.pressure_peak = self.pressure_peak.max(PressurePeak::of_state(mesh, dofs, local, t, world));
         values.extend(self.probes.iter().map(|p| p.value(mesh, dofs, local, world)));
         values.extend(self.exact.iter().map(|(_, f)| f(t)));
         let fields = match (sample, fields && self.fields) {

@@ -39,6 +39,25 @@ impl LoadedScene {
     /// Loads `arg`: a path to a `.toml` file, or the name of a builtin scene, with the
     /// `--set KEY=VALUE` overrides applied in order (see [`overrides`]).
     pub fn load(arg: &str, overrides: &[String]) -> Result<LoadedScene> {
+        let (mut scene, source, dir, stem) = Self::read(arg, overrides)?;
+        if scene.name.is_empty() {
+            scene.name = stem;
+        }
+        auto::resolve(&mut scene).map_err(|msg| Error::Scene { path: source.clone(), msg })?;
+        let loaded = LoadedScene { scene, overrides: overrides.to_vec(), source, dir };
+        loaded.validate()?;
+        Ok(loaded)
+    }
+
+    /// That the overrides name keys of the scene `arg`, with values of their types: the scene
+    /// read, neither resolved nor validated. A sweep checks this of every case before it runs
+    /// any; a value out of range stays the failure of the case that has it.
+    pub fn check_keys(arg: &str, overrides: &[String]) -> Result<()> {
+        Self::read(arg, overrides).map(drop)
+    }
+
+    /// The scene `arg` as read, with the overrides applied: (scene, source, directory, stem).
+    fn read(arg: &str, overrides: &[String]) -> Result<(Scene, String, Option<PathBuf>, String)> {
         let path = Path::new(arg);
         let (text, source, dir, stem) = if path.exists() {
             let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
@@ -56,7 +75,7 @@ impl LoadedScene {
             });
         };
         let scene_err = |msg: String| Error::Scene { path: source.clone(), msg };
-        let mut scene: Scene = if overrides.is_empty() {
+        let scene: Scene = if overrides.is_empty() {
             toml::from_str(&text).map_err(|e| scene_err(toml_message(&text, &e)))?
         } else {
             // All overrides first, then the scene is read once: one override may need another
@@ -69,13 +88,7 @@ impl LoadedScene {
             }
             from_table(&table).map_err(|e| scene_err(override_message(&text, &file, overrides, &e)))?
         };
-        if scene.name.is_empty() {
-            scene.name = stem;
-        }
-        auto::resolve(&mut scene).map_err(scene_err)?;
-        let loaded = LoadedScene { scene, overrides: overrides.to_vec(), source, dir };
-        loaded.validate()?;
-        Ok(loaded)
+        Ok((scene, source, dir, stem))
     }
 
     fn err(&self, msg: impl Into<String>) -> Error {

@@ -22,7 +22,10 @@
 //!   the first session, which a later session must match; `summary.csv` ([`summary`]: a row per
 //!   case, with the observables of [`observable`]), `claims/` (this session's) and, by default,
 //!   the store `cases/`.
-//! - A failed case (a bad override, a solve that does not converge) is recorded with its error
+//! - Every case's overrides are read into its scene before anything is written: an unknown key
+//!   (or a value of the wrong type) is the sweep's error, naming the case. A case that fails
+//!   later (a value out of range, its set-up, a solve that does not converge) is recorded with
+//!   its error
 //!   line; the group goes on to the next case.
 //! - Resuming: the same command with `--out DIR`. Complete cases are skipped; a case with a run
 //!   directory and no outcome (killed, or stopped by a signal) continues from its last
@@ -37,11 +40,13 @@
 //!   end, in case order, so a killed sweep leaves a usable partial one.
 
 pub mod counters;
-pub mod observable;
 pub mod schedule;
 pub mod store;
 pub mod study;
 pub mod summary;
+
+/// The observables of a history (the grammar lives with the history's reader, in `io`).
+pub use crate::io::observable;
 
 use crate::driver::{self, signals::StopRequest, RunArgs};
 use crate::error::{Error, Result};
@@ -131,6 +136,16 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
         agree(world, LoadedScene::load(scene, &study.set).map(|_| ()))
             .map_err(|e| Error::Sweep(format!("{what}: {e}")))?;
     }
+    // Every case's override keys against its scene (rank 0): a typo in a grid key would
+    // otherwise fail every case after the sweep directory had been made. (A value out of range
+    // is the failure of its case alone, recorded in the summary.)
+    on_root(world, || {
+        study.cases.iter().try_for_each(|case| {
+            LoadedScene::check_keys(&case.scene, &study.overrides(case))
+                .map(drop)
+                .map_err(|e| Error::Sweep(format!("case {} ({}): {e}", case.index, case.label())))
+        })
+    })?;
     let root = match &args.out {
         Some(o) => o.clone(),
         None => {
@@ -156,20 +171,20 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
         let rows = write_summary(&root, &study, &plan, &observations)?;
         if args.progress {
             if moved > 0 {
-                println!(
+                crate::console::line(&format!(
                     "sweep {}: {moved} case(s) of an earlier version's layout moved into the case store {}",
                     root.display(),
                     store.display()
-                );
+                ));
             }
             let complete = rows.iter().filter(|r| matches!(&r.state, State::Ended(r) if r.ok())).count();
-            println!(
+            crate::console::line(&format!(
                 "sweep {}: {} cases, {complete} already complete, {} to run in {} group(s) of {k} rank(s)",
                 root.display(),
                 study.cases.len(),
                 todo.len(),
                 n / k
-            );
+            ));
         }
         Ok(order.into_iter().map(|i| i as u64).collect())
     })?
@@ -389,11 +404,11 @@ impl Group<'_> {
                 if self.leader() {
                     store::claim(dir, || {
                         if self.args.progress {
-                            println!(
+                            crate::console::line(&format!(
                                 "sweep: case {} ({}) is being run by another sweep: waiting for it",
                                 case.index,
                                 case.label()
-                            );
+                            ));
                         }
                     })
                     .map(Some)
@@ -439,7 +454,11 @@ impl Group<'_> {
         let resume = crate::parallel::any(self.comm, resume == Some(true));
         if resume {
             if self.leader() && self.args.progress {
-                println!("sweep: case {} ({}) continues its interrupted run", case.index, case.label());
+                crate::console::line(&format!(
+                    "sweep: case {} ({}) continues its interrupted run",
+                    case.index,
+                    case.label()
+                ));
             }
             // Nothing added: the run's record holds the options it started with (its
             // signature's, which are this session's: they name its directory).
@@ -474,12 +493,12 @@ impl Group<'_> {
         let left = total - ok - failed;
         let eta = started.elapsed().as_secs_f64() / ended_now as f64 * left as f64;
         let what = if r.ok() { format!("ok in {secs:.1} s") } else { format!("FAILED in {secs:.1} s: {}", r.error) };
-        println!(
+        crate::console::line(&format!(
             "sweep: case {} ({}) {what} [group {}] — {ok}/{total} done, {running} running, {failed} failed, eta {}",
             case.index,
             case.label(),
             self.index,
             crate::io::fmt_duration(eta)
-        );
+        ));
     }
 }

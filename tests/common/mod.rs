@@ -197,3 +197,29 @@ pub fn converged(case: &str, observable: &str) -> f64 {
         .parse()
         .unwrap()
 }
+
+/// A run's `summary.toml`.
+pub struct Summary(toml::Table);
+
+impl Summary {
+    pub fn read(dir: &Path) -> Summary {
+        let text = std::fs::read_to_string(dir.join("summary.toml")).expect("summary.toml");
+        Summary(toml::from_str(&text).expect("summary.toml is TOML"))
+    }
+
+    /// The entry `key` (`section.key` inside a table) as a number; None where there is none.
+    pub fn num(&self, key: &str) -> Option<f64> {
+        let (table, key) = match key.split_once('.') {
+            Some((section, key)) => (self.0.get(section)?.as_table()?, key),
+            None => (&self.0, key),
+        };
+        let v = table.get(key)?;
+        v.as_float().or_else(|| v.as_integer().map(|i| i as f64))
+    }
+
+    /// The largest p's place, `pressure.max_p_at_um`.
+    pub fn max_p_at(&self) -> [f64; 3] {
+        let a = self.0["pressure"]["max_p_at_um"].as_array().expect("max_p_at_um");
+        std::array::from_fn(|i| a[i].as_float().unwrap())
+    }
+}

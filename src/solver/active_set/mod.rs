@@ -249,7 +249,10 @@ impl ActiveSetNewton {
             };
             let step = if self.last_lambda < 1.0 { format!(", step {}", self.last_lambda) } else { String::new() };
             let k = if it == 0 { String::new() } else { format!(", krylov {}{chord}{step}", self.last_krylov) };
-            println!("    newton {it:2}  |F| {fnorm:.3e}  active {} (+{} -{}){k}", tot[0], tot[1], tot[2]);
+            crate::console::line(&format!(
+                "    newton {it:2}  |F| {fnorm:.3e}  active {} (+{} -{}){k}",
+                tot[0], tot[1], tot[2]
+            ));
         }
     }
 

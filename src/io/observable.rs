@@ -78,6 +78,11 @@ pub fn observe(h: &Columns, spec: &str) -> f64 {
     }
 }
 
+/// Column `col` interpolated linearly at time `when` (NaN without the column or outside the run).
+pub fn at_time(h: &Columns, col: &str, when: f64) -> f64 {
+    h.get(col).map_or(f64::NAN, |v| at(h, v, when))
+}
+
 /// Column values `v` interpolated linearly at time `when` (NaN outside the run).
 fn at(h: &Columns, v: &[f64], when: f64) -> f64 {
     let Some(t) = h.get("time") else { return f64::NAN };

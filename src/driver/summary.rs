@@ -1,0 +1,326 @@
+//! The run summary: what a reader of a run wants first, written by rank 0 at the end of a
+//! completed run as `DIR/summary.toml` and printed in a few lines of the run log. It is made
+//! from the whole run's `history.csv` (all sessions of a resumed run) and the largest nodal
+//! pressure of every step (`observe::pressure_peak`, carried by the checkpoints):
+//!
+//! - the run: scene, steps, end time, wall time, the accuracy class it announced;
+//! - with plates: the protocol's phases (ramp to t_ramp, hold to t_end − t_ramp, release to
+//!   t_end), the peak force and its time, the force at the end of the hold, the time the upper
+//!   plate leaves the aggregate on release (the first step of the release without upper
+//!   contact), the final H/W; forces in mg, as in `history.csv` (mg-force under g = 9.81 m/s²,
+//!   full-sphere equivalents), and in µN;
+//! - the largest pore pressure, its time and the node's reference position.
+//!
+//! TOML, like the run's other records (`scene.toml`, `run.toml`): comments carry the units and
+//! meanings, Python reads it with `tomllib`.
+
+use super::run::Run;
+use crate::error::{Error, Result};
+use crate::io::observable::{self, Columns};
+use crate::io::{fmt_real, rundir};
+use crate::observe::experiment::G;
+use crate::observe::pressure_peak::PressurePeak;
+use crate::scene::PlatesSpec;
+use std::fmt::Write;
+use std::path::Path;
+
+/// The file's name in the run directory.
+pub(crate) const FILE: &str = "summary.toml";
+
+/// The plate protocol's phases (s): the ramp ends at `ramp_end`, the hold at `hold_end`, the
+/// release (as long as the ramp) at `release_end`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Phases {
+    pub ramp_end: f64,
+    pub hold_end: f64,
+    pub release_end: f64,
+}
+
+impl Phases {
+    pub(crate) fn of(plates: &PlatesSpec) -> Phases {
+        Phases { ramp_end: plates.t_ramp, hold_end: plates.t_end - plates.t_ramp, release_end: plates.t_end }
+    }
+}
+
+/// What the plates experiment's history says (forces in mg).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct PlateSummary {
+    pub phases: Phases,
+    pub peak_force: f64,
+    pub peak_time: f64,
+    /// NaN if the run ended before the hold did.
+    pub hold_end_force: f64,
+    /// None if the upper plate still touches at the end of the run.
+    pub opening_time: Option<f64>,
+    pub final_height_over_width: f64,
+}
+
+impl PlateSummary {
+    /// From a history with the experiment's columns (None without them, or without rows).
+    pub(crate) fn of(h: &Columns, phases: Phases) -> Option<PlateSummary> {
+        let (t, f) = (h.get("time")?, h.get("force_total_mg")?);
+        let upper = h.get("contact_nodes_upper")?;
+        // The first largest force.
+        let peak = (0..f.len().min(t.len())).fold(None, |best: Option<usize>, i| match best {
+            Some(b) if f[b] >= f[i] => Some(b),
+            _ => Some(i),
+        })?;
+        let opening = (0..t.len().min(upper.len())).find(|&i| t[i] > phases.hold_end && upper[i] == 0.0);
+        Some(PlateSummary {
+            phases,
+            peak_force: f[peak],
+            peak_time: t[peak],
+            hold_end_force: observable::at_time(h, "force_total_mg", phases.hold_end),
+            opening_time: opening.map(|i| t[i]),
+            final_height_over_width: observable::observe(h, "last:height/width"),
+        })
+    }
+}
+
+/// A completed run in numbers.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Summary {
+    pub scene: String,
+    pub steps: usize,
+    pub t: f64,
+    pub wall_s: f64,
+    pub accuracy: Option<String>,
+    pub plates: Option<PlateSummary>,
+    pub pressure: PressurePeak,
+}
+
+/// `x` to 5 significant digits, for the run log (the file has every digit).
+fn g(x: f64) -> String {
+    let decimals = (4 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// A force in mg as µN (the mg of history.csv are mg-force under g).
+fn micro_newton(mg: f64) -> f64 {
+    mg * G
+}
+
+/// `key = value` with a comment, the value as the shortest decimal that reads back the same;
+/// nothing for a value that is not finite (an entry that does not apply).
+fn entry(out: &mut String, key: &str, v: f64, comment: &str) {
+    if v.is_finite() {
+        let _ = writeln!(out, "{key} = {}  # {comment}", toml_real(v));
+    }
+}
+
+/// A real as TOML reads it: `fmt_real`, with `.0` after an integer (a TOML float, not an integer).
+fn toml_real(v: f64) -> String {
+    let s = fmt_real(v);
+    if s.contains(['.', 'e', 'n', 'i']) {
+        s
+    } else {
+        format!("{s}.0")
+    }
+}
+
+impl Summary {
+    /// `summary.toml`.
+    pub(crate) fn toml(&self) -> String {
+        let mut s = String::from(
+            "# poroplast run summary: the whole run (all sessions of a resumed one), from history.csv and the\n\
+             # largest nodal pore pressure of every step. Units: s, kPa, µm; forces on the upper plate, full-sphere\n\
+             # equivalents, positive in compression, in mg (as in history.csv: mg-force under g) and in µN.\n",
+        );
+        let _ = writeln!(s, "scene = {}", toml::Value::String(self.scene.clone()));
+        let _ = writeln!(s, "steps = {}", self.steps);
+        entry(&mut s, "t_end_s", self.t, "s, the end of the run");
+        entry(&mut s, "wall_s", self.wall_s, "s, wall time of the whole run (set-up and every session)");
+        if let Some(a) = &self.accuracy {
+            let _ = writeln!(s, "accuracy = {}", toml::Value::String(a.clone()));
+        }
+        if let Some(p) = &self.plates {
+            s.push_str("\n[plates]\n");
+            entry(&mut s, "g_m_s2", G, "m/s², the g of the mg: 1 mg = g µN");
+            entry(&mut s, "ramp_end_s", p.phases.ramp_end, "s, end of the compression ramp (plates.t_ramp)");
+            entry(&mut s, "hold_end_s", p.phases.hold_end, "s, end of the hold (plates.t_end - plates.t_ramp)");
+            entry(&mut s, "release_end_s", p.phases.release_end, "s, end of the release (plates.t_end)");
+            entry(&mut s, "peak_force_mg", p.peak_force, "mg, the largest force");
+            entry(&mut s, "peak_force_uN", micro_newton(p.peak_force), "µN");
+            entry(&mut s, "peak_force_time_s", p.peak_time, "s, the step of the largest force");
+            entry(&mut s, "hold_end_force_mg", p.hold_end_force, "mg, the force at the end of the hold");
+            entry(&mut s, "hold_end_force_uN", micro_newton(p.hold_end_force), "µN");
+            if let Some(t) = p.opening_time {
+                entry(&mut s, "contact_opening_time_s", t, "s, the first step of the release without upper contact");
+            }
+            entry(&mut s, "final_height_over_width", p.final_height_over_width, "H/W at the end of the run");
+        }
+        if self.pressure.p.is_finite() {
+            s.push_str("\n[pressure]\n");
+            entry(&mut s, "max_p_kPa", self.pressure.p, "kPa, the largest nodal pore pressure of any step");
+            entry(&mut s, "max_p_time_s", self.pressure.t, "s, its step");
+            let at: Vec<String> = self.pressure.at.iter().map(|&x| toml_real(x)).collect();
+            let _ = writeln!(
+                s,
+                "max_p_at_um = [{}]  # µm, its node's reference position (meridian: r, 0, z)",
+                at.join(", ")
+            );
+        }
+        s
+    }
+
+    /// The lines of the run log.
+    pub(crate) fn lines(&self) -> Vec<String> {
+        let mut lines = Vec::new();
+        if let Some(p) = &self.plates {
+            let mut l = format!(
+                "summary: peak force {} mg = {} µN at t = {} s",
+                g(p.peak_force),
+                g(micro_newton(p.peak_force)),
+                g(p.peak_time)
+            );
+            if p.hold_end_force.is_finite() {
+                let f = p.hold_end_force;
+                let _ = write!(
+                    l,
+                    "; {} mg = {} µN at the end of the hold (t = {} s)",
+                    g(f),
+                    g(micro_newton(f)),
+                    g(p.phases.hold_end)
+                );
+            }
+            lines.push(l);
+            let opening = p
+                .opening_time
+                .map_or("does not leave the aggregate".into(), |t| format!("leaves the aggregate at t = {} s", g(t)));
+            lines.push(format!("summary: the upper plate {opening}; final H/W {}", g(p.final_height_over_width)));
+        }
+        if self.pressure.p.is_finite() {
+            let [x, y, z] = self.pressure.at;
+            lines.push(format!(
+                "summary: largest p {} kPa at t = {} s, at the node of reference position ({}, {}, {}) µm",
+                g(self.pressure.p),
+                g(self.pressure.t),
+                g(x),
+                g(y),
+                g(z)
+            ));
+        }
+        lines
+    }
+
+    /// One line for `status.txt`.
+    pub(crate) fn headline(&self) -> String {
+        let what = match &self.plates {
+            Some(p) => format!(
+                "peak force {} mg = {} µN at t = {} s",
+                g(p.peak_force),
+                g(micro_newton(p.peak_force)),
+                g(p.peak_time)
+            ),
+            None => format!("largest p {} kPa at t = {} s", g(self.pressure.p), g(self.pressure.t)),
+        };
+        format!("{what}; the summary is in {FILE}")
+    }
+}
+
+impl<'w> Run<'w> {
+    /// The summary of the completed run in `dir` (rank 0 reads its history): written to
+    /// `summary.toml` and printed; None on the other ranks.
+    pub(super) fn summarise(&self, dir: &Path, wall_s: f64, steps: usize, t: f64) -> Result<Option<Summary>> {
+        let s = &self.scene.scene;
+        let family = self.ts.problem().mesh().family;
+        let pressure = self.observers.pressure_peak;
+        crate::parallel::on_root(self.world, || {
+            let h = observable::read_history(dir)
+                .ok_or_else(|| Error::io(dir.join("history.csv"), "cannot be read for the summary"))?;
+            let summary = Summary {
+                scene: s.name.clone(),
+                steps,
+                t,
+                wall_s,
+                accuracy: super::resolved::accuracy_class(s, family),
+                plates: s.plates.as_ref().and_then(|p| PlateSummary::of(&h, Phases::of(p))),
+                pressure,
+            };
+            rundir::write_text(dir, FILE, &summary.toml())?;
+            for l in summary.lines() {
+                self.say(&l);
+            }
+            Ok(summary)
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn history(cols: &[(&str, &[f64])]) -> Columns {
+        cols.iter().map(|(k, v)| (k.to_string(), v.to_vec())).collect()
+    }
+
+    /// A protocol with exact answers: ramp to 2 s, hold to 6 s, release to 8 s.
+    fn protocol() -> (Columns, Phases) {
+        let h = history(&[
+            ("time", &[0.0, 1.0, 2.0, 4.0, 5.0, 7.0, 7.5, 9.0]),
+            ("force_total_mg", &[0.0, 2.0, 4.0, 3.0, 2.5, 1.0, 0.0, 0.0]),
+            ("contact_nodes_upper", &[1.0, 3.0, 5.0, 5.0, 5.0, 2.0, 0.0, 0.0]),
+            ("height", &[200.0, 180.0, 140.0, 140.0, 140.0, 150.0, 160.0, 190.0]),
+            ("width", &[200.0, 210.0, 230.0, 230.0, 230.0, 220.0, 210.0, 200.0]),
+        ]);
+        (h, Phases { ramp_end: 2.0, hold_end: 6.0, release_end: 8.0 })
+    }
+
+    #[test]
+    fn the_plates_numbers_of_a_history() {
+        let (h, phases) = protocol();
+        let p = PlateSummary::of(&h, phases).unwrap();
+        assert_eq!((p.peak_force, p.peak_time), (4.0, 2.0));
+        // Between t = 5 (2.5 mg) and t = 7 (1 mg): 1.75 mg at t = 6.
+        assert_eq!(p.hold_end_force, 1.75);
+        assert_eq!(p.opening_time, Some(7.5));
+        assert_eq!(p.final_height_over_width, 190.0 / 200.0);
+        // A run that ends in the hold: no end-of-hold force, no opening.
+        let short: Columns = h.iter().map(|(k, v)| (k.clone(), v[..4].to_vec())).collect();
+        let p = PlateSummary::of(&short, phases).unwrap();
+        assert!(p.hold_end_force.is_nan() && p.opening_time.is_none());
+        assert!(PlateSummary::of(&history(&[("time", &[0.0])]), phases).is_none());
+    }
+
+    #[test]
+    fn the_file_reads_back_with_its_units() {
+        let (h, phases) = protocol();
+        let pressure = PressurePeak { p: 3.5, t: 2.0, at: [0.0, 0.0, 190.0] };
+        let s = Summary {
+            scene: "reference \"x\"".into(),
+            steps: 7,
+            t: 9.0,
+            wall_s: 1.25,
+            accuracy: Some("expected accuracy: within 1%".into()),
+            plates: PlateSummary::of(&h, phases),
+            pressure,
+        };
+        let t: toml::Table = toml::from_str(&s.toml()).unwrap();
+        assert_eq!(t["scene"].as_str(), Some("reference \"x\""));
+        assert_eq!(t["steps"].as_integer(), Some(7));
+        let plates = t["plates"].as_table().unwrap();
+        let f = |k: &str| plates[k].as_float().unwrap();
+        assert_eq!(f("peak_force_mg"), 4.0);
+        // 1 mg-force = 1e-6 kg × 9.81 m/s² = 9.81 µN.
+        assert_eq!(f("peak_force_uN"), 39.24);
+        assert_eq!(f("hold_end_force_uN"), 1.75 * 9.81);
+        assert_eq!((f("hold_end_s"), f("contact_opening_time_s")), (6.0, 7.5));
+        let p = t["pressure"].as_table().unwrap();
+        assert_eq!(p["max_p_kPa"].as_float(), Some(3.5));
+        assert_eq!(p["max_p_at_um"].as_array().unwrap()[2].as_float(), Some(190.0));
+        assert!(s.headline().starts_with("peak force 4 mg = 39.24 µN at t = 2 s"), "{}", s.headline());
+        assert_eq!(
+            (g(17.447330666), g(171.158313), g(0.0), g(39.172863)),
+            ("17.447".into(), "171.16".into(), "0".into(), "39.173".into())
+        );
+        // A scene without plates: no [plates].
+        let s = Summary { plates: None, accuracy: None, ..s };
+        let t: toml::Table = toml::from_str(&s.toml()).unwrap();
+        assert!(!t.contains_key("plates") && t.contains_key("pressure"));
+    }
+}
