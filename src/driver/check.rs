@@ -15,6 +15,7 @@ use mpi::topology::SimpleCommunicator;
 /// step, after which every PETSc option has been read; nothing is written.
 pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc: &[String]) -> Result<String> {
     let scene = LoadedScene::load(scene_arg, set)?;
+    super::tell_notes(world, &scene);
     let args = RunArgs {
         scene: scene_arg.into(),
         set: set.to_vec(),

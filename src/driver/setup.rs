@@ -98,21 +98,23 @@ fn plates(
     // The plates are z = 0 and z = 2 radius at the start: the aggregate must rest between them.
     let (lo, hi) = local.coords.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x[2]), b.max(x[2])));
     let (z0, z1) = (-crate::parallel::max(world, -lo), crate::parallel::max(world, hi));
-    let tol = 0.01 * ps.radius;
-    if (z0).abs() > tol || (z1 - 2.0 * ps.radius).abs() > tol {
+    let radius = ps.radius();
+    let tol = 0.01 * radius;
+    if (z0).abs() > tol || (z1 - 2.0 * radius).abs() > tol {
         return Err(Error::Scene {
             path: scene.source.clone(),
             msg: format!(
                 "plates.radius = {}: the plates are at z = 0 and z = 2 radius = {}, but the mesh spans z = [{z0:.6}, \
-                 {z1:.6}] (they must agree to 1% of the radius: set plates.radius to the aggregate's radius)",
-                ps.radius,
-                2.0 * ps.radius
+                 {z1:.6}] (they must agree to 1% of the radius: set plates.radius to the aggregate's radius, or \
+                 leave it out to take mesh.params.R)",
+                radius,
+                2.0 * radius
             ),
         });
     }
     let faces = agree(world, bc::face_group(local, &ps.group, &ctx))?.to_vec();
     let anchor = agree(world, bc::point_group(local, &ps.anchor, &ctx))?.first().map(|&n| n as usize);
-    let loading = PlateLoading { u_max: ps.compression * 2.0 * ps.radius, t_ramp: ps.t_ramp, t_end: ps.t_end };
+    let loading = PlateLoading { u_max: ps.compression * 2.0 * radius, protocol: ps.protocol() };
     // Free-surface drainage conductance: γ k0 / h (a stiff Robin condition, p ≈ 0).
     let beta_max = ps.drainage_penalty * model.conductivity() / local.mean_size(world);
     let drain = Drainage {
@@ -120,10 +122,10 @@ fn plates(
         beta_max,
         // The paper's slightly permeable plates: a Robin outflow k_β / L through the contact area.
         beta_plate: ps.permeability.zip(ps.thickness).map_or(0.0, |(k, l)| k / l),
-        seal_gap: ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * ps.radius),
+        seal_gap: ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * radius),
         gap: ps.drainage_gap,
     };
-    let plates = Plates::new(loading, ps.radius, local, &faces, anchor, drain, scene.scene.fem.equal_order());
+    let plates = Plates::new(loading, radius, local, &faces, anchor, drain, scene.scene.fem.equal_order());
     Ok(Some((plates, faces)))
 }
 
@@ -186,7 +188,7 @@ fn schedule(scene: &LoadedScene, kinks: Vec<f64>) -> Schedule {
         growth: t.growth,
         land_on: t.land_on.iter().chain(&o.fields_at).chain(&t.steps).copied().collect(),
         kinks,
-        cap: t.dt_max_ramp.zip(scene.scene.plates.as_ref()).map(|(m, p)| (p.t_ramp, m)),
+        cap: t.dt_max_ramp.zip(scene.scene.plates.as_ref()).map(|(m, p)| (p.protocol().ramp, m)),
         tol: t.error_tolerance.filter(|_| !replay),
         dt_min: t.dt_min.unwrap_or(1e-6 * t.dt),
         replay,
@@ -290,7 +292,7 @@ impl<'w> Run<'w> {
                 let mesh = ts.problem().mesh();
                 let volume = mesh.volume(world);
                 let phi = ts.problem().model().solid_fraction();
-                Some(Experiment::new(mesh, faces, ps.radius, ps.probe_point, volume, phi, world, &scene.source)?)
+                Some(Experiment::new(mesh, faces, ps.radius(), ps.probe_point, volume, phi, world, &scene.source)?)
             }
             _ => None,
         };

@@ -21,7 +21,10 @@ pub mod observe;
 pub mod overrides;
 pub mod plates;
 pub mod reference;
+mod resolve;
 pub mod time;
+#[cfg(test)]
+mod scaling_tests;
 #[cfg(test)]
 mod validation_tests;
 
@@ -74,7 +77,8 @@ pub struct Scene {
 
 impl Scene {
     /// Checks ranges and consistency, section by section; the message names the key and value.
-    pub(crate) fn validate(&self) -> Result<(), String> {
+    /// What is allowed but likely a mistake is a note in `notes`.
+    pub(crate) fn validate(&self, notes: &mut Vec<String>) -> Result<(), String> {
         self.mesh.validate()?;
         self.material.validate()?;
         for (i, bc) in self.bc.iter().enumerate() {
@@ -89,7 +93,7 @@ impl Scene {
             p.validate()?;
         }
         if let Some(p) = &self.plates {
-            p.validate()?;
+            p.validate(self.time.t_end, notes)?;
         }
         if let Some(v) = &self.verification {
             v.validate()?;

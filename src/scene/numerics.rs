@@ -57,7 +57,28 @@ pub enum Element {
     Auto,
 }
 
+/// Default c of the pressure stabilisation: 4 lumps the P1 mass of the undrained constraint
+/// exactly (see `fem::kernel::ElementKernel::stab`).
+pub const DEFAULT_STABILISATION: f64 = 4.0;
+
+impl SolverSpec {
+    /// The preset's default (`auto`) written out.
+    pub(super) fn fill_defaults(&mut self) {
+        self.preset.get_or_insert_with(Default::default);
+    }
+}
+
 impl FemSpec {
+    /// The defaults written out, so the run directory's scene.toml shows them: Taylor–Hood, the
+    /// stabilisation's c, and the quadrature degree — 2 for the linear model (exact on straight
+    /// elements), 3 for the finite-strain ones (exponential energy, curved elements).
+    /// (`stabilisation_fade` has no value to write: absent is the constant weight.)
+    pub(super) fn fill_defaults(&mut self, linear: bool) {
+        self.element.get_or_insert(Element::P2P1);
+        self.stabilisation.get_or_insert(DEFAULT_STABILISATION);
+        self.quadrature_degree.get_or_insert(if linear { 2 } else { 3 });
+    }
+
     /// Equal-order P1–P1 instead of Taylor–Hood.
     pub fn equal_order(&self) -> bool {
         self.element == Some(Element::P1P1)
