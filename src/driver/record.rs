@@ -41,8 +41,10 @@ impl RunRecord {
         let scene = LoadedScene::load(&self.scene, &self.set)?;
         let path = dir.join("scene.toml");
         let was = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-        let body = was.split_once('\n').map_or("", |(_, b)| b);
-        if body != scene.to_toml()? {
+        // The values, not the comments that explain them.
+        let values = |text: &str| toml::from_str::<toml::Table>(text).ok();
+        let same = matches!((values(&was), values(&scene.to_toml()?)), (Some(a), Some(b)) if a == b);
+        if !same {
             return Err(Error::io(
                 &path,
                 format!("{} no longer resolves to this run's scene (was it edited?): cannot resume", scene.source),

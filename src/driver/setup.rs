@@ -40,11 +40,31 @@ pub(super) struct Distributed {
     pub layout: FileLayout,
 }
 
-/// Reads (or generates) the scene's mesh, partitions it on rank 0 and distributes it.
+/// The fewest cells a plate scene's mesh may have: fewer means sizes given in the wrong unit
+/// (a radius in mm and sizes in µm gave 3 triangles).
+const MIN_CELLS: usize = 100;
+
+/// Reads (or generates) the scene's mesh, partitions it on rank 0 and distributes it; a plate
+/// scene's mesh has at least `MIN_CELLS` cells.
 pub(super) fn distribute_mesh(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<Distributed> {
     let spec = &scene.scene.mesh;
     let path = mesh_file(world, scene.mesh_source(), &spec.params, &scene.source)?;
     let mesh = agree(world, read_mesh(&path, spec.geometry.family(), &spec.mirror))?;
+    if let Some(p) = &scene.scene.plates {
+        if mesh.cells.len() < MIN_CELLS {
+            let sizes: Vec<String> = spec.params.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+            return Err(Error::Scene {
+                path: scene.source.clone(),
+                msg: format!(
+                    "the mesh has {} cells, fewer than {MIN_CELLS}: its sizes ({}) are coarse for an aggregate of \
+                     radius R = {} µm (lengths are µm; mesh.relative_sizes gives them as fractions of R)",
+                    mesh.cells.len(),
+                    sizes.join(", "),
+                    p.radius()
+                ),
+            });
+        }
+    }
     let size = world.size() as usize;
     if mesh.cells.len() < size {
         return Err(Error::Mesh {
@@ -78,12 +98,44 @@ fn constraints(
     let constrained_u: Vec<usize> = cons.iter().map(|c| c.local).filter(|&l| l < dofs.n_u_local()).collect();
     let free_modes = match s.plates {
         Some(_) => solver::FreeRigidModes::find(world, dofs, local, &constrained_u),
-        None => None,
+        None => {
+            held(world, scene, local, &constrained_u)?;
+            None
+        }
     };
     if matches!(&s.material, Material::HolmesMow(m) if m.drained) {
         cons.extend((0..local.n_vertices()).map(|v| Constraint { local: dofs.p_local(v), value: 0.0 }));
     }
     Ok((cons, ext, free_modes))
+}
+
+/// Without plates, the `[[bc]]` entries must hold the body: a translation no displacement or
+/// roller blocks (along z on the meridian, any axis in 3-D) leaves the Newton system singular,
+/// which would surface as a diverged first step (SNES reason -3) with no word of the cause.
+fn held(world: &SimpleCommunicator, scene: &LoadedScene, local: &LocalMesh, constrained_u: &[usize]) -> Result<()> {
+    let nc = local.family.components();
+    let axes: Vec<usize> = if local.family.axisymmetric() { vec![nc - 1] } else { (0..nc).collect() };
+    let free: Vec<&str> = axes
+        .into_iter()
+        .filter(|&c| {
+            let here = f64::from(u8::from(constrained_u.iter().any(|&l| l % nc == c)));
+            crate::parallel::max(world, here) == 0.0
+        })
+        .map(|c| ["x", "y", "z"][local.family.axes()[c]])
+        .collect();
+    if free.is_empty() {
+        return Ok(());
+    }
+    Err(Error::Scene {
+        path: scene.source.clone(),
+        msg: format!(
+            "nothing holds the body along {}: the scene has no [plates] and no [[bc]] displacement or roller \
+             blocks that translation, so the first step cannot converge (add [plates], or a [[bc]] such as \
+             `group = \"pole_bottom\"`, `displacement = {{ {} = 0.0 }}`)",
+            free.join(", "),
+            free[0]
+        ),
+    })
 }
 
 /// The plates and the surface faces that can touch them (also the experiment's).

@@ -12,6 +12,7 @@
 pub mod auto;
 pub mod bc;
 mod diagnose;
+pub mod explain;
 pub mod key;
 mod load;
 pub mod material;
