@@ -221,7 +221,12 @@ fn overrides_reach_the_run_and_its_resolved_scene() {
     // Every default written out, each key explained by its declaration.
     assert_eq!(resolved["fem"]["quadrature_degree"].as_integer(), Some(2));
     assert_eq!(resolved["solver"]["preset"].as_str(), Some("auto"));
-    assert!(text.contains("# drained shear modulus µ of the whole (what a lab measures) [kPa; required; valid (0, ∞)]\nmu = 24.5\n"), "{text}");
+    assert!(
+        text.contains(
+            "# drained shear modulus µ of the whole (what a lab measures) [kPa; required; valid (0, ∞)]\nmu = 24.5\n"
+        ),
+        "{text}"
+    );
     assert_eq!(resolved["material"]["mu"].as_float(), Some(24.5));
     assert_eq!(resolved["time"]["t_end"].as_float(), Some(0.004));
     let rows = std::fs::read_to_string(out.join("history.csv")).unwrap();
@@ -371,7 +376,8 @@ fn an_unheld_body_and_a_too_coarse_mesh_are_named() {
     let out = poroplast(1, &["check", no_plates.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        !out.status.success() && err.contains("nothing holds the body along z: the scene has no [plates] and no [[bc]]"),
+        !out.status.success()
+            && err.contains("nothing holds the body along z: the scene has no [plates] and no [[bc]]"),
         "{err}"
     );
     // Held at the bottom pole, the same body passes the check (without gravity, which a point

@@ -83,7 +83,6 @@ pub enum Touch {
     Upper,
 }
 
-
 /// Tolerance (relative to R) for "at the bound": Newton iterates are projected onto the bounds,
 /// so a node in contact sits on it to round-off.
 const AT_BOUND: f64 = 1e-9;

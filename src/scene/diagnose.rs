@@ -143,7 +143,9 @@ pub(super) fn toml_message(text: &str, e: &toml::de::Error) -> String {
     // A field missing at the top level has an empty span at the start, which is no line of it.
     if let (Some(field), Some(std::ops::Range { start: 0, end: 0 })) = (missing_field(&msg), e.span()) {
         return match field {
-            "mesh" | "material" | "time" => format!("missing section [{field}] (every scene has [mesh], [material] and [time])"),
+            "mesh" | "material" | "time" => {
+                format!("missing section [{field}] (every scene has [mesh], [material] and [time])")
+            }
             _ => format!("missing key `{field}` at the top level"),
         };
     }

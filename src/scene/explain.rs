@@ -86,9 +86,16 @@ mod tests {
             let i = lines.iter().position(|l| *l == key_line).unwrap_or_else(|| panic!("no `{key_line}` in\n{text}"));
             lines[i - 1]
         };
-        assert_eq!(above("R = 100.0"), "# the aggregate's radius (sphere `.geo` files); plates.radius follows it [µm; valid [1, 10000]]");
+        assert_eq!(
+            above("R = 100.0"),
+            "# the aggregate's radius (sphere `.geo` files); plates.radius follows it [µm; valid [1, 10000]]"
+        );
         assert!(above("u0 = 1000.0").starts_with("# its modulus U0 [kPa; required"), "{}", above("u0 = 1000.0"));
-        assert!(above("stabilisation = 4.0").contains("[default: 4; valid [0, ∞)]"), "{}", above("stabilisation = 4.0"));
+        assert!(
+            above("stabilisation = 4.0").contains("[default: 4; valid [0, ∞)]"),
+            "{}",
+            above("stabilisation = 4.0")
+        );
         assert!(above("mu = 20.0").starts_with("# the solid's shear modulus µ"), "{}", above("mu = 20.0"));
         assert!(above("hold = 30.0").starts_with("# duration of the hold at u_max [s; required"));
         // Every `key = value` line has its comment, and the comments change nothing.

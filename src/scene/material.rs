@@ -207,15 +207,14 @@ const MODEL: Key = Key::new(
     Unset::Required,
     "`holmes_mow`: the finite-strain biphasic mixture (Holmes–Mow solid, penalty, permeability, gravity)",
 );
-const MU: Key =
-    Key::new(
-        "material.mu",
-        "kPa",
-        Unset::Absent(""),
-        "the solid's shear modulus µ (of Ψ/Φs; the aggregate's drained modulus is Φs µ); with ν, the α's by eq. (56)",
-    )
-    .range(Range::POSITIVE)
-    .rule("one of `mu`, `drained_shear_modulus`, `drained_youngs_modulus` with `nu`; or `alpha`");
+const MU: Key = Key::new(
+    "material.mu",
+    "kPa",
+    Unset::Absent(""),
+    "the solid's shear modulus µ (of Ψ/Φs; the aggregate's drained modulus is Φs µ); with ν, the α's by eq. (56)",
+)
+.range(Range::POSITIVE)
+.rule("one of `mu`, `drained_shear_modulus`, `drained_youngs_modulus` with `nu`; or `alpha`");
 const DRAINED_SHEAR_MODULUS: Key = Key::new(
     "material.drained_shear_modulus",
     "kPa",

@@ -153,10 +153,14 @@ pub(super) fn check_radius(name: &str, r: f64) -> Result<(), String> {
 }
 
 /// What a relative size must be.
-const RELATIVE_SIZE: Key =
-    Key::new("mesh.relative_sizes", "R", Unset::Absent("none"), "mesh sizes as fractions of params.R: h, h_pole, r_pole")
-        .range(Range::new(0.0, false, 1.0, true, "must lie in (0, 1] (a fraction of R)"))
-        .rule("needs params.R; a size in params (µm) wins");
+const RELATIVE_SIZE: Key = Key::new(
+    "mesh.relative_sizes",
+    "R",
+    Unset::Absent("none"),
+    "mesh sizes as fractions of params.R: h, h_pole, r_pole",
+)
+.range(Range::new(0.0, false, 1.0, true, "must lie in (0, 1] (a fraction of R)"))
+.rule("needs params.R; a size in params (µm) wins");
 
 /// The `params` that are lengths of the shipped `.geo` files.
 const LENGTHS: [&str; 5] = ["R", "h", "h_pole", "H", "W"];

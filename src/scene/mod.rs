@@ -23,9 +23,9 @@ pub mod overrides;
 pub mod plates;
 pub mod reference;
 mod resolve;
-pub mod time;
 #[cfg(test)]
 mod scaling_tests;
+pub mod time;
 #[cfg(test)]
 mod validation_tests;
 

@@ -28,7 +28,7 @@ pub struct PlatesSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub release: Option<f64>,
     /// Deprecated: the duration of both ramps, and the end of the release (read into `ramp`,
-    /// `hold` and `release` when the scene is loaded, see [`PlatesSpec::resolve`]).
+    /// `hold` and `release` when the scene is loaded, with a note saying what to write).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub t_ramp: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -178,8 +178,9 @@ impl PlatesSpec {
                 .into());
         };
         let Some(end) = self.t_end.take() else {
-            return Err("plates.t_ramp is deprecated and needs plates.t_end: give ramp, hold and release (s) instead"
-                .into());
+            return Err(
+                "plates.t_ramp is deprecated and needs plates.t_end: give ramp, hold and release (s) instead".into()
+            );
         };
         let hold = end - ramp - release;
         if !(end.is_finite() && hold >= 0.0) {
@@ -291,9 +292,13 @@ const DRAINAGE_PENALTY: Key = Key::new(
     "γ of the free-surface drainage conductance β_max = γ k0 / h (a stiff Robin condition, p ≈ 0)",
 )
 .range(Range::POSITIVE);
-const SEAL_GAP: Key =
-    Key::new("plates.seal_gap", "µm", Unset::Absent("0.01 R (filled in)"), "gap over which drainage opens as a contact separates")
-        .range(Range::POSITIVE);
+const SEAL_GAP: Key = Key::new(
+    "plates.seal_gap",
+    "µm",
+    Unset::Absent("0.01 R (filled in)"),
+    "gap over which drainage opens as a contact separates",
+)
+.range(Range::POSITIVE);
 const PERMEABILITY: Key = Key::new(
     "plates.permeability",
     "µm⁴/(nN s)",

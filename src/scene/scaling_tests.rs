@@ -17,7 +17,8 @@ fn table(s: &LoadedScene) -> toml::Table {
 }
 
 fn v1(name: &str) -> String {
-    let p: PathBuf = [env!("CARGO_MANIFEST_DIR"), "tests", "data", "scenes_v1", &format!("{name}.toml")].iter().collect();
+    let p: PathBuf =
+        [env!("CARGO_MANIFEST_DIR"), "tests", "data", "scenes_v1", &format!("{name}.toml")].iter().collect();
     p.display().to_string()
 }
 
@@ -33,7 +34,10 @@ fn the_previous_versions_scenes_resolve_to_todays() {
         if *name == "reference_axi" {
             // The one change the scenes made: reference_axi fades the stabilisation as reference does.
             assert!(a["fem"].get("stabilisation_fade").is_none());
-            a["fem"].as_table_mut().unwrap().insert("stabilisation_fade".into(), b["fem"]["stabilisation_fade"].clone());
+            a["fem"]
+                .as_table_mut()
+                .unwrap()
+                .insert("stabilisation_fade".into(), b["fem"]["stabilisation_fade"].clone());
         }
         assert_eq!(a, b, "{name}: the old file resolves to another scene");
         // Each moved key is named with what to write instead; today's scenes need no note.
@@ -98,7 +102,12 @@ fn a_copy_with_only_the_radius_changed_scales() {
 #[test]
 fn implausible_magnitudes_name_the_unit_mistake() {
     let e = load("reference_axi", &["mesh.params.R=0.15"]).unwrap_err();
-    assert!(e.ends_with("mesh.params.R = 0.15: must lie in [1, 10000] µm: 0.15 looks like mm (0.15 mm = 150 µm); lengths are µm"), "{e}");
+    assert!(
+        e.ends_with(
+            "mesh.params.R = 0.15: must lie in [1, 10000] µm: 0.15 looks like mm (0.15 mm = 150 µm); lengths are µm"
+        ),
+        "{e}"
+    );
     let e = load("reference_axi", &["mesh.params.R=150000"]).unwrap_err();
     assert!(e.contains("150000 looks like nm (150000 nm = 150 µm)"), "{e}");
     // Sizes in µm against a radius in mm: the mesh would be a few cells.
@@ -123,7 +132,8 @@ fn solid_of(arg: &str, sets: &[&str]) -> Result<(f64, f64), String> {
 fn the_aggregates_moduli_give_the_solids() {
     assert_eq!(solid_of("reference_axi", &[]).unwrap(), (20.0, 0.2));
     // Φs = 0.6: G = Φs µ = 12 kPa and E = 2 G (1 + ν) = 28.8 kPa are the shipped solid's µ = 20 kPa.
-    for (i, (key, value)) in [("drained_shear_modulus", "12.0"), ("drained_youngs_modulus", "28.8")].iter().enumerate() {
+    for (i, (key, value)) in [("drained_shear_modulus", "12.0"), ("drained_youngs_modulus", "28.8")].iter().enumerate()
+    {
         let text = BUILTIN.iter().find(|(n, _)| *n == "reference_axi").unwrap().1;
         let p = std::env::temp_dir().join(format!("poroplast-moduli-{}-{i}.toml", std::process::id()));
         std::fs::write(&p, text.replacen("mu = 20.0 ", &format!("{key} = {value} "), 1)).unwrap();
@@ -170,7 +180,10 @@ fn the_plate_protocol_names_its_phases() {
     let text = BUILTIN.iter().find(|(n, _)| *n == "reference_axi").unwrap().1.replace("hold = 30.0", "");
     std::fs::write(&p, text).unwrap();
     let e = load(&p.display().to_string(), &[]).unwrap_err();
-    assert!(e.ends_with("[plates]: give the protocol's phases ramp, hold and release (s); plates.hold is missing"), "{e}");
+    assert!(
+        e.ends_with("[plates]: give the protocol's phases ramp, hold and release (s); plates.hold is missing"),
+        "{e}"
+    );
 }
 
 #[test]
