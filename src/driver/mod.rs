@@ -44,12 +44,14 @@ use std::path::{Path, PathBuf};
 /// Runs a scene; returns the run directory. PETSc lives exactly as long as this call.
 pub fn run(world: &SimpleCommunicator, args: &RunArgs) -> Result<PathBuf> {
     let scene = LoadedScene::load(&args.scene, &args.set)?;
-    tell_notes(world, &scene);
+    if args.progress {
+        tell_notes(world, &scene);
+    }
     with_petsc(world, &petsc_args(&scene, &args.petsc), || Run::setup(world, &scene, args)?.execute(None))
 }
 
 /// The scene's notes (deprecated keys, likely mistakes) on standard error, by rank 0.
-pub(super) fn tell_notes(world: &SimpleCommunicator, scene: &LoadedScene) {
+pub(crate) fn tell_notes(world: &SimpleCommunicator, scene: &LoadedScene) {
     if world.rank() == 0 {
         for n in &scene.notes {
             eprintln!("poroplast: note: {}: {n}", scene.source);

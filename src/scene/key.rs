@@ -20,6 +20,9 @@ pub struct Key {
     pub rule: &'static str,
     /// What the key sets, in one line.
     pub doc: &'static str,
+    /// Where it enters the model or the numerics, if more precise than its section's
+    /// (`eq. (56)`, `numerics.md: Pressure stabilisation`).
+    pub enters: &'static str,
 }
 
 /// What a key is when the scene leaves it out.
@@ -36,12 +39,17 @@ pub enum Unset {
 impl Key {
     /// A key with no range or rule.
     pub const fn new(name: &'static str, unit: &'static str, default: Unset, doc: &'static str) -> Key {
-        Key { name, unit, default, range: None, rule: "", doc }
+        Key { name, unit, default, range: None, rule: "", doc, enters: "" }
     }
 
     /// The same key with a valid range.
     pub const fn range(self, range: Range) -> Key {
         Key { range: Some(range), ..self }
+    }
+
+    /// The same key with where it enters the model (more precisely than its section).
+    pub const fn enters(self, enters: &'static str) -> Key {
+        Key { enters, ..self }
     }
 
     /// The same key with a rule in words.
@@ -65,9 +73,11 @@ impl Key {
     }
 }
 
-/// A section of the reference: its title, a sentence, its keys.
+/// A section of the reference: its title, the doc section its keys enter (docs/…), a sentence,
+/// its keys.
 pub struct Section {
     pub title: &'static str,
+    pub enters: &'static str,
     pub about: &'static str,
     pub keys: &'static [Key],
 }

@@ -104,6 +104,7 @@ impl FemSpec {
 
 pub(super) const SOLVER_SECTION: Section = Section {
     title: "[solver]",
+    enters: "numerics.md: Nonlinear and linear solvers",
     about: "How the Newton systems are solved (docs/numerics.md).",
     keys: &[Key::new(
         "solver.preset",
@@ -120,24 +121,28 @@ const STABILISATION: Key = Key::new(
     Unset::Absent("4"),
     "c of the pressure stabilisation (c / (λ + 2µ)) ∫ (ṗ − Πṗ)(q − Πq) (4: exact lumping; 0: off)",
 )
-.range(Range::NON_NEGATIVE.says("must be >= 0"));
+.range(Range::NON_NEGATIVE.says("must be >= 0"))
+    .enters("numerics.md: Pressure stabilisation");
 const STABILISATION_FADE: Key = Key::new(
     "fem.stabilisation_fade",
     "",
     Unset::Absent("constant weight"),
     "τ₀: the weight fades as c (1 − (τ/τ₀)²)₊, τ = c_v Δt / h² (Taylor–Hood only)",
 )
-.range(Range::POSITIVE.says("must be positive (omit it for none)"));
+.range(Range::POSITIVE.says("must be positive (omit it for none)"))
+    .enters("numerics.md: Pressure stabilisation");
 const QUADRATURE_DEGREE: Key = Key::new(
     "fem.quadrature_degree",
     "",
     Unset::Absent("2 (linear model), 3 (finite strain)"),
     "degree of the quadrature rule; one more on the meridian (dV = 2πr dA)",
 )
-.range(Range::new(1.0, true, 8.0, true, "use 1..8"));
+.range(Range::new(1.0, true, 8.0, true, "use 1..8"))
+    .enters("numerics.md: Elements and quadrature");
 
 pub(super) const FEM_SECTION: Section = Section {
     title: "[fem]",
+    enters: "numerics.md: Elements and quadrature",
     about: "The discretisation.",
     keys: &[
         QUADRATURE_DEGREE,

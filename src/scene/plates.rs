@@ -258,19 +258,24 @@ const RADIUS: Key = Key::new(
     "radius R of the reference sphere: the plates are at z = 0 and z = 2R (give it for a mesh `file`)",
 )
 .range(super::mesh::RADIUS_RANGE)
-.rule("must match the mesh");
+.rule("must match the mesh")
+    .enters("plates at z = 0 and z = 2R");
 const COMPRESSION: Key =
     Key::new("plates.compression", "", Unset::Required, "ũ_max = u_max / (2R): the lower plate rises by u_max")
-        .range(Range::new(0.0, true, 1.0, false, "must lie in [0, 1)"));
+        .range(Range::new(0.0, true, 1.0, false, "must lie in [0, 1)"))
+    .enters("u(t), eq. (53)");
 const RAMP: Key =
     Key::new("plates.ramp", "s", Unset::Required, "duration of the loading ramp: u rises linearly from 0 to u_max")
-        .range(Range::POSITIVE);
+        .range(Range::POSITIVE)
+    .enters("u(t), eq. (53)");
 const HOLD: Key = Key::new("plates.hold", "s", Unset::Required, "duration of the hold at u_max")
-    .range(Range::NON_NEGATIVE.says("must be >= 0"));
+    .range(Range::NON_NEGATIVE.says("must be >= 0"))
+    .enters("u(t), eq. (53)");
 const RELEASE: Key =
     Key::new("plates.release", "s", Unset::Required, "duration of the release: u returns linearly to 0")
         .range(Range::POSITIVE)
-        .rule("ramp + hold + release ≤ time.t_end, else a warning");
+        .rule("ramp + hold + release ≤ time.t_end, else a warning")
+    .enters("u(t), eq. (53)");
 const T_RAMP: Key = Key::new(
     "plates.t_ramp",
     "s",
@@ -291,14 +296,16 @@ const DRAINAGE_PENALTY: Key = Key::new(
     Unset::Value("100.0"),
     "γ of the free-surface drainage conductance β_max = γ k0 / h (a stiff Robin condition, p ≈ 0)",
 )
-.range(Range::POSITIVE);
+.range(Range::POSITIVE)
+    .enters("numerics.md: Contact and drainage");
 const SEAL_GAP: Key = Key::new(
     "plates.seal_gap",
     "µm",
     Unset::Absent("0.01 R (filled in)"),
     "gap over which drainage opens as a contact separates",
 )
-.range(Range::POSITIVE);
+.range(Range::POSITIVE)
+    .enters("numerics.md: Contact and drainage");
 const PERMEABILITY: Key = Key::new(
     "plates.permeability",
     "µm⁴/(nN s)",
@@ -306,7 +313,8 @@ const PERMEABILITY: Key = Key::new(
     "the plates' permeability k_β: outflow through the contact area with conductance k_β / thickness",
 )
 .range(Range::NON_NEGATIVE.says("must be >= 0"))
-.rule("with `thickness`; not with drainage = false");
+.rule("with `thickness`; not with drainage = false")
+    .enters("Robin outflow k_β / L");
 const THICKNESS: Key =
     Key::new("plates.thickness", "µm", Unset::Absent(""), "the plates' thickness that the outflow crosses")
         .range(Range::POSITIVE)
@@ -321,6 +329,7 @@ const PROBE_POINT: Key = Key::new(
 
 pub(super) const SECTION: Section = Section {
     title: "[plates]",
+    enters: "model.md: Rigid plates, contact and drainage",
     about: "The compression–release experiment: rigid, flat, frictionless plates; the reference sphere (radius \
             R, centre (0, 0, R)) touches the lower plate (z = 0, rising by u(t)) and the fixed upper plate \
             (z = 2R). The lower plate rises by u_max = compression · 2R over `ramp`, holds for `hold`, returns over \
