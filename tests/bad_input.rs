@@ -364,7 +364,7 @@ fn fails_as(np: usize, earlier: &Path, args: &[&str], expect: &str, what: &str) 
 
 /// Mistakes found when the run is set up, before its first step: a body nothing holds (no
 /// plates, no condition blocking its translation: otherwise the first step diverges with "SNES
-/// reason -3"), a plate scene meshed with a handful of cells; and what `check` reports of the
+/// reason -3"), a plate scene meshed with a handful of cells (a few dozen: a warning); and what `check` reports of the
 /// material (the solid's and the aggregate's moduli).
 #[test]
 fn an_unheld_body_and_a_too_coarse_mesh_are_named() {
@@ -386,10 +386,20 @@ fn an_unheld_body_and_a_too_coarse_mesh_are_named() {
     let bc = "[[bc]]\ngroup = \"pole_bottom\"\ndisplacement = { z = 0.0 }\n\n";
     std::fs::write(&held, format!("{head}{bc}{}", &rest[rest.find("[time]").unwrap()..])).unwrap();
     run_ok(1, &["check", held.to_str().unwrap(), "--set", "material.gravity=[0.0, 0.0, 0.0]"]);
-    // Sizes of 80 µm on a radius of 100 µm: a few dozen triangles.
-    let out = poroplast(1, &["check", "reference_axi", "--set", "mesh.params.h=80", "--set", "mesh.params.h_pole=80"]);
+    // Sizes of the radius itself: 4 triangles, refused; 40 µm: 44, a warning.
+    let out =
+        poroplast(1, &["check", "reference_axi", "--set", "mesh.params.h=100", "--set", "mesh.params.h_pole=100"]);
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("cells, fewer than 100: its sizes (R = 100, h = 80"), "{err}");
+    assert!(
+        !out.status.success() && err.contains("the mesh has 4 cells, fewer than 10: its sizes (R = 100, h = 100"),
+        "{err}"
+    );
+    let out = poroplast(1, &["check", "reference_axi", "--set", "mesh.params.h=40", "--set", "mesh.params.h_pole=12"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success() && err.contains("warning: builtin:reference_axi: the mesh has 44 cells, fewer than 100"),
+        "{err}"
+    );
     // Φs = 0.6, µ = 20 kPa: the aggregate's G = 12 kPa, E = 2 G (1 + 0.2) = 28.8 kPa.
     let out = run_ok(1, &["check", "reference_axi"]);
     assert!(
@@ -399,4 +409,20 @@ fn an_unheld_body_and_a_too_coarse_mesh_are_named() {
         ),
         "{out}"
     );
+}
+
+/// A scene file written for the previous version (the shipped `reference_axi` as it was, kept in
+/// tests/data/scenes_v1) passes `check`, with a note naming its moved keys and what to write.
+#[test]
+fn a_scene_written_for_the_previous_version_still_runs() {
+    let old = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes_v1/reference_axi.toml");
+    let out = poroplast(1, &["check", old.to_str().unwrap()]);
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success() && stdout.contains("ok — mesh"), "{stdout}{stderr}");
+    let note = format!(
+        "note: {}: plates.t_ramp = 5 and plates.t_end = 40 are deprecated: write plates.ramp = 5, plates.hold = 30, \
+         plates.release = 5",
+        old.display()
+    );
+    assert!(stderr.contains(&note), "{stderr}");
 }

@@ -196,12 +196,12 @@ const LINEAR_MODEL: Key = Key::new(
 const LINEAR_MU: Key =
     Key::new("material.mu", "kPa", Unset::Required, "drained shear modulus µ of the whole (what a lab measures)")
         .range(Range::POSITIVE)
-    .enters("σ = 2µ ε + λ tr ε I");
+        .enters("σ = 2µ ε + λ tr ε I");
 const LINEAR_NU: Key = Key::new("material.nu", "", Unset::Required, "drained Poisson ratio ν").range(POISSON);
 const PERMEABILITY: Key =
     Key::new("material.permeability", "µm⁴/(nN s)", Unset::Required, "Darcy conductivity k: Q = −k ∇p")
         .range(Range::POSITIVE)
-    .enters("Q = −k ∇p");
+        .enters("Q = −k ∇p");
 
 const MODEL: Key = Key::new(
     "material.model",
@@ -217,7 +217,7 @@ const MU: Key = Key::new(
 )
 .range(Range::POSITIVE)
 .rule("one of `mu`, `drained_shear_modulus`, `drained_youngs_modulus` with `nu`; or `alpha`")
-    .enters("eq. (56)");
+.enters("eq. (56)");
 const DRAINED_SHEAR_MODULUS: Key = Key::new(
     "material.drained_shear_modulus",
     "kPa",
@@ -226,7 +226,7 @@ const DRAINED_SHEAR_MODULUS: Key = Key::new(
 )
 .range(Range::POSITIVE)
 .rule("instead of `mu`, with `nu`")
-    .enters("µ = G / Φs, eq. (56)");
+.enters("µ = G / Φs, eq. (56)");
 const DRAINED_YOUNGS_MODULUS: Key = Key::new(
     "material.drained_youngs_modulus",
     "kPa",
@@ -235,10 +235,10 @@ const DRAINED_YOUNGS_MODULUS: Key = Key::new(
 )
 .range(Range::POSITIVE)
 .rule("instead of `mu`, with `nu`")
-    .enters("µ = E / (2 (1 + ν) Φs), eq. (56)");
+.enters("µ = E / (2 (1 + ν) Φs), eq. (56)");
 /// ν has one range in both models.
-const NU: Key = Key::new("material.nu", "", Unset::Absent(""), "Poisson ratio ν of Ψ/Φs").range(POISSON)
-    .enters("eq. (56)");
+const NU: Key =
+    Key::new("material.nu", "", Unset::Absent(""), "Poisson ratio ν of Ψ/Φs").range(POISSON).enters("eq. (56)");
 const ALPHA: Key = Key::new("material.alpha", "kPa, –, –", Unset::Absent(""), "[α0, α1, α2] given directly (α3 = 1)")
     .range(Range::POSITIVE)
     .rule("the range is α0's; the law checks the others")
@@ -253,14 +253,14 @@ const PHI_S: Key = Key::new("material.phi_s", "", Unset::Required, "referential 
 const K0: Key =
     Key::new("material.k0", "µm⁴/(nN s)", Unset::Required, "referential conductivity k0 (1 mm⁴/(N s) = 1000)")
         .range(Range::POSITIVE)
-    .enters("k(J), W = −Q");
+        .enters("k(J), W = −Q");
 const KAPPA: Key =
     Key::new("material.kappa", "", Unset::Required, "exponent κ of k = k0 [(J − Φs)/(1 − Φs)]^κ exp(m0 (J² − 1)/2)")
         .range(Range::FINITE)
         .rule("≥ 0 when the model is built")
-    .enters("k(J)");
-const M0: Key = Key::new("material.m0", "", Unset::Required, "exponent m0 of the permeability").range(Range::FINITE)
-    .enters("k(J)");
+        .enters("k(J)");
+const M0: Key =
+    Key::new("material.m0", "", Unset::Required, "exponent m0 of the permeability").range(Range::FINITE).enters("k(J)");
 const PERMEABILITY_C: Key = Key::new(
     "material.permeability_c",
     "",
@@ -268,7 +268,7 @@ const PERMEABILITY_C: Key = Key::new(
     "c of the remodelling-dependent permeability (model.md (45)–(48))",
 )
 .range(Range::POSITIVE)
-    .enters("eqs. (45)–(48)");
+.enters("eqs. (45)–(48)");
 const PENALTY: Key =
     Key::new("material.penalty", "", Unset::Absent("no penalty"), "the compaction penalty U(J): a table, below");
 const REMODELLING: Key = Key::new(
@@ -277,12 +277,12 @@ const REMODELLING: Key = Key::new(
     Unset::Absent("none: B_p = I"),
     "the visco-plastic remodelling of B_p: a table, below",
 );
-const RHO_S: Key = Key::new("material.rho_s", "kg/m³", Unset::Value("1000.0"), "solid density").range(DENSITY)
-    .enters("b (weight)");
-const RHO_F: Key = Key::new("material.rho_f", "kg/m³", Unset::Value("1000.0"), "fluid density").range(DENSITY)
-    .enters("b, W (weight)");
-const GRAVITY: Key =
-    Key::new("material.gravity", "m/s²", Unset::Value("[0.0, 0.0, 0.0]"), "gravity acceleration").range(Range::FINITE)
+const RHO_S: Key =
+    Key::new("material.rho_s", "kg/m³", Unset::Value("1000.0"), "solid density").range(DENSITY).enters("b (weight)");
+const RHO_F: Key =
+    Key::new("material.rho_f", "kg/m³", Unset::Value("1000.0"), "fluid density").range(DENSITY).enters("b, W (weight)");
+const GRAVITY: Key = Key::new("material.gravity", "m/s²", Unset::Value("[0.0, 0.0, 0.0]"), "gravity acceleration")
+    .range(Range::FINITE)
     .enters("b, W (weight)");
 const DRAINED: Key = Key::new(
     "material.drained",
@@ -295,9 +295,9 @@ const DRAINED: Key = Key::new(
 const LAMBDA_P: Key =
     Key::new("material.remodelling.lambda_p", "1/(kPa s)", Unset::Required, "rate λp (Table 1: 0.001 = 1 (MPa s)⁻¹)")
         .range(remodelling::LAMBDA_P)
-    .enters("γp, eq. (40)");
-const SIGMA_Y: Key =
-    Key::new("material.remodelling.sigma_y", "kPa", Unset::Required, "yield stress σy").range(remodelling::SIGMA_Y)
+        .enters("γp, eq. (40)");
+const SIGMA_Y: Key = Key::new("material.remodelling.sigma_y", "kPa", Unset::Required, "yield stress σy")
+    .range(remodelling::SIGMA_Y)
     .enters("γp, eq. (40)");
 
 pub(super) const LINEAR_SECTION: Section = Section {

@@ -122,7 +122,7 @@ const STABILISATION: Key = Key::new(
     "c of the pressure stabilisation (c / (λ + 2µ)) ∫ (ṗ − Πṗ)(q − Πq) (4: exact lumping; 0: off)",
 )
 .range(Range::NON_NEGATIVE.says("must be >= 0"))
-    .enters("numerics.md: Pressure stabilisation");
+.enters("numerics.md: Pressure stabilisation");
 const STABILISATION_FADE: Key = Key::new(
     "fem.stabilisation_fade",
     "",
@@ -130,7 +130,7 @@ const STABILISATION_FADE: Key = Key::new(
     "τ₀: the weight fades as c (1 − (τ/τ₀)²)₊, τ = c_v Δt / h² (Taylor–Hood only)",
 )
 .range(Range::POSITIVE.says("must be positive (omit it for none)"))
-    .enters("numerics.md: Pressure stabilisation");
+.enters("numerics.md: Pressure stabilisation");
 const QUADRATURE_DEGREE: Key = Key::new(
     "fem.quadrature_degree",
     "",
@@ -138,7 +138,7 @@ const QUADRATURE_DEGREE: Key = Key::new(
     "degree of the quadrature rule; one more on the meridian (dV = 2πr dA)",
 )
 .range(Range::new(1.0, true, 8.0, true, "use 1..8"))
-    .enters("numerics.md: Elements and quadrature");
+.enters("numerics.md: Elements and quadrature");
 
 pub(super) const FEM_SECTION: Section = Section {
     title: "[fem]",

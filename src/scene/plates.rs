@@ -259,15 +259,15 @@ const RADIUS: Key = Key::new(
 )
 .range(super::mesh::RADIUS_RANGE)
 .rule("must match the mesh")
-    .enters("plates at z = 0 and z = 2R");
+.enters("plates at z = 0 and z = 2R");
 const COMPRESSION: Key =
     Key::new("plates.compression", "", Unset::Required, "ũ_max = u_max / (2R): the lower plate rises by u_max")
         .range(Range::new(0.0, true, 1.0, false, "must lie in [0, 1)"))
-    .enters("u(t), eq. (53)");
+        .enters("u(t), eq. (53)");
 const RAMP: Key =
     Key::new("plates.ramp", "s", Unset::Required, "duration of the loading ramp: u rises linearly from 0 to u_max")
         .range(Range::POSITIVE)
-    .enters("u(t), eq. (53)");
+        .enters("u(t), eq. (53)");
 const HOLD: Key = Key::new("plates.hold", "s", Unset::Required, "duration of the hold at u_max")
     .range(Range::NON_NEGATIVE.says("must be >= 0"))
     .enters("u(t), eq. (53)");
@@ -275,7 +275,7 @@ const RELEASE: Key =
     Key::new("plates.release", "s", Unset::Required, "duration of the release: u returns linearly to 0")
         .range(Range::POSITIVE)
         .rule("ramp + hold + release ≤ time.t_end, else a warning")
-    .enters("u(t), eq. (53)");
+        .enters("u(t), eq. (53)");
 const T_RAMP: Key = Key::new(
     "plates.t_ramp",
     "s",
@@ -297,7 +297,7 @@ const DRAINAGE_PENALTY: Key = Key::new(
     "γ of the free-surface drainage conductance β_max = γ k0 / h (a stiff Robin condition, p ≈ 0)",
 )
 .range(Range::POSITIVE)
-    .enters("numerics.md: Contact and drainage");
+.enters("numerics.md: Contact and drainage");
 const SEAL_GAP: Key = Key::new(
     "plates.seal_gap",
     "µm",
@@ -305,7 +305,7 @@ const SEAL_GAP: Key = Key::new(
     "gap over which drainage opens as a contact separates",
 )
 .range(Range::POSITIVE)
-    .enters("numerics.md: Contact and drainage");
+.enters("numerics.md: Contact and drainage");
 const PERMEABILITY: Key = Key::new(
     "plates.permeability",
     "µm⁴/(nN s)",
@@ -314,7 +314,7 @@ const PERMEABILITY: Key = Key::new(
 )
 .range(Range::NON_NEGATIVE.says("must be >= 0"))
 .rule("with `thickness`; not with drainage = false")
-    .enters("Robin outflow k_β / L");
+.enters("Robin outflow k_β / L");
 const THICKNESS: Key =
     Key::new("plates.thickness", "µm", Unset::Absent(""), "the plates' thickness that the outflow crosses")
         .range(Range::POSITIVE)

@@ -200,7 +200,7 @@ const DT_MAX_RAMP: Key = Key::new(
 )
 .range(Range::POSITIVE)
 .rule("≥ dt; needs [plates]")
-    .enters("numerics.md: Time integration");
+.enters("numerics.md: Time integration");
 const GROWTH: Key =
     Key::new("time.growth", "", Unset::Value("1.0"), "dt_{n+1} = min(growth dt_n, dt_max); 1: constant steps")
         .range(Range::new(1.0, true, f64::INFINITY, false, "must be >= 1"));
@@ -211,7 +211,7 @@ const ERROR_TOLERANCE: Key = Key::new(
     "choose the steps by a local error estimate, relative to each field's magnitude",
 )
 .range(Range::POSITIVE)
-    .enters("numerics.md: Time integration");
+.enters("numerics.md: Time integration");
 const DT_MIN: Key = Key::new(
     "time.dt_min",
     "s",

@@ -128,8 +128,8 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
     let study = agree(world, Study::parse(&args.study, &text))?;
     for scene in study.scenes() {
         let what = if study.per_case_scenes() { "a case's scene" } else { "the study's base scene" };
-        let loaded = agree(world, LoadedScene::load(scene, &study.set))
-            .map_err(|e| Error::Sweep(format!("{what}: {e}")))?;
+        let loaded =
+            agree(world, LoadedScene::load(scene, &study.set)).map_err(|e| Error::Sweep(format!("{what}: {e}")))?;
         // Once here, not for every case (whose runs are quiet).
         driver::tell_notes(world, &loaded);
     }
