@@ -1,6 +1,7 @@
 //! A scene explained: the resolved scene as TOML (every default written out) with each key's
 //! meaning, unit, default and valid range from its declaration ([`super::key`]) as a comment
-//! above it — `poroplast show --explain` and the run directory's `scene.toml`.
+//! above it, and the keys left unset listed with what that means — `poroplast show --explain`
+//! and the run directory's `scene.toml`.
 
 use super::key::{Key, Unset};
 use super::reference::sections;
@@ -21,12 +22,21 @@ pub fn explain(loaded: &LoadedScene) -> Result<String> {
         .collect();
     let mut out = String::new();
     let mut table = String::new();
+    // The keys of the current table written so far (None: its unset keys are listed).
+    let mut seen = Some(Vec::new());
     for line in loaded.to_toml()?.lines() {
         let trimmed = line.trim();
+        if trimmed.is_empty() || trimmed.starts_with('[') {
+            if let Some(names) = seen.take() {
+                out.push_str(&unset(&keys, &table, &names));
+            }
+        }
         if let Some(header) = trimmed.strip_prefix('[') {
             table = header.trim_matches(['[', ']']).to_string();
+            seen = Some(Vec::new());
         } else if let Some((key, _)) = trimmed.split_once(" = ").filter(|_| !line.starts_with(' ')) {
             let name = if table.is_empty() { key.to_string() } else { format!("{table}.{key}") };
+            seen.get_or_insert_with(Vec::new).push(name.clone());
             if let Some(k) = declaration(&keys, &name) {
                 out.push_str(&comment(k));
             } else if keys.iter().any(|k| k.name.starts_with(&format!("{name}."))) {
@@ -37,7 +47,28 @@ pub fn explain(loaded: &LoadedScene) -> Result<String> {
         out.push_str(line);
         out.push('\n');
     }
+    if let Some(names) = seen {
+        out.push_str(&unset(&keys, &table, &names));
+    }
     Ok(out)
+}
+
+/// The declared keys of `table` the scene leaves unset (not in `written`), as comments: what
+/// leaving them out means. Not for lists of tables (`[[bc]]`), the `.geo`'s parameters, or the
+/// deprecated keys.
+fn unset(keys: &[Key], table: &str, written: &[String]) -> String {
+    if ["bc", "probe", "mesh.params", "petsc"].contains(&table) {
+        return String::new();
+    }
+    let prefix = if table.is_empty() { String::new() } else { format!("{table}.") };
+    keys.iter()
+        .filter(|k| {
+            k.name.strip_prefix(&prefix).is_some_and(|rest| !rest.contains('.'))
+                && !written.iter().any(|w| w == k.name)
+                && !k.doc.starts_with("deprecated")
+        })
+        .map(|k| format!("# ({} is not set){}", k.name.rsplit('.').next().unwrap_or(k.name), &comment(k)[1..]))
+        .collect()
 }
 
 /// The key `name` is declared as: itself, or the table it belongs to (`mesh.params.W`,
@@ -97,6 +128,9 @@ mod tests {
             above("stabilisation = 4.0")
         );
         assert!(above("mu = 20.0").starts_with("# the solid's shear modulus µ"), "{}", above("mu = 20.0"));
+        // The keys left unset say what that means.
+        assert!(text.contains("\n# (dt_min is not set) a step cut below this by failed solves ends the run with an error [s; default: 1e-6 dt;"), "{text}");
+        assert!(text.contains("# (remodelling is not set) the visco-plastic remodelling of B_p: a table, below [default: none: B_p = I]"), "{text}");
         assert!(above("hold = 30.0").starts_with("# duration of the hold at u_max [s; required"));
         // Every `key = value` line has its comment, and the comments change nothing.
         for (i, l) in lines.iter().enumerate().skip(1) {
