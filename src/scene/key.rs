@@ -1,7 +1,8 @@
-//! The declaration of a scene key: its dotted name, unit, default, valid range, further rules
-//! and a one-line description. Each section file declares its keys next to its serde types and
-//! checks the ranges through them, so a range lives in one place; [`super::reference`] writes
-//! every section's table as the scene reference (`docs/scene-reference.md`).
+//! The declaration of a scene key: its dotted name, unit, default, valid range, further rules,
+//! a one-line description and where it enters the model. Each section file declares its keys
+//! next to its serde types and checks the ranges through them, so a range lives in one place;
+//! [`super::reference`] writes every section's table as the scene reference
+//! (`docs/scene-reference.md`), and [`super::explain`] annotates a scene with them.
 
 use crate::range::Range;
 

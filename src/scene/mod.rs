@@ -5,9 +5,13 @@
 //! One file per section holds its serde types, their defaults, the declaration of its keys
 //! ([`key::Key`]: unit, default, valid range, description) and its checks, which read the ranges
 //! from those declarations; [`reference`](mod@reference) writes them all as the scene reference
-//! (docs/scene-reference.md). [`LoadedScene`] loads a scene (a file or a builtin, `--set`
-//! overrides, the `auto` choices of the measured chart in [`auto`]); `diagnose` words the errors
-//! that TOML and serde give.
+//! (docs/scene-reference.md), and [`explain`](mod@explain) annotates a scene with them.
+//! [`LoadedScene`] loads a scene (a file or a builtin, `--set` overrides), and `resolve` turns
+//! what it says into what a run uses: the `auto` choices of the measured chart in [`auto`], sizes
+//! relative to the radius, the plates' radius from the mesh, deprecated keys moved to their new
+//! names with a note, the defaults written out. `diagnose` words the errors that TOML and serde
+//! give. A key that moves stays readable: tests/data/scenes_v1 holds the previous version's
+//! shipped scenes, which must still resolve to today's (`scaling_tests`).
 
 pub mod auto;
 pub mod bc;
