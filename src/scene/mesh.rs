@@ -37,7 +37,9 @@ pub struct MeshSpec {
     pub grading: Grading,
     /// Mesh sizes relative to `params.R` (`h = 0.2`: a fifth of the radius), so that a scene
     /// keeps its resolution when only R changes; moved into `params` in µm when the scene is
-    /// loaded (a size given there in µm wins, so `--set mesh.params.h=10` still works).
+    /// loaded (a size given there in µm wins, so `--set mesh.params.h=10` still works). The
+    /// shipped aggregate scenes give them rather than `grading = "auto"`: a refresh of the chart
+    /// must not move their meshes, and `reference_axi`'s meridian is finer than the chart's.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub relative_sizes: BTreeMap<String, f64>,
 }
