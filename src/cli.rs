@@ -3,7 +3,7 @@
 //! - `poroplast resume DIR [-q] [-- PETSC OPTIONS]` (continue from the last checkpoint)
 //! - `poroplast check SCENE [--set KEY=VALUE ...] [-- PETSC OPTIONS]`
 //! - `poroplast sweep STUDY.toml [--ranks-per-case k] [--out DIR] [--cases-dir DIR] [-q] [-- PETSC OPTIONS]`
-//! - `poroplast scenes`, `poroplast show NAME`
+//! - `poroplast scenes [--keys]`, `poroplast show NAME`, `poroplast show --explain NAME|FILE [--set KEY=VALUE ...]`
 //!
 //! The `///` comments below are clap's help text, printed as written: brackets and angle
 //! brackets there are for the terminal, not rustdoc links or HTML.
@@ -115,8 +115,17 @@ pub enum Command {
         keys: bool,
     },
     /// Print a shipped scene's TOML (a starting point for your own).
+    ///
+    /// With --explain: the scene as a run resolves it (every default written out), each key with
+    /// its meaning, unit, default and valid range as a comment above it.
     Show {
-        /// Name of a shipped scene.
+        /// Name of a shipped scene (with --explain, also a scene file).
         name: String,
+        /// Print the resolved scene with each key explained.
+        #[arg(long)]
+        explain: bool,
+        /// Override a scene value (with --explain; as for `run`).
+        #[arg(long = "set", value_name = "KEY=VALUE", requires = "explain")]
+        set: Vec<String>,
     },
 }

@@ -20,11 +20,28 @@ fn main() {
         }
         return;
     }
-    if let Command::Show { name } = &cli.command {
+    if let Command::Show { name, explain, set } = &cli.command {
+        if *explain {
+            // No MPI: loading a scene is serial.
+            let loaded = poroplast::scene::LoadedScene::load(name, set);
+            match loaded.and_then(|s| poroplast::scene::explain::explain(&s).map(|text| (s, text))) {
+                Ok((s, text)) => {
+                    for n in &s.notes {
+                        eprintln!("poroplast: note: {}: {n}", s.source);
+                    }
+                    print!("# {} as resolved: every value a run uses\n{text}", s.source);
+                }
+                Err(e) => {
+                    eprintln!("poroplast: error: {e}");
+                    std::process::exit(1);
+                }
+            }
+            return;
+        }
         match BUILTIN.iter().find(|(n, _)| n == name) {
             Some((_, text)) => console::print(text),
             None => {
-                eprintln!("poroplast: no shipped scene named \"{name}\" (see `poroplast scenes`)");
+                eprintln!("poroplast: no shipped scene named \"{name}\" (see `poroplast scenes`; `show --explain` also reads files)");
                 std::process::exit(2);
             }
         }

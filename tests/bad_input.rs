@@ -216,7 +216,17 @@ fn overrides_reach_the_run_and_its_resolved_scene() {
         ],
     );
     assert!(log.contains("overrides: --set material.mu=24.5 --set time.t_end=0.004"), "{log}");
-    let resolved: toml::Table = toml::from_str(&std::fs::read_to_string(out.join("scene.toml")).unwrap()).unwrap();
+    let text = std::fs::read_to_string(out.join("scene.toml")).unwrap();
+    let resolved: toml::Table = toml::from_str(&text).unwrap();
+    // Every default written out, each key explained by its declaration.
+    assert_eq!(resolved["fem"]["quadrature_degree"].as_integer(), Some(2));
+    assert_eq!(resolved["solver"]["preset"].as_str(), Some("auto"));
+    assert!(
+        text.contains(
+            "# drained shear modulus µ of the whole (what a lab measures) [kPa; required; valid (0, ∞)]\nmu = 24.5\n"
+        ),
+        "{text}"
+    );
     assert_eq!(resolved["material"]["mu"].as_float(), Some(24.5));
     assert_eq!(resolved["time"]["t_end"].as_float(), Some(0.004));
     let rows = std::fs::read_to_string(out.join("history.csv")).unwrap();
@@ -376,4 +386,69 @@ fn a_closed_standard_output_is_a_quiet_exit() {
         assert_eq!(out.status.code(), Some(0), "{args:?} into a closed pipe: {}\n{stderr}", out.status);
         assert!(stderr.is_empty(), "{args:?} into a closed pipe wrote to standard error:\n{stderr}");
     }
+}
+
+/// Mistakes found when the run is set up, before its first step: a body nothing holds (no
+/// plates, no condition blocking its translation: otherwise the first step diverges with "SNES
+/// reason -3"), a plate scene meshed with a handful of cells (a few dozen: a warning); and what `check` reports of the
+/// material (the solid's and the aggregate's moduli).
+#[test]
+fn an_unheld_body_and_a_too_coarse_mesh_are_named() {
+    let dir = scratch("unheld");
+    let text = std::fs::read_to_string(scene("reference_axi")).unwrap();
+    let (head, rest) = text.split_once("[plates]").unwrap();
+    let no_plates = dir.join("no_plates.toml");
+    std::fs::write(&no_plates, format!("{head}{}", &rest[rest.find("[time]").unwrap()..])).unwrap();
+    let out = poroplast(1, &["check", no_plates.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success()
+            && err.contains("nothing holds the body along z: the scene has no [plates] and no [[bc]]"),
+        "{err}"
+    );
+    // Held at the bottom pole, the same body passes the check (without gravity, which a point
+    // support could not carry).
+    let held = dir.join("held.toml");
+    let bc = "[[bc]]\ngroup = \"pole_bottom\"\ndisplacement = { z = 0.0 }\n\n";
+    std::fs::write(&held, format!("{head}{bc}{}", &rest[rest.find("[time]").unwrap()..])).unwrap();
+    run_ok(1, &["check", held.to_str().unwrap(), "--set", "material.gravity=[0.0, 0.0, 0.0]"]);
+    // Sizes of the radius itself: 4 triangles, refused; 40 µm: 44, a warning.
+    let out =
+        poroplast(1, &["check", "reference_axi", "--set", "mesh.params.h=100", "--set", "mesh.params.h_pole=100"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("the mesh has 4 cells, fewer than 10: its sizes (R = 100, h = 100"),
+        "{err}"
+    );
+    let out = poroplast(1, &["check", "reference_axi", "--set", "mesh.params.h=40", "--set", "mesh.params.h_pole=12"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success() && err.contains("warning: builtin:reference_axi: the mesh has 44 cells, fewer than 100"),
+        "{err}"
+    );
+    // Φs = 0.6, µ = 20 kPa: the aggregate's G = 12 kPa, E = 2 G (1 + 0.2) = 28.8 kPa.
+    let out = run_ok(1, &["check", "reference_axi"]);
+    assert!(
+        out.contains(
+            "material: the solid's shear modulus µ = 20 kPa (ν = 0.2); the aggregate's drained shear modulus Φs µ = 12 \
+             kPa, drained Young's modulus 2 Φs µ (1 + ν) = 28.8 kPa"
+        ),
+        "{out}"
+    );
+}
+
+/// A scene file written for the previous version (the shipped `reference_axi` as it was, kept in
+/// tests/data/scenes_v1) passes `check`, with a note naming its moved keys and what to write.
+#[test]
+fn a_scene_written_for_the_previous_version_still_runs() {
+    let old = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes_v1/reference_axi.toml");
+    let out = poroplast(1, &["check", old.to_str().unwrap()]);
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success() && stdout.contains("ok — mesh"), "{stdout}{stderr}");
+    let note = format!(
+        "note: {}: plates.t_ramp = 5 and plates.t_end = 40 are deprecated: write plates.ramp = 5, plates.hold = 30, \
+         plates.release = 5",
+        old.display()
+    );
+    assert!(stderr.contains(&note), "{stderr}");
 }

@@ -3,8 +3,8 @@ time — force, probe pressure and H/W, with the plate protocol's phases shaded 
 peak and contact opening marked — and, for a meridian run, the fields p, σ_VM and ‖E_p‖ on the
 deformed meridian at the output times. A sweep's cases are overlaid on one history figure.
 
-The phases come from the run's resolved `scene.toml` (ramp to t_ramp, hold to t_end − t_ramp,
-release to t_end), the marks from its `summary.toml` where there is one (runs of earlier
+The phases come from the run's resolved `scene.toml` (`plates.ramp`, `hold`, `release`; runs of
+earlier versions: ramp to t_ramp, hold to t_end − t_ramp, release to t_end), the marks from its `summary.toml` where there is one (runs of earlier
 versions have none)."""
 import csv
 import tomllib
@@ -34,8 +34,13 @@ def phases(run):
     plates = tomllib.loads(path.read_text()).get("plates")
     if not plates:
         return []
-    ramp, end = float(plates["t_ramp"]), float(plates["t_end"])
-    return [("ramp", 0.0, ramp), ("hold", ramp, end - ramp), ("release", end - ramp, end)]
+    if "ramp" in plates:
+        ramp, hold_end = float(plates["ramp"]), float(plates["ramp"]) + float(plates["hold"])
+        end = hold_end + float(plates["release"])
+    else:
+        ramp, end = float(plates["t_ramp"]), float(plates["t_end"])
+        hold_end = end - ramp
+    return [("ramp", 0.0, ramp), ("hold", ramp, hold_end), ("release", hold_end, end)]
 
 
 def summary(run):

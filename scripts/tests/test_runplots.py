@@ -53,6 +53,9 @@ class RunPlots(unittest.TestCase):
     def test_the_phases_of_the_protocol(self):
         run = write_run(self.root / "run")
         self.assertEqual(runplots.phases(run), [("ramp", 0.0, 2.0), ("hold", 2.0, 6.0), ("release", 6.0, 8.0)])
+        # Today's resolved scene names the phases (a release of its own length).
+        (run / "scene.toml").write_text('[plates]\nramp = 2.0\nhold = 4.0\nrelease = 3.0\n')
+        self.assertEqual(runplots.phases(run), [("ramp", 0.0, 2.0), ("hold", 2.0, 6.0), ("release", 6.0, 9.0)])
         (run / "scene.toml").write_text('name = "cryer"\n')
         self.assertEqual(runplots.phases(run), [])
 

@@ -15,6 +15,7 @@ use mpi::topology::SimpleCommunicator;
 /// step, after which every PETSc option has been read; nothing is written.
 pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc: &[String]) -> Result<String> {
     let scene = LoadedScene::load(scene_arg, set)?;
+    super::tell_notes(world, &scene);
     let args = RunArgs {
         scene: scene_arg.into(),
         set: set.to_vec(),
@@ -33,8 +34,9 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc:
         let warning = run.setup.ellipticity.as_ref().map(|w| format!("\nwarning: {w}")).unwrap_or_default();
         let s = &scene.scene;
         let accuracy = resolved::accuracy_class(s, mesh.family).map(|a| format!("\n{a}")).unwrap_or_default();
+        let moduli = resolved::moduli(s).map(|m| format!("\n{m}")).unwrap_or_default();
         Ok(format!(
-            "{}: ok — mesh {} ({} {}, {} nodes, {} vertices; {} dofs), first step taken\n{}\n{}{accuracy}{warning}",
+            "{}: ok — mesh {} ({} {}, {} nodes, {} vertices; {} dofs), first step taken\n{}\n{}{moduli}{accuracy}{warning}",
             scene.source,
             run.setup.mesh_path.display(),
             mesh.n_global_elems,

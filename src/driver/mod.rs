@@ -45,7 +45,19 @@ use std::path::{Path, PathBuf};
 /// Runs a scene; returns the run directory. PETSc lives exactly as long as this call.
 pub fn run(world: &SimpleCommunicator, args: &RunArgs) -> Result<PathBuf> {
     let scene = LoadedScene::load(&args.scene, &args.set)?;
+    if args.progress {
+        tell_notes(world, &scene);
+    }
     with_petsc(world, &petsc_args(&scene, &args.petsc), || Run::setup(world, &scene, args)?.execute(None))
+}
+
+/// The scene's notes (deprecated keys, likely mistakes) on standard error, by rank 0.
+pub(crate) fn tell_notes(world: &SimpleCommunicator, scene: &LoadedScene) {
+    if world.rank() == 0 {
+        for n in &scene.notes {
+            eprintln!("poroplast: note: {}: {n}", scene.source);
+        }
+    }
 }
 
 /// Runs `f` with PETSc initialised on `world` from `options` and finalised after; an error about an

@@ -11,6 +11,7 @@ use crate::io::rundir;
 use crate::observe::observers::Sample;
 use crate::parallel::{agree, on_root};
 use crate::petsc::options;
+use crate::scene::explain::explain;
 use mpi::traits::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -43,7 +44,8 @@ impl<'w> Run<'w> {
             if status.exists() {
                 std::fs::remove_file(&status).map_err(|e| Error::io(&status, e))?;
             }
-            let scene = format!("# resolved from {}\n{}", self.scene.source, self.scene.to_toml()?);
+            // Explained: each key's meaning, unit and range as a comment (the values are `to_toml`'s).
+            let scene = format!("# resolved from {}\n{}", self.scene.source, explain(&self.scene)?);
             rundir::write_text(dir, "scene.toml", &scene)?;
             rundir::write_text(dir, "petsc_options.txt", &(options + "\n"))?;
             self.write_record(dir)
@@ -90,6 +92,9 @@ impl<'w> Run<'w> {
         }
         let s = &self.scene.scene;
         self.say(&super::resolved::discretisation(s, mesh.family, mesh.n_global_elems));
+        if let Some(m) = super::resolved::moduli(s) {
+            self.say(&m);
+        }
         if let Some(a) = super::resolved::accuracy_class(s, mesh.family) {
             self.say(&a);
         }

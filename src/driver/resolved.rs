@@ -9,7 +9,7 @@
 //! by the same relative mesh size h/R, which is a guide, not a bound.
 
 use crate::reference_cell::Family;
-use crate::scene::{auto, Element, Geometry, Grading, HolmesMowSpec, Material, Scene};
+use crate::scene::{auto, Element, Geometry, Grading, HolmesMowSpec, Material, Scene, SolidSpec};
 
 /// The one-line description: element, cells, mesh source and parameters.
 pub(super) fn discretisation(scene: &Scene, family: Family, n_cells: usize) -> String {
@@ -42,5 +42,23 @@ pub(super) fn accuracy_class(scene: &Scene, family: Family) -> Option<String> {
     Some(format!(
         "expected accuracy (plate force, h/R = {h_over_r:.2}): {} [{}; docs/performance.md]",
         c.class, c.basis
+    ))
+}
+
+/// The moduli of a mixture given by (µ, ν), however the scene named them: the solid's µ, which
+/// the law takes, and the aggregate's drained moduli G = Φs µ and E = 2 G (1 + ν), which a lab
+/// measures (None for other materials).
+pub(super) fn moduli(scene: &Scene) -> Option<String> {
+    let Material::HolmesMow(m) = &scene.material else { return None };
+    let SolidSpec::MuNu { mu, nu } = m.solid().ok()? else { return None };
+    let g = m.phi_s * mu;
+    // Six significant digits: G = 0.6 × 20 kPa is 12, not 12.000000000000002.
+    let shown = |x: f64| format!("{}", format!("{x:.6e}").parse::<f64>().unwrap_or(x));
+    Some(format!(
+        "material: the solid's shear modulus µ = {} kPa (ν = {nu}); the aggregate's drained shear modulus Φs µ = {} \
+         kPa, drained Young's modulus 2 Φs µ (1 + ν) = {} kPa",
+        shown(mu),
+        shown(g),
+        shown(2.0 * g * (1.0 + nu))
     ))
 }

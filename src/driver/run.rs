@@ -145,6 +145,4 @@ impl<'w> Run<'w> {
 /// again, with `poroplast resume`).
 pub const EXIT_STOPPED: i32 = 75;
 
-/// Default c of the pressure stabilisation: 4 lumps the P1 mass of the undrained constraint
-/// exactly (see `fem::kernel::ElementKernel::stab`).
-pub const DEFAULT_STABILISATION: f64 = 4.0;
+pub use crate::scene::numerics::DEFAULT_STABILISATION;

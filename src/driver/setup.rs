@@ -40,11 +40,35 @@ pub(super) struct Distributed {
     pub layout: FileLayout,
 }
 
-/// Reads (or generates) the scene's mesh, partitions it on rank 0 and distributes it.
+/// A plate scene's mesh with fewer cells than `MIN_CELLS` is refused (sizes in the wrong unit:
+/// a radius in mm and sizes in µm gave 3 triangles), with fewer than `FEW_CELLS` warned of (the
+/// tests' deliberately coarse meridians have 18 to 97).
+const MIN_CELLS: usize = 10;
+const FEW_CELLS: usize = 100;
+
+/// Reads (or generates) the scene's mesh, partitions it on rank 0 and distributes it; a plate
+/// scene's mesh has at least `MIN_CELLS` cells (`FEW_CELLS`: a warning).
 pub(super) fn distribute_mesh(world: &SimpleCommunicator, scene: &LoadedScene) -> Result<Distributed> {
     let spec = &scene.scene.mesh;
     let path = mesh_file(world, scene.mesh_source(), &spec.params, &scene.source)?;
     let mesh = agree(world, read_mesh(&path, spec.geometry.family(), &spec.mirror))?;
+    if let Some(p) = scene.scene.plates.as_ref().filter(|_| mesh.cells.len() < FEW_CELLS) {
+        let sizes: Vec<String> = spec.params.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+        let msg = format!(
+            "the mesh has {} cells, fewer than {}: its sizes ({}) are coarse for an aggregate of radius R = {} µm \
+             (lengths are µm; mesh.relative_sizes gives them as fractions of R)",
+            mesh.cells.len(),
+            if mesh.cells.len() < MIN_CELLS { MIN_CELLS } else { FEW_CELLS },
+            sizes.join(", "),
+            p.radius()
+        );
+        if mesh.cells.len() < MIN_CELLS {
+            return Err(Error::Scene { path: scene.source.clone(), msg });
+        }
+        if world.rank() == 0 {
+            eprintln!("poroplast: warning: {}: {msg}", scene.source);
+        }
+    }
     let size = world.size() as usize;
     if mesh.cells.len() < size {
         return Err(Error::Mesh {
@@ -78,12 +102,44 @@ fn constraints(
     let constrained_u: Vec<usize> = cons.iter().map(|c| c.local).filter(|&l| l < dofs.n_u_local()).collect();
     let free_modes = match s.plates {
         Some(_) => solver::FreeRigidModes::find(world, dofs, local, &constrained_u),
-        None => None,
+        None => {
+            held(world, scene, local, &constrained_u)?;
+            None
+        }
     };
     if matches!(&s.material, Material::HolmesMow(m) if m.drained) {
         cons.extend((0..local.n_vertices()).map(|v| Constraint { local: dofs.p_local(v), value: 0.0 }));
     }
     Ok((cons, ext, free_modes))
+}
+
+/// Without plates, the `[[bc]]` entries must hold the body: a translation no displacement or
+/// roller blocks (along z on the meridian, any axis in 3-D) leaves the Newton system singular,
+/// which would surface as a diverged first step (SNES reason -3) with no word of the cause.
+fn held(world: &SimpleCommunicator, scene: &LoadedScene, local: &LocalMesh, constrained_u: &[usize]) -> Result<()> {
+    let nc = local.family.components();
+    let axes: Vec<usize> = if local.family.axisymmetric() { vec![nc - 1] } else { (0..nc).collect() };
+    let free: Vec<&str> = axes
+        .into_iter()
+        .filter(|&c| {
+            let here = f64::from(u8::from(constrained_u.iter().any(|&l| l % nc == c)));
+            crate::parallel::max(world, here) == 0.0
+        })
+        .map(|c| ["x", "y", "z"][local.family.axes()[c]])
+        .collect();
+    if free.is_empty() {
+        return Ok(());
+    }
+    Err(Error::Scene {
+        path: scene.source.clone(),
+        msg: format!(
+            "nothing holds the body along {}: the scene has no [plates] and no [[bc]] displacement or roller \
+             blocks that translation, so the first step cannot converge (add [plates], or a [[bc]] such as \
+             `group = \"pole_bottom\"`, `displacement = {{ {} = 0.0 }}`)",
+            free.join(", "),
+            free[0]
+        ),
+    })
 }
 
 /// The plates and the surface faces that can touch them (also the experiment's).
@@ -98,21 +154,23 @@ fn plates(
     // The plates are z = 0 and z = 2 radius at the start: the aggregate must rest between them.
     let (lo, hi) = local.coords.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x[2]), b.max(x[2])));
     let (z0, z1) = (-crate::parallel::max(world, -lo), crate::parallel::max(world, hi));
-    let tol = 0.01 * ps.radius;
-    if (z0).abs() > tol || (z1 - 2.0 * ps.radius).abs() > tol {
+    let radius = ps.radius();
+    let tol = 0.01 * radius;
+    if (z0).abs() > tol || (z1 - 2.0 * radius).abs() > tol {
         return Err(Error::Scene {
             path: scene.source.clone(),
             msg: format!(
                 "plates.radius = {}: the plates are at z = 0 and z = 2 radius = {}, but the mesh spans z = [{z0:.6}, \
-                 {z1:.6}] (they must agree to 1% of the radius: set plates.radius to the aggregate's radius)",
-                ps.radius,
-                2.0 * ps.radius
+                 {z1:.6}] (they must agree to 1% of the radius: set plates.radius to the aggregate's radius, or \
+                 leave it out to take mesh.params.R)",
+                radius,
+                2.0 * radius
             ),
         });
     }
     let faces = agree(world, bc::face_group(local, &ps.group, &ctx))?.to_vec();
     let anchor = agree(world, bc::point_group(local, &ps.anchor, &ctx))?.first().map(|&n| n as usize);
-    let loading = PlateLoading { u_max: ps.compression * 2.0 * ps.radius, t_ramp: ps.t_ramp, t_end: ps.t_end };
+    let loading = PlateLoading { u_max: ps.compression * 2.0 * radius, protocol: ps.protocol() };
     // Free-surface drainage conductance: γ k0 / h (a stiff Robin condition, p ≈ 0).
     let beta_max = ps.drainage_penalty * model.conductivity() / local.mean_size(world);
     let drain = Drainage {
@@ -120,10 +178,10 @@ fn plates(
         beta_max,
         // The paper's slightly permeable plates: a Robin outflow k_β / L through the contact area.
         beta_plate: ps.permeability.zip(ps.thickness).map_or(0.0, |(k, l)| k / l),
-        seal_gap: ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * ps.radius),
+        seal_gap: ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * radius),
         gap: ps.drainage_gap,
     };
-    let plates = Plates::new(loading, ps.radius, local, &faces, anchor, drain, scene.scene.fem.equal_order());
+    let plates = Plates::new(loading, radius, local, &faces, anchor, drain, scene.scene.fem.equal_order());
     Ok(Some((plates, faces)))
 }
 
@@ -186,7 +244,7 @@ fn schedule(scene: &LoadedScene, kinks: Vec<f64>) -> Schedule {
         growth: t.growth,
         land_on: t.land_on.iter().chain(&o.fields_at).chain(&t.steps).copied().collect(),
         kinks,
-        cap: t.dt_max_ramp.zip(scene.scene.plates.as_ref()).map(|(m, p)| (p.t_ramp, m)),
+        cap: t.dt_max_ramp.zip(scene.scene.plates.as_ref()).map(|(m, p)| (p.protocol().ramp, m)),
         tol: t.error_tolerance.filter(|_| !replay),
         dt_min: t.dt_min.unwrap_or(1e-6 * t.dt),
         replay,
@@ -290,7 +348,7 @@ impl<'w> Run<'w> {
                 let mesh = ts.problem().mesh();
                 let volume = mesh.volume(world);
                 let phi = ts.problem().model().solid_fraction();
-                Some(Experiment::new(mesh, faces, ps.radius, ps.probe_point, volume, phi, world, &scene.source)?)
+                Some(Experiment::new(mesh, faces, ps.radius(), ps.probe_point, volume, phi, world, &scene.source)?)
             }
             _ => None,
         };

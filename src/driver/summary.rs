@@ -28,7 +28,7 @@ use std::path::Path;
 pub(crate) const FILE: &str = "summary.toml";
 
 /// The plate protocol's phases (s): the ramp ends at `ramp_end`, the hold at `hold_end`, the
-/// release (as long as the ramp) at `release_end`.
+/// release at `release_end`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Phases {
     pub ramp_end: f64,
@@ -38,7 +38,8 @@ pub(crate) struct Phases {
 
 impl Phases {
     pub(crate) fn of(plates: &PlatesSpec) -> Phases {
-        Phases { ramp_end: plates.t_ramp, hold_end: plates.t_end - plates.t_ramp, release_end: plates.t_end }
+        let [ramp_end, hold_end, release_end] = plates.protocol().ends();
+        Phases { ramp_end, hold_end, release_end }
     }
 }
 
@@ -141,9 +142,9 @@ impl Summary {
         if let Some(p) = &self.plates {
             s.push_str("\n[plates]\n");
             entry(&mut s, "g_m_s2", G, "m/s², the g of the mg: 1 mg = g µN");
-            entry(&mut s, "ramp_end_s", p.phases.ramp_end, "s, end of the compression ramp (plates.t_ramp)");
-            entry(&mut s, "hold_end_s", p.phases.hold_end, "s, end of the hold (plates.t_end - plates.t_ramp)");
-            entry(&mut s, "release_end_s", p.phases.release_end, "s, end of the release (plates.t_end)");
+            entry(&mut s, "ramp_end_s", p.phases.ramp_end, "s, end of the compression ramp (plates.ramp)");
+            entry(&mut s, "hold_end_s", p.phases.hold_end, "s, end of the hold (plates.ramp + plates.hold)");
+            entry(&mut s, "release_end_s", p.phases.release_end, "s, end of the release (+ plates.release)");
             entry(&mut s, "peak_force_mg", p.peak_force, "mg, the largest force");
             entry(&mut s, "peak_force_uN", micro_newton(p.peak_force), "µN");
             entry(&mut s, "peak_force_time_s", p.peak_time, "s, the step of the largest force");

@@ -85,7 +85,7 @@ impl Experiment {
     ) -> Result<Experiment> {
         let sphere = 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
         let symmetry = (sphere / volume).round().max(1.0);
-        let x_u = probe_point.unwrap_or([0.4 * radius, 0.0, 1.9 * radius]);
+        let x_u = probe_point.unwrap_or_else(|| crate::scene::plates::default_probe_point(radius));
         let probe_p = Probe::at_point("probe_p", Quantity::Pressure, x_u, mesh, world, context)?;
         let probe_porosity = match solid_fraction {
             Some(phi) => Some(Probe::at_point("probe_porosity", Quantity::Porosity(phi), x_u, mesh, world, context)?),

@@ -43,20 +43,20 @@
 use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
+pub use crate::scene::plates::{Protocol, DEFAULT_SEAL_GAP};
 pub use crate::scene::DrainageGap;
 
 /// Lower-plate displacement u(t) of the compression–release test (53): linear ramp to u_max
-/// over ]0, t_ramp[, hold until t_end − t_ramp, ramp back to 0 at t_end, then rest.
+/// over the protocol's ramp, hold, linear release back to 0, then rest.
 #[derive(Debug, Clone, Copy)]
 pub struct PlateLoading {
     pub u_max: f64,
-    pub t_ramp: f64,
-    pub t_end: f64,
+    pub protocol: Protocol,
 }
 
 impl PlateLoading {
     pub fn displacement(&self, t: f64) -> f64 {
-        let (a, b, c) = (self.t_ramp, self.t_end - self.t_ramp, self.t_end);
+        let [a, b, c] = self.protocol.ends();
         if t <= 0.0 {
             0.0
         } else if t < a {
@@ -64,14 +64,14 @@ impl PlateLoading {
         } else if t < b {
             self.u_max
         } else if t < c {
-            self.u_max * (c - t) / a
+            self.u_max * (c - t) / self.protocol.release
         } else {
             0.0
         }
     }
     /// The kinks of u(t): steps must land on them.
     pub fn kinks(&self) -> [f64; 3] {
-        [self.t_ramp, self.t_end - self.t_ramp, self.t_end]
+        self.protocol.ends()
     }
 }
 
@@ -82,9 +82,6 @@ pub enum Touch {
     Lower,
     Upper,
 }
-
-/// Default seal distance g_s, relative to R (module docs).
-pub const DEFAULT_SEAL_GAP: f64 = 0.01;
 
 /// Tolerance (relative to R) for "at the bound": Newton iterates are projected onto the bounds,
 /// so a node in contact sits on it to round-off.
@@ -412,7 +409,7 @@ mod tests {
 
     #[test]
     fn loading_is_eq_53() {
-        let h = PlateLoading { u_max: 60.0, t_ramp: 5.0, t_end: 40.0 };
+        let h = PlateLoading { u_max: 60.0, protocol: Protocol { ramp: 5.0, hold: 30.0, release: 5.0 } };
         assert_eq!(h.displacement(0.0), 0.0);
         assert!((h.displacement(2.5) - 30.0).abs() < 1e-12);
         assert_eq!(h.displacement(5.0), 60.0);

@@ -90,11 +90,12 @@ pub fn resolve(scene: &mut Scene) -> Result<(), String> {
         if scene.mesh.file.is_some() {
             return Err("mesh.grading = \"auto\" sizes a .geo source; a ready .msh `file` has its sizes".into());
         }
-        let r = *scene.mesh.params.get("R").ok_or(
+        scene.mesh.params.get("R").ok_or(
             "mesh.grading = \"auto\" scales the mesh sizes by the aggregate's radius: give mesh.params.R".to_string(),
         )?;
+        // Relative sizes: the mesh's resolution moves them into params (a size given wins).
         for (key, factor) in &chart.auto_sizes {
-            scene.mesh.params.entry(key.clone()).or_insert(factor * r);
+            scene.mesh.relative_sizes.entry(key.clone()).or_insert(*factor);
         }
     }
     Ok(())

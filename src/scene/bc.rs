@@ -101,6 +101,7 @@ const DISPLACEMENT: Key = Key::new(
 
 pub(super) const SECTION: Section = Section {
     title: "[[bc]]",
+    enters: "model.md: Boundary conditions",
     about: "One entry per condition on a physical group, with exactly one of displacement, roller, traction, \
             pressure, flux. A surface without an entry is traction-free and impermeable.",
     keys: &[

@@ -109,6 +109,11 @@ fn culprit_key(table: &toml::Table, msg: &str) -> Option<String> {
     }
 }
 
+/// The field a "missing field `X`" error names.
+fn missing_field(msg: &str) -> Option<&str> {
+    msg.strip_prefix("missing field `")?.split_once('`').map(|(f, _)| f)
+}
+
 /// The choice an "unknown variant `X`, expected ..." error names.
 fn unknown_variant(msg: &str) -> Option<&str> {
     msg.strip_prefix("unknown variant `")?.split_once('`').map(|(v, _)| v)
@@ -135,6 +140,15 @@ fn serde_kind(v: &toml::Value) -> &'static str {
 /// choice as a string).
 pub(super) fn toml_message(text: &str, e: &toml::de::Error) -> String {
     let msg = plain(&e.message().replace('\n', " "));
+    // A field missing at the top level has an empty span at the start, which is no line of it.
+    if let (Some(field), Some(std::ops::Range { start: 0, end: 0 })) = (missing_field(&msg), e.span()) {
+        return match field {
+            "mesh" | "material" | "time" => {
+                format!("missing section [{field}] (every scene has [mesh], [material] and [time])")
+            }
+            _ => format!("missing key `{field}` at the top level"),
+        };
+    }
     match e.span() {
         Some(span) => {
             let start = span.start.min(text.len());
@@ -246,5 +260,20 @@ mod tests {
             "line 11 (`remodelling = { lambda_p = 0.001, sigma_y = 2.0, form = \"40c\" }`): material.remodelling.form: \
              unknown variant `40c`, expected `40b` or `40a`"
         );
+    }
+
+    #[test]
+    fn a_missing_section_is_named_without_a_line() {
+        let text = "# My aggregate\n[mesh]\ngeo = \"g\"\n[time]\nt_end = 1.0\ndt = 0.1\n";
+        let e = toml::from_str::<Scene>(text).expect_err("no [material]");
+        assert_eq!(
+            toml_message(text, &e),
+            "missing section [material] (every scene has [mesh], [material] and [time])"
+        );
+        // A key missing in a table is at that table's line.
+        let text = "# c\n[mesh]\ngeo = \"g\"\n[material]\nmodel = \"linear\"\nmu = 1.0\nnu = 0.2\n\
+                    permeability = 1.0\n[time]\nt_end = 1.0\n";
+        let e = toml::from_str::<Scene>(text).expect_err("no time.dt");
+        assert_eq!(toml_message(text, &e), "line 9 (`[time]`): missing field `dt`");
     }
 }

@@ -1,7 +1,8 @@
-//! The declaration of a scene key: its dotted name, unit, default, valid range, further rules
-//! and a one-line description. Each section file declares its keys next to its serde types and
-//! checks the ranges through them, so a range lives in one place; [`super::reference`] writes
-//! every section's table as the scene reference (`docs/scene-reference.md`).
+//! The declaration of a scene key: its dotted name, unit, default, valid range, further rules,
+//! a one-line description and where it enters the model. Each section file declares its keys
+//! next to its serde types and checks the ranges through them, so a range lives in one place;
+//! [`super::reference`] writes every section's table as the scene reference
+//! (`docs/scene-reference.md`), and [`super::explain`] annotates a scene with them.
 
 use crate::range::Range;
 
@@ -20,6 +21,9 @@ pub struct Key {
     pub rule: &'static str,
     /// What the key sets, in one line.
     pub doc: &'static str,
+    /// Where it enters the model or the numerics, if more precise than its section's
+    /// (`eq. (56)`, `numerics.md: Pressure stabilisation`).
+    pub enters: &'static str,
 }
 
 /// What a key is when the scene leaves it out.
@@ -36,12 +40,17 @@ pub enum Unset {
 impl Key {
     /// A key with no range or rule.
     pub const fn new(name: &'static str, unit: &'static str, default: Unset, doc: &'static str) -> Key {
-        Key { name, unit, default, range: None, rule: "", doc }
+        Key { name, unit, default, range: None, rule: "", doc, enters: "" }
     }
 
     /// The same key with a valid range.
     pub const fn range(self, range: Range) -> Key {
         Key { range: Some(range), ..self }
+    }
+
+    /// The same key with where it enters the model (more precisely than its section).
+    pub const fn enters(self, enters: &'static str) -> Key {
+        Key { enters, ..self }
     }
 
     /// The same key with a rule in words.
@@ -65,9 +74,11 @@ impl Key {
     }
 }
 
-/// A section of the reference: its title, a sentence, its keys.
+/// A section of the reference: its title, the doc section its keys enter (docs/…), a sentence,
+/// its keys.
 pub struct Section {
     pub title: &'static str,
+    pub enters: &'static str,
     pub about: &'static str,
     pub keys: &'static [Key],
 }

@@ -3,7 +3,7 @@
 //! resolved scene as TOML for the run directory.
 
 use super::diagnose::{from_table, override_message, toml_message};
-use super::{auto, overrides, Scene};
+use super::{overrides, resolve, Scene};
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 
@@ -17,6 +17,9 @@ pub struct LoadedScene {
     pub source: String,
     /// Directory relative paths are resolved against (None for builtin scenes).
     pub dir: Option<PathBuf>,
+    /// What the user should know: deprecated keys and what to write instead, values allowed but
+    /// likely mistaken (printed by `run` and `check` as notes).
+    pub notes: Vec<String>,
 }
 
 /// Scenes shipped inside the binary, runnable by name from any directory.
@@ -43,10 +46,10 @@ impl LoadedScene {
         if scene.name.is_empty() {
             scene.name = stem;
         }
-        auto::resolve(&mut scene).map_err(|msg| Error::Scene { path: source.clone(), msg })?;
-        let loaded = LoadedScene { scene, overrides: overrides.to_vec(), source, dir };
-        loaded.validate()?;
-        Ok(loaded)
+        let scene_err = |msg: String| Error::Scene { path: source.clone(), msg };
+        let mut notes = resolve::resolve(&mut scene).map_err(scene_err)?;
+        scene.validate(&mut notes).map_err(scene_err)?;
+        Ok(LoadedScene { scene, overrides: overrides.to_vec(), source, dir, notes })
     }
 
     /// That the overrides name keys of the scene `arg`, with values of their types: the scene
@@ -93,11 +96,6 @@ impl LoadedScene {
 
     fn err(&self, msg: impl Into<String>) -> Error {
         Error::Scene { path: self.source.clone(), msg: msg.into() }
-    }
-
-    /// Checks ranges and consistency; every message names the offending key and value.
-    pub fn validate(&self) -> Result<()> {
-        self.scene.validate().map_err(|m| self.err(m))
     }
 
     /// The `[petsc]` table as command-line style options (`-key value`).

@@ -36,7 +36,14 @@ pub struct HolmesMowSpec {
     pub mu: Option<f64>,
     #[serde(default)]
     pub nu: Option<f64>,
-    /// ... or are given directly: [α0 (kPa), α1, α2] (α3 = 1).
+    /// ... or µ follows from the aggregate's drained shear modulus G = Φs µ (kPa), what a plate
+    /// or AFM experiment measures ...
+    #[serde(default)]
+    pub drained_shear_modulus: Option<f64>,
+    /// ... or from its drained Young's modulus E = 2 G (1 + ν) (kPa) ...
+    #[serde(default)]
+    pub drained_youngs_modulus: Option<f64>,
+    /// ... or the α's are given directly: [α0 (kPa), α1, α2] (α3 = 1).
     #[serde(default)]
     pub alpha: Option<[f64; 3]>,
     /// Referential solid fraction Φs.
@@ -127,19 +134,32 @@ impl Material {
 }
 
 impl HolmesMowSpec {
-    /// How the solid is given; Err: neither or both ways (the message without its section).
+    /// How the solid is given, µ from the aggregate's moduli if they are; Err: none or two ways
+    /// (the message without its section).
     pub fn solid(&self) -> Result<SolidSpec, String> {
-        match (self.mu, self.nu, self.alpha) {
-            (Some(mu), Some(nu), None) => Ok(SolidSpec::MuNu { mu, nu }),
-            (None, None, Some(a)) => Ok(SolidSpec::Alpha(a)),
-            _ => Err("holmes_mow: give `mu` and `nu`, or `alpha` (not both)".into()),
+        let phi_s = self.phi_s;
+        match (self.mu, self.drained_shear_modulus, self.drained_youngs_modulus, self.nu, self.alpha) {
+            (Some(mu), None, None, Some(nu), None) => Ok(SolidSpec::MuNu { mu, nu }),
+            (None, Some(g), None, Some(nu), None) => Ok(SolidSpec::MuNu { mu: g / phi_s, nu }),
+            (None, None, Some(e), Some(nu), None) => Ok(SolidSpec::MuNu { mu: e / (2.0 * (1.0 + nu)) / phi_s, nu }),
+            (None, None, None, None, Some(a)) => Ok(SolidSpec::Alpha(a)),
+            _ => Err("holmes_mow: give `nu` and one modulus — `mu` (the solid's), `drained_shear_modulus` or \
+                      `drained_youngs_modulus` (the aggregate's, what a lab measures) — or `alpha`"
+                .into()),
         }
     }
 
     fn validate(&self) -> Result<(), String> {
         match self.solid().map_err(|m| format!("[material] {m}"))? {
             SolidSpec::MuNu { mu, nu } => {
-                MU.check(mu)?;
+                // The modulus given is the one named.
+                if let Some(g) = self.drained_shear_modulus {
+                    DRAINED_SHEAR_MODULUS.check(g)?;
+                } else if let Some(e) = self.drained_youngs_modulus {
+                    DRAINED_YOUNGS_MODULUS.check(e)?;
+                } else {
+                    MU.check(mu)?;
+                }
                 NU.check(nu)?;
             }
             SolidSpec::Alpha(a) => ALPHA.check_as("material.alpha[0]", a[0])?,
@@ -174,11 +194,14 @@ const LINEAR_MODEL: Key = Key::new(
     "`linear`: small-strain poroelasticity, incompressible constituents",
 );
 const LINEAR_MU: Key =
-    Key::new("material.mu", "kPa", Unset::Required, "drained shear modulus µ").range(Range::POSITIVE);
+    Key::new("material.mu", "kPa", Unset::Required, "drained shear modulus µ of the whole (what a lab measures)")
+        .range(Range::POSITIVE)
+        .enters("σ = 2µ ε + λ tr ε I");
 const LINEAR_NU: Key = Key::new("material.nu", "", Unset::Required, "drained Poisson ratio ν").range(POISSON);
 const PERMEABILITY: Key =
     Key::new("material.permeability", "µm⁴/(nN s)", Unset::Required, "Darcy conductivity k: Q = −k ∇p")
-        .range(Range::POSITIVE);
+        .range(Range::POSITIVE)
+        .enters("Q = −k ∇p");
 
 const MODEL: Key = Key::new(
     "material.model",
@@ -186,15 +209,40 @@ const MODEL: Key = Key::new(
     Unset::Required,
     "`holmes_mow`: the finite-strain biphasic mixture (Holmes–Mow solid, penalty, permeability, gravity)",
 );
-const MU: Key =
-    Key::new("material.mu", "kPa", Unset::Absent(""), "shear modulus µ of Ψ/Φs; with ν, the α's by eq. (56)")
-        .range(Range::POSITIVE)
-        .rule("`mu` and `nu`, or `alpha`");
+const MU: Key = Key::new(
+    "material.mu",
+    "kPa",
+    Unset::Absent(""),
+    "the solid's shear modulus µ (of Ψ/Φs; the aggregate's drained modulus is Φs µ); with ν, the α's by eq. (56)",
+)
+.range(Range::POSITIVE)
+.rule("one of `mu`, `drained_shear_modulus`, `drained_youngs_modulus` with `nu`; or `alpha`")
+.enters("eq. (56)");
+const DRAINED_SHEAR_MODULUS: Key = Key::new(
+    "material.drained_shear_modulus",
+    "kPa",
+    Unset::Absent(""),
+    "the aggregate's drained shear modulus G = Φs µ (what a plate or AFM test measures): µ = G / Φs",
+)
+.range(Range::POSITIVE)
+.rule("instead of `mu`, with `nu`")
+.enters("µ = G / Φs, eq. (56)");
+const DRAINED_YOUNGS_MODULUS: Key = Key::new(
+    "material.drained_youngs_modulus",
+    "kPa",
+    Unset::Absent(""),
+    "the aggregate's drained Young's modulus E = 2 G (1 + ν): µ = E / (2 (1 + ν) Φs)",
+)
+.range(Range::POSITIVE)
+.rule("instead of `mu`, with `nu`")
+.enters("µ = E / (2 (1 + ν) Φs), eq. (56)");
 /// ν has one range in both models.
-const NU: Key = Key::new("material.nu", "", Unset::Absent(""), "Poisson ratio ν of Ψ/Φs").range(POISSON);
+const NU: Key =
+    Key::new("material.nu", "", Unset::Absent(""), "Poisson ratio ν of Ψ/Φs").range(POISSON).enters("eq. (56)");
 const ALPHA: Key = Key::new("material.alpha", "kPa, –, –", Unset::Absent(""), "[α0, α1, α2] given directly (α3 = 1)")
     .range(Range::POSITIVE)
-    .rule("the range is α0's; the law checks the others");
+    .rule("the range is α0's; the law checks the others")
+    .enters("the Holmes–Mow energy");
 const PHI_S: Key = Key::new("material.phi_s", "", Unset::Required, "referential solid fraction Φs").range(Range::new(
     0.0,
     false,
@@ -204,19 +252,23 @@ const PHI_S: Key = Key::new("material.phi_s", "", Unset::Required, "referential 
 ));
 const K0: Key =
     Key::new("material.k0", "µm⁴/(nN s)", Unset::Required, "referential conductivity k0 (1 mm⁴/(N s) = 1000)")
-        .range(Range::POSITIVE);
+        .range(Range::POSITIVE)
+        .enters("k(J), W = −Q");
 const KAPPA: Key =
     Key::new("material.kappa", "", Unset::Required, "exponent κ of k = k0 [(J − Φs)/(1 − Φs)]^κ exp(m0 (J² − 1)/2)")
         .range(Range::FINITE)
-        .rule("≥ 0 when the model is built");
-const M0: Key = Key::new("material.m0", "", Unset::Required, "exponent m0 of the permeability").range(Range::FINITE);
+        .rule("≥ 0 when the model is built")
+        .enters("k(J)");
+const M0: Key =
+    Key::new("material.m0", "", Unset::Required, "exponent m0 of the permeability").range(Range::FINITE).enters("k(J)");
 const PERMEABILITY_C: Key = Key::new(
     "material.permeability_c",
     "",
     Unset::Absent("isotropic permeability"),
     "c of the remodelling-dependent permeability (model.md (45)–(48))",
 )
-.range(Range::POSITIVE);
+.range(Range::POSITIVE)
+.enters("eqs. (45)–(48)");
 const PENALTY: Key =
     Key::new("material.penalty", "", Unset::Absent("no penalty"), "the compaction penalty U(J): a table, below");
 const REMODELLING: Key = Key::new(
@@ -225,10 +277,13 @@ const REMODELLING: Key = Key::new(
     Unset::Absent("none: B_p = I"),
     "the visco-plastic remodelling of B_p: a table, below",
 );
-const RHO_S: Key = Key::new("material.rho_s", "kg/m³", Unset::Value("1000.0"), "solid density").range(DENSITY);
-const RHO_F: Key = Key::new("material.rho_f", "kg/m³", Unset::Value("1000.0"), "fluid density").range(DENSITY);
-const GRAVITY: Key =
-    Key::new("material.gravity", "m/s²", Unset::Value("[0.0, 0.0, 0.0]"), "gravity acceleration").range(Range::FINITE);
+const RHO_S: Key =
+    Key::new("material.rho_s", "kg/m³", Unset::Value("1000.0"), "solid density").range(DENSITY).enters("b (weight)");
+const RHO_F: Key =
+    Key::new("material.rho_f", "kg/m³", Unset::Value("1000.0"), "fluid density").range(DENSITY).enters("b, W (weight)");
+const GRAVITY: Key = Key::new("material.gravity", "m/s²", Unset::Value("[0.0, 0.0, 0.0]"), "gravity acceleration")
+    .range(Range::FINITE)
+    .enters("b, W (weight)");
 const DRAINED: Key = Key::new(
     "material.drained",
     "",
@@ -239,22 +294,28 @@ const DRAINED: Key = Key::new(
 /// λp's and σy's ranges are the law's own (`material::remodelling`).
 const LAMBDA_P: Key =
     Key::new("material.remodelling.lambda_p", "1/(kPa s)", Unset::Required, "rate λp (Table 1: 0.001 = 1 (MPa s)⁻¹)")
-        .range(remodelling::LAMBDA_P);
-const SIGMA_Y: Key =
-    Key::new("material.remodelling.sigma_y", "kPa", Unset::Required, "yield stress σy").range(remodelling::SIGMA_Y);
+        .range(remodelling::LAMBDA_P)
+        .enters("γp, eq. (40)");
+const SIGMA_Y: Key = Key::new("material.remodelling.sigma_y", "kPa", Unset::Required, "yield stress σy")
+    .range(remodelling::SIGMA_Y)
+    .enters("γp, eq. (40)");
 
 pub(super) const LINEAR_SECTION: Section = Section {
     title: "[material], model = \"linear\"",
+    enters: "model.md: Small-strain linear poroelasticity",
     about: "Small-strain linear poroelasticity.",
     keys: &[LINEAR_MODEL, LINEAR_MU, LINEAR_NU, PERMEABILITY],
 };
 
 pub(super) const HOLMES_MOW_SECTION: Section = Section {
     title: "[material], model = \"holmes_mow\"",
+    enters: "model.md: The finite-strain biphasic model",
     about: "The finite-strain biphasic mixture (docs/model.md §2–§4).",
     keys: &[
         MODEL,
         MU,
+        DRAINED_SHEAR_MODULUS,
+        DRAINED_YOUNGS_MODULUS,
         NU,
         ALPHA,
         PHI_S,
@@ -274,9 +335,17 @@ pub(super) const HOLMES_MOW_SECTION: Section = Section {
 /// Checked by the law (`material::CompactionPenalty`) when the model is built.
 pub(super) const PENALTY_SECTION: Section = Section {
     title: "material.penalty",
-    about: "U(J) = Φs U0 H(J_cr − J) (J − J_cr)^{2q} / (J − Φs)^r; checked when the model is built.",
+    enters: "model.md: The finite-strain biphasic model (U(J) above)",
+    about: "The compaction penalty (the paper's (33); docs/model.md, \"The finite-strain biphasic model\"), an energy \
+            per unit reference volume added to the solid's, in kPa (= kJ/m³):\n\n    \
+            U(J) = Φs U0 H(J_cr − J) (J − J_cr)^{2q} / (J − Φs)^r\n\n\
+            J = det F is the volume ratio (dimensionless), H the Heaviside step: U acts only once the mixture is \
+            compressed below J_cr, and for r > 0 grows without bound as J approaches Φs (all the fluid expelled). \
+            j_cr, q and r are dimensionless, u0 is in kPa; the shipped scenes use { j_cr = 0.7, u0 = 1000.0, q = 2.0, \
+            r = 0.5 } (Table 1: U0 = 1 MPa). Checked when the model is built.",
     keys: &[
-        Key::new("material.penalty.j_cr", "", Unset::Required, "J below which the penalty acts").rule("in (Φs, 1]"),
+        Key::new("material.penalty.j_cr", "", Unset::Required, "the volume ratio J below which the penalty acts")
+            .rule("in (Φs, 1]"),
         Key::new("material.penalty.u0", "kPa", Unset::Required, "its modulus U0").rule("≥ 0"),
         Key::new("material.penalty.q", "", Unset::Required, "exponent q of (J − J_cr)^{2q}").rule("≥ 1"),
         Key::new("material.penalty.r", "", Unset::Required, "exponent r of (J − Φs)^−r").rule("≥ 0"),
@@ -285,6 +354,7 @@ pub(super) const PENALTY_SECTION: Section = Section {
 
 pub(super) const REMODELLING_SECTION: Section = Section {
     title: "material.remodelling",
+    enters: "model.md: Visco-plastic remodelling",
     about: "Perzyna flow dB_p/dt = −2 γp B_p dev Σ, γp = λp [‖dev σ‖ − √(2/3) σy]₊ / ‖dev σ‖.",
     keys: &[
         LAMBDA_P,

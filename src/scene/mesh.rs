@@ -31,10 +31,17 @@ pub struct MeshSpec {
     /// (with the same `params`): so one override switches a scene to its meridian.
     #[serde(default)]
     pub meridian: Option<String>,
-    /// `given` (default: the sizes in `params`) or `auto` (the measured best sizes for plate
-    /// experiments, scaled by `params.R`; sizes given in `params` win). See [`super::auto`].
+    /// `given` (default: the sizes in `params` and `relative_sizes`) or `auto` (the measured best
+    /// sizes for plate experiments, relative to `params.R`; sizes given win). See [`super::auto`].
     #[serde(default)]
     pub grading: Grading,
+    /// Mesh sizes relative to `params.R` (`h = 0.2`: a fifth of the radius), so that a scene
+    /// keeps its resolution when only R changes; moved into `params` in µm when the scene is
+    /// loaded (a size given there in µm wins, so `--set mesh.params.h=10` still works). The
+    /// shipped aggregate scenes give them rather than `grading = "auto"`: a refresh of the chart
+    /// must not move their meshes, and `reference_axi`'s meridian is finer than the chart's.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub relative_sizes: BTreeMap<String, f64>,
 }
 
 /// The geometry of a scene's body (see [`MeshSpec::geometry`]).
@@ -77,7 +84,23 @@ impl MeshSpec {
         }
     }
 
-    /// One source, mirror only for solids, finite numbers and positive lengths.
+    /// `relative_sizes` into `params` in µm (R times each; a size in `params` wins).
+    pub(super) fn resolve(&mut self) -> Result<(), String> {
+        if self.relative_sizes.is_empty() {
+            return Ok(());
+        }
+        let Some(&r) = self.params.get("R") else {
+            return Err("mesh.relative_sizes are relative to the aggregate's radius: give mesh.params.R".into());
+        };
+        for (key, factor) in std::mem::take(&mut self.relative_sizes) {
+            RELATIVE_SIZE.check_as(&format!("mesh.relative_sizes.{key}"), factor)?;
+            self.params.entry(key).or_insert(factor * r);
+        }
+        Ok(())
+    }
+
+    /// One source, mirror only for solids, finite numbers and positive lengths, and a radius
+    /// and sizes of plausible magnitude (a length in mm or nm is named as such).
     pub(super) fn validate(&self) -> Result<(), String> {
         match (&self.geo, &self.file) {
             (Some(_), Some(_)) => return Err("[mesh]: give either `geo` or `file`, not both".into()),
@@ -97,9 +120,49 @@ impl MeshSpec {
                 LENGTH.check(&format!("[mesh.params] {k}"), *v)?;
             }
         }
+        if let Some(&r) = self.params.get("R") {
+            check_radius("mesh.params.R", r)?;
+            for k in ["h", "h_pole"] {
+                match self.params.get(k) {
+                    Some(&h) if h > r => {
+                        return Err(format!(
+                            "mesh.params.{k} = {h} is larger than the radius R = {r}: the mesh would have a handful \
+                             of cells (lengths are µm; or give the sizes relative to R in mesh.relative_sizes)"
+                        ))
+                    }
+                    _ => {}
+                }
+            }
+        }
         Ok(())
     }
 }
+
+/// The radius of an aggregate: between 1 µm and 10 mm.
+pub(super) const RADIUS_RANGE: Range = Range::new(1.0, true, 1e4, true, "must lie in [1, 10000] µm");
+
+/// Ok if `r` (µm) is a plausible radius; else the message names the likely unit mistake.
+pub(super) fn check_radius(name: &str, r: f64) -> Result<(), String> {
+    RADIUS_RANGE.check(name, r).map_err(|m| {
+        if r > 0.0 && r < 1.0 {
+            format!("{m}: {r} looks like mm ({r} mm = {} µm); lengths are µm", r * 1000.0)
+        } else if r > 1e4 {
+            format!("{m}: {r} looks like nm ({r} nm = {} µm); lengths are µm", r / 1000.0)
+        } else {
+            m
+        }
+    })
+}
+
+/// What a relative size must be.
+const RELATIVE_SIZE: Key = Key::new(
+    "mesh.relative_sizes",
+    "R",
+    Unset::Absent("none"),
+    "mesh sizes as fractions of params.R: h, h_pole, r_pole",
+)
+.range(Range::new(0.0, false, 1.0, true, "must lie in (0, 1] (a fraction of R)"))
+.rule("needs params.R; a size in params (µm) wins");
 
 /// The `params` that are lengths of the shipped `.geo` files.
 const LENGTHS: [&str; 5] = ["R", "h", "h_pole", "H", "W"];
@@ -108,7 +171,10 @@ const LENGTH: Range = Range::POSITIVE.says("a length must be positive");
 
 pub(super) const SECTION: Section = Section {
     title: "[mesh]",
-    about: "Where the mesh comes from: `geo` or `file` (one of the two).",
+    enters: "user-guide.md: Shipped meshes",
+    about: "Where the mesh comes from: `geo` or `file` (one of the two). The sizes are µm in `params`, or \
+            fractions of the radius in `relative_sizes` (the shipped aggregate scenes: a copy with another R keeps \
+            its resolution relative to R).",
     keys: &[
         Key::new(
             "mesh.geo",
@@ -154,8 +220,15 @@ pub(super) const SECTION: Section = Section {
             "mesh.grading",
             "",
             Unset::Value("\"given\""),
-            "`given` (the sizes in params) or `auto` (the measured best sizes scaled by params.R; a size given wins)",
+            "`given` (the sizes in params and relative_sizes) or `auto` (the chart's best sizes relative to params.R; a size given wins)",
         )
         .rule("`auto` needs params.R and a `geo`"),
+        RELATIVE_SIZE,
+        Key::new("mesh.params.R", "µm", Unset::Absent(""), "the aggregate's radius (sphere `.geo` files); plates.radius follows it")
+            .range(RADIUS_RANGE),
+        Key::new("mesh.params.h", "µm", Unset::Absent("the `.geo`'s"), "the bulk mesh size").rule("≤ R"),
+        Key::new("mesh.params.h_pole", "µm", Unset::Absent("the `.geo`'s"), "the mesh size at the poles (the plate contacts)")
+            .rule("≤ R"),
+        Key::new("mesh.params.r_pole", "µm", Unset::Absent("the `.geo`'s"), "the distance from a pole over which h_pole blends into h"),
     ],
 };

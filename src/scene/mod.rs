@@ -5,13 +5,18 @@
 //! One file per section holds its serde types, their defaults, the declaration of its keys
 //! ([`key::Key`]: unit, default, valid range, description) and its checks, which read the ranges
 //! from those declarations; [`reference`](mod@reference) writes them all as the scene reference
-//! (docs/scene-reference.md). [`LoadedScene`] loads a scene (a file or a builtin, `--set`
-//! overrides, the `auto` choices of the measured chart in [`auto`]); `diagnose` words the errors
-//! that TOML and serde give.
+//! (docs/scene-reference.md), and [`explain`](mod@explain) annotates a scene with them.
+//! [`LoadedScene`] loads a scene (a file or a builtin, `--set` overrides), and `resolve` turns
+//! what it says into what a run uses: the `auto` choices of the measured chart in [`auto`], sizes
+//! relative to the radius, the plates' radius from the mesh, deprecated keys moved to their new
+//! names with a note, the defaults written out. `diagnose` words the errors that TOML and serde
+//! give. A key that moves stays readable: tests/data/scenes_v1 holds the previous version's
+//! shipped scenes, which must still resolve to today's (`scaling_tests`).
 
 pub mod auto;
 pub mod bc;
 mod diagnose;
+pub mod explain;
 pub mod key;
 mod load;
 pub mod material;
@@ -21,6 +26,9 @@ pub mod observe;
 pub mod overrides;
 pub mod plates;
 pub mod reference;
+mod resolve;
+#[cfg(test)]
+mod scaling_tests;
 pub mod time;
 #[cfg(test)]
 mod validation_tests;
@@ -74,7 +82,8 @@ pub struct Scene {
 
 impl Scene {
     /// Checks ranges and consistency, section by section; the message names the key and value.
-    pub(crate) fn validate(&self) -> Result<(), String> {
+    /// What is allowed but likely a mistake is a note in `notes`.
+    pub(crate) fn validate(&self, notes: &mut Vec<String>) -> Result<(), String> {
         self.mesh.validate()?;
         self.material.validate()?;
         for (i, bc) in self.bc.iter().enumerate() {
@@ -89,7 +98,7 @@ impl Scene {
             p.validate()?;
         }
         if let Some(p) = &self.plates {
-            p.validate()?;
+            p.validate(self.time.t_end, notes)?;
         }
         if let Some(v) = &self.verification {
             v.validate()?;

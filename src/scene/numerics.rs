@@ -57,7 +57,28 @@ pub enum Element {
     Auto,
 }
 
+/// Default c of the pressure stabilisation: 4 lumps the P1 mass of the undrained constraint
+/// exactly (see `fem::kernel::ElementKernel::stab`).
+pub const DEFAULT_STABILISATION: f64 = 4.0;
+
+impl SolverSpec {
+    /// The preset's default (`auto`) written out.
+    pub(super) fn fill_defaults(&mut self) {
+        self.preset.get_or_insert_with(Default::default);
+    }
+}
+
 impl FemSpec {
+    /// The defaults written out, so the run directory's scene.toml shows them: Taylor–Hood, the
+    /// stabilisation's c, and the quadrature degree — 2 for the linear model (exact on straight
+    /// elements), 3 for the finite-strain ones (exponential energy, curved elements).
+    /// (`stabilisation_fade` has no value to write: absent is the constant weight.)
+    pub(super) fn fill_defaults(&mut self, linear: bool) {
+        self.element.get_or_insert(Element::P2P1);
+        self.stabilisation.get_or_insert(DEFAULT_STABILISATION);
+        self.quadrature_degree.get_or_insert(if linear { 2 } else { 3 });
+    }
+
     /// Equal-order P1–P1 instead of Taylor–Hood.
     pub fn equal_order(&self) -> bool {
         self.element == Some(Element::P1P1)
@@ -83,6 +104,7 @@ impl FemSpec {
 
 pub(super) const SOLVER_SECTION: Section = Section {
     title: "[solver]",
+    enters: "numerics.md: Nonlinear and linear solvers",
     about: "How the Newton systems are solved (docs/numerics.md).",
     keys: &[Key::new(
         "solver.preset",
@@ -99,24 +121,28 @@ const STABILISATION: Key = Key::new(
     Unset::Absent("4"),
     "c of the pressure stabilisation (c / (λ + 2µ)) ∫ (ṗ − Πṗ)(q − Πq) (4: exact lumping; 0: off)",
 )
-.range(Range::NON_NEGATIVE.says("must be >= 0"));
+.range(Range::NON_NEGATIVE.says("must be >= 0"))
+.enters("numerics.md: Pressure stabilisation");
 const STABILISATION_FADE: Key = Key::new(
     "fem.stabilisation_fade",
     "",
     Unset::Absent("constant weight"),
     "τ₀: the weight fades as c (1 − (τ/τ₀)²)₊, τ = c_v Δt / h² (Taylor–Hood only)",
 )
-.range(Range::POSITIVE.says("must be positive (omit it for none)"));
+.range(Range::POSITIVE.says("must be positive (omit it for none)"))
+.enters("numerics.md: Pressure stabilisation");
 const QUADRATURE_DEGREE: Key = Key::new(
     "fem.quadrature_degree",
     "",
     Unset::Absent("2 (linear model), 3 (finite strain)"),
     "degree of the quadrature rule; one more on the meridian (dV = 2πr dA)",
 )
-.range(Range::new(1.0, true, 8.0, true, "use 1..8"));
+.range(Range::new(1.0, true, 8.0, true, "use 1..8"))
+.enters("numerics.md: Elements and quadrature");
 
 pub(super) const FEM_SECTION: Section = Section {
     title: "[fem]",
+    enters: "numerics.md: Elements and quadrature",
     about: "The discretisation.",
     keys: &[
         QUADRATURE_DEGREE,

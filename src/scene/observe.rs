@@ -88,6 +88,7 @@ impl Verification {
 
 pub(super) const PROBE_SECTION: Section = Section {
     title: "[[probe]]",
+    enters: "user-guide.md: Output",
     about: "A column of history.csv: a field's value at a reference point, or its mean over a surface group.",
     keys: &[
         Key::new("probe.name", "", Unset::Required, "the column's name"),
@@ -107,6 +108,7 @@ const LOAD: Key = Key::new("verification.load", "kPa", Unset::Required, "the app
 
 pub(super) const VERIFICATION_SECTION: Section = Section {
     title: "[verification]",
+    enters: "verification.md: Shipped scenes",
     about: "Exact-solution columns next to the probes: `<probe>_exact` for `p_bottom` and `settlement` \
             (Terzaghi), `p_center_exact` (Cryer).",
     keys: &[Key::new("verification.kind", "", Unset::Required, "`terzaghi` or `cryer`"), HEIGHT, RADIUS, LOAD],

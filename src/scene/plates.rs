@@ -11,17 +11,28 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlatesSpec {
-    /// Radius R of the reference sphere (must match the mesh).
-    pub radius: f64,
+    /// Radius R of the reference sphere; `mesh.params.R` when absent (filled in when loaded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
     /// Surface group that can touch the plates (and drains where it does not).
     #[serde(default = "default_surface")]
     pub group: String,
     /// ũ_max = u_max / (2R): the lower plate rises by u_max.
     pub compression: f64,
-    /// Duration of each ramp (s).
-    pub t_ramp: f64,
-    /// End of the release ramp (s); the rest lasts until time.t_end.
-    pub t_end: f64,
+    /// The protocol's phases (s): the plate rises over `ramp`, holds for `hold`, returns over
+    /// `release`; then the aggregate rests until time.t_end.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ramp: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hold: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub release: Option<f64>,
+    /// Deprecated: the duration of both ramps, and the end of the release (read into `ramp`,
+    /// `hold` and `release` when the scene is loaded, with a note saying what to write).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub t_ramp: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub t_end: Option<f64>,
     /// p = 0 on the surface out of contact (false: sealed aggregate).
     #[serde(default = "yes")]
     pub drainage: bool,
@@ -79,14 +90,139 @@ fn yes() -> bool {
     true
 }
 
+/// The plate protocol's phases (s): u rises to u_max over `ramp`, holds for `hold`, returns to 0
+/// over `release`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Protocol {
+    pub ramp: f64,
+    pub hold: f64,
+    pub release: f64,
+}
+
+impl Protocol {
+    /// The ends of the ramp, of the hold and of the release.
+    pub fn ends(&self) -> [f64; 3] {
+        let hold_end = self.ramp + self.hold;
+        [self.ramp, hold_end, hold_end + self.release]
+    }
+}
+
+/// The seal gap's default, relative to R.
+pub const DEFAULT_SEAL_GAP: f64 = 0.01;
+
+/// The default probe point X_U = (0.4 R, 0, 1.9 R): the paper's, 1.5 µm under the upper pole's
+/// surface at R = 100 µm.
+pub fn default_probe_point(radius: f64) -> [f64; 3] {
+    [0.4 * radius, 0.0, 1.9 * radius]
+}
+
 impl PlatesSpec {
-    /// Geometry, loading, drainage and the plates' permeability.
-    pub(super) fn validate(&self) -> Result<(), String> {
-        RADIUS.check(self.radius)?;
+    /// R (filled in from `mesh.params.R` when the scene is loaded: NaN before).
+    pub fn radius(&self) -> f64 {
+        self.radius.unwrap_or(f64::NAN)
+    }
+
+    /// The phases (filled in from the deprecated keys when the scene is loaded: NaN before).
+    pub fn protocol(&self) -> Protocol {
+        let nan = f64::NAN;
+        Protocol {
+            ramp: self.ramp.unwrap_or(nan),
+            hold: self.hold.unwrap_or(nan),
+            release: self.release.unwrap_or(nan),
+        }
+    }
+
+    /// What the loading fills in: R from the mesh's `R` unless given; the phases from the
+    /// deprecated `t_ramp` (both ramps) and `t_end` (the release's end), each with a note in
+    /// `notes` of what to write instead (they may also come as overrides of a scene written with
+    /// the phases: `t_end` then moves the release, keeping the ramps); the seal gap and the
+    /// probe point at their defaults.
+    pub(super) fn resolve(&mut self, mesh_radius: Option<f64>, notes: &mut Vec<String>) -> Result<(), String> {
+        let r = match (self.radius, mesh_radius) {
+            (Some(r), _) | (None, Some(r)) => r,
+            (None, None) => {
+                return Err("plates.radius: give the aggregate's radius, as mesh.params.R or plates.radius".into())
+            }
+        };
+        self.radius = Some(r);
+        if self.t_ramp.is_none() && self.t_end.is_none() {
+            for (key, v) in [("ramp", self.ramp), ("hold", self.hold), ("release", self.release)] {
+                if v.is_none() {
+                    return Err(format!(
+                        "[plates]: give the protocol's phases ramp, hold and release (s); plates.{key} is missing"
+                    ));
+                }
+            }
+        } else {
+            self.move_deprecated(notes)?;
+        }
+        self.seal_gap.get_or_insert(DEFAULT_SEAL_GAP * r);
+        self.probe_point.get_or_insert(default_probe_point(r));
+        Ok(())
+    }
+
+    /// `t_ramp` and `t_end` into `ramp`, `hold` and `release` (see `resolve`).
+    fn move_deprecated(&mut self, notes: &mut Vec<String>) -> Result<(), String> {
+        let was = [self.t_ramp, self.t_end];
+        if let Some(t) = self.t_ramp.take() {
+            T_RAMP.check(t)?;
+            // The release lasted t_ramp, and ended at t_end.
+            let end = self.t_end.or(self.ramp.zip(self.hold).zip(self.release).map(|((a, b), c)| a + b + c));
+            self.ramp = Some(t);
+            self.release = Some(t);
+            self.t_end = end;
+        }
+        let (Some(ramp), Some(release)) = (self.ramp, self.release) else {
+            return Err("plates.t_end is deprecated and needs plates.ramp and plates.release: give ramp, hold and \
+                        release (s) instead"
+                .into());
+        };
+        let Some(end) = self.t_end.take() else {
+            return Err(
+                "plates.t_ramp is deprecated and needs plates.t_end: give ramp, hold and release (s) instead".into()
+            );
+        };
+        let hold = end - ramp - release;
+        if !(end.is_finite() && hold >= 0.0) {
+            return Err(format!("plates.t_end = {end}: must be at least ramp + release = {}", ramp + release));
+        }
+        self.hold = Some(hold);
+        let given: Vec<String> = [("t_ramp", was[0]), ("t_end", was[1])]
+            .iter()
+            .filter_map(|(k, v)| v.map(|v| format!("plates.{k} = {v}")))
+            .collect();
+        notes.push(format!(
+            "{} {} deprecated: write plates.ramp = {ramp}, plates.hold = {hold}, plates.release = {release} (the \
+             durations of the protocol's phases, s)",
+            given.join(" and "),
+            if given.len() > 1 { "are" } else { "is" }
+        ));
+        Ok(())
+    }
+
+    /// Geometry, loading, drainage and the plates' permeability (resolved: see `resolve`);
+    /// `t_end` is the run's end (a release after it is a warning in `notes`).
+    pub(super) fn validate(&self, t_end: f64, notes: &mut Vec<String>) -> Result<(), String> {
+        super::mesh::check_radius(RADIUS.name, self.radius())?;
         COMPRESSION.check(self.compression)?;
-        T_RAMP.check(self.t_ramp)?;
-        if !(self.t_end.is_finite() && self.t_end >= 2.0 * self.t_ramp) {
-            return Err(format!("plates.t_end = {}: must be at least 2 t_ramp = {}", self.t_end, 2.0 * self.t_ramp));
+        let p = self.protocol();
+        RAMP.check(p.ramp)?;
+        HOLD.check(p.hold)?;
+        RELEASE.check(p.release)?;
+        let [ramp_end, hold_end, release_end] = p.ends();
+        if release_end > t_end {
+            let during = if ramp_end >= t_end {
+                "the ramp"
+            } else if hold_end >= t_end {
+                "the hold"
+            } else {
+                "the release"
+            };
+            notes.push(format!(
+                "the plates' release ends at {release_end} s (ramp {} + hold {} + release {}), after the run's end \
+                 time.t_end = {t_end} s: the run stops during {during}",
+                p.ramp, p.hold, p.release
+            ));
         }
         DRAINAGE_PENALTY.check(self.drainage_penalty)?;
         if let Some(g) = self.seal_gap {
@@ -115,24 +251,61 @@ impl PlatesSpec {
     }
 }
 
-const RADIUS: Key =
-    Key::new("plates.radius", "µm", Unset::Required, "radius R of the reference sphere (must match the mesh)")
-        .range(Range::POSITIVE);
+const RADIUS: Key = Key::new(
+    "plates.radius",
+    "µm",
+    Unset::Absent("mesh.params.R"),
+    "radius R of the reference sphere: the plates are at z = 0 and z = 2R (give it for a mesh `file`)",
+)
+.range(super::mesh::RADIUS_RANGE)
+.rule("must match the mesh")
+.enters("plates at z = 0 and z = 2R");
 const COMPRESSION: Key =
     Key::new("plates.compression", "", Unset::Required, "ũ_max = u_max / (2R): the lower plate rises by u_max")
-        .range(Range::new(0.0, true, 1.0, false, "must lie in [0, 1)"));
-const T_RAMP: Key = Key::new("plates.t_ramp", "s", Unset::Required, "duration of each ramp (compression, release)")
-    .range(Range::POSITIVE);
+        .range(Range::new(0.0, true, 1.0, false, "must lie in [0, 1)"))
+        .enters("u(t), eq. (53)");
+const RAMP: Key =
+    Key::new("plates.ramp", "s", Unset::Required, "duration of the loading ramp: u rises linearly from 0 to u_max")
+        .range(Range::POSITIVE)
+        .enters("u(t), eq. (53)");
+const HOLD: Key = Key::new("plates.hold", "s", Unset::Required, "duration of the hold at u_max")
+    .range(Range::NON_NEGATIVE.says("must be >= 0"))
+    .enters("u(t), eq. (53)");
+const RELEASE: Key =
+    Key::new("plates.release", "s", Unset::Required, "duration of the release: u returns linearly to 0")
+        .range(Range::POSITIVE)
+        .rule("ramp + hold + release ≤ time.t_end, else a warning")
+        .enters("u(t), eq. (53)");
+const T_RAMP: Key = Key::new(
+    "plates.t_ramp",
+    "s",
+    Unset::Absent(""),
+    "deprecated: the duration of both ramps (read as ramp = release = t_ramp)",
+)
+.range(Range::POSITIVE);
+const T_END: Key = Key::new(
+    "plates.t_end",
+    "s",
+    Unset::Absent(""),
+    "deprecated: the end of the release (read as hold = t_end − ramp − release)",
+)
+.rule("≥ ramp + release");
 const DRAINAGE_PENALTY: Key = Key::new(
     "plates.drainage_penalty",
     "",
     Unset::Value("100.0"),
     "γ of the free-surface drainage conductance β_max = γ k0 / h (a stiff Robin condition, p ≈ 0)",
 )
-.range(Range::POSITIVE);
-const SEAL_GAP: Key =
-    Key::new("plates.seal_gap", "µm", Unset::Absent("0.01 R"), "gap over which drainage opens as a contact separates")
-        .range(Range::POSITIVE);
+.range(Range::POSITIVE)
+.enters("numerics.md: Contact and drainage");
+const SEAL_GAP: Key = Key::new(
+    "plates.seal_gap",
+    "µm",
+    Unset::Absent("0.01 R (filled in)"),
+    "gap over which drainage opens as a contact separates",
+)
+.range(Range::POSITIVE)
+.enters("numerics.md: Contact and drainage");
 const PERMEABILITY: Key = Key::new(
     "plates.permeability",
     "µm⁴/(nN s)",
@@ -140,7 +313,8 @@ const PERMEABILITY: Key = Key::new(
     "the plates' permeability k_β: outflow through the contact area with conductance k_β / thickness",
 )
 .range(Range::NON_NEGATIVE.says("must be >= 0"))
-.rule("with `thickness`; not with drainage = false");
+.rule("with `thickness`; not with drainage = false")
+.enters("Robin outflow k_β / L");
 const THICKNESS: Key =
     Key::new("plates.thickness", "µm", Unset::Absent(""), "the plates' thickness that the outflow crosses")
         .range(Range::POSITIVE)
@@ -148,22 +322,28 @@ const THICKNESS: Key =
 const PROBE_POINT: Key = Key::new(
     "plates.probe_point",
     "µm",
-    Unset::Absent("(0.4 R, 0, 1.9 R)"),
+    Unset::Absent("(0.4 R, 0, 1.9 R) (filled in)"),
     "the material point of the `probe_p` and `probe_porosity` columns (reference coordinates)",
 )
 .range(Range::FINITE);
 
 pub(super) const SECTION: Section = Section {
     title: "[plates]",
+    enters: "model.md: Rigid plates, contact and drainage",
     about: "The compression–release experiment: rigid, flat, frictionless plates; the reference sphere (radius \
             R, centre (0, 0, R)) touches the lower plate (z = 0, rising by u(t)) and the fixed upper plate \
-            (z = 2R). The load ramps up over t_ramp, holds, ramps down to t_end, and rests until time.t_end.",
+            (z = 2R). The lower plate rises by u_max = compression · 2R over `ramp`, holds for `hold`, returns over \
+            `release`, and the aggregate rests until time.t_end (docs/model.md, \"Rigid plates, contact and drainage\", eq. (53)). R defaults to \
+            mesh.params.R, so a scene scales with one key.",
     keys: &[
         RADIUS,
         Key::new("plates.group", "", Unset::Value("\"surface\""), "the surface group that can touch the plates"),
         COMPRESSION,
+        RAMP,
+        HOLD,
+        RELEASE,
         T_RAMP,
-        Key::new("plates.t_end", "s", Unset::Required, "end of the release ramp").rule("≥ 2 t_ramp"),
+        T_END,
         Key::new("plates.drainage", "", Unset::Value("true"), "p = 0 on the surface out of contact (false: sealed)"),
         Key::new("plates.anchor", "", Unset::Value("\"pole_bottom\""), "the point group kept on the lower plate"),
         DRAINAGE_PENALTY,

@@ -23,7 +23,7 @@ pub fn sections() -> Vec<Section> {
         numerics::SOLVER_SECTION,
         numerics::FEM_SECTION,
         PETSC_SECTION,
-        Section { title: "Units", about: UNITS, keys: &[] },
+        Section { title: "Units", enters: "model.md", about: UNITS, keys: &[] },
     ]
 }
 
@@ -44,7 +44,10 @@ pub fn reference() -> String {
         if s.keys.is_empty() {
             continue;
         }
-        out.push_str("\n| key | unit | default | valid | description |\n|---|---|---|---|---|\n");
+        if !s.enters.is_empty() {
+            out.push_str(&format!("\nThe keys enter docs/{} (the column \"enters\": more precisely).\n", s.enters));
+        }
+        out.push_str("\n| key | unit | default | valid | description | enters |\n|---|---|---|---|---|---|\n");
         for k in s.keys {
             let default = match k.default {
                 Unset::Required => "required".to_string(),
@@ -59,12 +62,13 @@ pub fn reference() -> String {
             };
             let cell = |s: &str| s.replace('|', "\\|");
             out.push_str(&format!(
-                "| `{}` | {} | {} | {} | {} |\n",
+                "| `{}` | {} | {} | {} | {} | {} |\n",
                 k.name,
                 cell(k.unit),
                 cell(&default),
                 cell(&valid),
-                cell(k.doc)
+                cell(k.doc),
+                cell(k.enters)
             ));
         }
     }
@@ -74,6 +78,7 @@ pub fn reference() -> String {
 /// The keys outside the sections.
 const SECTION: Section = Section {
     title: "Top level",
+    enters: "",
     about: "A scene has the sections below; `[mesh]`, `[material]` and `[time]` are required.",
     keys: &[
         Key::new("name", "", Unset::Absent("the file stem"), "short name; names the run directory"),
@@ -83,6 +88,7 @@ const SECTION: Section = Section {
 
 const PETSC_SECTION: Section = Section {
     title: "[petsc]",
+    enters: "user-guide.md: Solver options",
     about: "Any PETSc option without the leading dash: `ksp_rtol = 1e-10`, `ksp_monitor = true` (false: left \
             out). Options given on the command line after `--` come after these.",
     keys: &[Key::new("petsc.<option>", "", Unset::Absent(""), "a PETSc option and its value")

@@ -199,7 +199,8 @@ const DT_MAX_RAMP: Key = Key::new(
     "the largest step during the plates' loading ramp (backward Euler over-integrates the remodelling there)",
 )
 .range(Range::POSITIVE)
-.rule("≥ dt; needs [plates]");
+.rule("≥ dt; needs [plates]")
+.enters("numerics.md: Time integration");
 const GROWTH: Key =
     Key::new("time.growth", "", Unset::Value("1.0"), "dt_{n+1} = min(growth dt_n, dt_max); 1: constant steps")
         .range(Range::new(1.0, true, f64::INFINITY, false, "must be >= 1"));
@@ -209,7 +210,8 @@ const ERROR_TOLERANCE: Key = Key::new(
     Unset::Absent("geometric growth"),
     "choose the steps by a local error estimate, relative to each field's magnitude",
 )
-.range(Range::POSITIVE);
+.range(Range::POSITIVE)
+.enters("numerics.md: Time integration");
 const DT_MIN: Key = Key::new(
     "time.dt_min",
     "s",
@@ -221,6 +223,7 @@ const DT_MIN: Key = Key::new(
 
 pub(super) const TIME_SECTION: Section = Section {
     title: "[time]",
+    enters: "numerics.md: Time integration",
     about: "Steps grow geometrically from `dt` to `dt_max` (or follow an error estimate), landing exactly on \
             `t_end`, on `land_on` and on the kinks of the loading.",
     keys: &[
@@ -254,6 +257,7 @@ const CHECKPOINT_MINUTES: Key = Key::new(
 
 pub(super) const OUTPUT_SECTION: Section = Section {
     title: "[output]",
+    enters: "user-guide.md: Output",
     about: "history.csv gets a row every step; the fields and checkpoints are written as set here.",
     keys: &[
         Key::new(
@@ -288,6 +292,7 @@ const DISPLACEMENT_GRADIENT: Key = Key::new(
 
 pub(super) const INITIAL_SECTION: Section = Section {
     title: "[initial]",
+    enters: "model.md: Unknowns and weak form",
     about: "The state at t = 0 (default: undeformed, p = 0).",
     keys: &[DISPLACEMENT_GRADIENT],
 };

@@ -161,7 +161,7 @@ fn non_physical_values_are_named_with_their_value() {
 
 #[test]
 fn inconsistent_keys_are_named_together() {
-    expect("reference", &[], &["plates.t_ramp=50.0"], "must be at least 2 t_ramp = 100");
+    expect("reference", &[], &["plates.t_ramp=50.0"], "plates.t_end = 40: must be at least ramp + release = 100");
     expect("reference", &[], &["time.dt=10"], "time.dt = 10 exceeds time.dt_max = 2");
     expect("terzaghi", &[], &["time.dt_min=1e3"], "time.dt_min = 1000: must be below the first step");
     expect(

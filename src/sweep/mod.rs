@@ -133,8 +133,10 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
     let study = agree(world, Study::parse(&args.study, &text))?;
     for scene in study.scenes() {
         let what = if study.per_case_scenes() { "a case's scene" } else { "the study's base scene" };
-        agree(world, LoadedScene::load(scene, &study.set).map(|_| ()))
-            .map_err(|e| Error::Sweep(format!("{what}: {e}")))?;
+        let loaded =
+            agree(world, LoadedScene::load(scene, &study.set)).map_err(|e| Error::Sweep(format!("{what}: {e}")))?;
+        // Once here, not for every case (whose runs are quiet).
+        driver::tell_notes(world, &loaded);
     }
     // Every case's override keys against its scene (rank 0): a typo in a grid key would
     // otherwise fail every case after the sweep directory had been made. (A value out of range
