@@ -136,8 +136,8 @@ fn run_case(name: &str, ranks: usize, case: &str) -> PathBuf {
 fn paraview_check(dir: &Path) {
     let no_pv = std::env::var("POROPLAST_NO_PARAVIEW").is_ok_and(|v| v == "1");
     static HAS_PV: OnceLock<bool> = OnceLock::new();
-    let has_pv = *HAS_PV
-        .get_or_init(|| Command::new("pvpython").arg("--version").output().is_ok_and(|o| o.status.success()));
+    let has_pv =
+        *HAS_PV.get_or_init(|| Command::new("pvpython").arg("--version").output().is_ok_and(|o| o.status.success()));
     // CI installs ParaView (.ci/run): there a missing pvpython is a failure, not a skip.
     let required = std::env::var("POROPLAST_REQUIRE_PARAVIEW").is_ok_and(|v| v == "1");
     assert!(

@@ -12,16 +12,23 @@ use std::path::Path;
 
 /// Edits that turn the shipped reference scene into the coarse, short test scene.
 const COARSE: &[(&str, &str)] = &[
-    ("h = 20.0, h_pole = 3.0", "h = 40.0, h_pole = 12.0"),
-    ("t_ramp = 5.0", "t_ramp = 2.0"),
-    ("t_end = 40.0", "t_end = 10.0"),
+    COARSE_SIZES,
+    ("ramp = 5.0", "ramp = 2.0"),
+    ("hold = 30.0", "hold = 6.0"),
+    ("release = 5.0", "release = 2.0"),
     ("t_end = 100.0", "t_end = 12.0"),
 ];
+
+/// The coarse mesh: h = 40, h_pole = 12 µm (R = 100 µm).
+const COARSE_SIZES: (&str, &str) = (
+    "relative_sizes = { h = 0.2, h_pole = 0.03, r_pole = 0.5 }",
+    "relative_sizes = { h = 0.4, h_pole = 0.12, r_pole = 0.5 }",
+);
 
 /// The reference scene's quarter model with the symmetry rollers replaced by the full sphere's
 /// rigid-mode locks, on the quarter mesh mirrored across both symmetry planes.
 const MIRRORED: &[(&str, &str)] = &[
-    ("r_pole = 50.0 }", "r_pole = 50.0 }\nmirror = [\"symmetry_x\", \"symmetry_y\"]"),
+    ("r_pole = 0.5 }", "r_pole = 0.5 }\nmirror = [\"symmetry_x\", \"symmetry_y\"]"),
     (
         "[[bc]]\ngroup = \"symmetry_x\"\nroller = true\ngeometry = \"solid\"\n\n[[bc]]\ngroup = \"symmetry_y\"\nroller = true\ngeometry = \"solid\"\n",
         "[[bc]]\ngroup = \"pole_bottom\"\ndisplacement = { x = 0.0, y = 0.0 }\n\n\
@@ -54,7 +61,19 @@ fn meridian_peak() -> f64 {
         let dir = scratch("plates-meridian-reference");
         let sc = coarse_scene(&dir, &[]);
         let meridian = dir.join("meridian");
-        let axi = ["--set", "mesh.geometry=axisymmetric", "--set", "mesh.params.h=8", "--set", "mesh.params.h_pole=1"];
+        // To just past the peak (at the end of the ramp, 2 s): the rest of the run cannot change it.
+        let axi = [
+            "--set",
+            "mesh.geometry=axisymmetric",
+            "--set",
+            "mesh.params.h=8",
+            "--set",
+            "mesh.params.h_pole=1",
+            "--set",
+            "time.t_end=2.5",
+            "--set",
+            "output.fields=false",
+        ];
         let mut args = vec!["run", sc.as_str(), "--out", meridian.to_str().unwrap(), "-q"];
         args.extend(axi);
         run_ok(1, &args);
@@ -106,7 +125,7 @@ fn compression_release_protocol() {
     );
     let (pp, pen, vol, out) = (col("probe_p"), col("max_penetration"), col("fluid_volume"), col("outflow_total"));
     let n = t.len();
-    // The force rises during the ramp, peaks at its end (t_ramp = 2 s), relaxes while held,
+    // The force rises during the ramp, peaks at its end (ramp 2 s), relaxes while held,
     // and is zero once the upper contact has opened after the release.
     let ipk = (0..n).max_by(|&a, &b| f[a].total_cmp(&f[b])).unwrap();
     assert!((t[ipk] - 2.0).abs() < 0.3, "peak force at t = {} s", t[ipk]);
@@ -327,7 +346,10 @@ fn full_sphere_with_free_rigid_modes_agrees() {
              [[bc]]\ngroup = \"pole_top\"\ndisplacement = { x = 0.0, y = 0.0 }\n",
         ),
     ];
-    assert_full_matches_quarter("plates-full-free", free, &[]);
+    // The direct preset's lock through the ramp and the hold, to the kink at 8 s where the
+    // quarter has a step too (the release is the locked sphere's, above).
+    let direct: Vec<(&str, &str)> = free.iter().copied().chain([("t_end = 12.0", "t_end = 8.0")]).collect();
+    assert_full_matches_quarter("plates-full-free", &direct, &[]);
     let amg: Vec<(&str, &str)> = free
         .iter()
         .copied()
@@ -365,8 +387,8 @@ fn long_hold_reaches_the_drained_static_force() {
         "reference",
         &dir,
         &[
-            ("h = 20.0, h_pole = 3.0", "h = 40.0, h_pole = 12.0"),
-            ("t_end = 40.0", "t_end = 100000.0"),
+            COARSE_SIZES,
+            ("hold = 30.0", "hold = 100000.0"),
             ("t_end = 100.0", "t_end = 800.0"),
             ("dt_max = 2.0", "dt_max = 100.0"),
         ],
@@ -378,9 +400,9 @@ fn long_hold_reaches_the_drained_static_force() {
         "reference",
         &ddir,
         &[
-            ("h = 20.0, h_pole = 3.0", "h = 40.0, h_pole = 12.0"),
+            COARSE_SIZES,
             ("gravity = [0.0, 0.0, -9.81]", "gravity = [0.0, 0.0, -9.81]\ndrained = true"),
-            ("t_end = 40.0", "t_end = 100000.0"),
+            ("hold = 30.0", "hold = 100000.0"),
             ("t_end = 100.0", "t_end = 5.0"),
             ("dt = 0.02 ", "dt = 0.5 "),
         ],
@@ -434,7 +456,7 @@ fn jacobian_check(np: usize, name: &str, extra: &[(&str, &str)], eps: &str) -> (
 
 /// Drainage opened by the Newton iterate's own gap (differentiated exactly), not the default
 /// predicted gap (fixed within a step).
-const IMPLICIT_DRAINAGE: (&str, &str) = ("t_end = 10.0", "t_end = 10.0\ndrainage_gap = \"current\"");
+const IMPLICIT_DRAINAGE: (&str, &str) = ("release = 2.0", "release = 2.0\ndrainage_gap = \"current\"");
 
 /// The assembled Jacobian (finite strain, gravity, contact, drainage, stabilisation) against
 /// central differences of the assembled residual along a fixed random direction, at every step
