@@ -213,7 +213,7 @@ fn shortened_meridian_experiment_matches_the_quarter() {
     for s in &sets {
         args.extend(["--set", s]);
     }
-    run_ok(2, &args);
+    run_ok(1, &args);
     let (a, q) = (History::read(&dir.join("axi")), History::read(&dir.join("quarter")));
     meridian_agrees_with_quarter(
         &a,

@@ -156,9 +156,10 @@ fn resume(np: usize, dir: &Path) {
 
 #[test]
 fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
+    // The shared run first: a test waiting for another to finish it holds no core.
+    let reference = uninterrupted();
     let _cores = cores(1); // every run of the test, one at a time
     let d = scratch("restart_same_ranks");
-    let reference = uninterrupted();
     let a = History::read(reference);
     assert!(a.rows.len() > 30, "{} rows", a.rows.len());
 
@@ -270,9 +271,9 @@ fn the_iterative_solver_resumes_exactly_from_a_periodic_checkpoint() {
 
 #[test]
 fn a_two_rank_run_stopped_by_mpirun_resumes_on_one_rank() {
+    let reference = uninterrupted();
     let _cores = cores(2); // its runs, on 2 ranks and then 1
     let d = scratch("restart_other_ranks");
-    let reference = uninterrupted();
     // mpirun forwards SIGUSR1 to the ranks and exits with their code.
     let stopped = d.join("stopped");
     let mut child = running(2, &stopped, &[], 10);

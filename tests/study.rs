@@ -25,8 +25,10 @@ fn script(name: &str, args: &[&str]) -> (bool, String) {
     (out.status.success(), text)
 }
 
+/// `study.py` with `args`, its sweeps on 1 rank (the cases are tiny: a second rank would mostly wait).
 fn study(args: &[&str]) -> (bool, String) {
-    script("study.py", args)
+    let args: Vec<&str> = args.iter().copied().chain(["--ranks", "1"]).collect();
+    script("study.py", &args)
 }
 
 #[test]
@@ -43,7 +45,7 @@ fn python_unit_tests_pass() {
 
 #[test]
 fn a_study_runs_its_grid_and_continues_where_it_stopped() {
-    let _cores = cores(2); // its scripts run the sweep on 2 ranks
+    let _cores = cores(1); // its sweeps on 1 rank
     let dir = scratch("study");
     let d = dir.join("mu_nu");
     let args = [
@@ -134,7 +136,7 @@ fn a_study_runs_its_grid_and_continues_where_it_stopped() {
 /// (Its extrapolation recovering known errors: scripts/tests/test_richardson.py.)
 #[test]
 fn convergence_study_extrapolates() {
-    let _cores = cores(2); // its scripts run the sweep on 2 ranks
+    let _cores = cores(1); // its sweep on 1 rank
     let dir = scratch("convergence_study");
     let d = dir.join("terzaghi");
     let terzaghi = scene("terzaghi");
@@ -142,7 +144,7 @@ fn convergence_study_extrapolates() {
         "convergence_study.py",
         &[&terzaghi, "--h", "20,15,10", "--dt-scale", "1,0.5,0.25", "--set", "time.t_end=0.02"]
             .into_iter()
-            .chain(["--observe", "p_bottom@0.02", "last:settlement", "--dir", d.to_str().unwrap()])
+            .chain(["--observe", "p_bottom@0.02", "last:settlement", "--ranks", "1", "--dir", d.to_str().unwrap()])
             .collect::<Vec<_>>(),
     );
     assert!(ok, "{text}");
@@ -167,10 +169,10 @@ fn calibrate_relaxation(dir: &std::path::Path, short: bool, extra: &[&str]) -> (
 
 /// Calibration recovers known parameters from the code's own curve: (λp, σy) = (0.5 (MPa s)⁻¹,
 /// 1.5 kPa) from σ_zz(t) of the relaxation scene, starting at (1 (MPa s)⁻¹, 2 kPa): each
-/// iteration's runs one sweep on 2 ranks, two at a time on 1 rank each.
+/// iteration's runs one sweep (on 1 rank: a sweep's groups are tests/sweep.rs's).
 #[test]
 fn calibration_recovers_synthetic_parameters() {
-    let _cores = cores(2); // its scripts run the sweep on 2 ranks
+    let _cores = cores(1); // its sweeps on 1 rank
     let dir = scratch("calibration");
     let (ok, text) = calibrate_relaxation(
         &dir,
@@ -187,8 +189,6 @@ fn calibration_recovers_synthetic_parameters() {
             "--set",
             "time.dt_max=5.0",
             "--ranks",
-            "2",
-            "--ranks-per-case",
             "1",
         ],
     );
@@ -214,7 +214,7 @@ fn calibration_recovers_synthetic_parameters() {
 /// sweep (2 × 4 cases).
 #[test]
 fn calibration_fits_two_experiments_with_a_shared_parameter() {
-    let _cores = cores(2); // its scripts run the sweep on 2 ranks
+    let _cores = cores(1); // its sweeps on 1 rank
     let dir = scratch("calibration_experiments");
     let file = dir.join("experiments.toml");
     std::fs::write(
@@ -257,7 +257,7 @@ seed = 2
             "--ftol",
             "0.01",
             "--ranks",
-            "2",
+            "1",
             "--dir",
             dir.join("fit").to_str().unwrap(),
         ],
@@ -391,11 +391,15 @@ fn calibration_refuses_a_parameter_without_effect() {
 /// in the same row, the console's count agrees, and a second invocation runs nothing.
 #[test]
 fn the_coverage_study_counts_consistently_and_resumes() {
-    let _cores = cores(2); // two fits side by side, 1 rank each
+    let _cores = cores(1); // its fits one at a time, on 1 rank
     let dir = scratch("coverage");
     let args = [
         "--dir",
         dir.to_str().unwrap(),
+        "--jobs",
+        "1",
+        "--ranks",
+        "1",
         "--sets",
         "2",
         "--params",

@@ -17,6 +17,7 @@ use std::process::{Command, Output};
 pub struct Cores {
     n: usize,
     _locks: Vec<File>,
+    since: std::time::Instant,
 }
 
 thread_local! {
@@ -35,7 +36,7 @@ pub fn cores(n: usize) -> Cores {
     let held = HELD.get();
     let need = n.min(total).saturating_sub(held);
     if need == 0 {
-        return Cores { n: 0, _locks: Vec::new() };
+        return Cores { n: 0, _locks: Vec::new(), since: std::time::Instant::now() };
     }
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cores");
     std::fs::create_dir_all(&dir).expect("the cores' lock directory");
@@ -52,7 +53,7 @@ pub fn cores(n: usize) -> Cores {
         }
         if taken.len() == need {
             HELD.set(held + need);
-            return Cores { n: need, _locks: taken };
+            return Cores { n: need, _locks: taken, since: std::time::Instant::now() };
         }
         drop(taken);
         std::thread::sleep(std::time::Duration::from_millis(10));
@@ -63,6 +64,16 @@ impl Drop for Cores {
     fn drop(&mut self) {
         // The lock files close (and unlock) after this.
         HELD.set(HELD.get() - self.n);
+        // POROPLAST_CORES_LOG=FILE: a line per hold (test, cores, seconds), to see which tests
+        // take the machine's time (ci/run-tests.sh --profile).
+        if let (Ok(log), true) = (std::env::var("POROPLAST_CORES_LOG"), self.n > 0) {
+            use std::io::Write;
+            let test = std::thread::current().name().unwrap_or("?").to_string();
+            let line = format!("{test} {} {:.3}\n", self.n, self.since.elapsed().as_secs_f64());
+            if let Ok(mut f) = std::fs::OpenOptions::new().create(true).append(true).open(log) {
+                let _ = f.write_all(line.as_bytes());
+            }
+        }
     }
 }
 
