@@ -39,6 +39,9 @@ fn bad_input_is_reported_and_earlier_results_survive() {
     let earlier = dir.join("earlier");
     run_ok(1, &["run", &ok, "--out", earlier.to_str().unwrap(), "-q"]);
     assert!(earlier.join("history.csv").exists());
+    // The 2-rank launches below, each a fraction of a second, in one hold of the cores (not a
+    // wait for two free cores per launch).
+    let _cores = cores(2);
 
     let variant = |name: &str, edits: &[(&str, &str)]| {
         let d = dir.join(name);
@@ -309,6 +312,7 @@ fn every_kind_of_bad_input_gets_one_clear_message() {
         ),
     ];
     for np in [1, 2] {
+        let _cores = cores(np); // the launches of a rank count in one hold
         for (what, args, expect) in &cases {
             let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
             let mut full = vec!["run"];
