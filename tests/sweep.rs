@@ -134,7 +134,7 @@ fn cases_equal_the_same_cases_run_alone() {
 
 #[test]
 fn a_bad_case_fails_alone() {
-    let _cores = cores(2); // the sweep on 2 ranks
+    let _cores = cores(1); // one group: which cases fail does not depend on the groups
     let d = scratch("sweep_bad_case");
     let set: Vec<String> = BASE.iter().map(|s| format!("\"{s}\"")).collect();
     let text = format!(
@@ -145,7 +145,7 @@ fn a_bad_case_fails_alone() {
     let study = d.join("bad.toml");
     std::fs::write(&study, text).unwrap();
     let root = d.join("sweep");
-    let out = sweep(2, &study, &root, 1);
+    let out = sweep(1, &study, &root, 1);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "a sweep with failed cases exits non-zero");
     assert!(stderr.contains("2 of 4 cases failed"), "{stderr}");
@@ -161,7 +161,7 @@ fn a_bad_case_fails_alone() {
 
 #[test]
 fn cases_with_their_own_scenes() {
-    let _cores = cores(2); // the sweep on 2 ranks
+    let _cores = cores(1); // one group
                            // No base scene: each case names its own — a shipped scene by name, the same scene by its
                            // file (the same case: the same history), and the name again with an override.
     let d = scratch("sweep_scenes");
@@ -175,7 +175,7 @@ fn cases_with_their_own_scenes() {
     let study = d.join("scenes.toml");
     std::fs::write(&study, &text).unwrap();
     let root = d.join("sweep");
-    ok(&sweep(2, &study, &root, 1), "the sweep");
+    ok(&sweep(1, &study, &root, 1), "the sweep");
     let (header, rows) = summary(&root);
     let col = |n: &str| header.iter().position(|h| h == n).unwrap();
     let scenes: Vec<&str> = rows.iter().map(|r| r[col("scene")].as_str()).collect();
@@ -193,7 +193,7 @@ fn cases_with_their_own_scenes() {
     // A case's scene that does not load is refused before anything is written.
     let bad = d.join("bad.toml");
     std::fs::write(&bad, text.replace("scene = \"reference_axi\"\nset", "scene = \"no_such_scene\"\nset")).unwrap();
-    let out = sweep(2, &bad, &d.join("bad"), 1);
+    let out = sweep(1, &bad, &d.join("bad"), 1);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && stderr.contains("a case's scene"), "{stderr}");
     assert!(!d.join("bad").exists());
@@ -415,7 +415,7 @@ fn bad_input_is_refused_before_anything_is_written() {
 
 #[test]
 fn petsc_options_do_not_pass_from_a_case_to_the_next() {
-    let _cores = cores(2); // the sweep on 2 ranks
+    let _cores = cores(1); // one group runs the cases in turn
                            // One group runs the three cases in turn: the first's PETSc option (a loose Newton
                            // tolerance) must not reach the third, which must equal its run alone; the fieldsplit
                            // preconditioner (Schur complement, GAMG, hypre) set up again after PETSc was finalised.
