@@ -133,6 +133,11 @@ impl Material {
     }
 }
 
+/// The keys of `[material]` that each give the solid's stiffness, one of which a scene has: an
+/// override of one replaces the scene's (`--set material.drained_shear_modulus=1.5` on a scene
+/// written with `mu`).
+pub(crate) const MODULI: [&str; 3] = ["mu", "drained_shear_modulus", "drained_youngs_modulus"];
+
 impl HolmesMowSpec {
     /// How the solid is given, µ from the aggregate's moduli if they are; Err: none or two ways
     /// (the message without its section).

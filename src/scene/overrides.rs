@@ -39,6 +39,10 @@ pub fn apply(root: &mut toml::Table, spec: &str) -> Result<(), String> {
     }
     match here {
         Slot::Table(t) => {
+            if parents == ["material"] && super::material::MODULI.contains(last) {
+                // One modulus: the one given replaces the scene's.
+                t.retain(|k, _| !super::material::MODULI.contains(&k));
+            }
             t.insert(last.to_string(), value);
         }
         Slot::Array(a) => {
@@ -102,6 +106,19 @@ mod tests {
         assert_eq!(t["bc"][0]["group"].as_str(), Some("surface"));
         assert_eq!(t["material"]["gravity"].as_array().map(|a| a.len()), Some(3));
         assert_eq!(t["output"]["fields"].as_bool(), Some(false));
+    }
+
+    #[test]
+    fn a_modulus_replaces_the_scenes() {
+        let mut t = table("[material]\nmu = 20.0\nnu = 0.2\n");
+        apply(&mut t, "material.drained_shear_modulus=1.5").unwrap();
+        assert!(t["material"].get("mu").is_none());
+        assert_eq!(t["material"]["drained_shear_modulus"].as_float(), Some(1.5));
+        apply(&mut t, "material.drained_youngs_modulus=3.6").unwrap();
+        assert!(t["material"].get("drained_shear_modulus").is_none());
+        apply(&mut t, "material.mu=2.5").unwrap();
+        let keys: Vec<&String> = t["material"].as_table().unwrap().keys().collect();
+        assert_eq!(keys, ["mu", "nu"]);
     }
 
     #[test]

@@ -140,7 +140,11 @@ fn the_aggregates_moduli_give_the_solids() {
         let f = p.display().to_string();
         let (mu, nu) = solid_of(&f, &[]).unwrap();
         assert!((mu - 20.0).abs() < 1e-12 && nu == 0.2, "{key}: µ = {mu}");
-        let e = load(&f, &["material.mu=20"]).unwrap_err();
+        // An override of another modulus replaces the file's; a file with two is refused.
+        assert_eq!(solid_of(&f, &["material.mu=20"]).unwrap(), (20.0, 0.2));
+        let both = std::env::temp_dir().join(format!("poroplast-moduli-both-{}-{i}.toml", std::process::id()));
+        std::fs::write(&both, text.replacen("mu = 20.0 ", &format!("mu = 20.0\n{key} = {value} "), 1)).unwrap();
+        let e = load(&both.display().to_string(), &[]).unwrap_err();
         assert!(e.contains("give `nu` and one modulus — `mu` (the solid's)"), "{e}");
         let e = load(&f, &[&format!("material.{key}=-1")]).unwrap_err();
         assert!(e.ends_with(&format!("material.{key} = -1: must be positive")), "{e}");
