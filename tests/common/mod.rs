@@ -65,7 +65,7 @@ impl Drop for Cores {
         // The lock files close (and unlock) after this.
         HELD.set(HELD.get() - self.n);
         // POROPLAST_CORES_LOG=FILE: a line per hold (test, cores, seconds), to see which tests
-        // take the machine's time (ci/run-tests.sh --profile).
+        // take the machine's time (`POROPLAST_CORES_LOG=FILE ci/run-tests.sh`, docs/developer.md).
         if let (Ok(log), true) = (std::env::var("POROPLAST_CORES_LOG"), self.n > 0) {
             use std::io::Write;
             let test = std::thread::current().name().unwrap_or("?").to_string();
