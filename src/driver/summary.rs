@@ -4,8 +4,8 @@
 //! pressure of every step (`observe::pressure_peak`, carried by the checkpoints):
 //!
 //! - the run: scene, steps, end time, wall time, the accuracy class it announced;
-//! - with plates: the protocol's phases (ramp to t_ramp, hold to t_end − t_ramp, release to
-//!   t_end), the peak force and its time, the force at the end of the hold, the time the upper
+//! - with plates: the protocol's phases (the ends of `plates.ramp`, `hold`, `release`), the peak
+//!   force and its time, the force at the end of the hold, the time the upper
 //!   plate leaves the aggregate on release (the first step of the release without upper
 //!   contact), the final H/W; forces in mg, as in `history.csv` (mg-force under g = 9.81 m/s²,
 //!   full-sphere equivalents), and in µN;
@@ -20,33 +20,18 @@ use crate::io::observable::{self, Columns};
 use crate::io::{fmt_real, rundir};
 use crate::observe::experiment::G;
 use crate::observe::pressure_peak::PressurePeak;
-use crate::scene::PlatesSpec;
+use crate::scene::Protocol;
 use std::fmt::Write;
 use std::path::Path;
 
 /// The file's name in the run directory.
 pub(crate) const FILE: &str = "summary.toml";
 
-/// The plate protocol's phases (s): the ramp ends at `ramp_end`, the hold at `hold_end`, the
-/// release at `release_end`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Phases {
-    pub ramp_end: f64,
-    pub hold_end: f64,
-    pub release_end: f64,
-}
-
-impl Phases {
-    pub(crate) fn of(plates: &PlatesSpec) -> Phases {
-        let [ramp_end, hold_end, release_end] = plates.protocol().ends();
-        Phases { ramp_end, hold_end, release_end }
-    }
-}
-
 /// What the plates experiment's history says (forces in mg).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct PlateSummary {
-    pub phases: Phases,
+    /// The plates' phases (the scene's; their ends: `Protocol::ends`).
+    pub protocol: Protocol,
     pub peak_force: f64,
     pub peak_time: f64,
     /// NaN if the run ended before the hold did.
@@ -58,7 +43,8 @@ pub(crate) struct PlateSummary {
 
 impl PlateSummary {
     /// From a history with the experiment's columns (None without them, or without rows).
-    pub(crate) fn of(h: &Columns, phases: Phases) -> Option<PlateSummary> {
+    pub(crate) fn of(h: &Columns, protocol: Protocol) -> Option<PlateSummary> {
+        let [_, hold_end, _] = protocol.ends();
         let (t, f) = (h.get("time")?, h.get("force_total_mg")?);
         let upper = h.get("contact_nodes_upper")?;
         // The first largest force.
@@ -66,12 +52,12 @@ impl PlateSummary {
             Some(b) if f[b] >= f[i] => Some(b),
             _ => Some(i),
         })?;
-        let opening = (0..t.len().min(upper.len())).find(|&i| t[i] > phases.hold_end && upper[i] == 0.0);
+        let opening = (0..t.len().min(upper.len())).find(|&i| t[i] > hold_end && upper[i] == 0.0);
         Some(PlateSummary {
-            phases,
+            protocol,
             peak_force: f[peak],
             peak_time: t[peak],
-            hold_end_force: observable::at_time(h, "force_total_mg", phases.hold_end),
+            hold_end_force: observable::at_time(h, "force_total_mg", hold_end),
             opening_time: opening.map(|i| t[i]),
             final_height_over_width: observable::observe(h, "last:height/width"),
         })
@@ -142,9 +128,10 @@ impl Summary {
         if let Some(p) = &self.plates {
             s.push_str("\n[plates]\n");
             entry(&mut s, "g_m_s2", G, "m/s², the g of the mg: 1 mg = g µN");
-            entry(&mut s, "ramp_end_s", p.phases.ramp_end, "s, end of the compression ramp (plates.ramp)");
-            entry(&mut s, "hold_end_s", p.phases.hold_end, "s, end of the hold (plates.ramp + plates.hold)");
-            entry(&mut s, "release_end_s", p.phases.release_end, "s, end of the release (+ plates.release)");
+            let [ramp_end, hold_end, release_end] = p.protocol.ends();
+            entry(&mut s, "ramp_end_s", ramp_end, "s, end of the compression ramp (plates.ramp)");
+            entry(&mut s, "hold_end_s", hold_end, "s, end of the hold (plates.ramp + plates.hold)");
+            entry(&mut s, "release_end_s", release_end, "s, end of the release (+ plates.release)");
             entry(&mut s, "peak_force_mg", p.peak_force, "mg, the largest force");
             entry(&mut s, "peak_force_uN", micro_newton(p.peak_force), "µN");
             entry(&mut s, "peak_force_time_s", p.peak_time, "s, the step of the largest force");
@@ -186,7 +173,7 @@ impl Summary {
                     "; {} mg = {} µN at the end of the hold (t = {} s)",
                     g(f),
                     g(micro_newton(f)),
-                    g(p.phases.hold_end)
+                    g(p.protocol.ends()[1])
                 );
             }
             lines.push(l);
@@ -240,7 +227,7 @@ impl<'w> Run<'w> {
                 t,
                 wall_s,
                 accuracy: super::resolved::accuracy_class(s, family),
-                plates: s.plates.as_ref().and_then(|p| PlateSummary::of(&h, Phases::of(p))),
+                plates: s.plates.as_ref().and_then(|p| PlateSummary::of(&h, p.protocol())),
                 pressure,
             };
             rundir::write_text(dir, FILE, &summary.toml())?;
@@ -261,7 +248,7 @@ mod tests {
     }
 
     /// A protocol with exact answers: ramp to 2 s, hold to 6 s, release to 8 s.
-    fn protocol() -> (Columns, Phases) {
+    fn protocol() -> (Columns, Protocol) {
         let h = history(&[
             ("time", &[0.0, 1.0, 2.0, 4.0, 5.0, 7.0, 7.5, 9.0]),
             ("force_total_mg", &[0.0, 2.0, 4.0, 3.0, 2.5, 1.0, 0.0, 0.0]),
@@ -269,7 +256,7 @@ mod tests {
             ("height", &[200.0, 180.0, 140.0, 140.0, 140.0, 150.0, 160.0, 190.0]),
             ("width", &[200.0, 210.0, 230.0, 230.0, 230.0, 220.0, 210.0, 200.0]),
         ]);
-        (h, Phases { ramp_end: 2.0, hold_end: 6.0, release_end: 8.0 })
+        (h, Protocol { ramp: 2.0, hold: 4.0, release: 2.0 })
     }
 
     #[test]

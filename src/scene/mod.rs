@@ -39,7 +39,7 @@ pub use material::{HolmesMowSpec, Material, PenaltySpec, RemodellingSpec, SolidS
 pub use mesh::{Geometry, Grading, MeshSpec};
 pub use numerics::{Element, FemSpec, SolverSpec};
 pub use observe::{Probe, ProbeField, Verification};
-pub use plates::{DrainageGap, PlatesSpec};
+pub use plates::{DrainageGap, PlatesSpec, Protocol};
 pub use time::{InitialSpec, OutputSpec, TimeSpec};
 
 use serde::{Deserialize, Serialize};
