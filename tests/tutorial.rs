@@ -65,17 +65,10 @@ fn the_tutorial_runs_as_written() {
     let mut printed = String::new();
     for (i, b) in all.iter().enumerate() {
         if b.lang == "sh" && !b.skip {
-            let out = Command::new("bash")
-                .args(["-e", "-o", "pipefail", "-c", &b.text])
+            let out = mpi_env(Command::new("bash").args(["-e", "-o", "pipefail", "-c", &b.text]))
                 .current_dir(&dir)
                 .env("POROPLAST_BIN", dir.join("target/release/poroplast"))
-                .env("POROPLAST_CACHE", cache_dir())
-                .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-                .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-                .env("OMPI_MCA_btl", "self,vader")
-                .env("OMPI_MCA_pml", "ob1")
                 .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
-                .env("OMPI_MCA_hwloc_base_binding_policy", NO_BINDING)
                 .output()
                 .expect("bash");
             printed = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));

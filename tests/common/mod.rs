@@ -94,16 +94,21 @@ pub fn poroplast(np: usize, args: &[&str]) -> Output {
         c.args(["-n", &np.to_string(), "--oversubscribe"]).arg(env!("CARGO_BIN_EXE_poroplast"));
         c
     };
-    cmd.args(args);
-    cmd.env("OMPI_ALLOW_RUN_AS_ROOT", "1").env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
-    cmd.env("OMPI_MCA_btl", "self,vader").env("OMPI_MCA_pml", "ob1");
+    mpi_env(cmd.args(args));
     // After a rank exits non-zero, mpirun waits this long (1 s by default, twice) before killing
     // the others, which have finished too: a failing case then costs 2 s instead of 0.2 s. The
     // tests that stop runs by signals launch mpirun themselves and keep the default.
     cmd.env("OMPI_MCA_odls_base_sigkill_timeout", "0");
-    cmd.env("OMPI_MCA_hwloc_base_binding_policy", NO_BINDING);
-    cmd.env("POROPLAST_CACHE", cache_dir());
     cmd.output().expect("mpirun could not be started")
+}
+
+/// The environment of the tests' MPI launches: Open MPI as root, shared memory, ranks unbound
+/// (see [`NO_BINDING`]), and the shared mesh cache.
+pub fn mpi_env(cmd: &mut Command) -> &mut Command {
+    cmd.env("OMPI_ALLOW_RUN_AS_ROOT", "1").env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
+    cmd.env("OMPI_MCA_btl", "self,vader").env("OMPI_MCA_pml", "ob1");
+    cmd.env("OMPI_MCA_hwloc_base_binding_policy", NO_BINDING);
+    cmd.env("POROPLAST_CACHE", cache_dir())
 }
 
 /// Runs and panics with both output streams if the run failed.
