@@ -58,6 +58,7 @@ fn main() {
             eprintln!("poroplast: note: could not restart with OPENBLAS_CORETYPE={kernel} ({err}); continuing");
         }
     }
+    singleton_defaults();
     let Some(universe) = mpi::initialize() else {
         eprintln!("poroplast: MPI could not be initialised");
         std::process::exit(1);
@@ -103,4 +104,19 @@ fn main() {
     drop(world);
     drop(universe);
     std::process::exit(code);
+}
+
+/// Started without a launcher (no rank in the environment), this process is an MPI singleton:
+/// Open MPI then forks a daemon and probes the network transports, 0.2 s of a run's start, for a
+/// job that only ever talks to itself. Unless the user chose otherwise: no daemon, shared memory.
+fn singleton_defaults() {
+    const LAUNCHED: [&str; 3] = ["OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"];
+    if LAUNCHED.iter().any(|v| std::env::var_os(v).is_some()) {
+        return;
+    }
+    for (key, value) in [("OMPI_MCA_ess_singleton_isolated", "1"), ("OMPI_MCA_pml", "ob1")] {
+        if std::env::var_os(key).is_none() {
+            std::env::set_var(key, value);
+        }
+    }
 }
