@@ -62,7 +62,10 @@ impl<const N: usize> Dual<N> {
     /// f(a) with f' = df at a.
     #[inline]
     fn chain(self, f: f64, df: f64) -> Self {
-        Dual { re: f, d: self.d.map(|x| x * df) }
+        let mut out = self;
+        out.re = f;
+        out.d.iter_mut().for_each(|x| *x *= df);
+        out
     }
 }
 
@@ -70,14 +73,20 @@ impl<const N: usize> Add for Dual<N> {
     type Output = Self;
     #[inline]
     fn add(self, o: Self) -> Self {
-        Dual { re: self.re + o.re, d: std::array::from_fn(|i| self.d[i] + o.d[i]) }
+        let mut out = self;
+        out.re += o.re;
+        out.d.iter_mut().zip(&o.d).for_each(|(x, y)| *x += y);
+        out
     }
 }
 impl<const N: usize> Sub for Dual<N> {
     type Output = Self;
     #[inline]
     fn sub(self, o: Self) -> Self {
-        Dual { re: self.re - o.re, d: std::array::from_fn(|i| self.d[i] - o.d[i]) }
+        let mut out = self;
+        out.re -= o.re;
+        out.d.iter_mut().zip(&o.d).for_each(|(x, y)| *x -= y);
+        out
     }
 }
 impl<const N: usize> Mul for Dual<N> {
@@ -86,7 +95,10 @@ impl<const N: usize> Mul for Dual<N> {
     #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline]
     fn mul(self, o: Self) -> Self {
-        Dual { re: self.re * o.re, d: std::array::from_fn(|i| self.d[i] * o.re + self.re * o.d[i]) }
+        let mut out = self;
+        out.re = self.re * o.re;
+        out.d.iter_mut().zip(&o.d).for_each(|(x, y)| *x = *x * o.re + self.re * y);
+        out
     }
 }
 impl<const N: usize> Div for Dual<N> {
@@ -97,14 +109,20 @@ impl<const N: usize> Div for Dual<N> {
     fn div(self, o: Self) -> Self {
         let inv = 1.0 / o.re;
         let q = self.re * inv;
-        Dual { re: q, d: std::array::from_fn(|i| (self.d[i] - q * o.d[i]) * inv) }
+        let mut out = self;
+        out.re = q;
+        out.d.iter_mut().zip(&o.d).for_each(|(x, y)| *x = (*x - q * y) * inv);
+        out
     }
 }
 impl<const N: usize> Neg for Dual<N> {
     type Output = Self;
     #[inline]
     fn neg(self) -> Self {
-        Dual { re: -self.re, d: self.d.map(|x| -x) }
+        let mut out = self;
+        out.re = -out.re;
+        out.d.iter_mut().for_each(|x| *x = -*x);
+        out
     }
 }
 
@@ -133,7 +151,10 @@ impl<const N: usize> Scalar for Dual<N> {
     }
     #[inline]
     fn scale(self, s: f64) -> Self {
-        Dual { re: self.re * s, d: self.d.map(|x| x * s) }
+        let mut out = self;
+        out.re *= s;
+        out.d.iter_mut().for_each(|x| *x *= s);
+        out
     }
 }
 
@@ -146,22 +167,45 @@ pub fn m_cst<T: Scalar>(a: &[[f64; 3]; 3]) -> M3<T> {
 
 #[inline]
 pub fn m_mul<T: Scalar>(a: &M3<T>, b: &M3<T>) -> M3<T> {
-    std::array::from_fn(|i| std::array::from_fn(|j| a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j]))
+    // Written into a matrix, not built by `array::from_fn`: for duals that copied each entry (a
+    // third of a remodelling run's time went to memmove).
+    let mut c = *a;
+    for (ci, ai) in c.iter_mut().zip(a) {
+        for (j, cij) in ci.iter_mut().enumerate() {
+            *cij = ai[0] * b[0][j] + ai[1] * b[1][j] + ai[2] * b[2][j];
+        }
+    }
+    c
 }
 
 #[inline]
 pub fn m_add<T: Scalar>(a: &M3<T>, b: &M3<T>) -> M3<T> {
-    std::array::from_fn(|i| std::array::from_fn(|j| a[i][j] + b[i][j]))
+    let mut c = *a;
+    for (ci, bi) in c.iter_mut().zip(b) {
+        for (x, y) in ci.iter_mut().zip(bi) {
+            *x = *x + *y;
+        }
+    }
+    c
 }
 
 #[inline]
 pub fn m_scale<T: Scalar>(a: &M3<T>, s: T) -> M3<T> {
-    a.map(|r| r.map(|x| x * s))
+    let mut c = *a;
+    c.iter_mut().flatten().for_each(|x| *x = *x * s);
+    c
 }
 
 #[inline]
 pub fn m_transpose<T: Scalar>(a: &M3<T>) -> M3<T> {
-    std::array::from_fn(|i| std::array::from_fn(|j| a[j][i]))
+    let mut c = *a;
+    for i in 0..3 {
+        for j in 0..i {
+            c[i][j] = a[j][i];
+            c[j][i] = a[i][j];
+        }
+    }
+    c
 }
 
 #[inline]
@@ -220,8 +264,11 @@ pub fn m_exp<T: Scalar>(a: &M3<T>) -> M3<T> {
     let id = m_cst::<T>(&[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
     let mut e = id;
     for k in (1..=m).rev() {
-        let xe = m_mul(&x, &e);
-        e = m_add(&id, &m_scale(&xe, T::cst(1.0 / k as f64)));
+        e = m_mul(&x, &e);
+        e.iter_mut().flatten().for_each(|v| *v = v.scale(1.0 / k as f64));
+        for (i, row) in e.iter_mut().enumerate() {
+            row[i] = row[i] + T::cst(1.0);
+        }
     }
     for _ in 0..s {
         e = m_mul(&e, &e);
