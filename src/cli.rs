@@ -107,6 +107,23 @@ pub enum Command {
         #[arg(last = true, allow_hyphen_values = true)]
         petsc: Vec<String>,
     },
+    /// Run a poroplast command on N MPI ranks under `mpirun`, stopped like one process.
+    ///
+    /// `poroplast mpirun -n 4 run my.toml` is `mpirun -n 4 poroplast run my.toml`, except that
+    /// Ctrl-C (SIGINT), SIGTERM and SIGUSR1 reach the ranks as a stop: they write a checkpoint and
+    /// the exit code is 75 (continue with `poroplast resume DIR`). Open MPI's `mpirun` itself exits 1
+    /// on them and kills the ranks a second later. `mpirun` is `$POROPLAST_MPIRUN` if set.
+    Mpirun {
+        /// Number of ranks.
+        #[arg(short = 'n', long = "np", value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+        np: u32,
+        /// An option for `mpirun` itself (repeatable; one word each): `--mpirun-arg=--bind-to --mpirun-arg=core`.
+        #[arg(long = "mpirun-arg", value_name = "WORD", allow_hyphen_values = true)]
+        mpirun_args: Vec<String>,
+        /// The poroplast command and its arguments: run, resume, sweep, check.
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true, required = true, value_name = "COMMAND")]
+        command: Vec<String>,
+    },
     /// List the scenes shipped in the binary.
     Scenes {
         /// Print every scene key instead (unit, default, valid range, description) as Markdown:

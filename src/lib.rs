@@ -12,6 +12,7 @@ pub(crate) mod fem;
 pub(crate) mod files;
 pub(crate) mod hash;
 pub mod io;
+pub mod launch;
 pub(crate) mod material;
 pub(crate) mod mesh;
 pub(crate) mod observe;

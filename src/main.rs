@@ -20,6 +20,16 @@ fn main() {
         }
         return;
     }
+    if let Command::Mpirun { np, mpirun_args, command } = &cli.command {
+        // No MPI here: the ranks are mpirun's.
+        match poroplast::launch::mpirun(*np, mpirun_args, command) {
+            Ok(code) => std::process::exit(code),
+            Err(e) => {
+                eprintln!("poroplast: error: {e}");
+                std::process::exit(1);
+            }
+        }
+    }
     if let Command::Show { name, explain, set } = &cli.command {
         if *explain {
             // No MPI: loading a scene is serial.
@@ -79,7 +89,7 @@ fn main() {
             sweep::sweep(&world, &args).map(|dir| format!("summary: {}", dir.join("summary.csv").display()))
         }
         // Answered above, before MPI.
-        Command::Scenes { .. } | Command::Show { .. } => return,
+        Command::Scenes { .. } | Command::Show { .. } | Command::Mpirun { .. } => return,
     };
     let code = match result {
         Ok(msg) => {

@@ -327,16 +327,8 @@ fn constant_quarter() -> &'static Path {
 
 /// A full sphere made of the quarter mesh mirrored across both symmetry planes, with the rigid
 /// modes locked on the axis and at (0, R, R), gives the quarter model's results (reported for
-/// the full sphere) to solver tolerance: symmetry reduction and rigid-mode locks are exact.
-/// Through the ramp (contact spreading); the slow tier's `quarter_and_full_sphere_agree` runs
-/// the hold, the release and the rest too.
-#[test]
-fn quarter_and_full_sphere_agree_through_the_ramp() {
-    let ramp: Vec<(&str, &str)> = MIRRORED.iter().copied().chain([("t_end = 12.0", "t_end = 2.0")]).collect();
-    assert_full_matches_quarter("plates-full-ramp", &ramp, &[]);
-}
-
-/// [`quarter_and_full_sphere_agree_through_the_ramp`] through the whole coarse experiment.
+/// the full sphere) to solver tolerance: symmetry reduction and rigid-mode locks are exact. By
+/// default the mirrored sphere runs with free rigid modes through the ramp (below).
 #[test]
 #[ignore = "slow tier: the full sphere through the whole coarse experiment (9 s)"]
 fn quarter_and_full_sphere_agree() {
@@ -611,7 +603,7 @@ fn non_elliptic_solid_fails_promptly_naming_the_cause() {
             "--set",
             "time.t_end=3",
             "--set",
-            "time.dt_min=1e-3",
+            "time.dt_min=1e-2",
             "--set",
             "output.fields=false",
             "--out",
@@ -627,7 +619,7 @@ fn non_elliptic_solid_fails_promptly_naming_the_cause() {
     let stderr = String::from_utf8_lossy(&bad.stderr);
     assert!(!bad.status.success());
     let line = stderr.lines().find(|l| l.starts_with("poroplast: error:")).expect("an error line");
-    assert!(line.contains("below time.dt_min = 1.000e-3 s"), "{line}");
+    assert!(line.contains("below time.dt_min = 1.000e-2 s"), "{line}");
     assert!(line.contains("loses strong ellipticity beyond 11.8% isochoric compression"), "{line}");
     // The run directory says why it stopped, and keeps what was computed.
     let failed = dir.join("nu045");

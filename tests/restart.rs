@@ -44,16 +44,7 @@ fn spawn_with(np: usize, out: &Path, extra: &[&str]) -> Child {
         c.args(["-n", &np.to_string(), "--oversubscribe", env!("CARGO_BIN_EXE_poroplast")]);
         c
     };
-    cmd.args(args(out, extra))
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_btl", "self,vader")
-        .env("OMPI_MCA_pml", "ob1")
-        .env("OMPI_MCA_hwloc_base_binding_policy", NO_BINDING)
-        .env("POROPLAST_CACHE", cache_dir())
-        .process_group(0)
-        .spawn()
-        .expect("the run could not be started")
+    mpi_env(cmd.args(args(out, extra))).process_group(0).spawn().expect("the run could not be started")
 }
 
 /// The uninterrupted run on 1 rank that the killed and stopped runs are compared with, run once
@@ -85,7 +76,6 @@ fn wait_for_checkpoint(child: &mut Child, out: &Path, step: usize) {
     }
 }
 
-/// Sends `sig` to the process group of `child`.
 /// The step of the newest checkpoint of a run directory.
 fn newest_checkpoint(out: &Path) -> usize {
     std::fs::read_dir(out.join("checkpoints"))
@@ -98,6 +88,7 @@ fn newest_checkpoint(out: &Path) -> usize {
         .expect("a checkpoint")
 }
 
+/// Sends `sig` to the process group of `child`.
 fn signal_group(child: &Child, sig: &str) {
     let ok = Command::new("kill").args([sig, "--", &format!("-{}", child.id())]).status().unwrap().success();
     assert!(ok, "kill {sig} failed");
@@ -310,6 +301,29 @@ fn ctrl_c_to_mpirun_stops_the_ranks_with_a_checkpoint() {
     let step: usize = why["stopped by a signal after step ".len()..].split(' ').next().unwrap().parse().unwrap();
     assert_eq!(newest_checkpoint(&stopped), step, "the checkpoint of the step it stopped at");
     assert_eq!(status.code(), Some(1), "Open MPI's mpirun exits 1 after SIGINT, whatever the ranks return");
+}
+
+/// Ctrl-C to `poroplast mpirun`: as a terminal sends it, to the launcher's process group (mpirun
+/// has its own). The ranks checkpoint and stop, and the exit code is theirs, 75, as on one rank.
+#[test]
+fn ctrl_c_to_poroplast_mpirun_stops_with_75_and_a_checkpoint() {
+    let _cores = cores(2);
+    let d = scratch("restart_sigint_launcher");
+    let stopped = d.join("stopped");
+    let mut launch: Vec<String> = ["mpirun", "-n", "2", "--mpirun-arg=--oversubscribe"].map(String::from).to_vec();
+    launch.extend(args(&stopped, &["time.t_end=30"]));
+    let mut child = mpi_env(Command::new(env!("CARGO_BIN_EXE_poroplast")).args(&launch))
+        .process_group(0)
+        .spawn()
+        .expect("poroplast mpirun could not be started");
+    wait_for_checkpoint(&mut child, &stopped, 10);
+    signal_group(&child, "-INT");
+    let status = child.wait().unwrap();
+    let why = std::fs::read_to_string(stopped.join("status.txt")).unwrap();
+    assert!(why.starts_with("stopped by a signal after step"), "{why}");
+    let step: usize = why["stopped by a signal after step ".len()..].split(' ').next().unwrap().parse().unwrap();
+    assert_eq!(newest_checkpoint(&stopped), step, "the checkpoint of the step it stopped at");
+    assert_eq!(status.code(), Some(75), "poroplast mpirun's exit code after Ctrl-C");
 }
 
 #[test]
