@@ -288,7 +288,7 @@ fn equal_order_jacobian_matches_central_differences() {
 /// full sphere (direct preset) needs one step cut near the end of the release that the quarter
 /// does not (measured: 9.49 → 10 s split in three), so the rows no longer pair up; what these
 /// runs check, the symmetry reduction and the rigid modes, does not depend on the stabilisation.
-fn assert_full_matches_quarter(name: &str, full_edits: &[(&str, &str)], petsc: &[&str]) {
+fn assert_full_matches_quarter(name: &str, quarter: &Path, full_edits: &[(&str, &str)], petsc: &[&str]) {
     let dir = scratch(name);
     let full_dir = dir.join("full-scene");
     std::fs::create_dir_all(&full_dir).unwrap();
@@ -296,7 +296,7 @@ fn assert_full_matches_quarter(name: &str, full_edits: &[(&str, &str)], petsc: &
     let full = scene_variant("reference", &full_dir, &edits);
     // On 1 rank: the quarter's 2 ranks take the same steps (meridian_one_and_two_ranks_agree).
     run_in(1, &full, &dir.join("full"), petsc);
-    let (hq, hf) = (History::read(constant_quarter()), History::read(&dir.join("full")));
+    let (hq, hf) = (History::read(quarter), History::read(&dir.join("full")));
     // The full run may end early (a shortened run): its rows are the quarter's first ones.
     let n = hf.rows.len();
     assert_eq!(hq.col("time")[..n], hf.col("time")[..], "the full sphere's steps differ from the quarter's");
@@ -313,16 +313,22 @@ fn assert_full_matches_quarter(name: &str, full_edits: &[(&str, &str)], petsc: &
 /// The stabilisation at full weight (see [`assert_full_matches_quarter`]).
 const CONSTANT: (&str, &str) = ("stabilisation_fade = 0.03", "stabilisation_fade = 1e9");
 
-/// The coarse quarter with the constant stabilisation, run once per test process: the run
-/// directory (every full-sphere comparison reads it).
-fn constant_quarter() -> &'static Path {
+/// The coarse quarter with the constant stabilisation through the ramp (to 2 s), run once per
+/// test process: the run directory (the default tier's full-sphere comparisons read it).
+fn constant_quarter_ramp() -> &'static Path {
     static RUN: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
-    RUN.get_or_init(|| {
-        let dir = scratch("plates-constant-quarter");
-        let q = coarse_scene(&dir, &[CONSTANT]);
-        run_in(2, &q, &dir.join("quarter"), &[]);
-        dir.join("quarter")
-    })
+    RUN.get_or_init(|| constant_quarter("plates-constant-quarter-ramp", &[RAMP]))
+}
+
+/// Ends the coarse experiment with its ramp.
+const RAMP: (&str, &str) = ("t_end = 12.0", "t_end = 2.0");
+
+/// The coarse quarter with the constant stabilisation and `edits`, on 2 ranks, in `name`.
+fn constant_quarter(name: &str, edits: &[(&str, &str)]) -> std::path::PathBuf {
+    let dir = scratch(name);
+    let q = coarse_scene(&dir, &[&[CONSTANT][..], edits].concat());
+    run_in(2, &q, &dir.join("quarter"), &[]);
+    dir.join("quarter")
 }
 
 /// A full sphere made of the quarter mesh mirrored across both symmetry planes, with the rigid
@@ -332,7 +338,8 @@ fn constant_quarter() -> &'static Path {
 #[test]
 #[ignore = "slow tier: the full sphere through the whole coarse experiment (9 s)"]
 fn quarter_and_full_sphere_agree() {
-    assert_full_matches_quarter("plates-full", MIRRORED, &[]);
+    let quarter = constant_quarter("plates-constant-quarter", &[]);
+    assert_full_matches_quarter("plates-full", &quarter, MIRRORED, &[]);
 }
 
 /// The same mirrored full sphere with only the poles held in x and y: the rotation about z is
@@ -351,14 +358,11 @@ fn full_sphere_with_free_rigid_modes_agrees() {
     ];
     // The direct preset's lock through the ramp, as the AMG's below (the hold and the release
     // are the locked sphere's, in the slow tier).
-    let direct: Vec<(&str, &str)> = free.iter().copied().chain([("t_end = 12.0", "t_end = 2.0")]).collect();
-    assert_full_matches_quarter("plates-full-free", &direct, &[]);
-    let amg: Vec<(&str, &str)> = free
-        .iter()
-        .copied()
-        .chain([("[output]", "[solver]\npreset = \"fieldsplit\"\n\n[output]"), ("t_end = 12.0", "t_end = 2.0")])
-        .collect();
-    assert_full_matches_quarter("plates-full-free-amg", &amg, &[]);
+    let direct: Vec<(&str, &str)> = free.iter().copied().chain([RAMP]).collect();
+    assert_full_matches_quarter("plates-full-free", constant_quarter_ramp(), &direct, &[]);
+    let amg: Vec<(&str, &str)> =
+        free.iter().copied().chain([("[output]", "[solver]\npreset = \"fieldsplit\"\n\n[output]"), RAMP]).collect();
+    assert_full_matches_quarter("plates-full-free-amg", constant_quarter_ramp(), &amg, &[]);
 }
 
 /// The active-set Newton (full-size system, `solver::active_set`) against PETSc's own
@@ -449,7 +453,7 @@ const REMODELLING: (&str, &str) =
 /// `np` ranks.
 fn jacobian_check(np: usize, name: &str, extra: &[(&str, &str)], eps: &str) -> (f64, f64, usize) {
     let dir = scratch(name);
-    let mut edits = vec![("t_end = 12.0", "t_end = 2.0")];
+    let mut edits = vec![RAMP];
     edits.extend(extra);
     let sc = coarse_scene(&dir, &edits);
     let e = jacobian_errors(&run_in(np, &sc, &dir.join("run"), &["-poroplast_check_jacobian", eps]));
@@ -513,7 +517,7 @@ fn jacobian_matches_central_differences_with_remodelling() {
 /// they are well below the first), and the residual history of the longest such solve.
 fn newton_orders(name: &str, extra: &[(&str, &str)]) -> (Vec<f64>, Vec<f64>) {
     let dir = scratch(name);
-    let mut edits = vec![("t_end = 12.0", "t_end = 2.0")];
+    let mut edits = vec![RAMP];
     edits.extend(extra);
     let sc = coarse_scene(&dir, &edits);
     let out = run_in(

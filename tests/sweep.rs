@@ -216,7 +216,7 @@ fn each_case_runs_once_when_the_groups_end_at_different_times() {
     );
     let study = d.join("once.toml");
     std::fs::write(&study, text).unwrap();
-    for round in 0..4 {
+    for round in 0..2 {
         let root = d.join(format!("sweep-{round}"));
         let stdout = ok(&sweep(2, &study, &root, 1), "the sweep");
         for i in 0..4 {
