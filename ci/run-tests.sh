@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
 # The default tier's tests: everything built by one cargo call (so cargo packs the compiles on
-# the cores), then every test binary side by side: the integration tests each with
-# --test-threads=$(nproc), the unit tests on one thread. The MPI tests share the machine's cores
+# the cores), then every test binary side by side: the integration tests (one binary,
+# tests/integration.rs) with 8 test threads per core, the unit tests on one thread. The MPI tests share the machine's cores
 # through tests/common::cores (a lock file per core): no more MPI ranks run than there are cores,
 # and a binary's last long test no longer leaves a core idle while the next binary waits. Each binary's output is printed whole
 # as it ends; the exit status is non-zero if any failed. Extra arguments go to every test binary
 # (e.g. a test name filter). Called by ci/test.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# "KIND PATH" per test executable: lib/bin (unit tests) or test (integration tests).
-built=$(cargo test --release --lib --bins --tests --no-run --message-format=json \
+# "KIND PATH" per test executable: lib/bin (unit tests) or test (integration tests). The default
+# targets: the io_fields example too, built with the rest rather than by its test.
+built=$(cargo test --release --no-run --message-format=json \
   | python3 -c '
 import json, sys
 for line in sys.stdin:
@@ -23,7 +24,8 @@ declare -A name_of
 while read -r kind exe; do
   name=$(basename "$exe" | sed 's/-[0-9a-f]*$//')
   if [ "$kind" = test ]; then
-    "$exe" --test-threads="$(nproc)" "$@" >"$out/$name.log" 2>&1 &
+    # Many tests at once: most wait for cores (tests/common::cores) or for Python and mpirun.
+    "$exe" --test-threads="$((8 * $(nproc)))" "$@" >"$out/$name.log" 2>&1 &
   else
     # The unit tests (no MPI, no cores held) on one thread, in the gaps the MPI tests leave.
     name="$name ($kind)"

@@ -4,8 +4,7 @@
 //! drainage) against central differences, 1 vs 2 ranks, and the meridian experiment against the
 //! 3-D quarter's.
 
-mod common;
-use common::*;
+use crate::common::*;
 use std::path::Path;
 
 const AXI: &str = "mesh.geometry=axisymmetric";

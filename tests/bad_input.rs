@@ -1,8 +1,7 @@
 //! Bad input gets one clear message naming the problem and a non-zero exit, and never touches
 //! an earlier run's results (checked byte for byte, even with --force).
 
-mod common;
-use common::*;
+use crate::common::*;
 use std::path::Path;
 
 /// All files under a directory (recursively) with their contents.

@@ -8,7 +8,6 @@
 //! `mpirun`); `POROPLAST_NO_PARAVIEW=1` skips the ParaView check; `POROPLAST_REQUIRE_PARAVIEW=1` (CI)
 //! makes a missing `pvpython` a failure.
 
-mod common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::sync::OnceLock;
@@ -92,7 +91,7 @@ fn out_dir(name: &str) -> PathBuf {
 }
 
 fn mpirun(ranks: usize, dir: &Path, args: &[&str]) -> Output {
-    let _cores = common::cores(ranks);
+    let _cores = crate::common::cores(ranks);
     let mut c = Command::new("mpirun");
     c.args(["--oversubscribe", "-n", &ranks.to_string()])
         .arg(example())
@@ -102,7 +101,7 @@ fn mpirun(ranks: usize, dir: &Path, args: &[&str]) -> Output {
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         // No 2 s wait before the ranks of a failed launch are killed (tests/common/mod.rs).
         .env("OMPI_MCA_odls_base_sigkill_timeout", "0")
-        .env("OMPI_MCA_hwloc_base_binding_policy", common::NO_BINDING);
+        .env("OMPI_MCA_hwloc_base_binding_policy", crate::common::NO_BINDING);
     run_limited(c, Duration::from_secs(120))
 }
 

@@ -6,8 +6,7 @@
 //! Jacobian against central differences, and quadratic Newton convergence; and the same protocol,
 //! balances and Jacobian with equal-order P1–P1 (contact on the vertices).
 
-mod common;
-use common::*;
+use crate::common::*;
 use std::path::Path;
 
 /// Edits that turn the shipped reference scene into the coarse, short test scene.

@@ -4,8 +4,7 @@
 //! B_p = diag(b^-½, b^-½, b), and b(t) solves the scalar ODE ḃ = −2 γp b (dev Σ)_zz, integrated
 //! with classical RK4 at a step small enough that halving it changes nothing to 1e-10.
 
-mod common;
-use common::*;
+use crate::common::*;
 use std::path::Path;
 
 /// Table 1 with (56): α0 = (1 − ν) µ / (2 (1 − 2ν)), α1 = (1 − 3ν)/(1 − ν), α2 = ν/(1 − ν), α3 = 1.

@@ -5,8 +5,7 @@
 //! The scene: the remodelling experiment on a coarse mesh, to t = 8 s (the ramp and
 //! the start of the hold), checkpoints every 5 steps.
 
-mod common;
-use common::*;
+use crate::common::*;
 use std::os::unix::process::CommandExt;
 use std::path::Path;
 use std::process::{Child, Command};

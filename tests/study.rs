@@ -4,8 +4,7 @@
 //! scripts' Python unit tests (`scripts/tests`: Richardson, the references reader, the study
 //! file and summary rows, the field observables), which need no solver.
 
-mod common;
-use common::*;
+use crate::common::*;
 use std::process::Command;
 
 fn scripts_dir() -> std::path::PathBuf {

@@ -5,8 +5,7 @@
 //! anything is written. The scene: the axisymmetric reference on a coarse meridian, to t = 3 s
 //! (part of the ramp).
 
-mod common;
-use common::*;
+use crate::common::*;
 use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::Command;

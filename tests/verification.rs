@@ -4,8 +4,7 @@
 //! Error bounds are those measured on the shipped (coarse) meshes with a small margin; the
 //! refinement studies (`scripts/study.py --orders`, docs/verification.md) show them shrinking.
 
-mod common;
-use common::*;
+use crate::common::*;
 
 fn max_err_after(h: &History, num: &str, exact: &str, t0: f64) -> f64 {
     let (t, a, b) = (h.col("time"), h.col(num), h.col(exact));

@@ -1,0 +1,24 @@
+//! The integration tests, one module per file, in one test binary (one link, `tests/common`
+//! compiled once): `cargo test --release --test integration plates::` runs one file's.
+//! `tests/architecture.rs`, `tests/petsc_layer.rs` and `tests/tutorial.rs` stay binaries of
+//! their own (no MPI launch; the tutorial in the slow tier).
+
+#[path = "axisymmetric.rs"]
+mod axisymmetric;
+#[path = "bad_input.rs"]
+mod bad_input;
+mod common;
+#[path = "io_fields.rs"]
+mod io_fields;
+#[path = "plates.rs"]
+mod plates;
+#[path = "remodelling.rs"]
+mod remodelling;
+#[path = "restart.rs"]
+mod restart;
+#[path = "study.rs"]
+mod study;
+#[path = "sweep.rs"]
+mod sweep;
+#[path = "verification.rs"]
+mod verification;
