@@ -1,0 +1,34 @@
+#!/usr/bin/env python3
+"""The paper's claims table: every statement of Di Stefano et al. (2022) about its simulations,
+one row each (data/claims.csv), with our converged numbers (data/references.csv) and the
+verdict of the written rule.
+
+    python3 scripts/claims.py                              # print the table
+    python3 scripts/claims.py --write docs/reproduction.md # replace the table in that file
+    python3 scripts/claims.py --rule                       # print the verdict rule
+"""
+import argparse
+from pathlib import Path
+
+from poroplast_tools import claims
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--write", metavar="FILE", help="replace the generated table in FILE (between its markers)")
+    ap.add_argument("--rule", action="store_true", help="print the verdict rule")
+    a = ap.parse_args()
+    if a.rule:
+        print(claims.RULE)
+        return
+    generated = claims.table()
+    if a.write:
+        path = Path(a.write)
+        path.write_text(claims.replace_in(path.read_text(encoding="utf-8"), generated), encoding="utf-8")
+        print(f"{path}: the claims table written")
+    else:
+        print(generated, end="")
+
+
+if __name__ == "__main__":
+    main()

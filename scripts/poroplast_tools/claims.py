@@ -1,0 +1,131 @@
+"""The paper's claims, one row each (data/claims.csv), with our numbers read from the converged
+references (data/references.csv) and, where the paper gives a number, the verdict by a written
+rule (RULE). Rendered as the Markdown table of docs/reproduction.md.
+
+claims.csv columns: id, where (section, figure), claim (the paper's statement), paper (its number
+or "yes"), measure (for a numeric claim: `CASE|OBSERVABLE`, or two of them joined by " - " or
+" / "), ours (text; `{CASE|OBSERVABLE}` is replaced by the converged value ± its error bar),
+verdict, cause (measured, argued, derived, or "none measured"), paper_value, precision (absolute,
+or "×F" for a factor), precision_note (where the precision comes from).
+"""
+
+import csv
+import math
+import re
+from pathlib import Path
+
+DATA = Path(__file__).resolve().parent.parent / "data"
+
+VERDICTS = ("reproduced", "partly", "no", "open", "not comparable")
+
+RULE = (
+    "A claim with a number is **reproduced** when ours lies within the paper's precision of it "
+    "(widened by twice our error bar), **partly** when it has the same sign and is off by less "
+    "than a factor 2, and **no** otherwise. The paper's precision is what its words allow: half a "
+    "unit of the last digit it prints, a whole number's trailing zeros not counting (\"40 s\": "
+    "±5 s; \"4.0 × 10³ Pa\": ±0.05 kPa), or the resolution of its words (\"about 1/4\", \"an "
+    "order of magnitude\"), stated in each row. A statement without a number is reproduced when ours "
+    "says the same in the same region, partly when it holds in part (a trend, one of two "
+    "regions), no otherwise; open where the model can say but the runs are not done yet; not "
+    "comparable where the model cannot (what it lacks is named). Each observable is defined "
+    "once: the region means use the contact zones (r < 40 µm within 30 µm of a plate) and the "
+    "centre (r < 30 µm, |z − R| < 30 µm) of the reference configuration, X_U = (40, 0, 190) µm."
+)
+
+PLACEHOLDER = re.compile(r"\{([^{}|]+)\|([^{}]+)\}")
+
+
+def references(path=DATA / "references.csv"):
+    """{(case, observable): (value, error bar)} of the converged references."""
+    with open(path, newline="", encoding="utf-8") as f:
+        return {(r["case"], r["observable"]): (float(r["extrapolated"]), float(r["error_bar"]))
+                for r in csv.DictReader(f)}
+
+
+def load(path=DATA / "claims.csv"):
+    with open(path, newline="", encoding="utf-8") as f:
+        return list(csv.DictReader(f))
+
+
+def fmt(value, bar):
+    """value ± bar, the bar to 2 significant digits and the value to the same decimal."""
+    if not math.isfinite(value):
+        return "—"
+    if bar <= 0 or not math.isfinite(bar):
+        return f"{value:.6g}"
+    decimals = max(0, 1 - math.floor(math.log10(bar)))
+    return f"{value:.{decimals}f} ± {bar:.{decimals}f}"
+
+
+def lookup(refs, key):
+    case, observable = key.split("|", 1)
+    if (case, observable) not in refs:
+        raise KeyError(f"claims.csv: no converged value {case} | {observable} in references.csv")
+    return refs[(case, observable)]
+
+
+def measure(refs, expression):
+    """(value, error bar) of `A`, `A - B` or `A / B` (keys CASE|OBSERVABLE; independent errors)."""
+    for op in (" - ", " / "):
+        if op in expression:
+            (a, sa), (b, sb) = (lookup(refs, k.strip()) for k in expression.split(op))
+            if op == " - ":
+                return a - b, math.hypot(sa, sb)
+            q = a / b
+            return q, abs(q) * math.hypot(sa / a, sb / b)
+    return lookup(refs, expression.strip())
+
+
+def rule(value, bar, paper, precision):
+    """The verdict of RULE for ours = value ± bar against the paper's number and precision
+    (a float, or a string "×F" for a factor)."""
+    if isinstance(precision, str) and precision.startswith("×"):
+        factor = float(precision[1:])
+        if value + 2 * bar >= paper / factor and value - 2 * bar <= paper * factor:
+            return "reproduced"
+    elif abs(value - paper) <= float(precision) + 2 * bar:
+        return "reproduced"
+    ratio = value / paper if paper else math.inf
+    return "partly" if 0.5 <= ratio <= 2 else "no"
+
+
+def expand(refs, text):
+    return PLACEHOLDER.sub(lambda m: fmt(*lookup(refs, f"{m.group(1)}|{m.group(2)}")), text)
+
+
+def resolved(refs, row):
+    """(our text, the verdict) of a row: measured ones by RULE, the others as recorded."""
+    ours = expand(refs, row["ours"])
+    if not row["measure"]:
+        return ours, row["verdict"]
+    value, bar = measure(refs, row["measure"])
+    precision = row["precision"] if row["precision"].startswith("×") else float(row["precision"])
+    verdict = rule(value, bar, float(row["paper_value"]), precision)
+    text = f"**{fmt(value, bar)}** {ours}".strip()
+    return text + f" (precision: {row['precision_note']})", verdict
+
+
+def table(rows=None, refs=None):
+    """The Markdown claims table with its counts."""
+    rows = load() if rows is None else rows
+    refs = references() if refs is None else refs
+    lines = ["| # | where | the paper says | paper | ours (converged ± error) | verdict | cause |",
+             "|---|---|---|---|---|---|---|"]
+    counts = dict.fromkeys(VERDICTS, 0)
+    for r in rows:
+        ours, verdict = resolved(refs, r)
+        counts[verdict] += 1
+        cells = [r["id"], r["where"], r["claim"], r["paper"], ours, verdict, r["cause"]]
+        lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
+    summary = ", ".join(f"{n} {v}" for v, n in counts.items())
+    return f"{len(rows)} rows: {summary}.\n\n" + "\n".join(lines) + "\n"
+
+
+BEGIN = "<!-- claims table: written by scripts/claims.py --write; do not edit -->"
+END = "<!-- end of the claims table -->"
+
+
+def replace_in(text, generated):
+    """`text` with the part between BEGIN and END replaced by `generated`."""
+    start, end = text.index(BEGIN) + len(BEGIN), text.index(END)
+    return text[:start] + "\n" + generated + text[end:]

@@ -1,0 +1,92 @@
+"""The claims table: its rule on numbers it must judge, every number it quotes read from the
+converged references, and docs/reproduction.md holding the table as it is written now, with the
+verdicts the older table of that page names by claim (e.g. "no (P39)") equal to the table's.
+Pure Python, no solver."""
+
+import re
+import unittest
+from pathlib import Path
+
+from poroplast_tools import claims
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+class Rule(unittest.TestCase):
+    def test_within_the_papers_precision_widened_by_twice_the_error_bar(self):
+        self.assertEqual(claims.rule(42.33, 0.19, 40, 5), "reproduced")
+        self.assertEqual(claims.rule(42.33, 0.19, 40, 2), "reproduced")  # 2.33 ≤ 2 + 0.38
+        self.assertEqual(claims.rule(42.33, 0.1, 40, 2), "partly")  # 2.33 > 2 + 0.2, ×1.06
+        self.assertEqual(claims.rule(3.902, 0.066, 4.0, 0.05), "reproduced")
+
+    def test_off_by_less_than_a_factor_two_with_the_same_sign_is_partly(self):
+        self.assertEqual(claims.rule(1.2, 0.01, 2, 0.5), "partly")
+        self.assertEqual(claims.rule(3.9, 0.01, 2, 0.5), "partly")
+        self.assertEqual(claims.rule(0.565, 0.028, 2, 0.5), "no")  # ×0.28
+        self.assertEqual(claims.rule(-2.8, 0.46, -12, 5.5), "no")  # ×0.23
+        self.assertEqual(claims.rule(0.5, 0.01, -1, 0.1), "no")  # the opposite sign
+
+    def test_a_factor_precision(self):
+        self.assertEqual(claims.rule(4.0, 0.01, 10, "×3.1623"), "reproduced")
+        self.assertEqual(claims.rule(1.489, 0.013, 10, "×3.1623"), "no")
+        self.assertEqual(claims.rule(30.0, 0.5, 10, "×3.1623"), "reproduced")
+
+
+class Table(unittest.TestCase):
+    def setUp(self):
+        self.rows = claims.load()
+        self.refs = claims.references()
+
+    def test_ids_are_unique_and_verdicts_known(self):
+        ids = [r["id"] for r in self.rows]
+        self.assertEqual(len(ids), len(set(ids)))
+        for r in self.rows:
+            if r["measure"]:
+                # A numeric claim's verdict is the rule's, never written by hand.
+                self.assertEqual(r["verdict"], "", r["id"])
+                self.assertTrue(r["paper_value"] and r["precision"] and r["precision_note"], r["id"])
+            else:
+                self.assertIn(r["verdict"], claims.VERDICTS, r["id"])
+
+    def test_every_claim_of_the_paper_has_a_row(self):
+        numbers = {int(re.match(r"P(\d+)", r["id"]).group(1)) for r in self.rows}
+        self.assertEqual(numbers, set(range(1, 59)))
+
+    def test_every_quoted_number_is_the_references(self):
+        for r in self.rows:
+            for case, observable in claims.PLACEHOLDER.findall(r["ours"]):
+                self.assertIn((case, observable), self.refs, r["id"])
+            ours, verdict = claims.resolved(self.refs, r)
+            self.assertNotIn("{", ours, r["id"])
+            if r["measure"]:
+                value, bar = claims.measure(self.refs, r["measure"])
+                self.assertIn(claims.fmt(value, bar), ours)
+
+    def test_a_difference_and_a_ratio_carry_both_error_bars(self):
+        refs = {("a", "x"): (3.0, 0.3), ("b", "x"): (1.0, 0.4)}
+        value, bar = claims.measure(refs, "a|x - b|x")
+        self.assertAlmostEqual(value, 2.0)
+        self.assertAlmostEqual(bar, 0.5)
+        value, bar = claims.measure(refs, "a|x / b|x")
+        self.assertAlmostEqual(value, 3.0)
+        self.assertAlmostEqual(bar, 3.0 * (0.1**2 + 0.4**2) ** 0.5)
+
+    def test_the_docs_hold_the_table_as_written_now(self):
+        text = (ROOT / "docs" / "reproduction.md").read_text(encoding="utf-8")
+        self.assertEqual(text, claims.replace_in(text, claims.table(self.rows, self.refs)),
+                         "docs/reproduction.md: run python3 scripts/claims.py --write docs/reproduction.md")
+        self.assertIn(claims.RULE, text)
+
+    def test_the_older_tables_verdicts_are_the_claims(self):
+        text = (ROOT / "docs" / "reproduction.md").read_text(encoding="utf-8")
+        older = text[text.index(claims.END):]
+        verdict = {r["id"]: claims.resolved(self.refs, r)[1] for r in self.rows}
+        cited = re.findall(r"\| (reproduced|partly|no) \((P\d+)\)", older)
+        self.assertGreaterEqual(len(cited), 7)
+        for said, pid in cited:
+            mine = verdict.get(pid) or verdict.get(pid + "b")
+            self.assertEqual(said, mine, pid)
+
+
+if __name__ == "__main__":
+    unittest.main()
