@@ -87,6 +87,15 @@ fn newest_checkpoint(out: &Path) -> usize {
         .expect("a checkpoint")
 }
 
+/// The run in `dir` says it stopped by a signal, and its newest checkpoint is the step it
+/// stopped at.
+fn assert_stopped_with_its_checkpoint(dir: &Path) {
+    let why = std::fs::read_to_string(dir.join("status.txt")).unwrap();
+    assert!(why.starts_with("stopped by a signal after step"), "{why}");
+    let step: usize = why["stopped by a signal after step ".len()..].split(' ').next().unwrap().parse().unwrap();
+    assert_eq!(newest_checkpoint(dir), step, "the checkpoint of the step it stopped at");
+}
+
 /// Sends `sig` to the process group of `child`.
 fn signal_group(child: &Child, sig: &str) {
     let ok = Command::new("kill").args([sig, "--", &format!("-{}", child.id())]).status().unwrap().success();
@@ -189,8 +198,7 @@ fn killed_or_stopped_runs_resume_to_the_uninterrupted_history() {
     signal(&child, "-TERM");
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(75), "exit code of a stopped run");
-    let why = std::fs::read_to_string(stopped.join("status.txt")).unwrap();
-    assert!(why.starts_with("stopped by a signal after step"), "{why}");
+    assert_stopped_with_its_checkpoint(&stopped);
     let rows_at_stop = History::read(&stopped).rows.len();
     assert!(rows_at_stop < a.rows.len(), "stopped after {rows_at_stop} rows of {}", a.rows.len());
     resume(1, &stopped);
@@ -234,8 +242,7 @@ fn signals_that_arrive_twice_still_stop_with_a_checkpoint() {
     signal(&child, "-INT");
     signal(&child, "-TERM");
     assert_eq!(child.wait().unwrap().code(), Some(75), "a clean stop");
-    let why = std::fs::read_to_string(run.join("status.txt")).unwrap();
-    assert!(why.starts_with("stopped by a signal after step"), "{why}");
+    assert_stopped_with_its_checkpoint(&run);
     resume(1, &run);
 }
 
@@ -269,8 +276,7 @@ fn a_two_rank_run_stopped_by_mpirun_resumes_on_one_rank() {
     let mut child = running(2, &stopped, &[], 10);
     signal(&child, "-USR1");
     assert_eq!(child.wait().unwrap().code(), Some(75), "mpirun's exit code after SIGUSR1");
-    let why = std::fs::read_to_string(stopped.join("status.txt")).unwrap();
-    assert!(why.starts_with("stopped by a signal after step"), "{why}");
+    assert_stopped_with_its_checkpoint(&stopped);
     resume(1, &stopped);
     // Another partition: the same steps, values to solver tolerance.
     assert_same_history(&History::read(reference), &History::read(&stopped), 1e-6, "2 ranks, resumed on 1");
@@ -295,10 +301,7 @@ fn ctrl_c_to_mpirun_stops_the_ranks_with_a_checkpoint() {
     let mut child = running(2, &stopped, &["time.t_end=30"], 10);
     signal(&child, "-INT");
     let status = child.wait().unwrap();
-    let why = std::fs::read_to_string(stopped.join("status.txt")).unwrap();
-    assert!(why.starts_with("stopped by a signal after step"), "{why}");
-    let step: usize = why["stopped by a signal after step ".len()..].split(' ').next().unwrap().parse().unwrap();
-    assert_eq!(newest_checkpoint(&stopped), step, "the checkpoint of the step it stopped at");
+    assert_stopped_with_its_checkpoint(&stopped);
     assert_eq!(status.code(), Some(1), "Open MPI's mpirun exits 1 after SIGINT, whatever the ranks return");
 }
 
@@ -318,10 +321,7 @@ fn ctrl_c_to_poroplast_mpirun_stops_with_75_and_a_checkpoint() {
     wait_for_checkpoint(&mut child, &stopped, 10);
     signal_group(&child, "-INT");
     let status = child.wait().unwrap();
-    let why = std::fs::read_to_string(stopped.join("status.txt")).unwrap();
-    assert!(why.starts_with("stopped by a signal after step"), "{why}");
-    let step: usize = why["stopped by a signal after step ".len()..].split(' ').next().unwrap().parse().unwrap();
-    assert_eq!(newest_checkpoint(&stopped), step, "the checkpoint of the step it stopped at");
+    assert_stopped_with_its_checkpoint(&stopped);
     assert_eq!(status.code(), Some(75), "poroplast mpirun's exit code after Ctrl-C");
 }
 
