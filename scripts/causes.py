@@ -9,12 +9,13 @@ shift itself moves with the steps.
 
     python3 scripts/causes.py [--dir studies/causes] [--steps 0.125] [--ranks 2] [--only NAME ...]
 
-Writes DIR/causes.csv (variant, what it changes, the observables, their shifts) and prints the
-table; then the same for the no-remodelling gap (`reference_405`, its settling times:
+Writes DIR/causes.csv (variant, what it changes, the observables, their shifts; with --only, the
+rows of those variants replace theirs in an existing DIR/causes.csv) and prints the table; then the same for the no-remodelling gap (`reference_405`, its settling times:
 DIR/causes_reference.csv; --no-reference skips it). The variants of each table run as one
 batch (one `poroplast sweep`) whose cases are kept in DIR/cases, so an interrupted run continues.
 """
 import argparse
+import csv
 import math
 import sys
 from pathlib import Path
@@ -85,6 +86,14 @@ VARIANTS = {
     # What the paper's +4 / +2 mg would take: the same tenfold step in λp, ten and a hundred times faster.
     "lambda_10": ("λp = 10 (MPa s)⁻¹", [("material.remodelling.lambda_p", "0.01")], []),
     "lambda_100": ("λp = 100 (MPa s)⁻¹", [("material.remodelling.lambda_p", "0.1")], []),
+    # (40a)'s −2.13 s on the crossing could as well be a faster rate: the λp that gives the same
+    # shift, and what each predicts for the c = 2 and λp = 0.1 rows.
+    "lambda_x115": ("λp × 1.15 (1.15 (MPa s)⁻¹)", [("material.remodelling.lambda_p", "0.00115")], []),
+    "lambda_x125": ("λp × 1.25 (1.25 (MPa s)⁻¹)", [("material.remodelling.lambda_p", "0.00125")], []),
+    "lambda_x120": ("λp × 1.2 (1.2 (MPa s)⁻¹)", [("material.remodelling.lambda_p", "0.0012")], []),
+    "lambda_x110": ("λp × 1.1 (1.1 (MPa s)⁻¹): the crossing's shift of (40a)", [("material.remodelling.lambda_p", "0.0011")], []),
+    "c2_lambda_x110": ("c = 2 with λp × 1.1", C2 + [("material.remodelling.lambda_p", "0.0011")], []),
+    "lambda_01_x110": ("λp = 0.11 (MPa s)⁻¹: λp = 0.1 with λp × 1.1", [("material.remodelling.lambda_p", "0.00011")], []),
     "lambda_01_alpha_rescaled": ("λp = 0.1 (MPa s)⁻¹ with α1, α2 as printed, α0 for µ = 20 kPa",
                                  [("material.remodelling.lambda_p", "0.0001")],
                                  [("mu = ", None), ("nu = ", f"alpha = {ALPHA_RESCALED}")]),
@@ -141,6 +150,21 @@ def scene_text(edits, out):
     return str(out)
 
 
+def merged(path, rows):
+    """`rows` in place of the rows of the same variants of the table at `path` (if it exists),
+    the others kept in their order: `--only` updates the variants it runs."""
+    if not path.exists():
+        return rows
+    with open(path, newline="") as f:
+        kept = list(csv.DictReader(f))
+    for r in kept:
+        for o in OBSERVE + ["wall_s"]:
+            r[o] = float(r[o]) if r[o] not in ("", None) else float("nan")
+    new = {r["variant"]: r for r in rows}
+    out = [new.pop(r["variant"], r) for r in kept]
+    return out + list(new.values())
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--dir", default="studies/causes")
@@ -167,6 +191,7 @@ def main():
     for name, (_, r) in zip(names, run_cases(scenes, cases, BASE, root, a.ranks, [], OBSERVE)):
         rows.append({"variant": name, "changes": VARIANTS[name][0], "status": r["status"], "wall_s": r.get("wall_s"),
                      **{o: r.get(o, float("nan")) for o in OBSERVE}})
+    rows = merged(root / "causes.csv", rows)
     base = next((r for r in rows if r["variant"] == "base"), None)
     for r in rows:
         for o in OBSERVE:

@@ -4,13 +4,14 @@ one row each (data/claims.csv), with our converged numbers (data/references.csv)
 verdict of the written rule.
 
     python3 scripts/claims.py                              # print the table
-    python3 scripts/claims.py --write docs/reproduction.md # replace the table in that file
+    python3 scripts/claims.py --write docs/reproduction.md # replace the claims table and the (40a)
+                                                           # table (data/hypothesis_40a.csv) there
     python3 scripts/claims.py --rule                       # print the verdict rule
 """
 import argparse
 from pathlib import Path
 
-from poroplast_tools import claims
+from poroplast_tools import claims, hypothesis
 
 
 def main():
@@ -24,8 +25,10 @@ def main():
     generated = claims.table()
     if a.write:
         path = Path(a.write)
-        path.write_text(claims.replace_in(path.read_text(encoding="utf-8"), generated), encoding="utf-8")
-        print(f"{path}: the claims table written")
+        text = claims.replace_in(path.read_text(encoding="utf-8"), generated)
+        text = claims.replace_in(text, hypothesis.table(), hypothesis.BEGIN, hypothesis.END)
+        path.write_text(text, encoding="utf-8")
+        print(f"{path}: the claims table and the (40a) table written")
     else:
         print(generated, end="")
 

@@ -125,7 +125,8 @@ BEGIN = "<!-- claims table: written by scripts/claims.py --write; do not edit --
 END = "<!-- end of the claims table -->"
 
 
-def replace_in(text, generated):
-    """`text` with the part between BEGIN and END replaced by `generated`."""
-    start, end = text.index(BEGIN) + len(BEGIN), text.index(END)
+def replace_in(text, generated, begin=BEGIN, end_marker=END):
+    """`text` with the part between the markers (default the claims table's) replaced by
+    `generated`."""
+    start, end = text.index(begin) + len(begin), text.index(end_marker)
     return text[:start] + "\n" + generated + text[end:]

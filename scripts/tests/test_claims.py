@@ -7,7 +7,7 @@ import re
 import unittest
 from pathlib import Path
 
-from poroplast_tools import claims
+from poroplast_tools import claims, hypothesis
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -86,6 +86,34 @@ class Table(unittest.TestCase):
         for said, pid in cited:
             mine = verdict.get(pid) or verdict.get(pid + "b")
             self.assertEqual(said, mine, pid)
+
+
+class Hypothesis(unittest.TestCase):
+    def test_the_share_of_the_gap_closed(self):
+        self.assertAlmostEqual(hypothesis.closed(-12, -2, -4.5), 0.25)
+        self.assertAlmostEqual(hypothesis.closed(40, 42.24, 40.12), 1 - 0.12 / 2.24)
+        self.assertLess(hypothesis.closed(0.25, 0.79, 0.80), 0)
+        self.assertLess(hypothesis.closed(2.0, 0.5, -3.5), 0)  # overshooting past the other side
+
+    def test_rows_are_differences_and_ratios_of_one_models_runs(self):
+        def run(cross, peak, con, p30):
+            return {"zero:probe_p": cross, "max:force_total_mg": peak, "max:force_constitutive_mg": con,
+                    "probe_p@30": p30, "changes": ""}
+        rows = {v: run(40.0, 17.0, 7.0, 1.0) for v in hypothesis.HYPOTHESIS_VARIANTS}
+        rows["c2_40a"] = run(30.0, 17.0, 7.0, 0.5)
+        rows["lambda_01_40a"] = run(float("nan"), 18.0, 9.0, 4.0)
+        got = hypothesis.values(rows)
+        self.assertEqual(got["c = 2: its crossing minus the isotropic one (s)"][1]["(40a)"], -10.0)
+        self.assertEqual(got["c = 2 over isotropic, p(X_U, 30 s)"][1]["(40a)"], 0.5)
+        self.assertEqual(got["λp 1 → 0.1: constitutive-force peak change (mg)"][1]["(40a)"], 2.0)
+        self.assertEqual(got["λp 1 → 0.1: total-force peak change (mg)"][1]["λp × 1.1"], 0.0)
+
+    def test_the_docs_hold_the_table_of_the_shipped_runs(self):
+        rows = hypothesis.load()
+        self.assertTrue(all(rows[v]["status"] == "ok" for v in hypothesis.HYPOTHESIS_VARIANTS))
+        text = (ROOT / "docs" / "reproduction.md").read_text(encoding="utf-8")
+        self.assertEqual(text, claims.replace_in(text, hypothesis.table(rows), hypothesis.BEGIN, hypothesis.END),
+                         "docs/reproduction.md: run python3 scripts/claims.py --write docs/reproduction.md")
 
 
 if __name__ == "__main__":
