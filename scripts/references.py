@@ -58,6 +58,9 @@ CASES = {
     # The experiment at the parameters matched to FEBio's Holmes–Mow (no Φs factor: µ = 20 / 0.6)
     # of issue 27's comparison with an established code (docs/performance.md).
     "febio_matched": case("reference", ["max:force_total_mg", "force_total_mg@35"], ["material.mu=33.33"]),
+    # The settled state at t = 0 (§3.2: gravity breaks the sphere's symmetry before the
+    # compression): its height and width (their ratio: COMBINED).
+    "settled": case("reference", ["height@0", "width@0"], ["time.t_end=0.02"]),
     # The ramp alone: the peak with steps down to 1/32 on every mesh level (an independent check of
     # the whole-experiment study's peak).
     "reference_peak": case("reference", ["max:force_total_mg", "probe_p@5"], ["time.t_end=5"],
@@ -91,6 +94,7 @@ CASES = {
 }
 # Values combined from two cases: name -> (operation, (case, observable), (case, observable)).
 COMBINED = {
+    "settled H/W at t = 0": ("ratio", ("settled", "height@0"), ("settled", "width@0")),
     "c = 2 over isotropic, p(X_U, 30 s)": ("ratio", ("remodel_155_c2", "probe_p@30"), ("remodel_155", "probe_p@30")),
     "λp 1 → 0.1: total-force peak change (mg)": ("difference", ("lambda_0.1", "max:force_total_mg"),
                                                   ("remodel_155", "max:force_total_mg")),

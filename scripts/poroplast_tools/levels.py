@@ -38,10 +38,16 @@ def h_levels(scene, hs, sets=()):
     """A mesh sweep: for each h of `hs`, the (key, value) overrides mesh.params.h = h and the
     other sizes (SIZES: h_pole, h_edge, h_surf — the scene's, or those of `sets`, "KEY=VALUE",
     at the scene's h) scaled in proportion."""
-    params = scene_values(scene).get("mesh", {}).get("params", {})
+    mesh = scene_values(scene).get("mesh", {})
+    params = dict(mesh.get("params", {}))
+    # Sizes given as fractions of R (mesh.relative_sizes) in µm; sizes given in µm win, as in a run.
+    radius = params.get("R")
+    for k, v in mesh.get("relative_sizes", {}).items():
+        if k not in params and radius is not None and (k == "h" or k in SIZES):
+            params[k] = v * radius
     h0 = params.get("h")
     if h0 is None:
-        sys.exit(f"{scene}: the scene's mesh has no params.h")
+        sys.exit(f"{scene}: the scene's mesh has no params.h (nor relative_sizes.h with params.R)")
     sizes = {k: v for k, v in params.items() if k in SIZES}
     for s in sets:
         k, v = s.split("=", 1)
