@@ -62,10 +62,22 @@ impl<const N: usize> Dual<N> {
     /// f(a) with f' = df at a.
     #[inline]
     fn chain(self, f: f64, df: f64) -> Self {
-        let mut out = self;
-        out.re = f;
-        out.d.iter_mut().for_each(|x| *x *= df);
-        out
+        self.each(f, |x| x * df)
+    }
+    /// `re` and each derivative mapped by `f`, written over a copy of `self` (not built by
+    /// `array::from_fn`, which copies every entry: see [`m_mul`]).
+    #[inline]
+    fn each(mut self, re: f64, f: impl Fn(f64) -> f64) -> Self {
+        self.re = re;
+        self.d.iter_mut().for_each(|x| *x = f(*x));
+        self
+    }
+    /// `re` and each derivative of `self` combined with that of `o` by `f`, in place as [`Self::each`].
+    #[inline]
+    fn with(mut self, o: &Self, re: f64, f: impl Fn(f64, f64) -> f64) -> Self {
+        self.re = re;
+        self.d.iter_mut().zip(&o.d).for_each(|(x, y)| *x = f(*x, *y));
+        self
     }
 }
 
@@ -73,20 +85,14 @@ impl<const N: usize> Add for Dual<N> {
     type Output = Self;
     #[inline]
     fn add(self, o: Self) -> Self {
-        let mut out = self;
-        out.re += o.re;
-        out.d.iter_mut().zip(&o.d).for_each(|(x, y)| *x += y);
-        out
+        self.with(&o, self.re + o.re, |x, y| x + y)
     }
 }
 impl<const N: usize> Sub for Dual<N> {
     type Output = Self;
     #[inline]
     fn sub(self, o: Self) -> Self {
-        let mut out = self;
-        out.re -= o.re;
-        out.d.iter_mut().zip(&o.d).for_each(|(x, y)| *x -= y);
-        out
+        self.with(&o, self.re - o.re, |x, y| x - y)
     }
 }
 impl<const N: usize> Mul for Dual<N> {
@@ -95,10 +101,8 @@ impl<const N: usize> Mul for Dual<N> {
     #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline]
     fn mul(self, o: Self) -> Self {
-        let mut out = self;
-        out.re = self.re * o.re;
-        out.d.iter_mut().zip(&o.d).for_each(|(x, y)| *x = *x * o.re + self.re * y);
-        out
+        let (a, b) = (self.re, o.re);
+        self.with(&o, a * b, |x, y| x * b + a * y)
     }
 }
 impl<const N: usize> Div for Dual<N> {
@@ -109,20 +113,14 @@ impl<const N: usize> Div for Dual<N> {
     fn div(self, o: Self) -> Self {
         let inv = 1.0 / o.re;
         let q = self.re * inv;
-        let mut out = self;
-        out.re = q;
-        out.d.iter_mut().zip(&o.d).for_each(|(x, y)| *x = (*x - q * y) * inv);
-        out
+        self.with(&o, q, |x, y| (x - q * y) * inv)
     }
 }
 impl<const N: usize> Neg for Dual<N> {
     type Output = Self;
     #[inline]
     fn neg(self) -> Self {
-        let mut out = self;
-        out.re = -out.re;
-        out.d.iter_mut().for_each(|x| *x = -*x);
-        out
+        self.each(-self.re, |x| -x)
     }
 }
 
@@ -151,10 +149,7 @@ impl<const N: usize> Scalar for Dual<N> {
     }
     #[inline]
     fn scale(self, s: f64) -> Self {
-        let mut out = self;
-        out.re *= s;
-        out.d.iter_mut().for_each(|x| *x *= s);
-        out
+        self.chain(self.re * s, s)
     }
 }
 
@@ -167,7 +162,7 @@ pub fn m_cst<T: Scalar>(a: &[[f64; 3]; 3]) -> M3<T> {
 
 #[inline]
 pub fn m_mul<T: Scalar>(a: &M3<T>, b: &M3<T>) -> M3<T> {
-    // Written into a matrix, not built by `array::from_fn`: for duals that copied each entry (a
+    // Written into a copy, not built by `array::from_fn`: for duals that copied each entry (a
     // third of a remodelling run's time went to memmove).
     let mut c = *a;
     for (ci, ai) in c.iter_mut().zip(a) {
