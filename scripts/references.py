@@ -25,6 +25,7 @@ from pathlib import Path
 from poroplast_tools import fields
 from poroplast_tools.cases import rank_options, use_rank_options
 from poroplast_tools.convergence import run_study
+from poroplast_tools.refs import combined
 from poroplast_tools.richardson import converge
 from poroplast_tools.tables import write_rows
 
@@ -138,15 +139,13 @@ def run_case(name, root, ranks):
 
 
 def combine(rows):
-    """The COMBINED values whose cases were run, with error bars added (difference) or relative
-    bars added (ratio)."""
+    """The COMBINED values whose cases were run, their error bars by `refs.combined`."""
     got = {(r["case"], r["observable"]): r for r in rows}
     out = []
     for name, (op, a, b) in COMBINED.items():
         if a not in got or b not in got:
             continue
-        (x, dx), (y, dy) = ((got[k]["extrapolated"], got[k]["error_bar"]) for k in (a, b))
-        v, bar = (x - y, dx + dy) if op == "difference" else (x / y, abs(x / y) * (dx / abs(x) + dy / abs(y)))
+        v, bar = combined(op, *((got[k]["extrapolated"], got[k]["error_bar"]) for k in (a, b)))
         out.append({"case": "combined", "observable": name, "extrapolated": v, "error_bar": bar,
                     "relative_bar": bar / abs(v) if v else float("nan"), "p_h": "", "p_t": "", "finest": "",
                     "levels": ""})

@@ -14,6 +14,8 @@ import math
 import re
 from pathlib import Path
 
+from .refs import combined, references
+
 DATA = Path(__file__).resolve().parent.parent / "data"
 
 VERDICTS = ("reproduced", "partly", "no", "open", "not comparable")
@@ -33,13 +35,6 @@ RULE = (
 )
 
 PLACEHOLDER = re.compile(r"\{([^{}|]+)\|([^{}]+)\}")
-
-
-def references(path=DATA / "references.csv"):
-    """{(case, observable): (value, error bar)} of the converged references."""
-    with open(path, newline="", encoding="utf-8") as f:
-        return {(r["case"], r["observable"]): (float(r["extrapolated"]), float(r["error_bar"]))
-                for r in csv.DictReader(f)}
 
 
 def load(path=DATA / "claims.csv"):
@@ -65,14 +60,11 @@ def lookup(refs, key):
 
 
 def measure(refs, expression):
-    """(value, error bar) of `A`, `A - B` or `A / B` (keys CASE|OBSERVABLE; independent errors)."""
-    for op in (" - ", " / "):
+    """(value, error bar) of `A`, `A - B` or `A / B` (keys CASE|OBSERVABLE; the bars combined as
+    references.py combines them: `refs.combined`)."""
+    for op, name in ((" - ", "difference"), (" / ", "ratio")):
         if op in expression:
-            (a, sa), (b, sb) = (lookup(refs, k.strip()) for k in expression.split(op))
-            if op == " - ":
-                return a - b, math.hypot(sa, sb)
-            q = a / b
-            return q, abs(q) * math.hypot(sa / a, sb / b)
+            return combined(name, *(lookup(refs, k.strip()) for k in expression.split(op)))
     return lookup(refs, expression.strip())
 
 

@@ -20,3 +20,15 @@ def converged(case, observable, path=SHIPPED):
     if (case, observable) not in refs:
         raise SystemExit(f"{path}: no converged value of {observable} for the case {case}")
     return refs[(case, observable)][0]
+
+
+def combined(op, a, b):
+    """(value, error bar) of the "difference" a − b or the "ratio" a / b of two converged values
+    a, b = (value, error bar): the bars add (a difference), or the relative bars (a ratio), a
+    bound that does not assume the two errors independent."""
+    (x, dx), (y, dy) = a, b
+    if op == "difference":
+        return x - y, dx + dy
+    if op == "ratio":
+        return x / y, abs(x / y) * (dx / abs(x) + dy / abs(y))
+    raise ValueError(f"unknown combination {op!r}")
