@@ -376,16 +376,7 @@ fn a_closed_standard_output_is_a_quiet_exit() {
     for args in [&["scenes"][..], &["scenes", "--keys"], &["show", "reference"], &["check", "reference_axi"]] {
         let (reader, writer) = std::io::pipe().unwrap();
         drop(reader);
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_poroplast"))
-            .args(args)
-            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-            .env("OMPI_MCA_btl", "self,vader")
-            .env("OMPI_MCA_pml", "ob1")
-            .env("POROPLAST_CACHE", cache_dir())
-            .stdout(writer)
-            .output()
-            .unwrap();
+        let out = launch(1).args(args).stdout(writer).output().unwrap();
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(0), "{args:?} into a closed pipe: {}\n{stderr}", out.status);
         assert!(stderr.is_empty(), "{args:?} into a closed pipe wrote to standard error:\n{stderr}");

@@ -97,11 +97,9 @@ fn mpirun(ranks: usize, dir: &Path, args: &[&str]) -> Output {
         .arg(example())
         .arg(dir)
         .args(args)
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         // No 2 s wait before the ranks of a failed launch are killed (tests/common/mod.rs).
-        .env("OMPI_MCA_odls_base_sigkill_timeout", "0")
-        .env("OMPI_MCA_hwloc_base_binding_policy", crate::common::NO_BINDING);
+        .env("OMPI_MCA_odls_base_sigkill_timeout", "0");
+    crate::common::mpi_env(&mut c);
     run_limited(c, Duration::from_secs(120))
 }
 
@@ -280,10 +278,9 @@ fn running_run_is_readable() {
         .arg(example())
         .arg(&dir)
         .args(["split", "--pause-after", "2"])
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         .stdout(Stdio::null())
         .stderr(Stdio::null());
+    crate::common::mpi_env(&mut c);
     let mut child = c.spawn().expect("spawn mpirun");
     let t0 = Instant::now();
     while !dir.join("paused").exists() {

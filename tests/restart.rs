@@ -36,14 +36,7 @@ fn spawn(np: usize, out: &Path) -> Child {
 
 /// [`spawn`] with more `--set` overrides.
 fn spawn_with(np: usize, out: &Path, extra: &[&str]) -> Child {
-    let mut cmd = if np == 1 {
-        Command::new(env!("CARGO_BIN_EXE_poroplast"))
-    } else {
-        let mut c = Command::new("mpirun");
-        c.args(["-n", &np.to_string(), "--oversubscribe", env!("CARGO_BIN_EXE_poroplast")]);
-        c
-    };
-    mpi_env(cmd.args(args(out, extra))).process_group(0).spawn().expect("the run could not be started")
+    launch(np).args(args(out, extra)).process_group(0).spawn().expect("the run could not be started")
 }
 
 /// The uninterrupted run on 1 rank that the killed and stopped runs are compared with, run once
@@ -312,12 +305,9 @@ fn ctrl_c_to_poroplast_mpirun_stops_with_75_and_a_checkpoint() {
     let _cores = cores(2);
     let d = scratch("restart_sigint_launcher");
     let stopped = d.join("stopped");
-    let mut launch: Vec<String> = ["mpirun", "-n", "2", "--mpirun-arg=--oversubscribe"].map(String::from).to_vec();
-    launch.extend(args(&stopped, &["time.t_end=30"]));
-    let mut child = mpi_env(Command::new(env!("CARGO_BIN_EXE_poroplast")).args(&launch))
-        .process_group(0)
-        .spawn()
-        .expect("poroplast mpirun could not be started");
+    let mut words: Vec<String> = ["mpirun", "-n", "2", "--mpirun-arg=--oversubscribe"].map(String::from).to_vec();
+    words.extend(args(&stopped, &["time.t_end=30"]));
+    let mut child = launch(1).args(&words).process_group(0).spawn().expect("poroplast mpirun could not be started");
     wait_for_checkpoint(&mut child, &stopped, 10);
     signal_group(&child, "-INT");
     let status = child.wait().unwrap();

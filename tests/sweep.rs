@@ -250,17 +250,12 @@ fn a_killed_sweep_resumes_to_the_same_summary() {
 
     // kill -9 once a case has written a checkpoint (a case is then half done).
     let killed = d.join("killed");
-    let mut child = Command::new("mpirun")
-        .args(["-n", "2", "--oversubscribe", env!("CARGO_BIN_EXE_poroplast"), "sweep"])
+    let mut child = launch(2)
+        .arg("sweep")
         .arg(&study)
         .arg("--out")
         .arg(&killed)
         .args(["-k", "1"])
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_btl", "self,vader")
-        .env("OMPI_MCA_pml", "ob1")
-        .env("POROPLAST_CACHE", cache_dir())
         .stdout(std::process::Stdio::null())
         .process_group(0)
         .spawn()

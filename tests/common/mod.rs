@@ -81,12 +81,11 @@ impl Drop for Cores {
 /// jobs side by side would share core 0 (measured: twice the time). Unbound, each has a core.
 pub const NO_BINDING: &str = "none";
 
-/// Runs `poroplast <args>` on `np` MPI ranks, on `np` cores. One rank is the binary itself, an MPI
-/// singleton: `mpirun -n 1` costs 0.4 s of start-up and exit per launch, most of the time of a
-/// run that stops at its input (the tests launch hundreds); the tests of what `mpirun` adds
-/// (signals, exit codes) launch it themselves.
-pub fn poroplast(np: usize, args: &[&str]) -> Output {
-    let _cores = cores(np);
+/// `poroplast` on `np` MPI ranks in the tests' MPI environment ([`mpi_env`]), to be given its
+/// arguments. One rank is the binary itself, an MPI singleton: `mpirun -n 1` costs 0.4 s of
+/// start-up and exit per launch, most of the time of a run that stops at its input (the tests
+/// launch hundreds).
+pub fn launch(np: usize) -> Command {
     let mut cmd = if np == 1 {
         Command::new(env!("CARGO_BIN_EXE_poroplast"))
     } else {
@@ -94,7 +93,16 @@ pub fn poroplast(np: usize, args: &[&str]) -> Output {
         c.args(["-n", &np.to_string(), "--oversubscribe"]).arg(env!("CARGO_BIN_EXE_poroplast"));
         c
     };
-    mpi_env(cmd.args(args));
+    mpi_env(&mut cmd);
+    cmd
+}
+
+/// Runs `poroplast <args>` on `np` MPI ranks ([`launch`]), on `np` cores. The tests of what
+/// `mpirun` does with signals spawn [`launch`]'s command themselves.
+pub fn poroplast(np: usize, args: &[&str]) -> Output {
+    let _cores = cores(np);
+    let mut cmd = launch(np);
+    cmd.args(args);
     // After a rank exits non-zero, mpirun waits this long (1 s by default, twice) before killing
     // the others, which have finished too: a failing case then costs 2 s instead of 0.2 s. The
     // tests that stop runs by signals launch mpirun themselves and keep the default.
