@@ -10,7 +10,8 @@ shift itself moves with the steps.
     python3 scripts/causes.py [--dir studies/causes] [--steps 0.125] [--ranks 2] [--only NAME ...]
 
 Writes DIR/causes.csv (variant, what it changes, the observables, their shifts; with --only, the
-rows of those variants replace theirs in an existing DIR/causes.csv) and prints the table; then the same for the no-remodelling gap (`reference_405`, its settling times:
+rows of those variants replace theirs in an existing DIR/causes.csv) and prints the table; then
+the same for the no-remodelling gap (`reference_405`, its settling times:
 DIR/causes_reference.csv; --no-reference skips it). The variants of each table run as one
 batch (one `poroplast sweep`) whose cases are kept in DIR/cases, so an interrupted run continues.
 """
