@@ -191,8 +191,9 @@ TO_RUN = re.compile(r"^sweep .*: \d+ cases, \d+ already complete, (\d+) to run")
 
 
 def _sweep(root, text, ranks, k, counts=None):
-    """Runs the study `text` as `mpirun -n ranks poroplast sweep -k k` (1 rank: no mpirun) into root/sweeps/<hash>/
-    with the store root/cases; returns its summary rows (dir made absolute)."""
+    """Runs the study `text` as `mpirun -n ranks poroplast sweep -k k` (on 1 rank the binary
+    alone) into root/sweeps/<hash>/ with the store root/cases; returns its summary rows (dir
+    made absolute)."""
     sweeps = root / "sweeps"
     sweeps.mkdir(parents=True, exist_ok=True)
     name = hashlib.sha1(text.encode()).hexdigest()[:12]
