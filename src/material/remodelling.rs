@@ -34,7 +34,8 @@ fn sym_generic<T: Scalar>(x: &[T]) -> M3<T> {
 
 /// Which of the paper's two "equivalent" flow rules (40): they differ by the factor J
 /// (model.md §6). (40b) is what the paper says it solved and our default. In a scene:
-/// `form = "40b"` or `"40a"`.
+/// `form = "40b"`, `"40a"`, or `"40b_tau"`, a third place a J can enter: γp of the Kirchhoff
+/// stress τ = J σ (the reproduction weighs it against (40a)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
 pub enum FlowForm {
     /// (40b)/(54c): dB_p/dt = −2 γp B_p dev Σ (pushed forward: L b_e = −2 γp b_e dev τ).
@@ -44,6 +45,10 @@ pub enum FlowForm {
     /// (40a): L b_e = −2 γp b_e dev σ, i.e. dB_p/dt = −2 (γp/J) B_p dev Σ.
     #[serde(rename = "40a")]
     Spatial,
+    /// (40b) with the overstress ratio of τ = J σ in (41): γp = λp [‖dev τ‖ − √(2/3) σy]₊ / ‖dev τ‖.
+    /// Slower than (40b) where J < 1 (a compressed aggregate yields later).
+    #[serde(rename = "40b_tau")]
+    Kirchhoff,
 }
 
 /// How a step integrates the flow rule (in a scene: `integrator = "implicit"` or `"explicit"`).
@@ -131,9 +136,23 @@ impl Remodelling {
     /// γp's factor of the overstress ratio: λp, or λp/J in the spatial form (40a).
     fn rate_factor<T: Scalar>(&self, j: T) -> T {
         match self.form {
-            FlowForm::Referential => T::cst(self.lambda_p),
+            FlowForm::Referential | FlowForm::Kirchhoff => T::cst(self.lambda_p),
             FlowForm::Spatial => T::cst(self.lambda_p) / j,
         }
+    }
+
+    /// The stress norm γp compares with the yield radius, from s = ‖dev σ‖: s, or ‖dev τ‖ = J s
+    /// in the Kirchhoff variant.
+    fn measured<T: Scalar>(&self, s: T, j: T) -> T {
+        match self.form {
+            FlowForm::Referential | FlowForm::Spatial => s,
+            FlowForm::Kirchhoff => s * j,
+        }
+    }
+
+    /// The measured norm ([`Self::measured`]) at (C, B_p).
+    fn overstress_norm(&self, hm: &HolmesMow, c: &Matrix3<f64>, bp: &Matrix3<f64>) -> f64 {
+        self.measured(Self::dev_stress_norm(hm, c, bp), c.determinant().sqrt())
     }
 
     /// √(2/3) σy: the yield radius of ‖dev σ‖.
@@ -177,7 +196,7 @@ impl Remodelling {
         x[6] = half * rate * (s - self.yield_radius()) / s;
         let (_, b) = self.map(hm, &c6, bp_n, &x);
         let b = Matrix3::from_fn(|i, k| 0.5 * (b[i][k] + b[k][i]));
-        let s_half = Self::dev_stress_norm(hm, c_n, &b);
+        let s_half = self.overstress_norm(hm, c_n, &b);
         if s_half.is_finite() && s_half - self.yield_radius() >= 0.5 * (s - self.yield_radius()) {
             Ok((b, half))
         } else {
@@ -222,13 +241,13 @@ impl Remodelling {
         Ok((up, Some(std::array::from_fn(|s| std::array::from_fn(|r| dx[(s, r)])))))
     }
 
-    /// ‖dev σ‖ at the trial state (C^{n+1}, B_p^n) if it lies outside the yield surface and the
-    /// step can flow (λp > 0, Δt > 0); None on the elastic branch.
+    /// The measured norm ([`Self::measured`]) at the trial state (C^{n+1}, B_p^n) if it lies
+    /// outside the yield surface and the step can flow (λp > 0, Δt > 0); None on the elastic branch.
     fn trial_overstress(&self, hm: &HolmesMow, c: &Matrix3<f64>, bp_n: &Matrix3<f64>, dt: f64) -> Result<Option<f64>> {
         if !(self.lambda_p > 0.0 && dt > 0.0) {
             return Ok(None);
         }
-        let s_trial = Self::dev_stress_norm(hm, c, bp_n);
+        let s_trial = self.overstress_norm(hm, c, bp_n);
         if !(s_trial.is_finite()) {
             return Err(domain_error(f64::NAN, format!("remodelling: non-finite trial stress ({s_trial})")));
         }
@@ -254,7 +273,7 @@ impl Remodelling {
         let bn: M3<Dual<6>> = std::array::from_fn(|i| std::array::from_fn(|j| Dual::cst(bp_n[(i, j)])));
         let d = hm.mandel_dev(&m_mul(&cm, &bn), ln_j);
         let j = ln_j.exp();
-        let s = m_trace_mul(&d, &d).sqrt() / j;
+        let s = self.measured(m_trace_mul(&d, &d).sqrt() / j, j);
         // Δγ = Δt γp = Δt λp (s − k)/s (spatial form: λp/J).
         let dgamma = (s - Dual::cst(self.yield_radius())) / s * self.rate_factor(j).scale(dt);
         let bd = m_mul(&bn, &d);
@@ -340,9 +359,9 @@ impl Remodelling {
         (d, m_mul(&m_mul(&g, &bn), &m_transpose(&g)))
     }
 
-    /// R_B = x_B − sym6(map), R_γ = [(s − k) − Δγ s/(λp Δt)] / σ_ref with s = ‖dev σ‖,
-    /// k = √(2/3) σy and σ_ref the mixture shear modulus (R is O(1) and finite as Δt → ∞);
-    /// the spatial form (40a) has λp/J in place of λp.
+    /// R_B = x_B − sym6(map), R_γ = [(s − k) − Δγ s/(λp Δt)] / σ_ref with s = ‖dev σ‖ (‖dev τ‖
+    /// in the Kirchhoff variant), k = √(2/3) σy and σ_ref the mixture shear modulus (R is O(1) and
+    /// finite as Δt → ∞); the spatial form (40a) has λp/J in place of λp.
     fn residual<T: Scalar>(
         &self,
         hm: &HolmesMow,
@@ -354,16 +373,13 @@ impl Remodelling {
         let (d, mapped) = self.map(hm, c6, bp_n, x);
         let cm = sym_generic(c6);
         let j = m_det(&cm).sqrt();
-        let s = m_trace_mul(&d, &d).sqrt() / j;
+        let s = self.measured(m_trace_mul(&d, &d).sqrt() / j, j);
         let sref = stress_scale(hm);
         let mut r = [T::cst(0.0); NX];
         for (k, &(a, b)) in SYM_PAIRS.iter().enumerate() {
             r[k] = x[k] - mapped[a][b];
         }
-        let flow = match self.form {
-            FlowForm::Referential => s.scale(1.0 / (self.lambda_p * dt)),
-            FlowForm::Spatial => s * j.scale(1.0 / (self.lambda_p * dt)),
-        };
+        let flow = s / self.rate_factor(j).scale(dt);
         r[6] = ((s - T::cst(self.yield_radius())) - x[6] * flow).scale(1.0 / sref);
         (r, s)
     }
@@ -487,6 +503,35 @@ mod tests {
                 assert!((t[s][r] - fd[s]).abs() < 1e-7, "{} vs {}", t[s][r], fd[s]);
             }
         }
+    }
+
+    /// The Kirchhoff variant: at a fixed C (so a fixed J) it is (40b) with the yield stress σy/J,
+    /// exactly; it flows less than (40b) where J < 1; its tangent (σy/J depends on C) matches
+    /// central differences.
+    #[test]
+    fn kirchhoff_variant_is_40b_with_the_yield_stress_over_j() {
+        let (hm, rm) = table1();
+        let rk = rm.with_form(FlowForm::Kirchhoff);
+        let mut rng = Rng::new(75);
+        let f = rng.deformation(0.8);
+        let c = f.transpose() * f;
+        let j = c.determinant().sqrt();
+        assert!((j - 0.8).abs() < 1e-12);
+        let bp_n = rng.remodelling_metric();
+        let equivalent = Remodelling::new(rm.lambda_p, rm.sigma_y / j).unwrap();
+        let (a, k, e) = (
+            rm.update(&hm, &c, &bp_n, 2.0).unwrap(),
+            rk.update(&hm, &c, &bp_n, 2.0).unwrap(),
+            equivalent.update(&hm, &c, &bp_n, 2.0).unwrap(),
+        );
+        assert!((k.bp - e.bp).norm() < 1e-12, "{} vs {}", k.bp, e.bp);
+        // Δγ ‖dev τ‖ = Δt λp (‖dev τ‖ − k) at the end of the step.
+        let tau = j * Remodelling::dev_stress_norm(&hm, &c, &k.bp);
+        let want = rm.lambda_p * 2.0 * (tau - rm.yield_radius());
+        assert!((k.dgamma * tau - want).abs() < 1e-10 * want);
+        assert!(k.dgamma < a.dgamma && k.dgamma > 0.0);
+        tangent_check(&rk, &[(0.8, 0.5), (1.05, 20.0), (0.9, 1e4)]);
+        tangent_check(&rk.with_integrator(Integrator::Explicit), &[(0.8, 0.5)]);
     }
 
     /// Under an isochoric compression ramp (the overstress rising through it), B_p at its end

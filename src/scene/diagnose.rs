@@ -34,7 +34,7 @@ pub(super) fn override_message(text: &str, file: &toml::Table, specs: &[String],
 }
 
 /// The dotted key of the value a serde type error ("invalid type: sequence, expected a number")
-/// or unknown choice ("unknown variant `40c`, expected `40b` or `40a`") is about — serde loses
+/// or unknown choice ("unknown variant `40c`, expected one of `40b`, `40a`, `40b_tau`") is about — serde loses
 /// it inside tagged enums such as `[material]`: of the values of that kind (or that string),
 /// the one whose removal changes the error (the innermost, if a table and its value both do).
 /// None unless exactly one.
@@ -258,7 +258,7 @@ mod tests {
         assert_eq!(
             toml_message(text, &e),
             "line 11 (`remodelling = { lambda_p = 0.001, sigma_y = 2.0, form = \"40c\" }`): material.remodelling.form: \
-             unknown variant `40c`, expected `40b` or `40a`"
+             unknown variant `40c`, expected one of `40b`, `40a`, `40b_tau`"
         );
     }
 

@@ -105,7 +105,8 @@ pub struct RemodellingSpec {
     /// Yield stress σy (kPa).
     pub sigma_y: f64,
     /// Which form of the paper's flow rule (40): "40b" (default, dB_p/dt = −2 γp B_p dev Σ,
-    /// what the paper says it solved) or "40a" (L b_e = −2 γp b_e dev σ: a rate 1/J faster).
+    /// what the paper says it solved), "40a" (L b_e = −2 γp b_e dev σ: a rate 1/J faster) or "40b_tau"
+    /// ((40b) with γp of τ = J σ: yields later where J < 1).
     #[serde(default)]
     pub form: FlowForm,
     /// Step integrator: "implicit" (default: the exponential map, unconditionally stable),
@@ -368,7 +369,7 @@ pub(super) const REMODELLING_SECTION: Section = Section {
             "material.remodelling.form",
             "",
             Unset::Value("\"40b\""),
-            "the paper's flow rule (40): `40b` (dB_p/dt = −2 γp B_p dev Σ) or `40a` (a rate 1/J faster)",
+            "the paper's flow rule (40): `40b` (dB_p/dt = −2 γp B_p dev Σ), `40a` (a rate 1/J faster) or `40b_tau` (40b with γp of τ = J σ)",
         ),
         Key::new(
             "material.remodelling.integrator",

@@ -100,7 +100,7 @@ fn unknown_variants_list_the_choices() {
     rv(
         "sigma_y = 2.0",
         "sigma_y = 2.0, form = \"40c\"",
-        "material.remodelling.form: unknown variant `40c`, expected `40b` or `40a`",
+        "material.remodelling.form: unknown variant `40c`, expected one of `40b`, `40a`, `40b_tau`",
     );
     rv(
         "sigma_y = 2.0",
