@@ -95,6 +95,11 @@ VARIANTS = {
     "lambda_x110": ("λp × 1.1 (1.1 (MPa s)⁻¹): the crossing's shift of (40a)", [("material.remodelling.lambda_p", "0.0011")], []),
     "c2_lambda_x110": ("c = 2 with λp × 1.1", C2 + [("material.remodelling.lambda_p", "0.0011")], []),
     "lambda_01_x110": ("λp = 0.11 (MPa s)⁻¹: λp = 0.1 with λp × 1.1", [("material.remodelling.lambda_p", "0.00011")], []),
+    # A third place a J can enter: γp of the Kirchhoff stress τ = J σ in (41) ("40b_tau").
+    "form_tau": ("γp of τ = J σ: (41) with the Kirchhoff stress", [("material.remodelling.form", '"40b_tau"')], []),
+    "c2_tau": ("c = 2 with γp of τ", C2 + [("material.remodelling.form", '"40b_tau"')], []),
+    "lambda_01_tau": ("λp = 0.1 (MPa s)⁻¹ with γp of τ",
+                      [("material.remodelling.lambda_p", "0.0001"), ("material.remodelling.form", '"40b_tau"')], []),
     "lambda_01_alpha_rescaled": ("λp = 0.1 (MPa s)⁻¹ with α1, α2 as printed, α0 for µ = 20 kPa",
                                  [("material.remodelling.lambda_p", "0.0001")],
                                  [("mu = ", None), ("nu = ", f"alpha = {ALPHA_RESCALED}")]),
@@ -114,6 +119,54 @@ REFERENCE_VARIANTS = {
                                                                      ("plates.thickness", "1")]),
     "ref_k0_x10": ("k0 × 10 (3.7729e-2 mm⁴/(N s))", [("material.k0", "37.729")]),
 }
+
+
+# The remodelling rows read from fields and shapes (σ_VM, ‖E_p‖, the positive-pressure region,
+# H/W), under each same-size candidate for the crossing: name -> (what it changes, --set
+# overrides), each run on the FIELD_CASES below (scene, --set overrides, observables).
+FIELD_VARIANTS = {
+    "base": ("(40b), the base", []),
+    "form_40a": ("(40a)", [("material.remodelling.form", '"40a"')]),
+    "lambda_x110": ("λp × 1.1", [("material.remodelling.lambda_p", "0.0011")]),
+    "form_tau": ("γp of τ = J σ", [("material.remodelling.form", '"40b_tau"')]),
+}
+_FIELDS = [("output.fields", "true"), ("output.fields_every", "100000")]
+FIELD_CASES = {
+    # Figs 5-6: σ_VM around the upper detachment (35-37 s) and after the release, ‖E_p‖ frozen.
+    "remodel_40": ("remodel_40", _FIELDS + [("output.fields_at", "[35.0, 36.0, 37.0, 40.0, 60.0]")],
+                   ["vm_contact@35", "vm_contact@40", "vm_contact/centre@40", "ep_contact/centre@60",
+                    "vm_centre@35", "vm_centre@36", "vm_centre@37", "vm_contact@36", "vm_contact@37"]),
+    # Fig 3: the positive-pressure region.
+    "remodel_155": ("remodel_155", _FIELDS + [("output.fields_at", "[35.0, 45.0, 60.0]")],
+                    ["bubble_share@45", "bubble_where@45"]),
+    # Fig 10-11a: H/W after 65 s of compression and 60 s of rest (k0 = 2.5779e-3, as references.py's hw_65).
+    "hw_65": ("remodel_40", [("plates.t_end", "65"), ("time.t_end", "125"), ("material.k0", "2.5779")],
+              ["last:height/width"]),
+}
+
+
+def field_rows(root, ranks, step_scale, only=None):
+    """Each FIELD_VARIANTS' observables on every FIELD_CASES (one row per variant), and shifts
+    from the base; --only keeps the variants named."""
+    names = [n for n in FIELD_VARIANTS if not only or n in only or n == "base"]
+    rows = {n: {"variant": n, "changes": FIELD_VARIANTS[n][0], "status": "ok"} for n in names}
+    for case, (scene, sets, observe) in FIELD_CASES.items():
+        steps = [(k, f"{v:g}") for k, v in refined_steps(scene_values(scene)["time"], {}, step_scale)]
+        # The converged level, its t_end (60 s) unless the case has its own, with fields.
+        base = [(k, v) for k, v in BASE if not k.startswith("output.") and k not in dict(sets)]
+        done = run_cases(scene, [steps + sets + FIELD_VARIANTS[n][1] for n in names], base, root, ranks, [],
+                         [o for o in observe if o not in fields.DERIVED])
+        for n, (cdir, r) in zip(names, done):
+            ok = r["status"] == "ok"
+            rows[n]["status"] = rows[n]["status"] if ok else f"{case}: {r['status']}"
+            for o in observe:
+                rows[n][f"{case}|{o}"] = (fields.DERIVED[o](cdir) if o in fields.DERIVED else r.get(o)) if ok \
+                    else float("nan")
+    rows = list(rows.values())
+    for r in rows:
+        for k in [k for k in rows[0] if "|" in k]:
+            r["shift " + k] = r[k] - rows[0][k]
+    return rows
 
 
 def reference_rows(root, ranks, step_scale):
@@ -173,12 +226,20 @@ def main():
     rank_options(ap)
     ap.add_argument("--only", nargs="+", choices=list(VARIANTS))
     ap.add_argument("--no-reference", action="store_true", help="skip the reference_405 variants")
+    ap.add_argument("--fields", action="store_true", help="only the remodelling rows read from fields, for the "
+                    "FIELD_VARIANTS (with --only: those of them): DIR/causes_fields.csv")
     a = ap.parse_args()
     use_rank_options(a)
     root = Path(a.dir)
     (root / "scenes").mkdir(parents=True, exist_ok=True)
     scene_time = scene_values(SCENE)["time"]
     steps = lambda s: [(k, f"{v:g}") for k, v in refined_steps(scene_time, {}, s)]
+    if a.fields:
+        rows = field_rows(root, a.ranks, a.steps, a.only)
+        write_rows(root / "causes_fields.csv", rows)
+        for r in rows:
+            print(r["variant"], ", ".join(f"{k} {v:.4g}" for k, v in r.items() if "|" in k and not k.startswith("shift")))
+        return
     names, scenes, cases = a.only or list(VARIANTS), [], []
     for name in names:
         what, sets, edits = VARIANTS[name]

@@ -4,14 +4,15 @@ one row each (data/claims.csv), with our converged numbers (data/references.csv)
 verdict of the written rule.
 
     python3 scripts/claims.py                              # print the table
-    python3 scripts/claims.py --write docs/reproduction.md # replace the claims table and the (40a)
-                                                           # table (data/hypothesis_40a.csv) there
+    python3 scripts/claims.py --write docs/reproduction.md # replace the claims table, the (40a)
+                                                           # table (data/hypothesis_40a*.csv) and the
+                                                           # tables of poroplast_tools/doc_tables there
     python3 scripts/claims.py --rule                       # print the verdict rule
 """
 import argparse
 from pathlib import Path
 
-from poroplast_tools import claims, hypothesis
+from poroplast_tools import claims, doc_tables, hypothesis
 
 
 def main():
@@ -27,8 +28,9 @@ def main():
         path = Path(a.write)
         text = claims.replace_in(path.read_text(encoding="utf-8"), generated)
         text = claims.replace_in(text, hypothesis.table(), hypothesis.BEGIN, hypothesis.END)
+        text = doc_tables.write_all(text, claims.replace_in)
         path.write_text(text, encoding="utf-8")
-        print(f"{path}: the claims table and the (40a) table written")
+        print(f"{path}: the claims table, the (40a) table and the other generated tables written")
     else:
         print(generated, end="")
 

@@ -24,18 +24,14 @@ import subprocess
 from functools import lru_cache
 from pathlib import Path
 
-import h5py
 import numpy as np
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-import matplotlib.tri as mtri
-from matplotlib.colors import TwoSlopeNorm
 
 from poroplast_tools import fields
+from poroplast_tools import paper_figures as figs
+from poroplast_tools.paper_figures import PROBE, have
 from poroplast_tools import cases as store
 from poroplast_tools.cases import ROOT, find_case
-from poroplast_tools.history import at as value_at, history, timings
+from poroplast_tools.history import at as value_at, history, relaxation_time, timings
 from poroplast_tools.refs import references
 from poroplast_tools.tables import write_rows
 
@@ -69,8 +65,27 @@ CASES = {
                                                        *(["material.permeability_c=2.0"] if c2 else [])], t + 60.0)
        for t in (10, 65) for c2 in (False, True)},
 }
+TABLE_CASES = list(CASES)   # the table's cases, run in 3-D too; the ones below only on the meridian
+# Figs 7-9 c-f: the other sweeps of remodel_405 (figs.SWEEPS), each one parameter of Table 1.
+CASES.update({
+    "mu_10": ("remodel_405", ["material.mu=10.0"], 405.0), "mu_40": ("remodel_405", ["material.mu=40.0"], 405.0),
+    "nu_0.1": ("remodel_405", ["material.nu=0.1"], 405.0), "nu_0.3": ("remodel_405", ["material.nu=0.3"], 405.0),
+    "k0_2.58e-3": ("remodel_405", ["material.k0=2.5779"], 405.0),
+    "k0_2.58e-4": ("remodel_405", ["material.k0=0.25779"], 405.0),
+    "u_0.1": ("remodel_405", ["plates.compression=0.1"], 405.0),
+    "u_0.2": ("remodel_405", ["plates.compression=0.2"], 405.0),
+    # the scenes are scale-free: the mesh, the plates and X_U follow R
+    "R_300": ("remodel_405", ["mesh.params.R=300.0"], 405.0), "R_900": ("remodel_405", ["mesh.params.R=900.0"], 405.0),
+})
+# Figs 10-11a: H/W after 60 s of rest against the compression time t_end (figs.HW_SETS).
+_HW_SETS = {"l0.1": ["material.remodelling.lambda_p=0.0001"], "l0.5": ["material.remodelling.lambda_p=0.0005"],
+            "l1": [], "l0.5_k2.58e-3": ["material.remodelling.lambda_p=0.0005", "material.k0=2.5779"],
+            "l0.5_k2.58e-4": ["material.remodelling.lambda_p=0.0005", "material.k0=0.25779"],
+            "l1_k2.58e-3": ["material.k0=2.5779"], "l1_k2.58e-3_c2": ["material.k0=2.5779", "material.permeability_c=2.0"]}
+CASES.update({f"hw_{s}_{t}": ("remodel_40", [f"plates.t_end={t}.0", f"time.t_end={t + 60}.0", "output.fields_at=[]",
+                                             *sets], t + 60.0)
+              for s, sets in _HW_SETS.items() for t in figs.HW_TIMES})
 T_RAMP = 5.0
-PROBE = (40.0, 0.0, 190.0)       # X_U, um
 EXTRA_SETS = []   # --set overrides of every case (--axisymmetric)
 RANKS = [2]       # MPI ranks per case (--ranks)
 
@@ -119,7 +134,10 @@ def summarise(case, d):
     s["peak_F_mg"], s["t_peak_s"] = f.max(), t[f.argmax()]
     s["F_hold_mg"], s["Fc_hold_mg"], s["Fp_hold_mg"] = (at(c, th) for c in
                                                         ("force_total_mg", "force_constitutive_mg", "force_pressure_mg"))
-    s["peak_Fc_mg"] = h["force_constitutive_mg"].max()
+    s["peak_Fc_mg"], s["t_peak_Fc_s"] = h["force_constitutive_mg"].max(), t[h["force_constitutive_mg"].argmax()]
+    s["peak_Fc60_mg"] = h["force_constitutive_mg"][t <= 60.0].max()   # as the converged case: to 60 s
+    s["peak_Fp_mg"] = h["force_pressure_mg"].max()
+    s["p_share_peak"] = h["force_pressure_mg"][f.argmax()] / f.max()     # the pressure part at the total's peak
     p = h["probe_p"]
     s["p_XU_5"], s["p_XU_30"] = at("probe_p", 5.0), at("probe_p", 30.0)
     # first zero crossing of p(X_U) after the ramp, interpolated between the two rows around it
@@ -131,18 +149,33 @@ def summarise(case, d):
     hold = (t >= T_RAMP) & (t <= th)
     s["p_nonneg_hold"] = bool(np.all(p[hold] >= 0)) if t[-1] >= th else None
     s["p_min_hold"] = p[hold].min() if t[-1] >= th else None        # how negative, if it is
+    s["Fp_min_hold_mg"] = h["force_pressure_mg"][hold].min() if t[-1] >= th else None
+    s["phi_XU_min"] = h["probe_porosity"][t <= th].min()
+    s["phi_XU_hold_end"] = at("probe_porosity", th)
     s["vm_hold_kPa"] = at("max_von_mises", th)
     s["vm_max_kPa"] = h["max_von_mises"].max() if "max_von_mises" in h else None
     s["norm_ep_final"] = h["max_norm_ep"][-1] if "max_norm_ep" in h else None
     s["det_bp_dev_max"] = h["det_bp_max_dev"].max() if "det_bp_max_dev" in h else None
     s["height_um"], s["width_um"], s["t_last_s"] = h["height"][-1], h["width"][-1], t[-1]
+    s["hw_final"] = h["height"][-1] / h["width"][-1]
     return s
+
+
+# The stationary force the λp and k0 variants relax to: Table 1's at 400 s (neither changes it,
+# the paper says; its other variants have plateaus of their own).
+PLATEAU_CASE = "remodel_405"
+PLATEAU_SHARED = ("remodel_405", "lambda_0.1", "lambda_0.5", "k0_2.58e-3", "k0_2.58e-4")
 
 
 def write_summary(dirs, out):
     rows = {c: summarise(c, d) for c, d in dirs.items() if (d / "history.csv").exists()}
     if not rows:
         return print("no runs to summarise")
+    plateau = rows.get(PLATEAU_CASE, {}).get("F_hold_mg")
+    for c, s in rows.items():   # 95% of the way from the peak to Table 1's plateau, within the hold
+        h, th = history(dirs[c]), CASES.get(c, (None, None, 405.0))[2] - 5.0
+        s["t_relax95_s"] = relaxation_time(h["time"], h["force_total_mg"], plateau, th) \
+            if plateau is not None and c in PLATEAU_SHARED else None
     keys = list(next(iter(rows.values())))
     cell = lambda v: "" if v is None else (str(v) if isinstance(v, bool) else f"{v:.6g}")
     with open(out / "summary.csv", "w", newline="") as f:
@@ -157,93 +190,7 @@ def write_summary(dirs, out):
     print(f"wrote {out / 'summary.csv'}")
 
 
-# ---------------------------------------------------------------- figures
-
-def have(dirs, names, what="history.csv"):
-    missing = [n for n in names if n not in dirs or not (dirs[n] / what).exists()]
-    if missing:
-        print(f"  skipped: no {what} for {', '.join(missing)}")
-    return not missing
-
-
-def save(fig, out, name):
-    if not fig.get_constrained_layout():             # section figures lay out their colour bars
-        fig.tight_layout()
-    fig.savefig(out / "figures" / name, dpi=130)
-    plt.close(fig)
-    print(f"  wrote {out / 'figures' / name}")
-
-
-def fig_probe(dirs, out, a, b, name, title):
-    """p(X_U) and porosity vs time for two cases (Figs 4, 11)."""
-    if not have(dirs, [a, b]):
-        return
-    fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
-    for case, style in ((a, "-"), (b, "--")):
-        h = history(dirs[case])
-        ax[0].plot(h["time"], h["probe_p"], style, label=case)
-        ax[1].plot(h["time"], h["probe_porosity"], style, label=case)
-    t_end = CASES[a][2]
-    ax[0].axhline(0, color="k", lw=0.7)
-    for x, lab, unit in ((ax[0], "pressure p(X_U)", " [kPa]"), (ax[1], "porosity at X_U", " [-]")):
-        x.axvline(t_end, color="grey", ls=":", label=f"t_end = {t_end:g} s")
-        x.set(xlabel="time t [s]", ylabel=lab + unit)
-        x.legend()
-    fig.suptitle(f"{title}: probe X_U = {PROBE} µm")
-    save(fig, out, name)
-
-
-def fig_forces(dirs, out):
-    """Total, constitutive and pressure force for the lambda_p and sigma_y sweeps (Figs 7-9)."""
-    sweeps = [("λp sweep (σy = 2 kPa)", [("lambda_0.1", "λp = 0.1 (MPa s)⁻¹"), ("lambda_0.5", "λp = 0.5 (MPa s)⁻¹"),
-                                         ("remodel_405", "λp = 1 (MPa s)⁻¹")]),
-              ("σy sweep (λp = 1 (MPa s)⁻¹)", [("sigma_1", "σy = 1 kPa"), ("remodel_405", "σy = 2 kPa"),
-                                              ("sigma_4", "σy = 4 kPa")])]
-    cases = {c for _, s in sweeps for c, _ in s} | {"reference_405"}
-    if not have(dirs, sorted(cases)):
-        return
-    hist = {c: history(dirs[c]) for c in cases}
-    cols = [("force_total_mg", "total force"), ("force_constitutive_mg", "constitutive force"),
-            ("force_pressure_mg", "pressure force")]
-    fig, ax = plt.subplots(2, 3, figsize=(16, 8.5), sharex=True)
-    for r, (sweep, members) in enumerate(sweeps):
-        for c, (col, lab) in enumerate(cols):
-            x = ax[r, c]
-            for case, label in members:
-                x.plot(hist[case]["time"], hist[case][col], label=label)
-            x.plot(hist["reference_405"]["time"], hist["reference_405"][col], "--", color="grey",
-                   label="no remodelling")
-            x.set(xlim=(0, 420), xlabel="time t [s]", ylabel=f"{lab} [mg]", title=f"{sweep}: {lab}")
-            x.legend(fontsize=8)
-    fig.suptitle("Figs 7-9: plate forces of remodel_405 variants (t_end = 405 s)")
-    save(fig, out, "fig7_9_forces.png")
-
-
-def fig_soft(dirs, out):
-    """A soft solid (µ = 3 kPa): Forgacs' aggregates (ν = 0.45) force, and p(X_U) without a bubble (ν = 0.2)."""
-    if not have(dirs, ["mu3_nu0.45", "mu3_nu0.2", "remodel_155"]):
-        return
-    fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
-    h = history(dirs["mu3_nu0.45"])
-    for col, lab in (("force_total_mg", "total"), ("force_constitutive_mg", "constitutive"),
-                     ("force_pressure_mg", "pressure")):
-        ax[0].plot(h["time"], h[col], label=lab)
-    # The same time as summary.csv's t_last_s, which the text quotes: the last converged step.
-    status = dirs["mu3_nu0.45"] / "status.txt"
-    failed = f"\nrun failed: last converged step at t = {h['time'][-1]:.2f} s" \
-        if status.exists() and status.read_text().startswith("failed") else ""
-    ax[0].set(xlim=(0, 160), xlabel="time t [s]", ylabel="force on the upper plate [mg]",
-              title="µ = 3 kPa, ν = 0.45, λp = 1 (MPa s)⁻¹ (Forgacs)" + failed)
-    for case, style, lab in (("remodel_155", "-", "µ = 20 kPa"), ("mu3_nu0.2", "--", "µ = 3 kPa")):
-        hh = history(dirs[case])
-        ax[1].plot(hh["time"], hh["probe_p"], style, label=f"{lab} ({case})")
-    ax[1].axhline(0, color="k", lw=0.7)
-    ax[1].set(xlabel="time t [s]", ylabel="pressure p(X_U) [kPa]", title="µ = 20 vs 3 kPa (ν = 0.2)")
-    for x in ax:
-        x.legend()
-    fig.suptitle("Soft aggregates (t_end = 155 s)")
-    save(fig, out, "fig_soft.png")
-
+# ---------------------------------------------------------------- figures' numbers
 
 def zone_stats(dirs):
     """remodel_40: σ_VM and ‖E_p‖ in the centre vs next to the contact zones (Figs 5-6 text;
@@ -331,7 +278,7 @@ REPORTED = [
     ("c = 2 over isotropic: p(X_U, 30 s)", "≈ 0.25", "c = 2 over isotropic, p(X_U, 30 s)",
      lambda d: _ratio(d, "remodel_155_c2", "remodel_155", "p_XU_30")),
     ("λp 1 → 0.1: constitutive-force peak change (mg)", "+≈ 4", "λp 1 → 0.1: constitutive-force peak change (mg)",
-     lambda d: _diff(d, "lambda_0.1", "remodel_405", "peak_Fc_mg")),
+     lambda d: _diff(d, "lambda_0.1", "remodel_405", "peak_Fc60_mg")),
     ("λp 1 → 0.1: total-force peak change (mg)", "+≈ 2", "λp 1 → 0.1: total-force peak change (mg)",
      lambda d: _diff(d, "lambda_0.1", "remodel_405", "peak_F_mg")),
     ("largest σ_VM, last step in upper contact (kPa)", "≈ 4.0", ("remodel_40", "vm_max_before_detach"),
@@ -397,105 +344,6 @@ def reported(dirs, out, refs, label):
     print(f"wrote {out / 'reported.csv'}")
 
 
-class Section:
-    """The mid-plane y = 0 of a run's fields.h5: the faces there of cells with 3 vertices on it
-    (every cell of a meridian run), each split in 4 triangles through its mid-edge nodes so that
-    deformed boundaries curve."""
-
-    def __init__(self, case, d):
-        self.case = case
-        self.f = h5py.File(d / "fields.h5", "r")
-        self.X = self.f["/mesh/coordinates"][:]
-        top = self.f["/mesh/topology"][:]
-        self.times = self.f["/time"][:]
-        meridian = top.shape[1] == 6
-        nv, edges = (3, fields.TRI6_EDGES) if meridian else (4, fields.TET10_EDGES)
-        on = np.abs(self.X[top[:, :nv], 1]) < 1e-9
-        tris, owner = [], []
-        for c in np.nonzero(on.sum(1) == 3)[0]:
-            a, b, e = np.nonzero(on[c])[0]
-            mid = {frozenset(pair): top[c, nv + k] for k, pair in enumerate(edges)}
-            ab, be, ea = mid[frozenset((a, b))], mid[frozenset((b, e))], mid[frozenset((e, a))]
-            A, B, E = top[c, [a, b, e]]
-            tris += [(A, ab, ea), (ab, B, be), (ea, be, E), (ab, be, ea)]
-            owner += [c] * 4
-        self.tris, self.owner = np.array(tris), np.array(owner)
-
-    def index(self, t):
-        k = int(np.argmin(np.abs(self.times - t)))
-        if abs(self.times[k] - t) > 0.05:            # e.g. a run older than its scene's fields_at
-            print(f"  warning: {self.case} has no output at t = {t:g} s; nearest is {self.times[k]:.4g} s")
-        return k, self.times[k]
-
-    def field(self, name, k):
-        return self.f[f"/fields/{name}/{k:06d}"][:]
-
-    def draw(self, ax, name, k, **kw):
-        """Deformed section, mirrored to x < 0 to show the whole cross-section."""
-        u, n = self.field("u", k), len(self.X)
-        x, z = self.X[:, 0] + u[:, 0], self.X[:, 2] + u[:, 2]
-        tri = mtri.Triangulation(np.r_[x, -x], np.r_[z, z], np.r_[self.tris, self.tris + n])
-        v = self.field(name, k)
-        if len(v) == n:                              # node field: linear over each sub-triangle
-            m = ax.tripcolor(tri, np.r_[v, v], shading="gouraud", **kw)
-        else:                                        # cell field: constant per cell
-            m = ax.tripcolor(tri, facecolors=np.r_[v[self.owner], v[self.owner]], **kw)
-        ax.set(aspect="equal", xlabel="x [µm]", ylabel="z [µm]")
-        return m
-
-    def probe(self, k):
-        """Deformed position (x, z) of X_U, u interpolated linearly on the reference section."""
-        tri = mtri.Triangulation(self.X[:, 0], self.X[:, 2], self.tris)
-        u = self.field("u", k)
-        ux, uz = (float(mtri.LinearTriInterpolator(tri, u[:, i])(PROBE[0], PROBE[2])) for i in (0, 2))
-        return PROBE[0] + ux, PROBE[2] + uz
-
-
-def fig_midplane(dirs, out):
-    """|E_p| and von Mises stress on the mid-plane of remodel_40 (Figs 5-6)."""
-    if not have(dirs, ["remodel_40"], "fields.h5"):
-        return
-    s, ts = Section("remodel_40", dirs["remodel_40"]), [5.0, 15.0, 35.0, 40.0, 60.0]
-    ks = [s.index(t) for t in ts]
-    print("  remodel_40 times used: " + ", ".join(f"{tt:.4g}" for _, tt in ks))
-    fig, ax = plt.subplots(2, 5, figsize=(21, 7.5), sharex=True, sharey=True, layout="constrained")
-    for r, (name, lab, cmap) in enumerate([("norm_ep", "‖E_p‖ [-]", "viridis"), ("von_mises", "σ_VM [kPa]", "magma")]):
-        for c, (k, tt) in enumerate(ks):
-            # A colour scale per time: after the release σ_VM is ten times lower than at the
-            # peak, and its inversion (highest next to the former contacts) must stay visible.
-            m = s.draw(ax[r, c], name, k, cmap=cmap, vmin=0, vmax=s.field(name, k).max())
-            ax[r, c].set_title(f"{lab.split(' ')[0]}, t = {tt:.4g} s")
-            fig.colorbar(m, ax=ax[r, c], label=lab, shrink=0.8)
-    fig.suptitle("Figs 5-6: remodel_40, mid-plane y = 0 (deformed); each panel has its own colour scale")
-    save(fig, out, "fig5_6_midplane.png")
-
-
-def fig_pressure(dirs, out, cases, ts, name, title):
-    """Pressure on the mid-plane, colour map centred on p = 0 (Figs 3, 11c)."""
-    if not have(dirs, cases, "fields.h5"):
-        return
-    secs = {c: Section(c, dirs[c]) for c in cases}
-    idx = {c: [secs[c].index(t) for t in ts] for c in cases}
-    for c in cases:
-        print(f"  {c} times used: " + ", ".join(f"{tt:.4g}" for _, tt in idx[c]))
-    ps = [secs[c].field("p", k) for c in cases for k, _ in idx[c]]
-    lo, hi = min(p.min() for p in ps), max(p.max() for p in ps)
-    norm = TwoSlopeNorm(0.0, min(lo, -1e-3 * abs(hi)), max(hi, 1e-3 * abs(lo)))   # needs lo < 0 < hi
-    rows, cols = (len(cases), len(ts)) if len(ts) > 1 else (1, len(cases))   # one time: side by side
-    fig, ax = plt.subplots(rows, cols, figsize=(4.2 * cols + 1.5, 3.6 * rows), squeeze=False,
-                           sharex=True, sharey=True, layout="constrained")
-    panels = [(c, k, tt) for c in cases for k, tt in idx[c]]
-    for x, (c, k, tt) in zip(ax.flat, panels):
-        m = secs[c].draw(x, "p", k, cmap="RdBu_r", norm=norm)
-        x.plot(*secs[c].probe(k), "ko", ms=4, label="X_U (deformed)")
-        x.set_title(f"{c}, t = {tt:.4g} s")
-    ax.flat[0].legend(loc="lower left", fontsize=8)
-    ticks = np.r_[np.linspace(norm.vmin, 0, 3)[:-1], np.linspace(0, norm.vmax, 4)]   # both halves labelled
-    fig.colorbar(m, ax=ax.ravel().tolist(), label="pressure p [kPa]", ticks=ticks, format="%.3g")
-    fig.suptitle(f"{title}: pressure on the mid-plane y = 0 (deformed)")
-    save(fig, out, name)
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", default="runs/reproduce")
@@ -521,7 +369,7 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     dirs = case_dirs(out)
     if not a.plots_only:
-        dirs.update(run_cases(out, a.only or list(CASES)))
+        dirs.update(run_cases(out, a.only or (list(CASES) if a.axisymmetric else TABLE_CASES)))
     dirs.update({k: Path(v) for k, v in (x.split("=", 1) for x in a.dirs)})
     write_summary(dirs, out)
     refs = a.references
@@ -541,34 +389,47 @@ def main():
              "meridian, scene mesh" if a.axisymmetric else "3-D default")
     (out / "figures").mkdir(exist_ok=True)
     print("\nfigures:")
-    steps = [("fig4_probe", lambda: fig_probe(dirs, out, "remodel_155", "elastic_155", "fig4_probe.png",
-                                              "Fig 4: remodelling vs elastic (t_end = 155 s)")),
-             ("fig11_probe", lambda: fig_probe(dirs, out, "remodel_155_c2", "remodel_155", "fig11_probe.png",
-                                               "Fig 11: remodelling-dependent permeability (c = 2, k0 = 2.5779e-3) vs isotropic (k0 = 3.7729e-3)")),
-             ("fig7_9_forces", lambda: fig_forces(dirs, out)),
-             ("fig5_6_midplane", lambda: fig_midplane(dirs, out)),
-             ("fig3_pressure", lambda: fig_pressure(dirs, out, ["remodel_405", "reference_405"], [5, 25, 30, 45],
-                                                    "fig3_pressure.png", "Fig 3: remodelling vs none")),
-             ("fig3_later_pressure", lambda: fig_pressure(dirs, out, ["remodel_405", "reference_405"],
-                                                          [60, 100, 200, 400], "fig3_later_pressure.png",
-                                                          "Fig 3 continued: later in the hold")),
-             ("zone_stats", lambda: zone_stats(dirs)),
-             ("split_kink", lambda: split_kink(dirs)),
-             ("fig_soft", lambda: fig_soft(dirs, out)),
-             ("fig_soft_pressure", lambda: fig_pressure(dirs, out, ["remodel_155", "mu3_nu0.2"], [30, 45],
-                                                        "fig_soft_pressure.png", "µ = 20 vs 3 kPa")),
-             ("fig11c_pressure", lambda: fig_pressure(dirs, out, ["remodel_155", "remodel_155_c2"], [30],
-                                                      "fig11c_pressure.png", "Fig 11c: isotropic vs c = 2, t = 30 s"))]
-    for name, make in steps:
-        print(f" {name}:")
+    P, C = figs.fig_pressure, CASES
+    steps = [lambda: figs.fig_probe(dirs, out, C, [("remodel_155", "remodelling"), ("elastic_155", "no remodelling")],
+                                    "fig4_probe.png", "Fig 4: remodelling vs elastic (t_end = 155 s)",
+                                    ("remodel_155_R900", "R = 900 µm, remodelling (its X_U)")),
+             lambda: figs.fig_probe(dirs, out, C, [("remodel_155_c2", "c = 2, k0 = 2.58e-3"),
+                                                   ("remodel_155", "isotropic, k0 = 3.77e-3 (Table 1)"),
+                                                   ("k0_2.58e-3", "isotropic, k0 = 2.58e-3")],
+                                    "fig11_probe.png", "Fig 11b: remodelling-dependent permeability vs isotropic"),
+             lambda: figs.fig_forces(dirs, out, C),
+             lambda: figs.fig_share(dirs, out, C),
+             lambda: figs.fig_hw(dirs, out, C),
+             lambda: figs.fig_midplane(dirs, out, C),
+             lambda: P(dirs, out, C, ["remodel_405", "reference_405"], [5, 25, 30, 35, 45], "fig3_pressure.png",
+                       "Fig 3: remodelling vs none"),
+             lambda: P(dirs, out, C, ["remodel_405", "reference_405"], [60, 100, 200, 400], "fig3_later_pressure.png",
+                       "Fig 3 continued: later in the hold"),
+             lambda: zone_stats(dirs),
+             lambda: split_kink(dirs),
+             lambda: figs.fig_soft(dirs, out, C),
+             lambda: P(dirs, out, C, ["remodel_155", "mu3_nu0.2"], [30, 45], "fig_soft_pressure.png", "µ = 20 vs 3 kPa"),
+             lambda: P(dirs, out, C, ["remodel_155", "remodel_155_c2"], [30], "fig11c_pressure.png",
+                       "Fig 11c: isotropic vs c = 2, t = 30 s")]
+    for make in steps:
         make()
     if a.docs:
-        dst = ROOT / "docs" / "figures"
-        dst.mkdir(parents=True, exist_ok=True)
-        suffix = "_axi" if a.axisymmetric else ""   # the meridian's figures beside the 3-D ones
-        for png in sorted((out / "figures").glob("*.png")):
-            shutil.copy(png, dst / (png.stem + suffix + png.suffix))
-        print(f"copied figures to {dst}")
+        publish(out, a.axisymmetric)
+
+
+def publish(out, meridian):
+    """--docs: the meridian's figures and their data into docs/figures (the docs show those);
+    each set's summary and table of reported numbers into docs/figures/data."""
+    dst = ROOT / "docs" / "figures"
+    (dst / "data").mkdir(parents=True, exist_ok=True)
+    tag = "meridian" if meridian else "3d"
+    for name in ("summary", "reported"):
+        if (out / f"{name}.csv").exists():
+            shutil.copy(out / f"{name}.csv", dst / "data" / f"{name}_{tag}.csv")
+    if meridian:
+        for f in sorted((out / "figures").glob("*.png")) + sorted((out / "figures" / "data").glob("*.csv")):
+            shutil.copy(f, dst / f.relative_to(out / "figures"))
+    print(f"copied the {tag} set's results to {dst}")
 
 
 if __name__ == "__main__":

@@ -4,7 +4,8 @@ rule (RULE). Rendered as the Markdown table of docs/reproduction.md.
 
 claims.csv columns: id, where (section, figure), claim (the paper's statement), paper (its number
 or "yes"), measure (for a numeric claim: `CASE|OBSERVABLE`, or two of them joined by " - " or
-" / "), ours (text; `{CASE|OBSERVABLE}` is replaced by the converged value ± its error bar),
+" / "), ours (text; `{CASE|OBSERVABLE}` is replaced by the converged value ± its error bar, and
+`{SOURCE:ROW|COLUMN}` by a value of one of the committed SOURCES, not converged, to 4 digits),
 verdict, cause (measured, argued, derived, or "none measured"), paper_value, precision (absolute,
 or "×F" for a factor), precision_note (where the precision comes from).
 """
@@ -17,6 +18,14 @@ from pathlib import Path
 from .refs import combined, references
 
 DATA = Path(__file__).resolve().parent.parent / "data"
+FIGURE_DATA = DATA.parent.parent / "docs" / "figures" / "data"
+
+# Values that are not converged references, by source: (file, its key column). `meridian` and
+# `3d` are reproduce.py's summaries of the shipped scenes (--axisymmetric, and 3-D), `fields` the
+# causes runs' rows read from fields (causes.py --fields).
+SOURCES = {"meridian": (FIGURE_DATA / "summary_meridian.csv", "case"),
+           "3d": (FIGURE_DATA / "summary_3d.csv", "case"),
+           "fields": (DATA / "hypothesis_40a_fields.csv", "variant")}
 
 VERDICTS = ("reproduced", "partly", "no", "open", "not comparable")
 
@@ -43,17 +52,32 @@ def load(path=DATA / "claims.csv"):
 
 
 def fmt(value, bar):
-    """value ± bar, the bar to 2 significant digits and the value to the same decimal."""
+    """value ± bar, the bar to 2 significant digits and the value to the same decimal; a value
+    without a bar (NaN: not converged) to 4 significant digits."""
     if not math.isfinite(value):
         return "—"
+    if math.isnan(bar):
+        return f"{value:.4g}"
     if bar <= 0 or not math.isfinite(bar):
         return f"{value:.6g}"
     decimals = max(0, 1 - math.floor(math.log10(bar)))
     return f"{value:.{decimals}f} ± {bar:.{decimals}f}"
 
 
+def source_value(source, row, column):
+    """A value of one of the SOURCES (row: its key column's value)."""
+    path, key = SOURCES[source]
+    with open(path, newline="", encoding="utf-8") as f:
+        for r in csv.DictReader(f):
+            if r[key] == row:
+                return float(r[column])
+    raise KeyError(f"claims.csv: no row {row} in {path.name}")
+
+
 def lookup(refs, key):
     case, observable = key.split("|", 1)
+    if ":" in case:
+        return source_value(*case.split(":", 1), observable), math.nan
     if (case, observable) not in refs:
         raise KeyError(f"claims.csv: no converged value {case} | {observable} in references.csv")
     return refs[(case, observable)]

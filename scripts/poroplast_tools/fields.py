@@ -158,7 +158,7 @@ def peak_time(run, col):
 # name -> function of a run directory: the derived observables that references.py's cases name.
 DERIVED = {
     **{f"vm_{z}@{t:g}": (lambda z, t: lambda run: zone_mean(run, "von_mises", z, t))(z, t)
-       for z in ("centre", "contact") for t in (35.0, 40.0, 60.0)},
+       for z in ("centre", "contact") for t in (35.0, 36.0, 37.0, 40.0, 60.0)},
     **{f"vm_contact/centre@{t:g}": (lambda t: lambda run: zone_ratio(run, "von_mises", t))(t) for t in (35.0, 40.0, 60.0)},
     **{f"ep_{z}@60": (lambda z: lambda run: zone_mean(run, "norm_ep", z, 60.0))(z) for z in ("centre", "contact")},
     "ep_contact/centre@60": lambda run: zone_ratio(run, "norm_ep", 60.0),

@@ -66,3 +66,16 @@ def at(h, col, when):
     i = max(1, int(np.searchsorted(t, when, side="left")))
     w = (when - t[i - 1]) / (t[i] - t[i - 1]) if t[i] > t[i - 1] else 1.0
     return float(v[i - 1] + w * (v[i] - v[i - 1]))
+
+
+def relaxation_time(t, f, plateau, t_max, fraction=0.95):
+    """The time after its peak at which the force f(t) has covered `fraction` of the way from the
+    peak down to `plateau` (interpolated between output times), or None if not by t_max: one
+    number for "relaxes in 400-1000 s" that does not assume one exponential."""
+    k = int(np.argmax(f))
+    target = f[k] - fraction * (f[k] - plateau)
+    after = np.nonzero((t > t[k]) & (t <= t_max) & (f <= target))[0]
+    if not len(after):
+        return None
+    j = after[0]
+    return float(t[j - 1] + (t[j] - t[j - 1]) * (f[j - 1] - target) / (f[j - 1] - f[j]))

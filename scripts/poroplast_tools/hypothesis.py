@@ -1,8 +1,10 @@
-"""The (40a) hypothesis against an alternative of the same size on the syringe crossing: each
-remodelling row the causes runs can give, under the base flow rule ((40b)), under (40a), and with
-λp × 1.1 (which shifts the crossing as (40a) does), beside the paper's number, and the share of
-the base's gap to the paper that each change closes. Read from data/hypothesis_40a.csv, the table
-`causes.py --dir DIR --only` writes for HYPOTHESIS_VARIANTS; rendered into docs/reproduction.md."""
+"""The (40a) hypothesis against alternatives of the same size on the syringe crossing: each
+remodelling row the causes runs can give, under the base flow rule ((40b)), under (40a), with
+λp × 1.1 (which shifts the crossing as (40a) does) and with γp of the Kirchhoff stress (another
+place a J can enter), beside the paper's number, and the share of the base's gap to the paper
+that each change closes. Read from data/hypothesis_40a.csv, the table `causes.py --dir DIR --only`
+writes for HYPOTHESIS_VARIANTS, and data/hypothesis_40a_fields.csv, the table `causes.py --fields`
+writes (the rows read from fields and shapes); rendered into docs/reproduction.md."""
 
 import csv
 from pathlib import Path
@@ -14,6 +16,7 @@ MODELS = {
     "(40b), the base": ("base", "c2", "lambda_01"),
     "(40a)": ("form_40a", "c2_40a", "lambda_01_40a"),
     "λp × 1.1": ("lambda_x110", "c2_lambda_x110", "lambda_01_x110"),
+    "γp of τ = J σ": ("form_tau", "c2_tau", "lambda_01_tau"),
 }
 # λp's factor in the λp-scaled variants: the crossing's shift against it.
 FACTORS = {"lambda_x110": 1.1, "lambda_x115": 1.15, "lambda_x120": 1.2, "lambda_x125": 1.25}
@@ -31,6 +34,18 @@ ROWS = [
 ]
 
 
+# The rows read from fields and shapes: (row, the paper's number or None, the column of
+# hypothesis_40a_fields.csv); each model's value is its row there (the isotropic case).
+FIELD_ROWS = [
+    ("σ_VM, contact-zone mean at 35 s (kPa)", 4.0, "remodel_40|vm_contact@35"),
+    ("σ_VM, contact-zone mean at 40 s (kPa)", 3.5, "remodel_40|vm_contact@40"),
+    ("σ_VM, contact zones over centre at 40 s", 10.0, "remodel_40|vm_contact/centre@40"),
+    ("‖E_p‖, contact zones over centre at 60 s", 0.0, "remodel_40|ep_contact/centre@60"),
+    ("p > 0 share of the volume at 45 s", None, "remodel_155|bubble_share@45"),
+    ("H/W after 65 s of compression and 60 s of rest", None, "hw_65|last:height/width"),
+]
+
+
 def load(path=DATA / "hypothesis_40a.csv"):
     with open(path, newline="", encoding="utf-8") as f:
         rows = {r["variant"]: r for r in csv.DictReader(f)}
@@ -43,11 +58,13 @@ def load(path=DATA / "hypothesis_40a.csv"):
     return rows
 
 
-def values(rows):
-    """{row name: (paper, {model: value})}."""
+def values(rows, field_rows=None):
+    """{row name: (paper or None, {model: value})}."""
     out = {}
     for name, paper, f in ROWS:
         out[name] = (paper, {m: f(*(rows[v] for v in trio)) for m, trio in MODELS.items()})
+    for name, paper, col in FIELD_ROWS if field_rows else []:
+        out[name] = (paper, {m: field_rows[trio[0]][col] for m, trio in MODELS.items()})
     return out
 
 
@@ -60,25 +77,31 @@ def closed(paper, base, value):
 MOVES = 0.1
 
 
-def table(rows=None):
+def table(rows=None, field_rows=None):
     rows = load() if rows is None else rows
+    field_rows = load(DATA / "hypothesis_40a_fields.csv") if field_rows is None else field_rows
     models = list(MODELS)
     lines = ["| row | paper | " + " | ".join(models) + " |", "|---|---|" + "---|" * len(models)]
     moved = dict.fromkeys(models[1:], 0)
-    for name, (paper, by) in values(rows).items():
+    numbered = 0
+    for name, (paper, by) in values(rows, field_rows).items():
         base = by[models[0]]
         cells = [f"{base:.3g}"]
+        numbered += paper is not None
         for m in models[1:]:
+            if paper is None:
+                cells.append(f"{by[m]:.3g} ({by[m] - base:+.2g})")
+                continue
             share = closed(paper, base, by[m])
             moved[m] += share >= MOVES
             cells.append(f"{by[m]:.3g} (closes {int(round(100 * share))}% of the gap)")
-        lines.append(f"| {name} | {paper:g} | " + " | ".join(cells) + " |")
+        lines.append(f"| {name} | {'—' if paper is None else f'{paper:g}'} | " + " | ".join(cells) + " |")
     shift = lambda v: rows[v]["zero:probe_p"] - rows["base"]["zero:probe_p"]
     scale = ", ".join(f"×{f:g}: {shift(v):+.2f} s" for v, f in FACTORS.items())
-    counts = "; ".join(f"{m} closes at least {100 * MOVES:.0f}% of the gap in {n} of {len(ROWS)} rows"
+    counts = "; ".join(f"{m} closes at least {100 * MOVES:.0f}% of the gap in {n} of {numbered} rows"
                        for m, n in moved.items())
     return ("\n".join(lines) + f"\n\n{counts}. The crossing's shift against λp's factor: {scale}; "
-            f"(40a): {shift('form_40a'):+.2f} s.\n")
+            f"(40a): {shift('form_40a'):+.2f} s; γp of τ: {shift('form_tau'):+.2f} s.\n")
 
 
 BEGIN = "<!-- (40a) table: written by scripts/claims.py --write; do not edit -->"
