@@ -77,6 +77,8 @@ CASES.update({
     # the scenes are scale-free: the mesh, the plates and X_U follow R
     "R_300": ("remodel_405", ["mesh.params.R=300.0"], 405.0), "R_900": ("remodel_405", ["mesh.params.R=900.0"], 405.0),
 })
+# Fig 6's caption: the two plates' σ_VM differ because of gravity (its region means without it).
+CASES["remodel_40_g0"] = ("remodel_40", ["material.gravity=[0.0, 0.0, 0.0]"], 40.0)
 # Figs 10-11a: H/W after 60 s of rest against the compression time t_end (figs.HW_SETS).
 _HW_SETS = {"l0.1": ["material.remodelling.lambda_p=0.0001"], "l0.5": ["material.remodelling.lambda_p=0.0005"],
             "l1": [], "l0.5_k2.58e-3": ["material.remodelling.lambda_p=0.0005", "material.k0=2.5779"],
@@ -140,6 +142,7 @@ def summarise(case, d):
     s["p_share_peak"] = h["force_pressure_mg"][f.argmax()] / f.max()     # the pressure part at the total's peak
     p = h["probe_p"]
     s["p_XU_5"], s["p_XU_30"] = at("probe_p", 5.0), at("probe_p", 30.0)
+    s["contact_radius_5"] = at("contact_radius_upper", 5.0)
     # first zero crossing of p(X_U) after the ramp, interpolated between the two rows around it
     neg = np.nonzero((t > T_RAMP) & (p < 0))[0]
     s["t_p_neg_s"] = None

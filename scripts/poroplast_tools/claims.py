@@ -22,10 +22,12 @@ FIGURE_DATA = DATA.parent.parent / "docs" / "figures" / "data"
 
 # Values that are not converged references, by source: (file, its key column). `meridian` and
 # `3d` are reproduce.py's summaries of the shipped scenes (--axisymmetric, and 3-D), `fields` the
-# causes runs' rows read from fields (causes.py --fields).
+# causes runs' rows read from fields (causes.py --fields), `zones` the region means of Figs 5-6
+# (rows "CASE@T").
 SOURCES = {"meridian": (FIGURE_DATA / "summary_meridian.csv", "case"),
            "3d": (FIGURE_DATA / "summary_3d.csv", "case"),
-           "fields": (DATA / "hypothesis_40a_fields.csv", "variant")}
+           "fields": (DATA / "hypothesis_40a_fields.csv", "variant"),
+           "zones": (FIGURE_DATA / "fig5_6_zones.csv", "row")}
 
 VERDICTS = ("reproduced", "partly", "no", "open", "not comparable")
 

@@ -66,10 +66,16 @@ class Fields:
 
     def regions(self, depth=CONTACT_DEPTH):
         """The centre and the contact zones (to `depth` from the plates) as cell masks."""
+        zones = self.zones(depth)
+        return zones["centre"], zones["contact"]
+
+    def zones(self, depth=CONTACT_DEPTH):
+        """Every region as a cell mask: the centre, the contact zones, and each plate's alone."""
         R = self.radius
-        centre = (self.r < CENTRE_HALF) & (abs(self.z - R) < CENTRE_HALF)
-        contact = (self.r < CONTACT_R) & ((self.z > 2 * R - depth) | (self.z < depth))
-        return centre, contact
+        upper = (self.r < CONTACT_R) & (self.z > 2 * R - depth)
+        lower = (self.r < CONTACT_R) & (self.z < depth)
+        return {"centre": (self.r < CENTRE_HALF) & (abs(self.z - R) < CENTRE_HALF), "contact": upper | lower,
+                "contact_upper": upper, "contact_lower": lower}
 
     def mean(self, values, where):
         return float((values[where] * self.w[where]).sum() / self.w[where].sum())
@@ -85,14 +91,13 @@ def fields(run):
 
 
 def zone_mean(run, name, zone, t, depth=CONTACT_DEPTH):
-    """Volume mean of the cell field `name` (von_mises, norm_ep) over `zone` (centre, contact; the
-    contact zones `depth` deep) at t."""
+    """Volume mean of the cell field `name` (von_mises, norm_ep, porosity) over `zone` (centre,
+    contact, contact_upper, contact_lower; the contact zones `depth` deep) at t."""
     f = fields(run)
     v = f.at(name, t)
     if v is None:
         return float("nan")
-    centre, contact = f.regions(depth)
-    return f.mean(v, centre if zone == "centre" else contact)
+    return f.mean(v, f.zones(depth)[zone])
 
 
 def zone_ratio(run, name, t, depth=CONTACT_DEPTH):

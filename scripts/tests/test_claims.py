@@ -51,7 +51,8 @@ class Table(unittest.TestCase):
 
     def test_every_claim_of_the_paper_has_a_row(self):
         numbers = {int(re.match(r"P(\d+)", r["id"]).group(1)) for r in self.rows}
-        self.assertEqual(numbers, set(range(1, 59)))
+        self.assertLessEqual(set(range(1, 59)), numbers)   # the audit's 58, and those found since
+        self.assertEqual(numbers, set(range(1, max(numbers) + 1)))
 
     def test_every_quoted_number_is_the_references(self):
         for r in self.rows:
