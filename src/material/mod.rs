@@ -10,6 +10,8 @@ pub mod holmes_mow;
 pub mod penalty;
 pub mod permeability;
 pub mod remodelling;
+#[cfg(test)]
+mod remodelling_tests;
 pub mod tensor;
 
 #[cfg(test)]
