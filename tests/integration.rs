@@ -18,6 +18,8 @@ mod remodelling;
 mod restart;
 #[path = "study.rs"]
 mod study;
+#[path = "surface.rs"]
+mod surface;
 #[path = "sweep.rs"]
 mod sweep;
 #[path = "verification.rs"]

@@ -25,6 +25,7 @@ use crate::physics::bc::{self, Constraint};
 use crate::physics::contact::{Drainage, PlateLoading, Plates, DEFAULT_SEAL_GAP};
 use crate::physics::factory::{ellipticity_warning, model_of};
 use crate::physics::problem::PoroProblem;
+use crate::physics::surface_tension::SurfaceTension;
 use crate::reference_cell::Family;
 use crate::scene::{LoadedScene, Material};
 use crate::solver;
@@ -316,6 +317,15 @@ impl<'w> Run<'w> {
         )?;
         if s.fem.equal_order() {
             problem.tie_displacement();
+        }
+        if let Some(sf) = &s.surface {
+            // γ = 0 costs nothing: no surface term at all.
+            if sf.tension > 0.0 {
+                let ctx = format!("{}: [surface]", scene.source);
+                let disc = &problem.disc;
+                let faces = agree(world, bc::face_group(&disc.mesh, &sf.group, &ctx))?.to_vec();
+                problem.surface = Some(SurfaceTension::new(sf.tension, &disc.mesh, &faces));
+            }
         }
         let plate_faces = match plates {
             Some((pl, faces)) => {

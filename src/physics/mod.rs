@@ -8,6 +8,7 @@ pub mod contact;
 pub mod factory;
 pub mod linear;
 pub mod problem;
+pub mod surface_tension;
 
 #[cfg(test)]
 mod assembly_tests;

@@ -29,6 +29,7 @@ pub mod reference;
 mod resolve;
 #[cfg(test)]
 mod scaling_tests;
+pub mod surface;
 pub mod time;
 #[cfg(test)]
 mod validation_tests;
@@ -40,6 +41,7 @@ pub use mesh::{Geometry, Grading, MeshSpec};
 pub use numerics::{Element, FemSpec, SolverSpec};
 pub use observe::{Probe, ProbeField, Verification};
 pub use plates::{DrainageGap, PlatesSpec, Protocol};
+pub use surface::SurfaceSpec;
 pub use time::{InitialSpec, OutputSpec, TimeSpec};
 
 use serde::{Deserialize, Serialize};
@@ -68,6 +70,9 @@ pub struct Scene {
     /// Rigid plates squeezing the aggregate (contact, drainage, loading).
     #[serde(default)]
     pub plates: Option<PlatesSpec>,
+    /// Surface tension of the aggregate's boundary.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface: Option<SurfaceSpec>,
     #[serde(default)]
     pub solver: SolverSpec,
     #[serde(default)]
@@ -102,6 +107,9 @@ impl Scene {
         }
         if let Some(v) = &self.verification {
             v.validate()?;
+        }
+        if let Some(sf) = &self.surface {
+            sf.validate()?;
         }
         self.fem.validate(self.mesh.geometry)?;
         self.validate_petsc()

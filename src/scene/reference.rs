@@ -2,7 +2,7 @@
 //! the text of `docs/scene-reference.md` and of `poroplast scenes --keys`.
 
 use super::key::{Key, Section, Unset};
-use super::{bc, material, mesh, numerics, observe, plates, time};
+use super::{bc, material, mesh, numerics, observe, plates, surface, time};
 
 /// Every section, in the order of a scene file.
 pub fn sections() -> Vec<Section> {
@@ -20,6 +20,7 @@ pub fn sections() -> Vec<Section> {
         observe::PROBE_SECTION,
         observe::VERIFICATION_SECTION,
         plates::SECTION,
+        surface::SECTION,
         numerics::SOLVER_SECTION,
         numerics::FEM_SECTION,
         PETSC_SECTION,
@@ -166,7 +167,7 @@ mod tests {
                 "[mesh]\ngeo = \"g\"\n[material]\n{material}\n[time]\nt_end = 1.0\ndt = 0.1\n\
                  [plates]\nradius = 1.0\ncompression = 0.1\nt_ramp = 1.0\nt_end = 2.0\n\
                  [[probe]]\nname = \"p\"\nfield = \"p\"\ngroup = \"g\"\n\
-                 [[bc]]\ngroup = \"g\"\nroller = true\n"
+                 [[bc]]\ngroup = \"g\"\nroller = true\n[surface]\ntension = 1.0\n"
             );
             let scene: Scene = toml::from_str(&text).unwrap();
             toml::Table::try_from(&scene).unwrap()

@@ -200,3 +200,24 @@ fn inconsistent_keys_are_named_together() {
         "plates.drainage = false seals",
     );
 }
+
+/// `[surface]`: a negative tension, and values off by 10³ (N/m or µN/m for mN/m), are refused
+/// with the unit named; an unknown key too.
+#[test]
+fn surface_tension_is_checked() {
+    let add = |v: &str| format!("[surface]\ntension = {v}\n\n[plates]\n");
+    let cases = [
+        ("-1.0", "surface.tension = -1: must be finite and >= 0"),
+        ("0.005", "looks like N/m (write 5 mN/m)"),
+        ("5000.0", "looks like µN/m (write 5 mN/m)"),
+    ];
+    for (v, part) in cases {
+        expect("reference", &[("[plates]\n", &add(v))], &[], part);
+    }
+    expect(
+        "reference",
+        &[("[plates]\n", "[surface]\ntension = 5.0\nadhesion = 9.0\n\n[plates]\n")],
+        &[],
+        "unknown field `adhesion`",
+    );
+}

@@ -1,6 +1,7 @@
 //! The Jacobian dF/dU + shift dF/dU̇ of a step and the fixed-stress Schur approximation: the
 //! element loop (the first assembly inserts sorted rows and fixes the pattern, later ones write
-//! into the CSR arrays), the drainage rows, and the constraint rows on the diagonal.
+//! into the CSR arrays), the surface tension's face blocks, the drainage rows, and the
+//! constraint rows on the diagonal.
 
 use super::PoroProblem;
 use crate::error::Result;
@@ -24,8 +25,13 @@ impl PoroProblem {
         jac: &mut Mat,
     ) -> Result<()> {
         // A linear model's Jacobian depends only on the shift (unless contact changes the
-        // drained set): leaving the matrix untouched lets PETSc keep the preconditioner too.
-        if self.disc.model.is_linear() && self.plates.is_none() && self.assembled_shift == Some(shift) {
+        // drained set, or the surface tension's geometry moves): leaving the matrix untouched
+        // lets PETSc keep the preconditioner too.
+        if self.disc.model.is_linear()
+            && self.plates.is_none()
+            && self.surface.is_none()
+            && self.assembled_shift == Some(shift)
+        {
             return Ok(());
         }
         let t0 = Instant::now();
@@ -75,6 +81,19 @@ impl PoroProblem {
         self.collective(outcome)?;
         self.ghosts.flush(jac)?;
         let scales = self.scales(shift);
+        // Surface tension: γ ∂²A/∂x² of each face, constrained rows and columns dropped as the
+        // element loop drops them.
+        if let Some(st) = &self.surface {
+            let ul = self.u_loc.read()?;
+            let (disc, l2g) = (&self.disc, &self.disc.dofs.l2g);
+            st.for_each_block(&disc.mesh, &disc.dofs, &ul, |idx, block| {
+                let keep: Vec<usize> = (0..idx.len()).filter(|&k| !disc.constrained[idx[k]]).collect();
+                let rows: Vec<Int> = keep.iter().map(|&k| l2g[idx[k]]).collect();
+                let vals: Vec<f64> =
+                    keep.iter().flat_map(|&a| keep.iter().map(move |&b| block[a * idx.len() + b])).collect();
+                jac.add_values(&rows, &rows, &vals)
+            })?;
+        }
         // Drainage: d(c p)/dp = c on the diagonal, d(c p)/du_z = c' p (not with the predicted
         // gap, fixed during the step); and c in the Schur block.
         if let Some(pl) = &self.plates {

@@ -26,6 +26,7 @@ pub use post::Post;
 
 use super::bc::Constraint;
 use super::contact::Plates;
+use super::surface_tension::SurfaceTension;
 use crate::error::{Error, Result};
 pub use crate::fem::assembly::Discretization;
 use crate::fem::dofmap::DofMap;
@@ -76,6 +77,8 @@ pub struct PoroProblem {
     h: f64,
     /// Rigid plates (contact bounds, drainage out of contact), if the scene has them.
     pub plates: Option<Plates>,
+    /// Surface tension of the boundary, if the scene has it.
+    pub surface: Option<SurfaceTension>,
     /// SNESVI lower/upper bounds (SNES keeps references; refreshed at every stage time).
     pub bounds: Option<(Vector, Vector)>,
     /// (start, stage) time of the step being solved, for the contact predictor.
@@ -159,6 +162,7 @@ impl PoroProblem {
             assembled_shift: None,
             h,
             plates: None,
+            surface: None,
             bounds: None,
             stage: (0.0, 0.0),
             extrapolation: None,

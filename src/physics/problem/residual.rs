@@ -1,5 +1,5 @@
-//! The residual F(t, U, U̇) of a step: the element loop, the drainage through the surface off
-//! the plates, the external loads, and the constraint rows s (U_i − g_i).
+//! The residual F(t, U, U̇) of a step: the element loop, the surface tension, the drainage
+//! through the surface off the plates, the external loads, and the constraint rows s (U_i − g_i).
 
 use super::PoroProblem;
 use crate::error::Result;
@@ -25,6 +25,10 @@ impl PoroProblem {
             fl.iter_mut().for_each(|x| *x = 0.0);
             let disc = &self.disc;
             let res = disc.add_residual(&ul, &udl, dt, &mut fl);
+            // Surface tension: γ ∂A/∂x of the boundary's nodes.
+            if let Some(st) = &self.surface {
+                st.add_residual(&disc.mesh, &disc.dofs, &ul, &mut fl);
+            }
             // Drainage through the surface off the plates: outflow c(g) p (contact module).
             if let Some(pl) = &self.plates {
                 for d in pl.drainage(&disc.mesh, &disc.dofs, self.predicted.as_deref().unwrap_or(&ul), t) {
