@@ -195,6 +195,30 @@ fn large_steps_return_to_the_yield_surface() {
     }
 }
 
+/// σy = 0, the liquid limit: a held strain relaxes its deviatoric stress towards zero as
+/// exp(−2 λp G t) would (G the mixture's shear modulus); over long steps it vanishes, while
+/// det B_p stays 1 and the isotropic part remains.
+#[test]
+fn without_a_yield_stress_the_deviator_relaxes_fully() {
+    let hm = HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap();
+    let rm = Remodelling::new(0.001, 0.0).unwrap();
+    assert_eq!(rm.yield_radius(), 0.0);
+    let f = Matrix3::from_diagonal(&nalgebra::Vector3::new(0.8f64.powf(-0.5), 0.8f64.powf(-0.5), 0.8));
+    let c = f.transpose() * f;
+    let s0 = Remodelling::dev_stress_norm(&hm, &c, &Matrix3::identity());
+    let mut bp = Matrix3::identity();
+    let mut last = s0;
+    for _ in 0..20 {
+        bp = rm.update(&hm, &c, &bp, 50.0).unwrap().bp;
+        let s = Remodelling::dev_stress_norm(&hm, &c, &bp);
+        assert!(s < last, "{s} after {last}");
+        last = s;
+    }
+    println!("‖dev σ‖: {s0:.4} kPa → {last:.3e} kPa after 1000 s");
+    assert!(last < 1e-6 * s0, "{last} of {s0}");
+    assert!((bp.determinant() - 1.0).abs() < 1e-12);
+}
+
 /// The consistent tangent against central differences of the update in C.
 #[test]
 fn tangent_matches_finite_differences() {
