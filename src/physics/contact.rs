@@ -46,32 +46,41 @@ use crate::mesh::dist::LocalMesh;
 pub use crate::scene::plates::{Protocol, DEFAULT_SEAL_GAP};
 pub use crate::scene::DrainageGap;
 
-/// Lower-plate displacement u(t) of the compression–release test (53): linear ramp to u_max
-/// over the protocol's ramp, hold, linear release back to 0, then rest.
-#[derive(Debug, Clone, Copy)]
+/// Lower-plate displacement u(t): linear between the points (t, u) of a protocol table, 0
+/// before the first, the last value after it. The compression–release test (53) (ramp to u_max,
+/// hold, release back to 0, rest) is the table of its phases ([`PlateLoading::phases`]).
+#[derive(Debug, Clone)]
 pub struct PlateLoading {
-    pub u_max: f64,
-    pub protocol: Protocol,
+    /// (t, u) in increasing t, from (0, 0).
+    points: Vec<(f64, f64)>,
 }
 
 impl PlateLoading {
+    /// The table (t, u) (increasing t; the scene checks it).
+    pub fn table(points: Vec<(f64, f64)>) -> PlateLoading {
+        PlateLoading { points }
+    }
+
+    /// Eq. (53): a ramp to u_max, a hold and a release back to 0.
+    pub fn phases(u_max: f64, protocol: Protocol) -> PlateLoading {
+        let [a, b, c] = protocol.ends();
+        PlateLoading::table(vec![(0.0, 0.0), (a, u_max), (b, u_max), (c, 0.0)])
+    }
+
     pub fn displacement(&self, t: f64) -> f64 {
-        let [a, b, c] = self.protocol.ends();
-        if t <= 0.0 {
-            0.0
-        } else if t < a {
-            self.u_max * t / a
-        } else if t < b {
-            self.u_max
-        } else if t < c {
-            self.u_max * (c - t) / self.protocol.release
-        } else {
-            0.0
+        let p = &self.points;
+        if t <= p[0].0 {
+            return if t < p[0].0 { 0.0 } else { p[0].1 };
+        }
+        match p.windows(2).find(|w| t < w[1].0) {
+            Some(w) => w[0].1 + (w[1].1 - w[0].1) * (t - w[0].0) / (w[1].0 - w[0].0),
+            None => p[p.len() - 1].1,
         }
     }
-    /// The kinks of u(t): steps must land on them.
-    pub fn kinks(&self) -> [f64; 3] {
-        self.protocol.ends()
+
+    /// The kinks of u(t), the table's times after 0: steps must land on them.
+    pub fn kinks(&self) -> Vec<f64> {
+        self.points.iter().map(|p| p.0).filter(|&t| t > 0.0).collect()
     }
 }
 
@@ -409,7 +418,7 @@ mod tests {
 
     #[test]
     fn loading_is_eq_53() {
-        let h = PlateLoading { u_max: 60.0, protocol: Protocol { ramp: 5.0, hold: 30.0, release: 5.0 } };
+        let h = PlateLoading::phases(60.0, Protocol { ramp: 5.0, hold: 30.0, release: 5.0 });
         assert_eq!(h.displacement(0.0), 0.0);
         assert!((h.displacement(2.5) - 30.0).abs() < 1e-12);
         assert_eq!(h.displacement(5.0), 60.0);
@@ -421,6 +430,26 @@ mod tests {
         // Continuous at the kinks.
         for k in h.kinks() {
             assert!((h.displacement(k - 1e-9) - h.displacement(k + 1e-9)).abs() < 1e-6);
+        }
+    }
+
+    /// A table of two compressions: linear between rows, held after the last.
+    #[test]
+    fn a_table_is_linear_between_its_rows() {
+        let h =
+            PlateLoading::table(vec![(0.0, 0.0), (5.0, 30.0), (60.0, 30.0), (65.0, 0.0), (120.0, 0.0), (125.0, 45.0)]);
+        assert_eq!(h.kinks(), [5.0, 60.0, 65.0, 120.0, 125.0]);
+        for (t, u) in [
+            (-1.0, 0.0),
+            (0.0, 0.0),
+            (1.0, 6.0),
+            (30.0, 30.0),
+            (62.5, 15.0),
+            (100.0, 0.0),
+            (124.0, 36.0),
+            (500.0, 45.0),
+        ] {
+            assert!((h.displacement(t) - u).abs() < 1e-12, "u({t}) = {} against {u}", h.displacement(t));
         }
     }
 }

@@ -17,8 +17,13 @@ pub struct PlatesSpec {
     /// Surface group that can touch the plates (and drains where it does not).
     #[serde(default = "default_surface")]
     pub group: String,
-    /// ũ_max = u_max / (2R): the lower plate rises by u_max.
-    pub compression: f64,
+    /// ũ_max = u_max / (2R): the lower plate rises by u_max (absent with `table`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compression: Option<f64>,
+    /// The protocol as a table of (t in s, ũ = u / (2R)) rows, linear between them, from
+    /// [0, 0]: instead of `compression` and the phases (two compressions, a long hold, ...).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub table: Option<Vec<[f64; 2]>>,
     /// The protocol's phases (s): the plate rises over `ramp`, holds for `hold`, returns over
     /// `release`; then the aggregate rests until time.t_end.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -122,8 +127,26 @@ impl PlatesSpec {
         self.radius.unwrap_or(f64::NAN)
     }
 
-    /// The phases (filled in from the deprecated keys when the scene is loaded: NaN before).
+    /// ũ_max: `compression`, or the table's largest ũ (NaN before the scene is loaded).
+    pub fn compression(&self) -> f64 {
+        match &self.table {
+            Some(rows) => rows.iter().map(|r| r[1]).fold(0.0, f64::max),
+            None => self.compression.unwrap_or(f64::NAN),
+        }
+    }
+
+    /// The phases (filled in from the deprecated keys when the scene is loaded: NaN before). A
+    /// table's: the ramp to its first row at the largest ũ, the hold to its last such row, the
+    /// release to the next row at ũ = 0 (or the table's end), as the summary reports them.
     pub fn protocol(&self) -> Protocol {
+        if let Some(rows) = &self.table {
+            let top = self.compression();
+            let first = rows.iter().position(|r| r[1] == top).unwrap_or(0);
+            let last = rows.iter().rposition(|r| r[1] == top).unwrap_or(0);
+            let back = rows[last..].iter().position(|r| r[1] == 0.0).map_or(rows.len() - 1, |k| last + k);
+            let t = |i: usize| rows[i][0];
+            return Protocol { ramp: t(first), hold: t(last) - t(first), release: t(back) - t(last) };
+        }
         let nan = f64::NAN;
         Protocol {
             ramp: self.ramp.unwrap_or(nan),
@@ -145,7 +168,23 @@ impl PlatesSpec {
             }
         };
         self.radius = Some(r);
-        if self.t_ramp.is_none() && self.t_end.is_none() {
+        if self.table.is_some() {
+            let given = [
+                ("compression", self.compression),
+                ("ramp", self.ramp),
+                ("hold", self.hold),
+                ("release", self.release),
+                ("t_ramp", self.t_ramp),
+                ("t_end", self.t_end),
+            ];
+            if let Some((key, _)) = given.iter().find(|(_, v)| v.is_some()) {
+                return Err(format!(
+                    "[plates]: plates.table gives the whole protocol; leave out plates.{key} (or the table)"
+                ));
+            }
+        } else if self.compression.is_none() {
+            return Err("[plates]: give plates.compression (ũ_max) with the phases, or plates.table".into());
+        } else if self.t_ramp.is_none() && self.t_end.is_none() {
             for (key, v) in [("ramp", self.ramp), ("hold", self.hold), ("release", self.release)] {
                 if v.is_none() {
                     return Err(format!(
@@ -204,7 +243,21 @@ impl PlatesSpec {
     /// `t_end` is the run's end (a release after it is a warning in `notes`).
     pub(super) fn validate(&self, t_end: f64, notes: &mut Vec<String>) -> Result<(), String> {
         super::mesh::check_radius(RADIUS.name, self.radius())?;
-        COMPRESSION.check(self.compression)?;
+        if let Some(rows) = &self.table {
+            check_table(rows, t_end, notes)?;
+        } else {
+            self.check_phases(t_end, notes)?;
+        }
+        self.check_drainage()?;
+        for x in self.probe_point.iter().flatten() {
+            PROBE_POINT.check(*x)?;
+        }
+        Ok(())
+    }
+
+    /// ũ_max and the phases; a release ending after the run's end is a note.
+    fn check_phases(&self, t_end: f64, notes: &mut Vec<String>) -> Result<(), String> {
+        COMPRESSION.check(self.compression())?;
         let p = self.protocol();
         RAMP.check(p.ramp)?;
         HOLD.check(p.hold)?;
@@ -224,6 +277,11 @@ impl PlatesSpec {
                 p.ramp, p.hold, p.release
             ));
         }
+        Ok(())
+    }
+
+    /// The drainage's and the plates' permeability's keys.
+    fn check_drainage(&self) -> Result<(), String> {
         DRAINAGE_PENALTY.check(self.drainage_penalty)?;
         if let Some(g) = self.seal_gap {
             SEAL_GAP.check(g)?;
@@ -244,11 +302,41 @@ impl PlatesSpec {
             (None, Some(_)) => return Err("plates.thickness is only used with plates.permeability: set both".into()),
             (None, None) => {}
         }
-        for x in self.probe_point.iter().flatten() {
-            PROBE_POINT.check(*x)?;
-        }
         Ok(())
     }
+}
+
+/// A protocol table: from [0, 0], times increasing, every ũ in COMPRESSION's range; rows after
+/// the run's end are a note. Errors name the row (1-based, as a lab's file counts them).
+fn check_table(rows: &[[f64; 2]], t_end: f64, notes: &mut Vec<String>) -> Result<(), String> {
+    if rows.len() < 2 {
+        return Err(format!("plates.table: {} row(s); give at least [0, 0] and one more [t, ũ]", rows.len()));
+    }
+    if rows[0] != [0.0, 0.0] {
+        return Err(format!(
+            "plates.table row 1 = [{}, {}]: the table starts at rest, [0, 0] (t in s, ũ = u / (2R))",
+            rows[0][0], rows[0][1]
+        ));
+    }
+    for (i, w) in rows.windows(2).enumerate() {
+        let [t, c] = w[1];
+        if !(t.is_finite() && t > w[0][0]) {
+            return Err(format!(
+                "plates.table row {}: time {t} s does not come after row {}'s {} s (rows in increasing time)",
+                i + 2,
+                i + 1,
+                w[0][0]
+            ));
+        }
+        COMPRESSION.check_as(&format!("plates.table row {} compression", i + 2), c)?;
+    }
+    let last = rows[rows.len() - 1][0];
+    if last > t_end {
+        notes.push(format!(
+            "the plates' table runs to {last} s, after the run's end time.t_end = {t_end} s: its later rows are not reached"
+        ));
+    }
+    Ok(())
 }
 
 const RADIUS: Key = Key::new(
@@ -260,22 +348,43 @@ const RADIUS: Key = Key::new(
 .range(super::mesh::RADIUS_RANGE)
 .rule("must match the mesh")
 .enters("plates at z = 0 and z = 2R");
-const COMPRESSION: Key =
-    Key::new("plates.compression", "", Unset::Required, "ũ_max = u_max / (2R): the lower plate rises by u_max")
-        .range(Range::new(0.0, true, 1.0, false, "must lie in [0, 1)"))
+const TABLE: Key = Key::new(
+    "plates.table",
+    "s, —",
+    Unset::Absent("the phases below"),
+    "the protocol as rows [t, ũ] (ũ = u / (2R)), linear between them: two compressions, a long hold, ...",
+)
+.rule("from [0, 0], times increasing, ũ in [0, 1); without compression and the phases")
+.enters("u(t), eq. (53) as a table");
+const COMPRESSION: Key = Key::new(
+    "plates.compression",
+    "",
+    Unset::Absent("required unless plates.table"),
+    "ũ_max = u_max / (2R): the lower plate rises by u_max",
+)
+.range(Range::new(0.0, true, 1.0, false, "must lie in [0, 1)"))
+.enters("u(t), eq. (53)");
+const RAMP: Key = Key::new(
+    "plates.ramp",
+    "s",
+    Unset::Absent("required unless plates.table"),
+    "duration of the loading ramp: u rises linearly from 0 to u_max",
+)
+.range(Range::POSITIVE)
+.enters("u(t), eq. (53)");
+const HOLD: Key =
+    Key::new("plates.hold", "s", Unset::Absent("required unless plates.table"), "duration of the hold at u_max")
+        .range(Range::NON_NEGATIVE.says("must be >= 0"))
         .enters("u(t), eq. (53)");
-const RAMP: Key =
-    Key::new("plates.ramp", "s", Unset::Required, "duration of the loading ramp: u rises linearly from 0 to u_max")
-        .range(Range::POSITIVE)
-        .enters("u(t), eq. (53)");
-const HOLD: Key = Key::new("plates.hold", "s", Unset::Required, "duration of the hold at u_max")
-    .range(Range::NON_NEGATIVE.says("must be >= 0"))
-    .enters("u(t), eq. (53)");
-const RELEASE: Key =
-    Key::new("plates.release", "s", Unset::Required, "duration of the release: u returns linearly to 0")
-        .range(Range::POSITIVE)
-        .rule("ramp + hold + release ≤ time.t_end, else a warning")
-        .enters("u(t), eq. (53)");
+const RELEASE: Key = Key::new(
+    "plates.release",
+    "s",
+    Unset::Absent("required unless plates.table"),
+    "duration of the release: u returns linearly to 0",
+)
+.range(Range::POSITIVE)
+.rule("ramp + hold + release ≤ time.t_end, else a warning")
+.enters("u(t), eq. (53)");
 const T_RAMP: Key = Key::new(
     "plates.t_ramp",
     "s",
@@ -339,6 +448,7 @@ pub(super) const SECTION: Section = Section {
         RADIUS,
         Key::new("plates.group", "", Unset::Value("\"surface\""), "the surface group that can touch the plates"),
         COMPRESSION,
+        TABLE,
         RAMP,
         HOLD,
         RELEASE,

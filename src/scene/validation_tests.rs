@@ -221,3 +221,38 @@ fn surface_tension_is_checked() {
         "unknown field `adhesion`",
     );
 }
+
+/// `plates.table`: the protocol as rows; out of order, not from rest, a compression out of
+/// range, or given beside the phases, each refused naming the row or the key.
+#[test]
+fn a_protocol_table_is_checked() {
+    let phases = "compression = 0.3          # u_max = 0.3 * 2R = 60 um\nramp = 5.0                 # s: the plate rises\nhold = 30.0                # s: held\nrelease = 5.0              # s: the plate returns; then rest until time.t_end\n";
+    let cases = [
+        (
+            "table = [[0.0, 0.0], [5.0, 0.3], [4.0, 0.3]]\n",
+            "plates.table row 3: time 4 s does not come after row 2's 5 s",
+        ),
+        ("table = [[1.0, 0.0], [5.0, 0.3]]\n", "plates.table row 1 = [1, 0]: the table starts at rest"),
+        ("table = [[0.0, 0.0], [5.0, 1.2]]\n", "plates.table row 2 compression = 1.2: must lie in [0, 1)"),
+        ("table = [[0.0, 0.0]]\n", "plates.table: 1 row(s)"),
+        (
+            "table = [[0.0, 0.0], [5.0, 0.3]]\nhold = 3.0\n",
+            "plates.table gives the whole protocol; leave out plates.hold",
+        ),
+    ];
+    for (table, part) in cases {
+        expect("reference", &[(phases, table)], &[], part);
+    }
+    expect("reference", &[(phases, "ramp = 5.0\nhold = 30.0\nrelease = 5.0\n")], &[], "give plates.compression");
+    // Two compressions: the summary's phases are the first ramp to the largest ũ, the hold to
+    // its last row there, and the release to the next rest.
+    let table = "table = [[0.0, 0.0], [5.0, 0.2], [60.0, 0.2], [65.0, 0.0], [120.0, 0.0], [125.0, 0.3], [400.0, 0.3], [405.0, 0.0]]\n";
+    let mut text = super::BUILTIN.iter().find(|(n, _)| *n == "reference").unwrap().1.replacen(phases, table, 1);
+    text = text.replacen("t_end = 100.0", "t_end = 500.0", 1);
+    let p = scratch().join("two.toml");
+    std::fs::write(&p, text).unwrap();
+    let s = LoadedScene::load(&p.display().to_string(), &[]).unwrap();
+    let plates = s.scene.plates.as_ref().unwrap();
+    assert_eq!(plates.compression(), 0.3);
+    assert_eq!(plates.protocol().ends(), [125.0, 400.0, 405.0]);
+}
