@@ -148,11 +148,20 @@ fn drained_sphere(dir: &Path, geometry: &str, h: f64) -> String {
     sc.display().to_string()
 }
 
-/// λ from the last row's equator and top displacements of a drained-sphere run.
-fn radius_ratios(out: &Path) -> [f64; 2] {
-    let h = History::read(out);
-    let n = h.col("time").len() - 1;
-    [1.0 + h.col("u_equator")[n] / 100.0, 1.0 + h.col("u_top")[n] / 200.0]
+/// Runs the drained sphere (`drained_sphere`) and returns the scalar equation's λ and the run's,
+/// from the last row's equator and top displacements.
+fn drained(name: &str, geometry: &str, h: f64) -> (f64, [f64; 2]) {
+    let _cores = cores(1);
+    let dir = scratch(name);
+    let out = dir.join("run");
+    run_ok(1, &["run", &drained_sphere(&dir, geometry, h), "--out", out.to_str().unwrap(), "-q"]);
+    let hist = History::read(&out);
+    let n = hist.col("time").len() - 1;
+    let got = [1.0 + hist.col("u_equator")[n] / 100.0, 1.0 + hist.col("u_top")[n] / 200.0];
+    let want = drained_radius_ratio(20.0, 0.2, 0.6, 100.0, 100.0);
+    println!("λ exact {want:.9}; equator {:.9}, height {:.9}", got[0], got[1]);
+    assert!(1.0 - want > 0.02, "the test must deform the sphere: λ = {want}");
+    (want, got)
 }
 
 /// A free Holmes–Mow sphere (Table 1's solid, no gravity, drained surface) under γ = 100 mN/m
@@ -162,16 +171,9 @@ fn radius_ratios(out: &Path) -> [f64; 2] {
 /// top against 0.9603173, the radius change right to 4e-6 of itself (h = R/8).
 #[test]
 fn tension_shrinks_a_free_sphere_to_its_drained_radius() {
-    let _cores = cores(1);
-    let dir = scratch("surface-drained");
-    let out = dir.join("run");
-    run_ok(1, &["run", &drained_sphere(&dir, "axisymmetric", 12.5), "--out", out.to_str().unwrap(), "-q"]);
-    let [from_equator, from_height] = radius_ratios(&out);
-    let want = drained_radius_ratio(20.0, 0.2, 0.6, 100.0, 100.0);
-    println!("λ exact {want:.9}; equator {from_equator:.9}, height {from_height:.9}");
-    assert!(1.0 - want > 0.02, "the test must deform the sphere: λ = {want}");
-    for got in [from_equator, from_height] {
-        assert!(((got - 1.0) / (want - 1.0) - 1.0).abs() < 1e-4, "λ {got} against {want}");
+    let (want, got) = drained("surface-drained", "axisymmetric", 12.5);
+    for g in got {
+        assert!(((g - 1.0) / (want - 1.0) - 1.0).abs() < 1e-4, "λ {g} against {want}");
     }
 }
 
@@ -180,13 +182,7 @@ fn tension_shrinks_a_free_sphere_to_its_drained_radius() {
 /// the top, against 0.9603173 (the change right to 2e-5 and 5e-4 of itself).
 #[test]
 fn tension_shrinks_the_quarter_sphere_to_its_drained_radius() {
-    let _cores = cores(1);
-    let dir = scratch("surface-drained-3d");
-    let out = dir.join("run");
-    run_ok(1, &["run", &drained_sphere(&dir, "solid", 25.0), "--out", out.to_str().unwrap(), "-q"]);
-    let want = drained_radius_ratio(20.0, 0.2, 0.6, 100.0, 100.0);
-    let got = radius_ratios(&out);
-    println!("λ exact {want:.9}; equator {:.9}, height {:.9}", got[0], got[1]);
+    let (want, got) = drained("surface-drained-3d", "solid", 25.0);
     for g in got {
         assert!(((g - 1.0) / (want - 1.0) - 1.0).abs() < 2e-3, "λ {g} against {want}");
     }
