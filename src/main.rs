@@ -118,13 +118,22 @@ fn main() {
 
 /// Started without a launcher (no rank in the environment), this process is an MPI singleton:
 /// Open MPI then forks a daemon and probes the network transports, 0.2 s of a run's start, for a
-/// job that only ever talks to itself. Unless the user chose otherwise: no daemon, shared memory.
+/// job that only ever talks to itself. Unless the user chose otherwise: no daemon, the ob1 pml
+/// with the `self` transport only. Isolated singletons share one session directory (job family
+/// 0), which the first to finish removes: so no component may create files there later, and
+/// the shared-memory file pointers of MPI-IO (`sharedfp sm`, opened with each HDF5 file) did
+/// ("unable to open file for mmap", a failed fields.h5, seen once in CI with runs side by side).
 fn singleton_defaults() {
     const LAUNCHED: [&str; 3] = ["OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"];
     if LAUNCHED.iter().any(|v| std::env::var_os(v).is_some()) {
         return;
     }
-    for (key, value) in [("OMPI_MCA_ess_singleton_isolated", "1"), ("OMPI_MCA_pml", "ob1")] {
+    for (key, value) in [
+        ("OMPI_MCA_ess_singleton_isolated", "1"),
+        ("OMPI_MCA_pml", "ob1"),
+        ("OMPI_MCA_btl", "self"),
+        ("OMPI_MCA_sharedfp", "^sm"),
+    ] {
         if std::env::var_os(key).is_none() {
             std::env::set_var(key, value);
         }
