@@ -187,3 +187,14 @@ fn tension_shrinks_the_quarter_sphere_to_its_drained_radius() {
         assert!(((g - 1.0) / (want - 1.0) - 1.0).abs() < 2e-3, "λ {g} against {want}");
     }
 }
+
+/// The shipped tensiometry scenes (a 1000 s hold; two compressions) set up and take their first
+/// step (`poroplast check`); their whole runs take 13 and 25 s on one rank.
+#[test]
+fn the_tensiometry_scenes_pass_check() {
+    let _cores = cores(1);
+    for name in ["tst_hold", "tst_two_compressions"] {
+        let out = run_ok(1, &["check", name]);
+        println!("{name}: {out}");
+    }
+}

@@ -36,6 +36,8 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("remodel_155_c2", include_str!("../../meshes/scenes/remodel_155_c2.toml")),
     ("elastic_155", include_str!("../../meshes/scenes/elastic_155.toml")),
     ("reference_axi", include_str!("../../meshes/scenes/reference_axi.toml")),
+    ("tst_hold", include_str!("../../meshes/scenes/tst_hold.toml")),
+    ("tst_two_compressions", include_str!("../../meshes/scenes/tst_two_compressions.toml")),
 ];
 
 impl LoadedScene {
