@@ -171,10 +171,7 @@ fn plates(
     }
     let faces = agree(world, bc::face_group(local, &ps.group, &ctx))?.to_vec();
     let anchor = agree(world, bc::point_group(local, &ps.anchor, &ctx))?.first().map(|&n| n as usize);
-    let loading = match &ps.table {
-        Some(rows) => PlateLoading::table(rows.iter().map(|r| (r[0], r[1] * 2.0 * radius)).collect()),
-        None => PlateLoading::phases(ps.compression() * 2.0 * radius, ps.protocol()),
-    };
+    let loading = PlateLoading::table(ps.path().iter().map(|r| (r[0], r[1] * 2.0 * radius)).collect());
     // Free-surface drainage conductance: γ k0 / h (a stiff Robin condition, p ≈ 0).
     let beta_max = ps.drainage_penalty * model.conductivity() / local.mean_size(world);
     let drain = Drainage {

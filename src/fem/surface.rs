@@ -43,8 +43,7 @@ impl FaceRule {
     pub fn with_degree(family: Family, degree: usize) -> FaceRule {
         let q = quadrature::tri(degree);
         let line = if degree >= 3 {
-            let a = 0.5 * (0.6f64).sqrt();
-            vec![(0.5 - a, 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.5 + a, 5.0 / 18.0)]
+            gauss3_line().to_vec()
         } else {
             let a = 0.5 / 3f64.sqrt();
             vec![(0.5 - a, 0.5), (0.5 + a, 0.5)]
@@ -77,10 +76,23 @@ impl FaceRule {
     }
 }
 
+/// 3-point Gauss–Legendre on [0, 1]: (point, weight), exact to degree 5.
+pub fn gauss3_line() -> [(f64, f64); 3] {
+    let a = 0.5 * (0.6f64).sqrt();
+    [(0.5 - a, 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.5 + a, 5.0 / 18.0)]
+}
+
+/// The Line3 functions (vertices a, b, then the mid-node) and their s-derivatives at s ∈ [0, 1].
+pub fn line3(s: f64) -> ([f64; 3], [f64; 3]) {
+    (
+        [(1.0 - s) * (1.0 - 2.0 * s), s * (2.0 * s - 1.0), 4.0 * s * (1.0 - s)],
+        [4.0 * s - 3.0, 4.0 * s - 1.0, 4.0 - 8.0 * s],
+    )
+}
+
 /// A point of a Line3 face (vertices a, b, then the mid-node) at s ∈ [0, 1] with rule weight w.
 fn line3_point(c: &[[f64; 3]], s: f64, w: f64) -> FacePoint {
-    let n = [(1.0 - s) * (1.0 - 2.0 * s), s * (2.0 * s - 1.0), 4.0 * s * (1.0 - s)];
-    let dn = [4.0 * s - 3.0, 4.0 * s - 1.0, 4.0 - 8.0 * s];
+    let (n, dn) = line3(s);
     let (mut x, mut t) = ([0.0; 3], [0.0; 3]);
     for a in 0..3 {
         for d in 0..3 {

@@ -43,12 +43,12 @@
 use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
-pub use crate::scene::plates::{Protocol, DEFAULT_SEAL_GAP};
+pub use crate::scene::plates::DEFAULT_SEAL_GAP;
 pub use crate::scene::DrainageGap;
 
-/// Lower-plate displacement u(t): linear between the points (t, u) of a protocol table, 0
-/// before the first, the last value after it. The compression–release test (53) (ramp to u_max,
-/// hold, release back to 0, rest) is the table of its phases ([`PlateLoading::phases`]).
+/// Lower-plate displacement u(t): linear between the points (t, u) of the plate's path, from
+/// (0, 0), the last value after it. The compression–release test (53) (ramp to u_max, hold,
+/// release back to 0, rest) is the path of its four corners (`PlatesSpec::path`).
 #[derive(Debug, Clone)]
 pub struct PlateLoading {
     /// (t, u) in increasing t, from (0, 0).
@@ -61,16 +61,10 @@ impl PlateLoading {
         PlateLoading { points }
     }
 
-    /// Eq. (53): a ramp to u_max, a hold and a release back to 0.
-    pub fn phases(u_max: f64, protocol: Protocol) -> PlateLoading {
-        let [a, b, c] = protocol.ends();
-        PlateLoading::table(vec![(0.0, 0.0), (a, u_max), (b, u_max), (c, 0.0)])
-    }
-
     pub fn displacement(&self, t: f64) -> f64 {
         let p = &self.points;
         if t <= p[0].0 {
-            return if t < p[0].0 { 0.0 } else { p[0].1 };
+            return p[0].1;
         }
         match p.windows(2).find(|w| t < w[1].0) {
             Some(w) => w[0].1 + (w[1].1 - w[0].1) * (t - w[0].0) / (w[1].0 - w[0].0),
@@ -418,7 +412,7 @@ mod tests {
 
     #[test]
     fn loading_is_eq_53() {
-        let h = PlateLoading::phases(60.0, Protocol { ramp: 5.0, hold: 30.0, release: 5.0 });
+        let h = PlateLoading::table(vec![(0.0, 0.0), (5.0, 60.0), (35.0, 60.0), (40.0, 0.0)]);
         assert_eq!(h.displacement(0.0), 0.0);
         assert!((h.displacement(2.5) - 30.0).abs() < 1e-12);
         assert_eq!(h.displacement(5.0), 60.0);

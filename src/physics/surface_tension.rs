@@ -12,6 +12,7 @@
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::tabulate_tri6;
 use crate::fem::quadrature;
+use crate::fem::surface::{gauss3_line, line3};
 use crate::material::dual::{Dual, Scalar};
 use crate::mesh::dist::LocalMesh;
 use crate::reference_cell::Family;
@@ -38,22 +39,12 @@ impl Rule {
                 Rule { family, w: tab.weights, n: tab.n, dn }
             }
             Family::Tri6 => {
-                // 3-point Gauss on [0, 1]: exact for the straight edge's hoop integrand and
-                // fourth order on curved ones.
-                let a = 0.5 * 0.6f64.sqrt();
-                let pts = [(0.5 - a, 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.5 + a, 5.0 / 18.0)];
                 let mut r = Rule { family, w: vec![], n: vec![], dn: vec![] };
-                for (s, w) in pts {
+                for (s, w) in gauss3_line() {
+                    let (n, dn) = line3(s);
                     r.w.push(w);
-                    r.n.push([(1.0 - s) * (1.0 - 2.0 * s), s * (2.0 * s - 1.0), 4.0 * s * (1.0 - s), 0.0, 0.0, 0.0]);
-                    r.dn.push([
-                        [4.0 * s - 3.0, 0.0],
-                        [4.0 * s - 1.0, 0.0],
-                        [4.0 - 8.0 * s, 0.0],
-                        [0.0; 2],
-                        [0.0; 2],
-                        [0.0; 2],
-                    ]);
+                    r.n.push([n[0], n[1], n[2], 0.0, 0.0, 0.0]);
+                    r.dn.push([[dn[0], 0.0], [dn[1], 0.0], [dn[2], 0.0], [0.0; 2], [0.0; 2], [0.0; 2]]);
                 }
                 r
             }
@@ -69,7 +60,9 @@ impl Rule {
     }
 }
 
-/// The face's area from its node coordinates `x` (node-major, [`Rule::layout`]).
+/// The face's area from its node coordinates `x` (node-major, [`Rule::layout`]): what the
+/// gradient differentiates (the tests check it against this).
+#[cfg(test)]
 fn area<T: Scalar>(rule: &Rule, x: &[T]) -> T {
     let (d, nn) = rule.layout();
     let mut a = T::cst(0.0);
@@ -178,27 +171,27 @@ impl SurfaceTension {
         SurfaceTension { gamma, faces: faces.to_vec(), rule: Rule::new(mesh.family) }
     }
 
-    /// A face's displacement dofs (local) and current node coordinates, in the rule's layout.
-    fn face(&self, mesh: &LocalMesh, dofs: &DofMap, f: u32, u: &[f64]) -> (Vec<usize>, Vec<f64>) {
-        let (d, nn) = self.rule.layout();
-        let axes = mesh.family.axes();
-        let (mut idx, mut x) = (Vec::with_capacity(d * nn), Vec::with_capacity(d * nn));
+    /// A face's displacement dofs (local) and current node coordinates, in the rule's layout
+    /// (the first `n` entries of each).
+    fn face(&self, mesh: &LocalMesh, dofs: &DofMap, f: u32, u: &[f64]) -> ([usize; MAX], [f64; MAX], usize) {
+        let (_, nn) = self.rule.layout();
+        let (mut idx, mut x, mut n) = ([0; MAX], [0.0; MAX], 0);
         for &node in &mesh.face(f as usize)[..nn] {
-            for (c, &axis) in axes.iter().enumerate() {
-                let l = dofs.u_local(node as usize, c);
-                idx.push(l);
-                x.push(mesh.coords[node as usize][axis] + u[l]);
+            for (c, &axis) in mesh.family.axes().iter().enumerate() {
+                idx[n] = dofs.u_local(node as usize, c);
+                x[n] = mesh.coords[node as usize][axis] + u[idx[n]];
+                n += 1;
             }
         }
-        (idx, x)
+        (idx, x, n)
     }
 
     /// Adds γ ∂A/∂x to the residual `f` (local layout) at the displacement `u`.
     pub fn add_residual(&self, mesh: &LocalMesh, dofs: &DofMap, u: &[f64], f: &mut [f64]) {
         for &face in &self.faces {
-            let (idx, x) = self.face(mesh, dofs, face, u);
-            let g = area_gradient(&self.rule, &x);
-            for (k, &l) in idx.iter().enumerate() {
+            let (idx, x, n) = self.face(mesh, dofs, face, u);
+            let g = area_gradient(&self.rule, &x[..n]);
+            for (k, &l) in idx[..n].iter().enumerate() {
                 f[l] += self.gamma * g[k];
             }
         }
@@ -213,18 +206,12 @@ impl SurfaceTension {
         mut add: impl FnMut(&[usize], &[f64]) -> crate::error::Result<()>,
     ) -> crate::error::Result<()> {
         for &face in &self.faces {
-            let (idx, x) = self.face(mesh, dofs, face, u);
-            let h = area_hessian(&self.rule, &x);
-            let n = idx.len();
+            let (idx, x, n) = self.face(mesh, dofs, face, u);
+            let h = area_hessian(&self.rule, &x[..n]);
             let block: Vec<f64> = (0..n * n).map(|k| self.gamma * h[k / n][k % n]).collect();
-            add(&idx, &block)?;
+            add(&idx[..n], &block)?;
         }
         Ok(())
-    }
-
-    /// The area of this rank's faces at `u` (the energy over γ).
-    pub fn area(&self, mesh: &LocalMesh, dofs: &DofMap, u: &[f64]) -> f64 {
-        self.faces.iter().map(|&f| area(&self.rule, &self.face(mesh, dofs, f, u).1)).sum()
     }
 }
 

@@ -135,6 +135,17 @@ impl PlatesSpec {
         }
     }
 
+    /// The plate's path as rows [t, ũ] from [0, 0], linear between them: the table, or the
+    /// phases' corners (eq. (53)).
+    pub fn path(&self) -> Vec<[f64; 2]> {
+        if let Some(rows) = &self.table {
+            return rows.clone();
+        }
+        let [a, b, c] = self.protocol().ends();
+        let top = self.compression();
+        vec![[0.0, 0.0], [a, top], [b, top], [c, 0.0]]
+    }
+
     /// The phases (filled in from the deprecated keys when the scene is loaded: NaN before). A
     /// table's: the ramp to its first row at the largest ũ, the hold to its last such row, the
     /// release to the next row at ũ = 0 (or the table's end), as the summary reports them.

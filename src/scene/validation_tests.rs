@@ -255,4 +255,9 @@ fn a_protocol_table_is_checked() {
     let plates = s.scene.plates.as_ref().unwrap();
     assert_eq!(plates.compression(), 0.3);
     assert_eq!(plates.protocol().ends(), [125.0, 400.0, 405.0]);
+    assert_eq!(plates.path().len(), 8);
+    // The phases are the path of their four corners.
+    let phased = LoadedScene::load("reference", &[]).unwrap();
+    let path = phased.scene.plates.as_ref().unwrap().path();
+    assert_eq!(path, [[0.0, 0.0], [5.0, 0.3], [35.0, 0.3], [40.0, 0.0]]);
 }
