@@ -155,13 +155,12 @@ def field_rows(root, ranks, step_scale, only=None):
         # The converged level, its t_end (60 s) unless the case has its own, with fields.
         base = [(k, v) for k, v in BASE if not k.startswith("output.") and k not in dict(sets)]
         done = run_cases(scene, [steps + sets + FIELD_VARIANTS[n][1] for n in names], base, root, ranks, [],
-                         [o for o in observe if o not in fields.DERIVED])
+                         fields.history_observables(observe))
         for n, (cdir, r) in zip(names, done):
             ok = r["status"] == "ok"
             rows[n]["status"] = rows[n]["status"] if ok else f"{case}: {r['status']}"
             for o in observe:
-                rows[n][f"{case}|{o}"] = (fields.DERIVED[o](cdir) if o in fields.DERIVED else r.get(o)) if ok \
-                    else float("nan")
+                rows[n][f"{case}|{o}"] = fields.observed(cdir, r, o) if ok else float("nan")
     rows = list(rows.values())
     for r in rows:
         for k in [k for k in rows[0] if "|" in k]:
@@ -176,10 +175,10 @@ def reference_rows(root, ranks, step_scale):
     base = [(k, v) for k, v in BASE if k != "time.t_end"]
     rows = []
     done = run_cases(REFERENCE_SCENE, [steps + sets for _, sets in REFERENCE_VARIANTS.values()], base, root, ranks,
-                     [], [o for o in REFERENCE_OBSERVE if o not in fields.DERIVED])
+                     [], fields.history_observables(REFERENCE_OBSERVE))
     for (name, (what, _)), (cdir, r) in zip(REFERENCE_VARIANTS.items(), done):
         ok = r["status"] == "ok"
-        val = lambda o: (fields.DERIVED[o](cdir) if o in fields.DERIVED else r.get(o)) if ok else float("nan")
+        val = lambda o: fields.observed(cdir, r, o) if ok else float("nan")
         rows.append({"variant": name, "changes": what, "status": r["status"], **{o: val(o) for o in REFERENCE_OBSERVE}})
     for r in rows:
         for o in REFERENCE_OBSERVE:

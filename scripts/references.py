@@ -120,7 +120,7 @@ def run_case(name, root, ranks):
     # constant weight, c = 4, the peak is 0.42% low; without it 0.12%; docs/studies.md).
     sets = ["mesh.geometry=axisymmetric", "mesh.params.h_pole=4", "mesh.params.h_surf=4",
             f"mesh.params.w_surf={c['w_surf']:g}", "fem.stabilisation=0", *c["sets"]]
-    history_obs = [o for o in c["observe"] if o not in fields.DERIVED]
+    history_obs = fields.history_observables(c["observe"])
     print(f"references: {name}: {c['scene']} --h {c['mesh']} --dt-scale {c['steps']} " + " ".join(sets), flush=True)
     results = run_study(c["scene"], hs, ss, sets, root / name, ranks, history_obs, H, S)
     rows = []
@@ -128,7 +128,7 @@ def run_case(name, root, ranks):
         values = {}
         for k, (cdir, r) in results.items():
             if r["status"] == "ok":
-                values[k] = fields.DERIVED[o](cdir) if o in fields.DERIVED else r.get(o, float("nan"))
+                values[k] = fields.observed(cdir, r, o)
         e = converge(values, hs, ss, H, S)
         rows.append({"case": name, "observable": o, "extrapolated": e["extrapolated"], "error_bar": e["error_bar"],
                      "relative_bar": e["error_bar"] / abs(e["extrapolated"]) if e["extrapolated"] else float("nan"),

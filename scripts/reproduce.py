@@ -28,7 +28,7 @@ import numpy as np
 
 from poroplast_tools import fields
 from poroplast_tools import paper_figures as figs
-from poroplast_tools.paper_figures import PROBE, have
+from poroplast_tools.paper_figures import have
 from poroplast_tools import cases as store
 from poroplast_tools.cases import ROOT, find_case
 from poroplast_tools.history import at as value_at, history, relaxation_time, timings
@@ -195,51 +195,12 @@ def write_summary(dirs, out):
 
 # ---------------------------------------------------------------- figures' numbers
 
-def zone_stats(dirs):
-    """remodel_40: σ_VM and ‖E_p‖ in the centre vs next to the contact zones (Figs 5-6 text;
-    volume means over the regions of scripts/poroplast_tools/fields.py), and remodel_405's positive-pressure
-    region (Fig 3)."""
+def detachment(dirs):
+    """remodel_40's upper detachment (Figs 5-6 text); the region means and the positive region are
+    the figures' data (fig5_6_zones.csv, fig3_*.csv)."""
     if have(dirs, ["remodel_40"], "fields.h5"):
-        run = dirs["remodel_40"]
-        f = fields.fields(run)
-        for t in (5, 15, 35, 40, 60):
-            vm = f.at("von_mises", t)
-            zm = lambda name, zone: fields.zone_mean(run, name, zone, t)
-            print(f"  t = {t:3d} s: σ_VM max {vm.max():5.2f} kPa at (r, z) = ({f.r[vm.argmax()]:.0f}, "
-                  f"{f.z[vm.argmax()]:.0f}) µm; mean centre {zm('von_mises', 'centre'):5.2f}, contact zones "
-                  f"{zm('von_mises', 'contact'):5.2f} kPa; ‖E_p‖ centre {zm('norm_ep', 'centre'):.3f}, "
-                  f"contact {zm('norm_ep', 'contact'):.3f}")
-        t, before, after = fields.detachment(run, 35.0)
+        t, before, after = fields.detachment(dirs["remodel_40"], 35.0)
         print(f"  upper detachment after t = {t:.3f} s: largest σ_VM {before:.2f} kPa before, {after:.2f} kPa after")
-    if have(dirs, ["remodel_405"], "fields.h5"):
-        for t in (35.0, 45.0, 60.0):
-            share, where, angle = fields.bubble(dirs["remodel_405"], t)
-            print(f"  remodel_405, t = {t:g} s: p > 0 in {100 * share:.1f}% of the volume, p⁺-weighted mean "
-                  f"distance from the centre {where:.3f} R at {angle:.0f}° from the axis")
-
-
-def split_kink(dirs):
-    """reference_405: the largest jump of the force's pressure/constitutive split during the hold
-    (between two field outputs from 200 s on), and the upper-surface vertex whose pressure fell
-    most then, with its gap to the upper plate (Figs 7-9 text)."""
-    if not have(dirs, ["reference_405"], "fields.h5"):
-        return
-    run = dirs["reference_405"]
-    h, f = history(run), fields.fields(run)
-    T = [t for t in f.times if 200.0 <= t <= 300.0]
-    if len(T) < 2:
-        return print("  reference_405 has no field outputs between 200 and 300 s (an older scene)")
-    fp = lambda t: value_at(h, "force_pressure_mg", t)
-    t0, t1 = max(zip(T, T[1:]), key=lambda w: (fp(w[0]) - fp(w[1])) / (w[1] - w[0]))
-    X = f.f["/mesh/coordinates"][:]
-    r, rho = np.hypot(X[:, 0], X[:, 1]), np.hypot(np.hypot(X[:, 0], X[:, 1]), X[:, 2] - f.radius)
-    top = np.nonzero((abs(rho - f.radius) < 1e-3 * f.radius) & (X[:, 2] > f.radius))[0]
-    p0, p1 = f.at("p", t0), f.at("p", t1)
-    k = top[np.argmin(p1[top] - p0[top])]
-    gap = lambda t: 2 * f.radius - X[k, 2] - f.at("u", t)[k, 2]
-    print(f"  the pressure part falls fastest between {t0:g} and {t1:g} s ({fp(t0):.3f} -> {fp(t1):.3f} mg); "
-          f"the upper-surface vertex at r = {r[k]:.1f} µm (contact radius {value_at(h, 'contact_radius_upper', t0):.1f} µm) "
-          f"goes from p = {p0[k]:.2f} to {p1[k]:.2f} kPa, its gap to the plate from {1e3 * gap(t0):.0f} to {1e3 * gap(t1):.0f} nm")
 
 
 # The numbers the paper reports, each with its converged meridian value (scripts/references.py:
@@ -408,8 +369,7 @@ def main():
                        "Fig 3: remodelling vs none"),
              lambda: P(dirs, out, C, ["remodel_405", "reference_405"], [60, 100, 200, 400], "fig3_later_pressure.png",
                        "Fig 3 continued: later in the hold"),
-             lambda: zone_stats(dirs),
-             lambda: split_kink(dirs),
+             lambda: detachment(dirs),
              lambda: figs.fig_soft(dirs, out, C),
              lambda: P(dirs, out, C, ["remodel_155", "mu3_nu0.2"], [30, 45], "fig_soft_pressure.png", "µ = 20 vs 3 kPa"),
              lambda: P(dirs, out, C, ["remodel_155", "remodel_155_c2"], [30], "fig11c_pressure.png",

@@ -10,12 +10,13 @@ verdict, cause (measured, argued, derived, or "none measured"), paper_value, pre
 or "×F" for a factor), precision_note (where the precision comes from).
 """
 
-import csv
 import math
 import re
+from functools import lru_cache
 from pathlib import Path
 
 from .refs import combined, references
+from .tables import read_rows
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 FIGURE_DATA = DATA.parent.parent / "docs" / "figures" / "data"
@@ -49,8 +50,7 @@ PLACEHOLDER = re.compile(r"\{([^{}|]+)\|([^{}]+)\}")
 
 
 def load(path=DATA / "claims.csv"):
-    with open(path, newline="", encoding="utf-8") as f:
-        return list(csv.DictReader(f))
+    return read_rows(path)
 
 
 def fmt(value, bar):
@@ -69,11 +69,16 @@ def fmt(value, bar):
 def source_value(source, row, column):
     """A value of one of the SOURCES (row: its key column's value)."""
     path, key = SOURCES[source]
-    with open(path, newline="", encoding="utf-8") as f:
-        for r in csv.DictReader(f):
-            if r[key] == row:
-                return float(r[column])
+    for r in _rows(path):
+        if r[key] == row:
+            return float(r[column])
     raise KeyError(f"claims.csv: no row {row} in {path.name}")
+
+
+@lru_cache(maxsize=None)
+def _rows(path):
+    """A source's rows, read once for all the table's placeholders."""
+    return read_rows(path)
 
 
 def lookup(refs, key):

@@ -5,17 +5,13 @@ Each is rendered from committed CSVs only (scripts/data, docs/figures/data), so 
 
 Each entry of TABLES: name -> (its markers' name, the function that renders it)."""
 
-import csv
 import math
 from pathlib import Path
 
+from .tables import read_rows
+
 DATA = Path(__file__).resolve().parent.parent / "data"
 FIGURE_DATA = DATA.parent.parent / "docs" / "figures" / "data"
-
-
-def rows_of(path):
-    with open(path, newline="", encoding="utf-8") as f:
-        return list(csv.DictReader(f))
 
 
 def num(v):
@@ -41,8 +37,8 @@ def signed(v, digits=2):
 def reported():
     """Paper, converged ± bar (references.csv), and the shipped scenes' value on the meridian and
     in 3-D (reproduce.py's reported.csv of each set)."""
-    mer = {r["quantity"]: r for r in rows_of(FIGURE_DATA / "reported_meridian.csv")}
-    d3 = {r["quantity"]: r for r in rows_of(FIGURE_DATA / "reported_3d.csv")}
+    mer = {r["quantity"]: r for r in read_rows(FIGURE_DATA / "reported_meridian.csv")}
+    d3 = {r["quantity"]: r for r in read_rows(FIGURE_DATA / "reported_3d.csv")}
     lines = ["| quantity | paper | converged ± error | meridian, scene mesh | 3-D default |", "|---|---|---|---|---|"]
     for q, r in mer.items():
         c, bar = num(r["converged"]), num(r["error_bar"])
@@ -56,7 +52,7 @@ def causes():
     """The candidate causes on the syringe crossing and the peaks (causes.py's causes.csv)."""
     lines = ["| variant | what it changes | crossing of p(X_U) (s) | shift | peak force (mg) | shift | "
              "constitutive peak (mg) | shift |", "|---|---|---|---|---|---|---|---|"]
-    for r in rows_of(DATA / "causes.csv"):
+    for r in read_rows(DATA / "causes.csv"):
         cells = [r["variant"], r["changes"]]
         for col in ("zero:probe_p", "max:force_total_mg", "max:force_constitutive_mg"):
             x = num(r[col])
@@ -70,7 +66,7 @@ def causes_reference():
     """The no-remodelling gap's candidates (causes.py's causes_reference.csv)."""
     lines = ["| variant | what it changes | 90% of the hold's relaxation (s) | shift | 95% (s) | shift | "
              "F(60 s) (mg) | F(400 s) (mg) |", "|---|---|---|---|---|---|---|---|"]
-    for r in rows_of(DATA / "causes_reference.csv"):
+    for r in read_rows(DATA / "causes_reference.csv"):
         base = r["variant"] == "ref_base"
         lines.append("| " + " | ".join([
             r["variant"], r["changes"], g(r["settle90:force_total_mg"], 4),
@@ -84,7 +80,7 @@ def runs():
     """The 3-D runs of the shipped scenes: steps, step cuts, Newton iterations, wall time
     (reproduce.py's summary.csv of the 3-D set)."""
     lines = ["| case | last time (s) | steps | step cuts | Newton | wall (s) |", "|---|---|---|---|---|---|"]
-    for r in rows_of(FIGURE_DATA / "summary_3d.csv"):
+    for r in read_rows(FIGURE_DATA / "summary_3d.csv"):
         lines.append(f"| `{r['case']}` | {g(r['t_last_s'])} | {g(r['steps'])} | {g(r['step_cuts'])} | "
                      f"{g(r['newton'])} | {g(r['wall_s'], 3)} |")
     return "\n".join(lines) + "\n"

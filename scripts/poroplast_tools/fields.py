@@ -187,3 +187,14 @@ DERIVED = {
     "min_hold405:probe_p": lambda run: hold_min(run, "probe_p", 5.0, 400.0),  # t_end = 405 s
     "t_max:force_constitutive_mg": lambda run: peak_time(run, "force_constitutive_mg"),
 }
+
+
+def history_observables(observe):
+    """The observables `poroplast sweep` evaluates (those of the history): not DERIVED's."""
+    return [o for o in observe if o not in DERIVED]
+
+
+def observed(run, result, observable):
+    """An observable of a completed case: DERIVED's from its run directory, else the sweep's
+    value in its `result` row."""
+    return DERIVED[observable](run) if observable in DERIVED else result.get(observable, float("nan"))

@@ -6,8 +6,9 @@ that each change closes. Read from data/hypothesis_40a.csv, the table `causes.py
 writes for HYPOTHESIS_VARIANTS, and data/hypothesis_40a_fields.csv, the table `causes.py --fields`
 writes (the rows read from fields and shapes); rendered into docs/reproduction.md."""
 
-import csv
 from pathlib import Path
+
+from .tables import read_rows
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 
@@ -47,8 +48,7 @@ FIELD_ROWS = [
 
 
 def load(path=DATA / "hypothesis_40a.csv"):
-    with open(path, newline="", encoding="utf-8") as f:
-        rows = {r["variant"]: r for r in csv.DictReader(f)}
+    rows = {r["variant"]: r for r in read_rows(path)}
     for r in rows.values():
         for k, v in r.items():
             try:

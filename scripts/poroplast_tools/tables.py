@@ -3,6 +3,12 @@ import csv
 import math
 
 
+def read_rows(path):
+    """A CSV file with a header as a list of dicts (strings)."""
+    with open(path, newline="", encoding="utf-8") as f:
+        return list(csv.DictReader(f))
+
+
 def write_rows(path, rows, fields=None):
     """Rows (dicts) as a CSV file with a header: `fields` (default: the first row's keys; keys a row
     has beyond them are left out)."""

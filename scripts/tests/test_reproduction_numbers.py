@@ -39,9 +39,10 @@ def pool():
                         continue
                     if math.isfinite(x):
                         values.append(x)
+    refs = references()
     for r in claims.load():   # the claims' differences and ratios of converged values
         if r["measure"]:
-            values.append(claims.measure(references(), r["measure"])[0])
+            values.append(claims.measure(refs, r["measure"])[0])
     # A shift is often said without its sign ("2.8 s earlier"): the magnitudes count too.
     return values + [abs(v) for v in values]
 
