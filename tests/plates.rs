@@ -342,27 +342,33 @@ fn quarter_and_full_sphere_agree() {
 }
 
 /// The same mirrored full sphere with only the poles held in x and y: the rotation about z is
-/// free (`solver::FreeRigidModes`); the direct preset locks it at one dof, the AMG fieldsplit
-/// takes it as the Jacobian's null space (from the first Newton iteration on: the loading ramp
-/// shows it).
+/// free (`solver::FreeRigidModes`); the AMG fieldsplit takes it as the Jacobian's null space
+/// (from the first Newton iteration on: the loading ramp shows it).
 #[test]
 fn full_sphere_with_free_rigid_modes_agrees() {
-    let free: &[(&str, &str)] = &[
-        MIRRORED[0],
-        (
-            "[[bc]]\ngroup = \"symmetry_x\"\nroller = true\ngeometry = \"solid\"\n\n[[bc]]\ngroup = \"symmetry_y\"\nroller = true\ngeometry = \"solid\"\n",
-            "[[bc]]\ngroup = \"pole_bottom\"\ndisplacement = { x = 0.0, y = 0.0 }\n\n\
-             [[bc]]\ngroup = \"pole_top\"\ndisplacement = { x = 0.0, y = 0.0 }\n",
-        ),
-    ];
-    // The direct preset's lock through the ramp, as the AMG's below (the hold and the release
-    // are the locked sphere's, in the slow tier).
-    let direct: Vec<(&str, &str)> = free.iter().copied().chain([RAMP]).collect();
-    assert_full_matches_quarter("plates-full-free", constant_quarter_ramp(), &direct, &[]);
     let amg: Vec<(&str, &str)> =
-        free.iter().copied().chain([("[output]", "[solver]\npreset = \"fieldsplit\"\n\n[output]"), RAMP]).collect();
+        FREE.iter().copied().chain([("[output]", "[solver]\npreset = \"fieldsplit\"\n\n[output]"), RAMP]).collect();
     assert_full_matches_quarter("plates-full-free-amg", constant_quarter_ramp(), &amg, &[]);
 }
+
+/// The free full sphere with the direct preset, which locks the rotation at one dof, through the
+/// ramp (the hold and the release are the locked sphere's, `quarter_and_full_sphere_agree`).
+#[test]
+#[ignore = "slow tier: a second full-sphere run of the free modes (7 core-s), the direct preset's lock"]
+fn full_sphere_with_free_rigid_modes_agrees_direct() {
+    let direct: Vec<(&str, &str)> = FREE.iter().copied().chain([RAMP]).collect();
+    assert_full_matches_quarter("plates-full-free", constant_quarter_ramp(), &direct, &[]);
+}
+
+/// The mirrored full sphere's edits with only the poles held in x and y.
+const FREE: [(&str, &str); 2] = [
+    MIRRORED[0],
+    (
+        "[[bc]]\ngroup = \"symmetry_x\"\nroller = true\ngeometry = \"solid\"\n\n[[bc]]\ngroup = \"symmetry_y\"\nroller = true\ngeometry = \"solid\"\n",
+        "[[bc]]\ngroup = \"pole_bottom\"\ndisplacement = { x = 0.0, y = 0.0 }\n\n\
+         [[bc]]\ngroup = \"pole_top\"\ndisplacement = { x = 0.0, y = 0.0 }\n",
+    ),
+];
 
 /// The active-set Newton (full-size system, `solver::active_set`) against PETSc's own
 /// reduced-space VI Newton (`vinewtonrsls`, MUMPS) on the coarse scene: through the ramp and the

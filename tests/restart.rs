@@ -354,13 +354,13 @@ fn resume_refuses_what_it_cannot_continue_and_restarts_what_never_checkpointed()
 }
 
 /// The same on the meridian (`mesh.geometry = axisymmetric`, fine enough that the run outlasts the
-/// signal): killed after the checkpoint of step 10 and resumed, the history of the uninterrupted
-/// run to 1e-10.
+/// signal), with surface tension (γ = 5 mN/m): killed after the checkpoint of step 10 and
+/// resumed, the history of the uninterrupted run to 1e-10.
 #[test]
 fn a_killed_meridian_run_resumes_to_the_uninterrupted_history() {
     let _cores = cores(1); // every run of the test, one at a time
     let d = scratch("restart_meridian");
-    let meridian = ["mesh.geometry=axisymmetric", "mesh.params.h=15", "mesh.params.h_pole=5"];
+    let meridian = ["mesh.geometry=axisymmetric", "mesh.params.h=15", "mesh.params.h_pole=5", "surface.tension=5"];
     let reference = d.join("reference");
     assert!(spawn_with(1, &reference, &meridian).wait().unwrap().success(), "the reference run failed");
     let a = History::read(&reference);

@@ -14,11 +14,11 @@ use std::time::{Duration, Instant};
 /// The overrides of every case (with the study's `set`).
 const BASE: [&str; 4] = ["time.t_end=3", "mesh.params.h=25", "mesh.params.h_pole=5", "output.fields_every=4"];
 
-/// A study of 4 cases: µ × a linked (compression, t_ramp) axis.
+/// A study of 4 cases: the surface tension (none, 5 mN/m) × a linked (compression, t_ramp) axis.
 fn grid_study(dir: &Path, extra_set: &[&str]) -> PathBuf {
     let set: Vec<String> = BASE.iter().chain(extra_set).map(|s| format!("\"{s}\"")).collect();
     let text = format!(
-        "scene = \"reference_axi\"\nset = [{}]\n\n[[grid]]\nkey = \"material.mu\"\nvalues = [15, 25]\n\n\
+        "scene = \"reference_axi\"\nset = [{}]\n\n[[grid]]\nkey = \"surface.tension\"\nvalues = [0, 5]\n\n\
          [[grid]]\nkeys = [\"plates.compression\", \"plates.t_ramp\"]\nvalues = [[0.2, 4], [0.3, 5]]\n",
         set.join(", ")
     );
@@ -30,10 +30,10 @@ fn grid_study(dir: &Path, extra_set: &[&str]) -> PathBuf {
 /// The overrides of the grid's cases, in case order.
 fn grid_cases() -> Vec<Vec<String>> {
     let mut out = Vec::new();
-    for mu in ["15", "25"] {
+    for gamma in ["0", "5"] {
         for (c, t) in [("0.2", "4"), ("0.3", "5")] {
             out.push(vec![
-                format!("material.mu={mu}"),
+                format!("surface.tension={gamma}"),
                 format!("plates.compression={c}"),
                 format!("plates.t_ramp={t}"),
             ]);
