@@ -16,6 +16,12 @@ the time.
     python3 scripts/bench.py --sweep [--repeat 3] [--ranks 2]  # many small cases: one mpirun each or sweeps
     python3 scripts/bench.py --targets [--repeat 3]            # every 3-D plate scene against issue 27's targets
     python3 scripts/bench.py --fit [--repeat 3] [--level coarse]  # a 3-parameter fit of a meridian curve
+    python3 scripts/bench.py --tst [--repeat 3]                 # the 1000-s tensiometry hold on 2 ranks
+
+`--tst`: the shipped `tst_hold` (meridian, 30% held 1000 s, sigma_y = 0, gamma = 5 mN/m) to the
+end of its hold on 2 ranks, --repeat times: the median wall time with the steps, and the plate
+force at the end of the ramp and of the hold against the converged values (references.csv, case
+tst_hold). Target: F(1005 s) within 1% in <= 10 s.
 
 `--targets`: every shipped 3-D plate scene (and `reference` at the parameters matched to FEBio's
 Holmes-Mow, mu = 33.33 kPa) run alone to t_end = 60 s on 2 ranks, --repeat times: the median wall
@@ -261,6 +267,45 @@ def targets_bench(a, work):
               f"{med('steps'):.0f} | {cells} |", flush=True)
 
 
+# --tst: the tensiometry hold's observables (end of the ramp, end of the 1000-s hold) and its
+# target: the force at the end of the hold within 1% of the converged value in <= 10 s on 2 ranks.
+TST_OBSERVE = ["force_total_mg@5", "force_total_mg@1005"]
+TST_TARGET = {"F": 0.01, "wall": 10.0}
+
+
+def tst_bench(a, work):
+    """The `tst_hold` scene to the end of its hold (1005 s) on --ranks ranks, --repeat times: the
+    median wall time (mpirun's, start-up included), the steps, and its forces against the
+    converged values of references.csv (case tst_hold)."""
+    refs = references()
+    n = a.ranks[0] if isinstance(a.ranks, list) else a.ranks
+    print(f"tst_hold to 1005 s, medians of {a.repeat} run(s) on {n} rank(s); converged values from "
+          f"{SHIPPED.name}; work dir {work}")
+    rs = []
+    for k in range(a.repeat):
+        d = work / f"tst-{k}"
+        d.mkdir(parents=True)
+        t0 = time.time()
+        [(run, res)] = run_cases("tst_hold", [[("time.t_end", "1005")]], [], d, n, (), TST_OBSERVE, sweep=True,
+                                 ranks_per_case=n)
+        if res["status"] != "ok":
+            raise SystemExit(f"bench.py: tst_hold failed: {res['error']} (see {d / 'sweep.log'})")
+        rs.append(dict(wall=time.time() - t0, steps=timings(run)["steps"], **{o: res[o] for o in TST_OBSERVE}))
+    med = lambda key: statistics.median(r[key] for r in rs)
+    wall = med("wall")
+    print("\n| observable | value (median) | converged | error |")
+    print("|---|---|---|---|")
+    errs = {}
+    for o in TST_OBSERVE:
+        ref, bar = refs[("tst_hold", o)]
+        errs[o] = med(o) / ref - 1
+        print(f"| {o} | {med(o):.6g} | {ref:.6g} ± {bar:.2g} | {100 * errs[o]:+.2f}% |")
+    met = abs(errs["force_total_mg@1005"]) <= TST_TARGET["F"] and wall <= TST_TARGET["wall"]
+    runs = ", ".join(f"{r['wall']:.1f}" for r in rs)
+    print(f"\nwall {wall:.1f} s (runs {runs}), "
+          f"{med('steps'):.0f} steps: target (F(1005 s) within 1%, <= 10 s) " + ("met" if met else "missed"))
+
+
 # --fit: the fit's target wall time (s); the noise and data set of the fitted curve.
 FIT_TARGET, FIT_NOISE, FIT_SEED = 60.0, 0.02, 41
 
@@ -346,7 +391,12 @@ def main():
     ap.add_argument("--fit", action="store_true",
                     help="a 3-parameter fit of one synthetic meridian curve on 2 ranks (the 60 s target)")
     ap.add_argument("--level", choices=list(syn.LEVELS), default="coarse", help="--fit: the model's mesh and steps")
+    ap.add_argument("--tst", action="store_true",
+                    help="the tensiometry hold (tst_hold, 1000 s) on 2 ranks against its 1% / 10 s target")
     a = ap.parse_args()
+    if a.tst:
+        a.ranks = (a.ranks or [2])[0]
+        return tst_bench(a, Path(tempfile.mkdtemp(prefix="poroplast-bench-tst-")))
     if a.fit:
         return fit_bench(a, Path(tempfile.mkdtemp(prefix="poroplast-bench-fit-")))
     if a.targets:

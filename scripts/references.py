@@ -90,6 +90,12 @@ CASES = {
                              ["mesh.params.R=900", "mesh.params.r_pole=450", "plates.radius=900",
                               "plates.probe_point=[360.0, 0.0, 1710.0]", "time.t_end=155"],
                              LIGHT_STEPS, 90, 0.25, "127.28,90,63.64", w_surf=270),
+    # Tissue surface tensiometry: the plate force at the end of the 30% compression (5 s) and of
+    # its 1000-s hold in the liquid limit (sigma_y = 0), where the surface tension holds it.
+    # The time steps hardly move the hold's end (0.0891483, 0.0891494, 0.0891501 mg at 1, 1/2 and
+    # 1/4 of the scene's steps on h = 10): four mesh levels at the scene's steps.
+    "tst_hold": case("tst_hold", ["force_total_mg@5", "force_total_mg@1005"], ["time.t_end=1005"],
+                     "1,0.5,0.25", 10, 1, "10,7.071,5,3.5355"),
     # Fig 11a: H/W after 60 s of rest, isotropic k0 = 2.5779e-3 against c = 2, before and after 1 min.
     "hw_10": HW(10, False), "hw_10_c2": HW(10, True), "hw_65": HW(65, False), "hw_65_c2": HW(65, True),
 }
