@@ -84,40 +84,126 @@ fn area<T: Scalar>(rule: &Rule, x: &[T]) -> T {
 
 /// ∂A/∂x of the face (the same layout as `x`).
 fn area_gradient<T: Scalar>(rule: &Rule, x: &[T]) -> [T; MAX] {
-    let (d, nn) = rule.layout();
     let mut g = [T::cst(0.0); MAX];
     for q in 0..rule.w.len() {
-        let w = rule.w[q];
-        match rule.family {
-            Family::Tet10 => {
-                // d|m| = n̂ · (dx_ξ × x_η + x_ξ × dx_η): node b along e_i gives
-                // N_b,ξ (x_η × n̂)_i + N_b,η (n̂ × x_ξ)_i.
-                let (t1, t2) = tangents(rule, q, x, d, nn);
-                let m = cross(&t1, &t2);
-                let len = norm(&m);
-                let nh = [m[0] / len, m[1] / len, m[2] / len];
-                let (a, b) = (cross(&t2, &nh), cross(&nh, &t1));
-                for node in 0..nn {
-                    let [dx, dy] = rule.dn[q][node];
-                    for i in 0..3 {
-                        g[3 * node + i] = g[3 * node + i] + (a[i].scale(dx) + b[i].scale(dy)).scale(w);
-                    }
-                }
-            }
-            Family::Tri6 => {
-                // A_q = 2π w r |t|: ∂/∂r_b = 2π w (N_b |t| + r t_r N_b' / |t|), ∂/∂z_b = 2π w r t_z N_b' / |t|.
-                let (r, t) = meridian_point(rule, q, x, nn);
-                let len = (t[0] * t[0] + t[1] * t[1]).sqrt();
-                let c = 2.0 * std::f64::consts::PI * w;
-                for node in 0..nn {
-                    let (nb, db) = (rule.n[q][node], rule.dn[q][node][0]);
-                    g[2 * node] = g[2 * node] + (len.scale(nb) + r * t[0] / len * T::cst(db)).scale(c);
-                    g[2 * node + 1] = g[2 * node + 1] + (r * t[1] / len).scale(c * db);
-                }
-            }
+        let (_, dq) = point_area(rule, q, x);
+        for (gk, dk) in g.iter_mut().zip(dq) {
+            *gk = *gk + dk;
         }
     }
     g
+}
+
+/// Point q's share of the face's area, a_q = w_q |x_ξ × x_η| (3-D) or 2π w_q r |x_s| (meridian),
+/// and its gradient ∂a_q/∂x.
+fn point_area<T: Scalar>(rule: &Rule, q: usize, x: &[T]) -> (T, [T; MAX]) {
+    let (d, nn) = rule.layout();
+    let mut g = [T::cst(0.0); MAX];
+    let w = rule.w[q];
+    match rule.family {
+        Family::Tet10 => {
+            // d|m| = n̂ · (dx_ξ × x_η + x_ξ × dx_η): node b along e_i gives
+            // N_b,ξ (x_η × n̂)_i + N_b,η (n̂ × x_ξ)_i.
+            let (t1, t2) = tangents(rule, q, x, d, nn);
+            let m = cross(&t1, &t2);
+            let len = norm(&m);
+            let nh = [m[0] / len, m[1] / len, m[2] / len];
+            let (a, b) = (cross(&t2, &nh), cross(&nh, &t1));
+            for node in 0..nn {
+                let [dx, dy] = rule.dn[q][node];
+                for i in 0..3 {
+                    g[3 * node + i] = (a[i].scale(dx) + b[i].scale(dy)).scale(w);
+                }
+            }
+            (len.scale(w), g)
+        }
+        Family::Tri6 => {
+            // A_q = 2π w r |t|: ∂/∂r_b = 2π w (N_b |t| + r t_r N_b' / |t|), ∂/∂z_b = 2π w r t_z N_b' / |t|.
+            let (r, t) = meridian_point(rule, q, x, nn);
+            let len = (t[0] * t[0] + t[1] * t[1]).sqrt();
+            let c = 2.0 * std::f64::consts::PI * w;
+            for node in 0..nn {
+                let (nb, db) = (rule.n[q][node], rule.dn[q][node][0]);
+                g[2 * node] = (len.scale(nb) + r * t[0] / len * T::cst(db)).scale(c);
+                g[2 * node + 1] = (r * t[1] / len).scale(c * db);
+            }
+            ((r * len).scale(c), g)
+        }
+    }
+}
+
+/// The plates' faces at the residual's time: the lower plate's top at z = `lower`, the upper's
+/// bottom at z = `upper`.
+#[derive(Debug, Clone, Copy)]
+pub struct PlatePlanes {
+    pub lower: f64,
+    pub upper: f64,
+}
+
+/// The work of adhesion w to the plates and its range g_a (model.md: Surface tension).
+#[derive(Debug, Clone, Copy)]
+pub struct Adhesion {
+    pub work: f64,
+    pub range: f64,
+}
+
+/// S(x) = 3x² − 2x³ on [0, 1], 0 below, 1 above, and S'(x): C¹, as the drainage's.
+fn smoothstep<T: Scalar>(x: T) -> (T, T) {
+    if x.re() <= 0.0 {
+        (T::cst(0.0), T::cst(0.0))
+    } else if x.re() >= 1.0 {
+        (T::cst(1.0), T::cst(0.0))
+    } else {
+        (x * x * (T::cst(3.0) - x.scale(2.0)), x * (T::cst(1.0) - x).scale(6.0))
+    }
+}
+
+/// Point q's gap g to the nearer plate and ∂g/∂z_b = ±N_b (node b's z is its last coordinate).
+fn point_gap<T: Scalar>(rule: &Rule, q: usize, x: &[T], planes: PlatePlanes) -> (T, [f64; 6]) {
+    let (d, nn) = rule.layout();
+    let mut z = T::cst(0.0);
+    for node in 0..nn {
+        z = z + x[d * node + d - 1].scale(rule.n[q][node]);
+    }
+    let n = rule.n[q];
+    if z.re() - planes.lower <= planes.upper - z.re() {
+        (z - T::cst(planes.lower), n)
+    } else {
+        (T::cst(planes.upper) - z, n.map(|v| -v))
+    }
+}
+
+/// The energy density at gap g, ψ(g) = γ − w (1 − S(g/g_a)), and dψ/dg.
+fn density<T: Scalar>(gamma: f64, ad: Adhesion, g: T) -> (T, T) {
+    let (s, ds) = smoothstep(g.scale(1.0 / ad.range));
+    (T::cst(gamma - ad.work) + s.scale(ad.work), ds.scale(ad.work / ad.range))
+}
+
+/// ∂E/∂x of the face's energy with adhesion, E = Σ_q ψ(g_q) a_q: Σ_q ψ ∂a_q/∂x + a_q ψ' ∂g_q/∂x.
+fn energy_gradient<T: Scalar>(rule: &Rule, x: &[T], gamma: f64, ad: Adhesion, planes: PlatePlanes) -> [T; MAX] {
+    let (d, nn) = rule.layout();
+    let mut g = [T::cst(0.0); MAX];
+    for q in 0..rule.w.len() {
+        let (a, da) = point_area(rule, q, x);
+        let (gap, dgap) = point_gap(rule, q, x, planes);
+        let (psi, dpsi) = density(gamma, ad, gap);
+        for (gk, dk) in g.iter_mut().zip(da) {
+            *gk = *gk + psi * dk;
+        }
+        let pull = a * dpsi;
+        for node in 0..nn {
+            let k = d * node + d - 1;
+            g[k] = g[k] + pull.scale(dgap[node]);
+        }
+    }
+    g
+}
+
+/// ∂²E/∂x² with adhesion: [`energy_gradient`] differentiated by duals.
+fn energy_hessian(rule: &Rule, x: &[f64], gamma: f64, ad: Adhesion, planes: PlatePlanes) -> [[f64; MAX]; MAX] {
+    let xd: Vec<Dual<MAX>> = x.iter().enumerate().map(|(i, &v)| Dual::var(v, i)).collect();
+    let g = energy_gradient(rule, &xd, gamma, ad, planes);
+    std::array::from_fn(|i| g[i].d)
 }
 
 /// ∂²A/∂x² of the face: the gradient differentiated by duals (row-major, MAX × MAX).
@@ -159,16 +245,25 @@ fn norm<T: Scalar>(a: &[T; 3]) -> T {
     (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
-/// The tension γ on this rank's faces of the boundary group.
+/// The tension γ on this rank's faces of the boundary group, lowered to γ − w on the plates by
+/// the work of adhesion w.
 pub struct SurfaceTension {
     gamma: f64,
+    adhesion: Option<Adhesion>,
     faces: Vec<u32>,
     rule: Rule,
 }
 
 impl SurfaceTension {
-    pub fn new(gamma: f64, mesh: &LocalMesh, faces: &[u32]) -> SurfaceTension {
-        SurfaceTension { gamma, faces: faces.to_vec(), rule: Rule::new(mesh.family) }
+    /// `adhesion`: the work of adhesion to the plates (None or w = 0: none, the tension alone).
+    pub fn new(gamma: f64, adhesion: Option<Adhesion>, mesh: &LocalMesh, faces: &[u32]) -> SurfaceTension {
+        let adhesion = adhesion.filter(|a| a.work > 0.0);
+        SurfaceTension { gamma, adhesion, faces: faces.to_vec(), rule: Rule::new(mesh.family) }
+    }
+
+    /// The adhesion with the plates' planes, if both (without plates nothing adheres).
+    fn adhering(&self, planes: Option<PlatePlanes>) -> Option<(Adhesion, PlatePlanes)> {
+        self.adhesion.zip(planes)
     }
 
     /// A face's displacement dofs (local) and current node coordinates, in the rule's layout
@@ -186,29 +281,52 @@ impl SurfaceTension {
         (idx, x, n)
     }
 
-    /// Adds γ ∂A/∂x to the residual `f` (local layout) at the displacement `u`.
-    pub fn add_residual(&self, mesh: &LocalMesh, dofs: &DofMap, u: &[f64], f: &mut [f64]) {
+    /// Adds the energy's gradient to the residual `f` (local layout) at the displacement `u`:
+    /// γ ∂A/∂x, or with adhesion ∂E/∂x with the plates at `planes` (the residual's time).
+    pub fn add_residual(&self, mesh: &LocalMesh, dofs: &DofMap, u: &[f64], planes: Option<PlatePlanes>, f: &mut [f64]) {
+        let adhering = self.adhering(planes);
         for &face in &self.faces {
             let (idx, x, n) = self.face(mesh, dofs, face, u);
-            let g = area_gradient(&self.rule, &x[..n]);
-            for (k, &l) in idx[..n].iter().enumerate() {
-                f[l] += self.gamma * g[k];
+            match adhering {
+                None => {
+                    let g = area_gradient(&self.rule, &x[..n]);
+                    for (k, &l) in idx[..n].iter().enumerate() {
+                        f[l] += self.gamma * g[k];
+                    }
+                }
+                Some((ad, pl)) => {
+                    let g = energy_gradient(&self.rule, &x[..n], self.gamma, ad, pl);
+                    for (k, &l) in idx[..n].iter().enumerate() {
+                        f[l] += g[k];
+                    }
+                }
             }
         }
     }
 
-    /// Calls `add` with each face's local dofs and its block γ ∂²A/∂x² (row-major).
+    /// Calls `add` with each face's local dofs and its block γ ∂²A/∂x² (with adhesion ∂²E/∂x²,
+    /// the plates at `planes`), row-major.
     pub fn for_each_block(
         &self,
         mesh: &LocalMesh,
         dofs: &DofMap,
         u: &[f64],
+        planes: Option<PlatePlanes>,
         mut add: impl FnMut(&[usize], &[f64]) -> crate::error::Result<()>,
     ) -> crate::error::Result<()> {
+        let adhering = self.adhering(planes);
         for &face in &self.faces {
             let (idx, x, n) = self.face(mesh, dofs, face, u);
-            let h = area_hessian(&self.rule, &x[..n]);
-            let block: Vec<f64> = (0..n * n).map(|k| self.gamma * h[k / n][k % n]).collect();
+            let block: Vec<f64> = match adhering {
+                None => {
+                    let h = area_hessian(&self.rule, &x[..n]);
+                    (0..n * n).map(|k| self.gamma * h[k / n][k % n]).collect()
+                }
+                Some((ad, pl)) => {
+                    let h = energy_hessian(&self.rule, &x[..n], self.gamma, ad, pl);
+                    (0..n * n).map(|k| h[k / n][k % n]).collect()
+                }
+            };
             add(&idx[..n], &block)?;
         }
         Ok(())
@@ -287,6 +405,93 @@ mod tests {
             let dot: f64 = x.iter().zip(g.iter()).map(|(a, b)| a * b).sum();
             let a = area(&rule, &x);
             assert!((dot - 2.0 * a).abs() < 1e-12 * a, "{family:?}: {dot} vs {}", 2.0 * a);
+        }
+    }
+
+    /// The face's energy with adhesion, Σ_q ψ(g_q) a_q: what [`energy_gradient`] differentiates.
+    fn energy(rule: &Rule, x: &[f64], gamma: f64, ad: Adhesion, planes: PlatePlanes) -> f64 {
+        (0..rule.w.len())
+            .map(|q| point_area(rule, q, x).0 * density(gamma, ad, point_gap(rule, q, x, planes).0).0)
+            .sum()
+    }
+
+    /// The gaps of the face's points over the range (to see which part of ψ a case exercises).
+    fn gaps(rule: &Rule, x: &[f64], ad: Adhesion, planes: PlatePlanes) -> Vec<f64> {
+        (0..rule.w.len()).map(|q| point_gap(rule, q, x, planes).0 / ad.range).collect()
+    }
+
+    /// With adhesion (γ = 1, w = 1.5) the face energy's gradient against central differences of
+    /// the energy and its Hessian against central differences of the gradient, on both families,
+    /// with the plates placed so that the face lies partly within the adhesion range (points on
+    /// both sides of g_a), wholly within it, and near the upper plate.
+    #[test]
+    fn adhesion_gradient_and_hessian_match_central_differences() {
+        let (gamma, work) = (1.0, 1.5);
+        for (family, x) in [(Family::Tet10, octant()), (Family::Tri6, edge())] {
+            let rule = Rule::new(family);
+            let n = x.len();
+            // (lower, upper, range), the face's heights in [0, top]
+            let (d, _) = rule.layout();
+            let top = x.iter().skip(d - 1).step_by(d).cloned().fold(0.0, f64::max);
+            let placements = [(-0.05, 5.0, 0.4), (-0.3, 5.0, 2.0), (-10.0, top + 0.05, 0.6 * top)];
+            let a: f64 = (0..rule.w.len()).map(|q| point_area(&rule, q, &x).0).sum();
+            assert!((a - area(&rule, &x)).abs() < 1e-14 * a);
+            for (k, &(lower, upper, range)) in placements.iter().enumerate() {
+                let (ad, planes) = (Adhesion { work, range }, PlatePlanes { lower, upper });
+                let s = gaps(&rule, &x, ad, planes);
+                let within = s.iter().filter(|&&v| v > 0.0 && v < 1.0).count();
+                match k {
+                    0 => assert!(within > 0 && within < s.len(), "{family:?} partly: {s:?}"),
+                    _ => assert!(within > 1, "{family:?} case {k}: {s:?}"),
+                }
+                let g = energy_gradient(&rule, &x, gamma, ad, planes);
+                let hess = energy_hessian(&rule, &x, gamma, ad, planes);
+                let h = 1e-6;
+                for i in 0..n {
+                    let (mut xp, mut xm) = (x.clone(), x.clone());
+                    xp[i] += h;
+                    xm[i] -= h;
+                    let fd =
+                        (energy(&rule, &xp, gamma, ad, planes) - energy(&rule, &xm, gamma, ad, planes)) / (2.0 * h);
+                    assert!((g[i] - fd).abs() < 1e-8, "{family:?} case {k} gradient {i}: {} vs {fd}", g[i]);
+                    let gp = energy_gradient(&rule, &xp, gamma, ad, planes);
+                    let gm = energy_gradient(&rule, &xm, gamma, ad, planes);
+                    for j in 0..n {
+                        let fd = (gp[j] - gm[j]) / (2.0 * h);
+                        assert!(
+                            (hess[j][i] - fd).abs() < 1e-6,
+                            "{family:?} case {k} hessian {j} {i}: {} vs {fd}",
+                            hess[j][i]
+                        );
+                        assert!((hess[i][j] - hess[j][i]).abs() < 1e-11);
+                    }
+                }
+            }
+        }
+    }
+
+    /// A face lying on a plate carries γ − w, one beyond the range γ (its gradient then is
+    /// γ ∂A/∂x); with w = 0 the adhesion's gradient is the tension's.
+    #[test]
+    fn adhesion_lowers_the_tension_on_the_plates_only() {
+        let (gamma, work) = (2.0, 1.5);
+        let flat = |z: f64| vec![1.0, z, 2.0, z, 1.5, z];
+        let rule = Rule::new(Family::Tri6);
+        let planes = PlatePlanes { lower: 0.0, upper: 10.0 };
+        let ad = Adhesion { work, range: 0.1 };
+        let a = area(&rule, &flat(0.0));
+        assert!((energy(&rule, &flat(0.0), gamma, ad, planes) - (gamma - work) * a).abs() < 1e-13);
+        assert!((energy(&rule, &flat(10.0), gamma, ad, planes) - (gamma - work) * a).abs() < 1e-13);
+        assert!((energy(&rule, &flat(0.2), gamma, ad, planes) - gamma * a).abs() < 1e-13);
+        for (family, x) in [(Family::Tet10, octant()), (Family::Tri6, edge())] {
+            let rule = Rule::new(family);
+            let far = energy_gradient(&rule, &x, gamma, ad, PlatePlanes { lower: -5.0, upper: 10.0 });
+            let none = energy_gradient(&rule, &x, gamma, Adhesion { work: 0.0, range: 0.4 }, planes);
+            let tension = area_gradient(&rule, &x);
+            for k in 0..x.len() {
+                assert!((far[k] - gamma * tension[k]).abs() < 1e-13);
+                assert!((none[k] - gamma * tension[k]).abs() < 1e-13);
+            }
         }
     }
 }
