@@ -147,19 +147,24 @@ pub struct Adhesion {
     pub range: f64,
 }
 
-/// S(x) = 3x² − 2x³ on [0, 1], 0 below, 1 above, and S'(x): C¹, as the drainage's.
+/// S(x) = 10x³ − 15x⁴ + 6x⁵ on [0, 1], 0 below, 1 above, and S'(x) = 30x²(1 − x)²: C², so that
+/// the residual's ψ' S' term is C¹ and its tangent continuous where a face lies on a plate
+/// (g = 0) and at the range's end (the drainage's C¹ step would put a jump w·6/g_a² into the
+/// tangent of every point exactly on a plate).
 fn smoothstep<T: Scalar>(x: T) -> (T, T) {
     if x.re() <= 0.0 {
         (T::cst(0.0), T::cst(0.0))
     } else if x.re() >= 1.0 {
         (T::cst(1.0), T::cst(0.0))
     } else {
-        (x * x * (T::cst(3.0) - x.scale(2.0)), x * (T::cst(1.0) - x).scale(6.0))
+        let (x2, y) = (x * x, T::cst(1.0) - x);
+        (x2 * x * (T::cst(10.0) - x.scale(15.0) + x2.scale(6.0)), x2 * y * y.scale(30.0))
     }
 }
 
-/// Point q's gap g to the nearer plate and ∂g/∂z_b = ±N_b (node b's z is its last coordinate).
-fn point_gap<T: Scalar>(rule: &Rule, q: usize, x: &[T], planes: PlatePlanes) -> (T, [f64; 6]) {
+/// Point q's gap g to the nearer plate, ∂g/∂z_b = ±N_b (node b's z is its last coordinate), and
+/// which plate: +1 the lower (its normal into the aggregate +e_z), −1 the upper.
+fn point_gap<T: Scalar>(rule: &Rule, q: usize, x: &[T], planes: PlatePlanes) -> (T, [f64; 6], f64) {
     let (d, nn) = rule.layout();
     let mut z = T::cst(0.0);
     for node in 0..nn {
@@ -167,30 +172,72 @@ fn point_gap<T: Scalar>(rule: &Rule, q: usize, x: &[T], planes: PlatePlanes) -> 
     }
     let n = rule.n[q];
     if z.re() - planes.lower <= planes.upper - z.re() {
-        (z - T::cst(planes.lower), n)
+        (z - T::cst(planes.lower), n, 1.0)
     } else {
-        (T::cst(planes.upper) - z, n.map(|v| -v))
+        (T::cst(planes.upper) - z, n.map(|v| -v), -1.0)
     }
 }
 
-/// The energy density at gap g, ψ(g) = γ − w (1 − S(g/g_a)), and dψ/dg.
-fn density<T: Scalar>(gamma: f64, ad: Adhesion, g: T) -> (T, T) {
-    let (s, ds) = smoothstep(g.scale(1.0 / ad.range));
-    (T::cst(gamma - ad.work) + s.scale(ad.work), ds.scale(ad.work / ad.range))
+/// Point q's share of the face's area projected onto the plate with normal σ e_z (σ = ±1),
+/// P_q = −σ (n_z da)_q with n the outward normal (`outward` = ±1: the face's node order gives
+/// n or −n), and ∂P_q/∂x: on a plate facing it P_q = a_q; on a vertical face 0; on a face
+/// turned away from it (the top of a wedge over a wetted patch) negative. In 3-D
+/// n_z da = w_q (x_ξ × x_η)_z, on the meridian n = (t_z, −t_r)/|t| and
+/// n_z da = −2π w_q r t_r (the ring's area).
+fn point_projection<T: Scalar>(rule: &Rule, q: usize, x: &[T], sigma: f64, outward: f64) -> (T, [T; MAX]) {
+    let (d, nn) = rule.layout();
+    let mut g = [T::cst(0.0); MAX];
+    let c = -sigma * outward * rule.w[q];
+    match rule.family {
+        Family::Tet10 => {
+            let (t1, t2) = tangents(rule, q, x, d, nn);
+            for node in 0..nn {
+                let [a, b] = rule.dn[q][node];
+                g[3 * node] = (t2[1].scale(a) - t1[1].scale(b)).scale(c);
+                g[3 * node + 1] = (t1[0].scale(b) - t2[0].scale(a)).scale(c);
+            }
+            ((t1[0] * t2[1] - t1[1] * t2[0]).scale(c), g)
+        }
+        Family::Tri6 => {
+            let (r, t) = meridian_point(rule, q, x, nn);
+            let c = -2.0 * std::f64::consts::PI * c;
+            for node in 0..nn {
+                let (nb, db) = (rule.n[q][node], rule.dn[q][node][0]);
+                g[2 * node] = (t[0].scale(nb) + r.scale(db)).scale(c);
+            }
+            ((r * t[0]).scale(c), g)
+        }
+    }
 }
 
-/// ∂E/∂x of the face's energy with adhesion, E = Σ_q ψ(g_q) a_q: Σ_q ψ ∂a_q/∂x + a_q ψ' ∂g_q/∂x.
-fn energy_gradient<T: Scalar>(rule: &Rule, x: &[T], gamma: f64, ad: Adhesion, planes: PlatePlanes) -> [T; MAX] {
+/// The adhesion's weight at gap g, −w (1 − S(g/g_a)), and its derivative w S'(g/g_a)/g_a.
+fn weight<T: Scalar>(ad: Adhesion, g: T) -> (T, T) {
+    let (s, ds) = smoothstep(g.scale(1.0 / ad.range));
+    ((s - T::cst(1.0)).scale(ad.work), ds.scale(ad.work / ad.range))
+}
+
+/// ∂E/∂x of the face's energy with adhesion, E = Σ_q γ a_q − w (1 − S(g_q/g_a)) P_q (the area,
+/// and the area projected onto the nearer plate, [`point_projection`]):
+/// Σ_q γ ∂a_q/∂x + ω ∂P_q/∂x + P_q ω' ∂g_q/∂x with ω the adhesion's [`weight`].
+fn energy_gradient<T: Scalar>(
+    rule: &Rule,
+    x: &[T],
+    gamma: f64,
+    outward: f64,
+    ad: Adhesion,
+    planes: PlatePlanes,
+) -> [T; MAX] {
     let (d, nn) = rule.layout();
     let mut g = [T::cst(0.0); MAX];
     for q in 0..rule.w.len() {
-        let (a, da) = point_area(rule, q, x);
-        let (gap, dgap) = point_gap(rule, q, x, planes);
-        let (psi, dpsi) = density(gamma, ad, gap);
-        for (gk, dk) in g.iter_mut().zip(da) {
-            *gk = *gk + psi * dk;
+        let (_, da) = point_area(rule, q, x);
+        let (gap, dgap, sigma) = point_gap(rule, q, x, planes);
+        let (p, dp) = point_projection(rule, q, x, sigma, outward);
+        let (om, dom) = weight(ad, gap);
+        for k in 0..x.len() {
+            g[k] = g[k] + da[k].scale(gamma) + om * dp[k];
         }
-        let pull = a * dpsi;
+        let pull = p * dom;
         for node in 0..nn {
             let k = d * node + d - 1;
             g[k] = g[k] + pull.scale(dgap[node]);
@@ -200,9 +247,16 @@ fn energy_gradient<T: Scalar>(rule: &Rule, x: &[T], gamma: f64, ad: Adhesion, pl
 }
 
 /// ∂²E/∂x² with adhesion: [`energy_gradient`] differentiated by duals.
-fn energy_hessian(rule: &Rule, x: &[f64], gamma: f64, ad: Adhesion, planes: PlatePlanes) -> [[f64; MAX]; MAX] {
+fn energy_hessian(
+    rule: &Rule,
+    x: &[f64],
+    gamma: f64,
+    outward: f64,
+    ad: Adhesion,
+    planes: PlatePlanes,
+) -> [[f64; MAX]; MAX] {
     let xd: Vec<Dual<MAX>> = x.iter().enumerate().map(|(i, &v)| Dual::var(v, i)).collect();
-    let g = energy_gradient(rule, &xd, gamma, ad, planes);
+    let g = energy_gradient(rule, &xd, gamma, outward, ad, planes);
     std::array::from_fn(|i| g[i].d)
 }
 
@@ -251,6 +305,8 @@ pub struct SurfaceTension {
     gamma: f64,
     adhesion: Option<Adhesion>,
     faces: Vec<u32>,
+    /// Per face, +1 if its node order gives the outward normal, −1 if the inward (with adhesion).
+    outward: Vec<f64>,
     rule: Rule,
 }
 
@@ -258,7 +314,49 @@ impl SurfaceTension {
     /// `adhesion`: the work of adhesion to the plates (None or w = 0: none, the tension alone).
     pub fn new(gamma: f64, adhesion: Option<Adhesion>, mesh: &LocalMesh, faces: &[u32]) -> SurfaceTension {
         let adhesion = adhesion.filter(|a| a.work > 0.0);
-        SurfaceTension { gamma, adhesion, faces: faces.to_vec(), rule: Rule::new(mesh.family) }
+        let mut st = SurfaceTension {
+            gamma,
+            adhesion,
+            faces: faces.to_vec(),
+            outward: Vec::new(),
+            rule: Rule::new(mesh.family),
+        };
+        if st.adhesion.is_some() {
+            st.outward = faces.iter().map(|&f| st.orientation(mesh, f)).collect();
+        }
+        st
+    }
+
+    /// ±1: whether face f's node order gives the normal pointing away from its cell (its
+    /// reference normal at the first point against the direction from the cell's centroid).
+    fn orientation(&self, mesh: &LocalMesh, f: u32) -> f64 {
+        let (d, nn) = self.rule.layout();
+        let axes = mesh.family.axes();
+        let x: Vec<f64> = mesh.face(f as usize)[..nn]
+            .iter()
+            .flat_map(|&n| axes.iter().map(move |&a| mesh.coords[n as usize][a]))
+            .collect();
+        let normal: Vec<f64> = match self.rule.family {
+            Family::Tet10 => {
+                let (t1, t2) = tangents(&self.rule, 0, &x, d, nn);
+                cross(&t1, &t2).to_vec()
+            }
+            Family::Tri6 => {
+                let (_, t) = meridian_point(&self.rule, 0, &x, nn);
+                vec![t[1], -t[0]]
+            }
+        };
+        let cell = mesh.cell(mesh.face_cell[f as usize].0 as usize);
+        let centroid = |nodes: &[u32], a: usize| {
+            nodes.iter().map(|&n| mesh.coords[n as usize][a]).sum::<f64>() / nodes.len() as f64
+        };
+        let face = mesh.face(f as usize);
+        let dot: f64 = axes.iter().enumerate().map(|(k, &a)| normal[k] * (centroid(face, a) - centroid(cell, a))).sum();
+        if dot >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        }
     }
 
     /// The adhesion with the plates' planes, if both (without plates nothing adheres).
@@ -285,7 +383,7 @@ impl SurfaceTension {
     /// γ ∂A/∂x, or with adhesion ∂E/∂x with the plates at `planes` (the residual's time).
     pub fn add_residual(&self, mesh: &LocalMesh, dofs: &DofMap, u: &[f64], planes: Option<PlatePlanes>, f: &mut [f64]) {
         let adhering = self.adhering(planes);
-        for &face in &self.faces {
+        for (i, &face) in self.faces.iter().enumerate() {
             let (idx, x, n) = self.face(mesh, dofs, face, u);
             match adhering {
                 None => {
@@ -295,7 +393,7 @@ impl SurfaceTension {
                     }
                 }
                 Some((ad, pl)) => {
-                    let g = energy_gradient(&self.rule, &x[..n], self.gamma, ad, pl);
+                    let g = energy_gradient(&self.rule, &x[..n], self.gamma, self.outward[i], ad, pl);
                     for (k, &l) in idx[..n].iter().enumerate() {
                         f[l] += g[k];
                     }
@@ -315,7 +413,7 @@ impl SurfaceTension {
         mut add: impl FnMut(&[usize], &[f64]) -> crate::error::Result<()>,
     ) -> crate::error::Result<()> {
         let adhering = self.adhering(planes);
-        for &face in &self.faces {
+        for (i, &face) in self.faces.iter().enumerate() {
             let (idx, x, n) = self.face(mesh, dofs, face, u);
             let block: Vec<f64> = match adhering {
                 None => {
@@ -323,7 +421,7 @@ impl SurfaceTension {
                     (0..n * n).map(|k| self.gamma * h[k / n][k % n]).collect()
                 }
                 Some((ad, pl)) => {
-                    let h = energy_hessian(&self.rule, &x[..n], self.gamma, ad, pl);
+                    let h = energy_hessian(&self.rule, &x[..n], self.gamma, self.outward[i], ad, pl);
                     (0..n * n).map(|k| h[k / n][k % n]).collect()
                 }
             };
@@ -408,14 +506,19 @@ mod tests {
         }
     }
 
-    /// The face's energy with adhesion, Σ_q ψ(g_q) a_q: what [`energy_gradient`] differentiates.
-    fn energy(rule: &Rule, x: &[f64], gamma: f64, ad: Adhesion, planes: PlatePlanes) -> f64 {
+    /// The face's energy with adhesion, Σ_q γ a_q − w (1 − S(g_q/g_a)) P_q: what
+    /// [`energy_gradient`] differentiates.
+    fn energy(rule: &Rule, x: &[f64], gamma: f64, outward: f64, ad: Adhesion, planes: PlatePlanes) -> f64 {
         (0..rule.w.len())
-            .map(|q| point_area(rule, q, x).0 * density(gamma, ad, point_gap(rule, q, x, planes).0).0)
+            .map(|q| {
+                let (gap, _, sigma) = point_gap(rule, q, x, planes);
+                gamma * point_area(rule, q, x).0 + weight(ad, gap).0 * point_projection(rule, q, x, sigma, outward).0
+            })
             .sum()
     }
 
-    /// The gaps of the face's points over the range (to see which part of ψ a case exercises).
+    /// The gaps of the face's points over the range (to see which part of the step a case
+    /// exercises).
     fn gaps(rule: &Rule, x: &[f64], ad: Adhesion, planes: PlatePlanes) -> Vec<f64> {
         (0..rule.w.len()).map(|q| point_gap(rule, q, x, planes).0 / ad.range).collect()
     }
@@ -423,19 +526,19 @@ mod tests {
     /// With adhesion (γ = 1, w = 1.5) the face energy's gradient against central differences of
     /// the energy and its Hessian against central differences of the gradient, on both families,
     /// with the plates placed so that the face lies partly within the adhesion range (points on
-    /// both sides of g_a), wholly within it, and near the upper plate.
+    /// both sides of g_a), wholly within it, and near the upper plate; both orientations.
     #[test]
     fn adhesion_gradient_and_hessian_match_central_differences() {
         let (gamma, work) = (1.0, 1.5);
         for (family, x) in [(Family::Tet10, octant()), (Family::Tri6, edge())] {
             let rule = Rule::new(family);
             let n = x.len();
+            let a: f64 = (0..rule.w.len()).map(|q| point_area(&rule, q, &x).0).sum();
+            assert!((a - area(&rule, &x)).abs() < 1e-14 * a);
             // (lower, upper, range), the face's heights in [0, top]
             let (d, _) = rule.layout();
             let top = x.iter().skip(d - 1).step_by(d).cloned().fold(0.0, f64::max);
             let placements = [(-0.05, 5.0, 0.4), (-0.3, 5.0, 2.0), (-10.0, top + 0.05, 0.6 * top)];
-            let a: f64 = (0..rule.w.len()).map(|q| point_area(&rule, q, &x).0).sum();
-            assert!((a - area(&rule, &x)).abs() < 1e-14 * a);
             for (k, &(lower, upper, range)) in placements.iter().enumerate() {
                 let (ad, planes) = (Adhesion { work, range }, PlatePlanes { lower, upper });
                 let s = gaps(&rule, &x, ad, planes);
@@ -444,34 +547,34 @@ mod tests {
                     0 => assert!(within > 0 && within < s.len(), "{family:?} partly: {s:?}"),
                     _ => assert!(within > 1, "{family:?} case {k}: {s:?}"),
                 }
-                let g = energy_gradient(&rule, &x, gamma, ad, planes);
-                let hess = energy_hessian(&rule, &x, gamma, ad, planes);
-                let h = 1e-6;
-                for i in 0..n {
-                    let (mut xp, mut xm) = (x.clone(), x.clone());
-                    xp[i] += h;
-                    xm[i] -= h;
-                    let fd =
-                        (energy(&rule, &xp, gamma, ad, planes) - energy(&rule, &xm, gamma, ad, planes)) / (2.0 * h);
-                    assert!((g[i] - fd).abs() < 1e-8, "{family:?} case {k} gradient {i}: {} vs {fd}", g[i]);
-                    let gp = energy_gradient(&rule, &xp, gamma, ad, planes);
-                    let gm = energy_gradient(&rule, &xm, gamma, ad, planes);
-                    for j in 0..n {
-                        let fd = (gp[j] - gm[j]) / (2.0 * h);
-                        assert!(
-                            (hess[j][i] - fd).abs() < 1e-6,
-                            "{family:?} case {k} hessian {j} {i}: {} vs {fd}",
-                            hess[j][i]
-                        );
-                        assert!((hess[i][j] - hess[j][i]).abs() < 1e-11);
+                for outward in [1.0, -1.0] {
+                    let e = |x: &[f64]| energy(&rule, x, gamma, outward, ad, planes);
+                    let grad = |x: &[f64]| energy_gradient(&rule, x, gamma, outward, ad, planes);
+                    let (g, hess) = (grad(&x), energy_hessian(&rule, &x, gamma, outward, ad, planes));
+                    let h = 1e-6;
+                    for i in 0..n {
+                        let (mut xp, mut xm) = (x.clone(), x.clone());
+                        xp[i] += h;
+                        xm[i] -= h;
+                        let fd = (e(&xp) - e(&xm)) / (2.0 * h);
+                        assert!((g[i] - fd).abs() < 1e-8, "{family:?} case {k} gradient {i}: {} vs {fd}", g[i]);
+                        let (gp, gm) = (grad(&xp), grad(&xm));
+                        for j in 0..n {
+                            let fd = (gp[j] - gm[j]) / (2.0 * h);
+                            let hj = hess[j][i];
+                            assert!((hj - fd).abs() < 1e-6, "{family:?} case {k} hessian {j} {i}: {hj} vs {fd}");
+                            assert!((hess[i][j] - hj).abs() < 1e-11);
+                        }
                     }
                 }
             }
         }
     }
 
-    /// A face lying on a plate carries γ − w, one beyond the range γ (its gradient then is
-    /// γ ∂A/∂x); with w = 0 the adhesion's gradient is the tension's.
+    /// A face lying on a plate (facing it) carries γ − w, one beyond the range γ; the top of a
+    /// wedge within the range (facing away from the plate) more than γ, a vertical face γ
+    /// (the projected area: no film of the aggregate over a wetted patch can gain adhesion);
+    /// beyond the range, or with w = 0, the gradient is the tension's γ ∂A/∂x.
     #[test]
     fn adhesion_lowers_the_tension_on_the_plates_only() {
         let (gamma, work) = (2.0, 1.5);
@@ -480,13 +583,17 @@ mod tests {
         let planes = PlatePlanes { lower: 0.0, upper: 10.0 };
         let ad = Adhesion { work, range: 0.1 };
         let a = area(&rule, &flat(0.0));
-        assert!((energy(&rule, &flat(0.0), gamma, ad, planes) - (gamma - work) * a).abs() < 1e-13);
-        assert!((energy(&rule, &flat(10.0), gamma, ad, planes) - (gamma - work) * a).abs() < 1e-13);
-        assert!((energy(&rule, &flat(0.2), gamma, ad, planes) - gamma * a).abs() < 1e-13);
+        let e = |x: &[f64], outward: f64| energy(&rule, x, gamma, outward, ad, planes);
+        assert!((e(&flat(0.0), 1.0) - (gamma - work) * a).abs() < 1e-13);
+        assert!((e(&flat(10.0), -1.0) - (gamma - work) * a).abs() < 1e-13);
+        assert!((e(&flat(0.2), 1.0) - gamma * a).abs() < 1e-13);
+        assert!((e(&flat(0.0), -1.0) - (gamma + work) * a).abs() < 1e-13);
+        let vertical = [1.0, 0.0, 1.0, 0.05, 1.0, 0.025];
+        assert!((e(&vertical, 1.0) - gamma * area(&rule, &vertical)).abs() < 1e-13);
         for (family, x) in [(Family::Tet10, octant()), (Family::Tri6, edge())] {
             let rule = Rule::new(family);
-            let far = energy_gradient(&rule, &x, gamma, ad, PlatePlanes { lower: -5.0, upper: 10.0 });
-            let none = energy_gradient(&rule, &x, gamma, Adhesion { work: 0.0, range: 0.4 }, planes);
+            let far = energy_gradient(&rule, &x, gamma, 1.0, ad, PlatePlanes { lower: -5.0, upper: 10.0 });
+            let none = energy_gradient(&rule, &x, gamma, 1.0, Adhesion { work: 0.0, range: 0.4 }, planes);
             let tension = area_gradient(&rule, &x);
             for k in 0..x.len() {
                 assert!((far[k] - gamma * tension[k]).abs() < 1e-13);

@@ -15,7 +15,7 @@ pub(super) fn resolve(scene: &mut Scene) -> Result<Vec<String>, String> {
         p.resolve(scene.mesh.params.get("R").copied(), &mut notes)?;
     }
     if let Some(sf) = &mut scene.surface {
-        sf.resolve(scene.plates.as_ref().and_then(|p| p.seal_gap));
+        sf.resolve(scene.plates.as_ref().map(|p| p.radius()));
     }
     scene.fem.fill_defaults(matches!(scene.material, Material::Linear { .. }));
     scene.solver.fill_defaults();

@@ -217,8 +217,8 @@ fn surface_tension_is_checked() {
 }
 
 /// `surface.adhesion`: negative, beyond complete wetting (w > 2γ), without a tension, off by
-/// 10³, or without plates, each refused naming the reason; the range defaults to the plates'
-/// seal distance and is checked.
+/// 10³, or without plates, each refused naming the reason; the range defaults to 0.05 R and is
+/// checked.
 #[test]
 fn adhesion_is_checked() {
     let add = |v: &str| format!("[surface]\ntension = 5.0\n{v}\n\n[plates]\n");
@@ -244,17 +244,17 @@ fn adhesion_is_checked() {
         &[],
         "surface.adhesion = 5: the work of adhesion is to the plates, and this scene has no [plates]",
     );
-    // Complete wetting itself is accepted; the range is the seal distance unless given.
+    // Complete wetting itself is accepted; the range is 0.05 R unless given.
     let load = |v: &str| {
         let text = super::BUILTIN.iter().find(|(n, _)| *n == "reference").unwrap().1.replacen("[plates]\n", &add(v), 1);
         let p = scratch().join("adhesion.toml");
         std::fs::write(&p, text).unwrap();
         let s = LoadedScene::load(&p.display().to_string(), &[]).unwrap();
         let sf = s.scene.surface.clone().unwrap();
-        (sf.adhesion, sf.adhesion_range, s.scene.plates.unwrap().seal_gap)
+        (sf.adhesion, sf.adhesion_range, s.scene.plates.unwrap().radius())
     };
-    let (w, range, seal) = load("adhesion = 10.0");
-    assert_eq!((w, range), (10.0, seal));
+    let (w, range, r) = load("adhesion = 10.0");
+    assert_eq!((w, range), (10.0, Some(0.05 * r)));
     assert_eq!(load("adhesion = 5.0\nadhesion_range = 0.3").1, Some(0.3));
     assert_eq!(load("").1, None);
 }
