@@ -25,7 +25,7 @@ use crate::physics::bc::{self, Constraint};
 use crate::physics::contact::{Drainage, PlateLoading, Plates, DEFAULT_SEAL_GAP};
 use crate::physics::factory::{ellipticity_warning, model_of};
 use crate::physics::problem::PoroProblem;
-use crate::physics::surface_tension::SurfaceTension;
+use crate::physics::surface_tension::{Adhesion, SurfaceTension};
 use crate::reference_cell::Family;
 use crate::scene::{LoadedScene, Material};
 use crate::solver;
@@ -324,7 +324,9 @@ impl<'w> Run<'w> {
                 let ctx = format!("{}: [surface]", scene.source);
                 let disc = &problem.disc;
                 let faces = agree(world, bc::face_group(&disc.mesh, &sf.group, &ctx))?.to_vec();
-                problem.surface = Some(SurfaceTension::new(sf.tension, &disc.mesh, &faces));
+                // The work of adhesion to the plates (its range filled in with the seal distance).
+                let adhesion = sf.adhesion_range.map(|range| Adhesion { work: sf.adhesion, range });
+                problem.surface = Some(SurfaceTension::new(sf.tension, adhesion, &disc.mesh, &faces));
             }
         }
         let plate_faces = match plates {

@@ -84,40 +84,180 @@ fn area<T: Scalar>(rule: &Rule, x: &[T]) -> T {
 
 /// ∂A/∂x of the face (the same layout as `x`).
 fn area_gradient<T: Scalar>(rule: &Rule, x: &[T]) -> [T; MAX] {
-    let (d, nn) = rule.layout();
     let mut g = [T::cst(0.0); MAX];
     for q in 0..rule.w.len() {
-        let w = rule.w[q];
-        match rule.family {
-            Family::Tet10 => {
-                // d|m| = n̂ · (dx_ξ × x_η + x_ξ × dx_η): node b along e_i gives
-                // N_b,ξ (x_η × n̂)_i + N_b,η (n̂ × x_ξ)_i.
-                let (t1, t2) = tangents(rule, q, x, d, nn);
-                let m = cross(&t1, &t2);
-                let len = norm(&m);
-                let nh = [m[0] / len, m[1] / len, m[2] / len];
-                let (a, b) = (cross(&t2, &nh), cross(&nh, &t1));
-                for node in 0..nn {
-                    let [dx, dy] = rule.dn[q][node];
-                    for i in 0..3 {
-                        g[3 * node + i] = g[3 * node + i] + (a[i].scale(dx) + b[i].scale(dy)).scale(w);
-                    }
-                }
-            }
-            Family::Tri6 => {
-                // A_q = 2π w r |t|: ∂/∂r_b = 2π w (N_b |t| + r t_r N_b' / |t|), ∂/∂z_b = 2π w r t_z N_b' / |t|.
-                let (r, t) = meridian_point(rule, q, x, nn);
-                let len = (t[0] * t[0] + t[1] * t[1]).sqrt();
-                let c = 2.0 * std::f64::consts::PI * w;
-                for node in 0..nn {
-                    let (nb, db) = (rule.n[q][node], rule.dn[q][node][0]);
-                    g[2 * node] = g[2 * node] + (len.scale(nb) + r * t[0] / len * T::cst(db)).scale(c);
-                    g[2 * node + 1] = g[2 * node + 1] + (r * t[1] / len).scale(c * db);
-                }
-            }
+        let (_, dq) = point_area(rule, q, x);
+        for (gk, dk) in g.iter_mut().zip(dq) {
+            *gk = *gk + dk;
         }
     }
     g
+}
+
+/// Point q's share of the face's area, a_q = w_q |x_ξ × x_η| (3-D) or 2π w_q r |x_s| (meridian),
+/// and its gradient ∂a_q/∂x.
+fn point_area<T: Scalar>(rule: &Rule, q: usize, x: &[T]) -> (T, [T; MAX]) {
+    let (d, nn) = rule.layout();
+    let mut g = [T::cst(0.0); MAX];
+    let w = rule.w[q];
+    match rule.family {
+        Family::Tet10 => {
+            // d|m| = n̂ · (dx_ξ × x_η + x_ξ × dx_η): node b along e_i gives
+            // N_b,ξ (x_η × n̂)_i + N_b,η (n̂ × x_ξ)_i.
+            let (t1, t2) = tangents(rule, q, x, d, nn);
+            let m = cross(&t1, &t2);
+            let len = norm(&m);
+            let nh = [m[0] / len, m[1] / len, m[2] / len];
+            let (a, b) = (cross(&t2, &nh), cross(&nh, &t1));
+            for node in 0..nn {
+                let [dx, dy] = rule.dn[q][node];
+                for i in 0..3 {
+                    g[3 * node + i] = (a[i].scale(dx) + b[i].scale(dy)).scale(w);
+                }
+            }
+            (len.scale(w), g)
+        }
+        Family::Tri6 => {
+            // A_q = 2π w r |t|: ∂/∂r_b = 2π w (N_b |t| + r t_r N_b' / |t|), ∂/∂z_b = 2π w r t_z N_b' / |t|.
+            let (r, t) = meridian_point(rule, q, x, nn);
+            let len = (t[0] * t[0] + t[1] * t[1]).sqrt();
+            let c = 2.0 * std::f64::consts::PI * w;
+            for node in 0..nn {
+                let (nb, db) = (rule.n[q][node], rule.dn[q][node][0]);
+                g[2 * node] = (len.scale(nb) + r * t[0] / len * T::cst(db)).scale(c);
+                g[2 * node + 1] = (r * t[1] / len).scale(c * db);
+            }
+            ((r * len).scale(c), g)
+        }
+    }
+}
+
+/// The plates' faces at the residual's time: the lower plate's top at z = `lower`, the upper's
+/// bottom at z = `upper`.
+#[derive(Debug, Clone, Copy)]
+pub struct PlatePlanes {
+    pub lower: f64,
+    pub upper: f64,
+}
+
+/// The work of adhesion w to the plates and its range g_a (model.md: Surface tension).
+#[derive(Debug, Clone, Copy)]
+pub struct Adhesion {
+    pub work: f64,
+    pub range: f64,
+}
+
+/// S(x) = 10x³ − 15x⁴ + 6x⁵ on [0, 1], 0 below, 1 above, and S'(x) = 30x²(1 − x)²: C², so that
+/// the residual's ψ' S' term is C¹ and its tangent continuous where a face lies on a plate
+/// (g = 0) and at the range's end (the drainage's C¹ step would put a jump w·6/g_a² into the
+/// tangent of every point exactly on a plate).
+fn smoothstep<T: Scalar>(x: T) -> (T, T) {
+    if x.re() <= 0.0 {
+        (T::cst(0.0), T::cst(0.0))
+    } else if x.re() >= 1.0 {
+        (T::cst(1.0), T::cst(0.0))
+    } else {
+        let (x2, y) = (x * x, T::cst(1.0) - x);
+        (x2 * x * (T::cst(10.0) - x.scale(15.0) + x2.scale(6.0)), x2 * y * y.scale(30.0))
+    }
+}
+
+/// Point q's gap g to the nearer plate, ∂g/∂z_b = ±N_b (node b's z is its last coordinate), and
+/// which plate: +1 the lower (its normal into the aggregate +e_z), −1 the upper.
+fn point_gap<T: Scalar>(rule: &Rule, q: usize, x: &[T], planes: PlatePlanes) -> (T, [f64; 6], f64) {
+    let (d, nn) = rule.layout();
+    let mut z = T::cst(0.0);
+    for node in 0..nn {
+        z = z + x[d * node + d - 1].scale(rule.n[q][node]);
+    }
+    let n = rule.n[q];
+    if z.re() - planes.lower <= planes.upper - z.re() {
+        (z - T::cst(planes.lower), n, 1.0)
+    } else {
+        (T::cst(planes.upper) - z, n.map(|v| -v), -1.0)
+    }
+}
+
+/// Point q's share of the face's area projected onto the plate with normal σ e_z (σ = ±1),
+/// P_q = −σ (n_z da)_q with n the outward normal (`outward` = ±1: the face's node order gives
+/// n or −n), and ∂P_q/∂x: on a plate facing it P_q = a_q; on a vertical face 0; on a face
+/// turned away from it (the top of a wedge over a wetted patch) negative. In 3-D
+/// n_z da = w_q (x_ξ × x_η)_z, on the meridian n = (t_z, −t_r)/|t| and
+/// n_z da = −2π w_q r t_r (the ring's area).
+fn point_projection<T: Scalar>(rule: &Rule, q: usize, x: &[T], sigma: f64, outward: f64) -> (T, [T; MAX]) {
+    let (d, nn) = rule.layout();
+    let mut g = [T::cst(0.0); MAX];
+    let c = -sigma * outward * rule.w[q];
+    match rule.family {
+        Family::Tet10 => {
+            let (t1, t2) = tangents(rule, q, x, d, nn);
+            for node in 0..nn {
+                let [a, b] = rule.dn[q][node];
+                g[3 * node] = (t2[1].scale(a) - t1[1].scale(b)).scale(c);
+                g[3 * node + 1] = (t1[0].scale(b) - t2[0].scale(a)).scale(c);
+            }
+            ((t1[0] * t2[1] - t1[1] * t2[0]).scale(c), g)
+        }
+        Family::Tri6 => {
+            let (r, t) = meridian_point(rule, q, x, nn);
+            let c = -2.0 * std::f64::consts::PI * c;
+            for node in 0..nn {
+                let (nb, db) = (rule.n[q][node], rule.dn[q][node][0]);
+                g[2 * node] = (t[0].scale(nb) + r.scale(db)).scale(c);
+            }
+            ((r * t[0]).scale(c), g)
+        }
+    }
+}
+
+/// The adhesion's weight at gap g, −w (1 − S(g/g_a)), and its derivative w S'(g/g_a)/g_a.
+fn weight<T: Scalar>(ad: Adhesion, g: T) -> (T, T) {
+    let (s, ds) = smoothstep(g.scale(1.0 / ad.range));
+    ((s - T::cst(1.0)).scale(ad.work), ds.scale(ad.work / ad.range))
+}
+
+/// ∂E/∂x of the face's energy with adhesion, E = Σ_q γ a_q − w (1 − S(g_q/g_a)) P_q (the area,
+/// and the area projected onto the nearer plate, [`point_projection`]):
+/// Σ_q γ ∂a_q/∂x + ω ∂P_q/∂x + P_q ω' ∂g_q/∂x with ω the adhesion's [`weight`].
+fn energy_gradient<T: Scalar>(
+    rule: &Rule,
+    x: &[T],
+    gamma: f64,
+    outward: f64,
+    ad: Adhesion,
+    planes: PlatePlanes,
+) -> [T; MAX] {
+    let (d, nn) = rule.layout();
+    let mut g = [T::cst(0.0); MAX];
+    for q in 0..rule.w.len() {
+        let (_, da) = point_area(rule, q, x);
+        let (gap, dgap, sigma) = point_gap(rule, q, x, planes);
+        let (p, dp) = point_projection(rule, q, x, sigma, outward);
+        let (om, dom) = weight(ad, gap);
+        for k in 0..x.len() {
+            g[k] = g[k] + da[k].scale(gamma) + om * dp[k];
+        }
+        let pull = p * dom;
+        for node in 0..nn {
+            let k = d * node + d - 1;
+            g[k] = g[k] + pull.scale(dgap[node]);
+        }
+    }
+    g
+}
+
+/// ∂²E/∂x² with adhesion: [`energy_gradient`] differentiated by duals.
+fn energy_hessian(
+    rule: &Rule,
+    x: &[f64],
+    gamma: f64,
+    outward: f64,
+    ad: Adhesion,
+    planes: PlatePlanes,
+) -> [[f64; MAX]; MAX] {
+    let xd: Vec<Dual<MAX>> = x.iter().enumerate().map(|(i, &v)| Dual::var(v, i)).collect();
+    let g = energy_gradient(rule, &xd, gamma, outward, ad, planes);
+    std::array::from_fn(|i| g[i].d)
 }
 
 /// ∂²A/∂x² of the face: the gradient differentiated by duals (row-major, MAX × MAX).
@@ -159,16 +299,69 @@ fn norm<T: Scalar>(a: &[T; 3]) -> T {
     (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
-/// The tension γ on this rank's faces of the boundary group.
+/// The tension γ on this rank's faces of the boundary group, lowered to γ − w on the plates by
+/// the work of adhesion w.
 pub struct SurfaceTension {
     gamma: f64,
+    adhesion: Option<Adhesion>,
     faces: Vec<u32>,
+    /// Per face, +1 if its node order gives the outward normal, −1 if the inward (with adhesion).
+    outward: Vec<f64>,
     rule: Rule,
 }
 
 impl SurfaceTension {
-    pub fn new(gamma: f64, mesh: &LocalMesh, faces: &[u32]) -> SurfaceTension {
-        SurfaceTension { gamma, faces: faces.to_vec(), rule: Rule::new(mesh.family) }
+    /// `adhesion`: the work of adhesion to the plates (None or w = 0: none, the tension alone).
+    pub fn new(gamma: f64, adhesion: Option<Adhesion>, mesh: &LocalMesh, faces: &[u32]) -> SurfaceTension {
+        let adhesion = adhesion.filter(|a| a.work > 0.0);
+        let mut st = SurfaceTension {
+            gamma,
+            adhesion,
+            faces: faces.to_vec(),
+            outward: Vec::new(),
+            rule: Rule::new(mesh.family),
+        };
+        if st.adhesion.is_some() {
+            st.outward = faces.iter().map(|&f| st.orientation(mesh, f)).collect();
+        }
+        st
+    }
+
+    /// ±1: whether face f's node order gives the normal pointing away from its cell (its
+    /// reference normal at the first point against the direction from the cell's centroid).
+    fn orientation(&self, mesh: &LocalMesh, f: u32) -> f64 {
+        let (d, nn) = self.rule.layout();
+        let axes = mesh.family.axes();
+        let x: Vec<f64> = mesh.face(f as usize)[..nn]
+            .iter()
+            .flat_map(|&n| axes.iter().map(move |&a| mesh.coords[n as usize][a]))
+            .collect();
+        let normal: Vec<f64> = match self.rule.family {
+            Family::Tet10 => {
+                let (t1, t2) = tangents(&self.rule, 0, &x, d, nn);
+                cross(&t1, &t2).to_vec()
+            }
+            Family::Tri6 => {
+                let (_, t) = meridian_point(&self.rule, 0, &x, nn);
+                vec![t[1], -t[0]]
+            }
+        };
+        let cell = mesh.cell(mesh.face_cell[f as usize].0 as usize);
+        let centroid = |nodes: &[u32], a: usize| {
+            nodes.iter().map(|&n| mesh.coords[n as usize][a]).sum::<f64>() / nodes.len() as f64
+        };
+        let face = mesh.face(f as usize);
+        let dot: f64 = axes.iter().enumerate().map(|(k, &a)| normal[k] * (centroid(face, a) - centroid(cell, a))).sum();
+        if dot >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+
+    /// The adhesion with the plates' planes, if both (without plates nothing adheres).
+    fn adhering(&self, planes: Option<PlatePlanes>) -> Option<(Adhesion, PlatePlanes)> {
+        self.adhesion.zip(planes)
     }
 
     /// A face's displacement dofs (local) and current node coordinates, in the rule's layout
@@ -186,29 +379,52 @@ impl SurfaceTension {
         (idx, x, n)
     }
 
-    /// Adds γ ∂A/∂x to the residual `f` (local layout) at the displacement `u`.
-    pub fn add_residual(&self, mesh: &LocalMesh, dofs: &DofMap, u: &[f64], f: &mut [f64]) {
-        for &face in &self.faces {
+    /// Adds the energy's gradient to the residual `f` (local layout) at the displacement `u`:
+    /// γ ∂A/∂x, or with adhesion ∂E/∂x with the plates at `planes` (the residual's time).
+    pub fn add_residual(&self, mesh: &LocalMesh, dofs: &DofMap, u: &[f64], planes: Option<PlatePlanes>, f: &mut [f64]) {
+        let adhering = self.adhering(planes);
+        for (i, &face) in self.faces.iter().enumerate() {
             let (idx, x, n) = self.face(mesh, dofs, face, u);
-            let g = area_gradient(&self.rule, &x[..n]);
-            for (k, &l) in idx[..n].iter().enumerate() {
-                f[l] += self.gamma * g[k];
+            match adhering {
+                None => {
+                    let g = area_gradient(&self.rule, &x[..n]);
+                    for (k, &l) in idx[..n].iter().enumerate() {
+                        f[l] += self.gamma * g[k];
+                    }
+                }
+                Some((ad, pl)) => {
+                    let g = energy_gradient(&self.rule, &x[..n], self.gamma, self.outward[i], ad, pl);
+                    for (k, &l) in idx[..n].iter().enumerate() {
+                        f[l] += g[k];
+                    }
+                }
             }
         }
     }
 
-    /// Calls `add` with each face's local dofs and its block γ ∂²A/∂x² (row-major).
+    /// Calls `add` with each face's local dofs and its block γ ∂²A/∂x² (with adhesion ∂²E/∂x²,
+    /// the plates at `planes`), row-major.
     pub fn for_each_block(
         &self,
         mesh: &LocalMesh,
         dofs: &DofMap,
         u: &[f64],
+        planes: Option<PlatePlanes>,
         mut add: impl FnMut(&[usize], &[f64]) -> crate::error::Result<()>,
     ) -> crate::error::Result<()> {
-        for &face in &self.faces {
+        let adhering = self.adhering(planes);
+        for (i, &face) in self.faces.iter().enumerate() {
             let (idx, x, n) = self.face(mesh, dofs, face, u);
-            let h = area_hessian(&self.rule, &x[..n]);
-            let block: Vec<f64> = (0..n * n).map(|k| self.gamma * h[k / n][k % n]).collect();
+            let block: Vec<f64> = match adhering {
+                None => {
+                    let h = area_hessian(&self.rule, &x[..n]);
+                    (0..n * n).map(|k| self.gamma * h[k / n][k % n]).collect()
+                }
+                Some((ad, pl)) => {
+                    let h = energy_hessian(&self.rule, &x[..n], self.gamma, self.outward[i], ad, pl);
+                    (0..n * n).map(|k| h[k / n][k % n]).collect()
+                }
+            };
             add(&idx[..n], &block)?;
         }
         Ok(())
@@ -216,77 +432,5 @@ impl SurfaceTension {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A curved 6-node triangle: nodes of the unit sphere's octant face, perturbed.
-    fn octant() -> Vec<f64> {
-        let v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-        let mid = |a: [f64; 3], b: [f64; 3]| {
-            let m = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
-            let l = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
-            [m[0] / l, m[1] / l, m[2] / l]
-        };
-        let nodes = [v[0], v[1], v[2], mid(v[0], v[1]), mid(v[1], v[2]), mid(v[2], v[0])];
-        nodes.iter().enumerate().flat_map(|(k, p)| p.map(|c| c * (1.0 + 0.03 * k as f64))).collect()
-    }
-
-    fn edge() -> Vec<f64> {
-        // r, z of a meridian arc from the equator up, perturbed
-        vec![1.0, 0.0, 0.72, 0.71, 0.93, 0.37]
-    }
-
-    /// The gradient against central differences of the area, the Hessian against central
-    /// differences of the gradient: both families.
-    #[test]
-    fn gradient_and_hessian_match_central_differences() {
-        for (family, x) in [(Family::Tet10, octant()), (Family::Tri6, edge())] {
-            let rule = Rule::new(family);
-            let n = x.len();
-            let g = area_gradient(&rule, &x);
-            let hess = area_hessian(&rule, &x);
-            let h = 1e-6;
-            for i in 0..n {
-                let (mut xp, mut xm) = (x.clone(), x.clone());
-                xp[i] += h;
-                xm[i] -= h;
-                let fd = (area(&rule, &xp) - area(&rule, &xm)) / (2.0 * h);
-                assert!((g[i] - fd).abs() < 1e-8, "{family:?} gradient {i}: {} vs {fd}", g[i]);
-                let (gp, gm) = (area_gradient(&rule, &xp), area_gradient(&rule, &xm));
-                for j in 0..n {
-                    let fd = (gp[j] - gm[j]) / (2.0 * h);
-                    assert!((hess[j][i] - fd).abs() < 1e-7, "{family:?} hessian {j} {i}: {} vs {fd}", hess[j][i]);
-                    assert!((hess[i][j] - hess[j][i]).abs() < 1e-12);
-                }
-            }
-        }
-    }
-
-    /// A rigid translation leaves the area unchanged: the gradient sums to zero along each axis
-    /// in 3-D (and along z on the meridian, where r is not translation-invariant).
-    #[test]
-    fn translation_does_no_work() {
-        let rule = Rule::new(Family::Tet10);
-        let g = area_gradient(&rule, &octant());
-        for i in 0..3 {
-            let s: f64 = (0..6).map(|k| g[3 * k + i]).sum();
-            assert!(s.abs() < 1e-13, "{s}");
-        }
-        let rule = Rule::new(Family::Tri6);
-        let g = area_gradient(&rule, &edge());
-        assert!((g[1] + g[3] + g[5]).abs() < 1e-13);
-    }
-
-    /// Scaling the face by λ scales its area by λ², so x · ∂A/∂x = 2A (Euler's theorem), on both
-    /// families: the gradient carries the whole Laplace pressure of a sphere.
-    #[test]
-    fn the_gradient_is_homogeneous_of_degree_one() {
-        for (family, x) in [(Family::Tet10, octant()), (Family::Tri6, edge())] {
-            let rule = Rule::new(family);
-            let g = area_gradient(&rule, &x);
-            let dot: f64 = x.iter().zip(g.iter()).map(|(a, b)| a * b).sum();
-            let a = area(&rule, &x);
-            assert!((dot - 2.0 * a).abs() < 1e-12 * a, "{family:?}: {dot} vs {}", 2.0 * a);
-        }
-    }
-}
+#[path = "surface_tension_tests.rs"]
+mod tests;

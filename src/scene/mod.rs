@@ -109,7 +109,7 @@ impl Scene {
             v.validate()?;
         }
         if let Some(sf) = &self.surface {
-            sf.validate()?;
+            sf.validate(self.plates.is_some())?;
         }
         self.fem.validate(self.mesh.geometry)?;
         self.validate_petsc()

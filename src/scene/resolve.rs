@@ -14,6 +14,9 @@ pub(super) fn resolve(scene: &mut Scene) -> Result<Vec<String>, String> {
     if let Some(p) = &mut scene.plates {
         p.resolve(scene.mesh.params.get("R").copied(), &mut notes)?;
     }
+    if let Some(sf) = &mut scene.surface {
+        sf.resolve(scene.plates.as_ref().map(|p| p.radius()));
+    }
     scene.fem.fill_defaults(matches!(scene.material, Material::Linear { .. }));
     scene.solver.fill_defaults();
     Ok(notes)

@@ -214,12 +214,49 @@ fn surface_tension_is_checked() {
     for (v, part) in cases {
         expect("reference", &[("[plates]\n", &add(v))], &[], part);
     }
+}
+
+/// `surface.adhesion`: negative, beyond complete wetting (w > 2γ), without a tension, off by
+/// 10³, or without plates, each refused naming the reason; the range defaults to 0.05 R and is
+/// checked.
+#[test]
+fn adhesion_is_checked() {
+    let add = |v: &str| format!("[surface]\ntension = 5.0\n{v}\n\n[plates]\n");
+    let cases = [
+        ("adhesion = -1.0", "surface.adhesion = -1: must be finite and >= 0"),
+        ("adhesion = 10.5", "surface.adhesion = 10.5 > 2 × surface.tension = 10: beyond complete wetting"),
+        ("adhesion = 0.005", "surface.adhesion = 0.005: the unit is mN/m (= kPa µm)"),
+        ("adhesion = 5000.0", "looks like µN/m (write 5 mN/m)"),
+        ("adhesion = 5.0\nadhesion_range = 0.0", "surface.adhesion_range = 0: must be positive"),
+    ];
+    for (v, part) in cases {
+        expect("reference", &[("[plates]\n", &add(v))], &[], part);
+    }
     expect(
         "reference",
-        &[("[plates]\n", "[surface]\ntension = 5.0\nadhesion = 9.0\n\n[plates]\n")],
+        &[("[plates]\n", "[surface]\ntension = 0.0\nadhesion = 5.0\n\n[plates]\n")],
         &[],
-        "unknown field `adhesion`",
+        "surface.adhesion = 5 without surface.tension",
     );
+    expect(
+        "cryer",
+        &[("[verification]", "[surface]\ntension = 5.0\nadhesion = 5.0\n\n[verification]")],
+        &[],
+        "surface.adhesion = 5: the work of adhesion is to the plates, and this scene has no [plates]",
+    );
+    // Complete wetting itself is accepted; the range is 0.05 R unless given.
+    let load = |v: &str| {
+        let text = super::BUILTIN.iter().find(|(n, _)| *n == "reference").unwrap().1.replacen("[plates]\n", &add(v), 1);
+        let p = scratch().join("adhesion.toml");
+        std::fs::write(&p, text).unwrap();
+        let s = LoadedScene::load(&p.display().to_string(), &[]).unwrap();
+        let sf = s.scene.surface.clone().unwrap();
+        (sf.adhesion, sf.adhesion_range, s.scene.plates.unwrap().radius())
+    };
+    let (w, range, r) = load("adhesion = 10.0");
+    assert_eq!((w, range), (10.0, Some(0.05 * r)));
+    assert_eq!(load("adhesion = 5.0\nadhesion_range = 0.3").1, Some(0.3));
+    assert_eq!(load("").1, None);
 }
 
 /// `plates.table`: the protocol as rows; out of order, not from rest, a compression out of

@@ -81,12 +81,12 @@ impl PoroProblem {
         self.collective(outcome)?;
         self.ghosts.flush(jac)?;
         let scales = self.scales(shift);
-        // Surface tension: γ ∂²A/∂x² of each face, constrained rows and columns dropped as the
-        // element loop drops them.
+        // Surface tension: γ ∂²A/∂x² of each face (with the adhesion to the plates at time t),
+        // constrained rows and columns dropped as the element loop drops them.
         if let Some(st) = &self.surface {
             let ul = self.u_loc.read()?;
             let (disc, l2g) = (&self.disc, &self.disc.dofs.l2g);
-            st.for_each_block(&disc.mesh, &disc.dofs, &ul, |idx, block| {
+            st.for_each_block(&disc.mesh, &disc.dofs, &ul, self.plate_planes(t), |idx, block| {
                 let keep: Vec<usize> = (0..idx.len()).filter(|&k| !disc.constrained[idx[k]]).collect();
                 let rows: Vec<Int> = keep.iter().map(|&k| l2g[idx[k]]).collect();
                 let vals: Vec<f64> =

@@ -4,6 +4,7 @@
 use super::PoroProblem;
 use crate::error::Result;
 use crate::petsc::Vector;
+use crate::physics::surface_tension::PlatePlanes;
 use std::time::Instant;
 
 impl PoroProblem {
@@ -18,6 +19,7 @@ impl PoroProblem {
     }
 
     fn residual_with(&mut self, t: f64, dt: f64, f: &mut Vector) -> Result<()> {
+        let planes = self.plate_planes(t);
         let outcome = {
             let ul = self.u_loc.read()?;
             let udl = self.udot_loc.read()?;
@@ -25,9 +27,10 @@ impl PoroProblem {
             fl.iter_mut().for_each(|x| *x = 0.0);
             let disc = &self.disc;
             let res = disc.add_residual(&ul, &udl, dt, &mut fl);
-            // Surface tension: γ ∂A/∂x of the boundary's nodes.
+            // Surface tension: γ ∂A/∂x of the boundary's nodes (with the adhesion to the plates
+            // where they are at time t).
             if let Some(st) = &self.surface {
-                st.add_residual(&disc.mesh, &disc.dofs, &ul, &mut fl);
+                st.add_residual(&disc.mesh, &disc.dofs, &ul, planes, &mut fl);
             }
             // Drainage through the surface off the plates: outflow c(g) p (contact module).
             if let Some(pl) = &self.plates {
@@ -56,5 +59,10 @@ impl PoroProblem {
             }
         }
         Ok(())
+    }
+
+    /// The plates' faces at time t, for the surface's adhesion (None without plates).
+    pub(super) fn plate_planes(&self, t: f64) -> Option<PlatePlanes> {
+        self.plates.as_ref().map(|p| PlatePlanes { lower: p.z_lower(t), upper: p.z_upper })
     }
 }
