@@ -177,7 +177,6 @@ def experiment(a, p, extra):
         print(f"  {short(r['param'])}: jitter (largest deviation from a cubic over ±3%) "
               f"{r['jitter_over_noise_max']:.2e} × the noise (t = {r['at_time']:g} s"
               + (f" of {r['at_experiment']}" if "at_experiment" in r else "") + "), median "
-              f"
               f"{r['jitter_over_noise_median']:.1e}; predicted sigma/value {r['predicted_rel_sigma']:.3g}, "
               f"correlations {r['predicted_corr']}", flush=True)
     folder = Path(a.dir) / "data" / f"{case.tag}{p}"
