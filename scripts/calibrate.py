@@ -40,7 +40,12 @@ optimum's cost (the fit stopped early on a flat ridge) is warned of; the rises a
 from it.
 
 Before the first step the start point's sensitivities are printed, near-collinear parameter
-pairs warned of, and a parameter that moves no data point refused (poroplast_tools/identify.py).
+pairs warned of (with the cause and remedy where known: the surface tension and the yield stress
+at one compression), and a parameter that moves no data point refused (poroplast_tools/identify.py).
+A start of 0 is refused with what 0 means (surface.tension, sigma_y: their term off); a key the
+scene accepts only within a range (surface.tension: 0.01-1000 mN/m) must start within it, a trial
+point outside it is not run (a failed step: the damping grows), and an estimate within a factor 2
+of the lower end is warned of (`at_bound` in the JSON: the data push it towards 0).
 Every run is a case of the case store STUDY/runs/cases/ (`poroplast sweep`: a completed one is
 not run again, so an interrupted calibration continues): each iteration's finite-difference
 neighbours of all experiments are one batch, one `mpirun -n RANKS poroplast sweep` (--ranks 2,
@@ -66,7 +71,7 @@ values first and fits to its own history (an experiment: `synthetic = {...}`, wi
 Writes STUDY/calibration.json: per parameter (its label, KEY or KEY@NAME) value, sigma,
 interval68, interval95 (and profile68, profile95 with --profile: null where no end was found,
 profile68_open, profile95_open the reason per end: "grid", "unconverged", "failed", or null;
-collinear_with and trust for a near-collinear parameter; profile_lower_cost when a profile
+collinear_with and trust for a near-collinear parameter; at_bound; profile_lower_cost when a profile
 point beat the optimum); noise (model, s, chi2_per_dof), experiments (per experiment: noise model,
 s, floor, points, rms), intervals (z and dof), correlation, rms, runs; and the iterations' log.
 STUDY/calibration.png: data and fit, one panel per experiment; STUDY/profile.png the profiles.
@@ -252,6 +257,11 @@ def report(a, experiments, params, noises, runs, opt, st, prof):
             print(f"  profile: " + ", ".join(
                 f"{name}%: [{_end(p[f'interval{name}'][0], p[f'why{name}'][0])}, "
                 f"{_end(p[f'interval{name}'][1], p[f'why{name}'][1])}]" for name in LEVELS))
+        low = exps.RANGES.get(params[k].key, (None,))[0]
+        if low is not None and value < 2 * low:
+            result[key]["at_bound"] = low
+            print(f"calibrate.py: warning: {key} ended at {value:.4g}, next to {low:g}, the least the scene accepts: the "
+                  "data push it towards 0 (not determined by them, or truly near 0)", flush=True)
         partners = [keys[j] for j in range(len(keys)) if j != k and abs(st.corr[k, j]) > COLLINEAR]
         if partners:
             result[key]["collinear_with"] = partners

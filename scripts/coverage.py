@@ -8,16 +8,23 @@ A truth run of the meridian case (poroplast_tools/synthetic.py: R = 150 µm, µ 
 the value, seeded), written as lab CSV files; each fitted by scripts/calibrate.py (its command
 line and calibration.json only) for 1 parameter (λp) and 3 (µ, λp, σy), from the truth ×
 --start-factor.
+`--case tst`: tissue surface tensiometry with a yield stress (synthetic.TST: tst_hold's
+aggregate, γ = 5 mN/m, λp = 0.001 (kPa s)⁻¹, σy = 0.2 kPa), two experiments, 15% and 30% held
+1000 s, each data set a pair of files fitted together (calibrate.py --experiments) for γ, λp
+and σy; its files are DIR/tst3/, DIR/data/tst3/, coverage_tst.csv, coverage_tst.png and
+jitter_tst.csv, so that both cases can share a directory (and its store).
 Counts how often the intervals hold the truth (calibration.json's `interval68`/`interval95`,
 else the same Wald intervals in log space from value and sigma: poroplast_tools/coverage.py).
 
     python3 scripts/coverage.py --dir studies/coverage [--sets 50] [--params 1 3] [--jobs 2]
     python3 scripts/coverage.py --dir /tmp/cov --sets 5 --params 1        # a quick check
+    python3 scripts/coverage.py --case tst --dir studies/coverage [--sets 50]
 
 Before the fits, the model's jitter: runs at each fitted parameter × (1 + k/100), k = −3 … 3,
 and at each data time the largest deviation from a cubic in the parameter, against the noise
 (it must be far below 1 for the intervals to mean anything), with the standard errors and
-correlations the linearised model predicts (jitter.csv).
+correlations the linearised model predicts (jitter.csv; several experiments: their data times
+stacked).
 Writes DIR/coverage.csv (one row per fit: estimates, sigmas, intervals, covered flags, runs,
 seconds), DIR/coverage.png (normalised errors against a standard normal; coverage rates with
 Wilson 95% error bars) and a table on the console. Resumable: every run is a case of the shared
@@ -54,32 +61,41 @@ def short(key):
 
 def runs_ok(a, cases, sets):
     """The histories of the cases (one sweep in the shared store); exits if one failed."""
-    out = run_cases(syn.SCENE, cases, sets, Path(a.dir) / "store", a.ranks, ranks_per_case=1)
+    out = run_cases(a.case.scene, cases, sets, Path(a.dir) / "store", a.ranks, ranks_per_case=1)
     bad = [str(d) for d, r in out if r["status"] != "ok"]
     if bad:
         sys.exit(f"coverage.py: runs failed: {', '.join(bad)}")
     return [history(d) for d, _ in out]
 
 
-def jitter(a, p, times, curve, extra):
+def jitter(a, p, data, extra):
     """Per parameter of the p-parameter fit: the largest deviation, over the data times, of the
     curve from a cubic in the parameter (runs at θ (1 + k/100), k = −3 … 3, their own steps), in
     units of the noise; and the standard errors and correlations the linearised model predicts
-    at the truth for the noise (central differences of the ±1% runs)."""
-    keys, truth = syn.FITS[p]
-    cases = [[(k, repr(v * (1 + s) if k == key else v)) for k, v in truth.items()]
-             for key in keys for s in JITTER_STEPS]
-    hs = runs_ok(a, cases, syn.sets(a.level, truth, truth) + extra)
-    noise = a.noise_level * np.abs(curve)
+    at the truth for the noise (central differences of the ±1% runs). `data`: per experiment
+    (name, times, true curve); their points stacked."""
+    case = a.case
+    keys, truth = case.fits[p]
+    m = len(JITTER_STEPS)
+    cases = [[(k, repr(v * (1 + s) if k == key else v)) for k, v in truth.items()] + list(case.experiments[name])
+             for key in keys for s in JITTER_STEPS for name, _, _ in data]
+    hs = runs_ok(a, cases, case.sets(a.level, truth, truth) + extra)
+    times = np.concatenate([t for _, t, _ in data])
+    where = [name for name, t, _ in data for _ in t]
+    noise = a.noise_level * np.abs(np.concatenate([c for _, _, c in data]))
     x = np.array(JITTER_STEPS)
     rows, cols = [], []
+    ne = len(data)
     for i, key in enumerate(keys):
-        f = np.array([np.interp(times, h["time"], h[syn.COLUMN]) for h in hs[i * 7:(i + 1) * 7]])
+        mine = hs[i * m * ne:(i + 1) * m * ne]
+        f = np.array([np.concatenate([np.interp(t, h["time"], h[case.column])
+                                      for (_, t, _), h in zip(data, mine[k * ne:(k + 1) * ne])]) for k in range(m)])
         dev = f - np.array([np.polyval(np.polyfit(x, f[:, j], 3), x) for j in range(len(times))]).T
         worst = np.max(np.abs(dev), axis=0) / noise
         j = int(np.argmax(worst))
         cols.append((f[4] - f[2]) / math.log(1.01 / 0.99) / noise)   # d F / d ln θ, in noise units
         rows.append({"params": p, "param": key, "jitter_over_noise_max": float(worst[j]), "at_time": float(times[j]),
+                     **({"at_experiment": where[j]} if case.several else {}),
                      "jitter_over_noise_median": float(np.median(worst))})
     cv = np.linalg.inv(np.column_stack(cols).T @ np.column_stack(cols))
     sd = np.sqrt(np.diag(cv))
@@ -90,8 +106,16 @@ def jitter(a, p, times, curve, extra):
 
 
 def fit_command(a, p, data, fdir, extra):
-    return [sys.executable, str(CALIBRATE), *syn.calibrate_args(p, a.level, a.start_factor, extra),
-            "--data", str(data), "--noise", a.noise, "--ranks", "1", "--ranks-per-case", "1", "--dir", str(fdir),
+    """calibrate.py's command line of one fit: `data` the data set's file (one experiment) or
+    {experiment: file} (several: written into fdir/experiments.toml)."""
+    if a.case.several:
+        spec = fdir / "experiments.toml"
+        spec.write_text(syn.experiments_text(a.case, {k: Path(v).resolve() for k, v in data.items()}))
+        source = ["--experiments", str(spec)]
+    else:
+        source = ["--data", str(data)]
+    return [sys.executable, str(CALIBRATE), *syn.calibrate_args(p, a.level, a.start_factor, extra, a.case),
+            *source, "--noise", a.noise, "--ranks", "1", "--ranks-per-case", "1", "--dir", str(fdir),
             "--ftol", repr(a.ftol), "--max-it", str(a.max_it)]
 
 
@@ -111,9 +135,9 @@ def run_fit(a, p, data, fdir, extra):
     return ok, seconds
 
 
-def row_of(p, i, fdir, n):
-    """The coverage.csv row of a finished fit."""
-    keys, truth = syn.FITS[p]
+def row_of(case, p, i, fdir, n):
+    """The coverage.csv row of a finished fit of `case` (n data points in all)."""
+    keys, truth = case.fits[p]
     res = json.loads((fdir / "calibration.json").read_text())["result"]
     secs = fdir / "seconds.txt"
     row = {"params": p, "set": i, "runs": res["runs"],
@@ -131,40 +155,59 @@ def row_of(p, i, fdir, n):
 
 
 def experiment(a, p, extra):
-    """The truth run of the p-parameter fit's case, its data times and true curve, the jitter
-    rows, and its data sets' files (written once: the same seed gives the same files)."""
-    keys, truth = syn.FITS[p]
-    [h] = runs_ok(a, [syn.truth_case(truth)], syn.sets(a.level, truth, truth) + extra)
-    times = syn.data_times(h["time"], h[syn.COLUMN], a.every, a.floor)
-    curve = np.interp(times, h["time"], h[syn.COLUMN])
-    print(f"{p}-parameter case ({', '.join(f'{short(k)} = {v:g}' for k, v in truth.items())}): "
-          f"{len(times)} data times {times[0]:g} ... {times[-1]:g} s, peak {curve.max():.4g} mg", flush=True)
-    jit = [] if a.no_jitter else jitter(a, p, times, curve, extra)
+    """The truth runs of the p-parameter fit's case (one per experiment), their data times and
+    true curves, the jitter rows, and the data sets' files (written once: the same seed gives the
+    same files): (points in all, jitter rows, per set its file or {experiment: file})."""
+    case = a.case
+    keys, truth = case.fits[p]
+    names = list(case.experiments)
+    hs = runs_ok(a, [syn.truth_case(truth) + list(case.experiments[name]) for name in names],
+                 case.sets(a.level, truth, truth) + extra)
+    data = []
+    for name, h in zip(names, hs):
+        times = syn.data_times(h["time"], h[case.column], a.every, a.floor)
+        curve = np.interp(times, h["time"], h[case.column])
+        data.append((name, times, curve))
+        print(f"{p}-parameter case ({', '.join(f'{short(k)} = {v:g}' for k, v in truth.items())})"
+              + (f", experiment {name}" if name else "")
+              + f": {len(times)} data times {times[0]:g} ... {times[-1]:g} s, peak {curve.max():.4g} mg, "
+              f"last {curve[-1]:.4g} mg", flush=True)
+    jit = [] if a.no_jitter else jitter(a, p, data, extra)
     for r in jit:
         print(f"  {short(r['param'])}: jitter (largest deviation from a cubic over ±3%) "
-              f"{r['jitter_over_noise_max']:.2e} × the noise (t = {r['at_time']:g} s), median "
+              f"{r['jitter_over_noise_max']:.2e} × the noise (t = {r['at_time']:g} s"
+              + (f" of {r['at_experiment']}" if "at_experiment" in r else "") + "), median "
               f"{r['jitter_over_noise_median']:.1e}; predicted sigma/value {r['predicted_rel_sigma']:.3g}, "
               f"correlations {r['predicted_corr']}", flush=True)
-    folder = Path(a.dir) / "data" / f"fit{p}"
+    folder = Path(a.dir) / "data" / f"{case.tag}{p}"
     folder.mkdir(parents=True, exist_ok=True)
     files = []
     for i in range(a.sets):
-        path = folder / f"set_{i:03d}.csv"
-        if not path.exists():
-            sig = a.noise_level * np.abs(curve) if a.noise == "data" else None
-            write_curve(path, times, syn.noisy(curve, a.noise_level, a.seed + p, i), sig,
-                            f"synthetic: {syn.COLUMN} of the truth, {100 * a.noise_level:g}% Gaussian noise, "
-                            f"seed {a.seed + p}, set {i}")
-        files.append(path)
-    return len(times), jit, files
+        one = {}
+        for j, (name, times, curve) in enumerate(data):
+            # One experiment: data set i of the seed (as before there were several); several:
+            # (i, j + 1), every experiment's noise independent of the others' (not (i, 0): numpy's
+            # SeedSequence ignores trailing zeros, so it would be data set i's).
+            path = folder / (f"set_{i:03d}_{name}.csv" if name else f"set_{i:03d}.csv")
+            if not path.exists():
+                sig = a.noise_level * np.abs(curve) if a.noise == "data" else None
+                index = (i, j + 1) if case.several else i
+                write_curve(path, times, syn.noisy(curve, a.noise_level, a.seed + p, index), sig,
+                            f"synthetic: {case.column} of the truth{f', experiment {name}' if name else ''}, "
+                            f"{100 * a.noise_level:g}% Gaussian noise, seed {a.seed + p}, set {index}")
+            one[name] = path
+        files.append(one if case.several else one[None])
+    return sum(len(t) for _, t, _ in data), jit, files
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--dir", required=True)
     ap.add_argument("--sets", type=int, default=50, help="synthetic data sets (5: a quick check)")
-    ap.add_argument("--params", type=int, nargs="+", choices=sorted(syn.FITS), default=[1, 3],
-                    help="fits of 1 parameter (λp) and/or 3 (µ, λp, σy)")
+    ap.add_argument("--case", choices=list(syn.CASES), default="meridian",
+                    help="meridian: the meridian case (µ, λp, σy); tst: tensiometry at 15%% and 30%% (γ, λp, σy)")
+    ap.add_argument("--params", type=int, nargs="+",
+                    help="meridian: fits of 1 parameter (λp) and/or 3 (µ, λp, σy), default both; tst: 3 (γ, λp, σy)")
     ap.add_argument("--noise-level", type=float, default=0.02, help="the noise's sigma / value")
     ap.add_argument("--noise", choices=["relative", "data"], default="relative",
                     help="the fits' noise model: relative (sigma estimated from the residuals; Student t "
@@ -175,29 +218,38 @@ def main():
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="more overrides of every run (e.g. a shorter experiment for a test)")
     ap.add_argument("--every", type=float, default=1.0, help="seconds between data points")
-    ap.add_argument("--floor", type=float, default=0.05,   # synthetic.data_times' default
+    ap.add_argument("--floor", type=float,
                     help="data only where the true force is above this fraction of its peak (at the contact's "
-                         "opening the runs' steps differ between nearby parameter values: jitter.csv)")
+                         "opening the runs' steps differ between nearby parameter values: jitter.csv); default: "
+                         "the case's, 0.05 on the meridian, 0 for tst (its data end with the hold)")
     ap.add_argument("--jobs", type=int, default=2, help="fits side by side (each on 1 rank)")
     ap.add_argument("--ranks", type=int, default=2, help="ranks of the truth and jitter runs' sweeps")
     ap.add_argument("--ftol", type=float, default=1e-3, help="calibrate.py --ftol")
     ap.add_argument("--max-it", type=int, default=15, help="calibrate.py --max-it")
     ap.add_argument("--no-jitter", action="store_true", help="skip the jitter check")
     a = ap.parse_args()
+    a.case = syn.CASES[a.case]
+    a.params = a.params or sorted(a.case.fits)
+    if not set(a.params) <= set(a.case.fits):
+        sys.exit(f"coverage.py: --case {a.case.name} has fits of {', '.join(map(str, sorted(a.case.fits)))} "
+                 "parameters")
+    a.floor = a.case.floor if a.floor is None else a.floor
     t_start = time.time()
     root = Path(a.dir)
     root.mkdir(parents=True, exist_ok=True)
     extra = [tuple(s.split("=", 1)) for s in a.set]
+    out = {"csv": root / f"coverage{a.case.suffix}.csv", "png": root / f"coverage{a.case.suffix}.png",
+           "jitter": root / f"jitter{a.case.suffix}.csv"}
 
     cases = {p: experiment(a, p, extra) for p in a.params}
     jit = [r for p in a.params for r in cases[p][1]]
     if jit:
-        with open(root / "jitter.csv", "w", newline="") as f:
+        with open(out["jitter"], "w", newline="") as f:
             w = csv.DictWriter(f, fieldnames=list(jit[0]))
             w.writeheader()
             w.writerows(jit)
 
-    jobs = [(p, i, root / f"fit{p}" / f"set_{i:03d}") for p in a.params for i in range(a.sets)]
+    jobs = [(p, i, root / f"{a.case.tag}{p}" / f"set_{i:03d}") for p in a.params for i in range(a.sets)]
     todo = [(p, i, d) for p, i, d in jobs if not (d / "calibration.json").exists()]
     print(f"{len(jobs)} fits, {len(jobs) - len(todo)} done, {len(todo)} to run, {a.jobs} at a time", flush=True)
     failed = []
@@ -213,18 +265,19 @@ def main():
     with ThreadPoolExecutor(max_workers=a.jobs) as pool:
         list(pool.map(one, todo))
 
-    rows = [row_of(p, i, d, cases[p][0]) for p, i, d in jobs if (d / "calibration.json").exists()]
+    rows = [row_of(a.case, p, i, d, cases[p][0]) for p, i, d in jobs if (d / "calibration.json").exists()]
     fields = ["params", "set", "runs", "seconds", "noise_s", "dof"]
-    for k in sorted({k for p in a.params for k in syn.FITS[p][0]}, key=list(syn.ISSUE).index):
+    order = [k for p in sorted(a.case.fits) for k in a.case.fits[p][1]]
+    for k in sorted({k for p in a.params for k in a.case.fits[p][0]}, key=order.index):
         fields += [f"{short(k)}_{c}" for c in ("truth", "value", "sigma", "z", "lo68", "hi68", "covered68",
                                                 "lo95", "hi95", "covered95")]
-    with open(root / "coverage.csv", "w", newline="") as f:
+    with open(out["csv"], "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=fields)
         w.writeheader()
         w.writerows(rows)
     summary = table(rows, a)
-    plot(root / "coverage.png", rows, summary, a)
-    print(f"\n{root / 'coverage.csv'}, {root / 'coverage.png'}; this invocation {time.time() - t_start:.0f} s"
+    plot(out["png"], rows, summary, a)
+    print(f"\n{out['csv']}, {out['png']}; this invocation {time.time() - t_start:.0f} s"
           + (f"; {len(failed)} fit(s) failed" if failed else ""))
     if failed:
         sys.exit(1)
@@ -239,7 +292,7 @@ def table(rows, a):
         mine = [r for r in rows if r["params"] == p]
         if not mine:
             continue
-        for k in syn.FITS[p][0]:
+        for k in a.case.fits[p][0]:
             s = short(k)
             rates = {name: cov.rate([r[f"{s}_covered{name}"] for r in mine]) for name in cov.LEVELS}
             out[p, k] = rates
@@ -291,7 +344,7 @@ def plot(path, rows, summary, a):
     ax2.set_title(f"coverage over {n} data sets (bands: targets; bars: Wilson 95%)")
     ax2.set_ylim(0.4, 1.02)
     ax2.legend(fontsize=7, loc="lower right")
-    fig.suptitle(f"meridian case, {a.level} level, {100 * a.noise_level:g}% noise, --noise {a.noise}", fontsize=8)
+    fig.suptitle(f"{a.case.about}, {a.level} level, {100 * a.noise_level:g}% noise, --noise {a.noise}", fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

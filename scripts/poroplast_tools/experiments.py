@@ -33,7 +33,12 @@ are defaults below the file's; its --set comes before every `set`.
 
 Parameters (`--param`): `KEY=START` is shared by every experiment; `KEY@NAME=START` is experiment
 NAME's own (e.g. each aggregate its own µ: `--param material.mu@r150=2.5 --param
-material.mu@r100=2.5`); an experiment without a value of KEY keeps its scene's.
+material.mu@r100=2.5`); an experiment without a value of KEY keeps its scene's. The fit works in
+log parameters, so a start must be positive: a parameter whose 0 switches its term off (the
+surface tension, the yield stress) cannot start there (`ZERO_OFF` says what 0 means). A key
+with a range the scene accepts (`RANGES`: the surface tension's 0.01–1000 mN/m, outside which
+it is refused as a unit mistake) must start within it, and a fit's point outside it is not run
+(`outside`): it counts as a failed step.
 """
 import re
 from dataclasses import dataclass, field
@@ -41,6 +46,18 @@ from pathlib import Path
 
 from .fitstats import MODELS
 from .measured import FORCE_UNITS
+
+# What 0 means for a parameter that may be 0 in a scene: the reason a fit cannot start there.
+ZERO_OFF = {
+    "surface.tension": "surface.tension = 0 builds no surface term and log(0) is not a start: start from a positive "
+                       "value (tissues measure 1-30 mN/m, e.g. surface.tension=5)",
+    "material.remodelling.sigma_y": "sigma_y = 0 is the liquid limit (no threshold) and log(0) is not a start: start "
+                                    "from a positive value below the run's von Mises stress (e.g. 0.1 kPa), or keep "
+                                    "sigma_y = 0 fixed (--set) and fit the others",
+}
+# Keys the scene accepts only within a range (lo, hi, unit): the scene refuses the rest as a unit
+# mistake (src/scene/surface.rs, PLAUSIBLE).
+RANGES = {"surface.tension": (0.01, 1000.0, "mN/m")}
 
 KEYS = {"name", "scene", "column", "set", "data", "data_column", "unit", "noise", "noise_floor", "t_min",
         "t_max", "synthetic", "synthetic_noise", "synthetic_floor", "synthetic_every", "seed"}
@@ -178,11 +195,27 @@ def params(items, experiments):
             p = Param(key, float(start), name or None)
         except ValueError:
             raise ExperimentError(f"--param `{item}`: `{start}` is not a number")
+        if p.start == 0 and key in ZERO_OFF:
+            raise ExperimentError(f"--param `{item}`: {ZERO_OFF[key]}")
         if not p.start > 0:
             raise ExperimentError(f"--param `{item}`: the fit works in log parameters; the start must be positive")
+        if outside(key, p.start):
+            raise ExperimentError(f"--param `{item}`: {outside(key, p.start)}")
         if p.label in (q.label for q in out) or any(
                 q.key == p.key and (q.experiment is None) != (p.experiment is None) for q in out):
             raise ExperimentError(f"--param `{item}`: {key} is given twice (shared and per experiment, or repeated)")
         out.append(p)
     return out
 
+
+
+def outside(key, value):
+    """Why `value` of `key` is outside the range the scene accepts (RANGES), or None."""
+    if key not in RANGES:
+        return None
+    lo, hi, unit = RANGES[key]
+    if value < lo:
+        return f"{key} = {value:.4g} is below {lo:g} {unit}, the least the scene accepts"
+    if value > hi:
+        return f"{key} = {value:.4g} is above {hi:g} {unit}, the most the scene accepts"
+    return None

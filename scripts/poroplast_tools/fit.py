@@ -251,9 +251,10 @@ class Stats:
         return quantile(level, self.dof if self.estimated else None)
 
     def wald(self, x, level):
-        """[lo, hi] of each parameter exp(x) at `level`: exp(x ± z σ), NaN where σ is."""
+        """[lo, hi] of each parameter exp(x) at `level`: exp(x ± z σ), NaN where σ is; an end
+        beyond the floats (an unidentified parameter's σ of hundreds in log space) is 0 or inf."""
         z = self.z(level)
-        return [[math.exp(v - z * e), math.exp(v + z * e)] if math.isfinite(e) else [math.nan, math.nan]
+        return [[_exp(v - z * e), _exp(v + z * e)] if math.isfinite(e) else [math.nan, math.nan]
                 for v, e in zip(x, self.rel)]
 
 
@@ -271,3 +272,8 @@ def stats(opt, estimated):
     except np.linalg.LinAlgError:
         rel, corr = np.full(p, math.nan), np.full((p, p), math.nan)
     return Stats(rel, corr, dof, estimated, opt.cost / dof)
+
+
+def _exp(v):
+    """exp(v), inf where it overflows."""
+    return math.exp(v) if v < 709.0 else math.inf

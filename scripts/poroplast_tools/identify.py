@@ -5,13 +5,26 @@ J holds dr_i/d(ln θ_k) (the calibration's log parameters), so 0.1 J[:, k] is, t
 change of the curve at the data points when θ_k grows by 10%. A parameter whose column is zero
 (no data point moved by the finite-difference step) cannot be identified at all; two parameters
 whose columns are nearly parallel (|cos| above 0.99: a change of one the other can undo) only in
-combination."""
+combination. Some pairs have a known cause and remedy (`PAIRS`), added to their warning."""
 import math
 
 import numpy as np
 
 NO_EFFECT = 1e-12      # a column this small relative to the largest counts as zero
 COLLINEAR = 0.99       # |cos| between two columns above this: a near-collinear pair
+# Near-collinear pairs with a known cause: {frozenset of the two keys (without @NAME): the hint}.
+PAIRS = {
+    frozenset({"surface.tension", "material.remodelling.sigma_y"}):
+        "both hold up the force that is left after the relaxation, and at one compression in the same "
+        "proportion; fit force curves at two compressions (e.g. 15% and 30%, --experiments) whose shares of "
+        "the two differ (docs/howto-fit.md, \"Fitting the surface tension\")",
+}
+
+
+def hint(a, b):
+    """The known cause and remedy of the near-collinear pair of keys a, b (with or without
+    @NAME), or None."""
+    return PAIRS.get(frozenset({a.split("@")[0], b.split("@")[0]}))
 
 
 def report(jac, keys, scale):
@@ -36,6 +49,8 @@ def report(jac, keys, scale):
                 continue
             cos = float(jac[:, a] @ jac[:, b]) / (norms[a] * norms[b])
             if abs(cos) > COLLINEAR:
+                why = hint(keys[a], keys[b])
                 warnings.append(f"{keys[a]} and {keys[b]} move the curve alike (cos {cos:+.4f}): "
-                                "the data determine a combination of them, and their errors are strongly correlated")
+                                "the data determine a combination of them, and their errors are strongly correlated"
+                                + (f": {why}" if why else ""))
     return lines, refusals, warnings

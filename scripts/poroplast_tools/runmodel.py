@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from .cases import run_cases
+from .experiments import outside
 from .fit import FitError
 from .history import at, given_steps, history
 from .measured import check_within, write_curve
@@ -58,18 +59,27 @@ class Runs:
         with one per point, None: the run's own steps; the profile's inner fits batch the
         neighbours of several points). An experiment whose parameters are those of its replayed
         state (a neighbour that moves another experiment's own parameter) is not run: its
-        history is the state's."""
+        history is the state's. A point with a parameter outside the range its scene accepts
+        (experiments.RANGES: the surface tension below 0.01 mN/m) is not run: None, a failed
+        step, with the reason printed."""
         ne = len(self.experiments)
         replays = replay if isinstance(replay, list) else [replay] * len(points)
         runs, keep = [], {}           # the cases to run; (point, experiment) -> replay's history
+        bad = {}                      # point -> why it is not run
         for j, (x, rp) in enumerate(zip(points, replays)):
+            why = [outside(p.key, math.exp(v)) for p, v in zip(self.params, x)]
+            if any(why):
+                bad[j] = "; ".join(w for w in why if w)
+                continue
             for i, e in enumerate(self.experiments):
                 if rp and self.case(e, x) == self.case(e, rp["x"]):
                     keep[j, i] = rp["histories"][i]
                 else:
                     runs.append((j, i, self.case(e, x, given_steps(rp["histories"][i]) if rp else None)))
         lines = [f"{name}: " + " ".join(f"{p.label}={math.exp(v):.6g}" for p, v in zip(self.params, x))
-                 + (" (the point's steps)" if rp else "") for name, x, rp in zip(what, points, replays)]
+                 + (" (the point's steps)" if rp else "")
+                 + (f": not run, {bad[j]} (a failed step)" if j in bad else "")
+                 for j, (name, x, rp) in enumerate(zip(what, points, replays))]
         cases = [c for _, _, c in runs]
         if self.sweep or self.jobs == 1 or not points:
             hs = self.histories(cases, lines)
@@ -80,6 +90,9 @@ class Runs:
         got = {**keep, **{(j, i): h for (j, i, _), h in zip(runs, hs)}}
         out = []
         for j, x in enumerate(points):
+            if j in bad:
+                out.append(None)
+                continue
             group = [got[j, i] for i in range(ne)]
             if any(h is None for h in group):
                 out.append(None)

@@ -120,12 +120,50 @@ class SyntheticData(unittest.TestCase):
         self.assertEqual((t, v, s), (times, values, [0.1, 0.2, 0.3]))
 
     def test_fits_are_on_the_cases_parameters(self):
-        for p, (keys, truth) in syn.FITS.items():
-            self.assertEqual(len(keys), p)
-            self.assertTrue(set(keys) <= set(truth))
-            fixed = dict(syn.sets("coarse", truth, keys))
-            self.assertFalse(set(keys) & set(fixed))
-            self.assertTrue(all(k in fixed for k in truth if k not in keys))
+        for case in syn.CASES.values():
+            for p, (keys, truth) in case.fits.items():
+                self.assertEqual(len(keys), p)
+                self.assertTrue(set(keys) <= set(truth))
+                for level in case.levels:
+                    fixed = dict(case.sets(level, truth, keys))
+                    self.assertFalse(set(keys) & set(fixed))
+                    self.assertTrue(all(k in fixed for k in truth if k not in keys))
+                    for own in case.experiments.values():
+                        self.assertFalse({k for k, _ in own} & (set(fixed) | set(truth)))
+        self.assertEqual(syn.sets("coarse", *reversed(syn.FITS[1])), syn.MERIDIAN.sets("coarse", *reversed(syn.FITS[1])))
+
+    def test_the_meridian_data_sets_are_those_of_before(self):
+        # One experiment: data set i of the seed is default_rng([seed, i]) (the study's files
+        # unchanged); several: (i, j + 1), independent of each other and of the one-experiment
+        # sets. (i, 0) would not be: SeedSequence ignores trailing zeros.
+        v = np.full(2000, 1.0)
+        rng = np.random.default_rng([41, 3])
+        np.testing.assert_array_equal(syn.noisy(v, 0.02, 41, 3), v + 0.02 * rng.standard_normal(v.size))
+        np.testing.assert_array_equal(syn.noisy(v, 0.02, 41, (3, 0)), syn.noisy(v, 0.02, 41, 3))
+        a, b = syn.noisy(v, 0.02, 41, (3, 1)), syn.noisy(v, 0.02, 41, (3, 2))
+        np.testing.assert_array_equal(a, syn.noisy(v, 0.02, 41, [3, 1]))
+        for other in (b, syn.noisy(v, 0.02, 41, 3), syn.noisy(v, 0.02, 41, (1, 3))):
+            self.assertLess(abs(np.corrcoef(a, other)[0, 1]), 4 / math.sqrt(v.size))
+
+    def test_the_tensiometry_case_is_read_back_as_two_experiments(self):
+        from poroplast_tools import experiments as exps
+        case = syn.TST
+        self.assertTrue(case.several and not syn.MERIDIAN.several)
+        with tempfile.TemporaryDirectory() as d:
+            path = Path(d) / "experiments.toml"
+            path.write_text(syn.experiments_text(case, {"c15": Path(d) / "set_000_c15.csv", "c30": "set_000_c30.csv"}))
+            es = exps.read(path, {"scene": case.scene, "column": case.column, "noise": "relative"})
+        self.assertEqual([e.name for e in es], ["c15", "c30"])
+        self.assertEqual([e.data for e in es], [str(Path(d) / "set_000_c15.csv"), str(Path(d) / "set_000_c30.csv")])
+        self.assertEqual(es[1].sets, [("plates.table", "[[0.0, 0.0], [5.0, 0.3], [1005.0, 0.3]]"),
+                                      ("time.t_end", "1005.0")])
+        self.assertTrue(all(e.scene == "tst_hold" and e.noise == "relative" for e in es))
+        args = syn.calibrate_args(3, "coarse", 1.1, case=case)
+        self.assertEqual(args[:3], ["tst_hold", "--column", "force_total_mg"])
+        self.assertIn("--param=surface.tension=5.5", args)
+        self.assertFalse(any(a.startswith("--set=surface.tension") for a in args))
+        self.assertEqual(exps.params([a[len("--param="):] for a in args if a.startswith("--param=")], es)[0].key,
+                         "surface.tension")
 
 
 if __name__ == "__main__":

@@ -85,6 +85,19 @@ class ExperimentsFile(unittest.TestCase):
                 exps.params(items, es)
             self.assertIn(part, str(e.exception))
 
+    def test_a_start_at_zero_or_outside_the_scenes_range_is_refused_with_the_reason(self):
+        es = exps.read(self.write(FILE), {})
+        for item, part in [("surface.tension=0", "builds no surface term"),
+                           ("material.remodelling.sigma_y=0", "liquid limit"),
+                           ("surface.tension=0.005", "below 0.01 mN/m"),
+                           ("surface.tension=5000", "above 1000 mN/m"),
+                           ("surface.tension@a=0.001", "below 0.01 mN/m")]:
+            with self.assertRaises(exps.ExperimentError) as e:
+                exps.params([item], es)
+            self.assertIn(part, str(e.exception))
+        self.assertEqual(exps.params(["surface.tension=0.01"], es)[0].start, 0.01)
+        self.assertIsNone(exps.outside("material.mu", 1e-9))
+
 
 class OneBatch(unittest.TestCase):
     """runmodel.Runs over two experiments: one run_cases call per evaluate()."""
@@ -137,9 +150,33 @@ class OneBatch(unittest.TestCase):
         self.assertIs(state["histories"][0], replay["histories"][0])
         np.testing.assert_allclose(d, [8.0, 9.0, 0.5])      # a: run 7 at t = 1, 2; b: the new run 0
 
+    def test_a_point_outside_the_scenes_range_is_not_run(self):
+        # γ below 0.01 mN/m (the scene would refuse it as a unit mistake): that point is None, a
+        # failed step, and only the other point's runs are in the batch.
+        es = [exps.Experiment("a", "s1", "f")]
+        ps = exps.params(["surface.tension=5", "lp=0.002"], es)
+        runs = runmodel.Runs(tempfile.mkdtemp(), es, ps, [], ranks=1, sweep=True)
+        runs.data = [([1.0], np.array([0.0]))]
+        runs.checked = True
+        calls, said = [], []
 
-if __name__ == "__main__":
-    unittest.main()
+        def run_cases(scenes, cases, sets, root, ranks, counts=None):
+            calls.append(cases)
+            return [(Path(f"/run{i}"), {"status": "ok"}) for i in range(len(cases))]
+
+        def history(d):
+            return {"time": np.array([0.0, 2.0]), "f": np.array([0.0, 2.0])}
+
+        with mock.patch.object(runmodel, "run_cases", run_cases), mock.patch.object(runmodel, "history", history), \
+                mock.patch("builtins.print", lambda *a, **k: said.append(" ".join(map(str, a)))):
+            out = runs.evaluate([np.log([0.004, 0.002]), np.log([4.0, 0.002])], ["low", "fine"])
+        self.assertIsNone(out[0])
+        np.testing.assert_allclose(out[1][0], [1.0])
+        [cases] = calls
+        self.assertEqual(len(cases), 1)
+        self.assertEqual(cases[0][0], ("surface.tension", repr(math.exp(math.log(4.0)))))
+        self.assertTrue(any(line.startswith("low: ") and "not run, surface.tension = 0.004 is below 0.01 mN/m" in line
+                            for line in said), said)
 
 
 class Synthetic(unittest.TestCase):
@@ -160,3 +197,7 @@ class Synthetic(unittest.TestCase):
         self.assertNotEqual(list(ys), [2.0, 4.0, 6.0])
         t, v, s = read_curve(study / "synthetic_s.csv", "force_total_mg")
         self.assertEqual((list(t), list(v), s), (list(ts), list(ys), None))
+
+
+if __name__ == "__main__":
+    unittest.main()

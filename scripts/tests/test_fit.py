@@ -8,7 +8,7 @@ import unittest
 
 import numpy as np
 
-from poroplast_tools.fit import FitError, fit, stats
+from poroplast_tools.fit import FitError, Stats, fit, stats
 from poroplast_tools.profile import MULTIPLES, conditional, interval, profile
 from poroplast_tools.fitstats import Noise, quantile, stacked_weights
 
@@ -138,6 +138,14 @@ class Linear(unittest.TestCase):
         lo, hi = st.wald(opt.x, 0.95)[1]
         self.assertAlmostEqual(math.log(lo), coef[1] - t975 * sd[1], delta=1e-6)
         self.assertAlmostEqual(math.log(hi), coef[1] + t975 * sd[1], delta=1e-6)
+
+    def test_an_unidentified_parameters_wald_interval_ends_at_zero_and_infinity(self):
+        # A σ of 400 in log space (a parameter the data push towards 0 along a ridge): the ends
+        # are 0 and inf, not an overflow.
+        st = Stats(np.array([400.0, 0.1]), None, 10, True, 1.0)
+        [lo, hi], [lo2, hi2] = st.wald([math.log(0.01), 0.0], 0.95)
+        self.assertEqual((lo, hi), (0.0, math.inf))
+        self.assertAlmostEqual(lo2 * hi2, 1.0, delta=1e-12)
 
     def test_profile_intervals_of_a_linear_model_are_the_wald_ones(self):
         rng = np.random.default_rng(5)

@@ -1,11 +1,11 @@
-"""The identifiability report flags a parameter without effect and a near-collinear pair, and its
-table gives the first-order effect of a 10% change."""
+"""The identifiability report flags a parameter without effect and a near-collinear pair (with the
+remedy where the pair is known), and its table gives the first-order effect of a 10% change."""
 import math
 import unittest
 
 import numpy as np
 
-from poroplast_tools.identify import report
+from poroplast_tools.identify import hint, report
 
 
 class Identify(unittest.TestCase):
@@ -31,6 +31,18 @@ class Identify(unittest.TestCase):
         self.assertEqual(refusals, [])
         self.assertEqual(len(warnings), 1)
         self.assertIn("a and b move the curve alike", warnings[0])
+
+    def test_surface_tension_and_yield_stress_at_one_compression_are_told_the_remedy(self):
+        t = np.arange(1.0, 5.0)
+        jac = np.column_stack([t, 3 * t + 1e-4 * t ** 2, np.exp(-t)])
+        for keys in (["surface.tension", "material.remodelling.sigma_y", "material.remodelling.lambda_p"],
+                     ["material.remodelling.sigma_y@c30", "surface.tension", "material.mu"]):
+            _, _, [warning] = report(jac, keys, scale=1.0)
+            self.assertIn("move the curve alike", warning)
+            self.assertIn("two compressions", warning)
+        _, _, [warning] = report(jac, ["material.mu", "material.remodelling.sigma_y", "x"], scale=1.0)
+        self.assertNotIn("two compressions", warning)
+        self.assertIsNone(hint("material.mu", "surface.tension"))
 
 
 if __name__ == "__main__":
