@@ -108,6 +108,9 @@ impl Update {
 /// Unknowns of the local problem: six components of B_p^{n+1}, then Δγ.
 const NX: usize = 7;
 /// Local Newton: iteration limit and tolerance on the scaled residual (all entries are O(1)).
+/// The residual's round-off floor grows with Δγ σ_ref (the map's sensitivity to B_p), so the
+/// tolerance is `TOLERANCE (1 + Δγ σ_ref)`: a step of λp Δt ≳ 1 (kPa)⁻¹ (σy = 0, fast relaxation)
+/// otherwise stalls at ~1e-14 and fails.
 const MAX_ITERATIONS: usize = 50;
 const TOLERANCE: f64 = 1e-14;
 
@@ -308,9 +311,10 @@ impl Remodelling {
         let mut r0 = [0.0; NX];
         r0[6] = (s_trial - self.yield_radius()) / stress_scale(hm);
         let mut it = 0;
+        let sref = stress_scale(hm);
         loop {
             let n0 = norm(&r0);
-            if n0 <= TOLERANCE {
+            if n0 <= TOLERANCE * (1.0 + x[6] * sref) {
                 break;
             }
             if it == MAX_ITERATIONS || !n0.is_finite() {
