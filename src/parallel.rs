@@ -3,11 +3,12 @@
 //! in a collective call while another has returned ([`agree`], and [`agree_ranked`] when the
 //! kind of failure matters); whether the ranks passed the same arguments ([`same_on_all`]).
 //! Also: work done by rank 0 alone ([`on_root`], [`path_from_root`]), broadcasts, and
-//! reductions of scalars and of slices ([`sum_slice`], [`max_slice`], [`reduce_to_root`]).
+//! reductions of scalars and of slices ([`sum_slice`], [`max_slice`], [`reduce_to_root`]), and
+//! gathers of slices of any length ([`all_gather_vec`]).
 
 use crate::error::{Error, Result};
 use mpi::collective::SystemOperation;
-use mpi::datatype::Equivalence;
+use mpi::datatype::{Equivalence, PartitionMut};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use std::path::{Path, PathBuf};
@@ -124,6 +125,16 @@ pub fn max_slice<T: Equivalence + Copy + Default>(world: &SimpleCommunicator, lo
     let mut out = vec![T::default(); local.len()];
     world.all_reduce_into(local, &mut out[..], SystemOperation::max());
     out
+}
+
+/// Every rank's `local`, concatenated in rank order, on every rank (the lengths may differ).
+pub fn all_gather_vec<T: Equivalence + Copy + Default>(world: &SimpleCommunicator, local: &[T]) -> Vec<T> {
+    let mut counts = vec![0i32; world.size() as usize];
+    world.all_gather_into(&(local.len() as i32), &mut counts[..]);
+    let displs: Vec<i32> = counts.iter().scan(0, |acc, &c| Some(std::mem::replace(acc, *acc + c))).collect();
+    let mut all = vec![T::default(); counts.iter().sum::<i32>() as usize];
+    world.all_gather_varcount_into(local, &mut PartitionMut::new(&mut all[..], &counts[..], &displs[..]));
+    all
 }
 
 /// Element-wise sum over ranks into rank 0's `v` (the other ranks' are left as they were).

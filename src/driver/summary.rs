@@ -9,6 +9,8 @@
 //!   plate leaves the aggregate on release (the first step of the release without upper
 //!   contact), the final H/W; forces in mg, as in `history.csv` (mg-force under g = 9.81 m/s²,
 //!   full-sphere equivalents), and in µN;
+//! - with plates, the lab's Laplace analysis (`observe::laplace`): R1, R2, R3 and the apparent
+//!   surface tension σ_app at the end of the hold and at the end of the run;
 //! - the largest pore pressure, its time and the node's reference position.
 //!
 //! TOML, like the run's other records (`scene.toml`, `run.toml`): comments carry the units and
@@ -19,6 +21,7 @@ use crate::error::{Error, Result};
 use crate::io::observable::{self, Columns};
 use crate::io::{fmt_real, rundir};
 use crate::observe::experiment::G;
+use crate::observe::laplace;
 use crate::observe::pressure_peak::PressurePeak;
 use crate::scene::Protocol;
 use std::fmt::Write;
@@ -39,6 +42,10 @@ pub(crate) struct PlateSummary {
     /// None if the upper plate still touches at the end of the run.
     pub opening_time: Option<f64>,
     pub final_height_over_width: f64,
+    /// R1, R2, R3 (µm) and σ_app (mN/m) at the end of the hold and of the run (NaN where they
+    /// do not apply).
+    pub laplace_hold_end: [f64; 4],
+    pub laplace_final: [f64; 4],
 }
 
 impl PlateSummary {
@@ -60,6 +67,8 @@ impl PlateSummary {
             hold_end_force: observable::at_time(h, "force_total_mg", hold_end),
             opening_time: opening.map(|i| t[i]),
             final_height_over_width: observable::observe(h, "last:height/width"),
+            laplace_hold_end: laplace::COLUMNS.map(|c| observable::at_time(h, c, hold_end)),
+            laplace_final: laplace::COLUMNS.map(|c| h.get(c).and_then(|v| v.last().copied()).unwrap_or(f64::NAN)),
         })
     }
 }
@@ -141,6 +150,13 @@ impl Summary {
                 entry(&mut s, "contact_opening_time_s", t, "s, the first step of the release without upper contact");
             }
             entry(&mut s, "final_height_over_width", p.final_height_over_width, "H/W at the end of the run");
+            s.push_str("\n[laplace]  # the lab's analysis of the profile: sigma_app = F / (pi R3^2 (1/R1 + 1/R2))\n");
+            for (when, v) in [("hold_end", p.laplace_hold_end), ("final", p.laplace_final)] {
+                entry(&mut s, &format!("{when}_R1_um"), v[0], "µm, the profile's radius of curvature at the equator");
+                entry(&mut s, &format!("{when}_R2_um"), v[1], "µm, the equatorial radius");
+                entry(&mut s, &format!("{when}_R3_um"), v[2], "µm, the radius of the upper contact");
+                entry(&mut s, &format!("{when}_sigma_app_mN_m"), v[3], "mN/m, the apparent surface tension");
+            }
         }
         if self.pressure.p.is_finite() {
             s.push_str("\n[pressure]\n");
@@ -181,6 +197,16 @@ impl Summary {
                 .opening_time
                 .map_or("does not leave the aggregate".into(), |t| format!("leaves the aggregate at t = {} s", g(t)));
             lines.push(format!("summary: the upper plate {opening}; final H/W {}", g(p.final_height_over_width)));
+            let reading =
+                |v: [f64; 4]| format!("σ_app {} mN/m (R1 {}, R2 {}, R3 {} µm)", g(v[3]), g(v[0]), g(v[1]), g(v[2]));
+            match (p.laplace_hold_end[3].is_finite(), p.laplace_final[3].is_finite()) {
+                (true, _) => lines
+                    .push(format!("summary: Laplace analysis: {} at the end of the hold", reading(p.laplace_hold_end))),
+                (false, true) => {
+                    lines.push(format!("summary: Laplace analysis: {} at the end of the run", reading(p.laplace_final)))
+                }
+                _ => {}
+            }
         }
         if self.pressure.p.is_finite() {
             let [x, y, z] = self.pressure.at;
@@ -255,6 +281,10 @@ mod tests {
             ("contact_nodes_upper", &[1.0, 3.0, 5.0, 5.0, 5.0, 2.0, 0.0, 0.0]),
             ("height", &[200.0, 180.0, 140.0, 140.0, 140.0, 150.0, 160.0, 190.0]),
             ("width", &[200.0, 210.0, 230.0, 230.0, 230.0, 220.0, 210.0, 200.0]),
+            ("R1", &[f64::NAN, 90.0, 70.0, 70.0, 70.0, 80.0, f64::NAN, f64::NAN]),
+            ("R2", &[100.0, 105.0, 115.0, 115.0, 115.0, 110.0, 105.0, 100.0]),
+            ("R3", &[f64::NAN, 20.0, 40.0, 40.0, 42.0, 30.0, f64::NAN, f64::NAN]),
+            ("sigma_app", &[f64::NAN, 5.0, 6.0, 4.0, 3.0, 2.0, f64::NAN, f64::NAN]),
         ]);
         (h, Protocol { ramp: 2.0, hold: 4.0, release: 2.0 })
     }
@@ -268,6 +298,9 @@ mod tests {
         assert_eq!(p.hold_end_force, 1.75);
         assert_eq!(p.opening_time, Some(7.5));
         assert_eq!(p.final_height_over_width, 190.0 / 200.0);
+        // The Laplace reading at t = 6, halfway between t = 5 and 7; none at the end (no contact).
+        assert_eq!(p.laplace_hold_end, [75.0, 112.5, 36.0, 2.5]);
+        assert!(p.laplace_final[3].is_nan() && p.laplace_final[1] == 100.0);
         // A run that ends in the hold: no end-of-hold force, no opening.
         let short: Columns = h.iter().map(|(k, v)| (k.clone(), v[..4].to_vec())).collect();
         let p = PlateSummary::of(&short, phases).unwrap();
@@ -298,6 +331,14 @@ mod tests {
         assert_eq!(f("peak_force_uN"), 39.24);
         assert_eq!(f("hold_end_force_uN"), 1.75 * 9.81);
         assert_eq!((f("hold_end_s"), f("contact_opening_time_s")), (6.0, 7.5));
+        let l = t["laplace"].as_table().unwrap();
+        assert_eq!(l["hold_end_sigma_app_mN_m"].as_float(), Some(2.5));
+        assert_eq!(l["hold_end_R3_um"].as_float(), Some(36.0));
+        assert!(!l.contains_key("final_sigma_app_mN_m") && l["final_R2_um"].as_float() == Some(100.0));
+        assert!(s
+            .lines()
+            .iter()
+            .any(|l| l.contains("σ_app 2.5 mN/m (R1 75, R2 112.5, R3 36 µm) at the end of the hold")));
         let p = t["pressure"].as_table().unwrap();
         assert_eq!(p["max_p_kPa"].as_float(), Some(3.5));
         assert_eq!(p["max_p_at_um"].as_array().unwrap()[2].as_float(), Some(190.0));

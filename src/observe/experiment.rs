@@ -9,15 +9,18 @@
 //! * fluid (mixture) volume ∫ J dV and the outflow through the drained surface, Σ c(g) p
 //!   (the drainage term of the mass balance, so the volume change equals the integrated outflow
 //!   exactly at convergence);
-//! * the largest penetration of the quadratic surface into a plate, sampled between nodes.
+//! * the largest penetration of the quadratic surface into a plate, sampled between nodes;
+//! * the lab's Laplace analysis of the profile: R1, R2, R3 and the apparent surface tension
+//!   σ_app (`observe::laplace`).
 
+use super::laplace::{self, Point, Side};
 use super::probe::{Probe, Quantity};
 use crate::error::Result;
 use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
 use crate::io::recorder::ColumnKind::{self, Integer, Real};
 use crate::mesh::dist::LocalMesh;
-use crate::parallel::{max, sum};
+use crate::parallel::{all_gather_vec, max, sum};
 use crate::physics::contact::{Plates, Touch};
 use crate::physics::problem::Post;
 use mpi::topology::SimpleCommunicator;
@@ -30,7 +33,7 @@ pub const NN_TO_MG: f64 = 1e-3 / G;
 
 /// history.csv columns of [`Experiment::observe`], in order, with their kind (the contact
 /// node counts are integers).
-pub const COLUMNS: [(&str, ColumnKind); 17] = [
+pub const COLUMNS: [(&str, ColumnKind); 21] = [
     ("plate_disp", Real),
     ("force_total_mg", Real),
     ("force_constitutive_mg", Real),
@@ -48,7 +51,21 @@ pub const COLUMNS: [(&str, ColumnKind); 17] = [
     ("max_penetration", Real),
     ("contact_nodes_upper", Integer),
     ("contact_nodes_lower", Integer),
+    (laplace::COLUMNS[0], Real),
+    (laplace::COLUMNS[1], Real),
+    (laplace::COLUMNS[2], Real),
+    (laplace::COLUMNS[3], Real),
 ];
+
+/// A contact state as a gathered real (an index into [`SIDES`]).
+fn side_code(t: Touch) -> f64 {
+    match t {
+        Touch::Free => 0.0,
+        Touch::Lower => 1.0,
+        Touch::Upper => 2.0,
+    }
+}
+const SIDES: [Side; 3] = [Side::Free, Side::Lower, Side::Upper];
 
 pub struct Experiment {
     /// Full-sphere equivalent factor: 4π R³/3 over the meshed volume (4 for a quarter, 1 for the
@@ -64,7 +81,7 @@ pub struct Experiment {
 
 /// One step's observables (full-sphere equivalents) and the per-node contact state.
 pub struct Observation {
-    pub values: [f64; 17],
+    pub values: [f64; 21],
     /// Contact state of every owned node: 0 free, 1 lower plate, 2 upper plate.
     pub node_contact: Vec<f64>,
 }
@@ -131,9 +148,14 @@ impl Experiment {
         let (mut f_up, mut fp_up, mut f_lo) = (0.0, 0.0, 0.0);
         let (mut r_up, mut r_lo, mut n_up, mut n_lo) = (0.0f64, 0.0f64, 0.0, 0.0);
         let mut node_contact = vec![0.0; mesh.n_owned_nodes];
+        // The owned surface nodes as (r, z, side) for the Laplace analysis.
+        let mut profile = Vec::with_capacity(3 * plates.nodes.len());
         for (k, &n) in plates.nodes.iter().enumerate() {
             let x = pos(n);
             let r = (x[0] * x[0] + x[1] * x[1]).sqrt();
+            if n < mesh.n_owned_nodes {
+                profile.extend([r, x[2], side_code(states[k])]);
+            }
             let owned = dofs.local_to_owned(dofs.uz_local(n));
             match states[k] {
                 Touch::Upper => {
@@ -174,6 +196,12 @@ impl Experiment {
         let probe_p = self.probe_p.value(mesh, dofs, local, world);
         let probe_por = self.probe_porosity.as_ref().map_or(f64::NAN, |p| p.value(mesh, dofs, local, world));
         let (f_up, fp_up) = (sum(world, f_up), sum(world, fp_up));
+        let profile: Vec<Point> = all_gather_vec(world, &profile)
+            .chunks_exact(3)
+            .map(|p| Point { r: p[0], z: p[1], side: SIDES[p[2] as usize] })
+            .collect();
+        let reading = laplace::read(&profile, plates.z_lower(t), plates.z_upper, sym * f_up);
+        let [r1, r2, r3, sigma_app] = reading.values();
         let values = [
             plates.z_lower(t),
             sym * f_up * NN_TO_MG,
@@ -192,6 +220,10 @@ impl Experiment {
             max(world, pen),
             sum(world, n_up),
             sum(world, n_lo),
+            r1,
+            r2,
+            r3,
+            sigma_app,
         ];
         Observation { values, node_contact }
     }

@@ -17,11 +17,9 @@
 //! the current active set.
 
 use crate::error::{Error, Result};
-use crate::parallel::sum_slice;
+use crate::parallel::{all_gather_vec, sum_slice};
 use crate::petsc::{Int, Mat, Pc, Vector};
-use mpi::datatype::PartitionMut;
 use mpi::topology::SimpleCommunicator;
-use mpi::traits::*;
 use nalgebra::{DMatrix, DVector, Dyn, LU};
 
 /// B⁻¹ for an active set that differs from the factorised operator's in a few dofs.
@@ -69,12 +67,7 @@ impl ActiveSetUpdate {
         // D, gathered: +(i+1) for a dof that left the active set, −(i+1) for one that entered.
         let local: Vec<i64> =
             (0..n).filter(|&i| was[i] != is[i]).map(|i| if was[i] { 1 } else { -1 } * (first + i + 1) as i64).collect();
-        let size = world.size() as usize;
-        let mut counts = vec![0i32; size];
-        world.all_gather_into(&(local.len() as i32), &mut counts[..]);
-        let displs: Vec<i32> = counts.iter().scan(0, |acc, &c| Some(std::mem::replace(acc, *acc + c))).collect();
-        let mut signed = vec![0i64; counts.iter().sum::<i32>() as usize];
-        world.all_gather_varcount_into(&local[..], &mut PartitionMut::new(&mut signed[..], &counts[..], &displs[..]));
+        let signed = all_gather_vec(world, &local);
         let changed: Vec<Int> = signed.iter().map(|s| (s.unsigned_abs() - 1) as Int).collect();
         let owned: Vec<(usize, usize)> = changed
             .iter()
