@@ -5,9 +5,9 @@
 //! * R2, the equatorial radius, and R1, the radius of curvature of the profile there (signed:
 //!   positive for a bulge, negative for a neck), from a least-squares sextic r(z) over the
 //!   middle half of the gap and its stationary point nearest the mid-plane;
-//! * R3, the radius of the contact with the upper plate, between nodes: a circle fitted to the
-//!   free nodes nearest the contact edge, cut with the plate (or its point nearest the plate,
-//!   for a tangent contact);
+//! * R3, the radius of the contact with the upper plate, between nodes: the circle through the
+//!   three free nodes nearest the contact edge, cut with the plate (or its point nearest the
+//!   plate, for a tangent contact);
 //! * σ_app = F / (π R3² (1/R1 + 1/R2)), the apparent surface tension: the surface tension
 //!   that balances the plate force F by the Laplace pressure at the equator, acting on the
 //!   contact area. It equals γ for a liquid at rest on non-adhesive plates (the surface meets
@@ -55,8 +55,8 @@ impl Reading {
 /// Free nodes a sextic needs at least (else a quartic from 7, a parabola from 3).
 const SEXTIC_POINTS: usize = 11;
 const QUARTIC_POINTS: usize = 7;
-/// Free nodes nearest the contact edge the circle is fitted to, at least.
-const EDGE_POINTS: usize = 4;
+/// Free nodes nearest the contact edge the circle passes through.
+const EDGE_POINTS: usize = 3;
 
 /// The reading of `points` between the plates at `z_lower` < `z_upper` under the upper
 /// plate's force `force` (nN, full sphere).
@@ -127,40 +127,39 @@ fn falling(j: usize, k: usize) -> f64 {
     (0..k).map(|i| (j - i) as f64).product()
 }
 
-/// R3 of the upper plate: the outermost node on it, refined between nodes by a circle fitted to
-/// the free nodes of the upper half within H/8 of that node (tapered; at least the
-/// [`EDGE_POINTS`] nearest), cut with the plate at the root nearest the node, or, if it does not reach the
-/// plate, its point nearest the plate (a tangent contact); the refinement is trusted within
-/// H/8 of the node. None without upper contact.
+/// R3 of the upper plate: the outermost node on it, refined between nodes by the circle through
+/// the [`EDGE_POINTS`] free nodes of the upper half nearest that node, cut with the plate at the
+/// root nearest the node, or, if it does not reach the plate, its point nearest the plate (a
+/// tangent contact). Local, because the profile's meridional curvature changes fast near the
+/// contact line (on a liquid drop at 180° it is ΔP/γ at the edge and 1/R1 at the equator, the
+/// relative change about s/R3 over an arc s): a circle over a wider band extrapolates the
+/// flatter profile and overshoots the edge. The refinement is trusted as far as the farthest of
+/// those nodes. None without upper contact.
 fn contact_radius(points: &[Point], z_lower: f64, z_upper: f64) -> Option<f64> {
     let edge = points.iter().filter(|p| p.side == Side::Upper).map(|p| p.r).fold(f64::NAN, f64::max);
     if edge.is_nan() {
         return None;
     }
-    let (zc, reach) = (0.5 * (z_lower + z_upper), (z_upper - z_lower) / 8.0);
+    let zc = 0.5 * (z_lower + z_upper);
     // Local coordinates: the edge node at the origin, z downwards from the plate.
     let mut near: Vec<(f64, f64)> =
         points.iter().filter(|p| p.side == Side::Free && p.z > zc).map(|p| (p.r - edge, z_upper - p.z)).collect();
     near.sort_by(|a, b| a.0.hypot(a.1).total_cmp(&b.0.hypot(b.1)));
-    let within = near.iter().filter(|p| p.0.hypot(p.1) < reach).count();
-    let fit = &near[..within.max(EDGE_POINTS).min(near.len())];
+    let fit = &near[..EDGE_POINTS.min(near.len())];
     if fit.len() < 3 {
         return Some(edge);
     }
-    let weight = |i: usize| if within >= EDGE_POINTS { taper(fit[i].0.hypot(fit[i].1) / reach).sqrt() } else { 1.0 };
-    // Kåsa's circle: x² + y² + D x + E y + F = 0 in the (weighted) least-squares sense.
+    let reach = fit.iter().map(|p| p.0.hypot(p.1)).fold(0.0, f64::max);
+    // Kåsa's circle: x² + y² + D x + E y + F = 0 (through the points, or the least-squares fit).
     let c = least_squares(
         fit.len(),
         3,
-        |i, j| {
-            weight(i)
-                * match j {
-                    0 => fit[i].0,
-                    1 => fit[i].1,
-                    _ => 1.0,
-                }
+        |i, j| match j {
+            0 => fit[i].0,
+            1 => fit[i].1,
+            _ => 1.0,
         },
-        |i| -weight(i) * (fit[i].0 * fit[i].0 + fit[i].1 * fit[i].1),
+        |i| -(fit[i].0 * fit[i].0 + fit[i].1 * fit[i].1),
     );
     let Some(c) = c else { return Some(edge) };
     let (a, b) = (-0.5 * c[0], -0.5 * c[1]);
