@@ -1,0 +1,80 @@
+//! The lab's Laplace analysis on runs (docs/model.md, "The lab's Laplace analysis"): the
+//! `R1, R2, R3, sigma_app` columns and the summary's `[laplace]` on a liquid drop between
+//! non-adhesive plates, where σ_app should read the surface tension γ.
+
+use crate::common::{cores, run_ok, scratch, History, Summary};
+use std::path::Path;
+
+/// `tst_hold` made a fast liquid: λp = 1 (kPa s)⁻¹ (the deviatoric stress relaxes in 1/(λp µ) =
+/// 0.05 s), 100× the permeability, no gravity, γ = 20 mN/m; squeezed by 15% in 0.5 s and held to
+/// `t_end`; surface nodes every `h_surf` R / 2 (P2).
+fn drop(np: usize, dir: &Path, h_surf: f64, h: f64, t_end: f64) -> History {
+    let sizes =
+        format!("mesh.relative_sizes={{ h = {h}, h_pole = {h}, r_pole = 0.5, h_surf = {h_surf}, w_surf = 0.15 }}");
+    let (table, end) = (format!("plates.table=[[0, 0], [0.5, 0.15], [{t_end}, 0.15]]"), format!("time.t_end={t_end}"));
+    let mut args = vec!["run", "tst_hold", "--out", dir.to_str().unwrap(), "-q", "--force"];
+    let sets = [
+        sizes.as_str(),
+        "material.remodelling.lambda_p=1",
+        "material.k0=377.29",
+        "material.gravity=[0, 0, 0]",
+        "surface.tension=20",
+        &table,
+        &end,
+        "time.dt=0.01",
+        "time.dt_max=0.5",
+        "output.fields=false",
+        "output.fields_at=[]",
+    ];
+    for s in sets.iter() {
+        args.extend(["--set", s]);
+    }
+    run_ok(np, &args);
+    History::read(dir)
+}
+
+/// The reading at rest (t = 4 s; 80 relaxation times) on 1 and 2 ranks: the same to round-off
+/// (the profile is gathered from both; measured 1e-13); R2 agrees with the half-width (the
+/// largest node radius) to 0.1%, R3 lies within a surface node spacing (2.5 µm) of the
+/// outermost node on the plate, and σ_app reads γ = 20 mN/m within this mesh's plate-force
+/// error: the plate force converges at first order in the surface spacing (the contact line),
+/// so does σ_app (below). Measured: σ_app 21.69 mN/m (R1 89.95, R2 102.59, R3 27.12 µm, F
+/// 0.1066 mg). The summary's `[laplace]` repeats the last row. 20 s on a busy 2-core machine.
+#[test]
+fn a_liquid_drop_reads_its_surface_tension_on_one_and_two_ranks() {
+    let _cores = cores(2);
+    let dir = scratch("laplace-drop");
+    let one = drop(1, &dir.join("one"), 0.05, 0.2, 4.0);
+    let two = drop(2, &dir.join("two"), 0.05, 0.2, 4.0);
+    let last = |h: &History, c: &str| *h.col(c).last().unwrap();
+    for c in ["R1", "R2", "R3", "sigma_app", "force_total_mg"] {
+        let (a, b) = (last(&one, c), last(&two, c));
+        println!("{c}: 1 rank {a}, 2 ranks {b}");
+        assert!((a - b).abs() <= 1e-7 * a.abs(), "{c}: {a} on 1 rank, {b} on 2");
+    }
+    let (r2, half) = (last(&one, "R2"), 0.5 * last(&one, "width"));
+    assert!((r2 / half - 1.0).abs() < 1e-3, "R2 {r2} against the half-width {half}");
+    let (r3, edge) = (last(&one, "R3"), last(&one, "contact_radius_upper"));
+    assert!((r3 - edge).abs() < 2.5, "R3 {r3} against the outermost node on the plate at {edge}");
+    let sigma = last(&one, "sigma_app");
+    assert!((sigma / 20.0 - 1.0).abs() < 0.15, "sigma_app {sigma} against gamma = 20");
+    let s = Summary::read(&dir.join("one"));
+    assert_eq!(s.num("laplace.final_sigma_app_mN_m"), Some(sigma));
+    assert_eq!(s.num("laplace.hold_end_R3_um"), Some(r3));
+}
+
+/// σ_app converges to γ with the surface mesh: halving the surface spacing halves the error
+/// (first order, the plate force's), and the extrapolation h → 0 reads γ within 1%.
+/// Measured at t = 10 s: 22.12 and 21.09 mN/m, extrapolated 20.07 (+0.34%).
+#[test]
+#[ignore = "slow tier: the finer drop takes 40 s"]
+fn the_liquid_drop_reading_converges_to_the_surface_tension() {
+    let _cores = cores(1);
+    let dir = scratch("laplace-drop-convergence");
+    let coarse = *drop(1, &dir.join("coarse"), 0.05, 0.2, 10.0).col("sigma_app").last().unwrap();
+    let fine = *drop(1, &dir.join("fine"), 0.025, 0.1, 10.0).col("sigma_app").last().unwrap();
+    let extrapolated = 2.0 * fine - coarse;
+    println!("sigma_app {coarse}, {fine}; extrapolated {extrapolated}");
+    assert!(fine < coarse && (fine - 20.0) < 0.6 * (coarse - 20.0), "{coarse} -> {fine}");
+    assert!((extrapolated / 20.0 - 1.0).abs() < 0.01, "extrapolated {extrapolated}");
+}
