@@ -10,6 +10,8 @@ mod bad_input;
 mod common;
 #[path = "io_fields.rs"]
 mod io_fields;
+#[path = "laplace_drop.rs"]
+mod laplace_drop;
 #[path = "plates.rs"]
 mod plates;
 #[path = "remodelling.rs"]
