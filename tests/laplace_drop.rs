@@ -251,7 +251,7 @@ fn assert_non_wetting(c: &Compared, force_tol: f64, node: f64) {
 /// squeezed by 15% and held 10 s, 2.5 µm surface faces (nodes 1.25 µm apart), 30 µm inside.
 /// Young–Laplace at the run's gap and volume: F = 0.09889 mg, R2 = 102.685 µm, R3 = 27.153 µm.
 /// Measured: F = 0.10151 mg (+2.7%), half-width 102.678 µm (−0.007%), contact radii 27.108 and
-/// 27.099 µm (−0.05 µm); 12.6 s on one rank (the machine's other core busy).
+/// 27.099 µm (−0.05 µm); 8 s on one rank (13 s with the machine's other core busy).
 #[test]
 fn liquid_drop_matches_young_laplace() {
     let d = Drop { h: 30.0, dt: 0.05, dt_max: 2.0, ..non_wetting(100.0, 0.15, 2.5, 10.0) };
@@ -312,7 +312,7 @@ fn smaller_liquid_drop_matches_young_laplace_at_two_gaps() {
 /// and 1.25 µm faces the 120° drop's half-width is −0.14% and its nodes on the plate end at
 /// R3 − 2.7 g_a: the shape's error is the smoothing's, O(g_a). 127 s on one rank.
 #[test]
-#[ignore = "slow tier: two runs with adhesion, the 60° one spreading slowly (127 s)"]
+#[ignore = "slow tier: two runs with adhesion, the 60° one spreading for 20 s (127 s)"]
 fn adhesive_liquid_drop_takes_young_dupre_shape() {
     for (name, w) in [("laplace-drop-120", 10.0), ("laplace-drop-60", 30.0)] {
         let mut d = non_wetting(100.0, 0.15, 2.5, 20.0);
