@@ -12,6 +12,8 @@ mod common;
 mod io_fields;
 #[path = "laplace.rs"]
 mod laplace;
+#[path = "laplace_drop.rs"]
+mod laplace_drop;
 #[path = "plates.rs"]
 mod plates;
 #[path = "remodelling.rs"]

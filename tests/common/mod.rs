@@ -8,6 +8,8 @@ use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+pub mod young_laplace;
+
 /// The machine's cores, of which a test holds one per MPI rank it runs. The test binaries run
 /// side by side, each with as many tests at a time as there are cores (`ci/test.sh`), and take
 /// cores from one pool: 1-rank runs go side by side while a 2-rank run has the two cores of a
