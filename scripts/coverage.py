@@ -24,7 +24,8 @@ Before the fits, the model's jitter: runs at each fitted parameter × (1 + k/100
 and at each data time the largest deviation from a cubic in the parameter, against the noise
 (it must be far below 1 for the intervals to mean anything), with the standard errors and
 correlations the linearised model predicts (jitter.csv; several experiments: their data times
-stacked).
+stacked, and printed besides, what each experiment alone would predict: its standard errors, its
+correlations with the cosines of their columns, and d F/d ln θ at its last data time).
 Writes DIR/coverage.csv (one row per fit: estimates, sigmas, intervals, covered flags, runs,
 seconds), DIR/coverage.png (normalised errors against a standard normal; coverage rates with
 Wilson 95% error bars) and a table on the console. Resumable: every run is a case of the shared
@@ -99,6 +100,24 @@ def jitter(a, p, data, extra):
                      "jitter_over_noise_median": float(np.median(worst))})
     cv = np.linalg.inv(np.column_stack(cols).T @ np.column_stack(cols))
     sd = np.sqrt(np.diag(cv))
+    if case.several:
+        # What each experiment alone would tell (the same columns, its rows only): where one
+        # experiment cannot separate two parameters and the pair can.
+        for name in dict.fromkeys(where):
+            mine = [j for j, w in enumerate(where) if w == name]
+            c = np.column_stack(cols)[mine]
+            last = mine[-1]
+            s1 = np.sqrt(np.diag(np.linalg.pinv(c.T @ c)))
+            corr = np.linalg.pinv(c.T @ c) / np.outer(s1, s1)
+            cos = c.T @ c / np.outer(np.linalg.norm(c, axis=0), np.linalg.norm(c, axis=0))
+            pairs = [(i, k) for i in range(len(keys)) for k in range(i + 1, len(keys))]
+            print(f"  experiment {name} alone: predicted sigma/value "
+                  + ", ".join(f"{short(k)} {s:.3g}" for k, s in zip(keys, s1)) + "; correlations "
+                  + ", ".join(f"{short(keys[i])}~{short(keys[k])} {corr[i, k]:+.4f} (cos {cos[i, k]:+.5f})"
+                              for i, k in pairs)
+                  + f"; d F/d ln θ at its last data time ({times[last]:g} s): "
+                  + ", ".join(f"{short(k)} {cols[i][last] * noise[last]:.4g}" for i, k in enumerate(keys))
+                  + f" {case.column.rsplit('_', 1)[-1]}", flush=True)
     for i, r in enumerate(rows):
         r["predicted_rel_sigma"] = float(sd[i])
         r["predicted_corr"] = " ".join(f"{c:+.4f}" for c in cv[i] / (sd[i] * sd))

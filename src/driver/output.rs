@@ -136,7 +136,7 @@ impl<'w> Run<'w> {
             let (n, t) = (pg.c.step, pg.c.t);
             let fields = self.schedule.done(t) || (every > 0 && n.is_multiple_of(every)) || self.output_time(t);
             let (u, prev) = (&self.state.u, &self.state.prev);
-            let sample = self.observers.sample(self.ts.problem_mut(), u, prev, step.dt, fields)?;
+            let sample = self.observers.sample(self.ts.problem_mut(), u, prev, t, step.dt, fields)?;
             let observed = self.observers.observe(self.world, self.ts.problem(), sample, t, step.dt, fields);
             let wall = pg.c.wall_s + t_start.elapsed().as_secs_f64();
             let row = StepRow { step: n, t, dt: step.dt, its: step.its, wall };

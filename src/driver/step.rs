@@ -26,7 +26,7 @@ impl<'w> Run<'w> {
             pg.totals = self.ts.solver_totals()?;
             let _g = stages.output.push();
             let u = &self.state.u;
-            Some(self.observers.sample(self.ts.problem_mut(), u, u, 0.0, true)?)
+            Some(self.observers.sample(self.ts.problem_mut(), u, u, 0.0, 0.0, true)?)
         } else {
             None
         };

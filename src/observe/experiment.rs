@@ -1,7 +1,8 @@
 //! Observables of the compression–release experiment (model.md §7), one row per step:
 //!
 //! * forces on the plates: the sum of the contact reactions R_z of the nodes touching each
-//!   plate (reactions of the VI-active dofs: the raw residual there), split exactly into the
+//!   plate (reactions of the VI-active dofs: the raw residual there, the surface tension's
+//!   included), less the adhesion's pull on the faces near the plate, split exactly into the
 //!   pressure part (nodal forces of −p J F⁻ᵀ) and the constitutive rest; upper plate positive
 //!   in compression, full-sphere equivalent, normalised by 9.81 m/s² in mg (1 nN = 1.0194e-4 mg);
 //! * contact radii, height and width of the current shape;
@@ -195,7 +196,9 @@ impl Experiment {
         let pen = self.max_penetration(plates, mesh, dofs, local, t);
         let probe_p = self.probe_p.value(mesh, dofs, local, world);
         let probe_por = self.probe_porosity.as_ref().map_or(f64::NAN, |p| p.value(mesh, dofs, local, world));
-        let (f_up, fp_up) = (sum(world, f_up), sum(world, fp_up));
+        // The adhesion pulls the plates towards the aggregate besides the contact reactions.
+        let [pull_lo, pull_up] = post.adhesion_pull;
+        let (f_up, fp_up) = (sum(world, f_up - pull_up), sum(world, fp_up));
         let profile: Vec<Point> = all_gather_vec(world, &profile)
             .chunks_exact(3)
             .map(|p| Point { r: p[0], z: p[1], side: SIDES[p[2] as usize] })
@@ -207,7 +210,7 @@ impl Experiment {
             sym * f_up * NN_TO_MG,
             sym * (f_up - fp_up) * NN_TO_MG,
             sym * fp_up * NN_TO_MG,
-            sym * sum(world, f_lo) * NN_TO_MG,
+            sym * sum(world, f_lo - pull_lo) * NN_TO_MG,
             max(world, r_up),
             max(world, r_lo),
             max(world, zmax) + max(world, -zmin),

@@ -133,8 +133,8 @@ fn falling(j: usize, k: usize) -> f64 {
 /// tangent contact). Local, because the profile's meridional curvature changes fast near the
 /// contact line (on a liquid drop at 180° it is ΔP/γ at the edge and 1/R1 at the equator, the
 /// relative change about s/R3 over an arc s): a circle over a wider band extrapolates the
-/// flatter profile and overshoots the edge. The refinement is trusted as far as the farthest of
-/// those nodes. None without upper contact.
+/// flatter profile and overshoots the edge. Kept between the node on the plate and the nearest
+/// free node. None without upper contact.
 fn contact_radius(points: &[Point], z_lower: f64, z_upper: f64) -> Option<f64> {
     let edge = points.iter().filter(|p| p.side == Side::Upper).map(|p| p.r).fold(f64::NAN, f64::max);
     if edge.is_nan() {
@@ -149,7 +149,6 @@ fn contact_radius(points: &[Point], z_lower: f64, z_upper: f64) -> Option<f64> {
     if fit.len() < 3 {
         return Some(edge);
     }
-    let reach = fit.iter().map(|p| p.0.hypot(p.1)).fold(0.0, f64::max);
     // Kåsa's circle: x² + y² + D x + E y + F = 0 (through the points, or the least-squares fit).
     let c = least_squares(
         fit.len(),
@@ -179,7 +178,10 @@ fn contact_radius(points: &[Point], z_lower: f64, z_upper: f64) -> Option<f64> {
     } else {
         a
     };
-    Some(if x.abs() <= reach { edge + x } else { edge })
+    // The edge lies between the node on the plate and the nearest free node: the discrete
+    // surface leaves the plate at its last contact node, so a circle whose cut falls inside
+    // it (a kink there, common on a liquid's tangent contact) reads that node.
+    Some(edge + x.clamp(0.0, fit[0].0.max(0.0)))
 }
 
 /// The coefficients minimising Σᵢ (Σⱼ aᵢⱼ cⱼ − bᵢ)² (SVD), or None if the columns are dependent.

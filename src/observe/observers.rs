@@ -80,7 +80,8 @@ impl Observers {
         }
     }
 
-    /// Samples the state `u` reached from `prev` in a step of size dt (0: the initial state):
+    /// Samples the state `u` at time t reached from `prev` in a step of size dt (0: the initial
+    /// state):
     /// the post-processing element loop (reactions, cell fields) only when something reads it;
     /// probes and history alone need just the local state.
     pub fn sample(
@@ -88,13 +89,14 @@ impl Observers {
         problem: &mut PoroProblem,
         u: &Vector,
         prev: &Vector,
+        t: f64,
         dt: f64,
         fields: bool,
     ) -> Result<Sample> {
         if self.experiment.is_some() || (fields && self.fields) || self.remodelling {
             let dt_eff = if dt > 0.0 { dt } else { 1.0 };
             let udot = backward_euler_rate(u, prev, dt_eff)?;
-            Ok(Sample::Post(Box::new(problem.post_process(dt_eff, u, &udot)?)))
+            Ok(Sample::Post(Box::new(problem.post_process(t, dt_eff, u, &udot)?)))
         } else {
             Ok(Sample::State(problem.localize(u)?))
         }

@@ -402,6 +402,25 @@ impl SurfaceTension {
         }
     }
 
+    /// The adhesion's pull on each plate, [lower, upper] (nN, this rank's faces; 0 without
+    /// adhesion or plates): the plate's position enters the energy only through the gaps, so the
+    /// force on a plate is −∂E/∂z_plate, of size Σ_q P_q w S'(g_q/g_a)/g_a over the points nearer
+    /// it, towards the aggregate. The contact reactions miss it: it acts on faces within the
+    /// range but off the plate.
+    pub fn plate_pull(&self, mesh: &LocalMesh, dofs: &DofMap, u: &[f64], planes: Option<PlatePlanes>) -> [f64; 2] {
+        let mut pull = [0.0; 2];
+        let Some((ad, pl)) = self.adhering(planes) else { return pull };
+        for (i, &face) in self.faces.iter().enumerate() {
+            let (_, x, n) = self.face(mesh, dofs, face, u);
+            for q in 0..self.rule.w.len() {
+                let (gap, _, sigma) = point_gap(&self.rule, q, &x[..n], pl);
+                let (p, _) = point_projection::<f64>(&self.rule, q, &x[..n], sigma, self.outward[i]);
+                pull[usize::from(sigma < 0.0)] += p * weight(ad, gap).1;
+            }
+        }
+        pull
+    }
+
     /// Calls `add` with each face's local dofs and its block γ ∂²A/∂x² (with adhesion ∂²E/∂x²,
     /// the plates at `planes`), row-major.
     pub fn for_each_block(

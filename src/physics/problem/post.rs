@@ -32,11 +32,16 @@ pub struct Post {
     pub max_von_mises: f64,
     pub max_norm_ep: f64,
     pub max_det_bp_dev: f64,
+    /// The adhesion's pull on the [lower, upper] plate, this rank's faces (nN; 0 without
+    /// adhesion): a force on the plates besides the contact reactions
+    /// (`SurfaceTension::plate_pull`).
+    pub adhesion_pull: [f64; 2],
 }
 
 impl PoroProblem {
-    /// Reactions, their pressure part and cell fields at the state (U, U̇) of a step of size dt.
-    pub fn post_process(&mut self, dt: f64, u: &Vector, udot: &Vector) -> Result<Post> {
+    /// Reactions (the surface tension's included), their pressure part and cell fields at the
+    /// state (U, U̇) at time t after a step of size dt.
+    pub fn post_process(&mut self, t: f64, dt: f64, u: &Vector, udot: &Vector) -> Result<Post> {
         self.load_state(u, udot)?;
         let n_el = self.disc.mesh.cells.len();
         let mut post = Post {
@@ -55,7 +60,9 @@ impl PoroProblem {
             max_von_mises: 0.0,
             max_norm_ep: 0.0,
             max_det_bp_dev: 0.0,
+            adhesion_pull: [0.0; 2],
         };
+        let planes = self.plate_planes(t);
         let with_qp_state = !self.disc.qp_state.is_empty();
         let n_local = self.disc.dofs.n_local();
         let mut pres_loc = Vector::seq(n_local)?;
@@ -97,6 +104,11 @@ impl PoroProblem {
                 })
             };
             let r = run();
+            // The surface tension's forces on the nodes, on the plates' too (the residual's).
+            if let Some(st) = &self.surface {
+                st.add_residual(&disc.mesh, &disc.dofs, &post.local, planes, &mut fl);
+                post.adhesion_pull = st.plate_pull(&disc.mesh, &disc.dofs, &post.local, planes);
+            }
             for (x, ext) in fl.iter_mut().zip(&self.external) {
                 *x -= ext;
             }
