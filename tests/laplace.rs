@@ -36,10 +36,10 @@ fn drop(np: usize, dir: &Path, h_surf: f64, h: f64, t_end: f64) -> History {
 /// The reading at rest (t = 4 s; 80 relaxation times) on 1 and 2 ranks: the same to round-off
 /// (the profile is gathered from both; measured 1e-13); R2 agrees with the half-width (the
 /// largest node radius) to 0.1%, R3 lies within a surface node spacing (2.5 µm) of the
-/// outermost node on the plate, and σ_app reads γ = 20 mN/m within this mesh's plate-force
-/// error: the plate force converges at first order in the surface spacing (the contact line),
-/// so does σ_app (below). Measured: σ_app 21.69 mN/m (R1 89.95, R2 102.59, R3 27.12 µm, F
-/// 0.1066 mg). The summary's `[laplace]` repeats the last row. 20 s on a busy 2-core machine.
+/// outermost node on the plate, and σ_app reads γ = 20 mN/m within 5%: the plate force is right
+/// to 0.1% on this mesh (tests/laplace_drop.rs), the rest is R3's node spacing (below).
+/// Measured: σ_app 20.34 mN/m (+1.7%; R1 89.95, R2 102.59, R3 27.12 µm, F 0.09996 mg). The
+/// summary's `[laplace]` repeats the last row. 20 s on a busy 2-core machine.
 #[test]
 fn a_liquid_drop_reads_its_surface_tension_on_one_and_two_ranks() {
     let _cores = cores(2);
@@ -57,15 +57,16 @@ fn a_liquid_drop_reads_its_surface_tension_on_one_and_two_ranks() {
     let (r3, edge) = (last(&one, "R3"), last(&one, "contact_radius_upper"));
     assert!((r3 - edge).abs() < 2.5, "R3 {r3} against the outermost node on the plate at {edge}");
     let sigma = last(&one, "sigma_app");
-    assert!((sigma / 20.0 - 1.0).abs() < 0.15, "sigma_app {sigma} against gamma = 20");
+    assert!((sigma / 20.0 - 1.0).abs() < 0.05, "sigma_app {sigma} against gamma = 20");
     let s = Summary::read(&dir.join("one"));
     assert_eq!(s.num("laplace.final_sigma_app_mN_m"), Some(sigma));
     assert_eq!(s.num("laplace.hold_end_R3_um"), Some(r3));
 }
 
-/// σ_app converges to γ with the surface mesh: halving the surface spacing halves the error
-/// (first order, the plate force's), and the extrapolation h → 0 reads γ within 1%.
-/// Measured at t = 10 s: 22.12 and 21.09 mN/m, extrapolated 20.07 (+0.34%).
+/// σ_app converges to γ with the surface mesh: halving the surface spacing shrinks the error (R3,
+/// within a node spacing of the contact edge, dominates it: the plate force is right to 0.1%),
+/// and the extrapolation h → 0 reads γ within 1%. Measured at t = 10 s: 20.383 and 20.153
+/// mN/m (+1.9%, +0.77%), extrapolated 19.92 (−0.4%).
 #[test]
 #[ignore = "slow tier: the finer drop takes 40 s"]
 fn the_liquid_drop_reading_converges_to_the_surface_tension() {
