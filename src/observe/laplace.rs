@@ -163,7 +163,7 @@ fn contact_radius(points: &[Point], z_lower: f64, z_upper: f64) -> Option<f64> {
     let Some(c) = c else { return Some(edge) };
     let (a, b) = (-0.5 * c[0], -0.5 * c[1]);
     let rho2 = a * a + b * b - c[2];
-    if !(rho2 > 0.0) {
+    if rho2.is_nan() || rho2 <= 0.0 {
         return Some(edge);
     }
     // The circle meets y = 0 at x = a ± √(ρ² − b²).
