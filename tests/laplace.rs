@@ -33,19 +33,17 @@ fn drop(np: usize, dir: &Path, h_surf: f64, h: f64, t_end: f64) -> History {
     History::read(dir)
 }
 
-/// The reading at rest (t = 4 s; 80 relaxation times) on 1 and 2 ranks: the same to round-off
-/// (the profile is gathered from both; measured 1e-13); R2 agrees with the half-width (the
-/// largest node radius) to 0.1%, R3 lies within a surface node spacing (2.5 µm) of the
-/// outermost node on the plate, and σ_app reads γ = 20 mN/m within 5%: the plate force is right
-/// to 0.1% on this mesh (tests/laplace_drop.rs), the rest is R3's node spacing (below).
-/// Measured: σ_app 20.34 mN/m (+1.7%; R1 89.95, R2 102.59, R3 27.12 µm, F 0.09996 mg). The
-/// summary's `[laplace]` repeats the last row. 20 s on a busy 2-core machine.
+/// The reading on 1 and 2 ranks is the same to round-off (the profile is gathered from both;
+/// measured 1e-13), mid-relaxation (t = 1 s) on a coarse surface (10 µm faces); R2 agrees with
+/// the half-width (the largest node radius) to 0.1%, R3 lies within a surface node spacing (5
+/// µm) of the outermost node on the plate; the summary's `[laplace]` repeats the last row. (σ_app
+/// against γ at rest: `laplace_drop::liquid_drop_matches_young_laplace`, and below.) 2 × 2 s.
 #[test]
-fn a_liquid_drop_reads_its_surface_tension_on_one_and_two_ranks() {
+fn the_reading_is_the_same_on_one_and_two_ranks() {
     let _cores = cores(2);
     let dir = scratch("laplace-drop");
-    let one = drop(1, &dir.join("one"), 0.05, 0.2, 4.0);
-    let two = drop(2, &dir.join("two"), 0.05, 0.2, 4.0);
+    let one = drop(1, &dir.join("one"), 0.1, 0.3, 1.0);
+    let two = drop(2, &dir.join("two"), 0.1, 0.3, 1.0);
     let last = |h: &History, c: &str| *h.col(c).last().unwrap();
     for c in ["R1", "R2", "R3", "sigma_app", "force_total_mg"] {
         let (a, b) = (last(&one, c), last(&two, c));
@@ -55,11 +53,9 @@ fn a_liquid_drop_reads_its_surface_tension_on_one_and_two_ranks() {
     let (r2, half) = (last(&one, "R2"), 0.5 * last(&one, "width"));
     assert!((r2 / half - 1.0).abs() < 1e-3, "R2 {r2} against the half-width {half}");
     let (r3, edge) = (last(&one, "R3"), last(&one, "contact_radius_upper"));
-    assert!((r3 - edge).abs() < 2.5, "R3 {r3} against the outermost node on the plate at {edge}");
-    let sigma = last(&one, "sigma_app");
-    assert!((sigma / 20.0 - 1.0).abs() < 0.05, "sigma_app {sigma} against gamma = 20");
+    assert!((r3 - edge).abs() < 5.0, "R3 {r3} against the outermost node on the plate at {edge}");
     let s = Summary::read(&dir.join("one"));
-    assert_eq!(s.num("laplace.final_sigma_app_mN_m"), Some(sigma));
+    assert_eq!(s.num("laplace.final_sigma_app_mN_m"), Some(last(&one, "sigma_app")));
     assert_eq!(s.num("laplace.hold_end_R3_um"), Some(r3));
 }
 

@@ -164,6 +164,8 @@ struct Compared {
     width: f64,
     /// The contact radii (upper, lower) less R3, µm.
     contact: [f64; 2],
+    /// The Laplace reading σ_app against γ (relative).
+    sigma_app: f64,
     /// The width's and force's relative change over the last 20% of the hold.
     drift: [f64; 2],
 }
@@ -191,13 +193,15 @@ fn compare(name: &str, d: &Drop) -> Compared {
         force_disc: f[n] / disc - 1.0,
         width: wd[n] / (2.0 * yl.r2.max(yl.r3)) - 1.0,
         contact: [rc[0] - yl.r3, rc[1] - yl.r3],
+        sigma_app: hist.col("sigma_app")[n] / d.gamma - 1.0,
         drift: [wd[n] / wd[m] - 1.0, f[n] / f[m] - 1.0],
         yl,
     };
     println!(
         "{name}: H {gap:.3} V {volume:.1} θ {:.1}°: YL ΔP {:.5} kPa R1 {:.3} R2 {:.3} R3 {:.3} F {:.5} mg\n  \
          run F {:.5} mg ({:+.3}%; against π r_c² ΔP {disc:.5} mg {:+.3}%), width/2 {:.3} ({:+.3}%), \
-         contact radii {:.3} {:.3} ({:+.2}, {:+.2} µm); over the last 20%: width {:+.1e}, F {:+.1e}; {seconds:.1} s",
+         contact radii {:.3} {:.3} ({:+.2}, {:+.2} µm); sigma_app {:+.2}% of γ; over the last 20%: width {:+.1e}, \
+         F {:+.1e}; {seconds:.1} s",
         theta.to_degrees(),
         c.yl.dp,
         c.yl.r1,
@@ -213,6 +217,7 @@ fn compare(name: &str, d: &Drop) -> Compared {
         rc[1],
         c.contact[0],
         c.contact[1],
+        100.0 * c.sigma_app,
         c.drift[0],
         c.drift[1],
     );
@@ -258,6 +263,8 @@ fn liquid_drop_matches_young_laplace() {
     let d = Drop { h: 30.0, dt: 0.05, dt_max: 2.0, ..non_wetting(100.0, 0.15, 2.5, 10.0) };
     let c = compare("laplace-drop-fast", &d);
     assert_non_wetting(&c, 0.005, 1.25);
+    // The lab's Laplace reading of this drop at rest reads its γ (R3 between nodes 1.25 µm apart).
+    assert!(c.sigma_app.abs() < 0.03, "sigma_app {:+.2}% of γ", 100.0 * c.sigma_app);
 }
 
 /// R = 100 µm squeezed by 15% and by 30%, held 20 s, 1.25 µm surface faces (nodes 0.625 µm

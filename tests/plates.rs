@@ -345,6 +345,7 @@ fn quarter_and_full_sphere_agree() {
 /// free (`solver::FreeRigidModes`); the AMG fieldsplit takes it as the Jacobian's null space
 /// (from the first Newton iteration on: the loading ramp shows it).
 #[test]
+#[ignore = "slow tier: the full sphere through the ramp (25 core-s); the free modes' projection is unit-tested (solver::rigid)"]
 fn full_sphere_with_free_rigid_modes_agrees() {
     let amg: Vec<(&str, &str)> =
         FREE.iter().copied().chain([("[output]", "[solver]\npreset = \"fieldsplit\"\n\n[output]"), RAMP]).collect();
