@@ -68,7 +68,7 @@ impl PlateSummary {
             opening_time: opening.map(|i| t[i]),
             final_height_over_width: observable::observe(h, "last:height/width"),
             laplace_hold_end: laplace::COLUMNS.map(|c| observable::at_time(h, c, hold_end)),
-            laplace_final: laplace::COLUMNS.map(|c| h.get(c).and_then(|v| v.last().copied()).unwrap_or(f64::NAN)),
+            laplace_final: laplace::COLUMNS.map(|c| observable::observe(h, &format!("last:{c}"))),
         })
     }
 }

@@ -14,7 +14,7 @@
 //! * the lab's Laplace analysis of the profile: R1, R2, R3 and the apparent surface tension
 //!   σ_app (`observe::laplace`).
 
-use super::laplace::{self, Point, Side};
+use super::laplace::{self, Point};
 use super::probe::{Probe, Quantity};
 use crate::error::Result;
 use crate::fem::dofmap::DofMap;
@@ -58,15 +58,13 @@ pub const COLUMNS: [(&str, ColumnKind); 21] = [
     (laplace::COLUMNS[3], Real),
 ];
 
-/// A contact state as a gathered real (an index into [`SIDES`]).
+/// The contact states in the order of their gathered code ([`side_code`]).
+const SIDES: [Touch; 3] = [Touch::Free, Touch::Lower, Touch::Upper];
+
+/// A contact state as a gathered real: its index in [`SIDES`].
 fn side_code(t: Touch) -> f64 {
-    match t {
-        Touch::Free => 0.0,
-        Touch::Lower => 1.0,
-        Touch::Upper => 2.0,
-    }
+    SIDES.iter().position(|&s| s == t).unwrap_or(0) as f64
 }
-const SIDES: [Side; 3] = [Side::Free, Side::Lower, Side::Upper];
 
 pub struct Experiment {
     /// Full-sphere equivalent factor: 4π R³/3 over the meshed volume (4 for a quarter, 1 for the

@@ -16,25 +16,18 @@
 //!
 //! Units: µm, nN; σ_app in nN/µm = mN/m.
 
+use crate::physics::contact::Touch;
 use nalgebra::{DMatrix, DVector};
 
 /// `history.csv` columns of a [`Reading`], in order (µm, µm, µm, mN/m).
 pub const COLUMNS: [&str; 4] = ["R1", "R2", "R3", "sigma_app"];
-
-/// Where a profile point is: free, or on a plate.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Side {
-    Free,
-    Lower,
-    Upper,
-}
 
 /// One surface node in the (r, z) half-plane.
 #[derive(Debug, Clone, Copy)]
 pub struct Point {
     pub r: f64,
     pub z: f64,
-    pub side: Side,
+    pub side: Touch,
 }
 
 /// The Laplace analysis of one state; NaN where it does not apply (no contact, too few nodes).
@@ -74,7 +67,7 @@ pub fn read(points: &[Point], z_lower: f64, z_upper: f64, force: f64) -> Reading
 fn equator(points: &[Point], z_lower: f64, z_upper: f64) -> Option<(f64, f64)> {
     let (zc, half) = (0.5 * (z_lower + z_upper), 0.5 * (z_upper - z_lower));
     let mut free: Vec<(f64, f64)> =
-        points.iter().filter(|p| p.side == Side::Free).map(|p| ((p.z - zc) / half, p.r)).collect();
+        points.iter().filter(|p| p.side == Touch::Free).map(|p| ((p.z - zc) / half, p.r)).collect();
     free.sort_by(|a, b| a.0.abs().total_cmp(&b.0.abs()));
     let inside = free.iter().filter(|p| p.0.abs() < 0.5).count();
     let window = &free[..inside.max(QUARTIC_POINTS).min(free.len())];
@@ -136,14 +129,14 @@ fn falling(j: usize, k: usize) -> f64 {
 /// flatter profile and overshoots the edge. Kept between the node on the plate and the nearest
 /// free node. None without upper contact.
 fn contact_radius(points: &[Point], z_lower: f64, z_upper: f64) -> Option<f64> {
-    let edge = points.iter().filter(|p| p.side == Side::Upper).map(|p| p.r).fold(f64::NAN, f64::max);
+    let edge = points.iter().filter(|p| p.side == Touch::Upper).map(|p| p.r).fold(f64::NAN, f64::max);
     if edge.is_nan() {
         return None;
     }
     let zc = 0.5 * (z_lower + z_upper);
     // Local coordinates: the edge node at the origin, z downwards from the plate.
     let mut near: Vec<(f64, f64)> =
-        points.iter().filter(|p| p.side == Side::Free && p.z > zc).map(|p| (p.r - edge, z_upper - p.z)).collect();
+        points.iter().filter(|p| p.side == Touch::Free && p.z > zc).map(|p| (p.r - edge, z_upper - p.z)).collect();
     near.sort_by(|a, b| a.0.hypot(a.1).total_cmp(&b.0.hypot(b.1)));
     let fit = &near[..EDGE_POINTS.min(near.len())];
     if fit.len() < 3 {
@@ -211,13 +204,13 @@ mod tests {
         let mut s = -phi_max * rho + offset;
         while s < phi_max * rho {
             let phi = s / rho;
-            pts.push(Point { r: c + rho * phi.cos(), z: zc + rho * phi.sin(), side: Side::Free });
+            pts.push(Point { r: c + rho * phi.cos(), z: zc + rho * phi.sin(), side: Touch::Free });
             s += h;
         }
         let mut r = r3 - offset;
         while r >= 0.0 {
-            pts.push(Point { r, z: zc + half, side: Side::Upper });
-            pts.push(Point { r, z: zc - half, side: Side::Lower });
+            pts.push(Point { r, z: zc + half, side: Touch::Upper });
+            pts.push(Point { r, z: zc - half, side: Touch::Lower });
             r -= h;
         }
         (pts, r3)
@@ -263,10 +256,10 @@ mod tests {
         let mut pts: Vec<Point> = (0..80)
             .map(|i| {
                 let z = -50.0 + 100.0 * (i as f64 + 0.5) / 80.0;
-                Point { r: c - (rho * rho - z * z).sqrt(), z, side: Side::Free }
+                Point { r: c - (rho * rho - z * z).sqrt(), z, side: Touch::Free }
             })
             .collect();
-        pts.push(Point { r: c - (rho * rho - 2500.0f64).sqrt(), z: 50.0, side: Side::Upper });
+        pts.push(Point { r: c - (rho * rho - 2500.0f64).sqrt(), z: 50.0, side: Touch::Upper });
         let got = read(&pts, -0.5 * height, 0.5 * height, 10.0);
         assert!((got.r1 / -rho - 1.0).abs() < 1e-4 && (got.r2 / (c - rho) - 1.0).abs() < 1e-6, "{got:?}");
     }
@@ -275,7 +268,7 @@ mod tests {
     #[test]
     fn without_contact_there_is_no_reading() {
         let (pts, _) = arc(40.0, 60.0, 0.0, 100.0, 2.0, 0.5);
-        let free: Vec<Point> = pts.into_iter().filter(|p| p.side == Side::Free).collect();
+        let free: Vec<Point> = pts.into_iter().filter(|p| p.side == Touch::Free).collect();
         let got = read(&free, -50.0, 50.0, 1.0);
         assert!(got.r3.is_nan() && got.sigma_app.is_nan() && got.r1.is_finite(), "{got:?}");
         let got = read(&free[..2], -50.0, 50.0, 1.0);
