@@ -19,6 +19,12 @@ pub fn fmt_real(v: f64) -> String {
     }
 }
 
+/// A time (s) for the log: ten significant digits, without the float noise of sums of steps
+/// (`130.0798`, not `130.07980000000003`).
+pub(crate) fn fmt_time(t: f64) -> String {
+    fmt_real(format!("{t:.9e}").parse().unwrap_or(t))
+}
+
 /// A duration of `s` seconds for a progress line: `42s`, `3m07s`, `2h05m`.
 pub(crate) fn fmt_duration(s: f64) -> String {
     if s < 60.0 {
@@ -33,6 +39,14 @@ pub(crate) fn fmt_duration(s: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::{fmt_duration, fmt_real};
+
+    #[test]
+    fn times_without_float_noise() {
+        assert_eq!(super::fmt_time(130.07980000000003), "130.0798");
+        assert_eq!(super::fmt_time(0.1 + 0.2), "0.3");
+        assert_eq!(super::fmt_time(1e-7 / 3.0), "3.333333333e-8");
+        assert_eq!(super::fmt_time(35.0), "35");
+    }
 
     #[test]
     fn durations() {

@@ -35,6 +35,7 @@ pub mod time;
 mod validation_tests;
 
 pub use bc::{Axis, BoundaryCondition, Traction};
+pub(crate) use diagnose::toml_message;
 pub use load::{LoadedScene, BUILTIN};
 pub use material::{HolmesMowSpec, Material, PenaltySpec, RemodellingSpec, SolidSpec};
 pub use mesh::{Geometry, Grading, MeshSpec};
