@@ -24,6 +24,7 @@ pub mod mesh;
 pub mod numerics;
 pub mod observe;
 pub mod overrides;
+mod plausible;
 pub mod plates;
 pub mod reference;
 mod resolve;
@@ -113,6 +114,7 @@ impl Scene {
             sf.validate(self.plates.is_some())?;
         }
         self.fem.validate(self.mesh.geometry)?;
+        plausible::check(self, notes)?;
         self.validate_petsc()
     }
 
