@@ -80,8 +80,10 @@ interval68, interval95 (and profile68, profile95 with --profile: null where no e
 profile68_open, profile95_open the reason per end: "grid", "unconverged", "failed", or null;
 collinear_with and trust for a near-collinear parameter; at_bound; profile_lower_cost when a profile
 point beat the optimum); noise (model, s, chi2_per_dof), experiments (per experiment: noise model,
-s, floor, points, rms), intervals (z and dof), correlation, rms, runs; and the iterations' log.
-STUDY/calibration.png: data and fit, one panel per experiment; STUDY/profile.png the profiles.
+s, floor, points, rms in the noise model's shape, rms_weighted (residual / sigma), rms_residual in the
+data's unit and that unit), intervals (z and dof), correlation, rms, rms_weighted, runs; and the
+iterations' log. STUDY/calibration.png: data and fit in the data's unit, one column per experiment,
+on a linear and a logarithmic axis; STUDY/profile.png the profiles.
 """
 import argparse
 import json
@@ -234,7 +236,9 @@ def main():
         """Prints the sensitivity table at the start point and the near-collinear pairs; exits
         naming every parameter that moves no data point."""
         values = np.concatenate([vs for _, vs in runs.data])
-        lines, refusals, warnings = identifiability(jac, keys, math.sqrt(float(values @ values) / len(values)))
+        column_units = {units.of_column(e.column) for e in experiments}
+        unit = units.shown(column_units.pop()) if len(column_units) == 1 and None not in column_units else ""
+        lines, refusals, warnings = identifiability(jac, keys, math.sqrt(float(values @ values) / len(values)), unit)
         print("\n".join(lines), flush=True)
         for msg in warnings:
             print(f"calibrate.py: warning: {msg}", flush=True)
@@ -274,7 +278,7 @@ def main():
     fitplots.curves(a.dir, experiments, runs.data, opt.state["histories"], result, params, shown)
     if prof:
         fitplots.profiles(a.dir, opt, st, prof, keys)
-    print(f"{runs.count()} in all" + (f": the fit's {fitted}, the profile's {runs.count(before)}" if prof else "")
+    print(f"{runs.count()} in all" + (f", the fit's {fitted} and the profile's {runs.count(before)}" if prof else "")
           + f"; {Path(a.dir) / 'calibration.json'}")
 
 

@@ -10,7 +10,7 @@ the fix, never a traceback. The accepted formats are tabulated in docs/reference
 * the text: UTF-8 (with or without a byte-order mark), UTF-16 with one, else Windows-1252 (or
   Latin-1 where that does not decode); lines end in LF, CRLF or CR;
 * the separator: comma, semicolon or tab, the one that splits the header and every row into
-  the same cells; cells may be quoted (`"1.5"`); empty cells after the last column (Excel's
+  the same cells (or the one a first line `sep=;` names, as Excel writes it); cells may be quoted (`"1.5"`); empty cells after the last column (Excel's
   trailing separators) and blank rows are ignored;
 * the decimal mark: a point, or a comma in a semicolon- or tab-separated file; a comma in a
   comma-separated file's number, thousands separators (`1,234.5`, `1.234,5`, `1 234`) and
@@ -79,7 +79,15 @@ def read_curve(path, column, unit=None, data_column=None):
     if not rows:
         fail("empty: expected a header line (e.g. `time,force_uN`) and rows of numbers")
     hline, header = rows[0]
-    sep = _separator(header, rows[1:], fail, hline)
+    said = re.match(r"^\s*\"?sep=(.)\"?\s*$", header)       # Excel's `sep=;` line names the separator
+    if said:
+        if said.group(1) not in SEPARATORS:
+            fail(f"`{header.strip()}`: the separator must be a comma, a semicolon or a tab", hline)
+        rows = rows[1:]
+        if not rows:
+            fail("empty: expected a header line (e.g. `time,force_uN`) and rows of numbers")
+        hline, header = rows[0]
+    sep = said.group(1) if said else _separator(header, rows[1:], fail, hline)
     names = _cells(header, sep)
     while names and not names[-1]:
         names.pop()
@@ -308,7 +316,9 @@ def _value_column(names, column, unit, data_column, t_col, fail, hline):
             fail(f"the column `{names[k]}` is a {q} ({units.shown(u)}), but the model's `{column}` is a {model_q} "
                  f"({units.shown(model_unit)})", hline)
         f = units.factor(u) / units.factor(model_unit)
-        return k, u, f, f"({why}) in {units.shown(u)}" + (f" (x {f:.6g} to {units.shown(model_unit)})" if f != 1 else "")
+        to = (f"1 {units.shown(model_unit)} = {1 / f:.6g} {units.shown(u)}" if q == "force" else
+              f"x {f:.6g} to {units.shown(model_unit)}")
+        return k, u, f, f"({why}) in {units.shown(u)}" + (f" ({to})" if f != 1 else "")
     if model_q and low[k] not in (column.lower(), "value"):
         fail(f"the column `{names[k]}` has no unit: name it with one (e.g. `{names[k]} [{units.shown(model_unit)}]`"
              f" or `{names[k]}_{model_unit}`) or give it (--data-unit, or unit in an experiments file)", hline)

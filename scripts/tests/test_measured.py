@@ -83,10 +83,13 @@ class Measured(unittest.TestCase):
         c = self.read("\ufefftime,force_uN\r\n1,9.81\r\n2,19.62\r\n")
         self.assertCurve(c, [1.0, 2.0], [1.0, 2.0])
         self.assertIn("UTF-8 with a byte-order mark, CRLF line ends, separator comma, decimal point", c.detected)
+        self.assertIn("value `force_uN` (a force) in µN (1 mg = 9.81 µN)", c.detected)
         # A European locale: semicolons and decimal commas, trailing separators, a blank row.
         c = self.read("time;force_uN;;\r\n0,5;9,81;;\r\n;;;\r\n1,5;19,62;;\r\n")
         self.assertCurve(c, [0.5, 1.5], [1.0, 2.0])
         self.assertIn("separator semicolon, decimal comma", c.detected)
+        # Excel's line naming the separator.
+        self.assertCurve(self.read("sep=;\r\ntime;force_uN\r\n0,5;9,81\r\n"), [0.5], [1.0])
         # Semicolons with decimal points (also written by Excel in some locales).
         self.assertCurve(self.read("time;force_uN\n0.5;9.81\n"), [0.5], [1.0])
         # Tab-separated text with decimal commas, time in minutes, a column of words not read.
