@@ -16,7 +16,8 @@ the fix, never a traceback. The accepted formats are tabulated in docs/reference
   comma-separated file's number, thousands separators (`1,234.5`, `1.234,5`, `1 234`) and
   a file that mixes the two marks are refused, since they cannot be read for certain;
 * the header: the column names, each with its unit (units.py: `force [uN]`, `force (µN)`,
-  `Force_uN`, `F/mN`, `time_min`, `t (h)`); names are matched without regard to case;
+  `Force_uN`, `F/mN`, `time_min`, `t (h)`) or with the units on a line of their own below
+  (`s;µN`); names are matched without regard to case; text above the header must be comments;
 * the time: a column `time` or `t` in s, ms, min or h (s without a unit), converted to s;
 * the value: the model's column (`column`) by name, a `force` or `F` column for a force, `value`,
   the one column `data_column` names, or else the only column of the model's quantity; in
@@ -87,12 +88,16 @@ def read_curve(path, column, unit=None, data_column=None):
         if not rows:
             fail("empty: expected a header line (e.g. `time,force_uN`) and rows of numbers")
         hline, header = rows[0]
+    _no_preamble(rows, fail)
     sep = said.group(1) if said else _separator(header, rows[1:], fail, hline)
     names = _cells(header, sep)
     while names and not names[-1]:
         names.pop()
     if all(_looks_numeric(h) for h in names if h):
         fail("no header line: the first line holds numbers; expected column names (e.g. `time,force_uN`)", hline)
+    unit_line = _unit_row(rows[1] if len(rows) > 1 else None, names, sep)
+    if unit_line:                                # a second header line of units (`s;µN`)
+        names, rows = unit_line, rows[:1] + rows[2:]
     low = [h.lower() for h in names]
     dup = next((h for h in names if h and low.count(h.lower()) > 1), None)
     if dup:
@@ -124,7 +129,8 @@ def read_curve(path, column, unit=None, data_column=None):
         row = [_number(cells[k], names[k], comma, fail, n) for k in used]
         t = row[0] * t_scale
         if t <= 0.0:
-            fail(f"time {row[0]:g} {t_unit}: the data's times must be after the start of the run (t > 0)", n)
+            fail(f"time {row[0]:g} {t_unit}: the data's times must be after the start of the run (t > 0, the "
+                 "plates' start): leave out the rows at t <= 0, or shift the times", n)
         if times and t <= times[-1]:
             what = "repeats" if t == times[-1] else "comes before"
             fail(f"time {row[0]:g} {t_unit} {what} the previous row's {times[-1] / t_scale:g} {t_unit}: "
@@ -138,6 +144,7 @@ def read_curve(path, column, unit=None, data_column=None):
 
     ignored = [h for k, h in enumerate(names) if k not in used and h]
     detected = (f"{path}: {encoding}, {ends} line ends, separator {SEPARATORS.get(sep, 'none (one column)')}, "
+                + ("units from the line below the header, " if unit_line else "") + 
                 f"decimal {'comma' if comma else 'point'}; {len(times)} row{'s' if len(times) > 1 else ''}; time `{names[t_col]}` in {t_unit}"
                 + (f" (x {t_scale:g} to s)" if t_scale != 1 else "")
                 + f"; value `{names[v_col]}` {how}"
@@ -239,6 +246,36 @@ def _separator(header, rows, fail, hline):
         both = " and ".join(SEPARATORS[s] for c, k, s in fits if (c, k) == best[:2])
         fail(f"the separator is ambiguous: the header and rows split alike on {both}; use one of them only", hline)
     return best[2]
+
+
+def _has_time(line):
+    return any(units.split(c)[0].lower() in TIME_NAMES for sep in SEPARATORS for c in _cells(line, sep))
+
+
+def _no_preamble(rows, fail):
+    """Refuses lines of text above the header (a title, an instrument's settings) that are not
+    comments: the first line names no time column and a later one does."""
+    if _has_time(rows[0][1]):
+        return
+    later = next(((n, ln) for n, ln in rows[1:30] if _has_time(ln)), None)
+    if later:
+        fail(f"`{rows[0][1].strip()}` is not a header of columns, but line {later[0]} (`{later[1].strip()}`) looks like "
+             "one: make the lines above it comments (start them with #)", rows[0][0])
+
+
+def _unit_row(row, names, sep):
+    """The names with the units of a units line below the header (`time;force` then `s;µN`:
+    `time [s]`, `force [µN]`), or None if `row` is not one: every cell empty, `-` or a unit, one
+    at least a unit."""
+    if row is None:
+        return None
+    cells = _cells(row[1], sep)
+    bare = [c.strip("[](){} ") for c in cells]
+    if len(cells) > len(names) or not any(units.unit(c) for c in bare) or not all(
+            not c or c == "-" or units.unit(c) for c in bare):
+        return None
+    return [f"{h} [{c}]" if c and c != "-" and units.split(h)[1] is None else h
+            for h, c in zip(names, bare + [""] * (len(names) - len(bare)))]
 
 
 def _time_column(names, fail, hline):

@@ -38,6 +38,8 @@ def scene_columns(scene, sets):
         p = subprocess.run(cmd, capture_output=True, text=True, env=cases.env(), timeout=600)
     except FileNotFoundError:
         raise FitError(f"no poroplast binary at {cases.BIN}: build it (cargo build --release) or set POROPLAST_BIN")
+    except OSError as e:
+        raise FitError(f"cannot run {cases.BIN}: {e.strerror}")
     except subprocess.TimeoutExpired:
         raise FitError(f"`poroplast columns {scene}` did not answer in 600 s")
     if p.returncode != 0:

@@ -19,7 +19,7 @@ UNITS = {
 }
 MODEL_UNIT = {"force": "mg", "length": "um", "time": "s", "stress": "kPa"}
 # Other spellings of the units above.
-SPELLINGS = {"µN": "uN", "μN": "uN", "µm": "um", "μm": "um", "micron": "um", "microns": "um", "mgf": "mg",
+SPELLINGS = {"µN": "uN", "μN": "uN", "µm": "um", "μm": "um", "micron": "um", "microns": "um", "mgf": "mg", "mg-force": "mg",
              "sec": "s", "secs": "s", "second": "s", "seconds": "s", "mins": "min", "minute": "min",
              "minutes": "min", "hr": "h", "hrs": "h", "hour": "h", "hours": "h", "msec": "ms"}
 # The history.csv columns without a unit suffix that have one (docs/reference-run-directory.md).

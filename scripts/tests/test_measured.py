@@ -88,6 +88,11 @@ class Measured(unittest.TestCase):
         c = self.read("time;force_uN;;\r\n0,5;9,81;;\r\n;;;\r\n1,5;19,62;;\r\n")
         self.assertCurve(c, [0.5, 1.5], [1.0, 2.0])
         self.assertIn("separator semicolon, decimal comma", c.detected)
+        # An instrument's second header line of units.
+        c = self.read("Time;Force;Phase\ns;µN;-\n0,5;9,81;ramp\n")
+        self.assertCurve(c, [0.5], [1.0])
+        self.assertIn("units from the line below the header", c.detected)
+        self.assertIn("value `Force [µN]`", c.detected)
         # Excel's line naming the separator.
         self.assertCurve(self.read("sep=;\r\ntime;force_uN\r\n0,5;9,81\r\n"), [0.5], [1.0])
         # Semicolons with decimal points (also written by Excel in some locales).
@@ -147,6 +152,8 @@ class Measured(unittest.TestCase):
         self.refused("time\tforce_uN\n1\t1,234,567\n", "a thousands separator?")
         self.refused("time;force_uN\n1;1,5\n2;2.5\n", "both decimal marks: `1,5` (line 2) and `2.5` (line 3)")
         self.refused("time force_uN\n1 2\n", "separated by spaces")
+        self.refused("Aggregate 3, 2026-11-02\ntime;force_uN\n1;2\n", "`Aggregate 3, 2026-11-02` is not a header of "
+                     "columns, but line 2 (`time;force_uN`) looks like one: make the lines above it comments")
 
     def test_units_that_do_not_fit_are_refused(self):
         self.refused("time,force\n1,2\n", "the column `force` has no unit: name it with one")
