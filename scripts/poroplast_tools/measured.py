@@ -59,11 +59,17 @@ class Curve(tuple):
         return c
 
 
-def nearest(word, choices):
-    """` (did you mean `X`?)` for the choice nearest `word`, or ``."""
+def closest(word, choices):
+    """The choice nearest `word` (case aside), or None."""
     by_lower = {str(c).lower(): str(c) for c in choices}
     hit = difflib.get_close_matches(str(word).lower(), list(by_lower), n=1, cutoff=0.6)
-    return f" (did you mean `{by_lower[hit[0]]}`?)" if hit else ""
+    return by_lower[hit[0]] if hit else None
+
+
+def nearest(word, choices):
+    """` (did you mean `X`?)` for the choice nearest `word`, or ``."""
+    hit = closest(word, choices)
+    return f" (did you mean `{hit}`?)" if hit else ""
 
 
 def read_curve(path, column, unit=None, data_column=None):
@@ -327,8 +333,12 @@ def _value_column(names, column, unit, data_column, t_col, fail, hline):
         if k is None:
             want = f"`{column}`" + (f", a {model_q} with its unit (e.g. `{'force' if model_q == 'force' else model_q}"
                                     f" [{units.shown(model_unit)}]`)" if model_q else "") + " or `value`"
+            known = [c for cs in units.MODEL_COLUMNS.values() for c in cs]
+            model = closest(column, known) if model_unit is None and column not in known else None
             fail(f"no data column: expected {want}, or one named by --data-column; the header has {names}"
-                 f"{nearest(column, [names[j] for j in others])}", hline)
+                 f"{nearest(column, [names[j] for j in others])}"
+                 + (f"; and `{column}` is no column of the model's history: did you mean `{model}`?" if model else ""),
+                 hline)
     _, u, given = parsed[k]
     if low[k] == column.lower():
         u, given = model_unit, None          # the model's own name: its unit

@@ -24,6 +24,7 @@ SPELLINGS = {"µN": "uN", "μN": "uN", "µm": "um", "μm": "um", "micron": "um",
              "minutes": "min", "hr": "h", "hrs": "h", "hour": "h", "hours": "h", "msec": "ms"}
 # The history.csv columns without a unit suffix that have one (docs/reference-run-directory.md).
 MODEL_COLUMNS = {
+    "force": ("force_total_mg", "force_constitutive_mg", "force_pressure_mg", "force_lower_mg"),
     "length": ("plate_disp", "height", "width", "R1", "R2", "R3", "contact_radius_upper", "contact_radius_lower",
                "max_penetration", "ux", "uy", "uz"),
     "stress": ("probe_p", "stress_xx", "stress_yy", "stress_zz", "max_von_mises"),
@@ -87,7 +88,7 @@ def of_column(column):
         return u
     for q, names in MODEL_COLUMNS.items():
         if column in names:
-            return MODEL_UNIT[q]
+            return MODEL_UNIT[q] if q != "force" else "mg"
     return None
 
 

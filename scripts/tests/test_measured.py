@@ -179,6 +179,10 @@ class Measured(unittest.TestCase):
         self.refused("Tiem,force_uN\n1,2\n", "no time column: expected one named time or t (in s, or with its unit: "
                      "`time [min]`, `time_s`, `t (h)`); the header has ['Tiem', 'force_uN'] (did you mean `Tiem`?)")
         self.refused("time,height\n1,2\n", "no data column: expected `force_total_mg`, a force with its unit")
+        # A model column typed wrong (a solver without `poroplast columns` leaves it to the reader).
+        self.refused("time,force_uN\n1,2\n", "no data column: expected `force_total` or `value`, or one named by "
+                     "--data-column; the header has ['time', 'force_uN'] (did you mean `force_uN`?); and `force_total` "
+                     "is no column of the model's history: did you mean `force_total_mg`?", column="force_total")
         self.refused("time,force_uN\n1,abc\n", "line 2: `abc` in column `force_uN` is not a number")
         self.refused("time,force_uN\n1,#DIV/0!\n", "line 2: `#DIV/0!` in column `force_uN` is not a number")
         self.refused("time,force_uN\n1,1_000\n", "`1_000` in column `force_uN` is not a number")
