@@ -81,7 +81,8 @@ profile68_open, profile95_open the reason per end: "grid", "unconverged", "faile
 collinear_with and trust for a near-collinear parameter; at_bound; profile_lower_cost when a profile
 point beat the optimum); noise (model, s, chi2_per_dof), experiments (per experiment: noise model,
 s, floor, points, rms in the noise model's shape, rms_weighted (residual / sigma), rms_residual in the
-data's unit and that unit), intervals (z and dof), correlation, rms, rms_weighted, runs; and the
+data's unit and that unit), intervals (z and dof), correlation, rms, rms_weighted, runs (made by
+this command), runs_in_all (with those the case store held); and the
 iterations' log. STUDY/calibration.png: data and fit in the data's unit, one column per experiment,
 on a linear and a logarithmic axis; STUDY/profile.png the profiles.
 """
@@ -99,7 +100,7 @@ from poroplast_tools.cases import rank_options, use_rank_options
 from poroplast_tools.fit import LEVELS, FitError, fit, stats
 from poroplast_tools.fitstats import MODELS as NOISE_MODELS, Noise, stacked_weights
 from poroplast_tools.identify import COLLINEAR, report as identifiability
-from poroplast_tools.measured import DataError, read_curve
+from poroplast_tools.measured import Curve, DataError, read_curve
 from poroplast_tools.profile import ATOL, MULTIPLES, profile
 from poroplast_tools.runmodel import Runs, check_names, synthesise
 
@@ -271,8 +272,10 @@ def main():
                    say=lambda s: print(s, flush=True)) if a.profile else None
     if prof:
         print(f"the profile took {runs.count(before)}", flush=True)
-    shown = {e.name: (getattr(curves[e.name], "unit", None), getattr(curves[e.name], "scale", 1.0))
-             for e in experiments}
+    # The unit each experiment's curves and residuals are shown in: its file's (the model's for
+    # a synthetic curve).
+    shown = {e.name: (curves[e.name].unit, curves[e.name].scale) if isinstance(curves[e.name], Curve)
+             else (units.of_column(e.column), 1.0) for e in experiments}
     result = report(a, experiments, params, noises, runs, opt, st, prof, shown)
     (Path(a.dir) / "calibration.json").write_text(json.dumps({"result": result, "log": opt.log}, indent=1))
     fitplots.curves(a.dir, experiments, runs.data, opt.state["histories"], result, params, shown)
@@ -370,6 +373,7 @@ def report(a, experiments, params, noises, runs, opt, st, prof, shown):
     result["rms"] = math.sqrt(float(allr @ allr) / len(allr))
     result["rms_weighted"] = math.sqrt(opt.cost / len(opt.d))
     result["runs"] = runs.ran
+    result["runs_in_all"] = runs.asked
     return result
 
 

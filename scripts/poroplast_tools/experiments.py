@@ -27,7 +27,9 @@ An experiments file (TOML; paths relative to it):
 
 An experiment's keys: name, scene, column, set (after the file's), data, data_column, unit,
 noise, noise_floor, t_min, t_max, synthetic, synthetic_noise, synthetic_floor,
-synthetic_every, seed; the file's: the same but name and data, and [[experiment]]. The command
+synthetic_every, seed; the file's: the same but name and data, and [[experiment]]. An unknown
+key is refused with the nearest valid one, a value of the wrong kind with the kind expected;
+`set` is one override (`set = "time.t_end=2"`) or a list of them. The command
 line's scene, --column, --noise, --noise-floor, --data-unit, --data-column, --t-min and --t-max
 are defaults below the file's; its --set comes before every `set`.
 
