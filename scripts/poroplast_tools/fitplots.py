@@ -22,6 +22,8 @@ def plus_minus(v, s):
     and from 1e5): 1.5019711 ± 0.0052 -> 1.5020 ± 0.0052."""
     if not (math.isfinite(s) and s > 0):
         return f"{v:.4g}"
+    if v and s < 1e-5 * abs(v):            # a σ below the sixth digit: six digits, σ apart
+        return f"{v:.6g} ± {s:.2g}"
     k = math.floor(math.log10(abs(v))) if v and (abs(v) < 1e-3 or abs(v) >= 1e5) else 0
     v, s = v / 10 ** k, s / 10 ** k
     digits = max(0, 1 - math.floor(math.log10(s)))
@@ -44,7 +46,8 @@ def curves(study, experiments, data, histories, result, params, shown):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     ne = len(experiments)
-    fig, axes = plt.subplots(2, ne, figsize=(6.4 if ne == 1 else 4.4 * ne, 7.2), squeeze=False)
+    rows = 2 if any(np.any(np.asarray(vs) > 0) for _, vs in data) else 1    # a log panel: positive data
+    fig, axes = plt.subplots(rows, ne, figsize=(6.4 if ne == 1 else 4.4 * ne, 3.6 * rows + 0.6), squeeze=False)
     for j, (e, h, (ts, vs), info) in enumerate(zip(experiments, histories, data, result["experiments"])):
         unit, scale = shown[e.name]
         what = labels.column(e.column).split(" (")[0]

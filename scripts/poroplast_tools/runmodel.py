@@ -64,8 +64,10 @@ def check_names(experiments, params, sets=(), say=print):
         try:
             cols = scene_columns(e.scene, given)
         except FitError as err:
-            raise FitError(f"experiment `{e.name}` ({e.scene} with " + (" ".join(f"{k}={v}" for k, v in given) or
-                                                                        "no overrides") + f"): {err}")
+            what = " ".join(f"{k}={v}" for k, v in given) or "no overrides"
+            single = e.name == Path(e.scene).stem     # the command line's one experiment
+            raise FitError((f"{e.scene} with {what}" if single else f"experiment `{e.name}` ({e.scene} with {what})")
+                           + f": {err}")
         if cols is None:
             say(f"note: {cases.BIN} has no `columns` subcommand (built before it): the scenes and "
                 "columns are checked at the first run instead")

@@ -22,6 +22,8 @@ class Legend(unittest.TestCase):
         self.assertEqual(fitplots.plus_minus(2.88e5, 3000.0), "(2.880 ± 0.030)e5")
         self.assertEqual(fitplots.plus_minus(2.5e-05, 3e-07), "(2.500 ± 0.030)e-5")
         self.assertEqual(fitplots.plus_minus(5.0, float("nan")), "5")
+        self.assertEqual(fitplots.plus_minus(0.000500000000172, 2.9e-15), "0.0005 ± 2.9e-15")
+        self.assertEqual(fitplots.plus_minus(1.50197110209, 1e-9), "1.50197 ± 1e-09")
 
     def test_values_in_the_scenes_unit(self):
         self.assertEqual(fitplots.legend("material.remodelling.lambda_p", 0.00200987, 2.8e-05),
@@ -61,6 +63,15 @@ class Figure(unittest.TestCase):
         self.assertIn("λp = 0.002000 ± 0.000020 (kPa s)⁻¹", top.get_legend().get_texts()[0].get_text())
         self.assertIn("rms residual 0.01 µN", top.get_title())
         plt.close(figs[0])
+        # A compressive stress (all values below 0): no logarithmic panel.
+        e = exps.Experiment("relax", "relaxation", "stress_zz")
+        params = exps.params(["material.remodelling.lambda_p=0.002"], [e])
+        with mock.patch.object(plt, "close", figs.append):
+            fitplots.curves(study, [e], [(list(t[1:]), -model[1:])], [{"time": t, "stress_zz": -model}], result,
+                            params, {"relax": ("kPa", 1.0)})
+        self.assertEqual(len(figs[1].axes), 1)
+        self.assertEqual(figs[1].axes[0].get_ylabel(), "stress_zz (kPa)")
+        plt.close(figs[1])
 
 
 if __name__ == "__main__":
