@@ -172,6 +172,9 @@ def _decode(path, fail):
         fail("a directory, not a data file")
     except OSError as e:
         fail(f"cannot be read: {e.strerror}")
+    if raw.startswith((b"PK\x03\x04", b"\xd0\xcf\x11\xe0")):
+        fail("an Excel workbook (or another zip or OLE file), not a text table: save the sheet as CSV (Excel: "
+             "File > Save As > CSV UTF-8) and give that file")
     if raw.startswith(b"\xef\xbb\xbf"):
         candidates = [("utf-8-sig", "UTF-8 with a byte-order mark")]
     elif raw.startswith((b"\xff\xfe", b"\xfe\xff")):
@@ -200,7 +203,8 @@ def _lines(text):
 
 
 def _cells(line, sep):
-    """The cells of a line, stripped, quotes removed."""
+    """The cells of a line, stripped, quotes removed; the minus sign U+2212 (copied from a
+    document) read as `-`."""
     if sep is None:
         cells = [line]
     else:
@@ -213,7 +217,7 @@ def _cells(line, sep):
         c = c.strip()
         if len(c) >= 2 and c[0] == c[-1] == '"':
             c = c[1:-1].strip()
-        out.append(c)
+        out.append(c.replace("\u2212", "-"))
     return out
 
 
@@ -429,6 +433,9 @@ def _number(cell, name, comma, fail, n):
         return float(text)
     if text.lower().lstrip("+-") in ("nan", "inf", "infinity"):
         fail(f"`{cell}` in column `{name}`: every value must be a finite number", n)
+    if re.match(r"^\d+:\d\d(:\d\d([.,]\d+)?)?$", cell):
+        fail(f"`{cell}` in column `{name}`: a clock time (h:mm:ss)? Give times as numbers with their unit in the "
+             "header (e.g. `time [s]`: in Excel, format the column as a number of seconds)", n)
     fail(f"`{cell}` in column `{name}` is not a number", n)
 
 

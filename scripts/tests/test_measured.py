@@ -104,6 +104,8 @@ class Measured(unittest.TestCase):
         self.assertIn("not read: `phase`", c.detected)
         # Quoted cells, spaces after the separator.
         self.assertCurve(self.read('"time", "force_uN"\n"1.5", "9.81"\n'), [1.5], [1.0])
+        # The minus sign U+2212, as a document writes it.
+        self.assertCurve(self.read("time,force_uN\n1,\u22129.81\n"), [1.0], [-1.0])
         # Old Mac line ends (CR only).
         c = self.read("time,force_uN\r1,9.81\r2,19.62\r")
         self.assertCurve(c, [1.0, 2.0], [1.0, 2.0])
@@ -205,6 +207,9 @@ class Measured(unittest.TestCase):
             read_curve(Path(self.dir.name), "force_total_mg")
         self.assertIn("a directory", str(e.exception))
         self.refused(b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR", "not a text file")
+        self.refused(b"PK\x03\x04\x14\x00\x06\x00", "an Excel workbook (or another zip or OLE file), not a text "
+                     "table: save the sheet as CSV")
+        self.refused("time,force_uN\n00:01:30,2\n", "line 2: `00:01:30` in column `time`: a clock time (h:mm:ss)?")
 
     def test_times_beyond_the_run_are_refused(self):
         check_within("d.csv", [1.0, 90.0], 90.0)
