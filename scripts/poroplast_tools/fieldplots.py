@@ -125,8 +125,13 @@ class TickLabels:
         from matplotlib.ticker import Formatter
 
         class Labels(Formatter):
+            ticks = ()
+
+            def set_locs(self, locs):
+                self.ticks = locs
+
             def __call__(self, v, pos=None):
-                locs = np.asarray(getattr(self, "locs", []), float)
+                locs = np.asarray(self.ticks, float)
                 steps = np.diff(np.sort(locs))
                 step = steps[steps > 0].min() if (steps > 0).any() else 0.0
                 if step and abs(v) < 1e-6 * step:
@@ -195,7 +200,7 @@ def figure(f, rows, names, out, where, asked, title):
     import matplotlib.pyplot as plt
     notes, drawn, planes = [], {}, []
     fig, axes = plt.subplots(len(rows), len(names), figsize=(3.4 * len(names), 3.2 * len(rows) + 0.4),
-                             squeeze=False, layout="constrained")
+                             squeeze=False)
     for r, k in enumerate(rows):
         try:
             step = Step(f, k)
@@ -237,6 +242,7 @@ def figure(f, rows, names, out, where, asked, title):
     if planes:
         title = f"{title}: section {' / '.join(dict.fromkeys(planes))} of the deformed body"
     fig.suptitle(title, fontsize=10)
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.3 / fig.get_figheight()))   # room for the title
     fig.savefig(out, dpi=110)
     plt.close(fig)
     return drawn, notes

@@ -220,8 +220,9 @@ def history_figure(cases, out, title=None, notes=None, said=None):
         if name.endswith("_uN"):
             force_axis(ax)
     if len(hs) == 1 and "force_total_uN" in names:
-        summary = read_toml(hs[0][2], "summary.toml", notes, None if status(hs[0][2]) else
-                            "the peak and the contact opening are not marked")
+        why = "the peak and the contact opening are not marked"
+        summary = read_toml(hs[0][2], "summary.toml", notes, why + (" (the run has not completed)"
+                                                                    if status(hs[0][2]) else ""))
         mark(axes[names.index("force_total_uN")], summary)
     name_phases(axes[0], shared, t_max)
     if len(hs) > 1:
@@ -319,6 +320,8 @@ def plot(path, wanted=None, fields=None, mid_plane=False):
         raise Nothing("neither a run directory (history.csv) nor a sweep directory (summary.csv and cases/)")
     state = status(path)
     title = path.name + (f": {state}" if state else "")
+    if state:
+        notes.append(f"the run is {state}: drawn as far as it got")
     written, said = [], []
     try:
         history_figure([(path.name, path)], path / "plot_history.png", title, notes, said)

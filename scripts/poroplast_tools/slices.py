@@ -74,10 +74,10 @@ def cut(X, tets, normal, c):
 
 def _cut(X, tets, normal, c):
     X, tets = np.asarray(X, float), np.asarray(tets)[:, :4]
-    n = np.asarray(normal, float) / np.linalg.norm(normal)
+    n = np.asarray(normal, float)
     size = max(np.ptp(X, axis=0).max(), 1.0)
     d = X @ n - c
-    d[np.abs(d) <= ON_PLANE * size] = 0.0
+    d[np.abs(d) <= ON_PLANE * size * np.linalg.norm(n)] = 0.0
     pattern = ((d[tets] > 0) * (1 << np.arange(4))).sum(1)
     cells, pairs = [], []
     for k in range(1, 15):
