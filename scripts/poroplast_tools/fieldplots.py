@@ -259,47 +259,60 @@ def draw(run, wanted=None, names=None, mid_plane=False, notes=None, title=None):
     if f is None:
         return []
     with f:
-        times = f["time"][:]
-        if not len(times):
-            notes.append("fields.h5 has no output yet: no field pictures")
+        try:
+            return pictures(f, run, wanted, names, mid_plane, notes, title)
+        except (OSError, KeyError, ValueError) as e:   # a file still being written, or damaged
+            notes.append(f"fields.h5 could not be read to the end ({str(e).splitlines()[0][:80]}): "
+                         "no field pictures")
             return []
-        have = available(f)
-        if names:
-            names = list(dict.fromkeys(canonical(n) for n in names))
-            missing = [n for n in names if n not in have]
-            if missing:
-                notes.append(f"fields.h5 has no {', '.join(missing)} (it has {', '.join(have)})")
-            names = [n for n in names if n in have]
+
+
+def pictures(f, run, wanted, names, mid_plane, notes, title):
+    """draw()'s work on the open file f."""
+    times = f["time"][:]
+    if not len(times):
+        notes.append("fields.h5 has no output yet: no field pictures")
+        return []
+    have = available(f)
+    if names:
+        names = list(dict.fromkeys(canonical(n) for n in names))
+        vectors = [n for n in names if n not in have and n in f.get("fields", {})]
+        missing = [n for n in names if n not in have and n not in vectors]
+        if vectors:
+            notes.append(f"{', '.join(vectors)}: a vector field, not drawn (the scalar fields: {', '.join(have)})")
+        if missing:
+            notes.append(f"fields.h5 has no {', '.join(missing)} (it has {', '.join(have)})")
+        names = [n for n in names if n in have]
+    else:
+        names = [n for n in DEFAULT if n in have]
+    if not names:
+        notes.append("no field to draw")
+        return []
+    rows = output_times(times, wanted)
+    asked = {}
+    for w in wanted or []:
+        k = int(np.argmin(np.abs(times - w)))
+        asked.setdefault(k, w)
+        if differs(times[k], w):
+            where = f"after the last output ({times[-1]:.6g} s)" if w > times[-1] else "not an output time"
+            notes.append(f"t = {w:g} s is {where}: drawn at the nearest written, {times[k]:.6g} s")
+    meridian = f["mesh/topology"].shape[1] == 6
+    title = title or run.name
+    jobs = [("meridian", run / "plot_fields.png")] if meridian else [("axis", run / "plot_fields.png")]
+    if mid_plane and not meridian:
+        jobs.append(("mid", run / "plot_fields_mid.png"))
+    elif mid_plane:
+        notes.append("a meridian run has no mid-height section (--mid-plane is for 3-D runs)")
+    written = []
+    for where, out in jobs:
+        drawn, more = figure(f, rows, names, out, where, asked, title)
+        notes.extend(more)
+        if drawn:
+            shown = list(dict.fromkeys(k for k, _ in drawn))
+            on = {"meridian": "the deformed meridian", "axis": "the section y = 0 (through the axis)",
+                  "mid": "the section at mid-height"}[where]
+            written.append((out, f"{', '.join(dict.fromkeys(n for _, n in drawn))} at t = "
+                                 + ", ".join(f"{times[k]:.6g}" for k in shown) + f" s on {on}"))
         else:
-            names = [n for n in DEFAULT if n in have]
-        if not names:
-            notes.append("no field to draw")
-            return []
-        rows = output_times(times, wanted)
-        asked = {}
-        for w in wanted or []:
-            k = int(np.argmin(np.abs(times - w)))
-            asked.setdefault(k, w)
-            if differs(times[k], w):
-                where = f"after the last output ({times[-1]:.6g} s)" if w > times[-1] else "not an output time"
-                notes.append(f"t = {w:g} s is {where}: drawn at the nearest written, {times[k]:.6g} s")
-        meridian = f["mesh/topology"].shape[1] == 6
-        title = title or run.name
-        jobs = [("meridian", run / "plot_fields.png")] if meridian else [("axis", run / "plot_fields.png")]
-        if mid_plane and not meridian:
-            jobs.append(("mid", run / "plot_fields_mid.png"))
-        elif mid_plane:
-            notes.append("a meridian run has no mid-height section (--mid-plane is for 3-D runs)")
-        written = []
-        for where, out in jobs:
-            drawn, more = figure(f, rows, names, out, where, asked, title)
-            notes.extend(more)
-            if drawn:
-                shown = list(dict.fromkeys(k for k, _ in drawn))
-                on = {"meridian": "the deformed meridian", "axis": "the section y = 0 (through the axis)",
-                      "mid": "the section at mid-height"}[where]
-                written.append((out, f"{', '.join(dict.fromkeys(n for _, n in drawn))} at t = "
-                                     + ", ".join(f"{times[k]:.6g}" for k in shown) + f" s on {on}"))
-            else:
-                out.unlink(missing_ok=True)
-        return written
+            out.unlink(missing_ok=True)
+    return written

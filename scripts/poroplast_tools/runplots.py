@@ -195,7 +195,9 @@ def history_figure(cases, out, title=None, notes=None, said=None):
             h, problems = {}, [f"history.csv cannot be read ({e.strerror})"]
         prefix = f"{label}: " if len(cases) > 1 else ""
         notes.extend(prefix + p for p in problems)
-        if h and "time" in h:
+        if h and "time" not in h:
+            notes.append(prefix + "history.csv has no time column")
+        elif h:
             hs.append((label, h, d))
     if not hs:
         raise Nothing("no history rows to draw" + (f" ({'; '.join(notes)})" if notes else ""))
@@ -316,6 +318,9 @@ def plot(path, wanted=None, fields=None, mid_plane=False):
         history_figure(cases, out, f"sweep {path.name}: {len(cases)} case(s)", notes, said)
         notes.append("a sweep: the cases' histories overlaid (their fields: plot_run.py CASE_DIR)")
         return [(out, said[0])], notes
+    if not is_run(path) and (path / "cases").is_dir():
+        raise Nothing("a sweep directory without its summary.csv yet: plot a case, plot_run.py "
+                      f"{path / 'cases' / 'CASE'}")
     if not is_run(path):
         raise Nothing("neither a run directory (history.csv) nor a sweep directory (summary.csv and cases/)")
     state = status(path)

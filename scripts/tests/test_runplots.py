@@ -206,6 +206,9 @@ class RunPlots(unittest.TestCase):
         run = write_run(self.root / "run", fields=None, status=None)
         (run / "summary.toml").unlink()
         written, notes = runplots.plot(run)
+        self.assertEqual(notes, ["the run is in progress (no status.txt yet): drawn as far as it got",
+                                 "no summary.toml: the peak and the contact opening are not marked (the run has "
+                                 "not completed)", "no fields.h5 (output.fields = false): no field pictures"])
         fig = runplots.history_figure([("run", run)], self.root / "h.png", runplots.status(run))
         self.assertIn("in progress", fig.get_suptitle())
         self.assertEqual(runplots.status(run), "in progress (no status.txt yet)")
@@ -264,6 +267,12 @@ class RunPlots(unittest.TestCase):
         (run / "history.csv").write_text("step,time,force_total_mg\n")
         with self.assertRaisesRegex(runplots.Nothing, "history.csv has no rows.*output.fields = false"):
             runplots.plot(run)
+        (run / "history.csv").write_text("step,force_total_mg\n0,1.0\n")
+        with self.assertRaisesRegex(runplots.Nothing, "history.csv has no time column"):
+            runplots.plot(run)
+        (self.root / "sweep" / "cases").mkdir(parents=True)
+        with self.assertRaisesRegex(runplots.Nothing, "a sweep directory without its summary.csv yet"):
+            runplots.plot(self.root / "sweep")
 
     def test_a_sweep_overlays_its_cases(self):
         sweep = self.root / "sweep"
@@ -307,8 +316,9 @@ class FieldPictures(unittest.TestCase):
 
     def test_a_meridian_run_draws_porosity_and_says_which_time(self):
         run = write_run(self.root / "run", times=(0.0, 5.0, 15.0))
-        written, notes = runplots.plot(run, wanted=[5.0, 4.0, 100.0], fields=["p", "porosity", "sigma_vm", "q"])
-        self.assertEqual(notes, ["fields.h5 has no q (it has p, porosity, von_mises)",
+        written, notes = runplots.plot(run, wanted=[5.0, 4.0, 100.0], fields=["p", "porosity", "sigma_vm", "q", "u"])
+        self.assertEqual(notes, ["u: a vector field, not drawn (the scalar fields: p, porosity, von_mises)",
+                                 "fields.h5 has no q (it has p, porosity, von_mises)",
                                  "t = 4 s is not an output time: drawn at the nearest written, 5 s",
                                  "t = 100 s is after the last output (15 s): drawn at the nearest written, 15 s"])
         self.assertEqual(written[1][1], "p, porosity, von_mises at t = 5, 15 s on the deformed meridian")
