@@ -58,21 +58,26 @@ def open_fields(run, notes):
     import h5py
     run = Path(run)
     tried = []
-    for path, what in [(run / "fields.h5", None), (run / "checkpoints" / "fields.h5", "the copy at the last checkpoint")]:
+    copy = "the copy at the last checkpoint"
+    for path, what in [(run / "fields.h5", None), (run / "checkpoints" / "fields.h5", copy)]:
         if not path.exists():
             continue
         try:
-            f = h5py.File(path, "r", locking=False)
-            f["time"], f["mesh/topology"]
-        except (OSError, KeyError) as e:
+            f = h5py.File(path, "r", locking=False)   # a run may be writing it
+        except OSError as e:
             tried.append(f"{path.relative_to(run)} cannot be read ({str(e).splitlines()[0][:80]})")
             continue
+        if "time" not in f or "mesh/topology" not in f:
+            f.close()
+            tried.append(f"{path.relative_to(run)} has no /time or /mesh/topology (not a poroplast fields file?)")
+            continue
         if what:
-            notes.append("; ".join(tried) + f": the fields are drawn from {what}, {path.relative_to(run)}")
+            notes.append("; ".join(tried + [f"the fields are drawn from {what}, {path.relative_to(run)}"]))
         else:
             notes.extend(tried)
         return f
-    notes.append("; ".join(tried) + ": no field pictures" if tried else "no fields.h5 (output.fields = false): no field pictures")
+    notes.append("; ".join(tried) + ": no field pictures" if tried
+                 else "no fields.h5 (output.fields = false): no field pictures")
     return None
 
 
