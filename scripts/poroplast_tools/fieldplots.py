@@ -154,10 +154,18 @@ def colorbar(fig, im, ax):
 
 
 def panel(ax, tri, values, on_nodes):
-    """A field on a triangulation: Gouraud-shaded from node values, flat from triangle values."""
+    """A field on a triangulation: filled contours of node values (48 levels: smooth, and no
+    seams along thin triangles as Gouraud shading leaves), flat colours of triangle values.
+    Triangles with a value that is not finite (a diverged step) are left blank."""
+    from matplotlib.tri import Triangulation
+    v = np.asarray(values, float)
+    bad = (~np.isfinite(v[tri.triangles])).any(1) if on_nodes else ~np.isfinite(v)
+    if bad.any():
+        tri = Triangulation(tri.x, tri.y, tri.triangles, mask=bad)
+        v = np.where(np.isfinite(v), v, 0.0)
     if on_nodes:
-        return ax.tripcolor(tri, values, shading="gouraud", cmap="viridis")
-    return ax.tripcolor(tri, facecolors=values, cmap="viridis")
+        return ax.tricontourf(tri, v, levels=48, cmap="viridis")
+    return ax.tripcolor(tri, facecolors=v, cmap="viridis")
 
 
 class Meridian:
@@ -204,8 +212,8 @@ def figure(f, rows, names, out, where, asked, title):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     notes, drawn, planes = [], {}, []
-    fig, axes = plt.subplots(len(rows), len(names), figsize=(3.4 * len(names), 3.2 * len(rows) + 0.4),
-                             squeeze=False)
+    fig, axes = plt.subplots(len(rows), len(names), figsize=(max(3.4 * len(names), 6.0), 3.2 * len(rows) + 0.4),
+                             squeeze=False, layout="constrained")
     for r, k in enumerate(rows):
         try:
             step = Step(f, k)
@@ -247,7 +255,6 @@ def figure(f, rows, names, out, where, asked, title):
     if planes:
         title = f"{title}: section {' / '.join(dict.fromkeys(planes))} of the deformed body"
     fig.suptitle(title, fontsize=10)
-    fig.tight_layout(rect=(0, 0, 1, 1 - 0.3 / fig.get_figheight()))   # room for the title
     fig.savefig(out, dpi=110)
     plt.close(fig)
     return drawn, notes

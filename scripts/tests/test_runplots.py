@@ -360,6 +360,17 @@ class FieldPictures(unittest.TestCase):
         ref = np.stack([tri.x, tri.y, 0 * tri.x + 50.0], 1)
         self.assertLess(np.abs(p - (linear(ref) + 1)).max(), 1e-12)
 
+    def test_values_that_are_not_finite_are_left_blank(self):
+        import matplotlib.pyplot as plt
+        from matplotlib.tri import Triangulation
+        tri = Triangulation([0, 1, 0, 1], [0, 0, 1, 1], [[0, 1, 2], [1, 3, 2]])
+        fig, ax = plt.subplots()
+        # A node value NaN: its triangle blank, the other's values (0, 1, 2) coloured.
+        levels = fieldplots.panel(ax, tri, np.array([0.0, 1.0, 2.0, np.nan]), True).levels
+        self.assertTrue(levels[0] <= 0.0 and 2.0 <= levels[-1] < 2.1, levels)
+        self.assertEqual(list(fieldplots.panel(ax, tri, np.array([1.0, np.nan]), False).get_array()), [1.0])
+        plt.close(fig)
+
     def test_colour_bars_carry_no_offset_label(self):
         f = fieldplots.TickLabels()
         ticks = [0.3999995, 0.4, 0.4000005]
