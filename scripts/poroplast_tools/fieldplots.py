@@ -226,7 +226,7 @@ def figure(f, rows, names, out, where, asked, title):
         if view is not None and getattr(view, "tri", None) is None:
             notes.append(f"output {k}: the section {view.plane} misses the mesh")
             view = None
-        when = f"t = {step.t:.4g} s" if view is not None else f"output {k}"
+        when = f"t = {step.t:.6g} s" if view is not None else f"output {k}"
         if view is not None and asked.get(k) is not None and differs(step.t, asked[k]):
             when += f" (asked {asked[k]:g} s)"
         for c, name in enumerate(names):

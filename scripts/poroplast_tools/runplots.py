@@ -308,7 +308,8 @@ def plot(path, wanted=None, fields=None, mid_plane=False):
     path = Path(path)
     notes = []
     if not path.is_dir():
-        raise Nothing("no such directory" if not path.exists() else "not a directory")
+        raise Nothing("no such directory" if not path.exists() else
+                      f"a file, not a directory: give the run or sweep directory (e.g. {path.parent})")
     if is_sweep(path):
         out = path / "plot_history.png"
         cases = sweep_cases(path, notes)

@@ -264,6 +264,9 @@ class RunPlots(unittest.TestCase):
             runplots.plot(self.root)
         with self.assertRaisesRegex(runplots.Nothing, "no such directory"):
             runplots.plot(self.root / "nowhere")
+        (self.root / "history.csv").write_text("time\n0\n")
+        with self.assertRaisesRegex(runplots.Nothing, "a file, not a directory: give the run or sweep directory"):
+            runplots.plot(self.root / "history.csv")
         run = write_run(self.root / "run", fields=None)
         (run / "history.csv").write_text("step,time,force_total_mg\n")
         with self.assertRaisesRegex(runplots.Nothing, "history.csv has no rows.*output.fields = false"):
