@@ -73,7 +73,9 @@ def failure_cause(case, error, completed):
     if not (finer or stage in ("settling", "first step")):
         return f"{head}: {error}"
     shown = ", ".join(f"{k} = {v:g}" for k, v in sizes.items())
-    lines = [f"{head}. Likely cause: its mesh, not the material: the level's sizes are {shown} µm."]
+    # Another level of the same scene completed: the material carries its weight there.
+    blame = "its mesh, not the material" if finest_done is not None else "its mesh"
+    lines = [f"{head}. Likely cause: {blame}: the level's sizes are {shown} µm."]
     if finer:
         lines.append(f"  Its smallest size, {smallest:g} µm, is {finest_done / smallest:.2g}× finer than that of any "
                      f"level that completed ({finest_done:g} µm).")
