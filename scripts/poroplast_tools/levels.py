@@ -124,7 +124,7 @@ def describe_sizes(scene, hs, sets=()):
     lines = [f"mesh levels: the sizes at h = {h0:g} µm, each level scaled by h/{h0:g}:"]
     lines += [f"  {k} = {v:g} µm ({where})" for k, (v, where) in sizes.items()]
     if set(sizes) == {"h"}:
-        lines.append("  (no h_pole, h_edge, h_surf given: the .geo's defaults follow h)")
+        lines.append("  (no other size given: those of the .geo follow h by its own defaults)")
     for h, level in zip(hs, h_levels(scene, hs, sets)):
         lines.append(f"  level h = {h:g}: " + ", ".join(f"{k.removeprefix('mesh.params.')} = {v}" for k, v in level))
     return lines
