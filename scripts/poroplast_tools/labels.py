@@ -1,9 +1,8 @@
 """Figure labels in the units the docs use (kPa, (MPa s)⁻¹, mm⁴/(N s), µm, mg), not raw scene
 keys: a scene key and its value, a history column, an observable of `study.py`."""
 
-# m/s²: the g of the solver's milligram-force (history.csv's *_mg columns, summary.toml's
-# g_m_s2): 1 mg = G µN.
-G = 9.81
+# m/s²: the g of the solver's milligram-force, one value for every script (units.G).
+from .units import G  # noqa: F401
 
 # scene key -> (symbol, unit, factor from the scene's unit to the unit shown)
 KEYS = {
