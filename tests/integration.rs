@@ -10,6 +10,8 @@ mod bad_input;
 mod common;
 #[path = "io_fields.rs"]
 mod io_fields;
+#[path = "lab_input.rs"]
+mod lab_input;
 #[path = "laplace.rs"]
 mod laplace;
 #[path = "laplace_drop.rs"]

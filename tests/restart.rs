@@ -318,6 +318,38 @@ fn ctrl_c_to_poroplast_mpirun_stops_with_75_and_a_checkpoint() {
     assert_eq!(status.code(), Some(75), "poroplast mpirun's exit code after Ctrl-C");
 }
 
+/// Ctrl-C to `poroplast mpirun` during the set-up (the 3-D quarter: mesh, partition, PETSc,
+/// settling and the first step take a second or more): the launcher holds the stop back until both
+/// ranks catch signals (their files in its ready directory), then the ranks stop at the set-up's
+/// next check with exit code 76 and nothing written, instead of dying of SIGUSR1 (exit 138).
+#[test]
+fn ctrl_c_during_the_set_up_stops_with_76_and_writes_nothing() {
+    let _cores = cores(2);
+    let d = scratch("restart_sigint_setup");
+    let stopped = d.join("stopped");
+    let words = ["mpirun", "-n", "2", "--mpirun-arg=--oversubscribe", "run", "reference", "--out"];
+    let mut child = launch(1)
+        .args(words)
+        .arg(&stopped)
+        .process_group(0)
+        .spawn()
+        .expect("poroplast mpirun could not be started");
+    // Signalled as soon as its ranks are there: at once, the ready directory's files being the
+    // earliest sign of them (a signal before them would be held back too).
+    let ready = std::env::temp_dir().join(format!("poroplast-launch-{}", child.id()));
+    let start = Instant::now();
+    while std::fs::read_dir(&ready).map_or(0, |d| d.count()) < 2 {
+        assert!(child.try_wait().unwrap().is_none(), "the run ended before its ranks were ready");
+        assert!(start.elapsed() < Duration::from_secs(60), "no ready ranks in {} after 60 s", ready.display());
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    signal_group(&child, "-INT");
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(76), "poroplast mpirun's exit code after Ctrl-C in the set-up");
+    assert!(!stopped.exists(), "a run stopped in its set-up wrote {}", stopped.display());
+    assert!(!ready.exists(), "the launcher left its ready directory behind");
+}
+
 #[test]
 fn resume_refuses_what_it_cannot_continue_and_restarts_what_never_checkpointed() {
     let _cores = cores(1); // every run of the test, one at a time

@@ -48,16 +48,13 @@ pub fn run(world: &SimpleCommunicator, args: &RunArgs) -> Result<PathBuf> {
     if args.log != Log::Silent {
         tell_notes(world, &scene);
     }
-    signals::stop_in_setup(world, NOTHING_WRITTEN)?;
+    signals::stop_in_setup(world, signals::NOTHING_WRITTEN)?;
     with_petsc(world, &petsc_args(&scene, &args.petsc), || {
         let mut run = Run::setup(world, &scene, args)?;
-        signals::stop_in_setup(world, NOTHING_WRITTEN)?;
+        signals::stop_in_setup(world, signals::NOTHING_WRITTEN)?;
         run.execute(None)
     })
 }
-
-/// What a run stopped during its set-up has done.
-const NOTHING_WRITTEN: &str = "nothing was written; run the command again";
 
 /// The scene's notes (deprecated keys, likely mistakes) on standard error, by rank 0.
 pub(crate) fn tell_notes(world: &SimpleCommunicator, scene: &LoadedScene) {
@@ -88,7 +85,7 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], log: Log
     resume_from_checkpoint(world, dir, petsc, log).map_err(|e| match e {
         Error::StoppedInSetup(m) => Error::Stopped(format!(
             "{}; continue with `{}`",
-            m.replace(NOTHING_WRITTEN, "the run directory is as it was"),
+            m.replace(signals::NOTHING_WRITTEN, "the run directory is as it was"),
             crate::launch::command(world.size() as usize, &["resume", &dir.display().to_string()])
         )),
         e => e,
@@ -121,7 +118,7 @@ fn resume_from_checkpoint(world: &SimpleCommunicator, dir: &Path, petsc: &[Strin
     };
     with_petsc(world, &petsc_args(&scene, &args.petsc), || {
         let mut run = Run::setup(world, &scene, &args)?;
-        signals::stop_in_setup(world, NOTHING_WRITTEN)?;
+        signals::stop_in_setup(world, signals::NOTHING_WRITTEN)?;
         run.lock = Some(lock);
         let per_elem = run.ts.problem().qp_state_per_elem();
         let fingerprint = checkpoint_file::mesh_fingerprint(world, run.ts.problem().mesh());

@@ -96,7 +96,7 @@ impl<'w> Run<'w> {
         let mut pg = resumed.as_ref().map_or_else(|| Progress::start(self.schedule.dt0), Progress::resumed);
         let (mut step, initial) = self.first_step(&mut pg, stages, resumed.is_none())?;
         // The last moment a stop leaves nothing behind: the outputs open next.
-        super::signals::stop_in_setup(self.world, super::NOTHING_WRITTEN)?;
+        super::signals::stop_in_setup(self.world, super::signals::NOTHING_WRITTEN)?;
         let mut rec = match &resumed {
             Some(c) => self.reopen_output(&out, c)?,
             None => self.open_output(&out)?,

@@ -55,6 +55,9 @@ impl StopRequest {
     }
 }
 
+/// What a run stopped during its set-up has done.
+pub(crate) const NOTHING_WRITTEN: &str = "nothing was written; run the command again";
+
 /// Stops a command asked to stop during its set-up, before it has written anything (collective:
 /// every rank asks at the same point). `what`: what has not been done, for the message.
 pub fn stop_in_setup(world: &SimpleCommunicator, what: &str) -> Result<()> {

@@ -50,10 +50,13 @@ const FLOW_RATE: Quantity = Quantity {
     measured: "remodelling rates λp lie around 1e-6–0.5 (kPa s)⁻¹ (tissue viscosities 2 kPa s–1 GPa s; the paper's 0.001)",
     slips: &[("(MPa s)⁻¹", 1e-3), ("(Pa s)⁻¹", 1e3)],
 };
+/// The longest experiment (s): two days.
+pub(super) const LONGEST_USUAL_TIME: f64 = 2.0 * 86400.0;
+
 const TIME: Quantity = Quantity {
     unit: "s",
     hard: (0.0, 1e7),
-    usual: (0.0, 2.0 * 86400.0),
+    usual: (0.0, LONGEST_USUAL_TIME),
     measured: "experiments last seconds to hours",
     slips: &[("ms", 1e-3)],
 };

@@ -282,9 +282,10 @@ fn a_protocol_table_is_checked() {
         ),
         ("table = [[0.0, 0.0], [5.0]]\n", "plates.table row 2 = [5.0] has 1 number(s)"),
         (
-            "table = [[0.0, 0.0], [5000.0, 0.3], [35000.0, 0.3], [40000.0, 0.0]]\n",
-            "the run ends (time.t_end = 100 s) before the table's second row, at 5000 s: the plates would not finish \
-             their first move. The table's times are seconds (milliseconds? divide them by 1000)",
+            "table = [[0.0, 0.0], [5000.0, 0.3], [350000.0, 0.3], [400000.0, 0.0]]\n",
+            "the run ends (time.t_end = 100 s) before the table's second row, at 5000 s: the plates do not finish \
+             their first move, and the table lasts 400000 s, longer than experiments do. Its times are seconds \
+             (milliseconds? divide them by 1000)",
         ),
     ];
     for (table, part) in cases {
