@@ -19,6 +19,21 @@ pub fn fmt_real(v: f64) -> String {
     }
 }
 
+/// A real for a log line: rounded to 5 significant digits, without trailing zeros (`130.08` for
+/// 130.07980000000003, `2305` for 2305.0000000002); files keep every digit ([`fmt_real`]).
+pub(crate) fn fmt_short(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return fmt_real(x);
+    }
+    let decimals = (4.0 - x.abs().log10().floor()).clamp(0.0, 12.0) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 /// A duration of `s` seconds for a progress line: `42s`, `3m07s`, `2h05m`.
 pub(crate) fn fmt_duration(s: f64) -> String {
     if s < 60.0 {
@@ -32,13 +47,32 @@ pub(crate) fn fmt_duration(s: f64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{fmt_duration, fmt_real};
+    use super::{fmt_duration, fmt_real, fmt_short};
 
     #[test]
     fn durations() {
         assert_eq!(fmt_duration(42.4), "42s");
         assert_eq!(fmt_duration(187.0), "3m07s");
         assert_eq!(fmt_duration(7500.0), "2h05m");
+    }
+
+    #[test]
+    fn short_reals_lose_the_float_noise() {
+        let cases = [
+            (130.07980000000003, "130.08"),
+            (2305.0000000002, "2305"),
+            (17.447330666, "17.447"),
+            (171.158313, "171.16"),
+            (39.172863, "39.173"),
+            (0.0, "0"),
+            (-0.00123456, "-0.0012346"),
+            (1.5e-14, "0"),
+            (123456789.4, "123456789"),
+            (f64::NAN, "NaN"),
+        ];
+        for (x, want) in cases {
+            assert_eq!(fmt_short(x), want, "{x}");
+        }
     }
 
     #[test]
