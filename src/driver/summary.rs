@@ -95,9 +95,7 @@ impl PlateSummary {
             liquid_test,
         })
     }
-}
 
-impl PlateSummary {
     /// `[[hold]]` entries and `[liquid_test]`.
     fn holds_toml(&self, s: &mut String) {
         for (k, r) in self.holds.iter().enumerate() {
@@ -154,8 +152,7 @@ impl PlateSummary {
             }
             lines.push(l);
         }
-        let compressions = |k: usize| self.holds.get(k).map(|r| r.hold.compression);
-        let several = (1..self.holds.len()).any(|k| compressions(k) != compressions(0));
+        let several = self.holds.iter().any(|r| r.hold.compression != self.holds[0].hold.compression);
         match (&self.liquid_test, &self.tensiometry) {
             (Some(t), _) => {
                 let read: Vec<String> =
@@ -556,6 +553,14 @@ mod tests {
         }
         assert!(lines.iter().any(|l| l.starts_with("summary: liquid test, unreliable here: gravity is on")));
         assert!(!lines.iter().any(|l| l.contains("no surface tension")));
+        // Two compressions, one not reached: no verdict, and the log says why.
+        let p = PlateSummary::of(&h, protocol, &[holds[0], holds[2]], Some(setting)).unwrap();
+        assert!(p.liquid_test.is_none());
+        let s = Summary { plates: Some(p), ..s };
+        let lines = s.lines();
+        assert!(lines
+            .contains(&"summary: liquid test: no verdict (σ_app was not read positive at two compressions)".into()));
+        assert!(!toml::from_str::<toml::Table>(&s.toml()).unwrap().contains_key("liquid_test"));
     }
 
     #[test]
