@@ -31,6 +31,8 @@ pub(crate) const RELAXATION_TIMES: f64 = 21.0;
 pub(crate) struct Tensiometry {
     /// γ (mN/m).
     pub gamma: f64,
+    /// The plates' work of adhesion w (mN/m; 0: non-adhesive).
+    pub adhesion: f64,
     /// ρ g R² / γ with the mixture's density ρ = Φs ρs + (1 − Φs) ρf; None without gravity.
     pub bond: Option<f64>,
     /// 1/(λp µ) (s): the deviatoric stress's relaxation time; infinite without remodelling (an
@@ -41,7 +43,8 @@ pub(crate) struct Tensiometry {
 impl Tensiometry {
     /// The scene's, None without surface tension or plates.
     pub(crate) fn of(scene: &Scene) -> Option<Tensiometry> {
-        let gamma = scene.surface.as_ref().map(|s| s.tension).filter(|&t| t > 0.0)?;
+        let surface = scene.surface.as_ref().filter(|s| s.tension > 0.0)?;
+        let (gamma, adhesion) = (surface.tension, surface.adhesion);
         let radius = scene.plates.as_ref()?.radius();
         let (bond, relaxation_s) = match &scene.material {
             Material::Linear { .. } => (None, Some(f64::INFINITY)),
@@ -58,7 +61,7 @@ impl Tensiometry {
                 (bond, relaxation)
             }
         };
-        Some(Tensiometry { gamma, bond, relaxation_s })
+        Some(Tensiometry { gamma, adhesion, bond, relaxation_s })
     }
 }
 
@@ -105,6 +108,13 @@ impl LiquidTest {
                  weight flattens it and lowers σ_app, more at the smaller compression; a lab's medium buoys it \
                  (--set 'material.gravity=[0, 0, 0]' removes the bias)",
                 g(bo)
+            ));
+        }
+        if setting.adhesion > 0.0 {
+            caveats.push(format!(
+                "the plates are adhesive (surface.adhesion = {} mN/m): the surface meets them at less than 180°, and \
+                 σ_app, which counts the Laplace pressure on the contact alone, is not γ",
+                g(setting.adhesion)
             ));
         }
         // The holds read, and how many relaxation times each lasts.
@@ -170,7 +180,7 @@ mod tests {
     }
 
     /// No weight; a relaxation time of 40 s, of which a 1000-s hold lasts 25 (over the 21 needed).
-    const QUIET: Tensiometry = Tensiometry { gamma: 5.0, bond: None, relaxation_s: Some(40.0) };
+    const QUIET: Tensiometry = Tensiometry { gamma: 5.0, adhesion: 0.0, bond: None, relaxation_s: Some(40.0) };
 
     /// docs/studies.md's two compressions at γ = 5 mN/m: the liquid's 0.972 and 1.008 γ (4.86 and
     /// 5.04 mN/m) pass, the yielding aggregate's 3.140 and 2.476 γ (15.70 and 12.38) do not.
@@ -215,7 +225,7 @@ mod tests {
     }
 
     /// The weight is named from a Bond number of 0.01; a hold under 21 relaxation times is
-    /// named; a solid that does not relax is named once.
+    /// named; a solid that does not relax is named once; adhesive plates are named.
     #[test]
     fn the_biases_are_named_where_they_apply() {
         let two = holds(&[(0.15, 1.0), (0.3, 1.02)]);
@@ -237,6 +247,8 @@ mod tests {
         let c = caveats(Tensiometry { relaxation_s: Some(f64::INFINITY), ..QUIET });
         assert!(c.len() == 1 && c[0].starts_with("the solid does not relax"), "{c:?}");
         assert!(caveats(Tensiometry { relaxation_s: None, ..QUIET }).is_empty());
+        let c = caveats(Tensiometry { adhesion: 2.5, ..QUIET });
+        assert!(c.len() == 1 && c[0].starts_with("the plates are adhesive (surface.adhesion = 2.5 mN/m)"), "{c:?}");
     }
 
     /// The shipped scene's numbers: γ = 5 mN/m, ρ = 0.6 × 1000 + 0.4 × 1000 kg/m³, g = 9.81 m/s²,
@@ -249,7 +261,7 @@ mod tests {
             Tensiometry::of(&LoadedScene::load("tst_two_compressions", &sets).unwrap().scene)
         };
         let t = load(&[]).unwrap();
-        assert_eq!(t.gamma, 5.0);
+        assert_eq!((t.gamma, t.adhesion), (5.0, 0.0));
         assert!((t.bond.unwrap() - 0.01962).abs() < 1e-12 && (t.relaxation_s.unwrap() - 50.0).abs() < 1e-12, "{t:?}");
         let t = load(&["material.gravity=[0, 0, 0]", "material.rho_s=1100"]).unwrap();
         assert_eq!(t.bond, None);
