@@ -62,19 +62,29 @@ or after `--max-it` iterations.
     python3 scripts/calibrate.py --experiments aggregates.toml \\
         --param material.remodelling.lambda_p=0.001 --param material.mu@r150=2.5 --dir studies/calib2
 
-`--data`: a CSV file, the format of poroplast_tools/measured.py (docs/user-guide.md): a header
-line, `time` in s and the value, a force in mg, uN or nN (`force_uN`, or --data-unit), lines
-starting with # comments; a malformed file is refused with the problem and its line. A
-synthetic curve for testing the fit: `--synthetic KEY=VALUE ...` runs the scene with those
-values first and fits to its own history (an experiment: `synthetic = {...}`, with noise).
+`--data`: a table of a time and the value as a lab writes it, the formats of
+poroplast_tools/measured.py (docs/reference-data-files.md): a header line naming the columns
+with their units (`time [min]`, `force (µN)`, `F/mN`, `force_uN`: forces converted to the model's
+mg with 1 mg = 9.81 µN), comma, semicolon or tab separators, decimal commas where the separator
+allows, UTF-8 or Windows-1252; one line says what was detected; a malformed or ambiguous file is
+refused with the problem, its line and the fix. A synthetic curve for testing the fit:
+`--synthetic KEY=VALUE ...` runs the scene with those values first and fits to its own history
+(an experiment: `synthetic = {...}`, with noise).
+
+Every name is checked before any run: each experiment's scene with its overrides, synthetic
+values and start values, and its column, by `poroplast columns` (poroplast_tools/runmodel.py,
+check_names; the nearest valid name suggested), then the data files and their columns.
 
 Writes STUDY/calibration.json: per parameter (its label, KEY or KEY@NAME) value, sigma,
 interval68, interval95 (and profile68, profile95 with --profile: null where no end was found,
 profile68_open, profile95_open the reason per end: "grid", "unconverged", "failed", or null;
 collinear_with and trust for a near-collinear parameter; at_bound; profile_lower_cost when a profile
 point beat the optimum); noise (model, s, chi2_per_dof), experiments (per experiment: noise model,
-s, floor, points, rms), intervals (z and dof), correlation, rms, runs; and the iterations' log.
-STUDY/calibration.png: data and fit, one panel per experiment; STUDY/profile.png the profiles.
+s, floor, points, rms in the noise model's shape, rms_weighted (residual / sigma), rms_residual in the
+data's unit and that unit), intervals (z and dof), correlation, rms, rms_weighted, runs (made by
+this command), runs_in_all (with those the case store held); and the
+iterations' log. STUDY/calibration.png: data and fit in the data's unit, one column per experiment,
+on a linear and a logarithmic axis; STUDY/profile.png the profiles.
 """
 import argparse
 import json
@@ -85,14 +95,14 @@ from pathlib import Path
 import numpy as np
 
 from poroplast_tools import experiments as exps
-from poroplast_tools import fitplots
+from poroplast_tools import fitplots, units
 from poroplast_tools.cases import rank_options, use_rank_options
 from poroplast_tools.fit import LEVELS, FitError, fit, stats
 from poroplast_tools.fitstats import MODELS as NOISE_MODELS, Noise, stacked_weights
 from poroplast_tools.identify import COLLINEAR, report as identifiability
-from poroplast_tools.measured import DataError, read_curve
+from poroplast_tools.measured import Curve, DataError, read_curve
 from poroplast_tools.profile import ATOL, MULTIPLES, profile
-from poroplast_tools.runmodel import Runs, synthesise
+from poroplast_tools.runmodel import Runs, check_names, synthesise
 
 
 def single(a):
@@ -101,11 +111,29 @@ def single(a):
         sys.exit("calibrate.py: give a scene and --column, or --experiments FILE")
     if not a.data and not a.synthetic:
         sys.exit("calibrate.py: give --data or --synthetic")
+    if a.data and a.synthetic:
+        sys.exit("calibrate.py: give --data or --synthetic, not both")
+    synthetic = {}
+    for k, v in exps.overrides(a.synthetic, "--synthetic"):
+        try:
+            synthetic[k] = float(v)
+        except ValueError:
+            raise exps.ExperimentError(f"--synthetic `{k}={v}`: `{v}` is not a number")
+    if not a.t_min < a.t_max:
+        raise exps.ExperimentError(f"--t-min {a.t_min:g} is not below --t-max {a.t_max:g}: no data between")
     return exps.Experiment(
-        name=Path(a.scene).stem, scene=a.scene, column=a.column, data=None if a.synthetic else a.data,
+        name=Path(a.scene).stem, scene=a.scene, column=a.column, data=a.data,
         data_column=a.data_column, unit=a.data_unit,
         noise=a.noise or ("relative+floor" if a.noise_floor is not None else None), noise_floor=a.noise_floor,
-        t_min=a.t_min, t_max=a.t_max, synthetic={k: float(v) for k, v in (s.split("=", 1) for s in a.synthetic)})
+        t_min=a.t_min, t_max=a.t_max, synthetic=synthetic)
+
+
+def floor_type(text):
+    """--noise-floor's type: exps.floor_value, its message kept by argparse."""
+    try:
+        return exps.floor_value(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e))
 
 
 def main():
@@ -116,8 +144,9 @@ def main():
     ap.add_argument("--column", help="history.csv column to fit (e.g. force_total_mg)")
     ap.add_argument("--data", help="CSV with time and the measured value (see the format above)")
     ap.add_argument("--data-column", help="the data's column (default: found from --column's name)")
-    ap.add_argument("--data-unit", choices=["mg", "uN", "nN"],
-                    help="the data's force unit (default: the column name's suffix, else mg)")
+    ap.add_argument("--data-unit", metavar="UNIT",
+                    help="the data value's unit when its column's name has none: a force in mg, N, mN, uN (µN), nN, "
+                         "pN (converted with 1 mg = 9.81 µN), a length in um, nm, mm, m, a stress in kPa, Pa, MPa")
     ap.add_argument("--synthetic", action="append", default=[], metavar="KEY=VALUE",
                     help="fit to the scene's own curve with these values (a test of the fit)")
     ap.add_argument("--noise", choices=NOISE_MODELS,
@@ -125,7 +154,7 @@ def main():
                          "proportional to the value (relative), each point's sigma from the data file (data), or "
                          "relative above a given floor (relative+floor, --noise-floor); default: data if the file "
                          "has a sigma column, else absolute")
-    ap.add_argument("--noise-floor", type=exps.floor_value, metavar="F[UNIT]",
+    ap.add_argument("--noise-floor", type=floor_type, metavar="F[UNIT]",
                     help="relative+floor (implied without --noise): the floor's sigma, in the column's unit or with one "
                          "(0.05uN, 0.5nN)")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
@@ -146,7 +175,6 @@ def main():
                     help="the others' re-optimisation at a profile point: at most this many LM steps")
     a = ap.parse_args()
     sweep = use_rank_options(a)["sweep"]
-    Path(a.dir).mkdir(parents=True, exist_ok=True)
     try:
         if a.experiments:
             given = {"scene": a.scene, "column": a.column, "noise": a.noise, "noise_floor": a.noise_floor,
@@ -158,12 +186,20 @@ def main():
         else:
             experiments = [single(a)]
         params = exps.params(a.param, experiments)
-        multiples = [float(m) for m in a.profile_grid.split(",")]
-    except (exps.ExperimentError, ValueError) as e:
+        sets = exps.overrides(a.set, "--set")
+        try:
+            multiples = [float(m) for m in a.profile_grid.split(",")]
+        except ValueError:
+            raise exps.ExperimentError(f"--profile-grid `{a.profile_grid}`: expected numbers separated by commas")
+    except exps.ExperimentError as e:
         sys.exit(f"calibrate.py: {e}")
-    runs = Runs(a.dir, experiments, params, [tuple(s.split("=", 1)) for s in a.set], a.ranks, sweep, a.jobs)
 
-    # The data (files before any run; synthetic curves from one batch), their noise models.
+    # Every name before any run: the scenes, overrides, start values and columns (the solver's
+    # `columns`), then the data files (the synthetic curves from one batch), their noise models.
+    try:
+        check_names(experiments, params, sets, say=lambda s: print(s, flush=True))
+    except FitError as err:
+        sys.exit(f"calibrate.py: {err}")
     curves = {}
     for e in experiments:
         if e.data:
@@ -171,6 +207,9 @@ def main():
                 curves[e.name] = read_curve(e.data, e.column, e.unit, e.data_column)
             except DataError as err:
                 sys.exit(f"calibrate.py: {err}")
+            print(f"read {curves[e.name].detected}", flush=True)
+    Path(a.dir).mkdir(parents=True, exist_ok=True)
+    runs = Runs(a.dir, experiments, params, sets, a.ranks, sweep, a.jobs)
     try:
         curves.update({k: (t, v, None) for k, (t, v) in synthesise(runs, experiments).items()})
     except FitError as err:
@@ -179,6 +218,9 @@ def main():
     for e in experiments:
         td, vd, sd = curves[e.name]
         keep = [i for i, t in enumerate(td) if e.t_min <= t <= e.t_max and t > 0]
+        if not keep:
+            sys.exit(f"calibrate.py: {e.data or e.name}: no data point between t_min = {e.t_min:g} and t_max = "
+                     f"{e.t_max:g} s (the data's times: {min(td):g} to {max(td):g} s)")
         ts, vs = np.array(td)[keep], np.array(vd)[keep]
         runs.data.append((list(ts), vs))
         e.noise = e.noise or ("data" if sd is not None else "absolute")
@@ -195,7 +237,9 @@ def main():
         """Prints the sensitivity table at the start point and the near-collinear pairs; exits
         naming every parameter that moves no data point."""
         values = np.concatenate([vs for _, vs in runs.data])
-        lines, refusals, warnings = identifiability(jac, keys, math.sqrt(float(values @ values) / len(values)))
+        column_units = {units.of_column(e.column) for e in experiments}
+        unit = units.shown(column_units.pop()) if len(column_units) == 1 and None not in column_units else ""
+        lines, refusals, warnings = identifiability(jac, keys, math.sqrt(float(values @ values) / len(values)), unit)
         print("\n".join(lines), flush=True)
         for msg in warnings:
             print(f"calibrate.py: warning: {msg}", flush=True)
@@ -222,21 +266,28 @@ def main():
     except DataError as e:
         sys.exit(f"calibrate.py: {e}")
     st = stats(opt, any(noise.estimated for noise in noises))
-    before = runs.ran
+    fitted = runs.count()
+    before = (runs.asked, runs.ran)
     prof = profile(runs.evaluate, opt, st, keys, multiples, a.profile_max_it, ATOL,
                    say=lambda s: print(s, flush=True)) if a.profile else None
     if prof:
-        print(f"the profile took {runs.ran - before} runs", flush=True)
-    result = report(a, experiments, params, noises, runs, opt, st, prof)
+        print(f"the profile took {runs.count(before)}", flush=True)
+    # The unit each experiment's curves and residuals are shown in: its file's (the model's for
+    # a synthetic curve).
+    shown = {e.name: (curves[e.name].unit, curves[e.name].scale) if isinstance(curves[e.name], Curve)
+             else (units.of_column(e.column), 1.0) for e in experiments}
+    result = report(a, experiments, params, noises, runs, opt, st, prof, shown)
     (Path(a.dir) / "calibration.json").write_text(json.dumps({"result": result, "log": opt.log}, indent=1))
-    fitplots.curves(a.dir, experiments, runs.data, opt.state["histories"], result, keys)
+    fitplots.curves(a.dir, experiments, runs.data, opt.state["histories"], result, params, shown)
     if prof:
         fitplots.profiles(a.dir, opt, st, prof, keys)
-    print(f"rms residual {result['rms']:.3g}, {runs.ran} runs; {Path(a.dir) / 'calibration.json'}")
+    print(f"{runs.count()} in all" + (f", the fit's {fitted} and the profile's {runs.count(before)}" if prof else "")
+          + f"; {Path(a.dir) / 'calibration.json'}")
 
 
-def report(a, experiments, params, noises, runs, opt, st, prof):
-    """calibration.json's result, printed as it is made."""
+def report(a, experiments, params, noises, runs, opt, st, prof, shown):
+    """calibration.json's result, printed as it is made; `shown`: per experiment the data's
+    unit and its factor to the model's (the residuals are printed in the data's unit)."""
     keys = [p.label for p in params]
     _, scales = stacked_weights(noises, opt.d, len(keys))
     result = {}
@@ -279,12 +330,19 @@ def report(a, experiments, params, noises, runs, opt, st, prof):
     for e, noise, s, (ts, vs) in zip(experiments, noises, scales, runs.data):
         # In the noise model's shape: the data's unit (absolute), a fraction of the value
         # (relative, and relative+floor above its floor), the stated sigma (data).
-        rel = opt.w[at:at + len(ts)] * opt.d[at:at + len(ts)] * (s if noise.estimated and s > 0 else 1.0)
+        part = slice(at, at + len(ts))
+        rel = opt.w[part] * opt.d[part] * (s if noise.estimated and s > 0 else 1.0)
         at += len(ts)
         shapes.append(rel)
+        unit, scale = shown[e.name]
+        plain = math.sqrt(float(opt.d[part] @ opt.d[part]) / len(ts)) / scale
+        weighted = math.sqrt(float((opt.w[part] * opt.d[part]) @ (opt.w[part] * opt.d[part])) / len(ts))
         result["experiments"].append({"name": e.name, "scene": e.scene, "column": e.column, "points": len(ts),
                                       "noise": e.noise, "s": s, "floor": e.noise_floor,
-                                      "rms": math.sqrt(float(rel @ rel) / len(ts))})
+                                      "rms": math.sqrt(float(rel @ rel) / len(ts)),
+                                      "rms_weighted": weighted, "rms_residual": plain, "unit": unit})
+        print(f"{e.name}: rms residual {plain:.3g}{' ' + units.shown(unit) if unit else ''} (model − data, "
+              f"{len(ts)} points); weighted rms {weighted:.3g} (residual / sigma of the noise model)", flush=True)
         print(f"{e.name}: noise model {e.noise}: " + {
             "absolute": f"sigma estimated from the residuals: {s:.3g}",
             "relative": f"sigma/value estimated from the residuals: {s:.3g}",
@@ -313,7 +371,9 @@ def report(a, experiments, params, noises, runs, opt, st, prof):
                                              for i in range(len(keys)) for j in range(i + 1, len(keys))))
     allr = np.concatenate(shapes)
     result["rms"] = math.sqrt(float(allr @ allr) / len(allr))
+    result["rms_weighted"] = math.sqrt(opt.cost / len(opt.d))
     result["runs"] = runs.ran
+    result["runs_in_all"] = runs.asked
     return result
 
 

@@ -1,7 +1,10 @@
 """Convergence study: mesh levels × time-step levels, Richardson extrapolation.
 
-Runs a scene at mesh sizes h (mesh.params.h, with the other sizes — h_pole, h_edge, from the
-scene or --set — scaled in proportion) and time-step scales s (every step scaled by s: time.dt,
+Runs a scene at mesh sizes h (mesh.params.h, with the other sizes — h_pole, h_edge, h_surf —
+scaled in proportion from those a run with the study's --set overrides would mesh with: a size
+given in µm, in the scene or by --set, wins over the scene's mesh.relative_sizes, so `--set
+mesh.params.h=10 --set mesh.params.h_pole=2` gives h_pole = 2.82 at h = 14.1; the log lists the
+sizes each level uses and where they come from) and time-step scales s (every step scaled by s: time.dt,
 time.dt_max and time.error_tolerance multiplied by s, time.growth raised to the power s;
 `levels.refined_steps`): each mesh level at one step level and each step level on one mesh (a
 cross; --full: every combination), as one batch (one `poroplast sweep` on --ranks ranks,
@@ -23,11 +26,17 @@ the sweep's list) it estimates
     outside [0.5, 4] — the formal order is used instead (--formal-h 2, --formal-t 1: P2–P1 and
     backward Euler), the safety factor is 3, and the bar is at least the spread of the two
     finest levels; convergence.csv says which (`order_h`, `order_t`: observed or formal),
-  * the error of every case against Q*.
+  * the error of every case against Q*, as a fraction of |Q*|.
+
+A level that fails is named with its likely cause: when it failed while settling under gravity or
+in its first step, or its mesh is much finer than the levels that completed, its sizes (the mesh
+level, not the material, is then the likely cause); the study then exits with 1.
 
 The extrapolation is `poroplast_tools/richardson.py`'s. Writes STUDY/summary.csv (h, dt_scale,
 status, the counters and observables of each case), STUDY/convergence.csv (observable, Q*, error bar,
-p_h, p_t, the finest mesh's value at the mesh sequence's steps), STUDY/errors.csv (every case's error per observable), and
+p_h, p_t, the finest mesh's value at the mesh sequence's steps), STUDY/errors.csv (every case's relative error per observable, a fraction:
+columns `<observable>_relerr_fraction`), STUDY/levels.txt (the sizes of each level, and each failed
+level's cause), and
 STUDY/conv_<observable>.png (error against h per Δt level, and against Δt per mesh).
 
     python3 scripts/convergence_study.py reference --h 30,25,20,15 --dt-scale 1,0.5,0.25,0.125 \\
@@ -37,11 +46,13 @@ STUDY/conv_<observable>.png (error against h per Δt level, and against Δt per 
 import argparse
 import csv
 import math
+import subprocess
 import sys
 from pathlib import Path
 
-from poroplast_tools.cases import rank_options, use_rank_options
-from poroplast_tools.convergence import run_study
+from poroplast_tools.cases import BIN, rank_options, use_rank_options
+from poroplast_tools.convergence import cross, failure_cause, run_study
+from poroplast_tools.levels import describe_sizes
 from poroplast_tools.richardson import converge
 from poroplast_tools.tables import write_rows
 
@@ -71,9 +82,26 @@ def main():
     if H not in hs or S not in ss:
         sys.exit(f"convergence_study.py: --time-mesh {H:g} must be one of --h and --mesh-steps {S:g} one of --dt-scale")
     root = Path(a.dir)
+    check_scene(a.scene, a.set)
+    sizes = describe_sizes(a.scene, hs, a.set)
+    print("\n".join(sizes), flush=True)
     root.mkdir(parents=True, exist_ok=True)
     results = {k: r for k, (_, r) in run_study(a.scene, hs, ss, a.set, root, a.ranks, a.observe, H, S,
                                                 a.full).items()}
+    cases = cross(a.scene, hs, ss, a.set, H, S, a.full)[0]
+    completed = [ov for h, s, ov in cases if results[(h, s)]["status"] == "ok"]
+    causes = [failure_cause((h, s, ov), results[(h, s)].get("error", ""), completed)
+              for h, s, ov in cases if results[(h, s)]["status"] != "ok"]
+    errors = {results[(h, s)].get("error", "") for h, s, _ in cases}
+    if not completed and len(errors) == 1:
+        # One error for every level (a typo in a key, a scene that does not run): said once.
+        causes = [f"every level failed: {failure_cause(cases[-1], errors.pop(), completed)}"]
+    (root / "levels.txt").write_text("\n".join(sizes + causes) + "\n")
+    if causes:
+        print("\n".join(causes), file=sys.stderr, flush=True)
+    if not completed:
+        sys.exit(f"convergence_study.py: no level completed (above; also in {root / 'levels.txt'}): nothing to "
+                 f"extrapolate")
     # The summary's numbers: the counters, then the observables (every spec holds ':' or '@').
     numbers = [k for k in next(iter(results.values())) if k not in ("status", "error")]
     observe = [k for k in numbers if ":" in k or "@" in k]
@@ -91,7 +119,8 @@ def main():
     ref = {r["observable"]: r["extrapolated"] for r in rows}
     with open(root / "errors.csv", "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["h", "dt_scale", "wall_s"] + observe)
+        # Relative errors |Q − Q*| / |Q*|: fractions (0.001 = 0.1%), as the column names say.
+        w.writerow(["h", "dt_scale", "wall_s"] + [f"{o}_relerr_fraction" for o in observe])
         for (h, s), r in results.items():
             w.writerow([h, s, r.get("wall_s", float("nan"))]
                        + [abs(r.get(o, float("nan")) - ref[o]) / abs(ref[o]) if ref[o] else float("nan")
@@ -101,6 +130,21 @@ def main():
         print(f"{r['observable']:24} {r['extrapolated']:14.6g} {r['error_bar']:10.2g} {r['p_h']:6.2f} "
               f"{r['p_t']:6.2f} {r['finest']:12.6g}  h {r['order_h']}, dt {r['order_t']}")
     plot(root, hs, ss, results, observe, ref)
+    if causes:
+        sys.exit(f"convergence_study.py: {len(causes)} of {len(cases)} levels failed (above; also in "
+                 f"{root / 'levels.txt'}): the extrapolation uses the others, NaN where it needs them")
+
+
+def check_scene(scene, sets):
+    """Exits with the binary's message if the scene with the study's overrides does not load
+    (an unknown scene or key, a bad value): before any size is read or any case launched."""
+    try:
+        r = subprocess.run([str(BIN), "show", "--explain", str(scene), *[f"--set={s}" for s in sets]],
+                           capture_output=True, text=True)
+    except OSError as e:
+        sys.exit(f"convergence_study.py: cannot run {BIN} ({e}): build it (cargo build --release) or set POROPLAST_BIN")
+    if r.returncode != 0:
+        sys.exit(f"convergence_study.py: {scene} with the study's --set does not load:\n{r.stderr.strip()}")
 
 
 def plot(root, hs, ss, results, observe, ref):

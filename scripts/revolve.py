@@ -1,7 +1,13 @@
 """The revolved 3-D view of an axisymmetric (meridian) run, with ParaView (run with pvpython).
 
-Usage: pvpython [--force-offscreen-rendering] scripts/revolve.py RUN_DIR [--time T] [--field p]
+Usage: [xvfb-run -a] pvpython scripts/revolve.py RUN_DIR [--time T] [--field p]
                 [--angle 270] [--png FILE] [--vtu FILE]
+
+--png renders, and Debian's ParaView renders through X: without a display (a server, a
+container, an ssh session without X forwarding) it crashes with SIGSEGV, even with
+--force-offscreen-rendering. Run it under a virtual display, `xvfb-run -a pvpython ...`
+(ci/setup-paraview.sh installs xvfb with ParaView); the script refuses --png without one. --vtu
+and the printed sizes need no display.
 
 The meridian lies in the x-z plane (x = r). The pipeline is the one to build in the ParaView GUI:
 XDMF reader -> Warp By Vector (u, in the meridian plane, before revolving) -> Extract Surface ->
@@ -11,9 +17,28 @@ Prints the revolved surface's size and bounds.
 """
 import argparse
 import os
+import sys
 
-from paraview import servermanager as sm
-from paraview import simple
+FIX = "run it under a virtual display: xvfb-run -a pvpython scripts/revolve.py ... (ci/setup-paraview.sh installs xvfb)"
+
+
+def renders_through_x():
+    """Whether this ParaView renders through X (Debian's build) rather than off-screen (an EGL or
+    OSMesa build); when it cannot tell, X. Creating a render window opens no display."""
+    try:
+        import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (registers the platform's window)
+        from vtkmodules.vtkRenderingCore import vtkRenderWindow
+        return "XOpenGL" in vtkRenderWindow().GetClassName()
+    except Exception:
+        return True
+
+
+def no_display():
+    """Why ParaView cannot render here (None if it can): on Linux without a display, a ParaView
+    that renders through X crashes (SIGSEGV) instead of saying so."""
+    if sys.platform.startswith("linux") and not os.environ.get("DISPLAY") and renders_through_x():
+        return "no display (DISPLAY is not set), and this ParaView's rendering crashes without one"
+    return None
 
 
 def main():
@@ -26,6 +51,17 @@ def main():
     ap.add_argument("--vtu", default=None)
     a = ap.parse_args()
     xdmf = os.path.join(os.path.abspath(a.run_dir), "fields.xdmf")
+    if not os.path.isfile(xdmf):
+        sys.exit(f"revolve.py: {xdmf} does not exist: give a run directory with fields (output.fields = true)")
+    why = no_display() if a.png else None
+    if why:
+        sys.exit(f"revolve.py: --png renders, but there is {why}: {FIX}. (--vtu needs no display.)")
+    try:
+        from paraview import servermanager as sm
+        from paraview import simple
+    except ImportError:
+        sys.exit("revolve.py: ParaView's Python modules are not here: run it with ParaView's pvpython "
+                 "(pvpython scripts/revolve.py ...; ci/setup-paraview.sh installs it)")
     reader = simple.Xdmf3ReaderT(FileName=[xdmf])
     reader.UpdatePipelineInformation()
     times = list(reader.TimestepValues or [0.0])

@@ -3,6 +3,7 @@
 //! - `poroplast resume DIR [-q] [-- PETSC OPTIONS]` (continue from the last checkpoint)
 //! - `poroplast check SCENE [--set KEY=VALUE ...] [-- PETSC OPTIONS]`
 //! - `poroplast sweep STUDY.toml [--ranks-per-case k] [--out DIR] [--cases-dir DIR] [-q] [-- PETSC OPTIONS]`
+//! - `poroplast plot DIR [ARGS]` (scripts/plot_run.py), `poroplast columns SCENE [--set KEY=VALUE ...]`
 //! - `poroplast scenes [--keys]`, `poroplast show NAME`, `poroplast show --explain NAME|FILE [--set KEY=VALUE ...]`
 //!
 //! The `///` comments below are clap's help text, printed as written: brackets and angle
@@ -28,7 +29,7 @@ pub enum Command {
     /// Writes DIR/history.csv (one row per step), DIR/fields.h5 + DIR/fields.xdmf (open the
     /// .xdmf in ParaView), DIR/scene.toml (the resolved scene), DIR/petsc_options.txt,
     /// DIR/timings.txt and, at the end, DIR/summary.toml (peak force, force at the end of the
-    /// hold, contact opening, H/W, largest p; draw the run with `scripts/plot_run.py DIR`). PETSc
+    /// hold, contact opening, H/W, largest p; draw the run with `poroplast plot DIR`). PETSc
     /// options go after `--`, e.g.
     /// `mpirun -n 2 poroplast run cryer -- -ksp_monitor -log_view`.
     Run {
@@ -123,6 +124,29 @@ pub enum Command {
         /// The poroplast command and its arguments: run, resume, sweep, check.
         #[arg(trailing_var_arg = true, allow_hyphen_values = true, required = true, value_name = "COMMAND")]
         command: Vec<String>,
+    },
+    /// Draw a run or sweep directory into PNGs beside it (runs `python3 scripts/plot_run.py`).
+    ///
+    /// The history (force in µN and mg, probe pressure, H/W against time, the protocol's phases
+    /// shaded) and, where the run wrote fields, pictures of p, σ_VM and the porosity: on the
+    /// meridian, or on slices of a 3-D run. No ParaView and no display needed. Arguments after
+    /// DIR go to the script, e.g. `poroplast plot runs/x --times 5,35`; `poroplast plot --help`
+    /// lists them. The script is found beside this build's sources, or at `$POROPLAST_SCRIPTS`.
+    Plot {
+        /// The run or sweep directory, then the script's own options.
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true, required = true, value_name = "DIR [ARGS]")]
+        args: Vec<String>,
+    },
+    /// Print the columns of the history.csv a run of the scene writes, one per line.
+    ///
+    /// The scene is loaded and validated with its overrides, as `run` would (no mesh is built):
+    /// scripts check the names of observables and fitted columns with it before running anything.
+    Columns {
+        /// A scene file (.toml) or the name of a shipped scene.
+        scene: String,
+        /// Override a scene value (as for `run`).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
     },
     /// List the scenes shipped in the binary.
     Scenes {

@@ -43,6 +43,9 @@ pub enum Error {
     /// The run stopped on request (a signal) after writing a checkpoint.
     #[error("{0}")]
     Stopped(String),
+    /// A run stopped on request (a signal) during its set-up, before it wrote anything.
+    #[error("{0}")]
+    StoppedInSetup(String),
     /// A sweep that cannot start (bad study, rank count), or whose cases failed.
     #[error("sweep: {0}")]
     Sweep(String),

@@ -19,8 +19,12 @@ pub(crate) mod observe;
 pub(crate) mod parallel;
 pub mod petsc;
 pub(crate) mod physics;
+pub mod plot;
 pub(crate) mod range;
 pub mod reference_cell;
 pub mod scene;
 pub mod solver;
+pub(crate) mod spelling;
 pub mod sweep;
+
+pub use observe::observers::history_column_names;

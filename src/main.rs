@@ -9,6 +9,20 @@ use poroplast::sweep::{self, SweepArgs};
 
 fn main() {
     let cli = Cli::parse();
+    // From here on a stop signal to a command on MPI ranks is a request, set-up included
+    // (`driver::signals`): never the default action, which would kill a rank mid-way (and its
+    // mpirun job with "exited on signal"). The launcher and the listings keep the defaults.
+    let _stop = matches!(
+        cli.command,
+        Command::Run { .. } | Command::Resume { .. } | Command::Check { .. } | Command::Sweep { .. }
+    )
+    .then(|| match poroplast::driver::signals::StopRequest::install() {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("poroplast: error: {e}");
+            std::process::exit(1);
+        }
+    });
     if let Command::Scenes { keys } = cli.command {
         if keys {
             console::print(&poroplast::scene::reference::reference());
@@ -17,6 +31,27 @@ fn main() {
         for (name, text) in BUILTIN {
             let desc = text.lines().find_map(|l| l.strip_prefix("description = ")).unwrap_or("").trim_matches('"');
             console::line(&format!("{name:20} {desc}"));
+        }
+        return;
+    }
+    if let Command::Plot { args } = &cli.command {
+        match poroplast::plot::plot(args) {
+            Ok(code) => std::process::exit(code),
+            Err(e) => {
+                eprintln!("poroplast: error: {e}");
+                std::process::exit(1);
+            }
+        }
+    }
+    if let Command::Columns { scene, set } = &cli.command {
+        // No MPI: loading a scene is serial.
+        let names = poroplast::scene::LoadedScene::load(scene, set).and_then(|s| poroplast::history_column_names(&s));
+        match names {
+            Ok(names) => console::print(&names.iter().map(|n| format!("{n}\n")).collect::<String>()),
+            Err(e) => {
+                eprintln!("poroplast: error: {e}");
+                std::process::exit(1);
+            }
         }
         return;
     }
@@ -68,6 +103,8 @@ fn main() {
             eprintln!("poroplast: note: could not restart with OPENBLAS_CORETYPE={kernel} ({err}); continuing");
         }
     }
+    // Past the re-exec: this process catches stop signals for good (see `launch`).
+    poroplast::launch::mark_ready();
     singleton_defaults();
     let Some(universe) = mpi::initialize() else {
         eprintln!("poroplast: MPI could not be initialised");
@@ -77,11 +114,11 @@ fn main() {
     let rank0 = mpi::traits::Communicator::rank(&world) == 0;
     let result = match cli.command {
         Command::Run { scene, set, out, force, quiet, petsc } => {
-            driver::run(&world, &RunArgs { scene, set, out, force, petsc, progress: !quiet })
+            driver::run(&world, &RunArgs { scene, set, out, force, petsc, log: log_level(quiet) })
                 .map(|dir| dir.display().to_string())
         }
         Command::Resume { dir, quiet, petsc } => {
-            driver::resume(&world, &dir, &petsc, !quiet).map(|dir| dir.display().to_string())
+            driver::resume(&world, &dir, &petsc, log_level(quiet)).map(|dir| dir.display().to_string())
         }
         Command::Check { scene, set, petsc } => driver::check(&world, &scene, &set, &petsc),
         Command::Sweep { study, ranks_per_case, out, cases_dir, quiet, petsc } => {
@@ -89,7 +126,11 @@ fn main() {
             sweep::sweep(&world, &args).map(|dir| format!("summary: {}", dir.join("summary.csv").display()))
         }
         // Answered above, before MPI.
-        Command::Scenes { .. } | Command::Show { .. } | Command::Mpirun { .. } => return,
+        Command::Scenes { .. }
+        | Command::Show { .. }
+        | Command::Mpirun { .. }
+        | Command::Plot { .. }
+        | Command::Columns { .. } => return,
     };
     let code = match result {
         Ok(msg) => {
@@ -104,6 +145,12 @@ fn main() {
             }
             driver::EXIT_STOPPED
         }
+        Err(e @ poroplast::error::Error::StoppedInSetup(_)) => {
+            if rank0 {
+                eprintln!("poroplast: {e}");
+            }
+            driver::EXIT_STOPPED_IN_SETUP
+        }
         Err(e) => {
             if rank0 {
                 eprintln!("poroplast: error: {e}");
@@ -114,6 +161,15 @@ fn main() {
     drop(world);
     drop(universe);
     std::process::exit(code);
+}
+
+/// `-q` drops the per-step progress lines only: the scene's notes, the set-up and the summary stay.
+fn log_level(quiet: bool) -> driver::Log {
+    if quiet {
+        driver::Log::Quiet
+    } else {
+        driver::Log::Steps
+    }
 }
 
 /// Started without a launcher (no rank in the environment), this process is an MPI singleton:

@@ -16,6 +16,8 @@ mod laplace;
 mod laplace_drop;
 #[path = "plates.rs"]
 mod plates;
+#[path = "plot.rs"]
+mod plot;
 #[path = "remodelling.rs"]
 mod remodelling;
 #[path = "restart.rs"]

@@ -15,7 +15,8 @@
   * fit         least squares over an abstract model: Levenberg-Marquardt (several searches in
                 step, one batch per iteration), re-weighting, standard errors, Wald intervals
   * profile     profile-likelihood intervals, the others re-optimised by fit's LM
-  * fitstats    noise models and their weights, quantiles; measured: a lab's CSV curve;
+  * fitstats    noise models and their weights, quantiles; measured: a lab's data file;
+                units: units in column names, the one g (9.81 m/s²);
                 identify: identifiability at the start; experiments: a calibration's
                 experiments file and parameters
   * runmodel    a fit's model: the experiments' runs at parameter points; fitplots: its figures

@@ -27,7 +27,9 @@ An experiments file (TOML; paths relative to it):
 
 An experiment's keys: name, scene, column, set (after the file's), data, data_column, unit,
 noise, noise_floor, t_min, t_max, synthetic, synthetic_noise, synthetic_floor,
-synthetic_every, seed; the file's: the same but name and data, and [[experiment]]. The command
+synthetic_every, seed; the file's: the same but name and data, and [[experiment]]. An unknown
+key is refused with the nearest valid one, a value of the wrong kind with the kind expected;
+`set` is one override (`set = "time.t_end=2"`) or a list of them. The command
 line's scene, --column, --noise, --noise-floor, --data-unit, --data-column, --t-min and --t-max
 are defaults below the file's; its --set comes before every `set`.
 
@@ -44,8 +46,9 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from . import units
 from .fitstats import MODELS
-from .measured import FORCE_UNITS
+from .measured import nearest
 
 # What 0 means for a parameter that may be 0 in a scene: the reason a fit cannot start there.
 ZERO_OFF = {
@@ -59,8 +62,12 @@ ZERO_OFF = {
 # mistake (src/scene/surface.rs, PLAUSIBLE).
 RANGES = {"surface.tension": (0.01, 1000.0, "mN/m")}
 
-KEYS = {"name", "scene", "column", "set", "data", "data_column", "unit", "noise", "noise_floor", "t_min",
-        "t_max", "synthetic", "synthetic_noise", "synthetic_floor", "synthetic_every", "seed"}
+# The keys of an experiment and what each must be (the file's: the same but name and data).
+NUMBER = (int, float)
+KEYS = {"name": str, "scene": str, "column": str, "set": (str, list), "data": str, "data_column": str, "unit": str,
+        "noise": str, "noise_floor": (int, float, str), "t_min": NUMBER, "t_max": NUMBER, "synthetic": dict,
+        "synthetic_noise": NUMBER, "synthetic_floor": NUMBER, "synthetic_every": NUMBER, "seed": int}
+OWN = {"name", "data"}      # an experiment's own keys, not the file's
 NAME = re.compile(r"^[A-Za-z0-9_-]+$")
 
 
@@ -104,21 +111,53 @@ class Param:
 
 
 def floor_value(text):
-    """A noise floor `0.01` (the column's unit) or with a force unit (`0.05uN`) in mg."""
-    s = str(text).strip()
-    for u, scale in FORCE_UNITS.items():
-        if s.endswith(u):
-            return float(s[:-len(u)]) * scale
-    return float(s)
+    """A noise floor `0.01` (the column's unit) or with a force unit (`0.05uN`) in mg
+    (units.force); ValueError naming the problem."""
+    try:
+        return units.force(text)
+    except ValueError as e:
+        raise ValueError(f"noise floor {e}" if "`" in str(e) else f"noise floor `{text}`: not a number "
+                         "(e.g. 0.005, in the column's unit, or 0.05uN)")
 
 
 def overrides(items, where):
+    """(key, value) pairs of `KEY=VALUE` overrides: `items` one string or a list of them."""
+    if isinstance(items, str):
+        items = [items]
+    if not isinstance(items, (list, tuple)):
+        raise ExperimentError(f"{where}: `set` must be a string \"KEY=VALUE\" or a list of them, not {_kind(items)}")
     out = []
     for s in items:
-        if "=" not in str(s):
+        if not isinstance(s, str):
+            raise ExperimentError(f"{where}: `set` entry {s!r} is {_kind(s)}: each must be a string \"KEY=VALUE\"")
+        key, eq, value = s.partition("=")
+        if not eq or not key.strip():
             raise ExperimentError(f"{where}: `{s}` is not KEY=VALUE")
-        out.append(tuple(str(s).split("=", 1)))
+        out.append((key.strip(), value.strip()))
     return out
+
+
+def _kind(v):
+    return {bool: "a boolean", int: "an integer", float: "a number", str: "a string", list: "a list",
+            dict: "a table"}.get(type(v), type(v).__name__)
+
+
+def _check_keys(table, where, top=False):
+    """Refuses an unknown key (with the nearest valid one) or a value of the wrong kind."""
+    allowed = {k: t for k, t in KEYS.items() if not (top and k in OWN)}
+    for k, v in table.items():
+        if k not in allowed:
+            if top and k in OWN:
+                raise ExperimentError(f"{where}: `{k}` belongs in an [[experiment]], not at the top of the file")
+            raise ExperimentError(f"{where}: unknown key `{k}`{nearest(k, allowed)}; the keys: "
+                                  f"{', '.join(sorted(allowed))}")
+        if isinstance(v, bool) or not isinstance(v, allowed[k]):
+            want = {str: "a string", NUMBER: "a number", int: "an integer", dict: "a table {KEY = VALUE, ...}",
+                    (str, list): "a string or a list of strings", (int, float, str): "a number or a string"}
+            raise ExperimentError(f"{where}: `{k} = {v!r}` is {_kind(v)}: expected {want[allowed[k]]}")
+    for k, v in (table.get("synthetic") or {}).items():
+        if isinstance(v, bool) or not isinstance(v, NUMBER):
+            raise ExperimentError(f"{where}: synthetic `{k} = {v!r}` is {_kind(v)}: expected a number")
 
 
 def read(path, defaults):
@@ -130,22 +169,22 @@ def read(path, defaults):
         top = tomllib.loads(path.read_text())
     except FileNotFoundError:
         raise ExperimentError(f"{path}: no such file")
+    except OSError as e:
+        raise ExperimentError(f"{path}: cannot be read: {e.strerror}")
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
         raise ExperimentError(f"{path}: not TOML: {e}")
     runs = top.pop("experiment", None)
-    if not isinstance(runs, list) or not runs:
-        raise ExperimentError(f"{path}: no [[experiment]] table")
-    bad = set(top) - (KEYS - {"name", "data"})
-    if bad:
-        raise ExperimentError(f"{path}: unknown key(s) {sorted(bad)} (an experiment's keys go in [[experiment]])")
+    if isinstance(runs, dict):
+        raise ExperimentError(f"{path}: `[experiment]` is one table: write each experiment as [[experiment]]")
+    if not isinstance(runs, list) or not runs or not all(isinstance(r, dict) for r in runs):
+        raise ExperimentError(f"{path}: no [[experiment]] table" + nearest("experiment", top))
+    _check_keys(top, path, top=True)
+    common = overrides(defaults.get("set", []), "--set") + overrides(top.get("set", []), path)
     out = []
     for i, entry in enumerate(runs):
         where = f"{path}, experiment {i + 1}"
-        bad = set(entry) - KEYS
-        if bad:
-            raise ExperimentError(f"{where}: unknown key(s) {sorted(bad)}; expected some of {sorted(KEYS)}")
+        _check_keys(entry, where)
         merged = {**defaults, **top, **entry}
-        merged["set"] = list(defaults.get("set", [])) + list(top.get("set", [])) + list(entry.get("set", []))
         name = entry.get("name")
         if not isinstance(name, str) or not NAME.match(name):
             raise ExperimentError(f"{where}: a `name` of letters, digits, _ and - is needed")
@@ -158,11 +197,12 @@ def read(path, defaults):
         if ("data" in entry) == bool(entry.get("synthetic")):
             raise ExperimentError(f"{where}: give either `data` (a CSV file) or `synthetic` (a table of values)")
         if merged.get("noise") is not None and merged["noise"] not in MODELS:
-            raise ExperimentError(f"{where}: noise `{merged['noise']}`: expected one of {', '.join(MODELS)}")
+            raise ExperimentError(f"{where}: noise `{merged['noise']}`: expected one of {', '.join(MODELS)}"
+                                  f"{nearest(merged['noise'], MODELS)}")
         try:
             e = Experiment(
                 name=name, scene=str(merged["scene"]), column=str(merged["column"]),
-                sets=overrides(merged["set"], where),
+                sets=common + overrides(entry.get("set", []), where),
                 data=str(path.parent / entry["data"]) if "data" in entry else None,
                 data_column=merged.get("data_column"), unit=merged.get("unit"),
                 noise=merged.get("noise") or ("relative+floor" if merged.get("noise_floor") is not None else None),
@@ -175,6 +215,11 @@ def read(path, defaults):
                 seed=int(merged.get("seed", i)))
         except (TypeError, ValueError) as err:
             raise ExperimentError(f"{where}: {err}")
+        if e.synthetic_every is not None and not e.synthetic_every > 0:
+            raise ExperimentError(f"{where}: synthetic_every = {e.synthetic_every:g}: the time between data points "
+                                  "must be positive (s)")
+        if not e.t_min < e.t_max:
+            raise ExperimentError(f"{where}: t_min = {e.t_min:g} is not below t_max = {e.t_max:g}: no data between")
         out.append(e)
     return out
 
@@ -188,9 +233,12 @@ def params(items, experiments):
         if "=" not in item:
             raise ExperimentError(f"--param `{item}`: expected KEY=START or KEY@EXPERIMENT=START")
         key, start = item.split("=", 1)
-        key, _, name = key.partition("@")
+        key, _, name = key.strip().partition("@")
+        if not key:
+            raise ExperimentError(f"--param `{item}`: no key before `=` (expected KEY=START, e.g. material.mu=2.5)")
         if name and name not in names:
-            raise ExperimentError(f"--param `{item}`: no experiment `{name}` (the experiments: {', '.join(names)})")
+            raise ExperimentError(f"--param `{item}`: no experiment `{name}`{nearest(name, names)} (the experiments: "
+                                  f"{', '.join(names)})")
         try:
             p = Param(key, float(start), name or None)
         except ValueError:

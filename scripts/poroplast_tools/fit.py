@@ -214,7 +214,7 @@ def fit(evaluate, weigh, x0, keys, max_it=15, ftol=1e-3, xtol=1e-5, rounds=4, sa
 
     def after(s, cost):
         log.append({"iteration": len(log) + 1, "cost": cost, **{k: math.exp(v) for k, v in zip(keys, s.x)}})
-        say(f"iteration {len(log)}: rms {math.sqrt(cost / len(s.d)):.4g}  "
+        say(f"iteration {len(log)}: weighted rms {math.sqrt(cost / len(s.d)):.4g} (residual / sigma)  "
             + "  ".join(f"{k} = {math.exp(v):.6g}" for k, v in zip(keys, s.x)))
 
     def on_jacobian(s):

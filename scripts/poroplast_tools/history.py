@@ -17,20 +17,36 @@ def _file(path, name):
 def history(path):
     """history.csv (of a run directory, or the file) as {column: array}; rows that do not parse
     (a run still writing) are dropped; {} without rows."""
-    with open(_file(path, "history.csv")) as f:
-        r = csv.reader(f)
-        head = next(r)
-        rows = []
-        for row in r:
-            try:
-                if len(row) == len(head):
-                    rows.append([float(x) for x in row])
-            except ValueError:
-                pass
+    return read(path)[0]
+
+
+def read(path):
+    """history.csv as ({column: array}, [what was dropped, in words]). Dropped: rows of the wrong
+    length or not numbers, and a last line without its newline (cut while written: its last
+    number may be cut short too). ({}, [why]) for an empty file or one with only its header."""
+    raw = Path(_file(path, "history.csv")).read_bytes().decode("utf-8", errors="replace")
+    lines = raw.split("\n")
+    cut = lines.pop() if lines else ""   # "" when the file ends with its newline
+    problems = [f"history.csv: its last line is cut ({cut[:40]!r}...): dropped"] if cut.strip() else []
+    lines = [l.rstrip("\r") for l in lines if l.strip()]
+    if not lines:
+        return {}, problems + ["history.csv is empty"]
+    head = next(csv.reader([lines[0]]))
+    rows, bad = [], []
+    for n, row in enumerate(csv.reader(lines[1:]), start=2):
+        try:
+            if len(row) != len(head):
+                raise ValueError
+            rows.append([float(x) for x in row])
+        except ValueError:
+            bad.append(n)
+    if bad:
+        problems.append(f"history.csv: {len(bad)} line(s) not {len(head)} numbers, dropped (line {bad[0]}"
+                        + (", ..." if len(bad) > 1 else "") + ")")
     if not rows:
-        return {}
+        return {}, problems + ["history.csv has no rows"]
     a = np.array(rows)
-    return {k: a[:, i] for i, k in enumerate(head)}
+    return {k: a[:, i] for i, k in enumerate(head)}, problems
 
 
 def given_steps(h):

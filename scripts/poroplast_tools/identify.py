@@ -27,10 +27,10 @@ def hint(a, b):
     return PAIRS.get(frozenset({a.split("@")[0], b.split("@")[0]}))
 
 
-def report(jac, keys, scale):
+def report(jac, keys, scale, unit=""):
     """(lines of the sensitivity table, refusals, warnings) for the Jacobian `jac` (n × p) of
     the parameters `keys`; `scale` is the data's typical magnitude (e.g. their RMS), that the
-    effect of a 10% change is compared with."""
+    effect of a 10% change is compared with; `unit` the curve's (printed with the changes)."""
     jac = np.asarray(jac, dtype=float)
     n = jac.shape[0]
     norms = np.linalg.norm(jac, axis=0)
@@ -40,7 +40,7 @@ def report(jac, keys, scale):
     for k, key in enumerate(keys):
         rms = 0.1 * float(norms[k]) / math.sqrt(n)
         rel = rms / scale if scale > 0 else math.nan
-        lines.append(f"  {key}: {rms:.3g} ({100 * rel:.3g}% of the data's RMS)")
+        lines.append(f"  {key}: {rms:.3g}{' ' + unit if unit else ''} ({100 * rel:.3g}% of the data's RMS)")
         if norms[k] <= NO_EFFECT * max(top, 1e-300):
             refusals.append(key)
     for a in range(len(keys)):

@@ -1,6 +1,9 @@
 """Figure labels in the units the docs use (kPa, (MPa s)⁻¹, mm⁴/(N s), µm, mg), not raw scene
 keys: a scene key and its value, a history column, an observable of `study.py`."""
 
+# m/s²: the g of the solver's milligram-force, one value for every script (units.G).
+from .units import G  # noqa: F401
+
 # scene key -> (symbol, unit, factor from the scene's unit to the unit shown)
 KEYS = {
     "material.remodelling.lambda_p": ("λp", "(MPa s)⁻¹", 1e3),    # scene: (kPa s)⁻¹
@@ -24,6 +27,12 @@ COLUMNS = {
     "force_total_mg": "total force (mg)",
     "force_constitutive_mg": "constitutive force (mg)",
     "force_pressure_mg": "pressure force (mg)",
+    "force_lower_mg": "lower plate's force (mg)",
+    "force_total_uN": "total force (µN)",
+    "force_constitutive_uN": "constitutive force (µN)",
+    "force_pressure_uN": "pressure force (µN)",
+    "force_lower_uN": "lower plate's force (µN)",
+    "sigma_app": "σ_app (mN/m)",
     "probe_p": "p(X_U) (kPa)",
     "probe_porosity": "porosity at X_U",
     "height": "height (µm)",

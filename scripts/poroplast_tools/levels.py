@@ -34,27 +34,100 @@ def grid_cases(axes):
             for combo in itertools.product(*[points for _, points in axes])]
 
 
+def with_sets(values, sets):
+    """`values` (a scene as a dict) with the "KEY=VALUE" overrides `sets` applied as a run applies
+    them (src/scene/overrides.rs: the dotted path's last key replaced, a table value replacing
+    the whole table; a bare word is a string)."""
+    import copy
+    import tomllib
+    out = copy.deepcopy(values)
+    for spec in sets:
+        key, _, text = spec.partition("=")
+        try:
+            value = tomllib.loads(f"v = {text.strip()}")["v"]
+        except tomllib.TOMLDecodeError:
+            value = text.strip()
+        *parents, last = key.strip().split(".")
+        here = out
+        for part in parents:
+            here = here.setdefault(part, {}) if isinstance(here, dict) else None
+            if not isinstance(here, dict):
+                break    # an index into a list ([[bc]]): no mesh size, the run checks it
+        else:
+            here[last] = value
+    return out
+
+
+def base_sizes(scene, sets=()):
+    """The bulk size h and the sizes scaled with it (SIZES) that a run of `scene` with the
+    overrides `sets` ("KEY=VALUE") meshes with, as {key: (µm, where it comes from)}: a size in
+    mesh.params (the scene's or a --set one) wins over mesh.relative_sizes × R, as in a run
+    (src/scene/mesh.rs, `MeshSpec::resolve`). Sizes neither gives are the .geo's own defaults
+    (h_pole = h/3, h_surf = h_edge = h: they follow h by themselves)."""
+    mesh = with_sets(scene_values(scene), sets).get("mesh", {})
+    if mesh.get("grading") == "auto":
+        sys.exit(f"{scene}: mesh.grading = \"auto\" takes its sizes from the chart: a mesh study needs them "
+                 f"given (mesh.params in µm or mesh.relative_sizes), e.g. --set mesh.grading=given "
+                 f"--set mesh.params.h=... --set mesh.params.h_pole=...")
+    given = {k.strip().removeprefix("mesh.params.") for k, _, _ in (s.partition("=") for s in sets)
+             if k.strip().startswith("mesh.params.")}
+    whole = any(s.partition("=")[0].strip() == "mesh.params" for s in sets)
+    relative_given = any(s.partition("=")[0].strip().startswith("mesh.relative_sizes") for s in sets)
+    params, relative = mesh.get("params", {}), mesh.get("relative_sizes", {})
+    for name, table in (("mesh.params", params), ("mesh.relative_sizes", relative)):
+        if not isinstance(table, dict):
+            sys.exit(f"{scene}: {name} = {table!r} is not a table (write {name}.h=20 or {name}={{ h = 20 }})")
+
+    def number(table, k):
+        v = table[k]
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            name = "mesh.params" if table is params else "mesh.relative_sizes"
+            sys.exit(f"{scene}: {name}.{k} = {v!r} is not a number (sizes are µm in mesh.params, fractions of R "
+                     f"in mesh.relative_sizes)")
+        return float(v)
+
+    radius = number(params, "R") if "R" in params else None
+    sizes = {}
+    for k in ("h",) + SIZES:
+        if k in params:
+            where = f"--set mesh.params.{k}" if k in given else "--set mesh.params" if whole \
+                else f"the scene's mesh.params.{k}"
+            sizes[k] = (number(params, k), where)
+        elif k in relative and radius is not None:
+            by = "--set " if relative_given else "the scene's "
+            f = number(relative, k)
+            sizes[k] = (f * radius, f"{by}mesh.relative_sizes.{k} = {f:g} × R = {radius:g}")
+    if "h" not in sizes:
+        sys.exit(f"{scene}: the mesh has no size h to scale (neither mesh.params.h nor mesh.relative_sizes.h with "
+                 f"mesh.params.R): give one, e.g. --set mesh.params.h=20")
+    return sizes
+
+
 def h_levels(scene, hs, sets=()):
     """A mesh sweep: for each h of `hs`, the (key, value) overrides mesh.params.h = h and the
-    other sizes (SIZES: h_pole, h_edge, h_surf — the scene's, or those of `sets`, "KEY=VALUE",
-    at the scene's h) scaled in proportion."""
-    mesh = scene_values(scene).get("mesh", {})
-    params = dict(mesh.get("params", {}))
-    # Sizes given as fractions of R (mesh.relative_sizes) in µm; sizes given in µm win, as in a run.
-    radius = params.get("R")
-    for k, v in mesh.get("relative_sizes", {}).items():
-        if k not in params and radius is not None and (k == "h" or k in SIZES):
-            params[k] = v * radius
-    h0 = params.get("h")
-    if h0 is None:
-        sys.exit(f"{scene}: the scene's mesh has no params.h (nor relative_sizes.h with params.R)")
-    sizes = {k: v for k, v in params.items() if k in SIZES}
-    for s in sets:
-        k, v = s.split("=", 1)
-        if k.startswith("mesh.params.") and k[12:] in SIZES:
-            sizes[k[12:]] = float(v)
-    return [[("mesh.params.h", f"{h:g}")] + [(f"mesh.params.{k}", f"{v * h / h0:g}") for k, v in sizes.items()]
+    other sizes (SIZES: h_pole, h_edge, h_surf, as `base_sizes` finds them for the scene with
+    the overrides `sets`) scaled in proportion: a size set with --set is scaled from the h the
+    same overrides give, so `--set mesh.params.h=10 --set mesh.params.h_pole=2` keeps h_pole = h/5
+    on every level, whatever the scene's relative_sizes say."""
+    sizes = base_sizes(scene, sets)
+    h0 = sizes["h"][0]
+    return [[("mesh.params.h", f"{h:g}")] + [(f"mesh.params.{k}", f"{v * h / h0:g}")
+                                            for k, (v, _) in sizes.items() if k != "h"]
             for h in hs]
+
+
+def describe_sizes(scene, hs, sets=()):
+    """Lines for a study's log: the sizes the levels scale (each with where it comes from) and
+    each level's sizes."""
+    sizes = base_sizes(scene, sets)
+    h0 = sizes["h"][0]
+    lines = [f"mesh levels: the sizes at h = {h0:g} µm, each level scaled by h/{h0:g}:"]
+    lines += [f"  {k} = {v:g} µm ({where})" for k, (v, where) in sizes.items()]
+    if set(sizes) == {"h"}:
+        lines.append("  (no other size given: those of the .geo follow h by its own defaults)")
+    for h, level in zip(hs, h_levels(scene, hs, sets)):
+        lines.append(f"  level h = {h:g}: " + ", ".join(f"{k.removeprefix('mesh.params.')} = {v}" for k, v in level))
+    return lines
 
 
 def refined_steps(scene_time, given, s):

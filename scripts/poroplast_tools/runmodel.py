@@ -5,19 +5,82 @@
 differences model − data of every experiment, each experiment's history column interpolated at
 its data's times. A finite-difference neighbour replays the time steps of its point's run
 (`time.steps`): a step cut in one run and not in the other would make the difference jump.
+
+`check_names` checks every name of a calibration before any run: each experiment's scene with
+its overrides and start values (an unknown key, an implausible value) and its column, through
+`poroplast columns` (the scene loaded and validated, no mesh: milliseconds).
 """
 import math
+import subprocess
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
 
+from . import cases
 from .cases import run_cases
 from .experiments import outside
 from .fit import FitError
 from .history import at, given_steps, history
-from .measured import check_within, write_curve
+from .measured import check_within, nearest, write_curve
 from .synthetic import noisy
+
+NO_COLUMNS = "unrecognized subcommand"    # clap's words for a binary built before `columns`
+
+
+def scene_columns(scene, sets):
+    """The history.csv columns of `scene` under the overrides `sets` ((key, value) pairs), as
+    `poroplast columns SCENE --set ...` prints them (one per line, after validating the scene);
+    None from a binary without that subcommand. FitError with the solver's message when it
+    refuses the scene or an override."""
+    cmd = [str(cases.BIN), "columns", cases._scene_arg(scene)] + [a for k, v in sets for a in ("--set", f"{k}={v}")]
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, env=cases.env(), timeout=600)
+    except FileNotFoundError:
+        raise FitError(f"no poroplast binary at {cases.BIN}: build it (cargo build --release) or set POROPLAST_BIN")
+    except OSError as e:
+        raise FitError(f"cannot run {cases.BIN}: {e.strerror}")
+    except subprocess.TimeoutExpired:
+        raise FitError(f"`poroplast columns {scene}` did not answer in 600 s")
+    if p.returncode != 0:
+        if NO_COLUMNS in p.stderr:
+            return None
+        lines = [ln.strip() for ln in p.stderr.splitlines() if ln.strip()]
+        said = [ln for ln in lines if ln.startswith("poroplast: error:")] or lines[-1:]
+        raise FitError(" ".join(ln.removeprefix("poroplast: error:").strip() for ln in said)
+                       or f"`poroplast columns` failed (exit code {p.returncode})")
+    return [ln.strip() for ln in p.stdout.splitlines() if ln.strip() and " " not in ln.strip()]
+
+
+def check_names(experiments, params, sets=(), say=print):
+    """Refuses (FitError) before any run a scene, override, start value or column that the
+    solver would not take: per experiment one `poroplast columns` of its scene with the common
+    `sets`, its own, its synthetic values and the start values of its parameters (a parameter
+    of several experiments is checked with each). A binary without the subcommand: said, and
+    the column is checked at the first run instead (`Runs.check`)."""
+    for e in experiments:
+        given = (list(sets) + list(e.sets) + [(k, repr(v)) for k, v in e.synthetic.items()]
+                 + [(p.key, repr(p.start)) for p in params if p.applies(e)])
+        try:
+            cols = scene_columns(e.scene, given)
+        except FitError as err:
+            what = " ".join(f"{k}={v}" for k, v in given) or "no overrides"
+            single = e.name == Path(e.scene).stem     # the command line's one experiment
+            raise FitError((f"{e.scene} with {what}" if single else f"experiment `{e.name}` ({e.scene} with {what})")
+                           + f": {err}")
+        if cols is None:
+            say(f"note: {cases.BIN} has no `columns` subcommand (built before it): the scenes and "
+                "columns are checked at the first run instead")
+            return
+        if e.column not in cols:
+            raise FitError(missing_column(e, cols))
+
+
+def missing_column(e, cols):
+    """Why experiment e's column is not one of its history's `cols`."""
+    return (f"`{e.column}` (the column to fit, --column) is not a column of the history of {e.scene}"
+            + (f" (experiment `{e.name}`)" if e.name != Path(e.scene).stem else "") + f"{nearest(e.column, cols)}; "
+            f"its columns: {', '.join(c for c in cols if c not in ('step', 'dt', 'newton_its', 'ksp_its', 'wall_s'))}")
 
 
 class Runs:
@@ -30,6 +93,7 @@ class Runs:
         self.sets = list(sets)
         self.root = self.study / "runs"
         self.ran = 0                 # the runs the sweeps had to make
+        self.asked = 0               # the runs asked for (those the case store held included)
         self.data = None             # per experiment: (times, values) once read
         self.checked = False
 
@@ -44,6 +108,7 @@ class Runs:
         ran = run_cases([s for s, _ in cases], [c for _, c in cases], self.sets, self.root, self.ranks,
                         counts=counts)
         self.ran += counts.get("ran", 0)
+        self.asked += len(cases)
         return [history(d) if r["status"] == "ok" else None for d, r in ran]
 
     def case(self, e, x, steps=None):
@@ -104,9 +169,19 @@ class Runs:
             out.append((np.concatenate(d), {"x": np.array(x), "histories": group}))
         return out
 
+    def count(self, since=(0, 0)):
+        """`N runs (R run now, S from the case store)` of the runs asked for since `since`, an
+        earlier `(asked, ran)`."""
+        asked, ran = self.asked - since[0], self.ran - since[1]
+        return f"{asked} runs" + (f" ({ran} run now, {asked - ran} from the case store)" if ran != asked else "")
+
     def check(self, group):
-        """Refuses data times after a run's end (once, at the first runs): a DataError."""
+        """Refuses (once, at the first runs) a column the runs do not write (FitError: a binary
+        without `poroplast columns` left it unchecked) and data times after a run's end
+        (DataError)."""
         for e, h, (ts, _) in zip(self.experiments, group, self.data):
+            if e.column not in h:
+                raise FitError(missing_column(e, list(h)))
             check_within(e.data or e.name, ts, float(h["time"][-1]))
         self.checked = True
 
@@ -126,6 +201,8 @@ def synthesise(runs, experiments):
     for e, h in zip(todo, hs):
         if h is None:
             raise FitError(f"the synthetic run of {e.name} failed")
+        if e.column not in h:
+            raise FitError(missing_column(e, list(h)))
         t_end = float(h["time"][-1])
         ts = (np.arange(1, int(t_end / e.synthetic_every + 1e-9) + 1) * e.synthetic_every if e.synthetic_every
               else h["time"][h["time"] > 0])

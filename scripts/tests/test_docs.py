@@ -9,7 +9,9 @@ docs/scene-reference.md included):
 * `model.md §n` (and `§n–§m`) references, also in src/ and scripts/, name a numbered section;
 * prose references to a section, `numerics.md, *Title*` or `performance.md, "Title"`, name a
   heading (or a bold run-in heading) of that file, also in src/, meshes/ and scripts/;
-* no "issue N": a reader cannot resolve it.
+* no "issue N": a reader cannot resolve it;
+* the commands of the docs' code blocks (and the shipped sweep's comments) start runs on several
+  ranks as `poroplast mpirun -n N run|resume|sweep`, not under a bare `mpirun`.
 
 Pure Python, no solver; well under a second.
 """
@@ -139,6 +141,23 @@ class DocsTest(unittest.TestCase):
                 elif not any(norm(name).rstrip(".") in t for t in titles(dest)):
                     bad.append(f"{f.relative_to(ROOT)}: {m.group(0)}: no such section")
         self.assertEqual(bad, [], "named sections that do not resolve:\n" + "\n".join(bad))
+
+    def test_runs_on_several_ranks_start_through_the_launcher(self):
+        # A command a reader pastes runs on several ranks as `poroplast mpirun -n N run ...`: a
+        # Ctrl-C then stops it with a checkpoint and exit code 75; a bare `mpirun` exits with 1.
+        bare = re.compile(r"^\s*mpirun\b.*\bporoplast (run|resume|sweep)\b")
+        bad, launched = [], 0
+        files = [f for f in doc_files() if "history" not in f.parts and f.name != "CHANGELOG.md"]
+        for f in files + sorted((ROOT / "meshes" / "sweeps").glob("*.toml")):
+            text = f.read_text(encoding="utf-8")
+            blocks = re.findall(r"^```(?:sh|bash)?\n(.*?)^```", text, re.S | re.M) if f.suffix == ".md" else \
+                [re.sub(r"^#\s?", "", line) for line in text.splitlines() if line.startswith("#")]
+            for line in "\n".join(blocks).splitlines():
+                launched += "poroplast mpirun -n" in line
+                if bare.search(line):
+                    bad.append(f"{f.relative_to(ROOT)}: {line.strip()}")
+        self.assertEqual(bad, [], "start these with `target/release/poroplast mpirun -n N COMMAND`")
+        self.assertGreaterEqual(launched, 10)
 
     def test_cli_reference_lists_every_subcommand_and_flag(self):
         src = (ROOT / "src" / "cli.rs").read_text(encoding="utf-8")

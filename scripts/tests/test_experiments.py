@@ -49,7 +49,7 @@ class ExperimentsFile(unittest.TestCase):
         self.assertEqual(a.sets, [("time.dt", "0.1"), ("mesh.geometry", "axisymmetric"), ("mesh.params.R", "150")])
         self.assertEqual(a.data, str(path.parent / "a.csv"))
         self.assertEqual((a.t_max, a.noise), (70.0, "relative+floor"))
-        self.assertAlmostEqual(a.noise_floor, 0.098 / 9.80665, delta=1e-15)      # in mg
+        self.assertAlmostEqual(a.noise_floor, 0.098 / 9.81, delta=1e-15)      # in mg: 1 mg = 9.81 µN
         self.assertEqual((b.scene, b.noise, b.data, b.synthetic, b.synthetic_noise),
                          ("reference_axi", "absolute", None, {"material.mu": 3.0}, 0.02))
         # A floor without a noise model means relative+floor.
@@ -60,7 +60,30 @@ class ExperimentsFile(unittest.TestCase):
     def test_malformed_files_are_refused_with_the_reason(self):
         for text, part in [
             ("scene = 'x'", "no [[experiment]] table"),
-            ("colour = 1\n[[experiment]]\nname = 'a'\ndata = 'a.csv'", "unknown key(s) ['colour']"),
+            ("colour = 1\n[[experiment]]\nname = 'a'\ndata = 'a.csv'", "unknown key `colour` (did you mean `column`?)"),
+            ("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a'\ndata = 'x'\nt_mx = 3",
+             "experiment 1: unknown key `t_mx` (did you mean `t_max`?)"),
+            ("data = 'x'\n[[experiment]]\nname = 'a'", "`data` belongs in an [[experiment]]"),
+            ("scene = 's'\n[[experiments]]\nname = 'a'", "no [[experiment]] table (did you mean `experiments`?)"),
+            ("scene = 's'\n[experiment]\nname = 'a'", "`[experiment]` is one table: write each experiment as"),
+            ("scene = 's'\ncolumn = 'c'\nset = 3\n[[experiment]]\nname = 'a'\ndata = 'x'",
+             "`set = 3` is an integer: expected a string or a list of strings"),
+            ("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a'\ndata = 'x'\nset = ['a=1', 2]",
+             "`set` entry 2 is an integer"),
+            ("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a'\ndata = 'x'\nset = 'time.t_end'",
+             "`time.t_end` is not KEY=VALUE"),
+            ("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a'\ndata = 'x'\nt_max = '70'",
+             "`t_max = '70'` is a string: expected a number"),
+            ("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a'\ndata = 'x'\nseed = 1.5",
+             "`seed = 1.5` is a number: expected an integer"),
+            ("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a'\nsynthetic = { 'material.mu' = 'x' }",
+             "synthetic `material.mu = 'x'` is a string: expected a number"),
+            ("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a'\ndata = 'x'\nnoise_floor = '0.05um'",
+             "`um` is not a force unit"),
+            ("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a'\ndata = 'x'\nt_min = 5\nt_max = 2",
+             "t_min = 5 is not below t_max = 2"),
+            ("scene = 's'\ncolumn = 'c'\nnoise = 'relativ'\n[[experiment]]\nname = 'a'\ndata = 'x'",
+             "(did you mean `relative`?)"),
             ("[[experiment]]\nname = 'a'\ndata = 'a.csv'\ncolumn = 'c'", "no `scene`"),
             ("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a b'\ndata = 'a.csv'", "a `name` of letters"),
             ("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a'", "either `data`"),
@@ -72,6 +95,16 @@ class ExperimentsFile(unittest.TestCase):
             with self.assertRaises(exps.ExperimentError) as e:
                 exps.read(self.write(text), {})
             self.assertIn(part, str(e.exception))
+
+    def test_set_is_one_override_or_a_list(self):
+        # `set = "time.t_end=2"` is one override (not read character by character); a list too;
+        # the command line's --set first, then the file's, then the experiment's.
+        [a] = exps.read(self.write("scene = 's'\ncolumn = 'c'\nset = 'mesh.params.R=150'\n[[experiment]]\n"
+                                   "name = 'a'\ndata = 'x'\nset = \"time.t_end=2\"\n"), {"set": ["time.dt=0.1"]})
+        self.assertEqual(a.sets, [("time.dt", "0.1"), ("mesh.params.R", "150"), ("time.t_end", "2")])
+        [a] = exps.read(self.write("scene = 's'\ncolumn = 'c'\n[[experiment]]\nname = 'a'\ndata = 'x'\n"
+                                   "set = ['time.t_end = 2', \"plates.table=[[0.0, 0.0], [5.0, 0.15]]\"]\n"), {})
+        self.assertEqual(a.sets, [("time.t_end", "2"), ("plates.table", "[[0.0, 0.0], [5.0, 0.15]]")])
 
     def test_parameters_shared_and_per_experiment(self):
         es = exps.read(self.write(FILE), {})

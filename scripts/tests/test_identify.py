@@ -16,6 +16,8 @@ class Identify(unittest.TestCase):
         rms = 0.2 * math.sqrt(np.mean(t ** 2))
         self.assertIn(f"a: {rms:.3g} ", lines[1])
         self.assertEqual((refusals, warnings), ([], []))
+        lines, _, _ = report(np.column_stack([2.0 * t]), ["a"], scale=1.0, unit="mg")
+        self.assertIn(f"a: {rms:.3g} mg ({100 * rms:.3g}% of the data's RMS)", lines[1])
 
     def test_a_parameter_without_effect_is_refused(self):
         t = np.arange(1.0, 5.0)

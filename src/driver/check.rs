@@ -22,7 +22,7 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc:
         out: None,
         force: false,
         petsc: petsc.to_vec(),
-        progress: false,
+        log: super::Log::Silent,
     };
     with_petsc(world, &petsc_args(&scene, petsc), || {
         let mut run = Run::setup(world, &scene, &args)?;

@@ -35,11 +35,11 @@ impl<'w> Run<'w> {
             return Ok(());
         }
         Err(Error::Stopped(format!(
-            "stopped by a signal after step {} (t = {}); checkpoint {}; continue with `poroplast resume {}`",
+            "stopped by a signal after step {} (t = {} s); checkpoint {}; continue with `{}`",
             pg.c.step,
-            pg.c.t,
+            crate::io::fmt_time(pg.c.t),
             path.display(),
-            rec.dir.display()
+            crate::launch::command(self.world.size() as usize, &["resume", &rec.dir.display().to_string()])
         )))
     }
 

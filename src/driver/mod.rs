@@ -24,7 +24,7 @@ mod resolved;
 mod run;
 mod schedule;
 mod setup;
-pub(crate) mod signals;
+pub mod signals;
 pub mod state;
 mod step;
 mod summary;
@@ -32,7 +32,7 @@ mod summary;
 pub use check::check;
 use record::RunRecord;
 use run::Run;
-pub use run::{RunArgs, DEFAULT_STABILISATION, EXIT_STOPPED};
+pub use run::{Log, RunArgs, DEFAULT_STABILISATION, EXIT_STOPPED, EXIT_STOPPED_IN_SETUP};
 pub use schedule::Schedule;
 
 use crate::error::{Error, Result};
@@ -48,11 +48,19 @@ use std::path::{Path, PathBuf};
 /// Runs a scene; returns the run directory. PETSc lives exactly as long as this call.
 pub fn run(world: &SimpleCommunicator, args: &RunArgs) -> Result<PathBuf> {
     let scene = LoadedScene::load(&args.scene, &args.set)?;
-    if args.progress {
+    if args.log != Log::Silent {
         tell_notes(world, &scene);
     }
-    with_petsc(world, &petsc_args(&scene, &args.petsc), || Run::setup(world, &scene, args)?.execute(None))
+    signals::stop_in_setup(world, NOTHING_WRITTEN)?;
+    with_petsc(world, &petsc_args(&scene, &args.petsc), || {
+        let mut run = Run::setup(world, &scene, args)?;
+        signals::stop_in_setup(world, NOTHING_WRITTEN)?;
+        run.execute(None)
+    })
 }
+
+/// What a run stopped during its set-up has done.
+const NOTHING_WRITTEN: &str = "nothing was written; run the command again";
 
 /// The scene's notes (deprecated keys, likely mistakes) on standard error, by rank 0.
 pub(crate) fn tell_notes(world: &SimpleCommunicator, scene: &LoadedScene) {
@@ -78,7 +86,19 @@ pub(super) fn with_petsc<T>(
 
 /// Continues the run in `dir` from its last checkpoint (`poroplast resume`), with the scene,
 /// overrides and PETSc options it was started with, then `petsc` (added, or overriding).
-pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress: bool) -> Result<PathBuf> {
+pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], log: Log) -> Result<PathBuf> {
+    // Stopped before it continued, the run is as it was, and can be resumed again.
+    resume_from_checkpoint(world, dir, petsc, log).map_err(|e| match e {
+        Error::StoppedInSetup(m) => Error::Stopped(format!(
+            "{}; continue with `{}`",
+            m.replace(NOTHING_WRITTEN, "the run directory is as it was"),
+            crate::launch::command(world.size() as usize, &["resume", &dir.display().to_string()])
+        )),
+        e => e,
+    })
+}
+
+fn resume_from_checkpoint(world: &SimpleCommunicator, dir: &Path, petsc: &[String], log: Log) -> Result<PathBuf> {
     let record = agree(world, RunRecord::read(dir))?;
     let status = std::fs::read_to_string(dir.join("status.txt")).unwrap_or_default();
     if status.starts_with("completed") {
@@ -100,10 +120,11 @@ pub fn resume(world: &SimpleCommunicator, dir: &Path, petsc: &[String], progress
         out: Some(dir.to_path_buf()),
         force: true,
         petsc: options,
-        progress,
+        log,
     };
     with_petsc(world, &petsc_args(&scene, &args.petsc), || {
         let mut run = Run::setup(world, &scene, &args)?;
+        signals::stop_in_setup(world, NOTHING_WRITTEN)?;
         run.lock = Some(lock);
         let per_elem = run.ts.problem().qp_state_per_elem();
         let fingerprint = checkpoint_file::mesh_fingerprint(world, run.ts.problem().mesh());

@@ -153,6 +153,9 @@ impl<'w> Run<'w> {
 
     /// The progress line of a step (rank 0).
     pub(super) fn progress(&self, pg: &Progress, step: Step, t_start: Instant) {
+        if self.args.log != super::run::Log::Steps {
+            return;
+        }
         let per_step = pg.recent.iter().sum::<f64>() / pg.recent.len().max(1) as f64;
         let eta = per_step * self.schedule.remaining(pg.c.t, pg.c.nominal) as f64;
         let (taken, its) = (step.dt, step.its);

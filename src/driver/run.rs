@@ -28,8 +28,20 @@ pub struct RunArgs {
     pub out: Option<PathBuf>,
     pub force: bool,
     pub petsc: Vec<String>,
-    /// Print a progress line per step (rank 0).
-    pub progress: bool,
+    /// What the run prints on rank 0.
+    pub log: Log,
+}
+
+/// What a run prints on standard output (rank 0). Warnings (standard error) print at every level.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Log {
+    /// The scene's notes, the set-up, a progress line per step, the summary.
+    Steps,
+    /// `-q`: all of it but the per-step progress lines.
+    Quiet,
+    /// Nothing but warnings: a sweep's case (the sweep tells the scene's notes once, and a
+    /// line per case).
+    Silent,
 }
 
 /// A run set up: the problem and its time stepper, the state between steps, the observers and
@@ -83,6 +95,8 @@ impl<'w> Run<'w> {
         let resumed = resume.map(|state| self.restore(state)).transpose()?;
         let mut pg = resumed.as_ref().map_or_else(|| Progress::start(self.schedule.dt0), Progress::resumed);
         let (mut step, initial) = self.first_step(&mut pg, stages, resumed.is_none())?;
+        // The last moment a stop leaves nothing behind: the outputs open next.
+        super::signals::stop_in_setup(self.world, super::NOTHING_WRITTEN)?;
         let mut rec = match &resumed {
             Some(c) => self.reopen_output(&out, c)?,
             None => self.open_output(&out)?,
@@ -114,7 +128,7 @@ impl<'w> Run<'w> {
         let status = match (&r, &summary) {
             (Ok(()), Ok(Some(s))) => format!("completed: {} steps, t = {}; {}\n", pg.c.step, pg.c.t, s.headline()),
             (Ok(()), _) => format!("completed: {} steps, t = {}\n", pg.c.step, pg.c.t),
-            (Err(e @ Error::Stopped(_)), _) => format!("{e}\n"),
+            (Err(e @ (Error::Stopped(_) | Error::StoppedInSetup(_))), _) => format!("{e}\n"),
             (Err(e), _) => format!("failed after step {} (t = {}): {e}\n", pg.c.step, pg.c.t),
         };
         on_root(self.world, || rundir::write_text(&rec.dir, "status.txt", &status))?;
@@ -128,7 +142,7 @@ impl<'w> Run<'w> {
     }
 
     pub(super) fn say(&self, s: &str) {
-        if self.rank0() && self.args.progress {
+        if self.rank0() && self.args.log != Log::Silent {
             crate::console::line(s);
         }
     }
@@ -142,7 +156,11 @@ impl<'w> Run<'w> {
 }
 
 /// Exit code of a run stopped by a signal after writing its checkpoint (EX_TEMPFAIL: try
-/// again, with `poroplast resume`).
+/// again, with `poroplast resume`); also of a `resume` stopped before it continued.
 pub const EXIT_STOPPED: i32 = 75;
+
+/// Exit code of a `run`, `check` or `sweep` stopped by a signal during its set-up, before it
+/// wrote anything: there is nothing to resume, run the command again.
+pub const EXIT_STOPPED_IN_SETUP: i32 = 76;
 
 pub use crate::scene::numerics::DEFAULT_STABILISATION;

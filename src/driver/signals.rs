@@ -4,6 +4,10 @@
 //! and `mpirun` forwarding the same signal deliver it twice, and that must not cost the
 //! checkpoint.
 //!
+//! `main` installs a request before MPI starts, for the whole process: a signal during the
+//! set-up (mesh, partition, PETSc, settling, the first step) stops the command at the next of
+//! the set-up's checks ([`stop_in_setup`]) with nothing written.
+//!
 //! The flag is the process's, not a request's: a request installed while another is (a sweep's
 //! case, inside the sweep's own request) sees a signal that came before it, so a signal during a
 //! case's set-up stops the case at its first step boundary.
@@ -49,6 +53,15 @@ impl StopRequest {
     pub fn requested(&self, world: &SimpleCommunicator) -> bool {
         crate::parallel::any(world, self.pending())
     }
+}
+
+/// Stops a command asked to stop during its set-up, before it has written anything (collective:
+/// every rank asks at the same point). `what`: what has not been done, for the message.
+pub fn stop_in_setup(world: &SimpleCommunicator, what: &str) -> Result<()> {
+    if crate::parallel::any(world, flag().load(Ordering::Relaxed)) {
+        return Err(Error::StoppedInSetup(format!("stopped by a signal during the set-up: {what}")));
+    }
+    Ok(())
 }
 
 impl Drop for StopRequest {

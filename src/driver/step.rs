@@ -7,6 +7,7 @@ use super::run::Run;
 use crate::error::{Error, Result};
 use crate::observe::observers::Sample;
 use crate::petsc::Stage;
+use crate::scene::{Material, Scene, SolidSpec};
 use std::time::Instant;
 
 impl<'w> Run<'w> {
@@ -116,7 +117,12 @@ impl<'w> Run<'w> {
         self.ts.problem_mut().freeze_qp_state(true);
         let start = self.state.u.copy()?;
         if let Err(e) = self.settle_under(1.0) {
-            self.warn(&format!("settling with the whole weight at once failed ({e}); applying it in stages"));
+            // The cause is in the error if the stages fail too; here, what is being done.
+            drop(e);
+            self.warn(&format!(
+                "settling under the whole weight at once did not converge; applying it in stages ({})",
+                SETTLE_RAMP.map(|f| f.to_string()).join(", ")
+            ));
             self.state.u.copy_from(&start)?;
             for factor in SETTLE_RAMP {
                 self.settle_under(factor)?;
@@ -135,7 +141,8 @@ impl<'w> Run<'w> {
         let r = self.ts.step().map_err(|e| {
             self.explain(Error::Diverged(format!(
                 "settling under gravity (the static equilibrium on the lower plate, before t = 0; \
-                 {factor} of the weight) failed: {e}. Can the solid carry its weight (material.mu, material.gravity)?"
+                 {factor} of the weight) failed: {e}. {}",
+                settle_cause(&self.scene.scene)
             )))
         });
         self.ts.problem_mut().set_gravity_factor(1.0);
@@ -165,4 +172,36 @@ impl<'w> Run<'w> {
         }
         Ok(())
     }
+}
+
+/// The likely cause of a failed settling: a solid too soft for its weight, or, when it carries
+/// it easily, the mesh at the lower pole (cells the first point contact compacts below Φs).
+fn settle_cause(scene: &Scene) -> String {
+    let Material::HolmesMow(m) = &scene.material else { return String::new() };
+    let (Ok(SolidSpec::MuNu { mu, .. }), Some(r)) = (m.solid(), scene.plates.as_ref().map(|p| p.radius())) else {
+        return "Can the solid carry its weight (material.mu, material.gravity)?".into();
+    };
+    let g_drained = m.phi_s * mu;
+    let rho = m.phi_s * m.rho_s + (1.0 - m.phi_s) * m.rho_f;
+    let gravity = m.gravity.iter().map(|x| x * x).sum::<f64>().sqrt();
+    // ρ |g| R in Pa (R in µm), in kPa.
+    let weight = rho * gravity * r * 1e-6 / 1e3;
+    let ratio = weight / g_drained;
+    if ratio > 0.1 {
+        return format!(
+            "The weight's stress ρ g R = {weight:.3e} kPa is {ratio:.2} of the drained shear modulus Φs µ = \
+             {g_drained:.3e} kPa: the solid is too soft to carry its weight (raise the modulus; an aggregate in medium \
+             is buoyed: lower material.gravity)"
+        );
+    }
+    let sizes: Vec<String> = ["h_pole", "h_surf", "h"]
+        .iter()
+        .filter_map(|k| scene.mesh.params.get(*k).map(|v| format!("mesh.params.{k} = {v} µm")))
+        .collect();
+    format!(
+        "The solid carries its weight easily (ρ g R = {weight:.2e} kPa, {ratio:.1e} of Φs µ = {g_drained:.3e} kPa), so \
+         the likely cause is the mesh: its smallest cells at the lower pole, which the first point contact compacts \
+         ({}). Coarsen the pole (mesh.params.h_pole of R/100 or more)",
+        if sizes.is_empty() { "see mesh.params".into() } else { sizes.join(", ") }
+    )
 }

@@ -19,19 +19,22 @@ pub fn fmt_real(v: f64) -> String {
     }
 }
 
-/// A real for a log line: rounded to 5 significant digits, without trailing zeros (`130.08` for
-/// 130.07980000000003, `2305` for 2305.0000000002); files keep every digit ([`fmt_real`]).
+/// `x` rounded to `digits` significant digits, written as [`fmt_real`] writes it: for the log,
+/// where the float noise of sums of steps and every digit of a file's numbers get in the way.
+pub(crate) fn fmt_significant(x: f64, digits: usize) -> String {
+    fmt_real(format!("{x:.*e}", digits.clamp(1, 17) - 1).parse().unwrap_or(x))
+}
+
+/// A time (s) for the log: ten significant digits, without the float noise of sums of steps
+/// (`130.0798`, not `130.07980000000003`).
+pub(crate) fn fmt_time(t: f64) -> String {
+    fmt_significant(t, 10)
+}
+
+/// A number of the run summary's log lines: five significant digits (`130.08`, `2305`;
+/// `summary.toml` has every digit).
 pub(crate) fn fmt_short(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return fmt_real(x);
-    }
-    let decimals = (4.0 - x.abs().log10().floor()).clamp(0.0, 12.0) as usize;
-    let s = format!("{x:.decimals$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
+    fmt_significant(x, 5)
 }
 
 /// A duration of `s` seconds for a progress line: `42s`, `3m07s`, `2h05m`.
@@ -50,6 +53,14 @@ mod tests {
     use super::{fmt_duration, fmt_real, fmt_short};
 
     #[test]
+    fn times_without_float_noise() {
+        assert_eq!(super::fmt_time(130.07980000000003), "130.0798");
+        assert_eq!(super::fmt_time(0.1 + 0.2), "0.3");
+        assert_eq!(super::fmt_time(1e-7 / 3.0), "3.333333333e-8");
+        assert_eq!(super::fmt_time(35.0), "35");
+    }
+
+    #[test]
     fn durations() {
         assert_eq!(fmt_duration(42.4), "42s");
         assert_eq!(fmt_duration(187.0), "3m07s");
@@ -66,8 +77,9 @@ mod tests {
             (39.172863, "39.173"),
             (0.0, "0"),
             (-0.00123456, "-0.0012346"),
-            (1.5e-14, "0"),
-            (123456789.4, "123456789"),
+            (1.5e-14, "1.5e-14"),
+            (123456789.4, "123460000"),
+            (-1.2345678e-7, "-1.2346e-7"),
             (f64::NAN, "NaN"),
         ];
         for (x, want) in cases {

@@ -10,7 +10,9 @@
 //!   at T, and `maxerr:COL@T0:T1`, the largest |COL − COL_exact| over the rows with T0 ≤ t ≤ T1
 //!   (`inf` allowed).
 //!
-//! NaN where a spec does not apply: no such column, a time outside the run, no crossing. Every
+//! A time T is in seconds, or with a unit: `5s`, `2min`, `1h`. [`check`] tells a spec that cannot
+//! apply to a scene's columns and run before anything runs (a typo, a time after the end); once
+//! run, NaN where a spec does not apply: no such column, a time outside the run, no crossing. Every
 //! spec holds a `:` or an `@`, which no override key, counter or other summary column does: a
 //! reader of `summary.csv` tells the observable columns by that.
 
@@ -72,9 +74,75 @@ pub fn observe(h: &Columns, spec: &str) -> f64 {
         };
     }
     let Some((c, when)) = spec.split_once('@') else { return nan };
-    match (col(c), when.parse::<f64>()) {
-        (Some(v), Ok(when)) => at(h, v, when),
+    match (col(c), time(when)) {
+        (Some(v), Some(when)) => at(h, v, when),
         _ => nan,
+    }
+}
+
+/// A time of a spec in seconds: a number, or a number with the unit `s`, `min` or `h`.
+pub fn time(text: &str) -> Option<f64> {
+    let t = text.trim();
+    let (num, scale) = [("min", 60.0), ("h", 3600.0), ("s", 1.0)]
+        .iter()
+        .find_map(|(u, k)| t.strip_suffix(u).map(|n| (n.trim(), *k)))
+        .unwrap_or((t, 1.0));
+    num.parse::<f64>().ok().map(|v| v * scale).filter(|v| !v.is_nan())
+}
+
+/// The grammar, for messages.
+const GRAMMAR: &str = "max:COL, min:COL, last:COL, last:A/B, zero:COL, COL@T, err:COL@T or maxerr:COL@T0:T1 \
+                       (T in s, or with a unit: 5s, 2min, 1h)";
+
+/// Ok if `spec` is an observable of a run whose history has `columns` and ends at `t_end` (s);
+/// else what is wrong, with the nearest column name for a misspelt one.
+pub fn check(spec: &str, columns: &[String], t_end: f64) -> Result<(), String> {
+    let names = || columns.iter().map(String::as_str);
+    let column = |c: &str| -> Result<(), String> {
+        if columns.iter().any(|k| k == c) {
+            return Ok(());
+        }
+        let hint = crate::spelling::suggestion(c, names());
+        Err(format!("`{spec}`: no column `{c}` in this scene's history{hint} (`poroplast columns SCENE` lists them)"))
+    };
+    let when = |t: &str| -> Result<f64, String> {
+        let v = time(t).ok_or_else(|| format!("`{spec}`: `{t}` is not a time (seconds, or 5s, 2min, 1h)"))?;
+        if v < 0.0 || v > t_end * (1.0 + 1e-12) {
+            return Err(format!("`{spec}`: t = {v} s is outside the run, [0, {t_end}] s (time.t_end)"));
+        }
+        Ok(v)
+    };
+    let bad = || Err(format!("`{spec}` is not an observable: expected {GRAMMAR}"));
+    if let Some((kind, rest)) = spec.split_once(':') {
+        return match kind {
+            "max" | "min" | "zero" => column(rest),
+            "last" => match rest.split_once('/') {
+                Some((a, b)) => column(a).and(column(b)),
+                None => column(rest),
+            },
+            "err" | "maxerr" => {
+                let Some((c, span)) = rest.split_once('@') else { return bad() };
+                column(c)?;
+                column(&format!("{c}_exact"))
+                    .map_err(|_| format!("`{spec}`: column `{c}` has no exact solution `{c}_exact` to compare with"))?;
+                if kind == "err" {
+                    return when(span).map(drop);
+                }
+                let Some((t0, t1)) = span.split_once(':') else { return bad() };
+                if t1.trim() != "inf" {
+                    when(t1)?;
+                }
+                when(t0).map(drop)
+            }
+            _ => Err(format!(
+                "`{spec}`: unknown kind `{kind}:`{} (expected {GRAMMAR})",
+                crate::spelling::suggestion(kind, ["max", "min", "last", "zero", "err", "maxerr"])
+            )),
+        };
+    }
+    match spec.split_once('@') {
+        Some((c, t)) => column(c).and(when(t).map(drop)),
+        None => bad(),
     }
 }
 
@@ -100,12 +168,13 @@ fn error(h: &Columns, kind: &str, rest: &str) -> f64 {
         return nan;
     };
     if kind == "err" {
-        return match when.parse::<f64>() {
-            Ok(when) => (at(h, v, when) - at(h, exact, when)).abs(),
-            Err(_) => nan,
+        return match time(when) {
+            Some(when) => (at(h, v, when) - at(h, exact, when)).abs(),
+            None => nan,
         };
     }
-    let Some((Ok(t0), Ok(t1))) = when.split_once(':').map(|(a, b)| (a.parse::<f64>(), b.parse::<f64>())) else {
+    let end = |b: &str| if b.trim() == "inf" { Some(f64::INFINITY) } else { time(b) };
+    let Some((Some(t0), Some(t1))) = when.split_once(':').map(|(a, b)| (time(a), end(b))) else {
         return nan;
     };
     let errors: Vec<f64> = t
@@ -172,6 +241,48 @@ mod tests {
         assert!(observe(&h, "maxerr:p@3:4").is_nan());
         assert!(observe(&h, "err:q@1").is_nan() && observe(&h, "err:p").is_nan());
         assert!(observe(&h, "maxerr:p@1").is_nan());
+    }
+
+    #[test]
+    fn times_with_units() {
+        assert_eq!(time("35"), Some(35.0));
+        assert_eq!(time("0.5s"), Some(0.5));
+        assert_eq!(time(" 2min"), Some(120.0));
+        assert_eq!(time("1.5 h"), Some(5400.0));
+        assert_eq!(time("5ms"), None);
+        assert_eq!(time("s"), None);
+        let h = history(&[("time", &[0.0, 60.0, 120.0]), ("f", &[0.0, 6.0, 12.0])]);
+        assert_eq!(observe(&h, "f@1min"), 6.0);
+        assert_eq!(observe(&h, "f@90s"), 9.0);
+    }
+
+    #[test]
+    fn specs_checked_against_a_scenes_columns() {
+        let cols: Vec<String> = ["time", "force_total_mg", "sigma_app", "p", "p_exact", "height", "width"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        for ok in [
+            "max:force_total_mg",
+            "force_total_mg@0.5s",
+            "sigma_app@605",
+            "last:height/width",
+            "zero:p",
+            "err:p@1",
+            "maxerr:p@0:inf",
+            "force_total_mg@10min",
+        ] {
+            assert_eq!(check(ok, &cols, 605.0), Ok(()), "{ok}");
+        }
+        let err = |spec: &str| check(spec, &cols, 605.0).unwrap_err();
+        assert!(err("max:force_totl_mg").contains("did you mean `force_total_mg`"), "{}", err("max:force_totl_mg"));
+        assert!(err("sigma_ap@2").contains("did you mean `sigma_app`"));
+        assert!(err("maxx:force_total_mg").contains("unknown kind `maxx:` (did you mean `max`?)"));
+        assert!(err("force_total_mg@700").contains("outside the run, [0, 605] s"));
+        assert!(err("force_total_mg@5ms").contains("`5ms` is not a time"));
+        assert!(err("err:height@1").contains("no exact solution `height_exact`"));
+        assert!(err("force_total_mg").contains("is not an observable"));
+        assert!(err("last:height/widht").contains("did you mean `width`"));
     }
 
     #[test]

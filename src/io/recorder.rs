@@ -181,7 +181,8 @@ impl Recorder {
 
 /// `history.csv`'s columns in [`Recorder::record`]'s order: the step, time and dt, the
 /// `observed` ones, the iterations and the wall time.
-fn history_columns(observed: &[Column]) -> Vec<Column> {
+/// The columns of `history.csv`: the step's own around the `observed` ones.
+pub(crate) fn history_columns(observed: &[Column]) -> Vec<Column> {
     let mut cols = vec![Column::integer("step"), Column::real("time"), Column::real("dt")];
     cols.extend_from_slice(observed);
     cols.extend([Column::integer("newton_its"), Column::integer("ksp_its"), Column::real("wall_s")]);

@@ -9,12 +9,13 @@ use super::experiment::{self, Experiment};
 use super::pressure_peak::PressurePeak;
 use super::probe::Probe;
 use super::remodelling_summary;
-use super::verification::ExactFn;
+use super::verification::{exact_columns, ExactFn};
 use crate::error::Result;
 use crate::io::recorder::{Column, Observed, StepFields};
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::Vector;
 use crate::physics::problem::{backward_euler_rate, PoroProblem, Post};
+use crate::scene::{LoadedScene, Material};
 use mpi::topology::SimpleCommunicator;
 
 /// What is observed besides the state itself; built (and validated) before the run directory
@@ -56,16 +57,11 @@ impl Observers {
     /// The `history.csv` columns these observers fill, in the order of [`Observed::values`]
     /// (the recorder adds the step's own around them).
     pub fn columns(&self) -> Vec<Column> {
-        let mut cols = Vec::new();
-        if self.experiment.is_some() {
-            cols.extend(experiment::COLUMNS.iter().map(|&(name, kind)| Column { name: name.into(), kind }));
-        }
-        if self.remodelling {
-            cols.extend(remodelling_summary::COLUMNS.iter().map(|&c| Column::real(c)));
-        }
-        cols.extend(self.probes.iter().map(|p| Column::real(&p.name)));
-        cols.extend(self.exact.iter().map(|(n, _)| Column::real(n)));
-        cols
+        observed_columns(
+            self.experiment.is_some(),
+            self.remodelling,
+            self.probes.iter().map(|p| p.name.as_str()).chain(self.exact.iter().map(|(n, _)| n.as_str())),
+        )
     }
 
     /// The experiment's time-integrated outflow so far (0 without plates).
@@ -155,6 +151,32 @@ impl Observers {
         };
         Observed { values, fields }
     }
+}
+
+/// The observed columns, in order: the experiment's (with plates), the remodelling summary's
+/// (with qp state), then `named` (the probes', then the exact solutions').
+fn observed_columns<'a>(plates: bool, remodelling: bool, named: impl Iterator<Item = &'a str>) -> Vec<Column> {
+    let mut cols = Vec::new();
+    if plates {
+        cols.extend(experiment::COLUMNS.iter().map(|&(name, kind)| Column { name: name.into(), kind }));
+    }
+    if remodelling {
+        cols.extend(remodelling_summary::COLUMNS.iter().map(|&c| Column::real(c)));
+    }
+    cols.extend(named.map(Column::real));
+    cols
+}
+
+/// The names of the `history.csv` columns a run of `scene` writes, in order, from the scene alone
+/// (no mesh, no PETSc): what `poroplast columns` prints, and what a sweep's observables and a
+/// fit's column are checked against before anything runs.
+pub fn history_column_names(scene: &LoadedScene) -> Result<Vec<String>> {
+    let s = &scene.scene;
+    let remodelling = matches!(&s.material, Material::HolmesMow(m) if m.remodelling.is_some());
+    let exact = exact_columns(scene)?;
+    let named = s.probe.iter().map(|p| p.name.as_str()).chain(exact.iter().map(|(n, _)| n.as_str()));
+    let observed = observed_columns(s.plates.is_some(), remodelling, named);
+    Ok(crate::io::recorder::history_columns(&observed).into_iter().map(|c| c.name).collect())
 }
 
 /// u (three components) and p at the owned nodes from the local state: p of a mid-edge node is

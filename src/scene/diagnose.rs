@@ -138,7 +138,7 @@ fn serde_kind(v: &toml::Value) -> &'static str {
 /// then the key is found by [`culprit_key`] and the line is its `key = value` line in the table
 /// (or, failing that, the one line of the table whose value has that type, or holds that
 /// choice as a string).
-pub(super) fn toml_message(text: &str, e: &toml::de::Error) -> String {
+pub(crate) fn toml_message(text: &str, e: &toml::de::Error) -> String {
     let msg = plain(&e.message().replace('\n', " "));
     // A field missing at the top level has an empty span at the start, which is no line of it.
     if let (Some(field), Some(std::ops::Range { start: 0, end: 0 })) = (missing_field(&msg), e.span()) {

@@ -243,8 +243,14 @@ const DRAINED_YOUNGS_MODULUS: Key = Key::new(
 .rule("instead of `mu`, with `nu`")
 .enters("µ = E / (2 (1 + ν) Φs), eq. (56)");
 /// ν has one range in both models.
-const NU: Key =
-    Key::new("material.nu", "", Unset::Absent(""), "Poisson ratio ν of Ψ/Φs").range(POISSON).enters("eq. (56)");
+const NU: Key = Key::new(
+    "material.nu",
+    "",
+    Unset::Absent(""),
+    "the aggregate's drained Poisson ratio ν (small strain), also that of Ψ/Φs: Φs scales both Lamé constants",
+)
+.range(POISSON)
+.enters("eq. (56)");
 const ALPHA: Key = Key::new("material.alpha", "kPa, –, –", Unset::Absent(""), "[α0, α1, α2] given directly (α3 = 1)")
     .range(Range::POSITIVE)
     .rule("the range is α0's; the law checks the others")

@@ -159,7 +159,7 @@ const RELATIVE_SIZE: Key = Key::new(
     "mesh.relative_sizes",
     "R",
     Unset::Absent("none"),
-    "mesh sizes as fractions of params.R: h, h_pole, r_pole",
+    "mesh lengths as fractions of params.R: any length of `params` (h, h_pole, r_pole, h_surf, w_surf, ...)",
 )
 .range(Range::new(0.0, false, 1.0, true, "must lie in (0, 1] (a fraction of R)"))
 .rule("needs params.R; a size in params (µm) wins");
@@ -230,5 +230,36 @@ pub(super) const SECTION: Section = Section {
         Key::new("mesh.params.h_pole", "µm", Unset::Absent("the `.geo`'s"), "the mesh size at the poles (the plate contacts)")
             .rule("≤ R"),
         Key::new("mesh.params.r_pole", "µm", Unset::Absent("the `.geo`'s"), "the distance from a pole over which h_pole blends into h"),
+        Key::new(
+            "mesh.params.h_surf",
+            "µm",
+            Unset::Absent("h (no grading)"),
+            "sphere `.geo` files: the mesh size on the whole curved surface, on when below h (resolves the pressure \
+             layer under the drained surface, which the peak force depends on)",
+        ),
+        Key::new("mesh.params.w_surf", "µm", Unset::Absent("0.3 R"), "the depth over which h_surf grows back to h"),
+        Key::new(
+            "mesh.params.h_edge",
+            "µm",
+            Unset::Absent("h (no grading)"),
+            "sphere `.geo` files: the mesh size at the contact edges (the rings where the contact patch ends at the \
+             peak force), on when below h",
+        ),
+        Key::new("mesh.params.r_edge", "µm", Unset::Absent("0.62 R"), "the reference radius of the contact-edge rings"),
+        Key::new("mesh.params.w_edge", "µm", Unset::Absent("0.25 R"), "the distance over which h_edge grows back to h"),
+        Key::new("mesh.params.H", "µm", Unset::Absent("1"), "`column.geo`, `column_meridian.geo`: the column's height"),
+        Key::new(
+            "mesh.params.W",
+            "µm",
+            Unset::Absent("0.1 H"),
+            "the column's width (`column.geo`, square section) or radius (`column_meridian.geo`)",
+        ),
+        Key::new(
+            "mesh.params.h_top",
+            "µm",
+            Unset::Absent("h"),
+            "the columns' vertical element size at the top (the drained face), graded from h at the bottom",
+        ),
+        Key::new("mesh.params.L", "µm", Unset::Absent("1"), "`block.geo`: the cube's edge (its h defaults to L)"),
     ],
 };

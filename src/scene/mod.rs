@@ -25,6 +25,7 @@ pub mod numerics;
 pub mod observe;
 pub mod overrides;
 pub mod plates;
+mod plausible;
 pub mod reference;
 mod resolve;
 #[cfg(test)]
@@ -35,6 +36,7 @@ pub mod time;
 mod validation_tests;
 
 pub use bc::{Axis, BoundaryCondition, Traction};
+pub(crate) use diagnose::toml_message;
 pub use load::{LoadedScene, BUILTIN};
 pub use material::{HolmesMowSpec, Material, PenaltySpec, RemodellingSpec, SolidSpec};
 pub use mesh::{Geometry, Grading, MeshSpec};
@@ -112,6 +114,7 @@ impl Scene {
             sf.validate(self.plates.is_some())?;
         }
         self.fem.validate(self.mesh.geometry)?;
+        plausible::check(self, notes)?;
         self.validate_petsc()
     }
 

@@ -22,7 +22,7 @@ pub struct PlatesSpec {
     pub compression: Option<f64>,
     /// The protocol as a table of (t in s, ũ = u / (2R)) rows, linear between them, from
     /// [0, 0]: instead of `compression` and the phases (two compressions, a long hold, ...).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "table_rows")]
     pub table: Option<Vec<[f64; 2]>>,
     /// The protocol's phases (s): the plate rises over `ramp`, holds for `hold`, returns over
     /// `release`; then the aggregate rests until time.t_end.
@@ -79,6 +79,23 @@ pub enum DrainageGap {
     Current,
 }
 
+/// A table's rows, each exactly two numbers (a third column would otherwise be dropped unseen).
+fn table_rows<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Vec<[f64; 2]>>, D::Error> {
+    let rows: Vec<Vec<f64>> = Deserialize::deserialize(d)?;
+    rows.iter()
+        .enumerate()
+        .map(|(i, r)| match r[..] {
+            [t, u] => Ok([t, u]),
+            _ => Err(serde::de::Error::custom(format!(
+                "plates.table row {} = {r:?} has {} number(s): each row is exactly [t (s), ũ = u / (2R)]",
+                i + 1,
+                r.len()
+            ))),
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
+}
+
 fn default_penalty() -> f64 {
     100.0
 }
@@ -111,6 +128,9 @@ impl Protocol {
         [self.ramp, hold_end, hold_end + self.release]
     }
 }
+
+/// The keys of a protocol given by its phases (a `plates.table` override replaces them).
+pub(crate) const PHASE_KEYS: [&str; 6] = ["compression", "ramp", "hold", "release", "t_ramp", "t_end"];
 
 /// The seal gap's default, relative to R.
 pub const DEFAULT_SEAL_GAP: f64 = 0.01;
@@ -340,6 +360,14 @@ fn check_table(rows: &[[f64; 2]], t_end: f64, notes: &mut Vec<String>) -> Result
             ));
         }
         COMPRESSION.check_as(&format!("plates.table row {} compression", i + 2), c)?;
+    }
+    if t_end < rows[1][0] {
+        return Err(format!(
+            "plates.table: the run ends (time.t_end = {t_end} s) before the table's second row, at {} s: the plates \
+             would not finish their first move. The table's times are seconds{}; or lengthen time.t_end",
+            rows[1][0],
+            if rows[rows.len() - 1][0] / 1000.0 <= t_end { " (milliseconds? divide them by 1000)" } else { "" }
+        ));
     }
     let last = rows[rows.len() - 1][0];
     if last > t_end {

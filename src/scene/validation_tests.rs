@@ -276,11 +276,30 @@ fn a_protocol_table_is_checked() {
             "table = [[0.0, 0.0], [5.0, 0.3]]\nhold = 3.0\n",
             "plates.table gives the whole protocol; leave out plates.hold",
         ),
+        (
+            "table = [[0.0, 0.0], [5.0, 0.3, 60.0]]\n",
+            "plates.table row 2 = [5.0, 0.3, 60.0] has 3 number(s): each row is exactly [t (s), ũ = u / (2R)]",
+        ),
+        ("table = [[0.0, 0.0], [5.0]]\n", "plates.table row 2 = [5.0] has 1 number(s)"),
+        (
+            "table = [[0.0, 0.0], [5000.0, 0.3], [35000.0, 0.3], [40000.0, 0.0]]\n",
+            "the run ends (time.t_end = 100 s) before the table's second row, at 5000 s: the plates would not finish \
+             their first move. The table's times are seconds (milliseconds? divide them by 1000)",
+        ),
     ];
     for (table, part) in cases {
         expect("reference", &[(phases, table)], &[], part);
     }
     expect("reference", &[(phases, "ramp = 5.0\nhold = 30.0\nrelease = 5.0\n")], &[], "give plates.compression");
+    // On the command line a table replaces the phases; a phase cannot change a table.
+    let t = LoadedScene::load("reference", &["plates.table=[[0.0, 0.0], [5.0, 0.2], [60.0, 0.2], [65.0, 0.0]]".into()])
+        .unwrap();
+    assert_eq!(t.scene.plates.as_ref().unwrap().protocol().ends(), [5.0, 60.0, 65.0]);
+    let e = LoadedScene::load("tst_hold", &["plates.compression=0.2".into()]).unwrap_err().to_string();
+    assert!(
+        e.contains("this scene's protocol is a plates.table, which the phases cannot change: override the table"),
+        "{e}"
+    );
     // Two compressions: the summary's phases are the first ramp to the largest ũ, the hold to
     // its last row there, and the release to the next rest.
     let table = "table = [[0.0, 0.0], [5.0, 0.2], [60.0, 0.2], [65.0, 0.0], [120.0, 0.0], [125.0, 0.3], [400.0, 0.3], [405.0, 0.0]]\n";

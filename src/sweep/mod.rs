@@ -148,12 +148,18 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
                 .map_err(|e| Error::Sweep(format!("case {} ({}): {e}", case.index, case.label())))
         })
     })?;
+    // The study's observables against every case's history columns and end time (rank 0): a
+    // typo would otherwise leave its column empty, and say nothing.
+    if study.observe_given {
+        on_root(world, || check_observables(&study))?;
+    }
     let root = match &args.out {
         Some(o) => o.clone(),
         None => {
             crate::parallel::broadcast_path(world, Some(&rundir::default_run_dir(&format!("sweep-{}", study.name))))
         }
     };
+    crate::driver::signals::stop_in_setup(world, "no case ran, nothing was written; run the command again")?;
     // The directory (locked for the session), the store, and the cases' order, by rank 0.
     let _lock = agree(world, open_dir(&root, &text, &args.petsc, world.rank() == 0))?;
     let store = match &args.cases_dir {
@@ -261,6 +267,21 @@ pub fn sweep(world: &SimpleCommunicator, args: &SweepArgs) -> Result<PathBuf> {
 /// of another study, of the same study with other command-line PETSc options (`petsc`), or one
 /// that is not a sweep's, is refused untouched. The study file and the options are written at
 /// the first session (atomically, each only when absent: a later session rewrites neither).
+/// Every observable of the study applies to every case whose scene loads (a case whose scene
+/// does not is its own failure, recorded when it runs).
+fn check_observables(study: &Study) -> Result<()> {
+    for case in &study.cases {
+        let Ok(scene) = LoadedScene::load(&case.scene, &study.overrides(case)) else { continue };
+        let columns = crate::observe::observers::history_column_names(&scene)?;
+        for spec in &study.observe {
+            crate::io::observable::check(spec, &columns, scene.scene.time.t_end).map_err(|e| {
+                Error::Sweep(format!("observe {e}; in case {} ({}), before anything ran", case.index, case.label()))
+            })?;
+        }
+    }
+    Ok(())
+}
+
 fn open_dir(root: &Path, text: &str, petsc: &[String], is_root: bool) -> Result<rundir::RunLock> {
     if is_root {
         let copy = root.join("study.toml");
@@ -464,7 +485,7 @@ impl Group<'_> {
             }
             // Nothing added: the run's record holds the options it started with (its
             // signature's, which are this session's: they name its directory).
-            return driver::resume(self.comm, dir, &[], false);
+            return driver::resume(self.comm, dir, &[], driver::Log::Silent);
         }
         let sig = &self.plan.sigs[case.index];
         let run = RunArgs {
@@ -473,9 +494,13 @@ impl Group<'_> {
             out: Some(dir.clone()),
             force: true,
             petsc: sig.petsc.clone(),
-            progress: false,
+            log: driver::Log::Silent,
         };
-        driver::run(self.comm, &run)
+        // Stopped before it wrote anything, the case is as if it had not started: the sweep stops.
+        driver::run(self.comm, &run).map_err(|e| match e {
+            Error::StoppedInSetup(m) => Error::Stopped(m),
+            e => e,
+        })
     }
 
     /// The progress line of a case just ended (the group's leader): the sweep's counts from the

@@ -80,6 +80,9 @@ pub struct Study {
     pub set: Vec<String>,
     pub petsc: Vec<String>,
     pub observe: Vec<String>,
+    /// Whether the study file names its observables (else they are [`super::observable::DEFAULT`],
+    /// empty where a scene has no such column).
+    pub observe_given: bool,
     /// An earlier summary.csv whose wall times estimate the cases' costs.
     pub estimate_from: Option<PathBuf>,
     pub cases: Vec<Case>,
@@ -142,8 +145,8 @@ impl Study {
     /// Parses the text of the study file `path` (read by the caller); relative paths in it are
     /// relative to the file's directory.
     pub fn parse(path: &Path, text: &str) -> Result<Study> {
-        let err = |msg: String| Error::Scene { path: path.display().to_string(), msg };
-        let file: StudyFile = toml::from_str(text).map_err(|e| err(e.message().trim().to_string()))?;
+        let err = |msg: String| Error::Sweep(format!("study {}: {msg}", path.display()));
+        let file: StudyFile = toml::from_str(text).map_err(|e| err(crate::scene::toml_message(text, &e)))?;
         let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
         // A scene argument: a file relative to the study file, else as written (a shipped scene).
         let resolve = |scene: &str| -> Result<String> {
@@ -189,6 +192,7 @@ impl Study {
             name,
             set: file.set,
             petsc: file.petsc,
+            observe_given: file.observe.is_some(),
             observe: file.observe.unwrap_or_else(|| super::observable::DEFAULT.iter().map(|s| s.to_string()).collect()),
             estimate_from,
             cases: resolved,
