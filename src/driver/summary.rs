@@ -199,22 +199,6 @@ pub(crate) struct Summary {
 /// Without surface tension the Laplace reading is the solid's stress over the same geometry.
 const NO_TENSION: &str = "no surface tension in this scene: σ_app reads the solid's stress, not a tension";
 
-/// `word` as a shell reads it back: as it is if it has no special characters, else in single
-/// quotes.
-fn shell_word(word: &str) -> String {
-    let plain = |c: char| c.is_ascii_alphanumeric() || "_-./+:=@%,".contains(c);
-    if !word.is_empty() && word.chars().all(plain) {
-        word.to_string()
-    } else {
-        format!("'{}'", word.replace('\'', "'\\''"))
-    }
-}
-
-/// `exe plot dir`, pasteable.
-pub(super) fn plot_command(exe: &Path, dir: &Path) -> String {
-    format!("{} plot {}", shell_word(&exe.to_string_lossy()), shell_word(&dir.to_string_lossy()))
-}
-
 /// `key = value` with a comment, the value as the shortest decimal that reads back the same;
 /// nothing for a value that is not finite (an entry that does not apply).
 fn entry(out: &mut String, key: &str, v: f64, comment: &str) {
@@ -382,7 +366,7 @@ impl<'w> Run<'w> {
                     PlateSummary::of(&h, p.protocol(), &holds, Tensiometry::of(s))
                 }),
                 pressure,
-                plot_command: std::env::current_exe().ok().map(|exe| plot_command(&exe, dir)),
+                plot_command: Some(crate::launch::command(1, &["plot", &dir.to_string_lossy()])),
             };
             rundir::write_text(dir, FILE, &summary.toml())?;
             for l in summary.lines() {
@@ -448,7 +432,7 @@ mod tests {
             accuracy: Some("expected accuracy: within 1%".into()),
             plates: PlateSummary::of(&h, phases, &[Hold { start: 2.0, end: 6.0, compression: 0.3 }], None),
             pressure,
-            plot_command: Some(plot_command(Path::new("/opt/my bin/poroplast"), Path::new("runs/x"))),
+            plot_command: Some(crate::launch::command(1, &["plot", "my runs/x"])),
         };
         let t: toml::Table = toml::from_str(&s.toml()).unwrap();
         assert_eq!(t["scene"].as_str(), Some("reference \"x\""));
@@ -473,7 +457,8 @@ mod tests {
                 .to_string()
         ));
         assert!(lines.contains(&"summary: hold 1 (t = 2–6 s, ũ = 0.3): 1.75 mg = 17.168 µN at its end".to_string()));
-        assert_eq!(lines.last().unwrap(), "summary: plot it: '/opt/my bin/poroplast' plot runs/x");
+        let exe = std::env::current_exe().unwrap().display().to_string();
+        assert_eq!(lines.last().unwrap(), &format!("summary: plot it: {exe} plot 'my runs/x'"));
         let hold = t["hold"].as_array().unwrap()[0].as_table().unwrap();
         assert_eq!(hold["force_uN"].as_float(), Some(1.75 * 9.81));
         assert!(hold["reached"].as_bool().unwrap() && !hold.contains_key("sigma_app_mN_m"));
@@ -561,12 +546,5 @@ mod tests {
         assert!(lines
             .contains(&"summary: liquid test: no verdict (σ_app was not read positive at two compressions)".into()));
         assert!(!toml::from_str::<toml::Table>(&s.toml()).unwrap().contains_key("liquid_test"));
-    }
-
-    #[test]
-    fn commands_paste_into_a_shell() {
-        assert_eq!(shell_word("runs/tst-1.5_x"), "runs/tst-1.5_x");
-        assert_eq!(shell_word("my runs/it's"), "'my runs/it'\\''s'");
-        assert_eq!(shell_word(""), "''");
     }
 }
