@@ -717,6 +717,14 @@ fn the_summary_tells_the_history() {
     let k = (0..t.len()).find(|&i| t[i] > 8.0 && f[i] == 0.0).expect("the force vanishes in the release");
     assert!(f[k - 1] > 0.0 && t[k] <= 10.0 + 1e-9, "opening at t = {}", t[k]);
     assert_eq!(num("plates.contact_opening_time_s"), t[k]);
+    // Its one hold, 2–8 s at ũ = 0.3, read at 8 s; without surface tension no Laplace reading in
+    // it and no liquid test; the µN column is the mg column × 9.81.
+    let holds = s.array("hold");
+    let hold = |k: &str| holds[0][k].as_float().unwrap_or_else(|| panic!("no {k} in {holds:?}"));
+    assert_eq!((holds.len(), hold("start_s"), hold("end_s"), hold("compression")), (1, 2.0, 8.0, 0.3));
+    assert!((hold("force_mg") - f8).abs() <= 1e-12 * f8 && hold("force_uN") == 9.81 * hold("force_mg"));
+    assert!(!holds[0].contains_key("sigma_app_mN_m") && s.table("liquid_test").is_empty());
+    assert_eq!(h.col("force_total_uN"), f.iter().map(|x| x * 9.81).collect::<Vec<_>>());
     let last = t.len() - 1;
     assert_eq!(num("plates.final_height_over_width"), h.col("height")[last] / h.col("width")[last]);
     assert_eq!(num("steps"), last as f64);

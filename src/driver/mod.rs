@@ -9,10 +9,13 @@
 //! (`rate`), the state between steps and the checkpoint files (`state`), writing and reading
 //! checkpoints in a run (`checkpoint`), the run directory's outputs and log (`output`), what the
 //! scene resolved to and its expected accuracy (`resolved`), the run record `run.toml` (`record`),
-//! the run summary `summary.toml` (`summary`) and stop signals (`signals`).
+//! the run summary `summary.toml` (`summary`), with the protocol's holds (`holds`) and the liquid
+//! test on them (`liquid_test`), and stop signals (`signals`).
 
 mod check;
 mod checkpoint;
+mod holds;
+mod liquid_test;
 mod output;
 mod progress;
 mod rate;

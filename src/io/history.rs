@@ -73,7 +73,17 @@ impl History {
             let mut lines = text.split_inclusive('\n');
             let head = lines.next().unwrap_or("");
             if head.trim_end() != columns.join(",") {
-                return Err(Error::io(path, "its columns are not this run's (was the scene changed?)"));
+                // A run written before the µN force columns existed lacks them: say so, not "changed".
+                let without_un: Vec<&str> = columns.iter().copied().filter(|c| !c.ends_with("_uN")).collect();
+                return Err(Error::io(
+                    path,
+                    if without_un.len() < columns.len() && head.trim_end() == without_un.join(",") {
+                        "was written by an earlier version of poroplast (its forces have no µN columns): it cannot \
+                         be continued; rerun it (`poroplast run` with --force, or into a new --out)"
+                    } else {
+                        "its columns are not this run's (was the scene changed?)"
+                    },
+                ));
             }
             let kept: Vec<&str> = lines.take(keep).collect();
             if kept.len() < keep || kept.last().is_some_and(|l| !l.ends_with('\n')) {
@@ -180,6 +190,26 @@ mod tests {
         assert!(h.row(&[1.0]).is_err());
         h.row(&[1.0, 2.0]).unwrap();
         assert!(!q.exists());
+        std::fs::remove_dir_all(p.parent().unwrap()).unwrap();
+    }
+
+    /// A history from before the µN columns is refused as an earlier version's; other headers as
+    /// another scene's; neither is changed.
+    #[test]
+    fn an_earlier_versions_history_is_named_as_such() {
+        let p = tmp("earlier");
+        let old = "step,time,force_total_mg,height\n0,0,0,200\n1,1,2,190\n";
+        std::fs::write(&p, old).unwrap();
+        let now = ["step", "time", "force_total_mg", "force_total_uN", "height"];
+        let e = History::reopen(&p, &now, &["step"], 1, true).err().unwrap().to_string();
+        assert!(e.contains("written by an earlier version of poroplast") && e.contains("rerun it"), "{e}");
+        let e = History::reopen(&p, &["step", "time", "width"], &["step"], 1, true).err().unwrap().to_string();
+        assert!(e.contains("its columns are not this run's"), "{e}");
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), old);
+        // The same header is continued after the checkpoint's rows.
+        let h = History::reopen(&p, &["step", "time", "force_total_mg", "height"], &["step"], 1, true).unwrap();
+        drop(h);
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "step,time,force_total_mg,height\n0,0,0,200\n");
         std::fs::remove_dir_all(p.parent().unwrap()).unwrap();
     }
 

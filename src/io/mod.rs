@@ -19,10 +19,22 @@ pub fn fmt_real(v: f64) -> String {
     }
 }
 
+/// `x` rounded to `digits` significant digits, written as [`fmt_real`] writes it: for the log,
+/// where the float noise of sums of steps and every digit of a file's numbers get in the way.
+pub(crate) fn fmt_significant(x: f64, digits: usize) -> String {
+    fmt_real(format!("{x:.*e}", digits.clamp(1, 17) - 1).parse().unwrap_or(x))
+}
+
 /// A time (s) for the log: ten significant digits, without the float noise of sums of steps
 /// (`130.0798`, not `130.07980000000003`).
 pub(crate) fn fmt_time(t: f64) -> String {
-    fmt_real(format!("{t:.9e}").parse().unwrap_or(t))
+    fmt_significant(t, 10)
+}
+
+/// A number of the run summary's log lines: five significant digits (`130.08`, `2305`;
+/// `summary.toml` has every digit).
+pub(crate) fn fmt_short(x: f64) -> String {
+    fmt_significant(x, 5)
 }
 
 /// A duration of `s` seconds for a progress line: `42s`, `3m07s`, `2h05m`.
@@ -38,7 +50,7 @@ pub(crate) fn fmt_duration(s: f64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{fmt_duration, fmt_real};
+    use super::{fmt_duration, fmt_real, fmt_short};
 
     #[test]
     fn times_without_float_noise() {
@@ -53,6 +65,26 @@ mod tests {
         assert_eq!(fmt_duration(42.4), "42s");
         assert_eq!(fmt_duration(187.0), "3m07s");
         assert_eq!(fmt_duration(7500.0), "2h05m");
+    }
+
+    #[test]
+    fn short_reals_lose_the_float_noise() {
+        let cases = [
+            (130.07980000000003, "130.08"),
+            (2305.0000000002, "2305"),
+            (17.447330666, "17.447"),
+            (171.158313, "171.16"),
+            (39.172863, "39.173"),
+            (0.0, "0"),
+            (-0.00123456, "-0.0012346"),
+            (1.5e-14, "1.5e-14"),
+            (123456789.4, "123460000"),
+            (-1.2345678e-7, "-1.2346e-7"),
+            (f64::NAN, "NaN"),
+        ];
+        for (x, want) in cases {
+            assert_eq!(fmt_short(x), want, "{x}");
+        }
     }
 
     #[test]

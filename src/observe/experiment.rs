@@ -4,7 +4,9 @@
 //!   plate (reactions of the VI-active dofs: the raw residual there, the surface tension's
 //!   included), less the adhesion's pull on the faces near the plate, split exactly into the
 //!   pressure part (nodal forces of −p J F⁻ᵀ) and the constitutive rest; upper plate positive
-//!   in compression, full-sphere equivalent, normalised by 9.81 m/s² in mg (1 nN = 1.0194e-4 mg);
+//!   in compression, full-sphere equivalent, in mg-force under [`G`] = 9.81 m/s² (the paper's
+//!   unit; 1 nN = 1.0194e-4 mg), each followed by the same force in µN (mg × G: the one g of
+//!   every mg ↔ µN conversion);
 //! * contact radii, height and width of the current shape;
 //! * pressure and porosity at the material point X_U = (0.4 R, 0, 1.9 R) (`plates.probe_point`);
 //! * fluid (mixture) volume ∫ J dV and the outflow through the drained surface, Σ c(g) p
@@ -26,20 +28,29 @@ use crate::physics::contact::{Plates, Touch};
 use crate::physics::problem::Post;
 use mpi::topology::SimpleCommunicator;
 
-/// The g of the forces in mg (m/s²): 1 mg-force = 9.81 µN.
+/// The g of the forces in mg (m/s²): 1 mg-force = 9.81 µN. Every mg ↔ µN conversion uses it.
 pub const G: f64 = 9.81;
 
 /// nN → mg under g: 1e-9 N / 9.81 m/s² = 1.0194e-10 kg = 1.0194e-4 mg.
 pub const NN_TO_MG: f64 = 1e-3 / G;
 
+/// A force in mg as µN.
+pub fn micro_newton(mg: f64) -> f64 {
+    mg * G
+}
+
 /// history.csv columns of [`Experiment::observe`], in order, with their kind (the contact
-/// node counts are integers).
-pub const COLUMNS: [(&str, ColumnKind); 21] = [
+/// node counts are integers). Each force in mg is followed by its µN twin.
+pub const COLUMNS: [(&str, ColumnKind); 25] = [
     ("plate_disp", Real),
     ("force_total_mg", Real),
+    ("force_total_uN", Real),
     ("force_constitutive_mg", Real),
+    ("force_constitutive_uN", Real),
     ("force_pressure_mg", Real),
+    ("force_pressure_uN", Real),
     ("force_lower_mg", Real),
+    ("force_lower_uN", Real),
     ("contact_radius_upper", Real),
     ("contact_radius_lower", Real),
     ("height", Real),
@@ -80,7 +91,7 @@ pub struct Experiment {
 
 /// One step's observables (full-sphere equivalents) and the per-node contact state.
 pub struct Observation {
-    pub values: [f64; 21],
+    pub values: [f64; 25],
     /// Contact state of every owned node: 0 free, 1 lower plate, 2 upper plate.
     pub node_contact: Vec<f64>,
 }
@@ -203,12 +214,17 @@ impl Experiment {
             .collect();
         let reading = laplace::read(&profile, plates.z_lower(t), plates.z_upper, sym * f_up);
         let [r1, r2, r3, sigma_app] = reading.values();
+        let mg = [f_up, f_up - fp_up, fp_up, sum(world, f_lo - pull_lo)].map(|f| sym * f * NN_TO_MG);
         let values = [
             plates.z_lower(t),
-            sym * f_up * NN_TO_MG,
-            sym * (f_up - fp_up) * NN_TO_MG,
-            sym * fp_up * NN_TO_MG,
-            sym * sum(world, f_lo - pull_lo) * NN_TO_MG,
+            mg[0],
+            micro_newton(mg[0]),
+            mg[1],
+            micro_newton(mg[1]),
+            mg[2],
+            micro_newton(mg[2]),
+            mg[3],
+            micro_newton(mg[3]),
             max(world, r_up),
             max(world, r_lo),
             max(world, zmax) + max(world, -zmin),

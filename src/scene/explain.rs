@@ -1,30 +1,27 @@
 //! A scene explained: the resolved scene as TOML (every default written out) with each key's
 //! meaning, unit, default and valid range from its declaration ([`super::key`]) as a comment
 //! above it, and the keys left unset listed with what that means — `poroplast show --explain`
-//! and the run directory's `scene.toml`.
+//! and the run directory's `scene.toml`. Values are written on their key's line, except a table
+//! of numbers (`plates.table`), which is written a row a line with its columns aligned.
 
 use super::key::{Key, Unset};
 use super::reference::sections;
 use super::{LoadedScene, Material};
-use crate::error::Result;
+use crate::error::{Error, Result};
 
 /// The resolved scene of `loaded`, each key with its declaration as a comment.
 pub fn explain(loaded: &LoadedScene) -> Result<String> {
-    // The material model's own keys (`material.mu` is the drained modulus of the linear model).
-    let model = match loaded.scene.material {
-        Material::Linear { .. } => "model = \"linear\"",
-        Material::HolmesMow(_) => "model = \"holmes_mow\"",
-    };
-    let keys: Vec<Key> = sections()
-        .iter()
-        .filter(|s| !s.title.contains("model = ") || s.title.contains(model))
-        .flat_map(|s| s.keys.iter().copied())
-        .collect();
+    let keys = declared(loaded);
     let mut out = String::new();
     let mut table = String::new();
     // The keys of the current table written so far (None: its unset keys are listed).
     let mut seen = Some(Vec::new());
-    for line in loaded.to_toml()?.lines() {
+    // Compact TOML: every value on its key's line (the pretty form splits arrays over lines).
+    let text = toml::to_string(&loaded.scene).map_err(|e| Error::Scene {
+        path: loaded.source.clone(),
+        msg: format!("cannot write the resolved scene as TOML: {e}"),
+    })?;
+    for line in text.lines() {
         let trimmed = line.trim();
         if trimmed.is_empty() || trimmed.starts_with('[') {
             if let Some(names) = seen.take() {
@@ -44,13 +41,61 @@ pub fn explain(loaded: &LoadedScene) -> Result<String> {
                 out.push_str(&format!("# [[{name}]] entries: none (docs/scene-reference.md lists their keys)\n"));
             }
         }
-        out.push_str(line);
-        out.push('\n');
+        match rows(line) {
+            Some(table) => out.push_str(&table),
+            None => {
+                out.push_str(line);
+                out.push('\n');
+            }
+        }
     }
     if let Some(names) = seen {
         out.push_str(&unset(&keys, &table, &names));
     }
     Ok(out)
+}
+
+/// The keys a scene can have: its material model's own (`material.mu` is the drained modulus
+/// of the linear model) and every other section's.
+fn declared(loaded: &LoadedScene) -> Vec<Key> {
+    let model = match loaded.scene.material {
+        Material::Linear { .. } => "model = \"linear\"",
+        Material::HolmesMow(_) => "model = \"holmes_mow\"",
+    };
+    sections()
+        .iter()
+        .filter(|s| !s.title.contains("model = ") || s.title.contains(model))
+        .flat_map(|s| s.keys.iter().copied())
+        .collect()
+}
+
+/// `key = [[a, b], [c, d], ...]`, an array of rows of numbers, as a table: a row a line, each
+/// column right-aligned; None for any other line.
+fn rows(line: &str) -> Option<String> {
+    let (key, _) = line.split_once(" = ")?;
+    let parsed: toml::Table = toml::from_str(line).ok()?;
+    let cells: Vec<Vec<String>> = parsed
+        .get(key)?
+        .as_array()?
+        .iter()
+        .map(|row| {
+            let row = row.as_array().filter(|r| !r.is_empty() && r.iter().all(|v| v.is_float() || v.is_integer()))?;
+            Some(row.iter().map(|v| v.to_string()).collect())
+        })
+        .collect::<Option<_>>()?;
+    if cells.is_empty() {
+        return None;
+    }
+    let columns = cells.iter().map(Vec::len).max().unwrap_or(0);
+    let width: Vec<usize> =
+        (0..columns).map(|c| cells.iter().filter_map(|r| r.get(c)).map(|v| v.len()).max().unwrap_or(0)).collect();
+    let mut out = format!("{key} = [\n");
+    for row in &cells {
+        let padded: Vec<String> = row.iter().zip(&width).map(|(v, &w)| format!("{v:>w$}")).collect();
+        out.push_str(&format!("    [{}],\n", padded.join(", ")));
+    }
+    out.push_str("]\n");
+    Some(out)
 }
 
 /// The declared keys of `table` the scene leaves unset (not in `written`), as comments: what
@@ -106,7 +151,65 @@ fn comment(k: &Key) -> String {
 #[cfg(test)]
 mod tests {
     use super::super::LoadedScene;
-    use super::explain;
+    use super::{comment, declaration, declared, explain};
+
+    fn parsed(text: &str) -> toml::Table {
+        toml::from_str(text).unwrap_or_else(|e| panic!("{e}\n{text}"))
+    }
+
+    /// `tst_two_compressions`' table is printed a row a line, aligned, with nothing between its
+    /// rows; every key has its own declaration's comment right above it; the text parses back to
+    /// the same table and loads as the same scene.
+    #[test]
+    fn a_table_is_printed_as_rows_and_each_comment_is_above_its_key() {
+        let s = LoadedScene::load("tst_two_compressions", &[]).unwrap();
+        let text = explain(&s).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        let at = lines.iter().position(|l| *l == "table = [").unwrap_or_else(|| panic!("no table in\n{text}"));
+        let rows: Vec<&str> = lines[at + 1..].iter().take_while(|l| l.starts_with("    [")).copied().collect();
+        assert_eq!(
+            rows,
+            [
+                "    [   0.0,  0.0],",
+                "    [   5.0, 0.15],",
+                "    [1005.0, 0.15],",
+                "    [1010.0,  0.0],",
+                "    [1300.0,  0.0],",
+                "    [1305.0,  0.3],",
+                "    [2305.0,  0.3],",
+                "    [2310.0,  0.0],",
+            ]
+        );
+        assert_eq!(lines[at + 1 + rows.len()], "]");
+        let table = parsed(&lines[at..at + rows.len() + 2].join("\n"));
+        let want = s.scene.plates.as_ref().unwrap().table.clone().unwrap();
+        let got: Vec<[f64; 2]> = table["table"].clone().try_into().unwrap();
+        assert_eq!(got, want);
+        // Each key line's comment is its own declaration's, on the line above.
+        let keys = declared(&s);
+        let mut section = String::new();
+        let mut checked = 0;
+        for (i, l) in lines.iter().enumerate() {
+            if let Some(h) = l.strip_prefix('[') {
+                section = h.trim_matches(['[', ']']).to_string();
+            } else if let Some((key, _)) = l.split_once(" = ").filter(|_| !l.starts_with(['#', ' '])) {
+                let name = if section.is_empty() { key.to_string() } else { format!("{section}.{key}") };
+                if let Some(k) = declaration(&keys, &name) {
+                    assert_eq!(format!("{}\n", lines[i - 1]), comment(k), "above `{l}` ({name})");
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 40, "{checked} keys checked in\n{text}");
+        // Loaded again, the printed scene is the same scene.
+        let dir = std::env::temp_dir().join(format!("poroplast-explain-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("explained.toml");
+        std::fs::write(&path, &text).unwrap();
+        let again = LoadedScene::load(path.to_str().unwrap(), &[]).unwrap();
+        assert_eq!(parsed(&again.to_toml().unwrap()), parsed(&s.to_toml().unwrap()));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn every_key_line_is_explained_and_the_text_is_the_scene() {

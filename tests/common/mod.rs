@@ -243,6 +243,17 @@ impl Summary {
         v.as_float().or_else(|| v.as_integer().map(|i| i as f64))
     }
 
+    /// The table `name` (empty if absent).
+    pub fn table(&self, name: &str) -> toml::Table {
+        self.0.get(name).and_then(|v| v.as_table()).cloned().unwrap_or_default()
+    }
+
+    /// The array of tables `name` (`[[hold]]`; empty if absent).
+    pub fn array(&self, name: &str) -> Vec<toml::Table> {
+        let tables = self.0.get(name).and_then(|v| v.as_array());
+        tables.map_or(Vec::new(), |a| a.iter().filter_map(|v| v.as_table().cloned()).collect())
+    }
+
     /// The largest p's place, `pressure.max_p_at_um`.
     pub fn max_p_at(&self) -> [f64; 3] {
         let a = self.0["pressure"]["max_p_at_um"].as_array().expect("max_p_at_um");
