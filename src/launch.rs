@@ -49,7 +49,7 @@ const READY_DIR: &str = "POROPLAST_READY_DIR";
 const READY_WAIT: Duration = Duration::from_secs(10);
 
 /// Says this rank catches stop signals (a file named after its pid in `$POROPLAST_READY_DIR`,
-/// when a launcher set it). Quiet if it cannot: the launcher then waits [`READY_WAIT`].
+/// when a launcher set it). Quiet if it cannot: the launcher then waits its 10 s.
 pub fn mark_ready() {
     if let Some(dir) = std::env::var_os(READY_DIR) {
         let _ = std::fs::write(PathBuf::from(dir).join(std::process::id().to_string()), b"");

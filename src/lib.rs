@@ -23,8 +23,8 @@ pub mod plot;
 pub(crate) mod range;
 pub mod reference_cell;
 pub mod scene;
-pub(crate) mod spelling;
 pub mod solver;
+pub(crate) mod spelling;
 pub mod sweep;
 
 pub use observe::observers::history_column_names;

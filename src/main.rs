@@ -12,14 +12,17 @@ fn main() {
     // From here on a stop signal to a command on MPI ranks is a request, set-up included
     // (`driver::signals`): never the default action, which would kill a rank mid-way (and its
     // mpirun job with "exited on signal"). The launcher and the listings keep the defaults.
-    let _stop = matches!(cli.command, Command::Run { .. } | Command::Resume { .. } | Command::Check { .. } | Command::Sweep { .. })
-        .then(|| match poroplast::driver::signals::StopRequest::install() {
-            Ok(s) => s,
-            Err(e) => {
-                eprintln!("poroplast: error: {e}");
-                std::process::exit(1);
-            }
-        });
+    let _stop = matches!(
+        cli.command,
+        Command::Run { .. } | Command::Resume { .. } | Command::Check { .. } | Command::Sweep { .. }
+    )
+    .then(|| match poroplast::driver::signals::StopRequest::install() {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("poroplast: error: {e}");
+            std::process::exit(1);
+        }
+    });
     if let Command::Scenes { keys } = cli.command {
         if keys {
             console::print(&poroplast::scene::reference::reference());
@@ -42,8 +45,7 @@ fn main() {
     }
     if let Command::Columns { scene, set } = &cli.command {
         // No MPI: loading a scene is serial.
-        let names = poroplast::scene::LoadedScene::load(scene, set)
-            .and_then(|s| poroplast::history_column_names(&s));
+        let names = poroplast::scene::LoadedScene::load(scene, set).and_then(|s| poroplast::history_column_names(&s));
         match names {
             Ok(names) => console::print(&names.iter().map(|n| format!("{n}\n")).collect::<String>()),
             Err(e) => {

@@ -290,7 +290,10 @@ fn fine_poles_settle_in_stages() {
     let out = poroplast(1, &args);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
-    assert!(stderr.contains("settling under the whole weight at once did not converge; applying it in stages"), "{stderr}");
+    assert!(
+        stderr.contains("settling under the whole weight at once did not converge; applying it in stages"),
+        "{stderr}"
+    );
     let h = History::read(&dir);
     let (lower, weight) = (h.col("force_lower_mg")[0], 1e-9 * h.col("fluid_volume")[0]);
     assert!((lower - weight).abs() < 1e-3 * weight, "settled {lower} mg vs weight {weight} mg");

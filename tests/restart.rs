@@ -328,12 +328,8 @@ fn ctrl_c_during_the_set_up_stops_with_76_and_writes_nothing() {
     let d = scratch("restart_sigint_setup");
     let stopped = d.join("stopped");
     let words = ["mpirun", "-n", "2", "--mpirun-arg=--oversubscribe", "run", "reference", "--out"];
-    let mut child = launch(1)
-        .args(words)
-        .arg(&stopped)
-        .process_group(0)
-        .spawn()
-        .expect("poroplast mpirun could not be started");
+    let mut child =
+        launch(1).args(words).arg(&stopped).process_group(0).spawn().expect("poroplast mpirun could not be started");
     // Signalled as soon as its ranks are there: at once, the ready directory's files being the
     // earliest sign of them (a signal before them would be held back too).
     let ready = std::env::temp_dir().join(format!("poroplast-launch-{}", child.id()));

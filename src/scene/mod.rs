@@ -24,8 +24,8 @@ pub mod mesh;
 pub mod numerics;
 pub mod observe;
 pub mod overrides;
-mod plausible;
 pub mod plates;
+mod plausible;
 pub mod reference;
 mod resolve;
 #[cfg(test)]

@@ -45,13 +45,15 @@ pub fn apply(root: &mut toml::Table, spec: &str) -> Result<(), String> {
             }
             if parents == ["plates"] && *last == "table" {
                 // One protocol: a table replaces the scene's phases.
-                t.retain(|k, _| !super::plates::PHASE_KEYS.iter().any(|p| *p == k));
+                t.retain(|k, _| !super::plates::PHASE_KEYS.contains(&k));
             }
             if parents == ["plates"] && super::plates::PHASE_KEYS.contains(last) && t.contains_key("table") {
-                return Err(err(format!(
-                    "this scene's protocol is a plates.table, which the phases cannot change: override the table \
-                     (--set 'plates.table=[[0, 0], [5, 0.2], [65, 0.2], [70, 0]]': rows [t (s), ũ]), which replaces it"
-                )));
+                return Err(err(
+                    "this scene's protocol is a plates.table, which the phases cannot change: override the \
+                                table (--set 'plates.table=[[0, 0], [5, 0.2], [65, 0.2], [70, 0]]': rows [t (s), ũ]), \
+                                which replaces it"
+                        .into(),
+                ));
             }
             t.insert(last.to_string(), value);
         }

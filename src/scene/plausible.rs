@@ -47,7 +47,8 @@ const FLOW_RATE: Quantity = Quantity {
     unit: "(kPa s)⁻¹",
     hard: (1e-9, 1e3),
     usual: (1e-6, 0.5),
-    measured: "remodelling rates λp lie around 1e-6–0.5 (kPa s)⁻¹ (tissue viscosities 2 kPa s–1 GPa s; the paper's 0.001)",
+    measured:
+        "remodelling rates λp lie around 1e-6–0.5 (kPa s)⁻¹ (tissue viscosities 2 kPa s–1 GPa s; the paper's 0.001)",
     slips: &[("(MPa s)⁻¹", 1e-3), ("(Pa s)⁻¹", 1e3)],
 };
 /// The longest experiment (s): two days.
@@ -141,7 +142,13 @@ fn judge(key: &str, v: f64, q: &Quantity) -> Result<Option<String>, String> {
         .slips
         .iter()
         .find(|(_, k)| inside((q.usual.0 / k, q.usual.1 / k)))
-        .map(|(u, k)| format!(": {shown} looks like {u} ({shown} {u} = {} {}; write that)", crate::io::fmt_real(sig(v * k)), q.unit))
+        .map(|(u, k)| {
+            format!(
+                ": {shown} looks like {u} ({shown} {u} = {} {}; write that)",
+                crate::io::fmt_real(sig(v * k)),
+                q.unit
+            )
+        })
         .unwrap_or_default();
     let said = format!("{key} = {shown} {}: {}{slip}", q.unit, q.measured);
     if inside(q.hard) {
@@ -194,13 +201,21 @@ mod tests {
         let s = load(&["material.k0=3.7729e-3"]).unwrap();
         assert!(s.notes.iter().any(|n| n.contains("looks like mm⁴/(N s)")), "{:?}", s.notes);
         let s = load(&["material.remodelling={ lambda_p = 1.0, sigma_y = 2.0 }"]).unwrap();
-        assert!(s.notes.iter().any(|n| n.contains("looks like (MPa s)⁻¹ (1 (MPa s)⁻¹ = 0.001 (kPa s)⁻¹")), "{:?}", s.notes);
+        assert!(
+            s.notes.iter().any(|n| n.contains("looks like (MPa s)⁻¹ (1 (MPa s)⁻¹ = 0.001 (kPa s)⁻¹")),
+            "{:?}",
+            s.notes
+        );
         let e = load(&["material.rho_s=1.05"]).unwrap_err();
         assert!(e.contains("looks like g/cm³ (1.05 g/cm³ = 1050 kg/m³"), "{e}");
         let e = load(&["material.gravity=[0.0, 0.0, -981.0]"]).unwrap_err();
         assert!(e.contains("looks like cm/s² (981 cm/s² = 9.81 m/s²"), "{e}");
         let s = load(&["time.t_end=400000", "plates.hold=350000"]).unwrap();
-        assert!(s.notes.iter().any(|n| n.contains("plates.hold = 350000 s") && n.contains("looks like ms")), "{:?}", s.notes);
+        assert!(
+            s.notes.iter().any(|n| n.contains("plates.hold = 350000 s") && n.contains("looks like ms")),
+            "{:?}",
+            s.notes
+        );
         let e = load(&["time.t_end=4e7"]).unwrap_err();
         assert!(e.contains("time.t_end = 40000000 s") && e.contains("refused"), "{e}");
     }

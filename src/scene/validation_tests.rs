@@ -297,7 +297,10 @@ fn a_protocol_table_is_checked() {
         .unwrap();
     assert_eq!(t.scene.plates.as_ref().unwrap().protocol().ends(), [5.0, 60.0, 65.0]);
     let e = LoadedScene::load("tst_hold", &["plates.compression=0.2".into()]).unwrap_err().to_string();
-    assert!(e.contains("this scene's protocol is a plates.table, which the phases cannot change: override the table"), "{e}");
+    assert!(
+        e.contains("this scene's protocol is a plates.table, which the phases cannot change: override the table"),
+        "{e}"
+    );
     // Two compressions: the summary's phases are the first ramp to the largest ũ, the hold to
     // its last row there, and the release to the next rest.
     let table = "table = [[0.0, 0.0], [5.0, 0.2], [60.0, 0.2], [65.0, 0.0], [120.0, 0.0], [125.0, 0.3], [400.0, 0.3], [405.0, 0.0]]\n";
