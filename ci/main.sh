@@ -6,4 +6,5 @@ cd "$(dirname "$0")/.."
 ci/setup.sh
 . ci/env.sh
 cargo build --release --quiet
-mpirun -n 2 target/release/poroplast run "$@"
+# Under the launcher, so that Ctrl-C stops the run cleanly (a checkpoint, exit 75; 76 in the set-up).
+target/release/poroplast mpirun -n 2 run "$@"

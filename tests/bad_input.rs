@@ -4,20 +4,6 @@
 use crate::common::*;
 use std::path::Path;
 
-/// All files under a directory (recursively) with their contents.
-fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut v = Vec::new();
-    for p in std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()) {
-        if p.is_dir() {
-            v.extend(snapshot(&p));
-        } else {
-            v.push((p.display().to_string(), std::fs::read(&p).unwrap()));
-        }
-    }
-    v.sort();
-    v
-}
-
 /// Runs a failing case against the earlier run in `earlier` and checks message and intactness.
 fn fails(earlier: &Path, args: &[&str], expect: &str) {
     fails_as(2, earlier, args, expect, &format!("{args:?}"));

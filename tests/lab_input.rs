@@ -4,21 +4,6 @@
 //! are refused naming the fix, with an earlier run's directory untouched.
 
 use crate::common::*;
-use std::path::Path;
-
-/// Every file under `dir` with its bytes.
-fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut v = Vec::new();
-    for p in std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()) {
-        if p.is_dir() {
-            v.extend(snapshot(&p));
-        } else {
-            v.push((p.display().to_string(), std::fs::read(&p).unwrap()));
-        }
-    }
-    v.sort();
-    v
-}
 
 /// One run of 0.1 s of `reference_axi` (its release ends after the run: a note) under `-q`.
 #[test]

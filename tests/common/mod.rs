@@ -167,6 +167,21 @@ pub fn scene_variant(name: &str, dir: &Path, edits: &[(&str, &str)]) -> String {
     p.display().to_string()
 }
 
+/// All files under a directory (recursively) with their contents: an earlier run's, to show
+/// that bad input left it untouched.
+pub fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut v = Vec::new();
+    for p in std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()) {
+        if p.is_dir() {
+            v.extend(snapshot(&p));
+        } else {
+            v.push((p.display().to_string(), std::fs::read(&p).unwrap()));
+        }
+    }
+    v.sort();
+    v
+}
+
 /// history.csv as named columns.
 pub struct History {
     pub names: Vec<String>,
