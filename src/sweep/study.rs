@@ -42,7 +42,7 @@ use std::path::{Path, PathBuf};
 struct StudyFile {
     name: Option<String>,
     scene: Option<String>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "one_or_list")]
     set: Vec<String>,
     #[serde(default)]
     petsc: Vec<String>,
@@ -68,8 +68,24 @@ struct Axis {
 #[serde(deny_unknown_fields)]
 struct CaseEntry {
     scene: Option<String>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "one_or_list")]
     set: Vec<String>,
+}
+
+/// `set = "KEY=VALUE"` (one override) or `set = ["KEY=VALUE", ...]`: a lone string is one override,
+/// not a list of its characters.
+fn one_or_list<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Vec<String>, D::Error> {
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum OneOrList {
+        One(String),
+        List(Vec<String>),
+    }
+    match OneOrList::deserialize(d) {
+        Ok(OneOrList::One(s)) => Ok(vec![s]),
+        Ok(OneOrList::List(v)) => Ok(v),
+        Err(_) => Err(serde::de::Error::custom("`set` is an override \"KEY=VALUE\" or a list of them")),
+    }
 }
 
 /// A study: the base scene and settings, and its cases in order.
@@ -338,6 +354,11 @@ mod tests {
         assert!(msg("scene = \"x\"\n[[grid]]\nkey = \"a\"\nvalues = []\n").contains("no values"));
         assert!(msg("scene = \"x\"\n[[grid]]\nkeys = [\"a\", \"b\"]\nvalues = [[1]]\n").contains("list of 2"));
         assert!(msg("scene = \"x\"\n[[grid]]\nkey = \"a\"\nvalues = [1]\n[[case]]\nset=[]\n").contains("not both"));
+        // A lone string is one override, in the study's `set` and a case's; a number is neither.
+        let s = parse("scene = \"x\"\nset = \"time.t_end=2\"\n[[case]]\nset = \"a=1\"\n").unwrap();
+        assert_eq!((s.set.as_slice(), s.cases[0].set.as_slice()), (&["time.t_end=2".to_string()][..], &["a=1".to_string()][..]));
+        let e = msg("scene = \"x\"\nset = 2\n[[case]]\nset = []\n");
+        assert!(e.contains("line 2") && e.contains("`set` is an override \"KEY=VALUE\" or a list of them"), "{e}");
     }
 
     #[test]
