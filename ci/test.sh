@@ -7,11 +7,12 @@
 #                       from one pool (tests/common::cores: never more ranks than cores).
 #   ci/test.sh --fast   the unit tests and the tree's shape (tests/architecture.rs): seconds
 #                       after the build, no mpirun.
-#   ci/test.sh --slow   the slow tier: the accuracy benchmarks (tests marked #[ignore], each
-#                       naming why), one at a time. About a minute.
+#   ci/test.sh --slow   the slow tier: the accuracy benchmarks, the script studies end to end and
+#                       the tutorial (tests marked #[ignore], each naming why), one at a time;
+#                       only those, so it runs after the default tier. Many minutes (docs/developer.md).
 #
 # Extra arguments go to every test binary (e.g. a test name filter). CI (.ci/run) runs
-# ci/lint.sh (fmt, clippy, rustdoc) first, then the default tier.
+# ci/lint.sh (fmt, clippy, rustdoc) first, then the default tier, then the slow tier.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tier=default

@@ -5,6 +5,9 @@
 //! the file that defines the item. Test code (`#[cfg(test)]` modules and files) counts for the
 //! folder graph but not for file sizes.
 //!
+//! The test tree too: every test file is built (a stray `tests/foo.rs` fails here), and no
+//! test can return early and report "ok" having run nothing.
+//!
 //! Run `cargo test --test architecture -- --nocapture` to print both graphs.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -631,4 +634,186 @@ fn the_reader_sees_use_trees_and_paths() {
     assert!(p.contains("fn a") && p.contains("fn c") && !p.contains("fn b"));
     assert!(t.contains("fn b"));
     assert_eq!(strip("let s = \"crate::x\"; // crate::y\n'{'"), "let s = \"\"; \n");
+}
+
+// The test tree: with `autotests = false` (Cargo.toml) a test file is built only if Cargo.toml
+// names it as a target or a built file declares it as a module; a file nobody names is silently
+// not compiled, and its tests never run. And libtest has no run-time skip: a test that returns
+// early reports "ok" having checked nothing, so the slow or unavailable goes behind `#[ignore]`.
+
+fn package_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The files under `dir` (recursively), relative to the package, sorted.
+fn files_under(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            let name = p.file_name().unwrap().to_string_lossy();
+            if name.starts_with('.') || name == "__pycache__" {
+                continue; // an editor's or Python's, not the tree's
+            } else if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push(p.strip_prefix(package_dir()).unwrap().to_path_buf());
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The `path`s of Cargo.toml's `[[test]]`, `[[example]]`, `[[bin]]` and `[[bench]]` targets.
+fn cargo_target_paths() -> Vec<PathBuf> {
+    let manifest: toml::Table = std::fs::read_to_string(package_dir().join("Cargo.toml")).unwrap().parse().unwrap();
+    let mut out = Vec::new();
+    for kind in ["test", "example", "bin", "bench"] {
+        for target in manifest.get(kind).and_then(|t| t.as_array()).into_iter().flatten() {
+            if let Some(p) = target.get("path").and_then(|p| p.as_str()) {
+                out.push(PathBuf::from(p));
+            }
+        }
+    }
+    out
+}
+
+/// The module files `file` (relative to the package, with its text) declares (`mod x;`, with or
+/// without `#[path = "..."]`), as rustc finds them: beside a crate root or a `mod.rs`, else in
+/// the folder named after the file. Reads rustfmt's layout: one attribute or item per line.
+fn declared_modules(file: &Path, text: &str, is_root: bool) -> Vec<PathBuf> {
+    let dir = file.parent().unwrap();
+    let own = if is_root || file.file_name().is_some_and(|n| n == "mod.rs") {
+        dir.to_path_buf()
+    } else {
+        dir.join(file.file_stem().unwrap())
+    };
+    let mut out = Vec::new();
+    let mut path_attr: Option<&str> = None;
+    for line in text.lines().map(str::trim) {
+        if let Some(p) = line.strip_prefix("#[path = \"").and_then(|l| l.strip_suffix("\"]")) {
+            path_attr = Some(p);
+            continue;
+        }
+        let item = line.strip_prefix("pub ").or_else(|| line.strip_prefix("pub(crate) ")).unwrap_or(line);
+        let name = item.strip_prefix("mod ").and_then(|l| l.strip_suffix(';'));
+        match (name, path_attr) {
+            (Some(_), Some(p)) => out.push(dir.join(p)),
+            (Some(n), None) if package_dir().join(&own).join(n).join("mod.rs").is_file() => {
+                out.push(own.join(n).join("mod.rs"))
+            }
+            (Some(n), None) => out.push(own.join(format!("{n}.rs"))),
+            _ => {}
+        }
+        if !line.starts_with("#[") {
+            path_attr = None;
+        }
+    }
+    out
+}
+
+/// The Rust files under `tests/` that are compiled: the Cargo targets there and the modules
+/// they declare, transitively.
+fn built_test_files() -> BTreeSet<PathBuf> {
+    let mut built = BTreeSet::new();
+    let mut todo: Vec<(PathBuf, bool)> =
+        cargo_target_paths().into_iter().filter(|p| p.starts_with("tests")).map(|p| (p, true)).collect();
+    while let Some((file, is_root)) = todo.pop() {
+        let Ok(text) = std::fs::read_to_string(package_dir().join(&file)) else { continue };
+        if built.insert(file.clone()) {
+            todo.extend(declared_modules(&file, &text, is_root).into_iter().map(|m| (m, false)));
+        }
+    }
+    built
+}
+
+/// Every Rust file under `tests/` is compiled (a Cargo target or a module of one), and every other
+/// file there (the scripts of `tests/support`) is named by a compiled one. `tests/data` is left
+/// out: inputs that the unit tests of `src/` read too, by names they build.
+#[test]
+fn every_test_file_is_built() {
+    let built = built_test_files();
+    let code: String = built
+        .iter()
+        .map(|f| std::fs::read_to_string(package_dir().join(f)).unwrap())
+        .flat_map(|t| t.lines().filter(|l| !l.trim_start().starts_with("//")).map(String::from).collect::<Vec<_>>())
+        .collect::<Vec<_>>()
+        .join("\n");
+    let mut stray = Vec::new();
+    for f in files_under(&package_dir().join("tests")).into_iter().filter(|f| !f.starts_with("tests/data")) {
+        let named = f.file_name().is_some_and(|n| code.contains(n.to_str().unwrap()));
+        let used = if f.extension().is_some_and(|e| e == "rs") { built.contains(&f) } else { named };
+        if !used {
+            stray.push(f.display().to_string());
+        }
+    }
+    assert!(
+        stray.is_empty(),
+        "files under tests/ that no test builds or names (with `autotests = false`, a test file is a \
+         `[[test]]` of Cargo.toml or a `#[path = \"...\"] mod` of tests/integration.rs): {stray:?}"
+    );
+}
+
+/// The `#[test]` functions of a file: (name, body without its braces), on stripped text.
+fn test_functions(code: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    let mut rest = code;
+    while let Some(at) = rest.find("#[test]") {
+        rest = &rest[at + "#[test]".len()..];
+        let Some(f) = rest.find("fn ") else { break };
+        let name: String = rest[f + 3..].chars().take_while(|c| is_ident(*c)).collect();
+        let open = rest[f..].find('{').unwrap() + f;
+        let end = block_end(rest, open);
+        out.push((name, rest[open + 1..end - 1].to_string()));
+        rest = &rest[end..];
+    }
+    out
+}
+
+/// Whether a test's body can end having checked nothing: a bare `return;`, or a body that is one
+/// `if` without `else` (`if !skip() { ... }`).
+fn can_return_unchecked(body: &str) -> bool {
+    let b = body.trim();
+    let bare_return = b.split("return").skip(1).any(|after| after.trim_start().starts_with([';', '}']));
+    let one_if = b.starts_with("if ") && b.find('{').is_some_and(|open| b[block_end(b, open)..].trim().is_empty());
+    bare_return || one_if
+}
+
+/// No test returns early (on an environment variable, a missing tool): it would print "ok" having
+/// run nothing. Use `#[ignore = "why"]`, which libtest reports as ignored.
+#[test]
+fn no_test_can_pass_without_running() {
+    let mut found = Vec::new();
+    for f in built_test_files() {
+        let code = strip(&std::fs::read_to_string(package_dir().join(&f)).unwrap());
+        for (name, body) in test_functions(&code) {
+            if can_return_unchecked(&body) {
+                found.push(format!("{}: {name}", f.display()));
+            }
+        }
+    }
+    assert!(found.is_empty(), "tests that can return before checking anything (use #[ignore]): {found:#?}");
+}
+
+#[test]
+fn the_test_tree_reader_sees_modules_and_early_returns() {
+    let root = Path::new("tests/integration.rs");
+    let text = "#[path = \"plates.rs\"]\nmod plates;\nmod common;\npub mod young_laplace;\nmod inline {\n}";
+    assert_eq!(
+        declared_modules(root, text, true),
+        [Path::new("tests/plates.rs"), Path::new("tests/common/mod.rs"), Path::new("tests/young_laplace.rs")]
+    );
+    let code =
+        strip("#[test]\n#[ignore = \"slow\"]\nfn a() {\n    if skip() {\n        return;\n    }\n    run();\n}\n");
+    let tests = test_functions(&code);
+    assert_eq!(tests.len(), 1);
+    assert_eq!(tests[0].0, "a");
+    assert!(can_return_unchecked(&tests[0].1));
+    assert!(can_return_unchecked("if !skip() { run(); }"));
+    assert!(can_return_unchecked("let x = f(); if x.is_none() { return }"));
+    assert!(!can_return_unchecked("if a { b(); } else { c(); }"));
+    assert!(!can_return_unchecked("let r = (|| { return 1; })(); assert_eq!(r, 1);"));
+    assert!(!can_return_unchecked("if a { b(); }\nassert!(c());"));
 }

@@ -4,9 +4,9 @@
 //! ParaView's own XDMF readers (`tests/support/check_paraview.py`).
 //!
 //! Environment: `POROPLAST_PYTHON` picks the Python (else the first of `python3`, `/usr/bin/python3`
-//! that imports h5py and numpy); `POROPLAST_SKIP_MPI_TESTS=1` skips these tests (for machines without
-//! `mpirun`); `POROPLAST_NO_PARAVIEW=1` skips the ParaView check; `POROPLAST_REQUIRE_PARAVIEW=1` (CI)
-//! makes a missing `pvpython` a failure.
+//! that imports h5py and numpy); `POROPLAST_NO_PARAVIEW=1` skips the ParaView check (with a
+//! warning); `POROPLAST_REQUIRE_PARAVIEW=1` (CI) makes a missing `pvpython` a failure. Like every
+//! integration test these need `mpirun`: none returns early without it (`tests/architecture.rs`).
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -14,10 +14,6 @@ use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 const MANIFEST: &str = env!("CARGO_MANIFEST_DIR");
-
-fn skip() -> bool {
-    std::env::var("POROPLAST_SKIP_MPI_TESTS").is_ok_and(|v| v == "1")
-}
 
 /// The example binary, built next to this test (cargo test builds examples; if only this test
 /// target was built, build the example now).
@@ -168,18 +164,12 @@ fn paraview_check(dir: &Path) {
 
 #[test]
 fn two_ranks_split_and_paraview() {
-    if skip() {
-        return;
-    }
     let dir = run_case("split2", 2, "split");
     paraview_check(&dir);
 }
 
 #[test]
 fn two_ranks_meridian_and_paraview() {
-    if skip() {
-        return;
-    }
     // check_fields.py with expect.json ("family": "Tri6"), then without it: the family is then
     // inferred from the width of /mesh/topology.
     let dir = run_case("meridian2", 2, "meridian");
@@ -197,37 +187,26 @@ fn two_ranks_meridian_and_paraview() {
 
 #[test]
 fn two_ranks_last_rank_owns_no_cells() {
-    if !skip() {
-        run_case("nocells2", 2, "nocells-last");
-    }
+    run_case("nocells2", 2, "nocells-last");
 }
 
 #[test]
 fn two_ranks_last_rank_owns_nothing() {
-    if !skip() {
-        run_case("empty2", 2, "empty-last");
-    }
+    run_case("empty2", 2, "empty-last");
 }
 
 #[test]
 fn three_ranks_first_rank_owns_no_cells() {
-    if !skip() {
-        run_case("split3", 3, "split");
-    }
+    run_case("split3", 3, "split");
 }
 
 #[test]
 fn single_rank() {
-    if !skip() {
-        run_case("single", 1, "split");
-    }
+    run_case("single", 1, "split");
 }
 
 #[test]
 fn errors_on_one_rank_reach_all_ranks() {
-    if skip() {
-        return;
-    }
     for case in ["bad-len", "bad-names"] {
         let dir = out_dir(case);
         let o = mpirun(2, &dir, &[case]);
@@ -256,9 +235,6 @@ fn errors_on_one_rank_reach_all_ranks() {
 
 #[test]
 fn crashed_run_keeps_completed_steps() {
-    if skip() {
-        return;
-    }
     for k in [0, 2] {
         let dir = out_dir(&format!("abort{k}"));
         let o = mpirun(2, &dir, &["split", "--abort-after", &k.to_string()]);
@@ -269,9 +245,6 @@ fn crashed_run_keeps_completed_steps() {
 
 #[test]
 fn running_run_is_readable() {
-    if skip() {
-        return;
-    }
     let dir = out_dir("running");
     let mut c = Command::new("mpirun");
     c.args(["--oversubscribe", "-n", "2"])

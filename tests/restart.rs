@@ -103,7 +103,7 @@ fn signal(child: &Child, sig: &str) {
 
 /// Same rows (step, time) and every column but the wall time equal to `tol` relative (with a
 /// floor of `tol` times the column's largest magnitude, for columns that pass through zero), or
-/// NaN in both.
+/// NaN in both where a column is documented to be NaN ([`NAN_COLUMNS`]); a NaN elsewhere fails.
 fn assert_same_history(a: &History, b: &History, tol: f64, what: &str) {
     assert_eq!(a.names, b.names, "{what}: columns");
     assert_eq!(a.col("step"), b.col("step"), "{what}: steps");
@@ -116,12 +116,48 @@ fn assert_same_history(a: &History, b: &History, tol: f64, what: &str) {
     for name in a.names.iter().filter(|n| !skip.contains(&n.as_str())) {
         let (x, y) = (a.col(name), b.col(name));
         let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let may_be_nan = NAN_COLUMNS.contains(&name.as_str());
         for (i, (u, v)) in x.iter().zip(&y).enumerate() {
             // NaN: a value that does not apply (the Laplace reading without contact), in both.
-            let same = (u - v).abs() <= tol * u.abs().max(scale) || (u.is_nan() && v.is_nan());
+            let same = (u - v).abs() <= tol * u.abs().max(scale) || (may_be_nan && u.is_nan() && v.is_nan());
             assert!(same, "{what}: {name} at row {i}: {u} vs {v} (tol {tol})");
         }
     }
+}
+
+/// The comparison itself: NaN in both passes in a column documented to be NaN, and fails in any
+/// other; a NaN against a number fails in both.
+#[test]
+fn nan_is_equal_only_in_the_documented_columns() {
+    let history = |force: f64, r3: f64| History {
+        names: ["step", "time", "force_total_mg", "R3"].map(String::from).to_vec(),
+        rows: vec![vec![0.0, 0.0, 1.0, f64::NAN], vec![1.0, 0.5, force, r3]],
+    };
+    let same = |a: History, b: History| {
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| assert_same_history(&a, &b, 1e-10, "test"))).is_ok()
+    };
+    assert!(same(history(2.0, 3.0), history(2.0, 3.0)));
+    assert!(same(history(2.0, f64::NAN), history(2.0, f64::NAN)), "R3 is NaN before contact");
+    assert!(!same(history(2.0, f64::NAN), history(2.0, 3.0)), "NaN against a number");
+    assert!(!same(history(f64::NAN, 3.0), history(f64::NAN, 3.0)), "a NaN force is a failure");
+    assert!(!same(history(2.0, 3.0), history(2.0 + 1e-6, 3.0)), "a different force");
+}
+
+/// [`NAN_COLUMNS`] are the columns docs/reference-run-directory.md's `history.csv` table says
+/// may be NaN: a row of that table that mentions NaN names exactly these.
+#[test]
+fn nan_columns_are_the_documented_ones() {
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/reference-run-directory.md")).unwrap();
+    let table = doc.split("## `history.csv`").nth(1).expect("the history.csv section").split("\n## ").next().unwrap();
+    let mut documented: Vec<&str> = table
+        .lines()
+        .filter(|l| l.starts_with("| `") && l.contains("NaN"))
+        .flat_map(|l| l.split('|').nth(1).unwrap().split('`').skip(1).step_by(2))
+        .collect();
+    documented.sort();
+    let mut ours = NAN_COLUMNS.to_vec();
+    ours.sort();
+    assert_eq!(documented, ours, "the history.csv columns the docs say may be NaN");
 }
 
 /// A resumed run's summary is the whole run's: the uninterrupted run's peak force and largest
