@@ -356,7 +356,10 @@ mod tests {
         assert!(msg("scene = \"x\"\n[[grid]]\nkey = \"a\"\nvalues = [1]\n[[case]]\nset=[]\n").contains("not both"));
         // A lone string is one override, in the study's `set` and a case's; a number is neither.
         let s = parse("scene = \"x\"\nset = \"time.t_end=2\"\n[[case]]\nset = \"a=1\"\n").unwrap();
-        assert_eq!((s.set.as_slice(), s.cases[0].set.as_slice()), (&["time.t_end=2".to_string()][..], &["a=1".to_string()][..]));
+        assert_eq!(
+            (s.set.as_slice(), s.cases[0].set.as_slice()),
+            (&["time.t_end=2".to_string()][..], &["a=1".to_string()][..])
+        );
         let e = msg("scene = \"x\"\nset = 2\n[[case]]\nset = []\n");
         assert!(e.contains("line 2") && e.contains("`set` is an override \"KEY=VALUE\" or a list of them"), "{e}");
     }
