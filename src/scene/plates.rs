@@ -288,7 +288,7 @@ impl PlatesSpec {
 
     /// ũ_max and the phases; a release ending after the run's end is a note.
     fn check_phases(&self, t_end: f64, notes: &mut Vec<String>) -> Result<(), String> {
-        COMPRESSION.check(self.compression())?;
+        check_compression(COMPRESSION.name, self.compression())?;
         let p = self.protocol();
         RAMP.check(p.ramp)?;
         HOLD.check(p.hold)?;
@@ -359,7 +359,7 @@ fn check_table(rows: &[[f64; 2]], t_end: f64, notes: &mut Vec<String>) -> Result
                 w[0][0]
             ));
         }
-        COMPRESSION.check_as(&format!("plates.table row {} compression", i + 2), c)?;
+        check_compression(&format!("plates.table row {} compression", i + 2), c)?;
     }
     let last = rows[rows.len() - 1][0];
     if t_end < rows[1][0] {
@@ -384,6 +384,17 @@ fn check_table(rows: &[[f64; 2]], t_end: f64, notes: &mut Vec<String>) -> Result
         ));
     }
     Ok(())
+}
+
+/// ũ in [0, 1): a value from 1 to 100 is most likely a percentage, and the message says so.
+fn check_compression(name: &str, c: f64) -> Result<(), String> {
+    COMPRESSION.check_as(name, c).map_err(|m| {
+        if (1.0..=100.0).contains(&c) {
+            format!("{m}: {c} looks like a percentage ({c}% = {} of 2R)", c / 100.0)
+        } else {
+            m
+        }
+    })
 }
 
 const RADIUS: Key = Key::new(

@@ -271,6 +271,10 @@ fn a_protocol_table_is_checked() {
         ),
         ("table = [[1.0, 0.0], [5.0, 0.3]]\n", "plates.table row 1 = [1, 0]: the table starts at rest"),
         ("table = [[0.0, 0.0], [5.0, 1.2]]\n", "plates.table row 2 compression = 1.2: must lie in [0, 1)"),
+        (
+            "table = [[0.0, 0.0], [5.0, 15.0]]\n",
+            "plates.table row 2 compression = 15: must lie in [0, 1): 15 looks like a percentage (15% = 0.15 of 2R)",
+        ),
         ("table = [[0.0, 0.0]]\n", "plates.table: 1 row(s)"),
         (
             "table = [[0.0, 0.0], [5.0, 0.3]]\nhold = 3.0\n",
@@ -292,6 +296,7 @@ fn a_protocol_table_is_checked() {
         expect("reference", &[(phases, table)], &[], part);
     }
     expect("reference", &[(phases, "ramp = 5.0\nhold = 30.0\nrelease = 5.0\n")], &[], "give plates.compression");
+    expect("reference", &[], &["plates.compression=30"], "30 looks like a percentage (30% = 0.3 of 2R)");
     // On the command line a table replaces the phases; a phase cannot change a table.
     let t = LoadedScene::load("reference", &["plates.table=[[0.0, 0.0], [5.0, 0.2], [60.0, 0.2], [65.0, 0.0]]".into()])
         .unwrap();
