@@ -46,11 +46,10 @@ STUDY/conv_<observable>.png (error against h per Δt level, and against Δt per 
 import argparse
 import csv
 import math
-import subprocess
 import sys
 from pathlib import Path
 
-from poroplast_tools.cases import BIN, rank_options, use_rank_options
+from poroplast_tools.cases import SceneError, rank_options, scene_columns, use_rank_options
 from poroplast_tools.convergence import cross, failure_cause, run_study
 from poroplast_tools.levels import describe_sizes
 from poroplast_tools.richardson import converge
@@ -139,12 +138,9 @@ def check_scene(scene, sets):
     """Exits with the binary's message if the scene with the study's overrides does not load
     (an unknown scene or key, a bad value): before any size is read or any case launched."""
     try:
-        r = subprocess.run([str(BIN), "show", "--explain", str(scene), *[f"--set={s}" for s in sets]],
-                           capture_output=True, text=True)
-    except OSError as e:
-        sys.exit(f"convergence_study.py: cannot run {BIN} ({e}): build it (cargo build --release) or set POROPLAST_BIN")
-    if r.returncode != 0:
-        sys.exit(f"convergence_study.py: {scene} with the study's --set does not load:\n{r.stderr.strip()}")
+        scene_columns(scene, [tuple(s.split("=", 1)) if "=" in s else (s, "") for s in sets])
+    except SceneError as e:
+        sys.exit(f"convergence_study.py: {scene} with the study's --set does not load: {e}")
 
 
 def plot(root, hs, ss, results, observe, ref):

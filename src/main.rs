@@ -35,13 +35,7 @@ fn main() {
         return;
     }
     if let Command::Plot { args } = &cli.command {
-        match poroplast::plot::plot(args) {
-            Ok(code) => std::process::exit(code),
-            Err(e) => {
-                eprintln!("poroplast: error: {e}");
-                std::process::exit(1);
-            }
-        }
+        exit_with(poroplast::plot::plot(args));
     }
     if let Command::Columns { scene, set } = &cli.command {
         // No MPI: loading a scene is serial.
@@ -57,13 +51,7 @@ fn main() {
     }
     if let Command::Mpirun { np, mpirun_args, command } = &cli.command {
         // No MPI here: the ranks are mpirun's.
-        match poroplast::launch::mpirun(*np, mpirun_args, command) {
-            Ok(code) => std::process::exit(code),
-            Err(e) => {
-                eprintln!("poroplast: error: {e}");
-                std::process::exit(1);
-            }
-        }
+        exit_with(poroplast::launch::mpirun(*np, mpirun_args, command));
     }
     if let Command::Show { name, explain, set } = &cli.command {
         if *explain {
@@ -161,6 +149,17 @@ fn main() {
     drop(world);
     drop(universe);
     std::process::exit(code);
+}
+
+/// Exits with the code of a command run in a child process, or 1 and the error.
+fn exit_with(code: poroplast::error::Result<i32>) -> ! {
+    match code {
+        Ok(code) => std::process::exit(code),
+        Err(e) => {
+            eprintln!("poroplast: error: {e}");
+            std::process::exit(1);
+        }
+    }
 }
 
 /// `-q` drops the per-step progress lines only: the scene's notes, the set-up and the summary stay.

@@ -54,6 +54,37 @@ def scene_values(scene):
     return tomllib.loads(text)
 
 
+class SceneError(Exception):
+    """The solver refused a scene or an override (its message), or could not be run."""
+
+
+NO_COLUMNS = "unrecognized subcommand"    # clap's words for a binary built before `columns`
+
+
+def scene_columns(scene, sets):
+    """The history.csv columns of `scene` under the overrides `sets` ((key, value) pairs), as
+    `poroplast columns SCENE --set ...` prints them (one per line, after loading and validating
+    the scene: the one check that a scene and its overrides load, without a mesh); None from a
+    binary without that subcommand. SceneError with the solver's message when it refuses."""
+    cmd = [str(BIN), "columns", _scene_arg(scene)] + [a for k, v in sets for a in ("--set", f"{k}={v}")]
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, env=env(), timeout=600)
+    except FileNotFoundError:
+        raise SceneError(f"no poroplast binary at {BIN}: build it (cargo build --release) or set POROPLAST_BIN")
+    except OSError as e:
+        raise SceneError(f"cannot run {BIN}: {e.strerror}")
+    except subprocess.TimeoutExpired:
+        raise SceneError(f"`poroplast columns {scene}` did not answer in 600 s")
+    if p.returncode != 0:
+        if NO_COLUMNS in p.stderr:
+            return None
+        lines = [ln.strip() for ln in p.stderr.splitlines() if ln.strip()]
+        said = [ln for ln in lines if ln.startswith("poroplast: error:")] or lines[-1:]
+        raise SceneError(" ".join(ln.removeprefix("poroplast: error:").strip() for ln in said)
+                         or f"`poroplast columns` failed (exit code {p.returncode})")
+    return [ln.strip() for ln in p.stdout.splitlines() if ln.strip() and " " not in ln.strip()]
+
+
 def consolidation_coefficient(scene):
     """c = k (λ + 2µ) of a linear scene's material (µm²/s; λ = 2µν/(1 − 2ν)), from its values."""
     m = scene_values(scene)["material"]

@@ -11,7 +11,6 @@ its overrides and start values (an unknown key, an implausible value) and its co
 `poroplast columns` (the scene loaded and validated, no mesh: milliseconds).
 """
 import math
-import subprocess
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -25,31 +24,12 @@ from .history import at, given_steps, history
 from .measured import check_within, nearest, write_curve
 from .synthetic import noisy
 
-NO_COLUMNS = "unrecognized subcommand"    # clap's words for a binary built before `columns`
-
-
 def scene_columns(scene, sets):
-    """The history.csv columns of `scene` under the overrides `sets` ((key, value) pairs), as
-    `poroplast columns SCENE --set ...` prints them (one per line, after validating the scene);
-    None from a binary without that subcommand. FitError with the solver's message when it
-    refuses the scene or an override."""
-    cmd = [str(cases.BIN), "columns", cases._scene_arg(scene)] + [a for k, v in sets for a in ("--set", f"{k}={v}")]
+    """`cases.scene_columns`, its refusal a FitError."""
     try:
-        p = subprocess.run(cmd, capture_output=True, text=True, env=cases.env(), timeout=600)
-    except FileNotFoundError:
-        raise FitError(f"no poroplast binary at {cases.BIN}: build it (cargo build --release) or set POROPLAST_BIN")
-    except OSError as e:
-        raise FitError(f"cannot run {cases.BIN}: {e.strerror}")
-    except subprocess.TimeoutExpired:
-        raise FitError(f"`poroplast columns {scene}` did not answer in 600 s")
-    if p.returncode != 0:
-        if NO_COLUMNS in p.stderr:
-            return None
-        lines = [ln.strip() for ln in p.stderr.splitlines() if ln.strip()]
-        said = [ln for ln in lines if ln.startswith("poroplast: error:")] or lines[-1:]
-        raise FitError(" ".join(ln.removeprefix("poroplast: error:").strip() for ln in said)
-                       or f"`poroplast columns` failed (exit code {p.returncode})")
-    return [ln.strip() for ln in p.stdout.splitlines() if ln.strip() and " " not in ln.strip()]
+        return cases.scene_columns(scene, sets)
+    except cases.SceneError as e:
+        raise FitError(str(e))
 
 
 def check_names(experiments, params, sets=(), say=print):

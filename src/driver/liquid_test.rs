@@ -49,8 +49,7 @@ impl Tensiometry {
         let (bond, relaxation_s) = match &scene.material {
             Material::Linear { .. } => (None, Some(f64::INFINITY)),
             Material::HolmesMow(m) => {
-                let g = m.gravity.iter().map(|a| a * a).sum::<f64>().sqrt();
-                let rho = m.phi_s * m.rho_s + (1.0 - m.phi_s) * m.rho_f;
+                let (g, rho) = (m.gravity_magnitude(), m.mixture_density());
                 // kg/m³ · m/s² · (1e-6 m)² / (1e-3 N/m).
                 let bond = (g > 0.0).then(|| rho * g * radius * radius * 1e-9 / gamma);
                 let relaxation = match (&m.remodelling, m.solid()) {

@@ -53,7 +53,7 @@ pub(super) fn moduli(scene: &Scene) -> Option<String> {
     let SolidSpec::MuNu { mu, nu } = m.solid().ok()? else { return None };
     let g = m.phi_s * mu;
     // Six significant digits: G = 0.6 × 20 kPa is 12, not 12.000000000000002.
-    let shown = |x: f64| format!("{}", format!("{x:.6e}").parse::<f64>().unwrap_or(x));
+    let shown = |x: f64| crate::io::fmt_significant(x, 6);
     Some(format!(
         "material: the solid's shear modulus µ = {} kPa (ν = {nu}); the aggregate's drained shear modulus Φs µ = {} \
          kPa, drained Young's modulus 2 Φs µ (1 + ν) = {} kPa",

@@ -182,10 +182,8 @@ fn settle_cause(scene: &Scene) -> String {
         return "Can the solid carry its weight (material.mu, material.gravity)?".into();
     };
     let g_drained = m.phi_s * mu;
-    let rho = m.phi_s * m.rho_s + (1.0 - m.phi_s) * m.rho_f;
-    let gravity = m.gravity.iter().map(|x| x * x).sum::<f64>().sqrt();
     // ρ |g| R in Pa (R in µm), in kPa.
-    let weight = rho * gravity * r * 1e-6 / 1e3;
+    let weight = m.mixture_density() * m.gravity_magnitude() * r * 1e-6 / 1e3;
     let ratio = weight / g_drained;
     if ratio > 0.1 {
         return format!(

@@ -7,7 +7,7 @@
 use super::key::{Key, Unset};
 use super::reference::sections;
 use super::{LoadedScene, Material};
-use crate::error::{Error, Result};
+use crate::error::Result;
 
 /// The resolved scene of `loaded`, each key with its declaration as a comment.
 pub fn explain(loaded: &LoadedScene) -> Result<String> {
@@ -16,12 +16,7 @@ pub fn explain(loaded: &LoadedScene) -> Result<String> {
     let mut table = String::new();
     // The keys of the current table written so far (None: its unset keys are listed).
     let mut seen = Some(Vec::new());
-    // Compact TOML: every value on its key's line (the pretty form splits arrays over lines).
-    let text = toml::to_string(&loaded.scene).map_err(|e| Error::Scene {
-        path: loaded.source.clone(),
-        msg: format!("cannot write the resolved scene as TOML: {e}"),
-    })?;
-    for line in text.lines() {
+    for line in loaded.to_toml()?.lines() {
         let trimmed = line.trim();
         if trimmed.is_empty() || trimmed.starts_with('[') {
             if let Some(names) = seen.take() {

@@ -142,10 +142,10 @@ impl LoadedScene {
         }
     }
 
-    /// The scene as TOML (for the run directory).
+    /// The scene as TOML, every value on its key's line (`explain` writes the run directory's
+    /// `scene.toml` from it).
     pub fn to_toml(&self) -> Result<String> {
-        toml::to_string_pretty(&self.scene)
-            .map_err(|e| self.err(format!("cannot write the resolved scene as TOML: {e}")))
+        toml::to_string(&self.scene).map_err(|e| self.err(format!("cannot write the resolved scene as TOML: {e}")))
     }
 }
 

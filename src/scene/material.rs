@@ -140,6 +140,16 @@ impl Material {
 pub(crate) const MODULI: [&str; 3] = ["mu", "drained_shear_modulus", "drained_youngs_modulus"];
 
 impl HolmesMowSpec {
+    /// The mixture's density Φs ρs + (1 − Φs) ρf (kg/m³): what its weight is of.
+    pub fn mixture_density(&self) -> f64 {
+        self.phi_s * self.rho_s + (1.0 - self.phi_s) * self.rho_f
+    }
+
+    /// |g| (m/s²).
+    pub fn gravity_magnitude(&self) -> f64 {
+        self.gravity.iter().map(|a| a * a).sum::<f64>().sqrt()
+    }
+
     /// How the solid is given, µ from the aggregate's moduli if they are; Err: none or two ways
     /// (the message without its section).
     pub fn solid(&self) -> Result<SolidSpec, String> {

@@ -107,8 +107,7 @@ pub(super) fn check(scene: &Scene, notes: &mut Vec<String>) -> Result<(), String
             }
             values.push(("material.rho_s", m.rho_s, &DENSITY));
             values.push(("material.rho_f", m.rho_f, &DENSITY));
-            let g = m.gravity.iter().map(|x| x * x).sum::<f64>().sqrt();
-            values.push(("|material.gravity|", g, &GRAVITY));
+            values.push(("|material.gravity|", m.gravity_magnitude(), &GRAVITY));
         }
     }
     values.push(("time.t_end", scene.time.t_end, &TIME));
@@ -145,7 +144,7 @@ fn judge(key: &str, v: f64, q: &Quantity) -> Result<Option<String>, String> {
         .map(|(u, k)| {
             format!(
                 ": {shown} looks like {u} ({shown} {u} = {} {}; write that)",
-                crate::io::fmt_real(sig(v * k)),
+                crate::io::fmt_significant(v * k, 6),
                 q.unit
             )
         })
@@ -156,11 +155,6 @@ fn judge(key: &str, v: f64, q: &Quantity) -> Result<Option<String>, String> {
     } else {
         Err(format!("{said} — refused as a unit mistake"))
     }
-}
-
-/// `x` to 6 significant digits (a converted value without float noise).
-fn sig(x: f64) -> f64 {
-    format!("{x:.5e}").parse().unwrap_or(x)
 }
 
 #[cfg(test)]
