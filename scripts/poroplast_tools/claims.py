@@ -6,8 +6,10 @@ claims.csv columns: id, where (section, figure), claim (the paper's statement), 
 or "yes"), measure (for a numeric claim: `CASE|OBSERVABLE`, or two of them joined by " - " or
 " / "), ours (text; `{CASE|OBSERVABLE}` is replaced by the converged value ± its error bar, and
 `{SOURCE:ROW|COLUMN}` by a value of one of the committed SOURCES, not converged, to 4 digits),
-verdict, cause (measured, argued, derived, or "none measured"), paper_value, precision (absolute,
-or "×F" for a factor), precision_note (where the precision comes from).
+verdict (of a statement without a number; a numeric claim's is the rule's), cause (measured,
+argued, derived, or "none measured"), paper_value (the paper's number in the table's units),
+precision_note (the paper's words the number is printed in, quoted: its precision is read from
+them by `printed`).
 """
 
 import math
@@ -21,30 +23,93 @@ from .tables import read_rows
 DATA = Path(__file__).resolve().parent.parent / "data"
 FIGURE_DATA = DATA.parent.parent / "docs" / "figures" / "data"
 
-# Values that are not converged references, by source: (file, its key column). `meridian` and
-# `3d` are reproduce.py's summaries of the shipped scenes (--axisymmetric, and 3-D), `fields` the
+# Values that are not converged references, by source: (file, its key columns; a row is named by
+# their values joined by "@"). `meridian` and `3d` are reproduce.py's summaries of the shipped
+# scenes (--axisymmetric, and 3-D), `flow` its outflow by phase on the meridian, `fields` the
 # causes runs' rows read from fields (causes.py --fields), `zones` the region means of Figs 5-6
-# (rows "CASE@T").
-SOURCES = {"meridian": (FIGURE_DATA / "summary_meridian.csv", "case"),
-           "3d": (FIGURE_DATA / "summary_3d.csv", "case"),
-           "fields": (DATA / "hypothesis_40a_fields.csv", "variant"),
-           "zones": (FIGURE_DATA / "fig5_6_zones.csv", "row")}
+# (rows "CASE@T"), `fig3` the pressure maps' extremes and positive region (rows "CASE@T").
+SOURCES = {"meridian": (FIGURE_DATA / "summary_meridian.csv", ("case",)),
+           "3d": (FIGURE_DATA / "summary_3d.csv", ("case",)),
+           "flow": (DATA / "flow_meridian.csv", ("case",)),
+           "fields": (DATA / "hypothesis_40a_fields.csv", ("variant",)),
+           "zones": (FIGURE_DATA / "fig5_6_zones.csv", ("row",)),
+           "fig3": (FIGURE_DATA / "fig3_pressure.csv", ("case", "t_s")),
+           "fig3_later": (FIGURE_DATA / "fig3_later_pressure.csv", ("case", "t_s"))}
 
 VERDICTS = ("reproduced", "partly", "no", "open", "not comparable")
 
 RULE = (
     "A claim with a number is **reproduced** when ours lies within the paper's precision of it "
-    "(widened by twice our error bar), **partly** when it has the same sign and is off by less "
-    "than a factor 2, and **no** otherwise. The paper's precision is what its words allow: half a "
-    "unit of the last digit it prints, a whole number's trailing zeros not counting (\"40 s\": "
-    "±5 s; \"4.0 × 10³ Pa\": ±0.05 kPa), or the resolution of its words (\"about 1/4\", \"an "
-    "order of magnitude\"), stated in each row. A statement without a number is reproduced when ours "
-    "says the same in the same region, partly when it holds in part (a trend, one of two "
-    "regions), no otherwise; open where the model can say but the runs are not done yet; not "
-    "comparable where the model cannot (what it lacks is named). Each observable is defined "
-    "once: the region means use the contact zones (r < 40 µm within 30 µm of a plate) and the "
-    "centre (r < 30 µm, |z − R| < 30 µm) of the reference configuration, X_U = (40, 0, 190) µm."
+    "(widened by twice our error bar; a value that is not converged has none), **partly** when it "
+    "has the same sign and is off by less than a factor 2, and **no** otherwise. The paper's "
+    "precision is read from the words it prints the number in, the same way for every number: half "
+    "a unit of the last digit printed, every printed digit counting (\"40 s\" and \"28 s\" alike "
+    "±0.5 s; \"4.0 × 10³ Pa\" ±0.05 kPa; \"1/4\", a count of quarters, ±1/8); words such as "
+    "\"about\" or \"close to\" add nothing, since a rounded number says as much; a number the "
+    "paper gives as the difference of two it prints carries the sum of their precisions; \"an "
+    "order of magnitude\" is a factor within √10 of 10. Each row quotes the words. A statement "
+    "without a number is taken in its parts (each clause, each region or case it names): "
+    "reproduced when every part is measured and holds; partly when a measured part holds and "
+    "another fails, is not measured or cannot be, the row saying which (holds: …; fails: …; not "
+    "measured: …; not comparable: …); "
+    "no when parts are measured and none holds; open when no part is measured yet though the "
+    "model could say; not comparable where the model cannot (what it lacks is named). Each "
+    "observable is defined once: the region means use the contact zones (r < 40 µm within 30 µm "
+    "of a plate) and the centre (r < 30 µm, |z − R| < 30 µm) of the reference configuration, "
+    "X_U = (40, 0, 190) µm."
 )
+
+# A number as the paper prints it: digits, or a fraction, times a power of ten, in a unit the
+# table converts (the paper's Pa are the table's kPa).
+_PRINTED = re.compile(r"(\d+(?:\.\d+)?)(?:\s*/\s*(\d+))?(?:\s*× 10([⁰¹²³⁴⁵⁶⁷⁸⁹⁻]+))?(?:\s*(Pa)\b)?")
+_SUPERSCRIPT = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
+TO_TABLE_UNITS = {"Pa": 1e-3}
+ORDER_OF_MAGNITUDE = "order of magnitude"
+FACTOR_ORDER = "×3.1623"   # within √10 of 10: half an order either way
+
+
+def printed(quote):
+    """(value, precision) of the one number a quote of the paper prints, in the table's units, by
+    RULE: half a unit of its last printed digit (of a fraction a/b: 1/(2b)); "an order of
+    magnitude" is 10 within a factor √10."""
+    if ORDER_OF_MAGNITUDE in quote:
+        return 10.0, FACTOR_ORDER
+    hits = _PRINTED.findall(quote)
+    if len(hits) != 1:
+        raise ValueError(f"claims.csv: the quote {quote!r} prints {len(hits)} numbers; quote the words of one")
+    digits, denominator, power, unit = hits[0]
+    scale = 10.0 ** int(power.translate(_SUPERSCRIPT)) if power else 1.0
+    scale *= TO_TABLE_UNITS.get(unit, 1.0)
+    if denominator:
+        return int(digits) / int(denominator) * scale, 0.5 / int(denominator) * scale
+    decimals = len(digits.split(".")[1]) if "." in digits else 0
+    return float(digits) * scale, 0.5 * 10.0 ** -decimals * scale
+
+
+def paper_number(note):
+    """(value, precision) of a row's precision_note: one quote of the paper (`printed`), or two
+    joined by " minus " (their difference, the sum of their precisions)."""
+    quotes = re.findall(r'"([^"]+)"', note)
+    if len(quotes) == 1:
+        return printed(quotes[0])
+    if len(quotes) == 2 and '" minus "' in note:
+        (a, pa), (b, pb) = printed(quotes[0]), printed(quotes[1])
+        if isinstance(pa, str) or isinstance(pb, str):
+            raise ValueError(f"claims.csv: a difference of factors in {note!r}")
+        return a - b, pa + pb
+    raise ValueError(f"claims.csv: precision_note {note!r}: quote the paper once, or twice joined by \" minus \"")
+
+
+def precision_text(value, precision):
+    """The paper's number with its precision, as the table prints it: to the digit the precision
+    is half a unit of, where it is one."""
+    if isinstance(precision, str):
+        return f"{value:g}, within a factor {precision[1:]}"
+    digit = math.log10(2 * precision)
+    if abs(digit - round(digit)) < 1e-9:
+        return f"{value:.{max(0, -round(digit))}f} ± {precision:g}"
+    return f"{value:g} ± {precision:g}"
+
 
 PLACEHOLDER = re.compile(r"\{([^{}|]+)\|([^{}]+)\}")
 
@@ -58,7 +123,9 @@ def fmt(value, bar):
     without a bar (NaN: not converged) to 4 significant digits."""
     if not math.isfinite(value):
         return "—"
-    if math.isnan(bar):
+    if math.isnan(bar):   # without an exponent below 1e9: "18030", not "1.803e+04"
+        if 1e4 <= abs(value) < 1e9:
+            return f"{round(value, 3 - math.floor(math.log10(abs(value)))):.0f}"
         return f"{value:.4g}"
     if bar <= 0 or not math.isfinite(bar):
         return f"{value:.6g}"
@@ -67,10 +134,10 @@ def fmt(value, bar):
 
 
 def source_value(source, row, column):
-    """A value of one of the SOURCES (row: its key column's value)."""
-    path, key = SOURCES[source]
+    """A value of one of the SOURCES (row: its key columns' values joined by "@")."""
+    path, keys = SOURCES[source]
     for r in _rows(path):
-        if r[key] == row:
+        if "@".join(r[k] for k in keys) == row:
             return float(r[column])
     raise KeyError(f"claims.csv: no row {row} in {path.name}")
 
@@ -100,8 +167,9 @@ def measure(refs, expression):
 
 
 def rule(value, bar, paper, precision):
-    """The verdict of RULE for ours = value ± bar against the paper's number and precision
-    (a float, or a string "×F" for a factor)."""
+    """The verdict of RULE for ours = value ± bar (NaN: not converged, no bar) against the paper's
+    number and precision (a float, or a string "×F" for a factor)."""
+    bar = 0.0 if math.isnan(bar) else bar
     if isinstance(precision, str) and precision.startswith("×"):
         factor = float(precision[1:])
         if value + 2 * bar >= paper / factor and value - 2 * bar <= paper * factor:
@@ -122,10 +190,10 @@ def resolved(refs, row):
     if not row["measure"]:
         return ours, row["verdict"]
     value, bar = measure(refs, row["measure"])
-    precision = row["precision"] if row["precision"].startswith("×") else float(row["precision"])
-    verdict = rule(value, bar, float(row["paper_value"]), precision)
+    paper, precision = paper_number(row["precision_note"])
+    verdict = rule(value, bar, paper, precision)
     text = f"**{fmt(value, bar)}** {ours}".strip()
-    return text + f" (precision: {row['precision_note']})", verdict
+    return text + f" (the paper: {precision_text(paper, precision)}, from {row['precision_note']})", verdict
 
 
 def table(rows=None, refs=None):

@@ -38,7 +38,9 @@ ROWS = [
 # The rows read from fields and shapes: (row, the paper's number or None, the column of
 # hypothesis_40a_fields.csv); each model's value is its row there (the isotropic case).
 FIELD_ROWS = [
-    ("σ_VM, contact-zone mean at 35 s (kPa)", 4.0, "remodel_40|vm_contact@35"),
+    # the paper's 4.0 kPa "before the detachment" at 37 s, as claim P24a reads it
+    ("σ_VM, contact-zone mean at 35 s (kPa)", None, "remodel_40|vm_contact@35"),
+    ("σ_VM, contact-zone mean at 37 s, before the upper detachment (kPa)", 4.0, "remodel_40|vm_contact@37"),
     ("σ_VM, contact-zone mean at 40 s (kPa)", 3.5, "remodel_40|vm_contact@40"),
     ("σ_VM, contact zones over centre at 40 s", 10.0, "remodel_40|vm_contact/centre@40"),
     ("‖E_p‖, contact zones over centre at 60 s", 0.0, "remodel_40|ep_contact/centre@60"),
