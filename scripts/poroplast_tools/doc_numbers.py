@@ -1,0 +1,344 @@
+"""The numbers of the docs' prose, each tied to where it comes from.
+
+A number is either **bound** or **listed**:
+
+* bound: an invisible comment right after it names its source and rounding rule,
+
+      crosses zero at 42.33<!-- = remodel_155|zero:probe_p ; .2f --> s
+
+  The source is an expression of `claims.measure` (the claims table's `measure` column):
+  `CASE|OBSERVABLE` (a converged value of references.csv), `SOURCE:ROW|COLUMN` (a cell of one of
+  `claims.SOURCES`), or two of them joined by " - " or " / ". The rule is a Python format spec
+  (`.2f`, `+.3g`, `.1%`), after any of: `bar` (the error bar, not the value), `abs` (the
+  magnitude: a shift said without its sign), `*F` (times F). `write` renders every bound number
+  from its source; `stale` names those that differ.
+* listed: scripts/data/doc_numbers.toml gives, per line of a page, the numbers it prints that no
+  CSV holds (the paper's, Table 1's, inputs, counts, measurements kept nowhere else) with their
+  source. `unlisted` names what is neither bound nor listed, and `unmatched` the list's entries
+  that no longer match a line.
+
+Not numbers here (not a quantity): code blocks, inline code, HTML comments, link targets, image
+lines, the generated tables (checked as a whole against their generator), section, figure,
+table, equation, citation, claim, decision and commit numbers, dates and times, versions, and
+"3-D"/"2-D"."""
+
+import math
+import re
+import tomllib
+from decimal import Decimal
+from functools import lru_cache
+from pathlib import Path
+
+from . import claims
+from .refs import references
+
+ROOT = Path(__file__).resolve().parents[2]
+LIST = ROOT / "scripts" / "data" / "doc_numbers.toml"
+# The pages whose every number is bound or listed.
+PAGES = ["docs/reproduction.md", "docs/studies.md", "docs/performance.md", "README.md"]
+
+MINUS = "−"
+_NUM = r"[+−-]?\d+(?:\.\d+)?(?:e[+−-]?\d+)?%?"
+BOUND = re.compile(rf"(?P<num>{_NUM})<!-- = (?P<expr>[^;>]+?) ; (?P<rule>[^>]+?) -->")
+# A number of the prose: thousands grouped by spaces ("6 276"), a fraction ("1/16"), a power of
+# ten ("10⁴", "10⁻⁶"), a decimal with an exponent ("3.7729e-3"), a percentage.
+TOKEN = re.compile(r"(?<![\w.^])(?:\d{1,3}(?: \d{3})+(?![\d.])|\d+/\d+(?![\d.])|10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+|"
+                   r"\d+(?:\.\d+)?(?:e[+−-]?\d+)?%?)(?![\w.]\w|[\w]|-D)")
+# What is not a quantity (see the module's docstring); each match is blanked before TOKEN runs.
+_ID = r"\d+[a-z]?(?:\.\d+)*"
+NOT_QUANTITIES = [
+    r"^```.*?^```",                                   # code blocks
+    r"<!--.*?-->",                                    # comments (and the bindings' own text)
+    r"`[^`\n]*`",                                     # inline code
+    r"\]\([^)\s]*\)",                                 # link targets
+    r"^!\[[^\n]*",                                       # image lines
+    r"^#{1,6} [^\n]*",                                   # headings (they repeat the text's numbers)
+    rf"(?:§§?|\bFigs?\.?|\bFigures?|\bTables?|\bdecisions?|\bcommits?|\bissues?|\bsections?|\bPR)"
+    rf"\s*{_ID}(?:(?:\s*[–-]\s*|,\s*|\s+and\s+){_ID})*",   # section, figure, table, ... numbers
+    r"\((?:\d+[a-z]?)\)(?:/\(\d+[a-z]?\))*",             # equation numbers: (40a), (54c)/(40b)
+    r"\[\d+\]",                                       # citations
+    r"\d{4}-\d{2}-\d{2}(?:/\d{2})?|\b\d{1,2}:\d{2}\b",  # dates and times
+    r"\b(?:PETSc|Rust|FEBio|Debian|Python|ParaView|ZAMP|Open MPI)\s+\d+(?:\.\d+)*",  # versions
+    r"\(\d{4}\)",                                     # years of a citation
+    r"\bP\d+[a-z]?(?:\s*[–-]\s*P\d+[a-z]?)?",          # claim ids
+]
+_BLANK = re.compile("|".join(f"(?:{p})" for p in NOT_QUANTITIES), re.S | re.M)
+
+
+# ---------------------------------------------------------------------------------------------
+# Bound numbers
+
+
+@lru_cache(maxsize=None)
+def _refs():
+    return references()
+
+
+AGGREGATE = re.compile(r"(min|max|count) (\w+)(?:\|(.+))?")
+
+
+@lru_cache(maxsize=None)
+def value(expr):
+    """(value, error bar) of a binding's source expression: claims.measure's, or `min SOURCE|COLUMN`,
+    `max SOURCE|COLUMN`, `count SOURCE` over the rows of one of claims.SOURCES (no bar)."""
+    m = AGGREGATE.fullmatch(expr)
+    if not m:
+        return claims.measure(_refs(), expr)
+    how, source, column = m.groups()
+    if source not in claims.SOURCES:
+        raise KeyError(f"no source {source!r}")
+    rows = claims._rows(claims.SOURCES[source][0])
+    if how == "count":
+        return float(len(rows)), math.nan
+    xs = [float(r[column]) for r in rows]
+    return (min(xs) if how == "min" else max(xs)), math.nan
+
+
+def render(expr, rule):
+    """A bound number as its rule prints its source (U+2212 for a minus sign)."""
+    *mods, spec = rule.split()
+    x, bar = value(expr.strip())
+    for m in mods:
+        if m == "bar":
+            x = bar
+        elif m == "abs":
+            x = abs(x)
+        elif m.startswith("*"):
+            x *= float(m[1:])
+        else:
+            raise ValueError(f"unknown rule {m!r} in {rule!r} (bar, abs, *F, then a format spec)")
+    if not math.isfinite(x):
+        raise ValueError(f"{expr}: no value ({x})")
+    s = format(x, spec)
+    s = re.sub(r"e([+-])0*(\d)", lambda m: "e" + ("" if m.group(1) == "+" else "-") + m.group(2), s)
+    return s.replace("-", MINUS)
+
+
+def bound(text):
+    """The bound numbers of a text: (line number, printed, expression, rule, match)."""
+    return [(text.count("\n", 0, m.start()) + 1, m["num"], m["expr"], m["rule"], m)
+            for m in BOUND.finditer(text)]
+
+
+def _same(printed, rendered):
+    return printed.replace("-", MINUS) == rendered
+
+
+def stale(text):
+    """The bound numbers that differ from their source: (line, printed, as the source renders it,
+    expression)."""
+    out = []
+    for line, printed, expr, rule, _ in bound(text):
+        try:
+            r = render(expr, rule)
+        except (KeyError, ValueError, ZeroDivisionError) as e:
+            r = f"no value: {e}"
+        if not _same(printed, r):
+            out.append((line, printed, r, expr))
+    return out
+
+
+def write(text):
+    """`text` with every bound number rendered from its source (keeping its minus sign style)."""
+    def one(m):
+        r = render(m["expr"], m["rule"])
+        if "-" in m["num"]:
+            r = r.replace(MINUS, "-")
+        return r + m.group(0)[len(m["num"]):]
+    return BOUND.sub(one, text)
+
+
+# ---------------------------------------------------------------------------------------------
+# The prose's other numbers
+
+
+def _generated(text):
+    """The spans of the generated tables (between their markers)."""
+    return [(m.start(), m.end()) for m in
+            re.finditer(r"<!-- (.+?) table: written by.*?<!-- end of the \1 table -->", text, re.S)]
+
+
+def blank(text):
+    """`text` with everything that is not a quantity (and the bound numbers) replaced by spaces,
+    line breaks kept, so that positions and line numbers stay."""
+    spans = _generated(text) + [(m.start(), m.end()) for m in BOUND.finditer(text)]
+    spans += [(m.start(), m.end()) for m in _BLANK.finditer(text)]
+    out, at = [], 0
+    for a, b in sorted(spans):
+        if b <= at:
+            continue
+        a = max(a, at)
+        out += [text[at:a], re.sub(r"[^\n]", " ", text[a:b])]
+        at = b
+    return "".join(out + [text[at:]])
+
+
+def free(text):
+    """The numbers of the prose that are not bound, per line: {line number: [printed, ...]}."""
+    out = {}
+    for i, line in enumerate(blank(text).split("\n"), 1):
+        found = TOKEN.findall(line)
+        if found:
+            out[i] = found
+    return out
+
+
+def load_list(path=LIST):
+    """The listed numbers: ({page: [entry]}, {source name: text}); an entry is a dict with `at`
+    (text of its line, unique on the page), `numbers` (as printed, in order) and `source` (a
+    name of [sources])."""
+    with open(path, "rb") as f:
+        data = tomllib.load(f)
+    pages = {}
+    for e in data.get("line", []):
+        pages.setdefault(e["page"], []).append(e)
+    return pages, data.get("sources", {})
+
+
+COMMENT = re.compile(r"<!--.*?-->")
+
+
+def _match(lines, entries):
+    """{line number: [entry]} for the entries whose `at` is in exactly one line (its comments, the
+    bindings, left out), and the entries that match no line or several."""
+    lines = {i: COMMENT.sub("", line) for i, line in lines.items()}
+    hits, bad = {}, []
+    for e in entries:
+        where = [i for i, line in lines.items() if e["at"] in line]
+        if len(where) != 1:
+            bad.append((e, len(where)))
+        else:
+            hits.setdefault(where[0], []).append(e)
+    return hits, bad
+
+
+def listed(text, entries):
+    """{line number: the numbers the list gives for that line, in order}."""
+    hits, _ = _match(dict(enumerate(text.split("\n"), 1)), entries)
+    return {i: [n for e in es for n in e["numbers"]] for i, es in hits.items()}
+
+
+def unlisted(text, entries):
+    """The lines whose free numbers are not the list's for that line: (line, printed numbers,
+    the list's numbers or None)."""
+    have = listed(text, entries)
+    out = []
+    for i, nums in free(text).items():
+        if nums != have.get(i, []):
+            out.append((i, nums, have.get(i)))
+    return out
+
+
+def unmatched(text, entries, sources):
+    """The list's entries that match no line, several lines, or a line without free numbers, or
+    name an unknown source: (at, why)."""
+    lines = dict(enumerate(text.split("\n"), 1))
+    hits, bad = _match(lines, entries)
+    out = [(e["at"], f"matches {n} lines") for e, n in bad]
+    have = free(text)
+    out += [(e["at"], "its line has no free numbers") for i, es in hits.items() if i not in have for e in es]
+    out += [(e["at"], f"unknown source {e['source']!r}") for e in entries if e["source"] not in sources]
+    out += [(e["at"], "no numbers") for e in entries if not e["numbers"]]
+    return out
+
+
+def problems(text, entries, sources):
+    """Every reason the page's numbers are not as their sources say (empty when they are)."""
+    out = [f"line {l}: {p} is bound to {x}, which gives {r}" for l, p, r, x in stale(text)]
+    for i, nums, listed in unlisted(text, entries):
+        out.append(f"line {i}: numbers {nums} neither bound nor listed" if listed is None else
+                   f"line {i}: numbers {nums}, the list has {listed}")
+    out += [f"list entry {at!r}: {why}" for at, why in unmatched(text, entries, sources)]
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# The test of the test
+
+
+def nudge(printed):
+    """`printed` changed by one unit in its last printed digit ("0.79" -> "0.80", "9" -> "10",
+    "3e-5" -> "4e-5", "−0.54%" -> "−0.53%": towards zero or away, always a different number)."""
+    s = printed.replace(MINUS, "-")
+    pct = s.endswith("%")
+    s = s.rstrip("%")
+    mant, _, exp = s.partition("e")
+    d = Decimal(mant)
+    unit = Decimal(1).scaleb(d.as_tuple().exponent)
+    new = str((d + unit).quantize(unit))
+    if mant.startswith("+") and not new.startswith("-"):
+        new = "+" + new
+    out = new + ("e" + exp if exp else "") + ("%" if pct else "")
+    return out.replace("-", MINUS) if MINUS in printed else out
+
+
+def mutants(text):
+    """For every bound number, the text with that number (alone) nudged: (line, printed, text)."""
+    for line, printed, _, _, m in bound(text):
+        a = m.start("num")
+        yield line, printed, text[:a] + nudge(printed) + text[m.end("num"):]
+
+
+def free_mutants(text):
+    """For every number that is not bound, its line's free numbers with that number (alone)
+    nudged: (line, printed, the line's numbers as `free` reads them then). Only the line changes,
+    so only its numbers are read again. Grouped ("6 276"), fractions and powers of ten are left
+    out: their one unit is not well defined."""
+    for i, line in enumerate(blank(text).split("\n"), 1):
+        for m in TOKEN.finditer(line):
+            printed = m.group(0)
+            if re.fullmatch(r"\d+(?:\.\d+)?(?:e[+−-]?\d+)?%?", printed):
+                mutated = line[:m.start()] + nudge(printed) + line[m.end():]
+                yield i, printed, TOKEN.findall(mutated)
+
+
+# ---------------------------------------------------------------------------------------------
+# The helper: candidate sources of a free number
+
+
+def _cells():
+    """Every numeric cell of claims.SOURCES as (expression, value), and the converged values."""
+    out = [(f"{c}|{o}", v) for (c, o), (v, _) in _refs().items()]
+    out += [(f"{c}|{o} (bar)", b) for (c, o), (_, b) in _refs().items()]
+    for name in claims.SOURCES:
+        path, key = claims.SOURCES[name]
+        for r in claims._rows(path):
+            k = claims.row_key(r, key)
+            for col, cell in r.items():
+                try:
+                    x = float(cell)
+                except (TypeError, ValueError):
+                    continue
+                if math.isfinite(x) and col not in (key if isinstance(key, tuple) else (key,)):
+                    out.append((f"{name}:{k}|{col}", x))
+    return out
+
+
+def candidates(printed, cells=None):
+    """The cells that equal `printed` to its printed digits (or its magnitude), with a rule that
+    prints them so."""
+    cells = _cells() if cells is None else cells
+    s = printed.replace(MINUS, "-").replace(" ", "")
+    pct = s.endswith("%")
+    s = s.rstrip("%")
+    if "/" in s or "⁻" in s or not re.fullmatch(r"[+-]?[\d.]+(e[+-]?\d+)?", s):
+        return []
+    mant = s.split("e")[0]
+    decimals = len(mant.split(".")[1]) if "." in mant else 0
+    spec = f".{decimals}{'%' if pct else 'f'}"
+    if "e" in s:
+        spec = f".{decimals}e"
+    out = []
+    for expr, x in cells:
+        for mods in ("", "abs "):
+            y = abs(x) if mods else x
+            try:
+                rendered = format(y, spec)
+            except ValueError:
+                continue
+            rendered = re.sub(r"e([+-])0*(\d)", lambda m: "e" + ("" if m.group(1) == "+" else "-") + m.group(2), rendered)
+            if rendered == s.lstrip("+") + ("%" if pct else ""):
+                bar = " bar" if expr.endswith("(bar)") else ""
+                out.append(f"{expr.removesuffix(' (bar)')} ;{bar} {mods}{spec}".replace("  ", " "))
+                break
+    return out
