@@ -53,8 +53,9 @@ def free(name):
         print(f"line {i}: {lines[i - 1].strip()[:160]}")
         if have is not None:
             print(f"  the list has {have}")
+        row = lines[i - 1].lstrip().startswith("|")
         for n in nums:
-            c = dn.candidates(n, cells)
+            c = [x.replace("|", "\\|") if row else x for x in dn.candidates(n, cells)]
             shown = "; ".join(f"<!-- = {x} -->" for x in c[:4]) + (f" (+{len(c) - 4} more)" if len(c) > 4 else "")
             print(f"  {n}: {shown or 'no cell of a committed CSV'}")
         at = lines[i - 1].strip()[:40].replace("\\", "\\\\").replace('"', '\\"')

@@ -8,7 +8,8 @@ A number is either **bound** or **listed**:
 
   The source is an expression of `claims.measure` (the claims table's `measure` column):
   `CASE|OBSERVABLE` (a converged value of references.csv), `SOURCE:ROW|COLUMN` (a cell of one of
-  `claims.SOURCES`), or two of them joined by " - " or " / ". The rule is a Python format spec
+  `claims.SOURCES`), or two of them joined by " - " or " / " (in a table row each "|" is written
+  "\\|", or GitHub splits the cell there). The rule is a Python format spec
   (`.2f`, `+.3g`, `.1%`), after any of: `bar` (the error bar, not the value), `abs` (the
   magnitude: a shift said without its sign), `*F` (times F). `write` renders every bound number
   from its source; `stale` names those that differ.
@@ -30,7 +31,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from . import claims
-from .refs import references
+from .refs import SHIPPED as REFERENCES, references
 
 ROOT = Path(__file__).resolve().parents[2]
 LIST = ROOT / "scripts" / "data" / "doc_numbers.toml"
@@ -74,13 +75,49 @@ def _refs():
     return references()
 
 
+# A column of references.csv besides the value and its bar: `p_h CASE|OBS`, `p_t ...`,
+# `relative_bar ...`, or `level N CASE|OBS`, the N-th of its `levels` (the mesh levels, then the
+# step levels, counted from 0).
+REFERENCE_FIELD = re.compile(r"(p_h|p_t|relative_bar|level (\d+)) (\S+\|.+)")
 AGGREGATE = re.compile(r"(min|max|count) (\w+)(?:\|(.+))?")
+
+
+def _own(expr):
+    """Whether an operand is one of this module's forms (a reference column, an aggregate, a
+    number: the paper's, say) rather than claims.measure's."""
+    return bool(REFERENCE_FIELD.fullmatch(expr) or AGGREGATE.fullmatch(expr)
+                or re.fullmatch(r"[+-]?\d+(?:\.\d+)?", expr))
+
+
+@lru_cache(maxsize=None)
+def _reference_rows():
+    return {f"{r['case']}|{r['observable']}": r for r in claims._rows(REFERENCES)}
 
 
 @lru_cache(maxsize=None)
 def value(expr):
-    """(value, error bar) of a binding's source expression: claims.measure's, or `min SOURCE|COLUMN`,
-    `max SOURCE|COLUMN`, `count SOURCE` over the rows of one of claims.SOURCES (no bar)."""
+    """(value, error bar) of a binding's source expression: claims.measure's; or `min SOURCE|COLUMN`,
+    `max SOURCE|COLUMN`, `count SOURCE` over the rows of one of claims.SOURCES; or a column of
+    references.csv (REFERENCE_FIELD); or a difference or ratio of two operands one of which is
+    such a form or a plain number ("remodel_155|zero:probe_p - 40": the gap to the paper's 40 s).
+    Only claims.measure's forms have an error bar."""
+    for op in (" - ", " / "):
+        parts = expr.split(op)
+        if len(parts) == 2 and any(_own(x.strip()) for x in parts):
+            (a, _), (b, _) = (value(x.strip()) for x in parts)
+            return (a - b if op == " - " else a / b), math.nan
+    if re.fullmatch(r"[+-]?\d+(?:\.\d+)?", expr):
+        return float(expr), math.nan
+    m = REFERENCE_FIELD.fullmatch(expr)
+    if m:
+        field, level, key = m.groups()
+        row = _reference_rows().get(key)
+        if row is None:
+            raise KeyError(f"no converged value {key} in references.csv")
+        if level is not None:
+            levels = row["levels"].replace("|", " ").split()
+            return float(levels[int(level)]), math.nan
+        return float(row[field]), math.nan
     m = AGGREGATE.fullmatch(expr)
     if not m:
         return claims.measure(_refs(), expr)
@@ -94,6 +131,7 @@ def value(expr):
     return (min(xs) if how == "min" else max(xs)), math.nan
 
 
+@lru_cache(maxsize=None)
 def render(expr, rule):
     """A bound number as its rule prints its source (U+2212 for a minus sign)."""
     *mods, spec = rule.split()
@@ -114,10 +152,26 @@ def render(expr, rule):
     return s.replace("-", MINUS)
 
 
+def _expr(m):
+    """A binding's source expression, a table row's "\\|" read as "|"."""
+    return m["expr"].replace("\\|", "|")
+
+
 def bound(text):
     """The bound numbers of a text: (line number, printed, expression, rule, match)."""
-    return [(text.count("\n", 0, m.start()) + 1, m["num"], m["expr"], m["rule"], m)
-            for m in BOUND.finditer(text)]
+    out, line, at = [], 1, 0
+    for m in BOUND.finditer(text):
+        line += text.count("\n", at, m.start())
+        at = m.start()
+        out.append((line, m["num"], _expr(m), m["rule"], m))
+    return out
+
+
+def bare_pipes(text):
+    """The lines of a table whose bindings hold a bare "|": GitHub would split the cell there, so a
+    binding in a table row writes "\\|"."""
+    return [i for i, line in enumerate(text.split("\n"), 1) if line.lstrip().startswith("|")
+            and any(re.search(r"(?<!\\)\|", m["expr"]) for m in BOUND.finditer(line))]
 
 
 def _same(printed, rendered):
@@ -141,7 +195,7 @@ def stale(text):
 def write(text):
     """`text` with every bound number rendered from its source (keeping its minus sign style)."""
     def one(m):
-        r = render(m["expr"], m["rule"])
+        r = render(_expr(m), m["rule"])
         if "-" in m["num"]:
             r = r.replace(MINUS, "-")
         return r + m.group(0)[len(m["num"]):]
@@ -186,7 +240,7 @@ def free(text):
 def load_list(path=LIST):
     """The listed numbers: ({page: [entry]}, {source name: text}); an entry is a dict with `at`
     (text of its line, unique on the page), `numbers` (as printed, in order) and `source` (a
-    name of [sources])."""
+    name of [sources]; `n` picks the n-th line holding `at` where identical lines repeat)."""
     with open(path, "rb") as f:
         data = tomllib.load(f)
     pages = {}
@@ -205,6 +259,8 @@ def _match(lines, entries):
     hits, bad = {}, []
     for e in entries:
         where = [i for i, line in lines.items() if e["at"] in line]
+        if "n" in e:   # the n-th of several identical lines (a table header repeated)
+            where = where[e["n"] - 1:e["n"]] if len(where) >= e["n"] >= 1 else []
         if len(where) != 1:
             bad.append((e, len(where)))
         else:
@@ -245,6 +301,7 @@ def unmatched(text, entries, sources):
 def problems(text, entries, sources):
     """Every reason the page's numbers are not as their sources say (empty when they are)."""
     out = [f"line {l}: {p} is bound to {x}, which gives {r}" for l, p, r, x in stale(text)]
+    out += [f"line {l}: a binding in a table row writes \\| for |" for l in bare_pipes(text)]
     for i, nums, listed in unlisted(text, entries):
         out.append(f"line {i}: numbers {nums} neither bound nor listed" if listed is None else
                    f"line {i}: numbers {nums}, the list has {listed}")

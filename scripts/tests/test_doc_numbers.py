@@ -35,6 +35,7 @@ class Pages(unittest.TestCase):
         for name, text in self.texts.items():
             with self.subTest(page=name):
                 self.assertEqual(dn.stale(text), [], f"{name} is stale: python3 scripts/doc_numbers.py --write {name}")
+                self.assertEqual(dn.bare_pipes(text), [], f"{name}: a binding in a table row writes \\| for |")
 
     def test_every_other_number_is_listed_with_its_source(self):
         for name, text in self.texts.items():
@@ -89,6 +90,13 @@ class Machinery(unittest.TestCase):
         self.assertEqual(len(dn.stale(good.replace("42.33", "42.34"))), 1)
         self.assertEqual(len(dn.stale(good.replace("42.33", "42.3"))), 1, "fewer digits than the rule prints")
         self.assertEqual(dn.write(good.replace("42.33", "17")), good)
+
+    def test_a_binding_in_a_table_row_escapes_its_pipes(self):
+        row = "| x | 42.33<!-- = remodel_155|zero:probe_p ; .2f --> |"
+        self.assertEqual(dn.bare_pipes(row), [1])
+        self.assertEqual(dn.bare_pipes(row.replace("155|", "155\\|")), [])
+        self.assertEqual(dn.stale(row.replace("155|", "155\\|")), [])
+        self.assertEqual(dn.bare_pipes(row[2:]), [], "a prose line may hold a bare |")
 
     def test_the_rules(self):
         x, bar = dn.value("remodel_155|zero:probe_p")
