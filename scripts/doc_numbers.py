@@ -28,10 +28,9 @@ def page_name(path):
 
 
 def read(name):
-    path = ROOT / name
-    if not path.exists():
+    if not (ROOT / name).exists():
         sys.exit(f"{name}: no such file")
-    return path.read_text(encoding="utf-8")
+    return dn.read_page(name)
 
 
 def check(pages):
@@ -89,7 +88,7 @@ def main():
             text = dn.write(read(name))
         except (KeyError, ValueError, ZeroDivisionError) as e:
             sys.exit(f"{name}: a bound number has no value: {e}")
-        (ROOT / name).write_text(text, encoding="utf-8")
+        dn.write_page(name, text)
         print(f"{name}: {len(dn.bound(text))} bound numbers written")
     elif a.free:
         free(page_name(a.free))

@@ -32,15 +32,62 @@ from pathlib import Path
 
 from . import claims
 from .refs import SHIPPED as REFERENCES, references
+from .tables import write_rows
 
 ROOT = Path(__file__).resolve().parents[2]
 LIST = ROOT / "scripts" / "data" / "doc_numbers.toml"
-# The pages whose every number is bound or listed.
-PAGES = ["docs/reproduction.md", "docs/studies.md", "docs/performance.md", "README.md"]
+# The pages whose every number is bound or listed; claims.csv is read as a page of its own: the
+# claims table's words that are ours (its `ours` and `cause` columns; the others are the paper's).
+CLAIMS = "scripts/data/claims.csv"
+PAGES = ["docs/reproduction.md", "docs/studies.md", "docs/performance.md", "README.md", "scripts/README.md", CLAIMS]
+_CELLS = " ¦ "
+
+
+def read_page(name):
+    """A page's text; claims.csv's as one line per row: `ID: ours ¦ cause`."""
+    path = ROOT / name
+    if name != CLAIMS:
+        return path.read_text(encoding="utf-8")
+    return "\n".join(f"{r['id']}: {r['ours']}{_CELLS}{r['cause']}" for r in claims.load(path))
+
+
+def write_page(name, text):
+    """Write a page's text back (claims.csv: its rows' `ours` and `cause` cells)."""
+    path = ROOT / name
+    if name != CLAIMS:
+        path.write_text(text, encoding="utf-8")
+        return
+    rows = claims.load(path)
+    for r, line in zip(rows, text.split("\n"), strict=True):
+        r["ours"], r["cause"] = line.split(": ", 1)[1].split(_CELLS)
+    write_rows(path, rows)
 
 MINUS = "−"
 _NUM = r"[+−-]?\d+(?:\.\d+)?(?:e[+−-]?\d+)?%?"
-BOUND = re.compile(rf"(?P<num>{_NUM})<!-- = (?P<expr>[^;>]+?) ; (?P<rule>[^>]+?) -->")
+# A bound number: NUMBER<!-- = EXPR ; RULE --> (found from its comment backwards: a regex that
+# starts at the number is slow on a page of hundreds).
+_BINDING = re.compile(r"<!-- = (?P<expr>[^;>]+?) ; (?P<rule>[^>]+?) -->")
+_NUM_END = re.compile(rf"{_NUM}\Z")
+
+
+class _Site(dict):
+    """A bound number: num, expr, rule, and the spans of the number and of the whole binding."""
+    def start(self, group=None):
+        return self["_a"]
+
+    def end(self, group=None):
+        return self["_n"] if group == "num" else self["_b"]
+
+    def group(self, _=0):
+        return self["_text"][self["_a"]:self["_b"]]
+
+
+def _sites(text):
+    """The bound numbers of `text`, in order."""
+    for c in _BINDING.finditer(text):
+        n = _NUM_END.search(text, max(0, c.start() - 40), c.start())
+        if n:
+            yield _Site(num=n.group(0), expr=c["expr"], rule=c["rule"], _a=n.start(), _n=n.end(), _b=c.end(), _text=text)
 # A number of the prose: thousands grouped by spaces ("6 276"), a fraction ("1/16"), a power of
 # ten ("10⁴", "10⁻⁶"), a decimal with an exponent ("3.7729e-3"), a percentage.
 TOKEN = re.compile(r"(?<![\w.^])(?:\d{1,3}(?: \d{3})+(?![\d.])|\d+/\d+(?![\d.])|10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+|"
@@ -53,11 +100,11 @@ NOT_QUANTITIES = [
     r"`[^`\n]*`",                                     # inline code
     r"\]\([^)\s]*\)",                                 # link targets
     r"^!\[[^\n]*",                                       # image lines
-    r"^#{1,6} [^\n]*",                                   # headings (they repeat the text's numbers)
     rf"(?:§§?|\bFigs?\.?|\bFigures?|\bTables?|\bdecisions?|\bcommits?|\bissues?|\bsections?|\bPR)"
     rf"\s*{_ID}(?:(?:\s*[–-]\s*|,\s*|\s+and\s+){_ID})*",   # section, figure, table, ... numbers
     r"\((?:\d+[a-z]?)\)(?:/\(\d+[a-z]?\))*",             # equation numbers: (40a), (54c)/(40b)
     r"\[\d+\]",                                       # citations
+    r"\{[^{}\n]*\|[^{}\n]*\}",                           # claims.csv's placeholders (claims.py renders them)
     r"\d{4}-\d{2}-\d{2}(?:/\d{2})?|\b\d{1,2}:\d{2}\b",  # dates and times
     r"\b(?:PETSc|Rust|FEBio|Debian|Python|ParaView|ZAMP|Open MPI)\s+\d+(?:\.\d+)*",  # versions
     r"\(\d{4}\)",                                     # years of a citation
@@ -149,7 +196,7 @@ def render(expr, rule):
         raise ValueError(f"{expr}: no value ({x})")
     s = format(x, spec)
     s = re.sub(r"e([+-])0*(\d)", lambda m: "e" + ("" if m.group(1) == "+" else "-") + m.group(2), s)
-    return s.replace("-", MINUS)
+    return MINUS + s[1:] if s.startswith("-") else s   # an exponent keeps its "-" ("3.7729e-3")
 
 
 def _expr(m):
@@ -160,7 +207,7 @@ def _expr(m):
 def bound(text):
     """The bound numbers of a text: (line number, printed, expression, rule, match)."""
     out, line, at = [], 1, 0
-    for m in BOUND.finditer(text):
+    for m in _sites(text):
         line += text.count("\n", at, m.start())
         at = m.start()
         out.append((line, m["num"], _expr(m), m["rule"], m))
@@ -171,11 +218,11 @@ def bare_pipes(text):
     """The lines of a table whose bindings hold a bare "|": GitHub would split the cell there, so a
     binding in a table row writes "\\|"."""
     return [i for i, line in enumerate(text.split("\n"), 1) if line.lstrip().startswith("|")
-            and any(re.search(r"(?<!\\)\|", m["expr"]) for m in BOUND.finditer(line))]
+            and any(re.search(r"(?<!\\)\|", m["expr"]) for m in _sites(line))]
 
 
 def _same(printed, rendered):
-    return printed.replace("-", MINUS) == rendered
+    return (MINUS + printed[1:] if printed.startswith("-") else printed) == rendered
 
 
 def stale(text):
@@ -196,10 +243,14 @@ def write(text):
     """`text` with every bound number rendered from its source (keeping its minus sign style)."""
     def one(m):
         r = render(_expr(m), m["rule"])
-        if "-" in m["num"]:
-            r = r.replace(MINUS, "-")
+        if m["num"].startswith("-"):
+            r = "-" + r[1:]
         return r + m.group(0)[len(m["num"]):]
-    return BOUND.sub(one, text)
+    out, at = [], 0
+    for m in _sites(text):
+        out += [text[at:m.start()], one(m)]
+        at = m.end()
+    return "".join(out + [text[at:]])
 
 
 # ---------------------------------------------------------------------------------------------
@@ -209,13 +260,13 @@ def write(text):
 def _generated(text):
     """The spans of the generated tables (between their markers)."""
     return [(m.start(), m.end()) for m in
-            re.finditer(r"<!-- (.+?) table: written by.*?<!-- end of the \1 table -->", text, re.S)]
+            re.finditer(r"<!-- ([^\n>]+?) table: written by.*?<!-- end of the \1 table -->", text, re.S)]
 
 
 def blank(text):
     """`text` with everything that is not a quantity (and the bound numbers) replaced by spaces,
     line breaks kept, so that positions and line numbers stay."""
-    spans = _generated(text) + [(m.start(), m.end()) for m in BOUND.finditer(text)]
+    spans = _generated(text) + [(m.start(), m.end()) for m in _sites(text)]
     spans += [(m.start(), m.end()) for m in _BLANK.finditer(text)]
     out, at = [], 0
     for a, b in sorted(spans):
@@ -316,7 +367,7 @@ def problems(text, entries, sources):
 def nudge(printed):
     """`printed` changed by one unit in its last printed digit ("0.79" -> "0.80", "9" -> "10",
     "3e-5" -> "4e-5", "−0.54%" -> "−0.53%": towards zero or away, always a different number)."""
-    s = printed.replace(MINUS, "-")
+    s = "-" + printed[1:] if printed.startswith(MINUS) else printed
     pct = s.endswith("%")
     s = s.rstrip("%")
     mant, _, exp = s.partition("e")
@@ -326,7 +377,7 @@ def nudge(printed):
     if mant.startswith("+") and not new.startswith("-"):
         new = "+" + new
     out = new + ("e" + exp if exp else "") + ("%" if pct else "")
-    return out.replace("-", MINUS) if MINUS in printed else out
+    return MINUS + out[1:] if printed.startswith(MINUS) and out.startswith("-") else out
 
 
 def mutants(text):

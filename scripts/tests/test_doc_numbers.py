@@ -1,5 +1,6 @@
 """Every number of the pages in doc_numbers.PAGES (docs/reproduction.md, docs/studies.md,
-docs/performance.md, README.md) has its source, and a wrong one fails:
+docs/performance.md, README.md, and the claims table's own words in scripts/data/claims.csv) has
+its source, and a wrong one fails:
 
 * a bound number (`42.33<!-- = remodel_155|zero:probe_p ; .2f -->`) must be what its rule prints
   of its source, a committed CSV (scripts/data, docs/figures/data);
@@ -21,15 +22,11 @@ from poroplast_tools import claims, doc_numbers as dn, doc_tables, hypothesis
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def page(name):
-    return (ROOT / name).read_text(encoding="utf-8")
-
-
 class Pages(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.listed, cls.sources = dn.load_list()
-        cls.texts = {name: page(name) for name in dn.PAGES}
+        cls.texts = {name: dn.read_page(name) for name in dn.PAGES}
 
     def test_every_bound_number_is_its_source_by_its_rule(self):
         for name, text in self.texts.items():
