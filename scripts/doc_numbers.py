@@ -57,7 +57,7 @@ def free(name):
             c = [x.replace("|", "\\|") if row else x for x in dn.candidates(n, cells)]
             shown = "; ".join(f"<!-- = {x} -->" for x in c[:4]) + (f" (+{len(c) - 4} more)" if len(c) > 4 else "")
             print(f"  {n}: {shown or 'no cell of a committed CSV'}")
-        at = lines[i - 1].strip()[:40].replace("\\", "\\\\").replace('"', '\\"')
+        at = dn.plain(lines[i - 1]).strip()[:40].replace("\\", "\\\\").replace('"', '\\"')
         print(f'  [[line]]\n  page = "{name}"\n  at = "{at}"\n  numbers = {nums!r}\n  source = "?"'.replace("'", '"'))
 
 

@@ -303,10 +303,20 @@ def load_list(path=LIST):
 COMMENT = re.compile(r"<!--.*?-->")
 
 
+def plain(line):
+    """A line as a list entry's `at` reads it: each bound number and its comment as "#" (so that
+    rendering it again does not move the entry), other comments left out."""
+    out, at = [], 0
+    for m in _sites(line):
+        out += [line[at:m.start()], "#"]
+        at = m.end()
+    return COMMENT.sub("", "".join(out + [line[at:]]))
+
+
 def _match(lines, entries):
-    """{line number: [entry]} for the entries whose `at` is in exactly one line (its comments, the
-    bindings, left out), and the entries that match no line or several."""
-    lines = {i: COMMENT.sub("", line) for i, line in lines.items()}
+    """{line number: [entry]} for the entries whose `at` is in exactly one line (read by `plain`),
+    and the entries that match no line or several."""
+    lines = {i: plain(line) for i, line in lines.items()}
     hits, bad = {}, []
     for e in entries:
         where = [i for i, line in lines.items() if e["at"] in line]

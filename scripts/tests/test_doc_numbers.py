@@ -95,6 +95,14 @@ class Machinery(unittest.TestCase):
         self.assertEqual(dn.stale(row.replace("155|", "155\\|")), [])
         self.assertEqual(dn.bare_pipes(row[2:]), [], "a prose line may hold a bare |")
 
+    def test_a_list_entry_does_not_move_when_its_line_is_rendered_again(self):
+        line = "at 42.33<!-- = remodel_155|zero:probe_p ; .2f --> s and 40 s<!-- a remark -->"
+        self.assertEqual(dn.plain(line), "at # s and 40 s")
+        entry = {"page": "p", "at": "at # s and", "numbers": ["40"], "source": "paper"}
+        self.assertEqual(dn.unlisted(line, [entry]), [])
+        self.assertEqual(dn.unlisted(line.replace("42.33", "42.3"), [entry]), [])
+        self.assertEqual(len(dn.unlisted(line.replace("40 s", "41 s"), [entry])), 1)
+
     def test_the_rules(self):
         x, bar = dn.value("remodel_155|zero:probe_p")
         self.assertEqual(dn.render("remodel_155|zero:probe_p", "bar .2f"), f"{bar:.2f}")
