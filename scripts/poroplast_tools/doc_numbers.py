@@ -8,8 +8,9 @@ A number is either **bound** or **listed**:
 
   The source is an expression of `claims.measure` (the claims table's `measure` column):
   `CASE|OBSERVABLE` (a converged value of references.csv), `SOURCE:ROW|COLUMN` (a cell of one of
-  `claims.SOURCES`), or two of them joined by " - " or " / " (in a table row each "|" is written
-  "\\|", or GitHub splits the cell there). The rule is a Python format spec
+  `claims.SOURCES`), or two of them joined by " - " or " / "; `value` names the other forms
+  (aggregates, references.csv's levels and orders, a plain number as one operand). In a table row
+  each "|" is written "\\|", or GitHub splits the cell there. The rule is a Python format spec
   (`.2f`, `+.3g`, `.1%`), after any of: `bar` (the error bar, not the value), `abs` (the
   magnitude: a shift said without its sign), `*F` (times F). `write` renders every bound number
   from its source; `stale` names those that differ.
@@ -19,9 +20,10 @@ A number is either **bound** or **listed**:
   that no longer match a line.
 
 Not numbers here (not a quantity): code blocks, inline code, HTML comments, link targets, image
-lines, the generated tables (checked as a whole against their generator), section, figure,
-table, equation, citation, claim, decision and commit numbers, dates and times, versions, and
-"3-D"/"2-D"."""
+lines, the generated tables (checked as a whole against their generator; the words of ours they
+quote from claims.csv are a page of their own, CLAIMS), claims.csv's placeholders, section,
+figure, table, equation, citation, claim, decision and commit numbers, dates and times,
+versions, and "3-D"/"2-D"."""
 
 import math
 import re
@@ -395,6 +397,18 @@ def mutants(text):
     for line, printed, _, _, m in bound(text):
         a = m.start("num")
         yield line, printed, text[:a] + nudge(printed) + text[m.end("num"):]
+
+
+def table_mutants(text):
+    """For every number of the generated tables, the text with it (alone) nudged: (printed,
+    text)."""
+    for a, b in _generated(text):
+        body = COMMENT.sub(lambda m: " " * len(m.group(0)), text[a:b])
+        for m in TOKEN.finditer(body):
+            printed = m.group(0)
+            if re.fullmatch(r"\d+(?:\.\d+)?(?:e[+−-]?\d+)?%?", printed):
+                i = a + m.start()
+                yield printed, text[:i] + nudge(printed) + text[i + len(printed):]
 
 
 def free_mutants(text):
