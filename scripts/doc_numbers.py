@@ -11,6 +11,7 @@ bound or listed).
                                                                  # last digit: does the check fail every time?
 """
 import argparse
+import json
 import sys
 from pathlib import Path
 
@@ -47,18 +48,22 @@ def free(name):
     text = read(name)
     listed, _ = dn.load_list()
     cells = dn._cells()
-    lines = text.splitlines()
+    lines = text.split("\n")
+    blanked = dn.blank(text).split("\n")
     for i, nums, have in dn.unlisted(text, listed.get(name, [])):
         print(f"line {i}: {lines[i - 1].strip()[:160]}")
         if have is not None:
             print(f"  the list has {have}")
         row = lines[i - 1].lstrip().startswith("|")
-        for n in nums:
-            c = [x.replace("|", "\\|") if row else x for x in dn.candidates(n, cells)]
+        for m in dn.TOKEN.finditer(blanked[i - 1]):
+            n = m.group(0)
+            sign = lines[i - 1][m.start() - 1:m.start()] if m.start() else ""
+            signed = (sign if sign in ("+", "−", "-") else "") + n
+            c = [x.replace("|", "\\|") if row else x for x in dn.candidates(signed, cells)]
             shown = "; ".join(f"<!-- = {x} -->" for x in c[:4]) + (f" (+{len(c) - 4} more)" if len(c) > 4 else "")
-            print(f"  {n}: {shown or 'no cell of a committed CSV'}")
-        at = dn.plain(lines[i - 1]).strip()[:40].replace("\\", "\\\\").replace('"', '\\"')
-        print(f'  [[line]]\n  page = "{name}"\n  at = "{at}"\n  numbers = {nums!r}\n  source = "?"'.replace("'", '"'))
+            print(f"  {signed}: {shown or 'no cell of a committed CSV'}")
+        at = json.dumps(dn.plain(lines[i - 1]).strip()[:40], ensure_ascii=False)
+        print(f'  [[line]]\n  page = "{name}"\n  at = {at}\n  numbers = {json.dumps(nums, ensure_ascii=False)}\n  source = "?"')
 
 
 def mutate(pages):

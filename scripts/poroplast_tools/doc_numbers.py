@@ -447,30 +447,29 @@ def _cells():
 
 
 def candidates(printed, cells=None):
-    """The cells that equal `printed` to its printed digits (or its magnitude), with a rule that
-    prints them so."""
+    """The cells that equal `printed` (with its sign, if any) to its printed digits, or whose
+    magnitude does, with a rule that prints them so."""
     cells = _cells() if cells is None else cells
     s = printed.replace(MINUS, "-").replace(" ", "")
-    pct = s.endswith("%")
+    pct = "%" if s.endswith("%") else ""
     s = s.rstrip("%")
-    if "/" in s or "⁻" in s or not re.fullmatch(r"[+-]?[\d.]+(e[+-]?\d+)?", s):
+    if not re.fullmatch(r"[+-]?[\d.]+(e[+-]?\d+)?", s):
         return []
     mant = s.split("e")[0]
     decimals = len(mant.split(".")[1]) if "." in mant else 0
-    spec = f".{decimals}{'%' if pct else 'f'}"
-    if "e" in s:
-        spec = f".{decimals}e"
+    spec = ("+" if s.startswith("+") else "") + f".{decimals}{'e' if 'e' in s else pct or 'f'}"
     out = []
     for expr, x in cells:
         for mods in ("", "abs "):
-            y = abs(x) if mods else x
+            if mods and s[0] in "+-":
+                continue
             try:
-                rendered = format(y, spec)
+                rendered = format(abs(x) if mods else x, spec)
             except ValueError:
                 continue
             rendered = re.sub(r"e([+-])0*(\d)", lambda m: "e" + ("" if m.group(1) == "+" else "-") + m.group(2), rendered)
-            if rendered == s.lstrip("+") + ("%" if pct else ""):
-                bar = " bar" if expr.endswith("(bar)") else ""
-                out.append(f"{expr.removesuffix(' (bar)')} ;{bar} {mods}{spec}".replace("  ", " "))
+            if rendered == s + pct:
+                bar = "bar " if expr.endswith("(bar)") else ""
+                out.append(f"{expr.removesuffix(' (bar)')} ; {bar}{mods}{spec}")
                 break
     return out
