@@ -12,7 +12,8 @@ A number is either **bound** or **listed**:
   (aggregates, references.csv's levels and orders, a plain number as one operand). In a table row
   each "|" is written "\\|", or GitHub splits the cell there. The rule is a Python format spec
   (`.2f`, `+.3g`, `.1%`), after any of: `bar` (the error bar, not the value), `abs` (the
-  magnitude: a shift said without its sign), `*F` (times F). `write` renders every bound number
+  magnitude: a shift said without its sign), `rel` (minus 1: a ratio as a relative difference,
+  "−0.54%" of `17.4912 / reference|max:force_total_mg`), `*F` (times F). `write` renders every bound number
   from its source; `stale` names those that differ.
 * listed: scripts/data/doc_numbers.toml gives, per line of a page, the numbers it prints that no
   CSV holds (the paper's, Table 1's, inputs, counts, measurements kept nowhere else) with their
@@ -190,10 +191,12 @@ def render(expr, rule):
             x = bar
         elif m == "abs":
             x = abs(x)
+        elif m == "rel":
+            x -= 1   # a ratio as a relative difference: "17.4912 / reference|max:force_total_mg"
         elif m.startswith("*"):
             x *= float(m[1:])
         else:
-            raise ValueError(f"unknown rule {m!r} in {rule!r} (bar, abs, *F, then a format spec)")
+            raise ValueError(f"unknown rule {m!r} in {rule!r} (bar, abs, rel, *F, then a format spec)")
     if not math.isfinite(x):
         raise ValueError(f"{expr}: no value ({x})")
     s = format(x, spec)
