@@ -6,13 +6,14 @@ verdict of the written rule.
     python3 scripts/claims.py                              # print the table
     python3 scripts/claims.py --write docs/reproduction.md # replace the claims table, the (40a)
                                                            # table (data/hypothesis_40a*.csv) and the
-                                                           # tables of poroplast_tools/doc_tables there
+                                                           # tables of poroplast_tools/doc_tables there,
+                                                           # and its bound numbers (doc_numbers.py --write)
     python3 scripts/claims.py --rule                       # print the verdict rule
 """
 import argparse
 from pathlib import Path
 
-from poroplast_tools import claims, doc_tables, hypothesis
+from poroplast_tools import claims, doc_numbers, doc_tables, hypothesis
 
 
 def main():
@@ -28,9 +29,12 @@ def main():
         path = Path(a.write)
         text = claims.replace_in(path.read_text(encoding="utf-8"), generated)
         text = claims.replace_in(text, hypothesis.table(), hypothesis.BEGIN, hypothesis.END)
-        text = doc_tables.write_all(text, claims.replace_in)
+        try:
+            text = doc_numbers.write(doc_tables.write_all(text, claims.replace_in))
+        except (KeyError, ValueError, ZeroDivisionError) as e:
+            raise SystemExit(f"{path}: a bound number has no value: {e} (python3 scripts/doc_numbers.py --check {path})")
         path.write_text(text, encoding="utf-8")
-        print(f"{path}: the claims table, the (40a) table and the other generated tables written")
+        print(f"{path}: the claims table, the (40a) table, the other generated tables and the bound numbers written")
     else:
         print(generated, end="")
 

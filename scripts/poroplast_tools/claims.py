@@ -23,18 +23,30 @@ from .tables import read_rows
 DATA = Path(__file__).resolve().parent.parent / "data"
 FIGURE_DATA = DATA.parent.parent / "docs" / "figures" / "data"
 
-# Values that are not converged references, by source: (file, its key columns; a row is named by
-# their values joined by "@"). `meridian` and `3d` are reproduce.py's summaries of the shipped
-# scenes (--axisymmetric, and 3-D), `flow` its outflow by phase on the meridian, `fields` the
-# causes runs' rows read from fields (causes.py --fields), `zones` the region means of Figs 5-6
-# (rows "CASE@T"), `fig3` the pressure maps' extremes and positive region (rows "CASE@T").
-SOURCES = {"meridian": (FIGURE_DATA / "summary_meridian.csv", ("case",)),
-           "3d": (FIGURE_DATA / "summary_3d.csv", ("case",)),
-           "flow": (DATA / "flow_meridian.csv", ("case",)),
-           "fields": (DATA / "hypothesis_40a_fields.csv", ("variant",)),
-           "zones": (FIGURE_DATA / "fig5_6_zones.csv", ("row",)),
+# Values that are not converged references, by source: (file, its key column, or key columns
+# whose values joined by "@" name a row). `meridian` and `3d` are reproduce.py's summaries of the
+# shipped scenes (--axisymmetric, and 3-D), `fields` the causes runs' rows read from fields
+# (causes.py --fields), `flow` reproduce.py's outflow by phase on the meridian, `zones` the region means of Figs 5-6 (rows "CASE@T"); the others are
+# the figures' data (reproduce.py), the causes (causes.py) and the tensiometry study
+# (tensiometry.py), which the docs' prose quotes (poroplast_tools.doc_numbers).
+SOURCES = {"meridian": (FIGURE_DATA / "summary_meridian.csv", "case"),
+           "3d": (FIGURE_DATA / "summary_3d.csv", "case"),
+           "flow": (DATA / "flow_meridian.csv", "case"),
+           "fields": (DATA / "hypothesis_40a_fields.csv", "variant"),
+           "zones": (FIGURE_DATA / "fig5_6_zones.csv", "row"),
+           "causes": (DATA / "causes.csv", "variant"),
+           "causes_reference": (DATA / "causes_reference.csv", "variant"),
+           "hypothesis": (DATA / "hypothesis_40a.csv", "variant"),
+           "reported_meridian": (FIGURE_DATA / "reported_meridian.csv", "quantity"),
+           "reported_3d": (FIGURE_DATA / "reported_3d.csv", "quantity"),
            "fig3": (FIGURE_DATA / "fig3_pressure.csv", ("case", "t_s")),
-           "fig3_later": (FIGURE_DATA / "fig3_later_pressure.csv", ("case", "t_s"))}
+           "fig3_later": (FIGURE_DATA / "fig3_later_pressure.csv", ("case", "t_s")),
+           "fig4": (FIGURE_DATA / "fig4_probe.csv", ("case", "time")),
+           "fig9_share": (FIGURE_DATA / "fig9_share.csv", "case"),
+           "fig10": (FIGURE_DATA / "fig10_hw.csv", ("set", "t_end_s")),
+           "fig11c": (FIGURE_DATA / "fig11c_pressure.csv", ("case", "t_s")),
+           "fig_soft_pressure": (FIGURE_DATA / "fig_soft_pressure.csv", ("case", "t_s")),
+           "tensiometry": (FIGURE_DATA / "tensiometry.csv", ("case", "compression"))}
 
 VERDICTS = ("reproduced", "partly", "no", "open", "not comparable")
 
@@ -133,13 +145,22 @@ def fmt(value, bar):
     return f"{value:.{decimals}f} ± {bar:.{decimals}f}"
 
 
+def row_key(row, key):
+    """The name of a SOURCES row: its key column's value, or its key columns' joined by "@"."""
+    return "@".join(row[k] for k in key) if isinstance(key, tuple) else row[key]
+
+
 def source_value(source, row, column):
-    """A value of one of the SOURCES (row: its key columns' values joined by "@")."""
-    path, keys = SOURCES[source]
+    """A value of one of the SOURCES (row: its row_key)."""
+    if source not in SOURCES:
+        raise KeyError(f"no source {source!r} (one of {', '.join(SOURCES)})")
+    path, key = SOURCES[source]
     for r in _rows(path):
-        if "@".join(r[k] for k in keys) == row:
+        if row_key(r, key) == row:
+            if column not in r:
+                raise KeyError(f"no column {column!r} in {path.name}")
             return float(r[column])
-    raise KeyError(f"claims.csv: no row {row} in {path.name}")
+    raise KeyError(f"no row {row} in {path.name}")
 
 
 @lru_cache(maxsize=None)
