@@ -328,9 +328,6 @@ def fig_soft(dirs, out, cases):
 
 # ---------------------------------------------------------------- maps (maps.py)
 
-HALO = maps.HALO
-
-
 def map_grid(name, n, height_cm):
     """Axes for n map panels, three to a row, and one more cell for the key (legend and colour
     bar); a single panel on a column's width gets its key below it."""
@@ -359,7 +356,7 @@ def key(fig, panels, cax, mappable, label, extra=(), ticks=None):
     if ticks is not None:
         cb.set_ticklabels([f"{t:g}".replace("-", "−") for t in ticks])
     cb.set_label(label)
-    handles = [Line2D([], [], color="k", lw=0.9, ls=(0, (3, 1.5)), path_effects=HALO,
+    handles = [Line2D([], [], color="k", lw=0.9, ls=(0, (3, 1.5)), path_effects=maps.HALO,
                       label="regions of the table"),
                Line2D([], [], ls="", marker="o", ms=4, mfc="k", mec="w", label="X_U"),
                *extra]
@@ -368,11 +365,15 @@ def key(fig, panels, cax, mappable, label, extra=(), ticks=None):
 
 
 def map_axes(ax, panels, halves):
-    """Equal aspect, the union of the panels' extents (one scale), the halves named."""
+    """Equal aspect, the union of the panels' extents (one scale), the axes labelled and the
+    halves named."""
     pts = np.concatenate([p.refined.cur for p in panels])
     xm, (z0, z1) = np.abs(pts[:, 0]).max(), (pts[:, 1].min(), pts[:, 1].max())
     pad = 0.04 * (z1 - z0)
-    for x in ax:
+    for i, x in enumerate(ax):
+        x.set_xlabel("x [µm]")
+        if i % 3 == 0:
+            x.set_ylabel("z [µm]")
         x.set_aspect("equal")
         x.set_xlim(-xm - pad, xm + pad)
         x.set_ylim(z0 - pad, z1 + 0.16 * (z1 - z0))     # room above for the halves' names
@@ -424,11 +425,6 @@ def fig_pressure(dirs, out, cases, pair, ts, name, halves):
                          " ".join(f"{z:g}" for z in drawn)])
         x.axvline(0, color="0.3", lw=0.5)
         x.set_title(f"{letter(i)} t = {pp[0].t:.4g} s" if len(ts) > 1 else f"t = {pp[0].t:.4g} s", loc="left")
-    for x in ax:
-        x.set_xlabel("x [µm]")
-    ax[0].set_ylabel("z [µm]")
-    if len(ax) > 3:
-        ax[3].set_ylabel("z [µm]")
     map_axes(ax, [p for pp in panels for p in pp], halves)
     ticks = [t for t in (-10, -1, -0.1, 0, 0.1, 1, 10) if -top <= t <= top]
     key(fig, ax, cax, m, "pressure p [kPa] (linear within ±0.1)", ticks=ticks,
@@ -492,9 +488,6 @@ def _midplane(out, panels, name, field, label, cmap, log):
             maps.outline(x, p, side)
         x.set_title(f"{letter(i)} t = {p.t:.4g} s" + (" (released)" if p.t > 40.0 - RELEASE + 1e-9 else ""),
                     loc="left")
-        x.set_xlabel("x [µm]")
-    ax[0].set_ylabel("z [µm]")
-    ax[3].set_ylabel("z [µm]")
     map_axes(ax, panels, None)
     key(fig, ax, cax, m, label, ticks=ticks)
     return save(fig, out, name)
