@@ -188,6 +188,33 @@ class Panel:
         return out
 
 
+def read_panels(nodes_csv, cells_csv):
+    """The panels of a map figure's data (paper_figures.write_panels: <figure>_nodes.csv and
+    _cells.csv), in their order: what the figure was drawn from, without the runs."""
+    import csv
+    with open(nodes_csv, newline="") as f:
+        nodes = list(csv.DictReader(f))
+    with open(cells_csv, newline="") as f:
+        cells = list(csv.DictReader(f))
+    fixed_n, fixed_c = {"case", "t_s", "node", "x_ref_um", "z_ref_um", "ux_um", "uz_um"}, \
+        {"case", "t_s", "cell", *(f"n{k}" for k in range(6))}
+    by_n, by_c = {}, {}
+    for rows, by in ((nodes, by_n), (cells, by_c)):
+        for r in rows:
+            by.setdefault((r["case"], r["t_s"]), []).append(r)
+    col = lambda rows, k: np.array([float(r[k]) for r in rows])
+    panels = []
+    for key, rn in by_n.items():
+        rc = by_c[key]
+        X = np.c_[col(rn, "x_ref_um"), col(rn, "z_ref_um")]
+        u = np.c_[col(rn, "ux_um"), col(rn, "uz_um")]
+        tri6 = np.array([[int(r[f"n{k}"]) for k in range(6)] for r in rc])
+        panels.append(Panel(key[0], float(key[1]), X, u, tri6,
+                            {k: col(rn, k) for k in rn[0] if k not in fixed_n},
+                            {k: col(rc, k) for k in rc[0] if k not in fixed_c}, 0.5 * np.ptp(X[:, 1])))
+    return panels
+
+
 # ---------------------------------------------------------------- the table's regions
 
 def regions(R, n=40):

@@ -128,6 +128,25 @@ class Panels(unittest.TestCase):
             self.assertTrue(np.allclose(np.hypot(up[2:, 0], up[2:, 1] - 100.0), 100.0))   # along the sphere
             self.assertEqual(tuple(up[1]), (40.0, 170.0))
 
+    def test_3d_face_in_the_plane(self):
+        """A 10-node tetrahedron with a face in y = 0: the section is that face with its own
+        mid-edge nodes (a quadratic u is reproduced only if each lands on its edge)."""
+        import h5py
+        from poroplast_tools.fields import TET10_EDGES
+        V = np.array([[0, 0, 0], [100, 0, 0], [0, 0, 200], [0, 50, 0]], float)
+        X = np.vstack([V, [(V[a] + V[b]) / 2 for a, b in TET10_EDGES]])
+        q = quadratic(X[:, [0, 2]])
+        with tempfile.TemporaryDirectory() as d:
+            with h5py.File(Path(d) / "fields.h5", "w") as f:
+                f["/mesh/coordinates"], f["/mesh/topology"], f["/time"] = X, np.arange(10)[None, :], np.array([1.0])
+                f["/fields/u/000000"] = np.c_[q[:, 0], np.zeros(10), q[:, 1]]
+                f["/fields/p/000000"] = np.zeros(10)
+            s = maps.Section("tet", d)
+            self.assertEqual(s.tri6.shape, (1, 6))
+            r = s.panel(0, ["p"]).refined
+            self.assertAlmostEqual(np.abs(r.ref[:, 1]).max(), 200.0)
+            np.testing.assert_allclose(r.cur, r.ref + quadratic(r.ref), atol=1e-10)
+
     def test_map_figure_printed_at_its_width(self):
         with tempfile.TemporaryDirectory() as d:
             run, out = Path(d) / "run", Path(d) / "out"
@@ -145,6 +164,40 @@ class Panels(unittest.TestCase):
             self.assertIn("40,185", rows[1])             # X_U moved by u = (0, −5)
             nodes = (out / "figures" / "data" / "fig11c_pressure_nodes.csv").read_text().splitlines()
             self.assertEqual(len(nodes), 1 + 2 * len(mesh()[0]))
+
+
+class CommittedMapData(unittest.TestCase):
+    """The maps' committed data (docs/figures/data/<figure>_nodes.csv, _cells.csv) holds what the
+    refined drawing needs, and agrees with the numbers computed from the runs' fields.h5 apart
+    (the figures' summary rows; fig5_6_zones.csv's largest σ_VM cell, from fields.py)."""
+
+    def panels(self, name):
+        d = DOCS / "figures" / "data"
+        return maps.read_panels(d / f"{name}_nodes.csv", d / f"{name}_cells.csv")
+
+    def test_pressure_maps(self):
+        import csv
+        for name in ("fig3_pressure", "fig3_later_pressure", "fig11c_pressure", "fig_soft_pressure"):
+            panels = {(p.case, p.t): p for p in self.panels(name)}
+            with open(DOCS / "figures" / "data" / f"{name}.csv", newline="") as f:
+                rows = list(csv.DictReader(f))
+            self.assertEqual(len(rows), len(panels), name)
+            for r in rows:
+                p = panels[(r["case"], float(r["t_s"]))]
+                self.assertEqual(p.radius, 100.0)
+                for got, col in ((p.node["p"].min(), "p_min_kPa"), (p.node["p"].max(), "p_max_kPa"),
+                                 (maps.probe(p)[0], "x_U_um"), (maps.probe(p)[1], "z_U_um")):
+                    self.assertAlmostEqual(got, float(r[col]), delta=1e-5 * max(1.0, abs(got)), msg=f"{name} {col}")
+
+    def test_midplane_maps(self):
+        import csv
+        with open(DOCS / "figures" / "data" / "fig5_6_zones.csv", newline="") as f:
+            zones = {r["row"]: r for r in csv.DictReader(f)}
+        panels = self.panels("fig5_6_midplane")
+        self.assertEqual([p.t for p in panels], pf.MIDPLANE_TIMES)
+        for p in panels:
+            vm = float(zones[f"{p.case}@{p.t:g}"]["vm_max_kPa"])
+            self.assertAlmostEqual(p.cell["von_mises"].max(), vm, delta=1e-5 * vm)
 
 
 def expected_px(width_cm):
