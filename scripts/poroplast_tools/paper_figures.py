@@ -246,6 +246,8 @@ def hw_panel(ax, dirs, panel):
             ax.plot(*zip(*pts), "o-", ms=3.5, label=label)
     ax.axvline(300, color="k", lw=0.5, ls=":", label="5 min")
     ax.set(xscale="log", xlabel="compression time t_end [s]")
+    ax.set_xticks(HW_TIMES, [f"{t:g}" for t in HW_TIMES])
+    ax.minorticks_off()
 
 
 @styled
@@ -263,7 +265,9 @@ def fig_hw(dirs, out, cases):
         ax[1].plot(*zip(*pts), "s--", ms=3.5, color="grey", label="k0 = 3.77e-3 (Table 1)")
     for i, (x, t) in enumerate(zip(ax, ("λp", "k0 [mm⁴/(N s)] at λp = 0.5 (MPa s)⁻¹"))):
         x.set_title(f"{letter(i)} {t}", loc="left")
-        x.legend(loc="lower left")
+        x.legend(loc="lower left", ncol=2, columnspacing=0.8)
+    lo, hi = ax[0].get_ylim()
+    ax[0].set_ylim(lo - 0.25 * (hi - lo), hi)         # room for the legends under the curves
     ax[0].set_ylabel("H/W after 60 s of rest [–]")
     write_data(out, "fig10_hw", ["set", "t_end_s", "height_over_width"],
                [[s, t, v] for s in HW_SETS for t, v in hw_points(dirs, s)])
@@ -283,7 +287,7 @@ def fig_permeability(dirs, out, cases, members):
     hw_panel(ax[0], dirs, "11a")
     ax[0].set_ylabel("H/W after 60 s of rest [–]")
     ax[0].set_title("(a) shape recovery, k0 = 2.58e-3 mm⁴/(N s)", loc="left")
-    ax[0].legend(loc="lower left")
+    ax[0].legend(loc="best")
     t_end = cases[members[0][0]][2]
     mark_loading(ax[1], t_end)
     for (case, label), style in zip(members, ("-", "--", "-.")):
