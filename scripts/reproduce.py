@@ -4,8 +4,9 @@ scenes remodel_40, remodel_155, remodel_155_c2, elastic_155, remodel_405, refere
 variants of remodel_405 (lambda_p = 0.1, 0.5 (MPa s)^-1; sigma_y = 1, 4 kPa) on 2 MPI ranks (one
 `poroplast sweep` for the cases to run: 3-D ones one at a time on both ranks, meridians two at a
 time on one each; --ranks, --ranks-per-case, --no-sweep as in the other study scripts),
-then draws the probe curves (Figs 4, 11), the force sweeps (Figs 7-9) and mid-plane sections
-(Figs 3, 5-6, 11c) into <out>/figures/, and writes <out>/summary.csv (also printed) and
+then draws the paper's figures, one file each (Figs 3-11; Fig 11c, a map, apart), at their
+printed width (poroplast_tools/paper_figures.py, maps.py) into <out>/figures/, and writes
+<out>/summary.csv (also printed) and
 <out>/flow.csv (the outflow through the free boundary by phase, of FLOW_CASES; with --docs on the
 meridian: scripts/data/flow_meridian.csv, which the claims table reads).
 Every case is a case of the store <out>/cases (`poroplast sweep`; the sweep's lines in
@@ -411,25 +412,24 @@ def main():
     print("\nfigures:")
     P, C = figs.fig_pressure, CASES
     steps = [lambda: figs.fig_probe(dirs, out, C, [("remodel_155", "remodelling"), ("elastic_155", "no remodelling")],
-                                    "fig4_probe.png", "Fig 4: remodelling vs elastic (t_end = 155 s)",
-                                    ("remodel_155_R900", "R = 900 µm, remodelling (its X_U)")),
-             lambda: figs.fig_probe(dirs, out, C, [("remodel_155_c2", "c = 2, k0 = 2.58e-3"),
-                                                   ("remodel_155", "isotropic, k0 = 3.77e-3 (Table 1)"),
-                                                   ("k0_2.58e-3", "isotropic, k0 = 2.58e-3")],
-                                    "fig11_probe.png", "Fig 11b: remodelling-dependent permeability vs isotropic"),
+                                    "fig4_probe.png", ("remodel_155_R900", "R = 900 µm, remodelling (its X_U)")),
              lambda: figs.fig_forces(dirs, out, C),
              lambda: figs.fig_share(dirs, out, C),
              lambda: figs.fig_hw(dirs, out, C),
+             lambda: figs.fig_permeability(dirs, out, C, [("remodel_155_c2", "c = 2, k0 = 2.58e-3"),
+                                                          ("remodel_155", "isotropic, k0 = 3.77e-3 (Table 1)"),
+                                                          ("k0_2.58e-3", "isotropic, k0 = 2.58e-3")]),
              lambda: figs.fig_midplane(dirs, out, C),
              lambda: P(dirs, out, C, ["remodel_405", "reference_405"], [5, 25, 30, 35, 45], "fig3_pressure.png",
-                       "Fig 3: remodelling vs none"),
+                       ("remodelling", "elastic")),
              lambda: P(dirs, out, C, ["remodel_405", "reference_405"], [60, 100, 200, 400], "fig3_later_pressure.png",
-                       "Fig 3 continued: later in the hold"),
+                       ("remodelling", "elastic")),
              lambda: detachment(dirs),
              lambda: figs.fig_soft(dirs, out, C),
-             lambda: P(dirs, out, C, ["remodel_155", "mu3_nu0.2"], [30, 45], "fig_soft_pressure.png", "µ = 20 vs 3 kPa"),
+             lambda: P(dirs, out, C, ["remodel_155", "mu3_nu0.2"], [30, 45], "fig_soft_pressure.png",
+                       ("µ = 20 kPa", "µ = 3 kPa")),
              lambda: P(dirs, out, C, ["remodel_155", "remodel_155_c2"], [30], "fig11c_pressure.png",
-                       "Fig 11c: isotropic vs c = 2, t = 30 s")]
+                       ("isotropic", "c = 2"))]
     for make in steps:
         make()
     if a.docs:
@@ -447,9 +447,10 @@ def publish(out, meridian):
             shutil.copy(out / f"{name}.csv", dst / "data" / f"{name}_{tag}.csv")
     if meridian and (out / "flow.csv").exists():   # the claims' outflow (claims.SOURCES)
         shutil.copy(out / "flow.csv", ROOT / "scripts" / "data" / "flow_meridian.csv")
-    if meridian:
-        for f in sorted((out / "figures").glob("*.png")) + sorted((out / "figures" / "data").glob("*.csv")):
-            shutil.copy(f, dst / f.relative_to(out / "figures"))
+    if meridian:   # the figures this version draws (not an older version's left in <out>), and their data
+        for f in [out / "figures" / n for n in figs.WIDTHS] + sorted((out / "figures" / "data").glob("*.csv")):
+            if f.exists():
+                shutil.copy(f, dst / f.relative_to(out / "figures"))
     print(f"copied the {tag} set's results to {dst}")
 
 
