@@ -26,6 +26,11 @@ and at each data time the largest deviation from a cubic in the parameter, again
 correlations the linearised model predicts (jitter.csv; several experiments: their data times
 stacked, and printed besides, what each experiment alone would predict: its standard errors, its
 correlations with the cosines of their columns, and d F/d ln θ at its last data time).
+With --linearised N, the same statistics on the case's linearised model F0 + J (ln θ − ln θ0),
+J the jitter runs' central differences at the truth: N fits per noise model (absolute,
+relative, relative+floor, data; each with data drawn from its own noise) through the fit's own
+code (fit.fit, fitstats' weights), no solver runs: coverage_linearised.csv, and a table with
+each rate's binomial standard error (poroplast_tools/coverage.linearised_fits).
 Writes DIR/coverage.csv (one row per fit: estimates, sigmas, intervals, covered flags, runs,
 seconds), DIR/coverage.png (normalised errors against a standard normal; coverage rates with
 Wilson 95% error bars) and a table on the console. Resumable: every run is a case of the shared
@@ -73,8 +78,9 @@ def jitter(a, p, data, extra):
     """Per parameter of the p-parameter fit: the largest deviation, over the data times, of the
     curve from a cubic in the parameter (runs at θ (1 + k/100), k = −3 … 3, their own steps), in
     units of the noise; and the standard errors and correlations the linearised model predicts
-    at the truth for the noise (central differences of the ±1% runs). `data`: per experiment
-    (name, times, true curve); their points stacked."""
+    at the truth for the noise (central differences of the ±1% runs), and those differences,
+    d F/d ln θ (the linearised study's Jacobian). `data`: per experiment (name, times, true
+    curve); their points stacked."""
     case = a.case
     keys, truth = case.fits[p]
     m = len(JITTER_STEPS)
@@ -100,6 +106,7 @@ def jitter(a, p, data, extra):
                      "jitter_over_noise_median": float(np.median(worst))})
     cv = np.linalg.inv(np.column_stack(cols).T @ np.column_stack(cols))
     sd = np.sqrt(np.diag(cv))
+    jac = np.column_stack(cols) * noise[:, None]           # d F / d ln θ in the column's unit
     if case.several:
         # What each experiment alone would tell (the same columns, its rows only): where one
         # experiment cannot separate two parameters and the pair can.
@@ -121,7 +128,7 @@ def jitter(a, p, data, extra):
     for i, r in enumerate(rows):
         r["predicted_rel_sigma"] = float(sd[i])
         r["predicted_corr"] = " ".join(f"{c:+.4f}" for c in cv[i] / (sd[i] * sd))
-    return rows
+    return rows, jac
 
 
 def fit_command(a, p, data, fdir, extra):
@@ -176,7 +183,8 @@ def row_of(case, p, i, fdir, n):
 def experiment(a, p, extra):
     """The truth runs of the p-parameter fit's case (one per experiment), their data times and
     true curves, the jitter rows, and the data sets' files (written once: the same seed gives the
-    same files): (points in all, jitter rows, per set its file or {experiment: file})."""
+    same files): (points in all, jitter rows, per set its file or {experiment: file}, the true
+    curves and the Jacobian of the linearised model (None with --no-jitter))."""
     case = a.case
     keys, truth = case.fits[p]
     names = list(case.experiments)
@@ -191,7 +199,7 @@ def experiment(a, p, extra):
               + (f", experiment {name}" if name else "")
               + f": {len(times)} data times {times[0]:g} ... {times[-1]:g} s, peak {curve.max():.4g} mg, "
               f"last {curve[-1]:.4g} mg", flush=True)
-    jit = [] if a.no_jitter else jitter(a, p, data, extra)
+    jit, jac = ([], None) if a.no_jitter else jitter(a, p, data, extra)
     for r in jit:
         print(f"  {short(r['param'])}: jitter (largest deviation from a cubic over ±3%) "
               f"{r['jitter_over_noise_max']:.2e} × the noise (t = {r['at_time']:g} s"
@@ -216,7 +224,7 @@ def experiment(a, p, extra):
                             f"{100 * a.noise_level:g}% Gaussian noise, seed {a.seed + p}, set {index}")
             one[name] = path
         files.append(one if case.several else one[None])
-    return sum(len(t) for _, t, _ in data), jit, files
+    return sum(len(t) for _, t, _ in data), jit, files, ([c for _, _, c in data], jac)
 
 
 def main():
@@ -246,7 +254,14 @@ def main():
     ap.add_argument("--ftol", type=float, default=1e-3, help="calibrate.py --ftol")
     ap.add_argument("--max-it", type=int, default=15, help="calibrate.py --max-it")
     ap.add_argument("--no-jitter", action="store_true", help="skip the jitter check")
+    ap.add_argument("--linearised", type=int, default=0, metavar="N",
+                    help="also N fits per noise model of the case's linearised model (the jitter runs' Jacobian "
+                         "at the truth): the coverage of every noise model's intervals without solver runs")
     a = ap.parse_args()
+    if a.linearised and a.no_jitter:
+        sys.exit("coverage.py: --linearised needs the jitter runs' Jacobian: leave out --no-jitter")
+    if a.sets < 0 or a.linearised < 0:
+        sys.exit("coverage.py: --sets and --linearised count data sets: give 0 or more")
     a.case = syn.CASES[a.case]
     a.params = a.params or sorted(a.case.fits)
     if not set(a.params) <= set(a.case.fits):
@@ -258,7 +273,8 @@ def main():
     root.mkdir(parents=True, exist_ok=True)
     extra = [tuple(s.split("=", 1)) for s in a.set]
     out = {"csv": root / f"coverage{a.case.suffix}.csv", "png": root / f"coverage{a.case.suffix}.png",
-           "jitter": root / f"jitter{a.case.suffix}.csv"}
+           "jitter": root / f"jitter{a.case.suffix}.csv",
+           "linearised": root / f"coverage_linearised{a.case.suffix}.csv"}
 
     cases = {p: experiment(a, p, extra) for p in a.params}
     jit = [r for p in a.params for r in cases[p][1]]
@@ -267,6 +283,16 @@ def main():
             w = csv.DictWriter(f, fieldnames=list(jit[0]))
             w.writeheader()
             w.writerows(jit)
+
+    if a.linearised:
+        lin = [r for p in a.params for r in linearised(a, p, *cases[p][3])]
+        with open(out["linearised"], "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(lin[0]))
+            w.writeheader()
+            w.writerows(lin)
+        print(f"{out['linearised']}", flush=True)
+    if not a.sets:
+        return
 
     jobs = [(p, i, root / f"{a.case.tag}{p}" / f"set_{i:03d}") for p in a.params for i in range(a.sets)]
     todo = [(p, i, d) for p, i, d in jobs if not (d / "calibration.json").exists()]
@@ -300,6 +326,41 @@ def main():
           + (f"; {len(failed)} fit(s) failed" if failed else ""))
     if failed:
         sys.exit(1)
+
+
+def linearised(a, p, curves, jac):
+    """The linearised study of the p-parameter fit (poroplast_tools/coverage.linearised_fits):
+    --linearised fits per noise model, printed and returned as rows, one per (noise model,
+    parameter): the covered counts and rates, their binomial standard errors and Wilson
+    intervals, the normalised errors' mean and sd, and the estimated noise scale over its truth
+    (σ for absolute, the fraction for the relative ones, 1 for data; the experiments' mean)."""
+    keys = a.case.fits[p][0]
+    n = a.linearised
+    rows = []
+    print(f"\nlinearised model, {p}-parameter fit, {n} fits per noise model, {100 * a.noise_level:g}% noise "
+          f"(relative+floor: a floor of {cov.FLOOR:g} × the relative noise at each curve's largest value):")
+    print("| noise model | parameter | 68% covered | 95% covered | mean z | sd z | s / its truth |")
+    print("|---|---|---|---|---|---|---|")
+    for model in cov.NOISES:
+        fits = cov.linearised_fits(curves, jac, model, a.noise_level, n, a.seed + p, a.start_factor)
+        z = np.array([f["z"] for f in fits])
+        truth = [cov.noise_sigmas(model, c, a.noise_level)[0][0] if model == "absolute" else
+                 1.0 if model == "data" else a.noise_level for c in curves]
+        ratio = float(np.mean([np.mean(np.array(f["s"]) / truth) for f in fits]))
+        for k, key in enumerate(keys):
+            row = {"params": p, "noise": model, "param": short(key), "fits": n}
+            cells = []
+            for name in cov.LEVELS:
+                kk, _, frac, (lo, hi) = cov.rate([f[f"covered{name}"][k] for f in fits])
+                se = math.sqrt(frac * (1 - frac) / n)
+                row |= {f"covered{name}": kk, f"rate{name}": frac, f"se{name}": se,
+                        f"wilson{name}_lo": lo, f"wilson{name}_hi": hi}
+                cells.append(f"{kk}/{n} = {100 * frac:.1f} ± {100 * se:.1f}% [{100 * lo:.1f}, {100 * hi:.1f}]")
+            row |= {"mean_z": float(z[:, k].mean()), "sd_z": float(z[:, k].std(ddof=1)), "s_over_truth": ratio}
+            rows.append(row)
+            print(f"| {model} | {short(key)} | {cells[0]} | {cells[1]} | {row['mean_z']:+.3f} | {row['sd_z']:.3f} | "
+                  f"{ratio:.4f} |", flush=True)
+    return rows
 
 
 def table(rows, a):
