@@ -18,7 +18,8 @@ else the same Wald intervals in log space from value and sigma: poroplast_tools/
 
     python3 scripts/coverage.py --dir studies/coverage [--sets 50] [--params 1 3] [--jobs 2]
     python3 scripts/coverage.py --dir /tmp/cov --sets 5 --params 1        # a quick check
-    python3 scripts/coverage.py --case tst --dir studies/coverage [--sets 50]
+    python3 scripts/coverage.py --case tst --dir studies/coverage [--sets 50] [--linearised 2000] [--docs]
+    python3 scripts/coverage.py --dir studies/coverage --sets 0 --linearised 2000   # the linearised study alone
 
 Before the fits, the model's jitter: runs at each fitted parameter × (1 + k/100), k = −3 … 3,
 and at each data time the largest deviation from a cubic in the parameter, against the noise
@@ -35,13 +36,15 @@ Writes DIR/coverage.csv (one row per fit: estimates, sigmas, intervals, covered 
 seconds), DIR/coverage.png (normalised errors against a standard normal; coverage rates with
 Wilson 95% error bars) and a table on the console. Resumable: every run is a case of the shared
 store DIR/store/cases (each fit's runs/cases links to it; completed runs are not run again,
-e.g. the common start point's), and a fit with its calibration.json is not run again.
+e.g. the common start point's), and a fit with its calibration.json is not run again. --docs
+copies the tables and the figure to docs/figures/ (data/ for the tables).
 """
 import argparse
 import csv
 import json
 import math
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -58,6 +61,7 @@ from poroplast_tools.cases import run_cases
 from poroplast_tools.history import history
 
 CALIBRATE = Path(__file__).resolve().parent / "calibrate.py"
+DOCS = Path(__file__).resolve().parent.parent / "docs" / "figures"
 JITTER_STEPS = [k / 100 for k in range(-3, 4)]
 
 
@@ -254,6 +258,8 @@ def main():
     ap.add_argument("--ftol", type=float, default=1e-3, help="calibrate.py --ftol")
     ap.add_argument("--max-it", type=int, default=15, help="calibrate.py --max-it")
     ap.add_argument("--no-jitter", action="store_true", help="skip the jitter check")
+    ap.add_argument("--docs", action="store_true",
+                    help="also copy the tables and the figure to docs/figures/ (docs/studies.md's numbers)")
     ap.add_argument("--linearised", type=int, default=0, metavar="N",
                     help="also N fits per noise model of the case's linearised model (the jitter runs' Jacobian "
                          "at the truth): the coverage of every noise model's intervals without solver runs")
@@ -291,6 +297,7 @@ def main():
             w.writeheader()
             w.writerows(lin)
         print(f"{out['linearised']}", flush=True)
+        to_docs(a, out["linearised"])
     if not a.sets:
         return
 
@@ -322,10 +329,22 @@ def main():
         w.writerows(rows)
     summary = table(rows, a)
     plot(out["png"], rows, summary, a)
+    to_docs(a, out["csv"], out["png"])
     print(f"\n{out['csv']}, {out['png']}; this invocation {time.time() - t_start:.0f} s"
           + (f"; {len(failed)} fit(s) failed" if failed else ""))
     if failed:
         sys.exit(1)
+
+
+def to_docs(a, *files):
+    """With --docs: the study's tables to docs/figures/data/, its figure to docs/figures/."""
+    if not a.docs:
+        return
+    for f in files:
+        dst = DOCS / ("data" if f.suffix == ".csv" else "") / f.name
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(f, dst)
+        print(f"copied to {dst}", flush=True)
 
 
 def linearised(a, p, curves, jac):
