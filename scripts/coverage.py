@@ -25,8 +25,9 @@ Before the fits, the model's jitter: runs at each fitted parameter × (1 + k/100
 and at each data time the largest deviation from a cubic in the parameter, against the noise
 (it must be far below 1 for the intervals to mean anything), with the standard errors and
 correlations the linearised model predicts (jitter.csv; several experiments: their data times
-stacked, and printed besides, what each experiment alone would predict: its standard errors, its
-correlations with the cosines of their columns, and d F/d ln θ at its last data time).
+stacked, the rows' `experiment` "all", and besides, printed and as rows of their own, what each
+experiment alone would predict: its standard errors, its correlations with the cosines of their
+columns, and d F/d ln θ at its last data time).
 With --linearised N, the same statistics on the case's linearised model F0 + J (ln θ − ln θ0),
 J the jitter runs' central differences at the truth: N fits per noise model (absolute,
 relative, relative+floor, data; each with data drawn from its own noise) through the fit's own
@@ -111,6 +112,7 @@ def jitter(a, p, data, extra):
     cv = np.linalg.inv(np.column_stack(cols).T @ np.column_stack(cols))
     sd = np.sqrt(np.diag(cv))
     jac = np.column_stack(cols) * noise[:, None]           # d F / d ln θ in the column's unit
+    alone = []
     if case.several:
         # What each experiment alone would tell (the same columns, its rows only): where one
         # experiment cannot separate two parameters and the pair can.
@@ -129,10 +131,16 @@ def jitter(a, p, data, extra):
                   + f"; d F/d ln θ at its last data time ({times[last]:g} s): "
                   + ", ".join(f"{short(k)} {cols[i][last] * noise[last]:.4g}" for i, k in enumerate(keys))
                   + f" {case.column.rsplit('_', 1)[-1]}", flush=True)
+            alone += [{"params": p, "param": key, "experiment": name, "predicted_rel_sigma": float(s1[i]),
+                       "predicted_corr": " ".join(f"{v:+.4f}" for v in corr[i]),
+                       "cos": " ".join(f"{v:+.5f}" for v in cos[i]),
+                       "dF_dlntheta_last": float(cols[i][last] * noise[last])} for i, key in enumerate(keys)]
     for i, r in enumerate(rows):
         r["predicted_rel_sigma"] = float(sd[i])
         r["predicted_corr"] = " ".join(f"{c:+.4f}" for c in cv[i] / (sd[i] * sd))
-    return rows, jac
+        if case.several:
+            r["experiment"] = "all"
+    return rows + alone, jac
 
 
 def fit_command(a, p, data, fdir, extra):
@@ -205,6 +213,8 @@ def experiment(a, p, extra):
               f"last {curve[-1]:.4g} mg", flush=True)
     jit, jac = ([], None) if a.no_jitter else jitter(a, p, data, extra)
     for r in jit:
+        if r.get("experiment", "all") != "all":
+            continue
         print(f"  {short(r['param'])}: jitter (largest deviation from a cubic over ±3%) "
               f"{r['jitter_over_noise_max']:.2e} × the noise (t = {r['at_time']:g} s"
               + (f" of {r['at_experiment']}" if "at_experiment" in r else "") + "), median "
@@ -286,9 +296,10 @@ def main():
     jit = [r for p in a.params for r in cases[p][1]]
     if jit:
         with open(out["jitter"], "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(jit[0]))
+            w = csv.DictWriter(f, fieldnames=list(dict.fromkeys(k for r in jit for k in r)))
             w.writeheader()
             w.writerows(jit)
+        to_docs(a, out["jitter"])
 
     if a.linearised:
         lin = [r for p in a.params for r in linearised(a, p, *cases[p][3])]
@@ -361,7 +372,7 @@ def linearised(a, p, curves, jac):
     print("| noise model | parameter | 68% covered | 95% covered | mean z | sd z | s / its truth |")
     print("|---|---|---|---|---|---|---|")
     for model in cov.NOISES:
-        fits = cov.linearised_fits(curves, jac, model, a.noise_level, n, a.seed + p, a.start_factor)
+        fits = cov.linearised_fits(curves, jac, model, a.noise_level, n, a.seed + p, a.start_factor, a.ftol, a.max_it)
         z = np.array([f["z"] for f in fits])
         truth = [cov.noise_sigmas(model, c, a.noise_level)[0][0] if model == "absolute" else
                  1.0 if model == "data" else a.noise_level for c in curves]
