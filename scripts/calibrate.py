@@ -11,13 +11,15 @@ data(t_i)) of every experiment stacked, the model's history column interpolated 
 times. The Jacobian is by forward differences (relative step 1e-3), whose runs take the point's
 own time steps, each experiment its own run's (`time.steps`: a step cut in one run and not in
 the other would make the difference jump). A trial step whose run fails counts as a worse fit.
-The weights w_i come from each experiment's noise model (--noise: absolute, relative, data: each
-point's sigma from the file, relative+floor: sigma_i = sqrt((rho y_i)^2 + floor^2), the floor
-given by --noise-floor; poroplast_tools/fitstats.py): the sigma (or rho) of each experiment is
-estimated from its own residuals with its share of the degrees of freedom, n_e − p n_e / n, so
-that the stacked weighted residuals have unit variance; where that changes the weights other
-than by a common factor (several experiments, a floor) the fit goes on with the new ones until
-they settle. The standard errors are the square roots of the diagonal of (JᵀJ)⁻¹ with J the
+The weights w_i come from each experiment's noise model (--noise: absolute, relative: sigma_i a
+fraction of the model's value m_i, data: each point's sigma from the file, relative+floor:
+sigma_i = sqrt((rho m_i)^2 + floor^2), the floor given by --noise-floor;
+poroplast_tools/fitstats.py): the sigma (or rho) of each experiment is estimated from its own
+residuals with its share of the degrees of freedom, n_e − p n_e / n, so that the stacked
+weighted residuals have unit variance; where that changes the weights other than by a common
+factor (the model moved, several experiments, a floor) the fit goes on with the new ones until
+they settle (iteratively re-weighted: weights by the model, not the data, leave the estimates
+unbiased). The standard errors are the square roots of the diagonal of (JᵀJ)⁻¹ with J the
 weighted Jacobian at the optimum (its own finite-difference runs if the last step moved it);
 the Wald intervals value·exp(±z·sigma/value) with z Student's t of n − p degrees of freedom when
 a sigma was estimated, the normal z when every sigma is given (--noise data), for 68.27% and
@@ -151,9 +153,9 @@ def main():
                     help="fit to the scene's own curve with these values (a test of the fit)")
     ap.add_argument("--noise", choices=NOISE_MODELS,
                     help="the noise model (poroplast_tools/fitstats.py): one unknown sigma (absolute), sigma "
-                         "proportional to the value (relative), each point's sigma from the data file (data), or "
-                         "relative above a given floor (relative+floor, --noise-floor); default: data if the file "
-                         "has a sigma column, else absolute")
+                         "proportional to the model's value (relative), each point's sigma from the data file "
+                         "(data), or relative above a given floor (relative+floor, --noise-floor); default: data if "
+                         "the file has a sigma column, else absolute")
     ap.add_argument("--noise-floor", type=floor_type, metavar="F[UNIT]",
                     help="relative+floor (implied without --noise): the floor's sigma, in the column's unit or with one "
                          "(0.05uN, 0.5nN)")

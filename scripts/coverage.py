@@ -18,25 +18,34 @@ else the same Wald intervals in log space from value and sigma: poroplast_tools/
 
     python3 scripts/coverage.py --dir studies/coverage [--sets 50] [--params 1 3] [--jobs 2]
     python3 scripts/coverage.py --dir /tmp/cov --sets 5 --params 1        # a quick check
-    python3 scripts/coverage.py --case tst --dir studies/coverage [--sets 50]
+    python3 scripts/coverage.py --case tst --dir studies/coverage [--sets 50] [--linearised 2000] [--docs]
+    python3 scripts/coverage.py --dir studies/coverage --sets 0 --linearised 2000   # the linearised study alone
 
 Before the fits, the model's jitter: runs at each fitted parameter × (1 + k/100), k = −3 … 3,
 and at each data time the largest deviation from a cubic in the parameter, against the noise
 (it must be far below 1 for the intervals to mean anything), with the standard errors and
 correlations the linearised model predicts (jitter.csv; several experiments: their data times
-stacked, and printed besides, what each experiment alone would predict: its standard errors, its
-correlations with the cosines of their columns, and d F/d ln θ at its last data time).
+stacked, the rows' `experiment` "all", and besides, printed and as rows of their own, what each
+experiment alone would predict: its standard errors, its correlations with the cosines of their
+columns, and d F/d ln θ at its last data time).
+With --linearised N, the same statistics on the case's linearised model F0 + J (ln θ − ln θ0),
+J the jitter runs' central differences at the truth: N fits per noise model (absolute,
+relative, relative+floor, data; each with data drawn from its own noise) through the fit's own
+code (fit.fit, fitstats' weights), no solver runs: coverage_linearised.csv, and a table with
+each rate's binomial standard error (poroplast_tools/coverage.linearised_fits).
 Writes DIR/coverage.csv (one row per fit: estimates, sigmas, intervals, covered flags, runs,
 seconds), DIR/coverage.png (normalised errors against a standard normal; coverage rates with
 Wilson 95% error bars) and a table on the console. Resumable: every run is a case of the shared
 store DIR/store/cases (each fit's runs/cases links to it; completed runs are not run again,
-e.g. the common start point's), and a fit with its calibration.json is not run again.
+e.g. the common start point's), and a fit with its calibration.json is not run again. --docs
+copies the tables and the figure to docs/figures/ (data/ for the tables).
 """
 import argparse
 import csv
 import json
 import math
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -53,6 +62,7 @@ from poroplast_tools.cases import run_cases
 from poroplast_tools.history import history
 
 CALIBRATE = Path(__file__).resolve().parent / "calibrate.py"
+DOCS = Path(__file__).resolve().parent.parent / "docs" / "figures"
 JITTER_STEPS = [k / 100 for k in range(-3, 4)]
 
 
@@ -73,8 +83,9 @@ def jitter(a, p, data, extra):
     """Per parameter of the p-parameter fit: the largest deviation, over the data times, of the
     curve from a cubic in the parameter (runs at θ (1 + k/100), k = −3 … 3, their own steps), in
     units of the noise; and the standard errors and correlations the linearised model predicts
-    at the truth for the noise (central differences of the ±1% runs). `data`: per experiment
-    (name, times, true curve); their points stacked."""
+    at the truth for the noise (central differences of the ±1% runs), and those differences,
+    d F/d ln θ (the linearised study's Jacobian). `data`: per experiment (name, times, true
+    curve); their points stacked."""
     case = a.case
     keys, truth = case.fits[p]
     m = len(JITTER_STEPS)
@@ -100,6 +111,8 @@ def jitter(a, p, data, extra):
                      "jitter_over_noise_median": float(np.median(worst))})
     cv = np.linalg.inv(np.column_stack(cols).T @ np.column_stack(cols))
     sd = np.sqrt(np.diag(cv))
+    jac = np.column_stack(cols) * noise[:, None]           # d F / d ln θ in the column's unit
+    alone = []
     if case.several:
         # What each experiment alone would tell (the same columns, its rows only): where one
         # experiment cannot separate two parameters and the pair can.
@@ -118,10 +131,16 @@ def jitter(a, p, data, extra):
                   + f"; d F/d ln θ at its last data time ({times[last]:g} s): "
                   + ", ".join(f"{short(k)} {cols[i][last] * noise[last]:.4g}" for i, k in enumerate(keys))
                   + f" {case.column.rsplit('_', 1)[-1]}", flush=True)
+            alone += [{"params": p, "param": key, "experiment": name, "predicted_rel_sigma": float(s1[i]),
+                       "predicted_corr": " ".join(f"{v:+.4f}" for v in corr[i]),
+                       "cos": " ".join(f"{v:+.5f}" for v in cos[i]),
+                       "dF_dlntheta_last": float(cols[i][last] * noise[last])} for i, key in enumerate(keys)]
     for i, r in enumerate(rows):
         r["predicted_rel_sigma"] = float(sd[i])
         r["predicted_corr"] = " ".join(f"{c:+.4f}" for c in cv[i] / (sd[i] * sd))
-    return rows
+        if case.several:
+            r["experiment"] = "all"
+    return rows + alone, jac
 
 
 def fit_command(a, p, data, fdir, extra):
@@ -176,7 +195,8 @@ def row_of(case, p, i, fdir, n):
 def experiment(a, p, extra):
     """The truth runs of the p-parameter fit's case (one per experiment), their data times and
     true curves, the jitter rows, and the data sets' files (written once: the same seed gives the
-    same files): (points in all, jitter rows, per set its file or {experiment: file})."""
+    same files): (points in all, jitter rows, per set its file or {experiment: file}, the true
+    curves and the Jacobian of the linearised model (None with --no-jitter))."""
     case = a.case
     keys, truth = case.fits[p]
     names = list(case.experiments)
@@ -191,8 +211,10 @@ def experiment(a, p, extra):
               + (f", experiment {name}" if name else "")
               + f": {len(times)} data times {times[0]:g} ... {times[-1]:g} s, peak {curve.max():.4g} mg, "
               f"last {curve[-1]:.4g} mg", flush=True)
-    jit = [] if a.no_jitter else jitter(a, p, data, extra)
+    jit, jac = ([], None) if a.no_jitter else jitter(a, p, data, extra)
     for r in jit:
+        if r.get("experiment", "all") != "all":
+            continue
         print(f"  {short(r['param'])}: jitter (largest deviation from a cubic over ±3%) "
               f"{r['jitter_over_noise_max']:.2e} × the noise (t = {r['at_time']:g} s"
               + (f" of {r['at_experiment']}" if "at_experiment" in r else "") + "), median "
@@ -216,7 +238,7 @@ def experiment(a, p, extra):
                             f"{100 * a.noise_level:g}% Gaussian noise, seed {a.seed + p}, set {index}")
             one[name] = path
         files.append(one if case.several else one[None])
-    return sum(len(t) for _, t, _ in data), jit, files
+    return sum(len(t) for _, t, _ in data), jit, files, ([c for _, _, c in data], jac)
 
 
 def main():
@@ -246,7 +268,16 @@ def main():
     ap.add_argument("--ftol", type=float, default=1e-3, help="calibrate.py --ftol")
     ap.add_argument("--max-it", type=int, default=15, help="calibrate.py --max-it")
     ap.add_argument("--no-jitter", action="store_true", help="skip the jitter check")
+    ap.add_argument("--docs", action="store_true",
+                    help="also copy the tables and the figure to docs/figures/ (docs/studies.md's numbers)")
+    ap.add_argument("--linearised", type=int, default=0, metavar="N",
+                    help="also N fits per noise model of the case's linearised model (the jitter runs' Jacobian "
+                         "at the truth): the coverage of every noise model's intervals without solver runs")
     a = ap.parse_args()
+    if a.linearised and a.no_jitter:
+        sys.exit("coverage.py: --linearised needs the jitter runs' Jacobian: leave out --no-jitter")
+    if a.sets < 0 or a.linearised < 0:
+        sys.exit("coverage.py: --sets and --linearised count data sets: give 0 or more")
     a.case = syn.CASES[a.case]
     a.params = a.params or sorted(a.case.fits)
     if not set(a.params) <= set(a.case.fits):
@@ -258,15 +289,28 @@ def main():
     root.mkdir(parents=True, exist_ok=True)
     extra = [tuple(s.split("=", 1)) for s in a.set]
     out = {"csv": root / f"coverage{a.case.suffix}.csv", "png": root / f"coverage{a.case.suffix}.png",
-           "jitter": root / f"jitter{a.case.suffix}.csv"}
+           "jitter": root / f"jitter{a.case.suffix}.csv",
+           "linearised": root / f"coverage_linearised{a.case.suffix}.csv"}
 
     cases = {p: experiment(a, p, extra) for p in a.params}
     jit = [r for p in a.params for r in cases[p][1]]
     if jit:
         with open(out["jitter"], "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(jit[0]))
+            w = csv.DictWriter(f, fieldnames=list(dict.fromkeys(k for r in jit for k in r)))
             w.writeheader()
             w.writerows(jit)
+        to_docs(a, out["jitter"])
+
+    if a.linearised:
+        lin = [r for p in a.params for r in linearised(a, p, *cases[p][3])]
+        with open(out["linearised"], "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(lin[0]))
+            w.writeheader()
+            w.writerows(lin)
+        print(f"{out['linearised']}", flush=True)
+        to_docs(a, out["linearised"])
+    if not a.sets:
+        return
 
     jobs = [(p, i, root / f"{a.case.tag}{p}" / f"set_{i:03d}") for p in a.params for i in range(a.sets)]
     todo = [(p, i, d) for p, i, d in jobs if not (d / "calibration.json").exists()]
@@ -296,10 +340,57 @@ def main():
         w.writerows(rows)
     summary = table(rows, a)
     plot(out["png"], rows, summary, a)
+    to_docs(a, out["csv"], out["png"])
     print(f"\n{out['csv']}, {out['png']}; this invocation {time.time() - t_start:.0f} s"
           + (f"; {len(failed)} fit(s) failed" if failed else ""))
     if failed:
         sys.exit(1)
+
+
+def to_docs(a, *files):
+    """With --docs: the study's tables to docs/figures/data/, its figure to docs/figures/."""
+    if not a.docs:
+        return
+    for f in files:
+        dst = DOCS / ("data" if f.suffix == ".csv" else "") / f.name
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(f, dst)
+        print(f"copied to {dst}", flush=True)
+
+
+def linearised(a, p, curves, jac):
+    """The linearised study of the p-parameter fit (poroplast_tools/coverage.linearised_fits):
+    --linearised fits per noise model, printed and returned as rows, one per (noise model,
+    parameter): the covered counts and rates, their binomial standard errors and Wilson
+    intervals, the normalised errors' mean and sd, and the estimated noise scale over its truth
+    (σ for absolute, the fraction for the relative ones, 1 for data; the experiments' mean)."""
+    keys = a.case.fits[p][0]
+    n = a.linearised
+    rows = []
+    print(f"\nlinearised model, {p}-parameter fit, {n} fits per noise model, {100 * a.noise_level:g}% noise "
+          f"(relative+floor: a floor of {cov.FLOOR:g} × the relative noise at each curve's largest value):")
+    print("| noise model | parameter | 68% covered | 95% covered | mean z | sd z | s / its truth |")
+    print("|---|---|---|---|---|---|---|")
+    for model in cov.NOISES:
+        fits = cov.linearised_fits(curves, jac, model, a.noise_level, n, a.seed + p, a.start_factor, a.ftol, a.max_it)
+        z = np.array([f["z"] for f in fits])
+        truth = [cov.noise_sigmas(model, c, a.noise_level)[0][0] if model == "absolute" else
+                 1.0 if model == "data" else a.noise_level for c in curves]
+        ratio = float(np.mean([np.mean(np.array(f["s"]) / truth) for f in fits]))
+        for k, key in enumerate(keys):
+            row = {"params": p, "noise": model, "param": short(key), "fits": n}
+            cells = []
+            for name in cov.LEVELS:
+                kk, _, frac, (lo, hi) = cov.rate([f[f"covered{name}"][k] for f in fits])
+                se = math.sqrt(frac * (1 - frac) / n)
+                row |= {f"covered{name}": kk, f"rate{name}": frac, f"se{name}": se,
+                        f"wilson{name}_lo": lo, f"wilson{name}_hi": hi}
+                cells.append(f"{kk}/{n} = {100 * frac:.1f} ± {100 * se:.1f}% [{100 * lo:.1f}, {100 * hi:.1f}]")
+            row |= {"mean_z": float(z[:, k].mean()), "sd_z": float(z[:, k].std(ddof=1)), "s_over_truth": ratio}
+            rows.append(row)
+            print(f"| {model} | {short(key)} | {cells[0]} | {cells[1]} | {row['mean_z']:+.3f} | {row['sd_z']:.3f} | "
+                  f"{ratio:.4f} |", flush=True)
+    return rows
 
 
 def table(rows, a):

@@ -16,11 +16,14 @@ steps one more. The main fit (`fit`) is one search of all variables; the profile
 are one search per profile point, of all variables but the profiled one.
 
 The noise is `weigh(d, p)`: the per-point weights w that give w d unit variance at the
-differences d of a fit of p parameters (poroplast_tools/fitstats.Noise per curve, stacked). LM
-minimises |w d|² with w fixed; at its optimum the weights are estimated anew, and where they
-changed other than by a common factor (several curves, each its own σ; a noise floor) the fit
-goes on from there with them, until they settle (`rounds`). A common factor leaves the optimum
-where it is: one curve with one unknown σ needs one round.
+differences d of a fit of p parameters (poroplast_tools/fitstats.Noise per curve, stacked; a
+relative noise's σ_i is a fraction of the model's value there). LM minimises |w d|² with w
+fixed; at its optimum the weights are estimated anew, and where they changed other than by a
+common factor (a relative noise: the model moved from the start; several curves, each its own
+σ; a noise floor) the fit goes on from there with them, until they settle (`rounds`:
+iteratively re-weighted least squares, whose fixed point is unbiased where weights by the data
+are not: fitstats). A common factor leaves the optimum where it is: one curve with one unknown
+absolute σ needs one round.
 
 The statistics (`stats`) linearise at the optimum: the covariance of the variables is (JᵀJ)⁻¹
 with J the Jacobian of w d (unit variance), the Wald interval x̂ ± z σ with z Student's t of
@@ -197,7 +200,7 @@ def _predicted_decrease(wj, r):
     return float(proj @ proj)
 
 
-def fit(evaluate, weigh, x0, keys, max_it=15, ftol=1e-3, xtol=1e-5, rounds=4, say=print,
+def fit(evaluate, weigh, x0, keys, max_it=15, ftol=1e-3, xtol=1e-5, rounds=6, say=print,
         first_jacobian=None):
     """The optimum (`Optimum`) of |w d(x)|² from x0 (variables named `keys`): the iterations of
     one `Search` of all variables (`iterate`: LM, stopping when an iteration lowers the cost by

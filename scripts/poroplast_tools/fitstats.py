@@ -5,14 +5,26 @@ Noise models (the residuals are r_i = w_i (model_i − data_i)):
 
 * `absolute`: every point has the same unknown σ (w_i = 1); σ is estimated from the residuals,
   s² = Σ r² / (n − p).
-* `relative`: σ_i is an unknown fraction of the value (w_i = 1/|data_i|, floored at 1e-3 of the
-  largest |data| so that points near zero do not dominate); the fraction is estimated as above.
+* `relative`: σ_i is an unknown fraction of the value (w_i = 1/|model_i|, floored at 1e-3 of the
+  largest |model| so that points near zero do not dominate); the fraction is estimated as above.
 * `data`: σ_i is given per point (w_i = 1/σ_i); s² = 1, and χ²/(n − p) = Σ r²/(n − p) tells how
   well the model and the stated σ fit (near 1; much above 1: a model error or σ too small).
-* `relative+floor`: σ_i = √((ρ y_i)² + f²), a relative noise ρ above an instrument's floor f (given,
-  in the value's unit): force data that reach zero after contact loss keep a finite σ. ρ is
-  estimated: the root of Σ (d_i/σ_i(ρ))² = n − p (`Noise.weights`; ρ = 0 when the floor alone
-  explains the residuals), so the weights depend on the residuals and the fit re-weights.
+* `relative+floor`: σ_i = √((ρ model_i)² + f²), a relative noise ρ above an instrument's floor f
+  (given, in the value's unit): force data that reach zero after contact loss keep a finite σ. ρ
+  is estimated: the root of Σ (d_i/σ_i(ρ))² = n − p (`Noise.weights`; ρ = 0 when the floor alone
+  explains the residuals).
+
+The relative models' σ_i are a fraction of the model's value, model_i = data_i + d_i, not of the
+data's: weights 1/|data_i| give a point the noise pushed up less weight than one pushed down, and
+the fitted curve comes out low by about 2ρ² of its value (0.08% at ρ = 2%), more than a standard
+error on a curve of thousands of points. The model's value is not known before the fit, so the
+fit holds the weights fixed in its Levenberg–Marquardt steps and estimates them anew at each
+optimum until they settle (fit.fit's rounds: iteratively re-weighted least squares). Its fixed
+point solves Σ (model_i − data_i) ∂model_i/∂θ / σ_i² = 0, which is zero on average at the truth
+(quasi-likelihood): unbiased to first order. Not the alternatives: minimising Σ ((model − data) /
+model)² with the weights' own derivative in the Jacobian biases the curve high by ρ², and the
+log residual ln data − ln model low by ρ²/2 (E ln(1 + ρε) = −ρ²/2), and it cannot take data at or
+below zero.
 
 `Noise` holds one curve's model and turns its differences d = model − data into the weights
 that give the weighted residuals unit variance, from the degrees of freedom the curve is granted
@@ -29,7 +41,8 @@ MODELS = ("absolute", "relative", "data", "relative+floor")
 
 
 def weights(noise, values, sigmas=None):
-    """w_i of the noise model for the data `values` (and per-point `sigmas` for `data`)."""
+    """w_i of the noise model for the curve `values` (the model's: see the module; and per-point
+    `sigmas` for `data`), before the estimated scale."""
     v = np.asarray(values, dtype=float)
     if noise == "absolute":
         return np.ones_like(v)
@@ -50,27 +63,31 @@ class Noise:
     def __init__(self, model, values, sigmas=None, floor=None):
         if model == "relative+floor" and not (floor is not None and floor > 0):
             raise ValueError("the noise model `relative+floor` needs a positive floor (--noise-floor)")
+        if model not in MODELS:
+            raise ValueError(f"unknown noise model `{model}`: expected one of {', '.join(MODELS)}")
         self.model, self.y, self.floor = model, np.asarray(values, dtype=float), floor
-        self.shape = weights(model, values, sigmas)     # relative+floor: the relative part's
+        self.given = weights(model, values, sigmas) if model == "data" else None
         self.estimated = model != "data"
 
     def weights(self, d, dof):
-        """(w, s): the weights that give w d unit variance, s estimated from the differences `d`
-        with `dof` degrees of freedom (the σ of absolute, the fraction of relative and of
-        relative+floor); s = 1 for `data`."""
+        """(w, s): the weights that give w d unit variance at the model data + d, s estimated
+        from the differences `d` with `dof` degrees of freedom (the σ of absolute, the fraction
+        of relative and of relative+floor); s = 1 for `data`."""
         d = np.asarray(d, dtype=float)
         if self.model == "data":
-            return self.shape, 1.0
+            return self.given, 1.0
+        model = self.y + d
         if self.model == "relative+floor":
-            rho = floor_fraction(d, self.y, self.floor, dof)
-            return 1.0 / np.sqrt((rho * self.y) ** 2 + self.floor ** 2), rho
-        s = math.sqrt(float(np.sum((self.shape * d) ** 2)) / dof)
-        return self.shape / (s if s > 0 else 1.0), s
+            rho = floor_fraction(d, model, self.floor, dof)
+            return 1.0 / np.sqrt((rho * model) ** 2 + self.floor ** 2), rho
+        shape = weights(self.model, model)
+        s = math.sqrt(float(np.sum((shape * d) ** 2)) / dof)
+        return shape / (s if s > 0 else 1.0), s
 
 
 def floor_fraction(d, y, floor, dof):
-    """ρ ≥ 0 with Σ d_i² / ((ρ y_i)² + floor²) = dof (bisection in log ρ; the sum falls with ρ);
-    0 when the floor alone leaves the sum below dof."""
+    """ρ ≥ 0 with Σ d_i² / ((ρ y_i)² + floor²) = dof, y the model's values (bisection in log ρ;
+    the sum falls with ρ); 0 when the floor alone leaves the sum below dof."""
     def excess(rho):
         return float(np.sum(d ** 2 / ((rho * y) ** 2 + floor ** 2))) - dof
     if excess(0.0) <= 0 or not np.any(y):

@@ -18,12 +18,12 @@ aggregate, R = 100 µm, µ = 20 kPa) with a surface tension γ = 5 mN/m, λp = 0
 σy = 0.2 kPa, as two experiments: aggregates of the same tissue compressed by 15% and by 30% in
 5 s and held 1000 s (the data end with the hold: no release, no contact opening). γ, λp and σy
 are fitted together. One compression does not separate γ from σy: both hold up the plateau
-(the 30% curve alone: cos +0.9998 between their columns, corr(γ, σy) = −1.000, σ(γ) 33%); at two
-compressions their shares differ (a change of γ moves the force at the end of the hold 2.8
-times as much at 30% as at 15%, one of σy 1.5 times: coverage.py's per-experiment lines) and
-each is determined (corr −0.92; σ/value 0.65%, 0.09%, 0.19% for γ, λp, σy at 2% noise with data
-every 1 s; docs/studies.md). Each run about 1.3 s on 1 rank (coarse level, 46
-steps).
+(the 30% curve alone: cos +0.9997 between their columns, corr(γ, σy) = −0.9997, σ(γ) 20%); at
+two compressions their shares differ (a change of γ moves the force at the end of the hold
+about 2.5 times as much at 30% as at 15%, one of σy 1.4 times: coverage.py's per-experiment
+rows of jitter_tst.csv) and each is determined (corr −0.93; σ/value 1.0%, 0.08%, 0.18% for γ,
+λp, σy at 2% noise with data every 1 s; docs/studies.md). Each run about 1.3 s on 1 rank on a
+quiet machine (coarse level, 46 steps).
 """
 from dataclasses import dataclass, field
 

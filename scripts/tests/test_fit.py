@@ -1,6 +1,7 @@
 """The fit over pure Python models with known answers: an exponential decay recovered, the
 standard errors and the Wald and profile intervals of a linear model against their closed form,
 the 68% and 95% intervals' coverage by Monte Carlo, two curves of different noise re-weighted,
+a relative noise weighted by the model and unbiased,
 and the profile of a curved ridge (a relaxation whose rate and plateau trade) against its brute
 force, with its coverage."""
 import math
@@ -318,6 +319,43 @@ class Relaxation(unittest.TestCase):
                 r = opt.w * (v - data) if v is not None else np.full(data.size, np.inf)
                 rows.append((sign * m * st.rel[k], float(r @ r), "ok"))
         return interval(opt.x[k], opt.cost, rows, z)[0]
+
+
+class RelativeNoise(unittest.TestCase):
+    """y = A exp(−t/τ) + c on 2000 points with 2% noise proportional to the curve, fitted in
+    (ln A, ln τ, ln c) with the `relative` noise model from the truth × 1.1: the weights are the
+    model's (fitstats), so the estimates and the noise fraction s are unbiased. Weighted by the
+    data instead, the curve comes out low by about 2ρ² = 0.08%: A's mean z −0.53 and c's −0.29
+    over these 300 draws (measured), 7 and 4 standard errors of a mean off zero."""
+    t = np.linspace(0.0, 10.0, 2000)
+    truth = np.log([2.0, 3.0, 0.5])
+    rho, n = 0.02, 300
+
+    def curve(self, x):
+        return math.exp(x[0]) * np.exp(-self.t / math.exp(x[1])) + math.exp(x[2])
+
+    def test_estimates_and_noise_fraction_are_unbiased_and_intervals_cover(self):
+        rng = np.random.default_rng(51)
+        y = self.curve(self.truth)
+        z, s, hits = [], [], np.zeros(3)
+        for _ in range(self.n):
+            data = y * (1 + self.rho * rng.standard_normal(y.size))
+            noise = Noise("relative", data)
+            weigh = lambda d, p: stacked_weights([noise], d, p)[0]
+            opt = fit(model_of(self.curve, data), weigh, self.truth + math.log(1.1), ["A", "tau", "c"], **QUIET)
+            st = stats(opt, True)
+            z.append((opt.x - self.truth) / st.rel)
+            s.append(stacked_weights([noise], opt.d, 3)[1][0])
+            hits += [lo <= math.exp(v) <= hi for v, (lo, hi) in zip(self.truth, st.wald(opt.x, 0.95))]
+        # Each mean within 3 standard errors of a mean (measured: −0.01, −0.05, +0.04).
+        np.testing.assert_allclose(np.mean(z, axis=0), 0.0, atol=3 / math.sqrt(self.n))
+        np.testing.assert_allclose(np.std(z, axis=0), 1.0, atol=0.12)
+        # s: its spread over the draws is 1.6% of ρ (1/√(2 (n − p))); the mean's 3 standard errors.
+        self.assertAlmostEqual(np.mean(s) / self.rho, 1.0, delta=3 * np.std(s) / self.rho / math.sqrt(self.n))
+        # 95% intervals: the binomial standard deviation of the rate at 300 fits is 1.3%; 3 of them.
+        np.testing.assert_allclose(hits / self.n, 0.95, atol=0.038)
+        # The weights at the optimum are the model's: 1/(s |model|).
+        np.testing.assert_allclose(opt.w, 1 / (s[-1] * np.abs(data + opt.d)), rtol=1e-12)
 
 
 class Wall(unittest.TestCase):

@@ -1,5 +1,5 @@
 """The fit's standard errors (fit.stats) against the closed form of a straight-line fit, for the
-noise models' weights, and those weights."""
+noise models' weights, and those weights (a relative noise's of the model's value)."""
 import math
 import unittest
 
@@ -9,12 +9,13 @@ from poroplast_tools.fit import Optimum, stats
 from poroplast_tools.fitstats import Noise, floor_fraction, quantile, stacked_weights, weights
 
 
-def line_fit(t, y, noise, dof):
-    """Weighted least squares of y = a + b t (weights 1/σ of the noise model's shape) as the fit's
+def line_fit(t, y, noise, dof, sigma=None):
+    """Weighted least squares of y = a + b t (weights 1/`sigma`, none: unweighted) as the fit's
     optimum: the coefficients, the differences, the noise's weights and s there, the unweighted
     Jacobian (columns d/d a, d/d b)."""
     jac = np.column_stack([np.ones_like(t), t])
-    coef, *_ = np.linalg.lstsq(noise.shape[:, None] * jac, noise.shape * y, rcond=None)
+    shape = np.ones_like(t) if sigma is None else 1 / sigma
+    coef, *_ = np.linalg.lstsq(shape[:, None] * jac, shape * y, rcond=None)
     d = coef[0] + coef[1] * t - y
     w, s = noise.weights(d, dof)
     return Optimum(coef, d, None, w, jac), s
@@ -29,7 +30,7 @@ class FitStats(unittest.TestCase):
 
     def test_known_sigma_gives_the_textbook_errors(self):
         # sd(b)² = S / (S Stt − St²) with S = Σ 1/σ², St = Σ t/σ², Stt = Σ t²/σ².
-        opt, s = line_fit(self.t, self.y, Noise("data", self.y, self.sigma), 19)
+        opt, s = line_fit(self.t, self.y, Noise("data", self.y, self.sigma), 19, self.sigma)
         st = stats(opt, False)
         S, St, Stt = (np.sum(self.t ** k / self.sigma ** 2) for k in (0, 1, 2))
         det = S * Stt - St ** 2
@@ -64,18 +65,32 @@ class FitStats(unittest.TestCase):
         st = stats(Optimum(np.zeros(2), np.zeros(5), None, np.ones(5), jac), True)
         self.assertTrue(all(math.isnan(x) for x in st.rel))
 
+    def test_relative_weights_are_the_models_not_the_datas(self):
+        # Data y, differences d = model − data: σ_i = s |y_i + d_i|, s² = Σ (d_i / model_i)² / dof.
+        y, d = np.array([1.0, 2.0, 4.0]), np.array([0.1, -0.2, 0.4])
+        model = y + d
+        w, s = Noise("relative", y).weights(d, 2)
+        self.assertAlmostEqual(s, math.sqrt(float(np.sum((d / model) ** 2)) / 2), delta=1e-15)
+        np.testing.assert_allclose(w, 1 / (s * model), rtol=1e-14)
+        # Not the data's: a point the noise pushed up (model below the data) would weigh less.
+        self.assertGreater(abs(w[1] * y[1] - 1 / s), 0.1 / s)
+        # The floor is 1e-3 of the model's largest value: a model through zero.
+        w, s = Noise("relative", np.array([4.0, 0.5])).weights(np.array([0.0, -0.5]), 1)
+        self.assertAlmostEqual(w[1] * s, 1 / 4e-3, delta=1e-9)
+
     def test_relative_noise_above_a_floor_is_estimated(self):
         # A force that falls to zero (contact lost) with σ_i = √((ρ y_i)² + f²), ρ = 3%, f = 0.02:
-        # ρ recovered from 4000 points (its estimate's sd about 1.5%), the zeros weighted 1/f.
+        # ρ recovered from 4000 points (its estimate's sd about 1.5%), the zeros weighted 1/f,
+        # each point by the model's value (the truth here: d = truth − data).
         rng = np.random.default_rng(4)
         y = np.r_[np.linspace(2.0, 0.1, 2000), np.zeros(2000)]
         sigma = np.sqrt((0.03 * y) ** 2 + 0.02 ** 2)
-        d = sigma * rng.standard_normal(y.size)
-        noise = Noise("relative+floor", y, floor=0.02)
-        w, rho = noise.weights(d, y.size)
+        data = y + sigma * rng.standard_normal(y.size)
+        noise = Noise("relative+floor", data, floor=0.02)
+        w, rho = noise.weights(y - data, y.size)
         self.assertAlmostEqual(rho, 0.03, delta=0.03 * 0.06)
-        self.assertAlmostEqual(float(np.sum((w * d) ** 2)), y.size, delta=1e-6 * y.size)
-        np.testing.assert_allclose(w[-1], 1 / 0.02)
+        self.assertAlmostEqual(float(np.sum((w * (y - data)) ** 2)), y.size, delta=1e-6 * y.size)
+        np.testing.assert_allclose(w, 1 / np.sqrt((rho * y) ** 2 + 0.02 ** 2), rtol=1e-12)
         # Plain relative noise on the same data has no floor: the zeros get 1e3 / max|y|.
         self.assertAlmostEqual(weights("relative", y)[-1], 1 / 2e-3)
         with self.assertRaises(ValueError):
