@@ -27,8 +27,9 @@ FIGURE_DATA = DATA.parent.parent / "docs" / "figures" / "data"
 # whose values joined by "@" name a row). `meridian` and `3d` are reproduce.py's summaries of the
 # shipped scenes (--axisymmetric, and 3-D), `fields` the causes runs' rows read from fields
 # (causes.py --fields), `flow` reproduce.py's outflow by phase on the meridian, `zones` the region means of Figs 5-6 (rows "CASE@T"); the others are
-# the figures' data (reproduce.py), the causes (causes.py) and the tensiometry study
-# (tensiometry.py), which the docs' prose quotes (poroplast_tools.doc_numbers).
+# the figures' data (reproduce.py), the causes (causes.py), the tensiometry study
+# (tensiometry.py) and the linearised coverage (coverage.py: rows "PARAMS@NOISE@PARAM", and the
+# tension case's per-experiment predictions, rows "EXPERIMENT@PARAM"), which the docs' prose quotes (poroplast_tools.doc_numbers).
 SOURCES = {"meridian": (FIGURE_DATA / "summary_meridian.csv", "case"),
            "3d": (FIGURE_DATA / "summary_3d.csv", "case"),
            "flow": (DATA / "flow_meridian.csv", "case"),
@@ -46,7 +47,10 @@ SOURCES = {"meridian": (FIGURE_DATA / "summary_meridian.csv", "case"),
            "fig10": (FIGURE_DATA / "fig10_hw.csv", ("set", "t_end_s")),
            "fig11c": (FIGURE_DATA / "fig11c_pressure.csv", ("case", "t_s")),
            "fig_soft_pressure": (FIGURE_DATA / "fig_soft_pressure.csv", ("case", "t_s")),
-           "tensiometry": (FIGURE_DATA / "tensiometry.csv", ("case", "compression"))}
+           "tensiometry": (FIGURE_DATA / "tensiometry.csv", ("case", "compression")),
+           "coverage_lin": (FIGURE_DATA / "coverage_linearised.csv", ("params", "noise", "param")),
+           "coverage_lin_tst": (FIGURE_DATA / "coverage_linearised_tst.csv", ("params", "noise", "param")),
+           "jitter_tst": (FIGURE_DATA / "jitter_tst.csv", ("experiment", "param"))}
 
 VERDICTS = ("reproduced", "partly", "no", "open", "not comparable")
 
