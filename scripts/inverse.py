@@ -1,0 +1,257 @@
+"""The inverse question (issue 51, item 6): can any parameter set within physically plausible
+bounds reproduce the paper's load-share claims? The claims are data (each an interval of the
+paper's precision, poroplast_tools/inverse.py: CLAIMS), the parameters the paper leaves uncertain
+or states ambiguously are fitted to them with the calibration's own Levenberg–Marquardt
+(poroplast_tools/fit.py) and profiled (profile.py).
+
+Every point is four runs on the meridian at the shipped scenes' mesh and steps (the scene level;
+its error against the converged references is the `level` stage): `remodel_155` to 80 s, its
+c = 2 twin, its λp / 10 twin to 60 s, and `remodel_40` to 40 s with fields at 40 s.
+
+Stages (each writes its CSV; the runs are kept in the case store DIR/cases, so a rerun replays
+them):
+  level    the Table 1 point at this level against references.csv's converged values:
+           scripts/data/inverse_level.csv
+  screen   one at a time: each parameter at its two bounds, each discrete choice on its own:
+           scripts/data/inverse_screen.csv
+  fit      LM from Table 1 over --params: scripts/data/inverse_fit.csv (parameters),
+           inverse_claims.csv (each claim at Table 1 and at the optimum), inverse_iterations.csv
+  profile  the profile of the cost over --profile-param (the others re-optimised):
+           scripts/data/inverse_profile.csv
+  figure   docs/figures/inverse.png from the CSVs
+
+    python3 scripts/inverse.py [--stages level screen fit profile figure] [--dir studies/inverse]
+    python3 scripts/inverse.py --quick     # the Table 1 point and one neighbour, nothing written
+"""
+import argparse
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from poroplast_tools import inverse as inv
+from poroplast_tools.cases import rank_options, run_cases, scene_values, use_rank_options
+from poroplast_tools.history import history
+from poroplast_tools.levels import CONVERGED_LEVEL, refined_steps
+from poroplast_tools.fit import FitError, fit, stats
+from poroplast_tools.profile import profile
+from poroplast_tools.tables import read_rows, write_rows
+
+ROOT = Path(__file__).resolve().parent
+DATA = ROOT / "data"
+FIGURES = ROOT.parent / "docs" / "figures"
+REFERENCES = DATA / "references.csv"
+
+# The observables the level stage compares, with their converged value in references.csv
+# (case, observable), or a function of two of them.
+def _ref(rows, case, obs):
+    return float(next(r for r in rows if r["case"] == case and r["observable"] == obs)["extrapolated"])
+
+
+LEVEL = {
+    "peak_total": lambda R: _ref(R, "remodel_155", "max:force_total_mg"),
+    "peak_constitutive": lambda R: _ref(R, "remodel_155", "max:force_constitutive_mg"),
+    "t_cross": lambda R: _ref(R, "remodel_155", "zero:probe_p"),
+    "p30": lambda R: _ref(R, "remodel_155", "probe_p@30"),
+    "t_cross_c2": lambda R: _ref(R, "remodel_155_c2", "zero:probe_p"),
+    "p30_c2": lambda R: _ref(R, "remodel_155_c2", "probe_p@30"),
+    "p30_ratio": lambda R: _ref(R, "remodel_155_c2", "probe_p@30") / _ref(R, "remodel_155", "probe_p@30"),
+    "d_peak_total": lambda R: _ref(R, "combined", "λp 1 → 0.1: total-force peak change (mg)"),
+    "d_peak_constitutive": lambda R: _ref(R, "combined", "λp 1 → 0.1: constitutive-force peak change (mg)"),
+    "vm_ratio": lambda R: _ref(R, "remodel_40", "vm_contact/centre@40"),
+}
+OBS = ["peak_total", "peak_constitutive", "share_constitutive", "share_pressure", "t_cross", "t_cross_c2", "p30",
+       "p30_c2", "p30_ratio", "d_peak_total", "d_peak_constitutive", "vm_ratio"]
+
+
+def row_of(name, what, values, obs, extra=None):
+    r = inv.claim_residuals(obs)
+    row = {"point": name, "what": what, **{f"param {n}": values.get(n, p.table1) for n, p in inv.PARAMS.items()}}
+    row.update({k: obs[k] for k in OBS})
+    row.update({f"r {c.id}": x for c, x in zip(inv.CLAIMS, r)})
+    row.update({"cost": inv.cost(r), "reproduced": inv.reproduced(r)})
+    row.update(extra or {})
+    return row
+
+
+def converged_share(root, ranks):
+    """The constitutive and pressure shares of the peak force at the converged level (levels.py:
+    the meridian at h = 10 µm, surface and poles 2 µm, no stabilisation, ⅛ of the steps; not in
+    references.csv), from `remodel_155` run to 6 s: {observable: value}."""
+    steps = [(k, f"{v:g}") for k, v in refined_steps(scene_values("remodel_155")["time"], {}, 0.125)]
+    level = [tuple(s.split("=", 1)) for s in CONVERGED_LEVEL]
+    [(d, r)] = run_cases("remodel_155", [steps + [("time.t_end", "6")]], level + inv.COMMON[1:], root, ranks)
+    if r["status"] != "ok":
+        sys.exit(f"inverse.py: the converged-level run failed: {r.get('error')}")
+    f, fc, fp, _ = inv.peak(history(d))
+    return {"share_constitutive": fc / f, "share_pressure": fp / f}
+
+
+def stage_level(model, out):
+    """The Table 1 point at this level against the converged references."""
+    [(obs, _)] = model.run([{}])
+    walls = dict(model.walls)
+    refs = read_rows(REFERENCES)
+    conv_share = converged_share(model.root, model.ranks)
+    rows = []
+    for k in OBS:
+        conv = LEVEL[k](refs) if k in LEVEL else conv_share.get(k, math.nan)
+        rows.append({"observable": k, "scene_level": obs[k], "converged": conv, "error": obs[k] - conv,
+                     "relative_error": (obs[k] - conv) / conv if conv else math.nan})
+    rows += [{"observable": f"wall_s {run}", "scene_level": w} for run, w in walls.items()]
+    write_rows(out / "inverse_level.csv", rows, ["observable", "scene_level", "converged", "error", "relative_error"])
+    for r in rows:
+        print(f"{r['observable']:22} {r['scene_level']:10.4g} {r.get('converged', math.nan):10.4g} "
+              f"{r.get('error', math.nan):+10.3g}")
+
+
+def screen_points():
+    """(name, what, values, extra overrides) of the one-at-a-time screen."""
+    pts = [("table1", "Table 1 (the base)", {}, [])]
+    for n, p in inv.PARAMS.items():
+        for side, v in (("lo", p.lo), ("hi", p.hi)):
+            pts.append((f"{n}_{side}", f"{n} = {v * p.paper_unit:g} {p.unit}".strip(), {n: v}, []))
+    for n, (what, sets) in inv.CHOICES.items():
+        pts.append((n, what, {}, sets))
+    return pts
+
+
+def stage_screen(model, out, points=None):
+    pts = points or screen_points()
+    got = model.run([v for _, _, v, _ in pts], extra=[e for _, _, _, e in pts])
+    rows = []
+    for (name, what, values, _), g in zip(pts, got):
+        if g is None:
+            rows.append({"point": name, "what": what, "cost": math.nan, "status": "failed"})
+            continue
+        rows.append(row_of(name, what, values, g[0], {"status": "ok"}))
+    fields = list(next(r for r in rows if r.get("status") == "ok"))
+    if out:
+        write_rows(out / "inverse_screen.csv", rows, fields)
+    ids = [c.id for c in inv.CLAIMS]
+    print(f"{'point':20} " + " ".join(f"{i:>6}" for i in ids) + f" {'cost':>8} {'share_c':>8} {'peak':>7}")
+    for r in rows:
+        if r.get("status") != "ok":
+            print(f"{r['point']:20} failed")
+            continue
+        print(f"{r['point']:20} " + " ".join(f"{r['r ' + i]:+6.2f}" for i in ids)
+              + f" {r['cost']:8.2f} {r['share_constitutive']:8.3f} {r['peak_total']:7.2f}")
+    return rows
+
+
+def stage_fit(names, args, out):
+    model = inv.Model(names, args.dir, ranks=args.ranks)
+    x0 = np.log([inv.PARAMS[n].table1 for n in names])
+    opt = fit(model.evaluate, inv.weigh, x0, names, max_it=args.max_it, ftol=1e-3)
+    st = stats(opt, estimated=False)
+    values = model.values(opt.x)
+    [(obs, _)] = model.run([values])
+    [(obs0, _)] = model.run([{}])
+    factors, far = inv.distance(values)
+    prows = []
+    for k, n in enumerate(names):
+        p = inv.PARAMS[n]
+        prows.append({"param": n, "key": p.key, "unit": p.unit, "table1": p.table1 * p.paper_unit,
+                      "fitted": values[n] * p.paper_unit, "factor": factors[n], "lo": p.lo * p.paper_unit,
+                      "hi": p.hi * p.paper_unit, "at_bound": _at_bound(values[n], p),
+                      "sigma_log": st.rel[k], "bounds_why": p.why})
+    write_rows(out / "inverse_fit.csv", prows)
+    crows = []
+    r0, r1 = inv.claim_residuals(obs0), inv.claim_residuals(obs)
+    for c, a, b in zip(inv.CLAIMS, r0, r1):
+        crows.append({"claim": c.id, "what": c.what, "paper": c.paper, "lo": c.lo, "hi": c.hi,
+                      "precision": c.precision, "table1": obs0[c.observable], "r_table1": a,
+                      "fitted": obs[c.observable], "r_fitted": b})
+    for k in ("peak_total", "peak_constitutive", "share_pressure"):
+        crows.append({"claim": "", "what": k, "table1": obs0[k], "fitted": obs[k]})
+    crows.append({"claim": "", "what": "cost (sum of r squared)", "table1": inv.cost(r0), "fitted": inv.cost(r1)})
+    crows.append({"claim": "", "what": "claims reproduced (|r| <= 1)", "table1": inv.reproduced(r0),
+                  "fitted": inv.reproduced(r1)})
+    crows.append({"claim": "", "what": "largest factor from Table 1 (log10)", "table1": 0.0, "fitted": far})
+    write_rows(out / "inverse_claims.csv", crows)
+    write_rows(out / "inverse_iterations.csv", opt.log)
+    print(f"optimum: cost {inv.cost(r1):.3g} (Table 1: {inv.cost(r0):.3g}), {inv.reproduced(r1)} of "
+          f"{len(inv.CLAIMS)} claims within their precision; "
+          + ", ".join(f"{n} = {values[n] * inv.PARAMS[n].paper_unit:.4g}" for n in names)
+          + f"; {model.ran} runs made")
+    return model, opt, st
+
+
+def _at_bound(v, p):
+    return "lo" if v <= p.lo * (1 + inv.SLACK) else "hi" if v >= p.hi * (1 - inv.SLACK) else ""
+
+
+def stage_profile(model, opt, st, names, which, multiples, out):
+    """The cost's profile over `which` (the others re-optimised), on a grid of `multiples` of its
+    log-distance to the nearer bound... in units of its standard error (profile.py)."""
+    k = names.index(which)
+    keep = [n for n in names]
+    st.rel = np.array([e if n == which else 0.0 for n, e in zip(keep, st.rel)])   # profile only `which`
+    prof = profile(model.evaluate, opt, st, names, multiples=multiples, max_it=4)
+    c = prof[which]
+    rows = [{"param": which, "value": math.exp(opt.x[k] + d) * inv.PARAMS[which].paper_unit, "delta_log": d,
+             "cost": cost, "rise": cost - prof.cost0, "status": s}
+            for d, cost, s in sorted(zip(c["delta"], c["cost"], c["status"]))]
+    rows.insert(0, {"param": which, "value": math.exp(opt.x[k]) * inv.PARAMS[which].paper_unit, "delta_log": 0.0,
+                    "cost": opt.cost, "rise": opt.cost - prof.cost0, "status": "optimum"})
+    rows.sort(key=lambda r: r["delta_log"])
+    # every profile point's observables: the best evaluation at that value in the model's log
+    for r in rows:
+        v = r["value"] / inv.PARAMS[which].paper_unit
+        hits = [(vals, obs) for vals, _, obs in model.log if abs(vals[which] / v - 1) < 1e-9]
+        if hits:
+            best = min(hits, key=lambda t: inv.cost(inv.claim_residuals(t[1])))
+            r.update({f"at {n}": best[0][n] * inv.PARAMS[n].paper_unit for n in names})
+            r.update({k2: best[1][k2] for k2 in OBS})
+    write_rows(out / "inverse_profile.csv", rows, list(max(rows, key=len)))
+    print(f"profile of {which}: 95% interval {c['interval95']} ({c['why95']})")
+    return rows
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--dir", type=Path, default=Path("studies/inverse"))
+    ap.add_argument("--stages", nargs="+", default=["level", "screen", "fit", "profile", "figure"],
+                    choices=["level", "screen", "fit", "profile", "figure"])
+    ap.add_argument("--params", nargs="+", default=["k0", "lambda_p", "nu", "kappa", "m0", "c"],
+                    choices=list(inv.PARAMS), help="the parameters fitted")
+    ap.add_argument("--max-it", type=int, default=12)
+    ap.add_argument("--profile-param", default="k0", choices=list(inv.PARAMS))
+    ap.add_argument("--profile-grid", default="1,2,3,4.5,6")
+    ap.add_argument("--quick", action="store_true", help="the Table 1 point and k0 × 2 at this level, "
+                    "printed, nothing written (a test of the pipeline)")
+    rank_options(ap)
+    a = ap.parse_args()
+    use_rank_options(a)
+    a.dir.mkdir(parents=True, exist_ok=True)
+    try:
+        if a.quick:
+            stage_screen(inv.Model([], a.dir, ranks=a.ranks), None,
+                         [("table1", "Table 1", {}, []), ("k0_x2", "k0 × 2", {"k0": 2 * inv.PARAMS["k0"].table1}, [])])
+            return
+        logs = []        # every point run by the stages: inverse_points.csv
+        if "level" in a.stages:
+            stage_level(inv.Model([], a.dir, ranks=a.ranks), DATA)
+        if "screen" in a.stages:
+            m = inv.Model([], a.dir, ranks=a.ranks)
+            stage_screen(m, DATA)
+            logs.append(m.log)
+        if "fit" in a.stages or "profile" in a.stages:
+            model, opt, st = stage_fit(a.params, a, DATA)
+            logs.append(model.log)
+            if "profile" in a.stages:
+                grid = [float(g) for g in a.profile_grid.split(",")]
+                stage_profile(model, opt, st, a.params, a.profile_param, grid, DATA)
+        if logs:
+            rows = inv.point_rows([e for log in logs for e in log])
+            write_rows(DATA / "inverse_points.csv", rows)
+        if "figure" in a.stages:
+            from poroplast_tools.inverseplot import figure
+            figure(DATA, FIGURES / "inverse.png")
+    except FitError as e:
+        sys.exit(f"inverse.py: {e}")
+
+
+if __name__ == "__main__":
+    main()
