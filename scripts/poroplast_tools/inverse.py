@@ -222,32 +222,38 @@ class Model:
         return [n for n, v in values.items() if not PARAMS[n].lo * (1 - SLACK) <= v <= PARAMS[n].hi * (1 + SLACK)]
 
     def run(self, points, replay=None, extra=None):
-        """The observables and histories (None: a run failed) of every point ({name: value}),
-        one sweep; `replay` a list of states whose steps each point's runs take (None: their
-        own), `extra` a list of each point's own overrides (a CHOICES entry's)."""
+        """The observables and state (None: a run failed) of every point ({name: value}), one
+        sweep; `replay` a list of states whose steps each point's runs take (None: their own),
+        `extra` a list of each point's own overrides (a CHOICES entry's). A run whose overrides
+        are its replayed state's (a neighbour in c moves only the c = 2 run) is not run again:
+        its history is the state's. The state: {"values", "histories", "vm_ratio"}."""
         replay = replay or [None] * len(points)
         extra = extra or [[]] * len(points)
-        scenes, cases = [], []
-        for values, rp, more in zip(points, replay, extra):
+        scenes, cases, slots = [], [], []
+        for j, (values, rp, more) in enumerate(zip(points, replay, extra)):
             for run, (scene, own) in RUNS.items():
+                if rp and case_values(run, values) == case_values(run, rp["values"]):
+                    continue
                 steps = [("time.steps", given_steps(rp["histories"][run]))] if rp else []
                 scenes.append(scene)
                 cases.append(own + list(more) + case_values(run, values) + steps)
+                slots.append((j, run))
         counts = {}
-        done = run_cases(scenes, cases, COMMON + self.sets, self.root, self.ranks, counts=counts)
+        done = run_cases(scenes, cases, COMMON + self.sets, self.root, self.ranks, counts=counts) if cases else []
         self.ran += counts.get("ran", 0)
+        got = dict(zip(slots, done))
         out = []
-        for j in range(len(points)):
-            group = dict(zip(RUNS, done[j * len(RUNS):(j + 1) * len(RUNS)]))
-            if any(r["status"] != "ok" for _, r in group.values()):
+        for j, rp in enumerate(replay):
+            group = {run: got.get((j, run)) for run in RUNS}
+            if any(g is not None and g[1]["status"] != "ok" for g in group.values()):
                 out.append(None)
                 continue
-            hs = {run: history(d) for run, (d, _) in group.items()}
-            vm = fields.zone_ratio(group["r40"][0], "von_mises", 40.0)
-            self.walls = {run: r.get("wall_s", math.nan) for run, (_, r) in group.items()}
+            hs = {run: history(g[0]) if g else rp["histories"][run] for run, g in group.items()}
+            vm = fields.zone_ratio(group["r40"][0], "von_mises", 40.0) if group["r40"] else rp["vm_ratio"]
+            self.walls = {run: g[1].get("wall_s", math.nan) for run, g in group.items() if g}
             obs = observables(hs, vm)
             self.log.append((points[j], list(extra[j]), obs))
-            out.append((obs, hs))
+            out.append((obs, {"values": points[j], "histories": hs, "vm_ratio": vm}))
         return out
 
     def evaluate(self, points, what, replay=None):
@@ -264,12 +270,12 @@ class Model:
         for j, g in zip(todo, got):
             if g is None:
                 continue
-            obs, hs = g
+            obs, state = g
             r = claim_residuals(obs)
             if not all(math.isfinite(x) for x in r):
                 continue
             d = np.array([ri * c.bounds()[1] for ri, c in zip(r, CLAIMS)])
-            out[j] = (d, {"x": np.array(points[j]), "histories": hs})
+            out[j] = (d, {**state, "x": np.array(points[j])})
         return out
 
 

@@ -115,7 +115,7 @@ class Runs(unittest.TestCase):
 
         def run(points, replay=None, extra=None):
             asked.extend(points)
-            return [(obs, {"iso": None}) for _ in points]
+            return [(obs, {"values": {}, "histories": {}, "vm_ratio": 1.0}) for _ in points]
         m.run = run
         table1 = math.log(3.7729)
         out = m.evaluate([np.array([table1]), np.array([math.log(1000.0)])], ["a", "b"])
@@ -127,6 +127,27 @@ class Runs(unittest.TestCase):
         np.testing.assert_allclose(d, [-0.25, 2.0, 0.0, 0.25, -3.0, -1.5, -1.0], atol=1e-12)
         np.testing.assert_allclose(inv.weigh(d, 1) * d, [-1.0, 0.4, 0.0, 2.0, -6.0, -3.0, -2.0], atol=1e-12)
         self.assertAlmostEqual(state["x"][0], table1)
+
+    def test_a_neighbour_in_c_runs_only_the_c2_case_on_the_points_steps(self):
+        from unittest import mock
+        t = [0.0, 5.0, 30.0, 50.0]
+        h = hist(t, force_total_mg=[0, 16, 8, 6], force_constitutive_mg=[0, 6, 6, 5], force_pressure_mg=[0, 10, 2, 1],
+                 probe_p=[0, 10, 1, -1])
+        state = {"values": {"c": 2.0}, "histories": {r: h for r in inv.RUNS}, "vm_ratio": 1.5}
+        calls = []
+
+        def run_cases(scenes, cases, sets, root, ranks, counts=None):
+            calls.append(cases)
+            return [("dir", {"status": "ok"}) for _ in cases]
+        with mock.patch.object(inv, "run_cases", run_cases), mock.patch.object(inv, "history", lambda d: h):
+            [(obs, st)] = inv.Model(["c"], "/nonexistent").run([{"c": 2.002}], replay=[state])
+        [cases] = calls
+        self.assertEqual(len(cases), 1)                       # iso, lam and r40 are the state's
+        case = dict(cases[0])
+        self.assertEqual(case["material.permeability_c"], repr(2.002))
+        self.assertEqual(case["time.steps"], "[5.0,30.0,50.0]")  # the point's own steps
+        self.assertEqual(obs["vm_ratio"], 1.5)                 # from the state, not re-read
+        self.assertAlmostEqual(obs["t_cross"], 40.0)
 
     def test_distance_from_table_1(self):
         f, far = inv.distance({"k0": 37.729, "nu": 0.1})
