@@ -20,6 +20,7 @@ them):
   profile  the cost at --profile-factors × Table 1's --profile-param, the other fitted
            parameters re-optimised (fit.py's LM): scripts/data/inverse_profile.csv; every point
            run by the stages of this call: scripts/data/inverse_points.csv
+  check    the fitted point at the converged level beside this level: scripts/data/inverse_check.csv
   figure   docs/figures/inverse.png from the CSVs
   docs     the section's tables in docs/reproduction.md (between their markers) from the CSVs
 
@@ -38,7 +39,7 @@ from poroplast_tools.cases import rank_options, run_cases, scene_values, use_ran
 from poroplast_tools.history import history
 from poroplast_tools.levels import CONVERGED_LEVEL, refined_steps
 from poroplast_tools.fit import FitError, Search, fit, iterate, stats
-from poroplast_tools.profile import ATOL, conditional
+from poroplast_tools.profile import conditional
 from poroplast_tools.tables import read_rows, write_rows
 
 ROOT = Path(__file__).resolve().parent
@@ -107,6 +108,37 @@ def stage_level(model, out):
     for r in rows:
         print(f"{r['observable']:22} {r['scene_level']:10.4g} {r.get('converged', math.nan):10.4g} "
               f"{r.get('error', math.nan):+10.3g}")
+
+
+def stage_check(args, out):
+    """The fitted point (inverse_fit.csv) and Table 1 at the converged level (levels.py: the meridian
+    at h = 10 µm, surface and poles 2 µm, no stabilisation, ⅛ of the steps; the remodel_155 runs
+    to 60 s): inverse_check.csv, each claim's value and residual at both levels."""
+    steps = [f"{k}={v:g}" for k, v in refined_steps(scene_values("remodel_155")["time"], {}, 0.125)]
+    level = [tuple(s.split("=", 1)) for s in CONVERGED_LEVEL + steps]
+    fitted = {r["param"]: float(r["fitted"]) / inv.PARAMS[r["param"]].paper_unit
+              for r in read_rows(out / "inverse_fit.csv")}
+    coarse = inv.Model([], args.dir, ranks=args.ranks)
+    fine = inv.Model([], args.dir, sets=level, ranks=args.ranks, t_end=60)
+    got = fine.run([fitted])
+    [(obs_c, _)] = coarse.run([fitted])
+    if got[0] is None:
+        sys.exit("inverse.py: a run of the fitted point at the converged level failed")
+    obs_f = got[0][0]
+    rows = []
+    for c in inv.CLAIMS:
+        rows.append({"claim": c.id, "what": c.what, "scene_level": obs_c[c.observable],
+                     "r_scene_level": c.residual(obs_c[c.observable]), "converged_level": obs_f[c.observable],
+                     "r_converged_level": c.residual(obs_f[c.observable])})
+    for k in ("peak_total", "peak_constitutive", "share_pressure"):
+        rows.append({"claim": "", "what": k, "scene_level": obs_c[k], "converged_level": obs_f[k]})
+    rc, rf = inv.claim_residuals(obs_c), inv.claim_residuals(obs_f)
+    rows.append({"claim": "", "what": "cost (sum of r squared)", "scene_level": inv.cost(rc), "converged_level": inv.cost(rf)})
+    rows.append({"claim": "", "what": "claims reproduced (|r| <= 1)", "scene_level": inv.reproduced(rc),
+                 "converged_level": inv.reproduced(rf)})
+    write_rows(out / "inverse_check.csv", rows)
+    for r in rows:
+        print(f"{r['claim']:5} {r['what']:45} {r['scene_level']:10.4g} {r['converged_level']:10.4g}")
 
 
 def screen_points():
@@ -188,33 +220,47 @@ def _at_bound(v, p):
 def stage_profile(model, opt, names, which, factors, max_it, out):
     """The profile of the cost over `which` at `factors` × its Table 1 value: at each, the other
     fitted parameters re-optimised by fit.py's LM (`iterate`, the engine of profile.py; all grid
-    points in step, each iteration's neighbours one sweep), from where the linearisation at the
-    optimum puts them (profile.conditional, held within the bounds). profile.py's own walk stops
+    points in step, each iteration's neighbours one sweep), each from the better of two starts
+    as in profile.py: where the linearisation at the optimum puts them (profile.conditional,
+    held within the bounds) and the optimum's values kept. profile.py's own walk stops
     at the 95% threshold, a rise of 3.84; this one goes to the bound, because the question is how
-    far the cost rises where the constitutive share passes 0.5. A point is "converged" when the
-    Gauss–Newton step predicts a decrease below profile.ATOL, else "unconverged" after `max_it`
-    iterations: its cost is then an upper bound of the profile."""
+    far the cost rises where the constitutive share passes 0.5. A point is "converged" when an
+    iteration lowers its cost by less than 0.1% (the main fit's rule), else "unconverged" after
+    `max_it` iterations: its cost is then an upper bound of the profile."""
     k = names.index(which)
     p = inv.PARAMS[which]
-    starts = []
+    # Refused trial steps stall LM here (its steps leave the bounds along ν and σy): a point
+    # outside is run at its projection onto the bounds instead.
+    model.project = True
+    starts, labels = [], []
     for f in factors:
-        x = conditional(opt, k, math.log(f * p.table1) - opt.x[k])
+        delta = math.log(f * p.table1) - opt.x[k]
+        guess = conditional(opt, k, delta)
         for j, n in enumerate(names):
-            x[j] = min(max(x[j], math.log(inv.PARAMS[n].lo)), math.log(inv.PARAMS[n].hi))
-        starts.append(x)
-    got = model.evaluate(starts, [f"profile of {which} × {f:g}: start" for f in factors])
+            guess[j] = min(max(guess[j], math.log(inv.PARAMS[n].lo)), math.log(inv.PARAMS[n].hi))
+        kept = opt.x.copy()
+        kept[k] += delta
+        starts += [guess, kept]
+        labels += [f"profile of {which} × {f:g}: start (linearised)", f"profile of {which} × {f:g}: start (the others kept)"]
+    got = model.evaluate(starts, labels)
+    # A parameter the fit left at a bound stays there (its bound is active: along it the cost is
+    # flat or rising, and LM's steps in a flat direction leave the bounds).
+    values = model.values(opt.x)
+    free = [j for j, n in enumerate(names) if j != k and not _at_bound(values[n], inv.PARAMS[n])]
     searches = []
-    for f, x, g in zip(factors, starts, got):
-        if g is None:
+    for i, f in enumerate(factors):     # each point from the better of its two starts (as profile.py)
+        tried = [(float(g[0] @ (opt.w ** 2 * g[0])), x, g) for x, g in zip(starts[2 * i:2 * i + 2], got[2 * i:2 * i + 2])
+                 if g is not None]
+        if not tried:
             continue
-        searches.append(Search(x.copy(), g[0], g[1], [j for j in range(len(names)) if j != k],
-                               f"profile of {which} × {f:g}"))
-    iterate(model.evaluate, searches, opt.w, names, max_it, ftol=0.0, xtol=1e-7, atol=ATOL, max_trials=4)
+        _, x, g = min(tried, key=lambda t: t[0])
+        searches.append(Search(x.copy(), g[0], g[1], free, f"profile of {which} × {f:g}"))
+    iterate(model.evaluate, searches, opt.w, names, max_it, ftol=1e-3, xtol=1e-5, max_trials=4)
     rows = []
     for s in [None] + searches:
         x, d = (opt.x, opt.d) if s is None else (s.x, s.d)
         values = model.values(x)
-        obs = next(o for v, _, o in reversed(model.log) if all(abs(v[n] / values[n] - 1) < 1e-12 for n in names))
+        obs = next(o for v, _, o in reversed(model.log) if all(abs(v.get(n, math.nan) / values[n] - 1) < 1e-12 for n in names))
         r = inv.claim_residuals(obs)
         status = "optimum" if s is None else "failed" if s.failed else "converged" if s.converged else "unconverged"
         rows.append({"param": which, "factor": values[which] / p.table1, "value": values[which] * p.paper_unit,
@@ -232,15 +278,15 @@ def stage_profile(model, opt, names, which, factors, max_it, out):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--dir", type=Path, default=Path("studies/inverse"))
-    ap.add_argument("--stages", nargs="+", default=["level", "screen", "fit", "profile", "figure", "docs"],
-                    choices=["level", "screen", "fit", "profile", "figure", "docs"])
+    ap.add_argument("--stages", nargs="+", default=["level", "screen", "fit", "profile", "check", "figure", "docs"],
+                    choices=["level", "screen", "fit", "profile", "check", "figure", "docs"])
     ap.add_argument("--params", nargs="+", default=["k0", "lambda_p", "sigma_y", "c", "nu", "kappa"],
                     choices=list(inv.PARAMS), help="the parameters fitted")
-    ap.add_argument("--max-it", type=int, default=12)
+    ap.add_argument("--max-it", type=int, default=10)
     ap.add_argument("--profile-param", default="k0", choices=list(inv.PARAMS))
-    ap.add_argument("--profile-factors", default="2,4,10",
-                    help="the profiled parameter's values, as factors of Table 1's (default 2,4,10: k0's bound)")
-    ap.add_argument("--profile-max-it", type=int, default=3)
+    ap.add_argument("--profile-factors", default="3,10",
+                    help="the profiled parameter's values, as factors of Table 1's (default 3,10: 10 is k0's bound)")
+    ap.add_argument("--profile-max-it", type=int, default=2)
     ap.add_argument("--quick", action="store_true", help="the Table 1 point and k0 × 2 at this level, "
                     "printed, nothing written (a test of the pipeline)")
     rank_options(ap)
@@ -268,6 +314,8 @@ def main():
         if logs:
             rows = inv.point_rows([e for log in logs for e in log])
             write_rows(DATA / "inverse_points.csv", rows)
+        if "check" in a.stages:
+            stage_check(a, DATA)
         if "figure" in a.stages:
             from poroplast_tools.inverse_report import figure
             figure(DATA, FIGURES / "inverse.png")

@@ -103,9 +103,9 @@ PARAMS = {p.name: p for p in [
     Param("k0", "material.k0", 3.7729, 0.37729, 37.729, 1e-3, "mm⁴/(N s)",
           "a decade either side of Table 1 (the paper itself runs 2.58e-4 to 3.77e-3)"),
     Param("kappa", "material.kappa", 4.638, 0.05, 6.0, 1.0, "",
-          "Table 1's κ and Holmes–Mow's (0.0848: Table 1 may have swapped κ and M)"),
+          "Table 1's κ and its M (0.0848: the two exponents the other way round), ×1.3 and ×0.6"),
     Param("m0", "material.m0", 0.0848, 0.05, 6.0, 1.0, "",
-          "Table 1's M and Holmes–Mow's (4.638)"),
+          "Table 1's M and its κ (4.638), ×0.6 and ×1.3"),
     Param("lambda_p", "material.remodelling.lambda_p", 0.001, 0.0001, 0.01, 1e3, "(MPa s)⁻¹",
           "the paper's own range (0.1-1) and a decade faster"),
     Param("sigma_y", "material.remodelling.sigma_y", 2.0, 0.5, 8.0, 1.0, "kPa", "the paper's 1-4 kPa, ×2 wider"),
@@ -121,7 +121,7 @@ CHOICES = {
     "form_40a": ("(40a)'s flow rule (the rate with the 1/J factor)", [("material.remodelling.form", '"40a"')]),
     "no_settling": ("no settling (gravity off)", [("material.gravity", "[0.0, 0.0, 0.0]")]),
     "stabilisation_off": ("no pressure stabilisation", [("fem.stabilisation", "0")]),
-    "exponents_swapped": ("κ and M as Holmes–Mow have them (κ = 0.0848, M = 4.638)",
+    "exponents_swapped": ("Table 1's κ and M the other way round (κ = 0.0848, M = 4.638)",
                           [("material.kappa", "0.0848"), ("material.m0", "4.638")]),
     "plates_permeable": ("permeable plates: Table 1's k_β through 1 µm",
                          [("plates.permeability", "3.7729e-4"), ("plates.thickness", "1")]),
@@ -207,15 +207,21 @@ class Model:
     """fit.py's model: points in log space of the parameters `names`, each the four RUNS with
     `sets` (the level, the choices) after COMMON; one batch one sweep in the case store `root`."""
 
-    def __init__(self, names, root, sets=(), ranks=2, base=None):
+    def __init__(self, names, root, sets=(), ranks=2, base=None, t_end=None):
         self.names, self.root, self.sets, self.ranks = list(names), root, list(sets), ranks
+        self.t_end = t_end               # the remodel_155 runs' end (s), if not RUNS' own
+        self.project = False             # a point outside the bounds: refused (a failed step), or run at its projection
         self.base = dict(base or {})     # the values of the parameters not fitted (scene units)
         self.ran = 0
         self.walls = {}                  # the last point's runs' wall times (s), as their sweep measured them
         self.log = []                    # every point run: (values, its own overrides, observables)
 
     def values(self, x):
-        return {**self.base, **{n: math.exp(v) for n, v in zip(self.names, x)}}
+        if self.project:     # the point's projection onto the bounds
+            return {**self.base, **{n: min(max(math.exp(min(v, 700.0)), PARAMS[n].lo), PARAMS[n].hi)
+                                    for n, v in zip(self.names, x)}}
+        # a wild LM trial (a flat direction) can reach any log value: clipped, it is refused as outside
+        return {**self.base, **{n: math.exp(min(max(v, -700.0), 700.0)) for n, v in zip(self.names, x)}}
 
     def outside(self, values):
         """The parameters of `values` outside their bounds (by more than a finite-difference step)."""
@@ -232,6 +238,8 @@ class Model:
         scenes, cases, slots = [], [], []
         for j, (values, rp, more) in enumerate(zip(points, replay, extra)):
             for run, (scene, own) in RUNS.items():
+                if self.t_end and scene == "remodel_155":
+                    own = [(k, str(self.t_end) if k == "time.t_end" else v) for k, v in own]
                 if rp and case_values(run, values) == case_values(run, rp["values"]):
                     continue
                 steps = [("time.steps", given_steps(rp["histories"][run]))] if rp else []

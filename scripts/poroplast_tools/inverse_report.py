@@ -184,11 +184,22 @@ def level_table(data):
     return "\n".join(lines) + "\n"
 
 
+def check_table(data):
+    """The fitted point at the scene level and at the converged level, claim by claim."""
+    lines = ["| claim | what | this level | r | converged level | r |", "|---|---|---|---|---|---|"]
+    for r in read_rows(data / "inverse_check.csv"):
+        rs = [_r(r["r_scene_level"]), _r(r["r_converged_level"])] if r["claim"] else ["", ""]
+        lines.append(f"| {r['claim']} | {OBS_NAMES.get(r['what'], r['what'])} | {_g(r['scene_level'], 4)} | {rs[0]} | "
+                     f"{_g(r['converged_level'], 4)} | {rs[1]} |")
+    return "\n".join(lines) + "\n"
+
+
 # name -> (begin marker, end marker, renderer) of the page's generated inverse tables
 TABLES = {name: (f"<!-- inverse {name} table: written by scripts/inverse.py --stages docs; do not edit -->",
                  f"<!-- end of the inverse {name} table -->", fn)
           for name, fn in (("claims", claims_table), ("screen", screen_table), ("fit", fit_table),
-                           ("profile", profile_table), ("level", level_table))}
+                           ("profile", profile_table), ("level", level_table),
+                           ("check", check_table))}
 
 
 def write_tables(text, data):
