@@ -19,7 +19,7 @@ them):
            inverse_claims.csv (each claim at Table 1 and at the optimum), inverse_iterations.csv
   profile  the cost at --profile-factors × Table 1's --profile-param, the other fitted
            parameters re-optimised (fit.py's LM): scripts/data/inverse_profile.csv; every point
-           run by the stages of this call: scripts/data/inverse_points.csv
+           run by the screen, fit and profile (when all three run): scripts/data/inverse_points.csv
   check    the fitted point at the converged level beside this level: scripts/data/inverse_check.csv
   figure   docs/figures/inverse.png from the CSVs
   docs     the section's tables in docs/reproduction.md (between their markers) from the CSVs
@@ -134,7 +134,7 @@ def stage_check(args, out):
         rows.append({"claim": "", "what": k, "scene_level": obs_c[k], "converged_level": obs_f[k]})
     rc, rf = inv.claim_residuals(obs_c), inv.claim_residuals(obs_f)
     rows.append({"claim": "", "what": "cost (sum of r squared)", "scene_level": inv.cost(rc), "converged_level": inv.cost(rf)})
-    rows.append({"claim": "", "what": "claims reproduced (|r| <= 1)", "scene_level": inv.reproduced(rc),
+    rows.append({"claim": "", "what": "claims within the paper's precision", "scene_level": inv.reproduced(rc),
                  "converged_level": inv.reproduced(rf)})
     write_rows(out / "inverse_check.csv", rows)
     for r in rows:
@@ -201,7 +201,7 @@ def stage_fit(names, args, out):
     for k in ("peak_total", "peak_constitutive", "share_pressure"):
         crows.append({"claim": "", "what": k, "table1": obs0[k], "fitted": obs[k]})
     crows.append({"claim": "", "what": "cost (sum of r squared)", "table1": inv.cost(r0), "fitted": inv.cost(r1)})
-    crows.append({"claim": "", "what": "claims reproduced (|r| <= 1)", "table1": inv.reproduced(r0),
+    crows.append({"claim": "", "what": "claims within the paper's precision", "table1": inv.reproduced(r0),
                   "fitted": inv.reproduced(r1)})
     crows.append({"claim": "", "what": "largest factor from Table 1 (log10)", "table1": 0.0, "fitted": far})
     write_rows(out / "inverse_claims.csv", crows)
@@ -258,7 +258,8 @@ def stage_profile(model, opt, names, which, factors, max_it, out):
     iterate(model.evaluate, searches, opt.w, names, max_it, ftol=1e-3, xtol=1e-5, max_trials=4)
     rows = []
     for s in [None] + searches:
-        x, d = (opt.x, opt.d) if s is None else (s.x, s.d)
+        x = opt.x if s is None else s.x
+        model.project = s is not None     # the optimum as the fit ran it
         values = model.values(x)
         obs = next(o for v, _, o in reversed(model.log) if all(abs(v.get(n, math.nan) / values[n] - 1) < 1e-12 for n in names))
         r = inv.claim_residuals(obs)
@@ -311,7 +312,7 @@ def main():
             if "profile" in a.stages:
                 factors = [float(f) for f in a.profile_factors.split(",")]
                 stage_profile(model, opt, a.params, a.profile_param, factors, a.profile_max_it, DATA)
-        if logs:
+        if "screen" in a.stages and "profile" in a.stages:   # every point of the screen, fit and profile
             rows = inv.point_rows([e for log in logs for e in log])
             write_rows(DATA / "inverse_points.csv", rows)
         if "check" in a.stages:

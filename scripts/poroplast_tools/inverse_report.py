@@ -17,12 +17,15 @@ def _f(v):
 
 def figure(data, path):
     import matplotlib
+    import matplotlib.ticker
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     screen = [r for r in read_rows(data / "inverse_screen.csv") if r.get("status") == "ok"]
     claims = read_rows(data / "inverse_claims.csv") if (data / "inverse_claims.csv").exists() else []
     fitted = {r["claim"]: _f(r["r_fitted"]) for r in claims if r["claim"]}
+    check = read_rows(data / "inverse_check.csv") if (data / "inverse_check.csv").exists() else []
+    fine = {r["claim"]: _f(r["r_converged_level"]) for r in check if r["claim"]}
     prof = read_rows(data / "inverse_profile.csv") if (data / "inverse_profile.csv").exists() else []
     points = read_rows(data / "inverse_points.csv") if (data / "inverse_points.csv").exists() else []
 
@@ -40,6 +43,9 @@ def figure(data, path):
         ax.plot(clip(base), y, "ko", label="Table 1" if y == 0 else None)
         if c.id in fitted and math.isfinite(fitted[c.id]):
             ax.plot(clip(fitted[c.id]), y, "D", color="tab:red", label="the fit" if y == 0 else None)
+        if c.id in fine and math.isfinite(fine[c.id]):
+            ax.plot(clip(fine[c.id]), y, "D", mfc="none", color="tab:red", ms=9,
+                    label="the fit, converged level" if y == 0 else None)
         if abs(base) > 12:
             ax.annotate(f"{base:+.0f}", (clip(base), y), textcoords="offset points", xytext=(-4, 6), fontsize=8)
     ax.axvspan(-1, 1, color="tab:green", alpha=0.15, label="within the paper's precision")
@@ -59,6 +65,7 @@ def figure(data, path):
         ax.semilogx(xs, [_f(r["cost"]) for r in prof], "o-", color="k", label="cost Σ r² (others re-fitted)")
         ax.axvline(p.table1 * p.paper_unit, color="0.5", ls=":", label="Table 1")
         ax.set_xlabel(f"{name} ({p.unit})" if p.unit else name)
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.set_ylabel("cost Σ r²")
         ax.set_yscale("log")
         tw = ax.twinx()
@@ -67,6 +74,8 @@ def figure(data, path):
         tw.axhline(0.5, color="tab:blue", lw=0.8, alpha=0.5)
         tw.set_ylabel("constitutive share of the peak", color="tab:blue")
         tw.set_ylim(0, 1)
+        for a in (ax, tw):
+            a.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         h1, l1 = ax.get_legend_handles_labels()
         h2, l2 = tw.get_legend_handles_labels()
         ax.legend(h1 + h2, l1 + l2, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=1)

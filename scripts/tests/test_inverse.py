@@ -158,3 +158,17 @@ class Runs(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class Page(unittest.TestCase):
+    """The page's generated inverse tables (no solver: the committed CSVs)."""
+
+    def test_the_pages_inverse_tables_are_as_the_committed_csvs_render_them(self):
+        from pathlib import Path
+        from poroplast_tools import inverse_report
+        root = Path(__file__).resolve().parents[2]
+        page = (root / "docs" / "reproduction.md").read_text(encoding="utf-8")
+        for name, (begin, end, _) in inverse_report.TABLES.items():
+            self.assertIn(begin, page, f"the inverse {name} table's markers are missing")
+        self.assertEqual(page, inverse_report.write_tables(page, root / "scripts" / "data"),
+                         "docs/reproduction.md's inverse tables are stale: python3 scripts/inverse.py --stages docs")
