@@ -292,6 +292,21 @@ def main():
                     "printed, nothing written (a test of the pipeline)")
     rank_options(ap)
     a = ap.parse_args()
+    if "profile" in a.stages and a.profile_param not in a.params:
+        sys.exit(f"inverse.py: --profile-param {a.profile_param} is not fitted: add it to --params "
+                 f"({' '.join(a.params)})")
+    try:
+        factors = [float(f) for f in a.profile_factors.split(",")]
+    except ValueError:
+        sys.exit(f"inverse.py: --profile-factors {a.profile_factors}: expected numbers separated by commas, e.g. 3,10")
+    if not all(f > 0 for f in factors):
+        sys.exit(f"inverse.py: --profile-factors {a.profile_factors}: the factors must be positive")
+    needs = {"check": "inverse_fit.csv", "figure": "inverse_screen.csv", "docs": "inverse_screen.csv"}
+    for stage, name in needs.items():
+        made = {"inverse_fit.csv": "fit", "inverse_screen.csv": "screen"}[name]
+        if stage in a.stages and made not in a.stages and not (DATA / name).exists():
+            sys.exit(f"inverse.py: the {stage} stage needs scripts/data/{name}: run the {made} stage first "
+                     f"(--stages {made} {stage})")
     use_rank_options(a)
     a.dir.mkdir(parents=True, exist_ok=True)
     try:
@@ -310,7 +325,6 @@ def main():
             model, opt, st = stage_fit(a.params, a, DATA)
             logs.append(model.log)
             if "profile" in a.stages:
-                factors = [float(f) for f in a.profile_factors.split(",")]
                 stage_profile(model, opt, a.params, a.profile_param, factors, a.profile_max_it, DATA)
         if "screen" in a.stages and "profile" in a.stages:   # every point of the screen, fit and profile
             rows = inv.point_rows([e for log in logs for e in log])
