@@ -3,6 +3,8 @@
 //! `tests/architecture.rs`, `tests/petsc_layer.rs` and `tests/tutorial.rs` stay binaries of
 //! their own (no MPI launch; the tutorial in the slow tier).
 
+#[path = "accuracy_line.rs"]
+mod accuracy_line;
 #[path = "axisymmetric.rs"]
 mod axisymmetric;
 #[path = "bad_input.rs"]

@@ -309,8 +309,9 @@ fn assert_full_matches_quarter(name: &str, quarter: &Path, full_edits: &[(&str, 
     assert!(max_abs_diff(&hq.col("fluid_volume")[..n], &hf.col("fluid_volume")) < 1e-8 * v0);
 }
 
-/// The stabilisation at full weight (see [`assert_full_matches_quarter`]).
-const CONSTANT: (&str, &str) = ("stabilisation_fade = 0.03", "stabilisation_fade = 1e9");
+/// The stabilisation at full weight (see [`assert_full_matches_quarter`]): faded by neither the
+/// drainage nor the steps' growth.
+const CONSTANT: (&str, &str) = ("stabilisation_fade = 0.03", "stabilisation_fade = 1e9\nstabilisation_steps = 1e9");
 
 /// The coarse quarter with the constant stabilisation through the ramp (to 2 s), run once per
 /// test process: the run directory (the default tier's full-sphere comparisons read it).

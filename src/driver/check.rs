@@ -33,7 +33,7 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc:
         let mesh = run.ts.problem().mesh();
         let warning = run.setup.ellipticity.as_ref().map(|w| format!("\nwarning: {w}")).unwrap_or_default();
         let s = &scene.scene;
-        let accuracy = resolved::accuracy_class(s, mesh.family).map(|a| format!("\n{a}")).unwrap_or_default();
+        let accuracy = resolved::accuracy_class(&run).map(|a| format!("\n{a}")).unwrap_or_default();
         let moduli = resolved::moduli(s).map(|m| format!("\n{m}")).unwrap_or_default();
         Ok(format!(
             "{}: ok — mesh {} ({} {}, {} nodes, {} vertices; {} dofs), first step taken\n{}\n{}{moduli}{accuracy}{warning}",

@@ -95,7 +95,7 @@ impl<'w> Run<'w> {
         if let Some(m) = super::resolved::moduli(s) {
             self.say(&m);
         }
-        if let Some(a) = super::resolved::accuracy_class(s, mesh.family) {
+        if let Some(a) = super::resolved::accuracy_class(self) {
             self.say(&a);
         }
         self.say(&self.setup.solver_line);

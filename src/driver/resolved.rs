@@ -6,7 +6,8 @@
 //! The classes are measured errors of the peak force and of F(35 s) of the `reference` and
 //! `remodel_40` experiments against their converged meridian values, kept with the chart's data
 //! (`scripts/data/accuracy_classes.toml`, read by `scene::auto`); other plate scenes are classed
-//! by the same relative mesh size h/R, which is a guide, not a bound.
+//! only inside the domain of scenes each class was measured in (the drainage c_v t_ramp / R²,
+//! the compression, the steps through the ramp, the stabilisation); outside it the line says so.
 
 use crate::reference_cell::Family;
 use crate::scene::{auto, Element, Geometry, Grading, HolmesMowSpec, Material, Scene, SolidSpec};
@@ -25,24 +26,77 @@ pub(super) fn discretisation(scene: &Scene, family: Family, n_cells: usize) -> S
     format!("discretisation: {element} on {n_cells} curved {}; mesh {source}{params}{mirror}", family.cells_name())
 }
 
-/// The expected accuracy of the plate force for this discretisation (plate scenes on a sphere
-/// `.geo` with R and h; None otherwise): the measured class (`scene::auto::Chart`).
-pub(super) fn accuracy_class(scene: &Scene, family: Family) -> Option<String> {
-    scene.plates.as_ref()?;
+/// The expected accuracy of the plate force of a run (plate scenes on a sphere `.geo` with R
+/// and h; None otherwise): the measured class of its discretisation if the scene lies in the
+/// domain that class was measured in (`scene::auto::Class::outside`), else a line that says
+/// which group is outside and how to measure the run's own observables.
+pub(super) fn accuracy_class(run: &super::run::Run) -> Option<String> {
+    let s = &run.scene.scene;
+    let model = run.ts.problem().model();
+    let c_v = model.conductivity() * model.p_wave_modulus();
+    // The steps through the ramp: the run's schedule (kinks, landings, cap), ending there.
+    let ramp = s.plates.as_ref()?.protocol().ramp;
+    if !ramp.is_finite() {
+        return None;
+    }
+    let mut through_ramp = run.schedule.clone();
+    through_ramp.t_end = ramp;
+    let ramp_steps = through_ramp.remaining(0.0, through_ramp.dt0);
+    accuracy_line(s, run.ts.problem().mesh().family, c_v, ramp_steps)
+}
+
+/// `accuracy_class` given the scene's reference consolidation coefficient c_v = k0 (λ + 2µ)
+/// (µm²/s) and the steps its schedule takes through the ramp.
+pub(super) fn accuracy_line(scene: &Scene, family: Family, c_v: f64, ramp_steps: usize) -> Option<String> {
+    let plates = scene.plates.as_ref()?;
     let p = &scene.mesh.params;
-    let h_over_r = p.get("h")? / p.get("R")?;
+    let radius = *p.get("R")?;
+    let h_over_r = p.get("h")? / radius;
     let remodelling = match &scene.material {
         Material::HolmesMow(HolmesMowSpec { remodelling: Some(r), .. }) => Some(r.integrator),
         _ => None,
     };
     let geometry = if family.axisymmetric() { Geometry::Axisymmetric } else { Geometry::Solid };
     let element = if scene.fem.equal_order() { Element::P1P1 } else { Element::P2P1 };
+    let protocol = plates.protocol();
+    let hold_end = protocol.ends()[1];
+    let hold = if hold_end <= scene.time.t_end {
+        format!("F({} s)", crate::io::fmt_significant(hold_end, 6))
+    } else {
+        "F(end)".to_string()
+    };
+    // As setup uses them: P1–P1 keeps the constant weight whatever the fade.
+    let stabilisation = if scene.fem.stabilisation == Some(0.0) {
+        auto::Stabilisation::Off
+    } else if scene.fem.stabilisation_fade.is_some() && !scene.fem.equal_order() {
+        auto::Stabilisation::Faded
+    } else {
+        auto::Stabilisation::Constant
+    };
+    let domain = auto::Domain {
+        drainage: c_v * protocol.ramp / (radius * radius),
+        compression: plates.compression(),
+        ramp_steps,
+        stabilisation,
+    };
     // Loading the scene parsed the chart, so it is there.
-    let c = auto::chart().ok()?.class_of(geometry, element, remodelling, h_over_r)?;
-    Some(format!(
-        "expected accuracy (plate force, h/R = {h_over_r:.2}): {} [{}; docs/performance.md]",
-        c.class, c.basis
-    ))
+    let class = auto::chart().ok()?.class_of(geometry, element, remodelling, h_over_r, &domain)?;
+    // The chart measured ramp-hold-release compressions without surface tension.
+    let class = if plates.table.is_some() {
+        Err("a plates.table loading; measured on ramp-hold-release compressions".to_string())
+    } else if scene.surface.is_some() {
+        Err("surface tension; measured without".to_string())
+    } else {
+        class
+    };
+    let head = format!("expected accuracy (plate force, h/R = {h_over_r:.2})");
+    Some(match class {
+        Ok(c) => format!("{head}: {} [{}; docs/performance.md]", c.class.replace("{hold}", &hold), c.basis),
+        Err(why) => format!(
+            "{head}: none measured for this scene ({why}); measure its peak force and {hold} with \
+             scripts/convergence_study.py (docs/howto-publication.md)"
+        ),
+    })
 }
 
 /// The moduli of a mixture given by (µ, ν), however the scene named them: the solid's µ, which

@@ -8,7 +8,7 @@ use super::state::StepState;
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::tabulate_cell;
-use crate::fem::kernel::Stabilisation;
+use crate::fem::kernel::{Fade, Stabilisation, STEP_FADE};
 use crate::fem::point::PointModel;
 use crate::fem::quadrature;
 use crate::io::checkpoint::FileLayout;
@@ -300,7 +300,9 @@ impl<'w> Run<'w> {
         let n_global_dofs = dofs.n_global;
         let fields = solver::Fields::new(world, &dofs, &local)?;
         let c = s.fem.stabilisation.unwrap_or(DEFAULT_STABILISATION);
-        let stabilisation = Stabilisation::new(c, stabilisation_fade(s, &mut solver_line), model.as_ref());
+        let steps = s.fem.stabilisation_steps.unwrap_or(STEP_FADE);
+        let fade = stabilisation_fade(s, &mut solver_line).map(|tau0| Fade { tau0, dt0: s.time.dt, steps });
+        let stabilisation = Stabilisation::new(c, fade, model.as_ref());
         let tab = tabulate_cell(local.family, &q);
         let mut problem = PoroProblem::new(
             world.duplicate(),

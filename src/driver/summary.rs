@@ -350,7 +350,6 @@ impl<'w> Run<'w> {
     /// `summary.toml` and printed; None on the other ranks.
     pub(super) fn summarise(&self, dir: &Path, wall_s: f64, steps: usize, t: f64) -> Result<Option<Summary>> {
         let s = &self.scene.scene;
-        let family = self.ts.problem().mesh().family;
         let pressure = self.observers.pressure_peak;
         crate::parallel::on_root(self.world, || {
             let h = observable::read_history(dir)
@@ -360,7 +359,7 @@ impl<'w> Run<'w> {
                 steps,
                 t,
                 wall_s,
-                accuracy: super::resolved::accuracy_class(s, family),
+                accuracy: super::resolved::accuracy_class(self),
                 plates: s.plates.as_ref().and_then(|p| {
                     let holds = holds::holds(&p.path(), s.time.t_end);
                     PlateSummary::of(&h, p.protocol(), &holds, Tensiometry::of(s))

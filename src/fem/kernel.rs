@@ -153,28 +153,54 @@ pub struct ElementKernel<'a, C: CellShape> {
     pub family: PhantomData<C>,
 }
 
-/// The pressure stabilisation of a run: c_s and how it fades once a step resolves the drainage.
+/// The pressure stabilisation of a run: c_s and how it fades.
 ///
-/// Why fade: the term is needed where a step's drainage layer, of width √(c_v Δt), is thinner
-/// than an element; it costs accuracy everywhere else (an artificial storage of the sub-element
-/// pressure modes: Cryer's centre-pressure peak 2.2% low on its default mesh with the constant
-/// term, 0.4% without it). The weight is c_s (1 − (τ/τ₀)²)₊, τ = c_v Δt / h²: quadratic, so that
-/// at Δt → 0 it stays the exact lumping (a linear fade let the undrained first step overshoot
-/// by 5e-6).
+/// Why fade: the term is needed for the undrained jump a step makes where its drainage layer,
+/// of width √(c_v Δt), is thinner than an element; it costs accuracy everywhere else (an
+/// artificial storage of the sub-element pressure modes: Cryer's centre-pressure peak 2.2% low on
+/// its default mesh with the constant term, 0.4% without it). Where the whole loading is
+/// undrained at the element's scale (c_v t_load / h² ≪ 1: a soft or a large aggregate), that
+/// storage is a fixed compliance of the elements at drained boundaries, and the plate force is
+/// low by it in proportion to the part of the load taken while the term acts (3.2% of the peak
+/// of a soft aggregate that kept it through its ramp). So the weight is c_s (1 − r²)₊ with r
+/// the larger of τ/τ₀, τ = c_v Δt / h² (the step resolves the drainage), and
+/// (Δt/Δt₀ − 1)/(s − 1) (the steps have grown since the kink, where the schedule restarts them
+/// at Δt₀): full weight at the first step after each kink, gone once the steps are s times
+/// longer, whatever c_v. Quadratic, so that at Δt → 0 it stays the exact lumping
+/// (a linear fade let the undrained first step overshoot by 5e-6).
 #[derive(Clone, Copy, Debug)]
 pub struct Stabilisation {
     /// c_s = c / (λ + 2µ) as Δt → 0 (0: off).
     pub c_s: f64,
-    /// τ₀ of the fade (None: constant weight).
-    pub fade: Option<f64>,
+    /// How the weight fades (None: constant weight).
+    pub fade: Option<Fade>,
     /// The consolidation coefficient c_v = k (λ + 2µ) of the reference state (µm²/s).
     pub c_v: f64,
 }
 
+/// The fade of the stabilisation: by the step's drainage (τ₀) and by the steps' growth since a
+/// kink (Δt₀, the first step after one; gone at Δt = `steps` Δt₀).
+#[derive(Clone, Copy, Debug)]
+pub struct Fade {
+    /// τ₀: gone from c_v Δt / h² = τ₀ on.
+    pub tau0: f64,
+    /// Δt₀: the schedule's first step after a kink (`time.dt`).
+    pub dt0: f64,
+    /// The growth Δt/Δt₀ at which it is gone (`fem.stabilisation_steps`, default `STEP_FADE`).
+    pub steps: f64,
+}
+
+/// The default growth of the steps since a kink, Δt/Δt₀, at which the faded weight is gone:
+/// 8 keeps it through the first eight to ten steps of the shipped growth (1.25–1.3). A soft
+/// aggregate's peak then costs it 0.02% (the fade by drainage alone: 2.8%); with 4 PETSc's
+/// reduced-space VI Newton had to cut a step early in a hold that it takes whole with 8
+/// (docs/decisions/0012-stabilisation-fade-by-steps.md).
+pub const STEP_FADE: f64 = 8.0;
+
 impl Stabilisation {
-    /// c (the weight as Δt → 0, relative to the model's P-wave modulus) and the fade τ₀ (None:
+    /// c (the weight as Δt → 0, relative to the model's P-wave modulus) and the fade (None:
     /// constant), with the model's reference consolidation coefficient.
-    pub fn new(c: f64, fade: Option<f64>, model: &dyn PointModel) -> Stabilisation {
+    pub fn new(c: f64, fade: Option<Fade>, model: &dyn PointModel) -> Stabilisation {
         let m = model.p_wave_modulus();
         Stabilisation { c_s: c / m, fade, c_v: model.conductivity() * m }
     }
@@ -183,9 +209,10 @@ impl Stabilisation {
     /// regular cell of that volume (or area, on the meridian).
     pub fn weight<C: CellShape>(&self, m: f64, dt: f64) -> f64 {
         match self.fade {
-            Some(tau0) if dt > 0.0 => {
-                let h2 = C::h2(m);
-                let r = self.c_v * dt / (h2 * tau0);
+            Some(Fade { tau0, dt0, steps }) if dt > 0.0 => {
+                let drained = self.c_v * dt / (C::h2(m) * tau0);
+                let grown = (dt / dt0 - 1.0) / (steps - 1.0);
+                let r = drained.max(grown);
                 self.c_s * (1.0 - r * r).max(0.0)
             }
             _ => self.c_s,

@@ -12,10 +12,12 @@
 //! - the element Jacobian (with remodelling, the faded stabilisation, and on tetrahedra the
 //!   equal-order ties) against central differences of the element residual, U̇ moving with
 //!   shift × the perturbation as the time integrator's does.
+//! - the stabilisation's faded weight: full at the first step after a kink, gone once the steps
+//!   have grown, for a slowly draining (soft) aggregate as for a stiff one.
 
 use crate::fem::cell::{CellShape, Tet10, Tri6Axi};
 use crate::fem::element::{tabulate_cell, ElementMatrix, MAX_DOF};
-use crate::fem::kernel::{CellKernel, ElementInput, ElementKernel, ElementValues, Stabilisation};
+use crate::fem::kernel::{CellKernel, ElementInput, ElementKernel, ElementValues, Fade, Stabilisation};
 use crate::fem::point::{PointModel, PointState, QpId, QpState};
 use crate::fem::quadrature;
 use crate::material::tensor::to_sym6;
@@ -231,7 +233,7 @@ fn jacobian_defect<C: CellShape>(equal_order: bool, remodelling: bool) -> f64 {
     let committed = if n == 0 { Vec::new() } else { committed };
     let (dt, shift) = (0.5, 2.0);
     // A faded weight that is not yet zero at this step and cell size.
-    let stab = Stabilisation::new(0.5, Some(1e3), &model);
+    let stab = Stabilisation::new(0.5, Some(Fade { tau0: 1e3, dt0: 0.25, steps: 4.0 }), &model);
     let k = kernel::<C>(&model, &tab, &q.points, stab, equal_order);
     let mut values = affine::<C>(&x, &Matrix3::zeros(), &Matrix3::zeros(), 0.0, &Vector3::zeros(), [0.0; 4]);
     for a in 0..C::NN {
@@ -293,4 +295,30 @@ fn element_jacobian_matches_central_differences() {
         println!("{name}: largest relative column error {e:.1e}");
         assert!(e < 1e-6, "{name}: element Jacobian off by {e:.1e}");
     }
+}
+
+/// The area of the meridian triangle of edge h.
+fn area(h: f64) -> f64 {
+    3f64.sqrt() / 4.0 * h * h
+}
+
+#[test]
+fn the_fade_is_full_at_a_kink_and_gone_once_the_steps_have_grown_whatever_c_v() {
+    let fade = Some(Fade { tau0: 0.03, dt0: 0.02, steps: 4.0 });
+    // A soft aggregate's bulk element (c_v = 6.1 µm²/s, h = 44 µm): c_v Δt / h² stays below
+    // τ₀ for any step of its ramp, so the drainage alone never faded the term.
+    let soft = Stabilisation { c_s: 1.0, fade, c_v: 6.1 };
+    let m = area(44.0);
+    let first = 1.0 - (6.1f64 * 0.02 / (44.0 * 44.0 * 0.03)).powi(2);
+    assert!((soft.weight::<Tri6Axi>(m, 0.02) - first).abs() < 1e-12 && first > 0.999_99, "first step");
+    assert!(soft.weight::<Tri6Axi>(m, 0.01) > 0.999_99, "a cut step keeps the full weight");
+    assert!((soft.weight::<Tri6Axi>(m, 0.04) - (1.0 - 1.0 / 9.0)).abs() < 1e-6, "Δt = 2 Δt₀: r = 1/3");
+    assert_eq!(soft.weight::<Tri6Axi>(m, 0.08), 0.0, "gone at Δt = 4 Δt₀");
+    assert_eq!(soft.weight::<Tri6Axi>(m, 2.0), 0.0);
+    // A stiff one's pole element (c_v = 120 µm²/s, h = 3 µm): the drainage fades it first.
+    let stiff = Stabilisation { c_v: 120.0, ..soft };
+    assert_eq!(stiff.weight::<Tri6Axi>(area(3.0), 0.02), 0.0);
+    // Without a fade, constant.
+    let constant = Stabilisation { fade: None, ..soft };
+    assert_eq!(constant.weight::<Tri6Axi>(m, 2.0), 1.0);
 }

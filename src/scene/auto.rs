@@ -30,7 +30,8 @@ pub struct Chart {
     pub class: Vec<Class>,
 }
 
-/// One accuracy class and the discretisations it holds for.
+/// One accuracy class, the discretisations it holds for and the domain of scenes it was
+/// measured in.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Class {
@@ -44,10 +45,76 @@ pub struct Class {
     /// The largest h/R (any if absent).
     #[serde(default)]
     pub max_h_over_r: Option<f64>,
-    /// What to expect of the plate force.
+    /// The range of c_v t_ramp / R² measured (any if absent).
+    #[serde(default)]
+    pub drainage: Option<[f64; 2]>,
+    /// The range of the compression ũ measured (any if absent).
+    #[serde(default)]
+    pub compression: Option<[f64; 2]>,
+    /// The fewest steps through the ramp measured (any if absent).
+    #[serde(default)]
+    pub min_ramp_steps: Option<usize>,
+    /// The stabilisations measured (any if absent).
+    #[serde(default)]
+    pub stabilisation: Option<Vec<Stabilisation>>,
+    /// What to expect of the plate force; `{hold}` stands for the force at the end of the
+    /// scene's hold, F(t) with its own t.
     pub class: String,
     /// What it was measured on.
     pub basis: String,
+}
+
+/// The pressure stabilisation of a scene, as the chart tells them apart.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Stabilisation {
+    /// At full weight in every step (`fem.stabilisation_fade` absent).
+    Constant,
+    /// Faded (`fem.stabilisation_fade`).
+    Faded,
+    /// `fem.stabilisation = 0`.
+    Off,
+}
+
+/// Where a plate scene lies in the dimensionless groups its force's discretisation error
+/// depends on besides the mesh (docs/performance.md, "What the accuracy line means").
+#[derive(Debug, Clone, Copy)]
+pub struct Domain {
+    /// c_v t_ramp / R²: how far the ramp drains the aggregate. With h/R it gives the drainage
+    /// layer √(c_v t_ramp) in elements, which decides what the stabilisation costs.
+    pub drainage: f64,
+    /// The compression ũ.
+    pub compression: f64,
+    /// The steps the schedule takes through the ramp.
+    pub ramp_steps: usize,
+    pub stabilisation: Stabilisation,
+}
+
+impl Class {
+    /// The first group of `d` outside the domain this class was measured in, said for a user
+    /// (None: inside).
+    pub fn outside(&self, d: &Domain) -> Option<String> {
+        let out = |x: f64, [lo, hi]: [f64; 2]| x < lo || x > hi;
+        if let Some(r) = self.drainage.filter(|&r| out(d.drainage, r)) {
+            return Some(format!("c_v t_ramp / R² = {:.2e}, measured {:.2e} to {:.2e}", d.drainage, r[0], r[1]));
+        }
+        if let Some(r) = self.compression.filter(|&r| out(d.compression, r)) {
+            return Some(format!("compression {}, measured {} to {}", d.compression, r[0], r[1]));
+        }
+        if let Some(n) = self.min_ramp_steps.filter(|&n| d.ramp_steps < n) {
+            return Some(format!("{} steps through the ramp, measured with {n} or more", d.ramp_steps));
+        }
+        if let Some(list) = self.stabilisation.as_ref().filter(|l| !l.contains(&d.stabilisation)) {
+            let name = |s: &Stabilisation| format!("{s:?}").to_lowercase();
+            let measured: Vec<String> = list.iter().map(name).collect();
+            return Some(format!(
+                "the {} pressure stabilisation, measured {}",
+                name(&d.stabilisation),
+                measured.join(" or ")
+            ));
+        }
+        None
+    }
 }
 
 /// The chart, parsed once; Err: the data file's error.
@@ -60,21 +127,41 @@ pub fn chart() -> Result<&'static Chart, String> {
 }
 
 impl Chart {
-    /// The class of a discretisation: the geometry, the element pair (P2–P1 or P1–P1), the
-    /// remodelling's integrator if any, and h/R.
+    /// The classes of a discretisation, in the chart's order: the geometry, the element pair
+    /// (P2–P1 or P1–P1), the remodelling's integrator if any, and h/R.
+    pub fn classes_of(
+        &self,
+        geometry: Geometry,
+        element: Element,
+        remodelling: Option<Integrator>,
+        h_over_r: f64,
+    ) -> impl Iterator<Item = &Class> {
+        self.class.iter().filter(move |c| {
+            c.geometry == geometry
+                && c.element.is_none_or(|e| e == element)
+                && c.remodelling.as_ref().is_none_or(|list| remodelling.is_some_and(|i| list.contains(&i)))
+                && c.max_h_over_r.is_none_or(|m| h_over_r <= m)
+        })
+    }
+
+    /// The class of a scene: the first of its discretisation's classes measured in a domain
+    /// that holds `domain`; Err: the first such class's reason why the scene is outside it, or
+    /// the h/R the discretisation was charted up to (None: not charted at all).
     pub fn class_of(
         &self,
         geometry: Geometry,
         element: Element,
         remodelling: Option<Integrator>,
         h_over_r: f64,
-    ) -> Option<&Class> {
-        self.class.iter().find(|c| {
-            c.geometry == geometry
-                && c.element.is_none_or(|e| e == element)
-                && c.remodelling.as_ref().is_none_or(|list| remodelling.is_some_and(|i| list.contains(&i)))
-                && c.max_h_over_r.is_none_or(|m| h_over_r <= m)
-        })
+        domain: &Domain,
+    ) -> Option<Result<&Class, String>> {
+        let mut classes = self.classes_of(geometry, element, remodelling, h_over_r).peekable();
+        let Some(&first) = classes.peek() else {
+            // Charted for finer meshes only.
+            let finest = self.classes_of(geometry, element, remodelling, 0.0).filter_map(|c| c.max_h_over_r);
+            return finest.reduce(f64::max).map(|m| Err(format!("h/R = {h_over_r:.2}, measured up to {m}")));
+        };
+        Some(classes.find(|c| c.outside(domain).is_none()).ok_or_else(|| first.outside(domain).unwrap_or_default()))
     }
 }
 
@@ -110,19 +197,66 @@ mod tests {
         LoadedScene::load("reference", &sets.iter().map(|s| s.to_string()).collect::<Vec<_>>())
     }
 
+    /// A domain inside a class's ranges (their lower ends).
+    fn inside(c: &Class) -> Domain {
+        Domain {
+            drainage: c.drainage.map_or(0.06, |r| r[0]),
+            compression: c.compression.map_or(0.3, |r| r[0]),
+            ramp_steps: c.min_ramp_steps.unwrap_or(17),
+            stabilisation: c.stabilisation.as_ref().map_or(Stabilisation::Faded, |l| l[0]),
+        }
+    }
+
     #[test]
     fn the_chart_parses_and_every_class_can_match() {
         let chart = chart().unwrap();
         let sizes: Vec<(&str, f64)> = chart.auto_sizes.iter().map(|(k, v)| (k.as_str(), *v)).collect();
         assert_eq!(sizes, [("h", 0.2), ("h_pole", 0.03), ("r_pole", 0.5)]);
-        // Each row is the first match of its own discretisation: no row hides behind another.
+        // Each row is the first match of its own discretisation and domain: no row hides behind
+        // another.
         for (i, c) in chart.class.iter().enumerate() {
             let element = c.element.unwrap_or(Element::P2P1);
             let integrator = c.remodelling.as_ref().map(|l| l[0]);
             let h = c.max_h_over_r.unwrap_or(1.0);
-            let found = chart.class_of(c.geometry, element, integrator, h).map(|f| f as *const Class);
+            let found = chart.class_of(c.geometry, element, integrator, h, &inside(c));
+            let found = found.and_then(|f| f.ok()).map(|f| f as *const Class);
             assert_eq!(found, Some(c as *const Class), "row {i} ({}) is hidden", c.class);
         }
+    }
+
+    /// Every measured class has its domain: a class without one would be printed for any scene.
+    #[test]
+    fn every_class_says_where_it_was_measured() {
+        for c in &chart().unwrap().class {
+            let d = (c.drainage, c.compression, c.min_ramp_steps, &c.stabilisation);
+            assert!(d.0.is_some() && d.1.is_some() && d.2.is_some() && d.3.is_some(), "{}: no domain", c.class);
+            assert!(c.max_h_over_r.is_some(), "{}: no largest h/R", c.class);
+        }
+    }
+
+    #[test]
+    fn a_scene_outside_the_measured_domain_gets_the_reason() {
+        let chart = chart().unwrap();
+        let class = |d: &Domain, h: f64| chart.class_of(Geometry::Solid, Element::P2P1, None, h, d).unwrap();
+        let reference =
+            Domain { drainage: 0.0604, compression: 0.3, ramp_steps: 17, stabilisation: Stabilisation::Faded };
+        assert!(class(&reference, 0.2).unwrap().class.starts_with("peak 0.5-1.3% low"));
+        // The soft aggregate (E = 1.2 kPa, R = 220 µm, ramp 10 s) drains 48 times less in its
+        // ramp: its own class, measured on it.
+        let soft = Domain { drainage: 1.26e-3, compression: 0.25, ramp_steps: 20, ..reference };
+        assert!(class(&soft, 0.2).unwrap().basis.contains("soft aggregate"));
+        // A large one (the reference at R = 300 µm) was not measured: the first class's reason.
+        let large = Domain { drainage: 6.71e-3, ..reference };
+        let e = class(&large, 0.2).unwrap_err();
+        assert!(e.starts_with("c_v t_ramp / R² = 6.71e-3, measured 6.00e-2 to 6.10e-2"), "{e}");
+        let e = class(&Domain { compression: 0.3, ..soft }, 0.2).unwrap_err();
+        assert!(e.starts_with("c_v t_ramp / R² = 1.26e-3, measured 6.00e-2"), "{e}");
+        let e = class(&Domain { ramp_steps: 8, ..reference }, 0.2).unwrap_err();
+        assert_eq!(e, "8 steps through the ramp, measured with 17 or more");
+        let e = class(&Domain { stabilisation: Stabilisation::Constant, ..reference }, 0.2).unwrap_err();
+        assert_eq!(e, "the constant pressure stabilisation, measured faded or off");
+        let e = class(&reference, 0.35).unwrap_err();
+        assert_eq!(e, "h/R = 0.35, measured up to 0.3");
     }
 
     #[test]

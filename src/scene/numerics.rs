@@ -29,11 +29,16 @@ pub struct FemSpec {
     /// undrained limit monotone next to drained boundaries (default 4: exact lumping; 0 off).
     #[serde(default)]
     pub stabilisation: Option<f64>,
-    /// τ₀: the stabilisation fades as a step resolves the drainage, weight c (1 − (τ/τ₀)²)₊ with
-    /// τ = c_v Δt / h² (`fem::kernel::Stabilisation`; default: constant). Taylor–Hood only:
-    /// P1–P1 keeps the constant weight, which its inf–sup stability needs.
+    /// τ₀: the stabilisation fades, weight c (1 − r²)₊ with r the larger of τ/τ₀, τ = c_v Δt / h²
+    /// (the step resolves the drainage), and (Δt/Δt₀ − 1)/(s − 1) (the steps have grown since a
+    /// kink; s = `stabilisation_steps`) (`fem::kernel::Stabilisation`; default: constant).
+    /// Taylor–Hood only: P1–P1 keeps the constant weight, which its inf–sup stability needs.
     #[serde(default)]
     pub stabilisation_fade: Option<f64>,
+    /// s: with `stabilisation_fade`, the faded weight is gone once the steps have grown to s
+    /// times the first step after a kink (`time.dt`) (default `fem::kernel::STEP_FADE`, 8).
+    #[serde(default)]
+    pub stabilisation_steps: Option<f64>,
     /// The element: "P2-P1" (Taylor–Hood, default), "auto" (the measured best: P2–P1; see
     /// [`super::auto`]) or "P1-P1" (equal order, unstable without
     /// the stabilisation; `fem::equal_order`). With plates, P1–P1's contact bounds and contact
@@ -92,6 +97,9 @@ impl FemSpec {
         if let Some(t) = self.stabilisation_fade {
             STABILISATION_FADE.check(t)?;
         }
+        if let Some(s) = self.stabilisation_steps {
+            STABILISATION_STEPS.check(s)?;
+        }
         if let Some(q) = self.quadrature_degree {
             QUADRATURE_DEGREE.check_count(q)?;
         }
@@ -127,9 +135,18 @@ const STABILISATION_FADE: Key = Key::new(
     "fem.stabilisation_fade",
     "",
     Unset::Absent("constant weight"),
-    "τ₀: the weight fades as c (1 − (τ/τ₀)²)₊, τ = c_v Δt / h² (Taylor–Hood only)",
+    "τ₀: the weight fades as c (1 − r²)₊, r the larger of c_v Δt / (h² τ₀) and (Δt/Δt₀ − 1)/(s − 1), Δt₀ = time.dt, \
+     s = fem.stabilisation_steps (Taylor–Hood only)",
 )
 .range(Range::POSITIVE.says("must be positive (omit it for none)"))
+.enters("numerics.md: Pressure stabilisation");
+const STABILISATION_STEPS: Key = Key::new(
+    "fem.stabilisation_steps",
+    "",
+    Unset::Absent("8"),
+    "s: with fem.stabilisation_fade, the weight is gone once the steps have grown to s × time.dt since a kink",
+)
+.range(Range::new(1.0, false, f64::INFINITY, false, "must be above 1"))
 .enters("numerics.md: Pressure stabilisation");
 const QUADRATURE_DEGREE: Key = Key::new(
     "fem.quadrature_degree",
@@ -148,6 +165,7 @@ pub(super) const FEM_SECTION: Section = Section {
         QUADRATURE_DEGREE,
         STABILISATION,
         STABILISATION_FADE,
+        STABILISATION_STEPS,
         Key::new(
             "fem.element",
             "",

@@ -231,8 +231,14 @@ pub fn jacobian_errors(stdout: &str) -> Vec<(f64, f64)> {
 /// scripts/references.py, read by the scripts and these tests): `case`, `observable` → the
 /// extrapolated value.
 pub fn converged(case: &str, observable: &str) -> f64 {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/data/references.csv");
-    let text = std::fs::read_to_string(&path).expect("scripts/data/references.csv");
+    converged_in("scripts/data/references.csv", case, observable)
+}
+
+/// A converged value from a file of the format of references.csv (`file` from the repository's
+/// root; e.g. scripts/data/soft_aggregate_reference.csv).
+pub fn converged_in(file: &str, case: &str, observable: &str) -> f64 {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{file}: {e}"));
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
