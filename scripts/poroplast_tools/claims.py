@@ -29,7 +29,9 @@ FIGURE_DATA = DATA.parent.parent / "docs" / "figures" / "data"
 # (causes.py --fields), `flow` reproduce.py's outflow by phase on the meridian, `zones` the region means of Figs 5-6 (rows "CASE@T"); the others are
 # the figures' data (reproduce.py), the causes (causes.py), the tensiometry study
 # (tensiometry.py) and the linearised coverage (coverage.py: rows "PARAMS@NOISE@PARAM", and the
-# tension case's per-experiment predictions, rows "EXPERIMENT@PARAM"), which the docs' prose quotes (poroplast_tools.doc_numbers).
+# tension case's per-experiment predictions, rows "EXPERIMENT@PARAM") and the inverse question
+# (inverse.py: its claims and check tables' rows named by their `what`, the profile's "PARAM@FACTOR";
+# its points are read only as a whole: count, min, max), which the docs' prose quotes (poroplast_tools.doc_numbers).
 SOURCES = {"meridian": (FIGURE_DATA / "summary_meridian.csv", "case"),
            "3d": (FIGURE_DATA / "summary_3d.csv", "case"),
            "flow": (DATA / "flow_meridian.csv", "case"),
@@ -50,7 +52,15 @@ SOURCES = {"meridian": (FIGURE_DATA / "summary_meridian.csv", "case"),
            "tensiometry": (FIGURE_DATA / "tensiometry.csv", ("case", "compression")),
            "coverage_lin": (FIGURE_DATA / "coverage_linearised.csv", ("params", "noise", "param")),
            "coverage_lin_tst": (FIGURE_DATA / "coverage_linearised_tst.csv", ("params", "noise", "param")),
-           "jitter_tst": (FIGURE_DATA / "jitter_tst.csv", ("experiment", "param"))}
+           "jitter_tst": (FIGURE_DATA / "jitter_tst.csv", ("experiment", "param")),
+           "inverse_level": (DATA / "inverse_level.csv", "observable"),
+           "inverse_screen": (DATA / "inverse_screen.csv", "point"),
+           "inverse_fit": (DATA / "inverse_fit.csv", "param"),
+           "inverse_claims": (DATA / "inverse_claims.csv", "what"),
+           "inverse_iterations": (DATA / "inverse_iterations.csv", "iteration"),
+           "inverse_profile": (DATA / "inverse_profile.csv", ("param", "factor")),
+           "inverse_check": (DATA / "inverse_check.csv", "what"),
+           "inverse_points": (DATA / "inverse_points.csv", "overrides")}
 
 VERDICTS = ("reproduced", "partly", "no", "open", "not comparable")
 

@@ -177,7 +177,8 @@ def value(expr):
     rows = claims._rows(claims.SOURCES[source][0])
     if how == "count":
         return float(len(rows)), math.nan
-    xs = [float(r[column]) for r in rows]
+    # a row without the value (a run that did not reach it: "nan") has no say in the extreme
+    xs = [x for x in (float(r[column]) for r in rows) if not math.isnan(x)]
     return (min(xs) if how == "min" else max(xs)), math.nan
 
 

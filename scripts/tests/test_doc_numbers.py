@@ -14,7 +14,9 @@ Pure Python, no solver; a few seconds (poroplast_tools/doc_numbers.py says what 
 section, figure, equation and commit numbers, dates, versions, code, links)."""
 
 import sys
+import tempfile
 import unittest
+from unittest import mock
 from pathlib import Path
 
 from poroplast_tools import claims, doc_numbers as dn, doc_tables, hypothesis
@@ -129,6 +131,16 @@ class Machinery(unittest.TestCase):
         self.assertEqual(dn.render("count meridian", ".0f"), "72")
         with self.assertRaises(KeyError):
             dn.render("nosuch:row|col", ".2f")
+
+    def test_an_extreme_skips_the_rows_without_a_value(self):
+        # a run that did not reach the value writes "nan"; first or not, it has no say in min/max
+        with tempfile.TemporaryDirectory() as d:
+            path = Path(d) / "runs.csv"
+            path.write_text("run,t\na,nan\nb,29.5\nc,nan\nd,41.25\n", encoding="utf-8")
+            with mock.patch.dict(claims.SOURCES, {"test_runs_nan": (path, "run")}):
+                self.assertEqual(dn.render("min test_runs_nan|t", ".2f"), "29.50")
+                self.assertEqual(dn.render("max test_runs_nan|t", ".2f"), "41.25")
+                self.assertEqual(dn.render("count test_runs_nan", ".0f"), "4", "count: every row")
 
     def test_one_unit_in_the_last_digit(self):
         for printed, nudged in [("0.79", "0.80"), ("9", "10"), ("3e-5", "4e-5"), ("−0.54%", "−0.53%"),
