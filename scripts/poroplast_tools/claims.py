@@ -35,6 +35,7 @@ FIGURE_DATA = DATA.parent.parent / "docs" / "figures" / "data"
 SOURCES = {"meridian": (FIGURE_DATA / "summary_meridian.csv", "case"),
            "3d": (FIGURE_DATA / "summary_3d.csv", "case"),
            "flow": (DATA / "flow_meridian.csv", "case"),
+           "stabilisation_fade": (DATA / "stabilisation_fade.csv", ("scene", "geometry", "rule", "observable")),
            "fields": (DATA / "hypothesis_40a_fields.csv", "variant"),
            "zones": (FIGURE_DATA / "fig5_6_zones.csv", "row"),
            "causes": (DATA / "causes.csv", "variant"),
