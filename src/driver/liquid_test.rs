@@ -130,7 +130,8 @@ impl LiquidTest {
             Some(tau) if tau.is_infinite() => caveats
                 .push("the solid does not relax (no material.remodelling): σ_app carries its elastic stress".into()),
             Some(tau) => {
-                let needs = |d: f64| d < RELAXATION_TIMES * tau || setting.capillary_s.is_some_and(|c| d < CAPILLARY_TIMES * c);
+                let needs =
+                    |d: f64| d < RELAXATION_TIMES * tau || setting.capillary_s.is_some_and(|c| d < CAPILLARY_TIMES * c);
                 let short: Vec<(usize, f64)> = lasting.iter().filter(|&&(_, d)| needs(d)).copied().collect();
                 if !short.is_empty() {
                     let list = |f: &dyn Fn(&(usize, f64)) -> String| short.iter().map(f).collect::<Vec<_>>().join(", ");
@@ -261,11 +262,17 @@ mod tests {
         );
         // 25 relaxation times, but 0.1 capillary times of 10000 s: short too.
         let c = caveats(Tensiometry { capillary_s: Some(10_000.0), ..QUIET });
-        assert!(c.len() == 1 && c[0].contains("last 25, 25 relaxation times 1/(λp µ) = 40 s and 0.1, 0.1 capillary"), "{c:?}");
+        assert!(
+            c.len() == 1 && c[0].contains("last 25, 25 relaxation times 1/(λp µ) = 40 s and 0.1, 0.1 capillary"),
+            "{c:?}"
+        );
         let mut three = two.clone();
         three.push(HoldReading { hold: Hold { start: 3000.0, end: 3300.0, compression: 0.2 }, ..two[0] });
         let c = LiquidTest::of(&three, &QUIET).unwrap().caveats;
-        assert!(c.len() == 1 && c[0].starts_with("hold 3 lasts 7.5 relaxation times 1/(λp µ) = 40 s and 0.06 capillary"), "{c:?}");
+        assert!(
+            c.len() == 1 && c[0].starts_with("hold 3 lasts 7.5 relaxation times 1/(λp µ) = 40 s and 0.06 capillary"),
+            "{c:?}"
+        );
         let c = caveats(Tensiometry { relaxation_s: Some(f64::INFINITY), ..QUIET });
         assert!(c.len() == 1 && c[0].starts_with("the solid does not relax"), "{c:?}");
         assert!(caveats(Tensiometry { relaxation_s: None, ..QUIET }).is_empty());
