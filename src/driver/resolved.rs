@@ -9,6 +9,7 @@
 //! only inside the domain of scenes each class was measured in (the drainage c_v t_ramp / R²,
 //! the compression, the steps through the ramp, the stabilisation); outside it the line says so.
 
+use crate::fem::kernel::Stabilisation;
 use crate::reference_cell::Family;
 use crate::scene::{auto, Element, Geometry, Grading, HolmesMowSpec, Material, Scene, SolidSpec};
 
@@ -32,8 +33,6 @@ pub(super) fn discretisation(scene: &Scene, family: Family, n_cells: usize) -> S
 /// which group is outside and how to measure the run's own observables.
 pub(super) fn accuracy_class(run: &super::run::Run) -> Option<String> {
     let s = &run.scene.scene;
-    let model = run.ts.problem().model();
-    let c_v = model.conductivity() * model.p_wave_modulus();
     // The steps through the ramp: the run's schedule (kinks, landings, cap), ending there.
     let ramp = s.plates.as_ref()?.protocol().ramp;
     if !ramp.is_finite() {
@@ -42,12 +41,14 @@ pub(super) fn accuracy_class(run: &super::run::Run) -> Option<String> {
     let mut through_ramp = run.schedule.clone();
     through_ramp.t_end = ramp;
     let ramp_steps = through_ramp.remaining(0.0, through_ramp.dt0);
-    accuracy_line(s, run.ts.problem().mesh().family, c_v, ramp_steps)
+    let problem = run.ts.problem();
+    accuracy_line(s, problem.mesh().family, problem.stabilisation(), ramp_steps)
 }
 
-/// `accuracy_class` given the scene's reference consolidation coefficient c_v = k0 (λ + 2µ)
-/// (µm²/s) and the steps its schedule takes through the ramp.
-pub(super) fn accuracy_line(scene: &Scene, family: Family, c_v: f64, ramp_steps: usize) -> Option<String> {
+/// `accuracy_class` given the stabilisation the run assembles with (its c_v = k0 (λ + 2µ) of
+/// the reference state, µm²/s, and whether and how it fades) and the steps its schedule takes
+/// through the ramp.
+pub(super) fn accuracy_line(scene: &Scene, family: Family, stab: Stabilisation, ramp_steps: usize) -> Option<String> {
     let plates = scene.plates.as_ref()?;
     let p = &scene.mesh.params;
     let radius = *p.get("R")?;
@@ -65,16 +66,13 @@ pub(super) fn accuracy_line(scene: &Scene, family: Family, c_v: f64, ramp_steps:
     } else {
         "F(end)".to_string()
     };
-    // As setup uses them: P1–P1 keeps the constant weight whatever the fade.
-    let stabilisation = if scene.fem.stabilisation == Some(0.0) {
-        auto::Stabilisation::Off
-    } else if scene.fem.stabilisation_fade.is_some() && !scene.fem.equal_order() {
-        auto::Stabilisation::Faded
-    } else {
-        auto::Stabilisation::Constant
+    let stabilisation = match stab.fade {
+        _ if stab.c_s == 0.0 => auto::Stabilisation::Off,
+        Some(_) => auto::Stabilisation::Faded,
+        None => auto::Stabilisation::Constant,
     };
     let domain = auto::Domain {
-        drainage: c_v * protocol.ramp / (radius * radius),
+        drainage: stab.c_v * protocol.ramp / (radius * radius),
         compression: plates.compression(),
         ramp_steps,
         stabilisation,

@@ -235,6 +235,11 @@ impl PoroProblem {
         self.disc.model.as_ref()
     }
 
+    /// The pressure stabilisation the assembly uses.
+    pub fn stabilisation(&self) -> Stabilisation {
+        self.disc.stab
+    }
+
     /// Scales the model's gravity (settling ramps it up).
     pub fn set_gravity_factor(&mut self, factor: f64) {
         self.disc.model.set_gravity_factor(factor);
