@@ -42,7 +42,7 @@ LIST = ROOT / "scripts" / "data" / "doc_numbers.toml"
 # The pages whose every number is bound or listed; claims.csv is read as a page of its own: the
 # claims table's words that are ours (its `ours` and `cause` columns; the others are the paper's).
 CLAIMS = "scripts/data/claims.csv"
-PAGES = ["docs/reproduction.md", "docs/studies.md", "docs/performance.md", "README.md", "scripts/README.md", CLAIMS]
+PAGES = ["docs/reproduction.md", "docs/studies.md", "docs/performance.md", "docs/numerics.md", "README.md", "scripts/README.md", CLAIMS]
 _CELLS = " ¦ "
 
 

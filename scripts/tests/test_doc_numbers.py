@@ -1,6 +1,6 @@
 """Every number of the pages in doc_numbers.PAGES (docs/reproduction.md, docs/studies.md,
-docs/performance.md, README.md, and the claims table's own words in scripts/data/claims.csv) has
-its source, and a wrong one fails:
+docs/performance.md, docs/numerics.md, README.md, scripts/README.md, and the claims table's own words
+in scripts/data/claims.csv) has its source, and a wrong one fails:
 
 * a bound number (`42.33<!-- = remodel_155|zero:probe_p ; .2f -->`) must be what its rule prints
   of its source, a committed CSV (scripts/data, docs/figures/data);
