@@ -105,6 +105,7 @@ from poroplast_tools.identify import COLLINEAR, report as identifiability
 from poroplast_tools.measured import Curve, DataError, read_curve
 from poroplast_tools.profile import ATOL, MULTIPLES, profile
 from poroplast_tools.runmodel import Runs, check_names, synthesise
+from poroplast_tools.tables import write_rows
 
 
 def single(a):
@@ -163,6 +164,8 @@ def main():
     ap.add_argument("--t-min", type=float, default=-math.inf)
     ap.add_argument("--t-max", type=float, default=math.inf)
     ap.add_argument("--dir", required=True)
+    ap.add_argument("--table", metavar="CSV", help="also write the result as a CSV a page can cite: a row per "
+                    "parameter (value, sigma, its 68%% and 95%% intervals) and per experiment (its rms residual)")
     rank_options(ap)
     ap.add_argument("--max-it", type=int, default=15)
     ap.add_argument("--jobs", type=int, default=1, help="with --no-sweep: points run at once")
@@ -176,6 +179,8 @@ def main():
     ap.add_argument("--profile-max-it", type=int, default=4,
                     help="the others' re-optimisation at a profile point: at most this many LM steps")
     a = ap.parse_args()
+    if a.table and not Path(a.table).resolve().parent.is_dir():
+        sys.exit(f"calibrate.py: --table {a.table}: no such directory {Path(a.table).resolve().parent}")
     sweep = use_rank_options(a)["sweep"]
     try:
         if a.experiments:
@@ -280,11 +285,28 @@ def main():
              else (units.of_column(e.column), 1.0) for e in experiments}
     result = report(a, experiments, params, noises, runs, opt, st, prof, shown)
     (Path(a.dir) / "calibration.json").write_text(json.dumps({"result": result, "log": opt.log}, indent=1))
+    if a.table:
+        write_rows(a.table, table_rows(result, keys), TABLE_FIELDS)
     fitplots.curves(a.dir, experiments, runs.data, opt.state["histories"], result, params, shown)
     if prof:
         fitplots.profiles(a.dir, opt, st, prof, keys)
     print(f"{runs.count()} in all" + (f", the fit's {fitted} and the profile's {runs.count(before)}" if prof else "")
           + f"; {Path(a.dir) / 'calibration.json'}")
+
+
+TABLE_FIELDS = ["row", "value", "sigma", "rel_sigma", "lo68", "hi68", "lo95", "hi95", "points", "unit"]
+
+
+def table_rows(result, keys):
+    """calibration.json's result as rows: each parameter's value, sigma and intervals, then each
+    experiment's rms residual (in its data's unit) and points."""
+    rows = [{"row": k, "value": result[k]["value"], "sigma": result[k]["sigma"],
+             "rel_sigma": result[k]["sigma"] / result[k]["value"],
+             "lo68": result[k]["interval68"][0], "hi68": result[k]["interval68"][1],
+             "lo95": result[k]["interval95"][0], "hi95": result[k]["interval95"][1]} for k in keys]
+    rows += [{"row": f"rms {e['name']}", "value": e["rms"], "points": e["points"], "unit": e["unit"]}
+             for e in result["experiments"]]
+    return rows
 
 
 def report(a, experiments, params, noises, runs, opt, st, prof, shown):

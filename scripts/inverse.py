@@ -25,6 +25,11 @@ them):
   docs     the section's tables in docs/reproduction.md (between their markers) from the CSVs
 
     python3 scripts/inverse.py [--stages level screen fit profile figure docs] [--dir studies/inverse]
+    python3 scripts/inverse.py --start fit # continue from inverse_fit.csv's optimum (after a claim's
+                                           # interval changed) instead of Table 1
+    python3 scripts/inverse.py --stages figure --probe k0=1.75,lambda_p=7.8   # a point of your own,
+                                           # printed and added to inverse_points.csv
+    python3 scripts/inverse.py --stages docs --rescore   # the committed points scored on today's claims
     python3 scripts/inverse.py --quick     # the Table 1 point and one neighbour, nothing written
 """
 import argparse
@@ -70,11 +75,10 @@ OBS = ["peak_total", "peak_constitutive", "share_constitutive", "share_pressure"
 
 
 def row_of(name, what, values, obs, extra=None):
-    r = inv.claim_residuals(obs)
     row = {"point": name, "what": what, **{f"param {n}": values.get(n, p.table1) for n, p in inv.PARAMS.items()}}
     row.update({k: obs[k] for k in OBS})
-    row.update({f"r {c.id}": x for c, x in zip(inv.CLAIMS, r)})
-    row.update({"cost": inv.cost(r), "reproduced": inv.reproduced(r)})
+    inv.scored(row, obs)
+    row.pop("cost_others")
     row.update(extra or {})
     return row
 
@@ -175,9 +179,27 @@ def stage_screen(model, out, points=None):
     return rows
 
 
+def start_values(names, start, out):
+    """The fit's start (scene units): Table 1's values, or ("fit") the optimum inverse_fit.csv holds,
+    Table 1's for a parameter it did not fit."""
+    values = {n: inv.PARAMS[n].table1 for n in names}
+    if start == "fit":
+        for r in read_rows(out / "inverse_fit.csv"):
+            if r["param"] in values:
+                values[r["param"]] = float(r["fitted"]) / inv.PARAMS[r["param"]].paper_unit
+    return values
+
+
 def stage_fit(names, args, out):
     model = inv.Model(names, args.dir, ranks=args.ranks)
-    x0 = np.log([inv.PARAMS[n].table1 for n in names])
+    # A trial step outside the bounds runs at its projection onto them (as the profile's do): a
+    # parameter that sits on its bound (κ at the ±5 s fit's optimum) would otherwise refuse every
+    # step that pushes it out, and LM would stall with the others unmoved.
+    model.project = True
+    start = start_values(names, args.start, out)
+    print("fit from " + ("Table 1" if args.start == "table1" else "inverse_fit.csv's optimum") + ": "
+          + ", ".join(f"{n} = {start[n] * inv.PARAMS[n].paper_unit:.4g}" for n in names), flush=True)
+    x0 = np.log([start[n] for n in names])
     opt = fit(model.evaluate, inv.weigh, x0, names, max_it=args.max_it, ftol=1e-3)
     st = stats(opt, estimated=False)
     values = model.values(opt.x)
@@ -205,7 +227,7 @@ def stage_fit(names, args, out):
                   "fitted": inv.reproduced(r1)})
     crows.append({"claim": "", "what": "largest factor from Table 1 (log10)", "table1": 0.0, "fitted": far})
     write_rows(out / "inverse_claims.csv", crows)
-    write_rows(out / "inverse_iterations.csv", opt.log)
+    write_rows(out / "inverse_iterations.csv", [{"start": args.start, **r} for r in opt.log])
     print(f"optimum: cost {inv.cost(r1):.3g} (Table 1: {inv.cost(r0):.3g}), {inv.reproduced(r1)} of "
           f"{len(inv.CLAIMS)} claims within their precision; "
           + ", ".join(f"{n} = {values[n] * inv.PARAMS[n].paper_unit:.4g}" for n in names)
@@ -215,6 +237,54 @@ def stage_fit(names, args, out):
 
 def _at_bound(v, p):
     return "lo" if v <= p.lo * (1 + inv.SLACK) else "hi" if v >= p.hi * (1 - inv.SLACK) else ""
+
+
+def parse_point(text):
+    """A --probe point, "k0=1.5,lambda_p=7.8" (factors of Table 1's), as scene values."""
+    values = {}
+    for part in text.split(","):
+        name, _, factor = part.partition("=")
+        if name.strip() not in inv.PARAMS:
+            sys.exit(f"inverse.py: --probe {text}: {name.strip()!r} is not a parameter (one of {', '.join(inv.PARAMS)})")
+        try:
+            values[name.strip()] = float(factor) * inv.PARAMS[name.strip()].table1
+        except ValueError:
+            sys.exit(f"inverse.py: --probe {text}: {factor!r} is not a number")
+    return values
+
+
+def probe(texts, root, ranks):
+    """The --probe points, run and printed: the Model's log (for inverse_points.csv)."""
+    model = inv.Model([], root, ranks=ranks)
+    points = [parse_point(t) for t in texts]
+    for t, g in zip(texts, model.run(points)):
+        if g is None:
+            print(f"probe {t}: a run failed")
+            continue
+        r = inv.claim_residuals(g[0])
+        print(f"probe {t}: cost {inv.cost(r):.4g}, constitutive share {g[0]['share_constitutive']:.3f}, peak "
+              f"{g[0]['peak_total']:.2f} mg; r " + " ".join(f"{c.id} {x:+.2f}" for c, x in zip(inv.CLAIMS, r)))
+    return model.log
+
+
+def rescore(out):
+    """inverse_screen.csv and inverse_points.csv scored again on today's CLAIMS (inv.rescored)."""
+    for name in ("inverse_screen.csv", "inverse_points.csv"):
+        rows = read_rows(out / name)
+        fields = list(rows[0])
+        new = inv.rescored(rows)
+        fields += [k for k in new[0] if k not in fields and (name != "inverse_screen.csv" or k != "cost_others")]
+        write_rows(out / name, new, fields)
+        print(f"{name}: {len(new)} rows scored on today's claims")
+
+
+def merge_points(path, new):
+    """inverse_points.csv with the rows `new` (this run's points) added, a point run before
+    (inv.point_key) replaced by this run's."""
+    keys = {inv.point_key(r) for r in new}
+    old = [r for r in inv.rescored(read_rows(path)) if inv.point_key(r) not in keys]
+    write_rows(path, old + new, list(new[0]))
+    print(f"{path.name}: {len(new)} points of this run beside {len(old)} committed")
 
 
 def stage_profile(model, opt, names, which, factors, max_it, out):
@@ -255,11 +325,11 @@ def stage_profile(model, opt, names, which, factors, max_it, out):
             continue
         _, x, g = min(tried, key=lambda t: t[0])
         searches.append(Search(x.copy(), g[0], g[1], free, f"profile of {which} × {f:g}"))
-    iterate(model.evaluate, searches, opt.w, names, max_it, ftol=1e-3, xtol=1e-5, max_trials=4)
+    iterate(model.evaluate, searches, opt.w, names, max_it, ftol=1e-3, xtol=1e-5, max_trials=6)
     rows = []
     for s in [None] + searches:
         x = opt.x if s is None else s.x
-        model.project = s is not None     # the optimum as the fit ran it
+        model.project = True              # every point as it ran: projected onto the bounds (the fit's too)
         values = model.values(x)
         obs = next(o for v, _, o in reversed(model.log) if all(abs(v.get(n, math.nan) / values[n] - 1) < 1e-12 for n in names))
         r = inv.claim_residuals(obs)
@@ -284,10 +354,18 @@ def main():
     ap.add_argument("--params", nargs="+", default=["k0", "lambda_p", "sigma_y", "c", "nu", "kappa"],
                     choices=list(inv.PARAMS), help="the parameters fitted")
     ap.add_argument("--max-it", type=int, default=10)
+    ap.add_argument("--start", choices=["table1", "fit"], default="table1",
+                    help="the fit's start: Table 1 (default), or the optimum scripts/data/inverse_fit.csv holds "
+                         "(to continue a fit after a claim's interval changed)")
+    ap.add_argument("--rescore", action="store_true",
+                    help="score the committed screen and points CSVs again on today's claims (no run)")
     ap.add_argument("--profile-param", default="k0", choices=list(inv.PARAMS))
-    ap.add_argument("--profile-factors", default="3,10",
-                    help="the profiled parameter's values, as factors of Table 1's (default 3,10: 10 is k0's bound)")
-    ap.add_argument("--profile-max-it", type=int, default=2)
+    ap.add_argument("--profile-factors", default="1.5,2,3",
+                    help="the profiled parameter's values, as factors of Table 1's (default 1.5,2,3: where the constitutive share passes 0.5)")
+    ap.add_argument("--profile-max-it", type=int, default=4)
+    ap.add_argument("--probe", action="append", default=[], metavar="NAME=FACTOR,...",
+                    help="also run this point (parameters as factors of Table 1's, the others at Table 1's) "
+                         "and add it to inverse_points.csv; repeatable")
     ap.add_argument("--quick", action="store_true", help="the Table 1 point and k0 × 2 at this level, "
                     "printed, nothing written (a test of the pipeline)")
     rank_options(ap)
@@ -326,9 +404,15 @@ def main():
             logs.append(model.log)
             if "profile" in a.stages:
                 stage_profile(model, opt, a.params, a.profile_param, factors, a.profile_max_it, DATA)
+        if a.probe:
+            logs.append(probe(a.probe, a.dir, a.ranks))
+        if a.rescore:
+            rescore(DATA)
         if "screen" in a.stages and "profile" in a.stages:   # every point of the screen, fit and profile
             rows = inv.point_rows([e for log in logs for e in log])
             write_rows(DATA / "inverse_points.csv", rows)
+        elif logs and (DATA / "inverse_points.csv").exists():   # the new points beside the committed ones
+            merge_points(DATA / "inverse_points.csv", inv.point_rows([e for log in logs for e in log]))
         if "check" in a.stages:
             stage_check(a, DATA)
         if "figure" in a.stages:

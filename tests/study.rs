@@ -189,6 +189,8 @@ fn calibration_recovers_synthetic_parameters() {
             "time.dt_max=5.0",
             "--ranks",
             "1",
+            "--table",
+            dir.join("table.csv").to_str().unwrap(),
         ],
     );
     assert!(ok, "{text}");
@@ -203,6 +205,15 @@ fn calibration_recovers_synthetic_parameters() {
     };
     let (lp, sy) = (value("material.remodelling.lambda_p"), value("material.remodelling.sigma_y"));
     assert!((lp / 0.0005 - 1.0).abs() < 0.02 && (sy / 1.5 - 1.0).abs() < 0.02, "recovered {lp}, {sy}:\n{text}");
+    // --table: the same values as the json, a row per parameter and one for the experiment's rms
+    let table = std::fs::read_to_string(dir.join("table.csv")).unwrap();
+    let cell = |row: &str| -> f64 {
+        let line =
+            table.lines().find(|l| l.starts_with(&format!("{row},"))).unwrap_or_else(|| panic!("{row}: {table}"));
+        line.split(',').nth(1).unwrap().parse().unwrap()
+    };
+    assert_eq!((cell("material.remodelling.lambda_p"), cell("material.remodelling.sigma_y")), (lp, sy), "{table}");
+    assert!(table.lines().any(|l| l.starts_with("rms relaxation,")), "{table}");
 }
 
 /// Two experiments at once with a shared parameter: λp of a remodelling aggregate on a coarse

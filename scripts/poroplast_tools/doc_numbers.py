@@ -129,7 +129,7 @@ def _refs():
 # `relative_bar ...`, or `level N CASE|OBS`, the N-th of its `levels` (the mesh levels, then the
 # step levels, counted from 0).
 REFERENCE_FIELD = re.compile(r"(p_h|p_t|relative_bar|level (\d+)) (\S+\|.+)")
-AGGREGATE = re.compile(r"(min|max|count) (\w+)(?:\|(.+))?")
+AGGREGATE = re.compile(r"(min|max|count) (\w+)(?:\|([^ ]+))?(?: where (\w+) (at least|at most) ([+-]?\d+(?:\.\d+)?))?")
 
 
 def _own(expr):
@@ -147,7 +147,8 @@ def _reference_rows():
 @lru_cache(maxsize=None)
 def value(expr):
     """(value, error bar) of a binding's source expression: claims.measure's; or `min SOURCE|COLUMN`,
-    `max SOURCE|COLUMN`, `count SOURCE` over the rows of one of claims.SOURCES; or a column of
+    `max SOURCE|COLUMN`, `count SOURCE` over the rows of one of claims.SOURCES, or over those of
+    its rows with `where COLUMN at least X` (or `at most X`); or a column of
     references.csv (REFERENCE_FIELD); or a difference or ratio of two operands one of which is
     such a form or a plain number ("remodel_155|zero:probe_p - 40": the gap to the paper's 40 s).
     Only claims.measure's forms have an error bar."""
@@ -171,10 +172,13 @@ def value(expr):
     m = AGGREGATE.fullmatch(expr)
     if not m:
         return claims.measure(_refs(), expr)
-    how, source, column = m.groups()
+    how, source, column, where, cmp, bound = m.groups()
     if source not in claims.SOURCES:
         raise KeyError(f"no source {source!r}")
     rows = claims._rows(claims.SOURCES[source][0])
+    if where:   # the rows whose column `where` is at least or at most the bound ("nan": neither)
+        keep = (lambda x: x >= float(bound)) if cmp == "at least" else (lambda x: x <= float(bound))
+        rows = [r for r in rows if r.get(where, "") not in ("", "nan") and keep(float(r[where]))]
     if how == "count":
         return float(len(rows)), math.nan
     # a row without the value (a run that did not reach it: "nan") has no say in the extreme

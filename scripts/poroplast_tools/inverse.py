@@ -16,11 +16,12 @@ after the release, from its fields at 40 s). `observables` reads them; `claim_re
 them into r. `Model.evaluate` is fit.py's model: a batch of points is one `poroplast sweep`, and a
 finite-difference neighbour replays its point's time steps (runmodel.py does the same)."""
 import math
+import re
 from dataclasses import dataclass
 
 import numpy as np
 
-from . import fields
+from . import claims, fields
 from .cases import run_cases
 from .history import at, given_steps, history
 
@@ -50,24 +51,43 @@ class Claim:
         return ((math.log10(value) if self.log else value) - mid) / half
 
 
-# The claims, with the precision of claims.csv's rule (a printed number: half a unit of its last
-# digit, a round number's trailing zeros not counting; words: their resolution).
-CLAIMS = [
-    Claim("P35", "constitutive share of the peak force", "share_constitutive", 0.5, 0.5, 1.0,
-          precision='"mostly constitutive": more than half, [0.5, 1]'),
-    Claim("P9", "syringe crossing of p(X_U) (s)", "t_cross", 40.0, 35.0, 45.0,
-          precision='"from 40 s onwards": a round number, ±5 s'),
-    Claim("P56", "c = 2: crossing of p(X_U) (s)", "t_cross_c2", 28.0, 27.5, 28.5,
-          precision='"28 s": ±0.5 s'),
-    Claim("P58", "c = 2 over isotropic, p(X_U, 30 s)", "p30_ratio", 0.25, 0.125, 0.375,
-          precision='"approximately 1/4": between 1/8 and 3/8'),
-    Claim("P38", "λp 1 → 0.1: constitutive-peak change (mg)", "d_peak_constitutive", 4.0, 3.5, 4.5,
-          precision='"about 4 mg": ±0.5 mg'),
-    Claim("P39", "λp 1 → 0.1: total-peak change (mg)", "d_peak_total", 2.0, 1.5, 2.5,
-          precision='"about 2 mg": ±0.5 mg'),
-    Claim("P23b", "σ_VM contact zones over centre at 40 s", "vm_ratio", 10.0, 10 / math.sqrt(10), 10 * math.sqrt(10),
-          log=True, precision='"one order of magnitude": within a factor √10 of 10'),
-]
+# The claims. A claim with a number takes its value and precision from its row of claims.csv (the
+# quote's printed number by claims.py's rule: half a unit of its last printed digit; an order of
+# magnitude a factor √10 either way), the quote `quote` of the row where it quotes two (P56's
+# first: the c = 2 crossing itself, not its difference from the isotropic one). P35's words give
+# no number: "mostly constitutive" is a share in [0.5, 1].
+def from_claims(id, what, observable, quote=0, rows=None):
+    """The Claim of claims.csv's row `id` on `observable`: its (quote-th) quote's number ± precision."""
+    row = next((r for r in (rows or claims.load()) if r["id"] == id), None)
+    if row is None:
+        raise ValueError(f"inverse: claims.csv has no row {id}")
+    quotes = re.findall(r'"([^"]+)"', row["precision_note"])
+    if quote >= len(quotes):
+        raise ValueError(f"inverse: claims.csv's {id} quotes the paper {len(quotes)} times, not {quote + 1}")
+    value, precision = claims.printed(quotes[quote])
+    if isinstance(precision, str):    # a factor: "×F"
+        factor = float(precision[1:])
+        return Claim(id, what, observable, value, value / factor, value * factor, log=True,
+                     precision=f'"{quotes[quote]}": within a factor {factor:g} of {value:g}')
+    return Claim(id, what, observable, value, value - precision, value + precision,
+                 precision=f'"{quotes[quote]}": ±{precision:g}')
+
+
+def _claims():
+    rows = claims.load()
+    return [
+        Claim("P35", "constitutive share of the peak force", "share_constitutive", 0.5, 0.5, 1.0,
+              precision='"mostly constitutive": more than half, [0.5, 1]'),
+        from_claims("P9", "syringe crossing of p(X_U) (s)", "t_cross", rows=rows),
+        from_claims("P56", "c = 2: crossing of p(X_U) (s)", "t_cross_c2", rows=rows),
+        from_claims("P58", "c = 2 over isotropic, p(X_U, 30 s)", "p30_ratio", rows=rows),
+        from_claims("P38", "λp 1 → 0.1: constitutive-peak change (mg)", "d_peak_constitutive", rows=rows),
+        from_claims("P39", "λp 1 → 0.1: total-peak change (mg)", "d_peak_total", rows=rows),
+        from_claims("P23b", "σ_VM contact zones over centre at 40 s", "vm_ratio", rows=rows),
+    ]
+
+
+CLAIMS = _claims()
 
 
 def claim_residuals(obs, claims=CLAIMS):
@@ -307,12 +327,36 @@ def point_rows(log):
         if key in seen:
             continue
         seen.add(key)
-        r = claim_residuals(obs)
         row = {f"param {n}": values.get(n, p.table1) * p.paper_unit for n, p in PARAMS.items()}
         row["overrides"] = " ".join(f"{k}={v}" for k, v in extra)
         row.update(obs)
-        row.update({f"r {c.id}": x for c, x in zip(CLAIMS, r)})
-        row["cost"] = cost(r)
-        row["cost_others"] = cost([x for c, x in zip(CLAIMS, r) if c.id != "P35"])
-        rows.append(row)
+        rows.append(scored(row, obs))
     return rows
+
+
+def scored(row, obs):
+    """`row` with the claims' residuals "r ID", "cost", "cost_others" (the claims other than P35)
+    and "reproduced" from the observables `obs`."""
+    r = claim_residuals(obs)
+    row.update({f"r {c.id}": x for c, x in zip(CLAIMS, r)})
+    row.update({"cost": cost(r), "cost_others": cost([x for c, x in zip(CLAIMS, r) if c.id != "P35"]),
+                "reproduced": reproduced(r)})
+    return row
+
+
+def rescored(rows):
+    """Rows of a written CSV (strings) scored again on today's CLAIMS from their own observables:
+    the points a study ran stay data when a claim's interval is read anew."""
+    out = []
+    for row in rows:
+        obs = {}
+        for c in CLAIMS:
+            v = row.get(c.observable, "")
+            obs[c.observable] = float(v) if v not in ("", None) else math.nan
+        out.append(dict(row) if row.get("status") == "failed" else scored(dict(row), obs))
+    return out
+
+
+def point_key(row):
+    """A point's identity in inverse_points.csv: its parameters (10 digits) and own overrides."""
+    return tuple(f"{float(row[f'param {n}']):.10g}" for n in PARAMS) + (row.get("overrides", ""),)

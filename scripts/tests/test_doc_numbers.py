@@ -142,6 +142,18 @@ class Machinery(unittest.TestCase):
                 self.assertEqual(dn.render("max test_runs_nan|t", ".2f"), "41.25")
                 self.assertEqual(dn.render("count test_runs_nan", ".0f"), "4", "count: every row")
 
+    def test_an_aggregate_over_the_rows_a_condition_keeps(self):
+        with tempfile.TemporaryDirectory() as d:
+            path = Path(d) / "points.csv"
+            path.write_text("p,share,peak\na,0.3,17\nb,0.5,15\nc,nan,20\nd,0.7,13\n", encoding="utf-8")
+            with mock.patch.dict(claims.SOURCES, {"test_points": (path, "p")}):
+                self.assertEqual(dn.render("count test_points where share at least 0.5", ".0f"), "2")
+                self.assertEqual(dn.render("max test_points|peak where share at least 0.5", ".0f"), "15")
+                self.assertEqual(dn.render("min test_points|peak where share at most 0.5", ".0f"), "15")
+                self.assertEqual(dn.render("count test_points where share at most 0.4", ".0f"), "1", "nan is kept by neither")
+                dn.value.cache_clear()
+                dn.render.cache_clear()
+
     def test_one_unit_in_the_last_digit(self):
         for printed, nudged in [("0.79", "0.80"), ("9", "10"), ("3e-5", "4e-5"), ("−0.54%", "−0.53%"),
                                 ("+0.13", "+0.14"), ("0.000338", "0.000339"), ("1.2e-3", "1.3e-3")]:

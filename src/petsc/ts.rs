@@ -338,7 +338,7 @@ impl<P: TsProblem> Ts<P> {
     pub fn set_max_time(&mut self, t: f64) -> Result<()> {
         check(unsafe { ffi::TSSetMaxTime(self.raw, t) })
     }
-    /// How many times a failed step may be halved and retried.
+    /// How many times a failed step may be cut (by TSAdapt's factor, `-ts_adapt_scale_solve_failed`) and retried.
     pub fn set_max_rejections(&mut self, n: usize) -> Result<()> {
         check(unsafe { ffi::TSSetMaxStepRejections(self.raw, n as Int) })
     }

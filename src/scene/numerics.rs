@@ -181,6 +181,19 @@ mod tests {
     use super::super::LoadedScene;
 
     #[test]
+    fn the_stabilisation_steps_key_states_the_kernels_default() {
+        // the key text is a &'static str: it cannot be formatted from the constant, so it is held to it
+        let super::super::key::Unset::Absent(text) = super::STABILISATION_STEPS.default else {
+            panic!("fem.stabilisation_steps: its default should be stated as absent-means-a-value")
+        };
+        assert_eq!(
+            text.parse::<f64>().ok(),
+            Some(crate::fem::kernel::STEP_FADE),
+            "fem.stabilisation_steps' text: {text}"
+        );
+    }
+
+    #[test]
     fn equal_order_is_refused_on_the_meridian_when_loaded() {
         let sets = ["mesh.geometry=\"axisymmetric\"".to_string(), "fem.element=\"P1-P1\"".to_string()];
         let e = LoadedScene::load("reference", &sets).unwrap_err().to_string();
