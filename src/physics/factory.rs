@@ -1,11 +1,31 @@
 //! The point model (constitutive law, permeability, remodelling) a scene's `[material]` asks for.
+//!
+//! A skeleton law is registered in [`with_law`], one line per scene variant: the line builds the
+//! law from its keys and hands it, with the mixture's keys, to whatever needs the law (the
+//! point model, the ellipticity warning), which is generic over [`SkeletonLaw`].
 
 use crate::error::{Error, Result};
 use crate::fem::point::PointModel;
-use crate::material::{ellipticity, HolmesMow};
+use crate::material::laws::HolmesMow;
+use crate::material::{CompactionPenalty, Permeability, PermeabilityModel, Remodelling, SkeletonLaw};
 use crate::physics::biphasic::Biphasic;
 use crate::physics::linear::LinearPoroelastic;
 use crate::scene::{HolmesMowSpec, LoadedScene, Material, SolidSpec};
+
+/// What is done with a scene's skeleton law, whichever it is.
+trait WithLaw {
+    type Out;
+    fn apply<L: SkeletonLaw>(self, law: L, spec: &HolmesMowSpec) -> Result<Self::Out>;
+}
+
+/// The registry of skeleton laws: `w` applied to the law of the scene's `[material]` and its
+/// mixture keys; None for a model without one (linear poroelasticity).
+fn with_law<W: WithLaw>(material: &Material, w: W) -> Result<Option<W::Out>> {
+    match material {
+        Material::Linear { .. } => Ok(None),
+        Material::HolmesMow(spec) => w.apply(holmes_mow(spec)?, spec).map(Some),
+    }
+}
 
 /// The Holmes–Mow solid of a scene: from (µ, ν) by (56), or from its α's.
 fn holmes_mow(spec: &HolmesMowSpec) -> Result<HolmesMow> {
@@ -16,71 +36,82 @@ fn holmes_mow(spec: &HolmesMowSpec) -> Result<HolmesMow> {
 }
 
 /// A warning for a solid law that loses strong ellipticity under the strains of a compression
-/// experiment (`material::ellipticity`, closed form): there the solve stops converging, on
-/// every mesh. It names the compression limit (any elastic principal stretch below
-/// √(−α1/α2)) and the uniaxial-stress tension limit, where the lateral contraction reaches it.
+/// experiment (closed form, [`SkeletonLaw::ellipticity_limit`]): there the solve stops
+/// converging, on every mesh. It names the compression limit (any elastic principal stretch
+/// below it) and the uniaxial-stress tension limit, where the lateral contraction reaches it.
 pub fn ellipticity_warning(scene: &LoadedScene) -> Result<Option<String>> {
-    let Material::HolmesMow(spec) = &scene.scene.material else {
-        return Ok(None);
-    };
-    let solid = holmes_mow(spec)?;
-    let Some(lam) = ellipticity::isochoric_compression_limit(&solid, 0.5)? else {
-        return Ok(None);
-    };
-    let tension = ellipticity::uniaxial_stress_tension_limit(&solid)
-        .map(|t| format!("; {:.1}% stretch in uniaxial-stress tension", 100.0 * (t - 1.0)))
-        .unwrap_or_default();
-    let pct = 100.0 * (1.0 - lam);
-    Ok(Some(format!(
-        "the Holmes–Mow solid (alpha1 = {:.3} < 0{}) loses strong ellipticity beyond {pct:.1}% isochoric \
-         compression, and wherever an elastic principal stretch falls below {lam:.3} ({pct:.1}% \
-         compression in uniaxial strain or stress too{tension}): strains above that localise, and the \
-         solve stops converging there on any mesh (docs/studies.md, stability (f))",
-        solid.alpha1,
-        spec.nu.map(|n| format!(": nu = {n} > 1/3")).unwrap_or_default(),
-    )))
+    Ok(with_law(&scene.scene.material, Warning)?.flatten())
+}
+
+struct Warning;
+
+impl WithLaw for Warning {
+    type Out = Option<String>;
+
+    fn apply<L: SkeletonLaw>(self, law: L, spec: &HolmesMowSpec) -> Result<Option<String>> {
+        let Some(limit) = law.ellipticity_limit(0.5)? else {
+            return Ok(None);
+        };
+        let tension = limit
+            .uniaxial_tension
+            .map(|t| format!("; {:.1}% stretch in uniaxial-stress tension", 100.0 * (t - 1.0)))
+            .unwrap_or_default();
+        let (lam, pct) = (limit.stretch, 100.0 * (1.0 - limit.stretch));
+        Ok(Some(format!(
+            "the {} ({}{}) loses strong ellipticity beyond {pct:.1}% isochoric \
+             compression, and wherever an elastic principal stretch falls below {lam:.3} ({pct:.1}% \
+             compression in uniaxial strain or stress too{tension}): strains above that localise, and the \
+             solve stops converging there on any mesh (docs/studies.md, stability (f))",
+            limit.law,
+            limit.cause,
+            spec.nu.map(|n| format!(": nu = {n} > 1/3")).unwrap_or_default(),
+        )))
+    }
 }
 
 /// The scene's point model.
 pub fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
-    match &scene.scene.material {
-        Material::Linear { mu, nu, permeability } => Ok(Box::new(LinearPoroelastic::new(*mu, *nu, *permeability)?)),
-        Material::HolmesMow(spec) => {
-            let model = Biphasic::try_from(spec).map_err(|e| {
-                let msg = match e {
-                    Error::Material(m) => m,
-                    e => e.to_string(),
-                };
-                Error::Scene { path: scene.source.clone(), msg: format!("[material] {msg}") }
-            })?;
-            Ok(Box::new(model))
-        }
+    if let Material::Linear { mu, nu, permeability } = &scene.scene.material {
+        return Ok(Box::new(LinearPoroelastic::new(*mu, *nu, *permeability)?));
+    }
+    let model = with_law(&scene.scene.material, Mixture)
+        .and_then(|m| m.ok_or_else(|| Error::Material("the model has no skeleton law and is not linear".into())));
+    model.map_err(|e| {
+        let msg = match e {
+            Error::Material(m) => m,
+            e => e.to_string(),
+        };
+        Error::Scene { path: scene.source.clone(), msg: format!("[material] {msg}") }
+    })
+}
+
+/// The mixture of a scene's `[material]` around its skeleton law: penalty, permeability,
+/// densities, gravity and remodelling, each checked by its law.
+struct Mixture;
+
+impl WithLaw for Mixture {
+    type Out = Box<dyn PointModel>;
+
+    fn apply<L: SkeletonLaw>(self, law: L, spec: &HolmesMowSpec) -> Result<Box<dyn PointModel>> {
+        Ok(Box::new(mixture(law, spec)?))
     }
 }
 
-impl TryFrom<&HolmesMowSpec> for Biphasic {
-    type Error = Error;
-
-    /// The mixture of a scene's `[material]`: solid, penalty, permeability, densities, gravity
-    /// and remodelling, each checked by its law.
-    fn try_from(spec: &HolmesMowSpec) -> Result<Biphasic> {
-        use crate::material::{CompactionPenalty, Permeability, PermeabilityModel, Remodelling};
-        let solid = holmes_mow(spec)?;
-        let phi_s = spec.phi_s;
-        let penalty =
-            spec.penalty.as_ref().map(|p| CompactionPenalty::new(phi_s, p.u0, p.j_cr, p.q, p.r)).transpose()?;
-        let model = match spec.permeability_c {
-            Some(c) => PermeabilityModel::RemodellingDependent { c },
-            None => PermeabilityModel::Isotropic,
-        };
-        let perm = Permeability::new(spec.k0, phi_s, spec.kappa, spec.m0, model)?;
-        let mut mixture = Biphasic::new(solid, penalty, perm, spec.rho_s, spec.rho_f, spec.gravity)?;
-        if let Some(r) = &spec.remodelling {
-            let law = Remodelling::new(r.lambda_p, r.sigma_y)?;
-            mixture = mixture.with_remodelling(law.with_form(r.form).with_integrator(r.integrator));
-        }
-        Ok(mixture)
+/// [`Mixture`]'s model, typed.
+fn mixture<L: SkeletonLaw>(law: L, spec: &HolmesMowSpec) -> Result<Biphasic<L>> {
+    let phi_s = spec.phi_s;
+    let penalty = spec.penalty.as_ref().map(|p| CompactionPenalty::new(phi_s, p.u0, p.j_cr, p.q, p.r)).transpose()?;
+    let model = match spec.permeability_c {
+        Some(c) => PermeabilityModel::RemodellingDependent { c },
+        None => PermeabilityModel::Isotropic,
+    };
+    let perm = Permeability::new(spec.k0, phi_s, spec.kappa, spec.m0, model)?;
+    let mut mixture = Biphasic::new(law, penalty, perm, spec.rho_s, spec.rho_f, spec.gravity)?;
+    if let Some(r) = &spec.remodelling {
+        let law = Remodelling::new(r.lambda_p, r.sigma_y)?;
+        mixture = mixture.with_remodelling(law.with_form(r.form).with_integrator(r.integrator));
     }
+    Ok(mixture)
 }
 
 #[cfg(test)]

@@ -71,9 +71,12 @@ pub fn uniaxial_stress_tension_limit(law: &HolmesMow) -> Option<f64> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::test_util::{kin, Rng};
-    use super::super::{idx, CompactionPenalty, Solid, SolidLaw, SolidResponse, Tangent};
     use super::*;
+    use crate::material::law::{SolidLaw, SolidResponse};
+    use crate::material::penalty::CompactionPenalty;
+    use crate::material::solid::Solid;
+    use crate::material::tensor::{idx, Tangent};
+    use crate::material::test_util::{kin, Rng};
     use nalgebra::{Matrix3, Vector3};
 
     /// Directions on the unit sphere (a Fibonacci lattice; N and −N give the same Q, so the upper
@@ -222,7 +225,7 @@ mod tests {
                 let eig = (f.transpose() * f).symmetric_eigen();
                 let e = prefactor(&law, &f);
                 let alone = law.response(&kin(&f), &ID).unwrap().a;
-                let with_penalty = Solid { hm: &law, penalty: Some(&pen) }.response(&kin(&f), &ID).unwrap().a;
+                let with_penalty = Solid { law: &law, penalty: Some(&pen) }.response(&kin(&f), &ID).unwrap().a;
                 assert!((with_penalty - alone).norm() > 1.0, "penalty inactive");
                 for tangent in [alone, with_penalty] {
                     for (a, b, c) in [(0, 1, 2), (1, 0, 2), (0, 2, 1), (2, 0, 1), (1, 2, 0), (2, 1, 0)] {

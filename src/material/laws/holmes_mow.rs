@@ -2,9 +2,13 @@
 //! I1e = tr(C B_p), I2e = ½[I1e² − tr((C B_p)²)], I3e = det C; S_sc = 2 ∂Ψ/∂C (39) without the
 //! penalty, P_sc = F S_sc, and the exact tangent ∂P_sc/∂F.
 
-use super::dual::{m_add, m_dev, m_mul, m_scale, m_trace, m_trace_mul, Scalar, M3};
-use super::{add_ik_lj, add_il_kj, add_outer, check_phi_s, domain_error, Kinematics, SolidLaw, SolidResponse, Tangent};
+pub mod ellipticity;
+
 use crate::error::{Error, Result};
+use crate::material::domain::{check_phi_s, domain_error};
+use crate::material::dual::{m_add, m_dev, m_mul, m_scale, m_trace, m_trace_mul, Scalar, M3};
+use crate::material::law::{EllipticityLimit, Kinematics, SkeletonLaw, SolidLaw, SolidResponse};
+use crate::material::tensor::{add_ik_lj, add_il_kj, add_outer, sym_basis, Tangent};
 use nalgebra::Matrix3;
 
 /// Holmes–Mow parameters; energy per unit reference volume of mixture (hence the factor Φs).
@@ -85,43 +89,6 @@ impl HolmesMow {
         )
     }
 
-    /// Deviatoric Mandel stress dev Σ, Σ = C S_sc, as a function of M = C B_p and ln J (generic,
-    /// for the remodelling update and its derivatives). With S = e G:
-    /// Σ = e [(α1 + α2 tr M) M − α2 M² − α3 I], so dev Σ = e dev[(α1 + α2 tr M) M − α2 M²],
-    /// e = 2 Φs α0 exp[α1 (tr M − 3) + α2 (I2(M) − 3) − 2 α3 ln J]. (The compaction penalty adds
-    /// J U'(J) I to Σ: no deviator.)
-    pub fn mandel_dev<T: Scalar>(&self, m: &M3<T>, ln_j: T) -> M3<T> {
-        let (a1, a2, a3) = (self.alpha1, self.alpha2, self.alpha3);
-        let tr = m_trace(m);
-        let tr2 = m_trace_mul(m, m);
-        let i2 = (tr * tr - tr2).scale(0.5);
-        let f = (tr - T::cst(3.0)).scale(a1) + (i2 - T::cst(3.0)).scale(a2) - ln_j.scale(2.0 * a3);
-        let e = f.exp().scale(2.0 * self.phi_s * self.alpha0);
-        let m2 = m_mul(m, m);
-        let inner = m_add(&m_scale(m, T::cst(a1) + tr.scale(a2)), &m_scale(&m2, T::cst(-a2)));
-        m_scale(&m_dev(&inner), e)
-    }
-
-    /// ∂S_sc/∂B_p \[H\] for the six symmetric unit directions H of [`super::tensor::sym_basis`]:
-    /// with S = e G, ∂f\[H\] = (α1 + α2 I1e) tr(C H) − α2 tr(C B C H) and
-    /// ∂G\[H\] = α2 tr(C H) B + (α1 + α2 I1e) H − α2 (H C B + B C H), ∂S\[H\] = e (∂f\[H\] G + ∂G\[H\]).
-    pub fn stress_derivative_bp(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
-        let core = self.core(kin, bp)?;
-        let (a1, a2) = (self.alpha1, self.alpha2);
-        let e = 2.0 * self.phi_s * self.alpha0 * core.exp_f;
-        let c = &kin.c;
-        let i1 = (c * bp).trace();
-        let cbc = c * bp * c;
-        let cb = c * bp;
-        Ok(super::tensor::sym_basis().map(|h| {
-            let tr_ch = (c * h).trace();
-            let df = (a1 + a2 * i1) * tr_ch - a2 * (cbc * h).trace();
-            let hcb = h * cb;
-            let dg = bp * (a2 * tr_ch) + h * (a1 + a2 * i1) - (hcb + hcb.transpose()) * a2;
-            (core.g * df + dg) * e
-        }))
-    }
-
     fn core(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<Core> {
         let (a1, a2, a3) = (self.alpha1, self.alpha2, self.alpha3);
         let id = Matrix3::identity();
@@ -157,7 +124,7 @@ impl SolidLaw for HolmesMow {
         Ok((kin.f * s, s))
     }
 
-    /// S, P and A = ∂P/∂F (index map of [`super::idx`]).
+    /// S, P and A = ∂P/∂F (index map of [`super::tensor::idx`]).
     ///
     /// With e = 2 Φs α0 e^f, S = e G and dS = e (2 FG:dF) G + e dG, where
     /// dG = α2 (2 F B_p:dF) B_p − α2 B_p dC B_p + α3 C⁻¹ dC C⁻¹ and dC = dFᵀF + FᵀdF. Then
@@ -185,11 +152,72 @@ impl SolidLaw for HolmesMow {
     }
 }
 
+/// What the mixture and the remodelling update ask of the law.
+impl SkeletonLaw for HolmesMow {
+    fn phi_s(&self) -> f64 {
+        self.phi_s
+    }
+
+    /// Deviatoric Mandel stress dev Σ, Σ = C S_sc, as a function of M = C B_p and ln J (generic,
+    /// for the remodelling update and its derivatives). With S = e G:
+    /// Σ = e [(α1 + α2 tr M) M − α2 M² − α3 I], so dev Σ = e dev[(α1 + α2 tr M) M − α2 M²],
+    /// e = 2 Φs α0 exp[α1 (tr M − 3) + α2 (I2(M) − 3) − 2 α3 ln J]. (The compaction penalty adds
+    /// J U'(J) I to Σ: no deviator.)
+    fn mandel_dev<T: Scalar>(&self, m: &M3<T>, ln_j: T) -> M3<T> {
+        let (a1, a2, a3) = (self.alpha1, self.alpha2, self.alpha3);
+        let tr = m_trace(m);
+        let tr2 = m_trace_mul(m, m);
+        let i2 = (tr * tr - tr2).scale(0.5);
+        let f = (tr - T::cst(3.0)).scale(a1) + (i2 - T::cst(3.0)).scale(a2) - ln_j.scale(2.0 * a3);
+        let e = f.exp().scale(2.0 * self.phi_s * self.alpha0);
+        let m2 = m_mul(m, m);
+        let inner = m_add(&m_scale(m, T::cst(a1) + tr.scale(a2)), &m_scale(&m2, T::cst(-a2)));
+        m_scale(&m_dev(&inner), e)
+    }
+
+    /// ∂S_sc/∂B_p \[H\] for the six symmetric unit directions H of [`sym_basis`]:
+    /// with S = e G, ∂f\[H\] = (α1 + α2 I1e) tr(C H) − α2 tr(C B C H) and
+    /// ∂G\[H\] = α2 tr(C H) B + (α1 + α2 I1e) H − α2 (H C B + B C H), ∂S\[H\] = e (∂f\[H\] G + ∂G\[H\]).
+    fn stress_derivative_bp(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
+        let core = self.core(kin, bp)?;
+        let (a1, a2) = (self.alpha1, self.alpha2);
+        let e = 2.0 * self.phi_s * self.alpha0 * core.exp_f;
+        let c = &kin.c;
+        let i1 = (c * bp).trace();
+        let cbc = c * bp * c;
+        let cb = c * bp;
+        Ok(sym_basis().map(|h| {
+            let tr_ch = (c * h).trace();
+            let df = (a1 + a2 * i1) * tr_ch - a2 * (cbc * h).trace();
+            let hcb = h * cb;
+            let dg = bp * (a2 * tr_ch) + h * (a1 + a2 * i1) - (hcb + hcb.transpose()) * a2;
+            (core.g * df + dg) * e
+        }))
+    }
+
+    /// Φs 2 α0 (α3 − α2): Φs µ by (56).
+    fn shear_modulus(&self) -> f64 {
+        self.phi_s * 2.0 * self.alpha0 * (self.alpha3 - self.alpha2)
+    }
+
+    /// The closed form of [`ellipticity`]: for α1 < 0 the law loses strong ellipticity where an
+    /// elastic principal stretch falls below √(−α1/α2).
+    fn ellipticity_limit(&self, lambda_min: f64) -> Result<Option<EllipticityLimit>> {
+        let Some(stretch) = ellipticity::isochoric_compression_limit(self, lambda_min)? else { return Ok(None) };
+        Ok(Some(EllipticityLimit {
+            law: "Holmes–Mow solid",
+            cause: format!("alpha1 = {:.3} < 0", self.alpha1),
+            stretch,
+            uniaxial_tension: ellipticity::uniaxial_stress_tension_limit(self),
+        }))
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::super::test_util::{kin, rel_err, Rng};
-    use super::super::{idx, Tangent};
     use super::*;
+    use crate::material::tensor::idx;
+    use crate::material::test_util::{kin, rel_err, Rng};
 
     /// Table 1 (µ = 20 kPa, ν = 0.2) and the soft Forgacs case (µ = 3 kPa, ν = 0.45, α1 < 0).
     fn laws() -> [HolmesMow; 2] {
