@@ -103,6 +103,12 @@ pub trait SkeletonLaw: SolidLaw + Clone + Debug + Send + Sync + 'static {
     /// The referential solid fraction Φs the energy is scaled by.
     fn phi_s(&self) -> f64;
 
+    /// Ψ as a function of M = C B_p and ln J, generic over the scalar: the law's definition. Its
+    /// closed forms are checked against it (the tests' `check_skeleton_law`): its value is
+    /// [`SolidLaw::energy`], and [`Self::mandel_dev`] is dev(2 C ∂Ψ/∂M B_p) by duals.
+    #[cfg_attr(not(test), allow(dead_code))]
+    fn energy_of<T: Scalar>(&self, m: &M3<T>, ln_j: T) -> T;
+
     /// dev Σ of the Mandel stress Σ = C S as a function of M = C B_p and ln J, generic over the
     /// scalar so that the remodelling update differentiates it with dual numbers (its Jacobian
     /// and its consistent tangent); f64 gives the value.
@@ -140,11 +146,12 @@ pub struct EllipticityLimit {
 
 #[cfg(test)]
 mod tests {
+    use super::super::dual::Dual;
     use super::super::laws::HolmesMow;
     use super::super::penalty::CompactionPenalty;
     use super::super::permeability::{Permeability, PermeabilityModel};
     use super::super::solid::Solid;
-    use super::super::tensor::idx;
+    use super::super::tensor::{idx, sym_basis};
     use super::super::test_util::{fd_gradient, fd_tangent, kin, rel_err, Rng};
     use super::*;
 
@@ -185,6 +192,47 @@ mod tests {
             assert!(ep < 1e-6 && ea < 1e-6, "{name}, J = {j}");
             assert!(rel_err(&(f * r.s), &r.p) < 1e-14, "{name}, J = {j}: P = F S");
             assert_eq!(law.stresses(&kin(&f), &bp).unwrap(), (r.p, r.s), "{name}, J = {j}");
+        }
+    }
+
+    /// A skeleton law against its generic energy Ψ(M, ln J) and against finite differences, at
+    /// deformations of volume ratio `js` and random remodelling metrics: [`SolidLaw::energy`] is
+    /// Ψ; the Mandel deviator is dev Σ with Σ = 2 C (∂Ψ/∂M) B_p + ∂Ψ/∂ln J I, ∂Ψ/∂M by duals;
+    /// ∂S/∂B_p against central differences of S in B_p; the shear modulus is A_xyxy at F = B_p = I.
+    fn check_skeleton_law(name: &str, law: &impl SkeletonLaw, js: &[f64], rng: &mut Rng) {
+        let m3 = |a: &Matrix3<f64>| -> [[f64; 3]; 3] { std::array::from_fn(|i| std::array::from_fn(|j| a[(i, j)])) };
+        for &j in js {
+            let (f, bp) = (rng.deformation(j), rng.remodelling_metric());
+            let k = kin(&f);
+            let m = k.c * bp;
+            let psi = law.energy_of(&m3(&m), k.ln_j);
+            let e_psi = (law.energy(&k, &bp).unwrap() - psi).abs() / psi.abs();
+            let md: M3<Dual<9>> = std::array::from_fn(|a| std::array::from_fn(|b| Dual::var(m[(a, b)], 3 * a + b)));
+            let dpsi = law.energy_of(&md, Dual::cst(k.ln_j)).d;
+            let sigma = k.c * Matrix3::from_fn(|a, b| dpsi[3 * a + b]) * bp * 2.0;
+            let dev = sigma - Matrix3::identity() * (sigma.trace() / 3.0);
+            let e_dev = rel_err(&Matrix3::from(law.mandel_dev(&m3(&m), k.ln_j)).transpose(), &dev);
+            let ds = law.stress_derivative_bp(&k, &bp).unwrap();
+            let h = 1e-6;
+            let e_ds = sym_basis().iter().zip(&ds).fold(0.0f64, |worst, (dir, d)| {
+                let s_at = |t: f64| law.stresses(&k, &(bp + dir * t)).unwrap().1;
+                worst.max(rel_err(d, &((s_at(h) - s_at(-h)) / (2.0 * h))))
+            });
+            println!("{name}, J = {j}: Psi rel. err {e_psi:e}, dev Sigma {e_dev:e}, dS/dB_p {e_ds:e}");
+            assert!(e_psi < 1e-12 && e_dev < 1e-12 && e_ds < 1e-6, "{name}, J = {j}");
+        }
+        let id = Matrix3::identity();
+        let a0 = law.response(&kin(&id), &id).unwrap().a;
+        let g = law.shear_modulus();
+        assert!((a0[(idx(0, 1), idx(0, 1))] - g).abs() < 1e-12 * g, "{name}: shear modulus {g}");
+    }
+
+    /// The skeleton laws by [`check_skeleton_law`]: Holmes–Mow with α1 > 0 and < 0.
+    #[test]
+    fn every_skeleton_law_matches_its_energy() {
+        let mut rng = Rng::new(24);
+        for hm in [HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap(), HolmesMow::from_mu_nu(3.0, 0.45, 0.6).unwrap()] {
+            check_skeleton_law(&format!("Holmes–Mow, alpha1 = {}", hm.alpha1), &hm, &[0.7, 1.0, 1.3], &mut rng);
         }
     }
 

@@ -1,8 +1,8 @@
 //! The point model (constitutive law, permeability, remodelling) a scene's `[material]` asks for.
 //!
-//! A skeleton law is registered in [`with_law`], one line per scene variant: the line builds the
-//! law from its keys and hands it, with the mixture's keys, to whatever needs the law (the
-//! point model, the ellipticity warning), which is generic over [`SkeletonLaw`].
+//! A skeleton law is registered in [`with_model`], one line per scene variant: the line builds
+//! the law from its keys and hands it, with the mixture's keys, to what needs the law (the point
+//! model, the ellipticity warning), which is generic over [`SkeletonLaw`].
 
 use crate::error::{Error, Result};
 use crate::fem::point::PointModel;
@@ -10,25 +10,27 @@ use crate::material::laws::HolmesMow;
 use crate::material::{CompactionPenalty, Permeability, PermeabilityModel, Remodelling, SkeletonLaw};
 use crate::physics::biphasic::Biphasic;
 use crate::physics::linear::LinearPoroelastic;
-use crate::scene::{HolmesMowSpec, LoadedScene, Material, SolidSpec};
+use crate::scene::{LoadedScene, Material, MixtureSpec, SolidSpec};
 
-/// What is done with a scene's skeleton law, whichever it is.
-trait WithLaw {
+/// What is done with a scene's model: the linear one, or a mixture around a skeleton law,
+/// whichever law it is.
+trait WithModel {
     type Out;
-    fn apply<L: SkeletonLaw>(self, law: L, spec: &HolmesMowSpec) -> Result<Self::Out>;
+    fn linear(self, mu: f64, nu: f64, permeability: f64) -> Result<Self::Out>;
+    fn mixture<L: SkeletonLaw>(self, law: L, spec: &MixtureSpec) -> Result<Self::Out>;
 }
 
-/// The registry of skeleton laws: `w` applied to the law of the scene's `[material]` and its
-/// mixture keys; None for a model without one (linear poroelasticity).
-fn with_law<W: WithLaw>(material: &Material, w: W) -> Result<Option<W::Out>> {
+/// The registry of models: `w` applied to the scene's `[material]`. A skeleton law is one line
+/// here, which builds the law from its keys.
+fn with_model<W: WithModel>(material: &Material, w: W) -> Result<W::Out> {
     match material {
-        Material::Linear { .. } => Ok(None),
-        Material::HolmesMow(spec) => w.apply(holmes_mow(spec)?, spec).map(Some),
+        Material::Linear { mu, nu, permeability } => w.linear(*mu, *nu, *permeability),
+        Material::HolmesMow(spec) => w.mixture(holmes_mow(spec)?, spec),
     }
 }
 
 /// The Holmes–Mow solid of a scene: from (µ, ν) by (56), or from its α's.
-fn holmes_mow(spec: &HolmesMowSpec) -> Result<HolmesMow> {
+fn holmes_mow(spec: &MixtureSpec) -> Result<HolmesMow> {
     match spec.solid().map_err(Error::Material)? {
         SolidSpec::MuNu { mu, nu } => HolmesMow::from_mu_nu(mu, nu, spec.phi_s),
         SolidSpec::Alpha(a) => HolmesMow::new(spec.phi_s, a[0], a[1], a[2], 1.0),
@@ -40,15 +42,20 @@ fn holmes_mow(spec: &HolmesMowSpec) -> Result<HolmesMow> {
 /// converging, on every mesh. It names the compression limit (any elastic principal stretch
 /// below it) and the uniaxial-stress tension limit, where the lateral contraction reaches it.
 pub fn ellipticity_warning(scene: &LoadedScene) -> Result<Option<String>> {
-    Ok(with_law(&scene.scene.material, Warning)?.flatten())
+    with_model(&scene.scene.material, Warning)
 }
 
 struct Warning;
 
-impl WithLaw for Warning {
+impl WithModel for Warning {
     type Out = Option<String>;
 
-    fn apply<L: SkeletonLaw>(self, law: L, spec: &HolmesMowSpec) -> Result<Option<String>> {
+    /// Linear elasticity is elliptic for every admissible ν.
+    fn linear(self, _mu: f64, _nu: f64, _permeability: f64) -> Result<Option<String>> {
+        Ok(None)
+    }
+
+    fn mixture<L: SkeletonLaw>(self, law: L, spec: &MixtureSpec) -> Result<Option<String>> {
         let Some(limit) = law.ellipticity_limit(0.5)? else {
             return Ok(None);
         };
@@ -69,14 +76,9 @@ impl WithLaw for Warning {
     }
 }
 
-/// The scene's point model.
+/// The scene's point model (an error in its `[material]` names the scene).
 pub fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
-    if let Material::Linear { mu, nu, permeability } = &scene.scene.material {
-        return Ok(Box::new(LinearPoroelastic::new(*mu, *nu, *permeability)?));
-    }
-    let model = with_law(&scene.scene.material, Mixture)
-        .and_then(|m| m.ok_or_else(|| Error::Material("the model has no skeleton law and is not linear".into())));
-    model.map_err(|e| {
+    with_model(&scene.scene.material, Model).map_err(|e| {
         let msg = match e {
             Error::Material(m) => m,
             e => e.to_string(),
@@ -85,20 +87,23 @@ pub fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
     })
 }
 
-/// The mixture of a scene's `[material]` around its skeleton law: penalty, permeability,
-/// densities, gravity and remodelling, each checked by its law.
-struct Mixture;
+struct Model;
 
-impl WithLaw for Mixture {
+impl WithModel for Model {
     type Out = Box<dyn PointModel>;
 
-    fn apply<L: SkeletonLaw>(self, law: L, spec: &HolmesMowSpec) -> Result<Box<dyn PointModel>> {
+    fn linear(self, mu: f64, nu: f64, permeability: f64) -> Result<Box<dyn PointModel>> {
+        Ok(Box::new(LinearPoroelastic::new(mu, nu, permeability)?))
+    }
+
+    fn mixture<L: SkeletonLaw>(self, law: L, spec: &MixtureSpec) -> Result<Box<dyn PointModel>> {
         Ok(Box::new(mixture(law, spec)?))
     }
 }
 
-/// [`Mixture`]'s model, typed.
-fn mixture<L: SkeletonLaw>(law: L, spec: &HolmesMowSpec) -> Result<Biphasic<L>> {
+/// The mixture of a scene's `[material]` around its skeleton law: penalty, permeability,
+/// densities, gravity and remodelling, each checked by its law.
+fn mixture<L: SkeletonLaw>(law: L, spec: &MixtureSpec) -> Result<Biphasic<L>> {
     let phi_s = spec.phi_s;
     let penalty = spec.penalty.as_ref().map(|p| CompactionPenalty::new(phi_s, p.u0, p.j_cr, p.q, p.r)).transpose()?;
     let model = match spec.permeability_c {
