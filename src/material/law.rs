@@ -99,7 +99,7 @@ pub trait SolidLaw {
 ///
 /// A law is one file in [`super::laws`]: it implements [`SolidLaw`] (Ψ, S, P and ∂P/∂F in closed
 /// form: the hot path) and this trait.
-pub trait SkeletonLaw: SolidLaw + Clone + Debug + Send + Sync + 'static {
+pub trait SkeletonLaw: SolidLaw + Clone + Debug + 'static {
     /// The referential solid fraction Φs the energy is scaled by.
     fn phi_s(&self) -> f64;
 
