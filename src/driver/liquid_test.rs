@@ -11,7 +11,7 @@
 
 use super::holds::HoldReading;
 use crate::io::fmt_short as g;
-use crate::scene::{Material, Scene, SolidSpec};
+use crate::scene::{Scene, SolidSpec};
 
 /// The largest relative spread (largest σ_app over smallest, less 1) of a liquid.
 pub(crate) const TOLERANCE: f64 = 0.10;
@@ -51,9 +51,9 @@ impl Tensiometry {
         let surface = scene.surface.as_ref().filter(|s| s.tension > 0.0)?;
         let (gamma, adhesion) = (surface.tension, surface.adhesion);
         let radius = scene.plates.as_ref()?.radius();
-        let (bond, relaxation_s, capillary_s) = match &scene.material {
-            Material::Linear { .. } => (None, Some(f64::INFINITY), None),
-            Material::HolmesMow(m) => {
+        let (bond, relaxation_s, capillary_s) = match scene.material.mixture() {
+            None => (None, Some(f64::INFINITY), None),
+            Some(m) => {
                 let (g, rho) = (m.gravity_magnitude(), m.mixture_density());
                 // kg/m³ · m/s² · (1e-6 m)² / (1e-3 N/m).
                 let bond = (g > 0.0).then(|| rho * g * radius * radius * 1e-9 / gamma);

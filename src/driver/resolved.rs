@@ -11,7 +11,7 @@
 
 use crate::fem::kernel::Stabilisation;
 use crate::reference_cell::Family;
-use crate::scene::{auto, Element, Geometry, Grading, HolmesMowSpec, Material, Scene, SolidSpec};
+use crate::scene::{auto, Element, Geometry, Grading, Scene, SolidSpec};
 
 /// The one-line description: element, cells, mesh source and parameters.
 pub(super) fn discretisation(scene: &Scene, family: Family, n_cells: usize) -> String {
@@ -53,10 +53,7 @@ pub(super) fn accuracy_line(scene: &Scene, family: Family, stab: Stabilisation, 
     let p = &scene.mesh.params;
     let radius = *p.get("R")?;
     let h_over_r = p.get("h")? / radius;
-    let remodelling = match &scene.material {
-        Material::HolmesMow(HolmesMowSpec { remodelling: Some(r), .. }) => Some(r.integrator),
-        _ => None,
-    };
+    let remodelling = scene.material.mixture().and_then(|m| m.remodelling.as_ref()).map(|r| r.integrator);
     let geometry = if family.axisymmetric() { Geometry::Axisymmetric } else { Geometry::Solid };
     let element = if scene.fem.equal_order() { Element::P1P1 } else { Element::P2P1 };
     let protocol = plates.protocol();
@@ -101,7 +98,7 @@ pub(super) fn accuracy_line(scene: &Scene, family: Family, stab: Stabilisation, 
 /// the law takes, and the aggregate's drained moduli G = Φs µ and E = 2 G (1 + ν), which a lab
 /// measures (None for other materials).
 pub(super) fn moduli(scene: &Scene) -> Option<String> {
-    let Material::HolmesMow(m) = &scene.material else { return None };
+    let m = scene.material.mixture()?;
     let SolidSpec::MuNu { mu, nu } = m.solid().ok()? else { return None };
     let g = m.phi_s * mu;
     // Six significant digits: G = 0.6 × 20 kPa is 12, not 12.000000000000002.

@@ -27,7 +27,7 @@ use crate::physics::factory::{ellipticity_warning, model_of};
 use crate::physics::problem::PoroProblem;
 use crate::physics::surface_tension::{Adhesion, SurfaceTension};
 use crate::reference_cell::Family;
-use crate::scene::{LoadedScene, Material};
+use crate::scene::LoadedScene;
 use crate::solver;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -108,7 +108,7 @@ fn constraints(
             None
         }
     };
-    if matches!(&s.material, Material::HolmesMow(m) if m.drained) {
+    if s.material.mixture().is_some_and(|m| m.drained) {
         cons.extend((0..local.n_vertices()).map(|v| Constraint { local: dofs.p_local(v), value: 0.0 }));
     }
     Ok((cons, ext, free_modes))
@@ -375,8 +375,7 @@ impl<'w> Run<'w> {
             pressure_peak: Default::default(),
             mid_edges: if s.output.fields { mid_edge_nodes(ts.problem().mesh()) } else { Vec::new() },
         };
-        let settle =
-            s.plates.is_some() && matches!(&s.material, Material::HolmesMow(m) if m.gravity.iter().any(|g| *g != 0.0));
+        let settle = s.plates.is_some() && s.material.mixture().is_some_and(|m| m.gravity.iter().any(|g| *g != 0.0));
         Ok(Run {
             world,
             scene: scene.clone(),

@@ -7,7 +7,7 @@ use super::run::Run;
 use crate::error::{Error, Result};
 use crate::observe::observers::Sample;
 use crate::petsc::Stage;
-use crate::scene::{Material, Scene, SolidSpec};
+use crate::scene::{Scene, SolidSpec};
 use std::time::Instant;
 
 impl<'w> Run<'w> {
@@ -177,7 +177,7 @@ impl<'w> Run<'w> {
 /// The likely cause of a failed settling: a solid too soft for its weight, or, when it carries
 /// it easily, the mesh at the lower pole (cells the first point contact compacts below Φs).
 fn settle_cause(scene: &Scene) -> String {
-    let Material::HolmesMow(m) = &scene.material else { return String::new() };
+    let Some(m) = scene.material.mixture() else { return String::new() };
     let (Ok(SolidSpec::MuNu { mu, .. }), Some(r)) = (m.solid(), scene.plates.as_ref().map(|p| p.radius())) else {
         return "Can the solid carry its weight (material.mu, material.gravity)?".into();
     };

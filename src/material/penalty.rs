@@ -1,7 +1,9 @@
 //! Compaction penalty (33): U(J) = Φs U0 H(J_cr − J) (J − J_cr)^{2q} / (J − Φs)^r, with stress
 //! S = J U'(J) C⁻¹, P = J U'(J) F⁻ᵀ and tangent ∂P/∂F.
 
-use super::{add_il_kj, add_outer, check_phi_s, domain_error, Kinematics, SolidLaw, SolidResponse, Tangent};
+use super::domain::{check_phi_s, domain_error};
+use super::law::{Kinematics, SolidLaw, SolidResponse};
+use super::tensor::{add_il_kj, add_outer, Tangent};
 use crate::error::{Error, Result};
 use nalgebra::Matrix3;
 
@@ -84,7 +86,7 @@ impl SolidLaw for CompactionPenalty {
         Ok((kin.f_inv.transpose() * (j * du), kin.c_inv * (j * du)))
     }
 
-    /// S, P, A (index map of [`super::idx`]). With dJ = J F⁻ᵀ:dF and dF⁻ᵀ = −F⁻ᵀ dFᵀ F⁻ᵀ:
+    /// S, P, A (index map of [`super::tensor::idx`]). With dJ = J F⁻ᵀ:dF and dF⁻ᵀ = −F⁻ᵀ dFᵀ F⁻ᵀ:
     /// A = J (U' + J U'') F⁻ᵀ_ij F⁻ᵀ_kl − J U' F⁻ᵀ_il F⁻ᵀ_kj.
     fn response(&self, kin: &Kinematics, _bp: &Matrix3<f64>) -> Result<SolidResponse> {
         let (_, du, ddu) = self.u_and_derivatives(kin.j)?;

@@ -2,7 +2,8 @@
 //! K = J k C⁻¹ (isotropic), or K = J k C⁻¹ + J k1 B_p + J k2 B_p C B_p with k1 = k/(c J²),
 //! k2 = k/(c² J⁴) (remodelling-dependent); ∂K/∂F at fixed B_p.
 
-use super::{check_phi_s, Kinematics};
+use super::domain::check_phi_s;
+use super::law::Kinematics;
 use crate::error::{Error, Result};
 use nalgebra::Matrix3;
 
@@ -54,7 +55,7 @@ impl Permeability {
     /// k(J) and dk/dJ = k [κ/(J − Φs) + m0 J]. Domain error for J <= Φs or non-finite J.
     pub fn k(&self, j: f64) -> Result<(f64, f64)> {
         if !(j > self.phi_s && j.is_finite()) {
-            return Err(super::domain_error(j, format!("J <= phi_s = {}: permeability vanishes", self.phi_s)));
+            return Err(super::domain::domain_error(j, format!("J <= phi_s = {}: permeability vanishes", self.phi_s)));
         }
         let s = j - self.phi_s;
         let ln_ratio = (s / (1.0 - self.phi_s)).ln();
@@ -88,7 +89,7 @@ impl Permeability {
         let mut dk = [Matrix3::zeros(); 9];
         for k in 0..3 {
             for l in 0..3 {
-                dk[super::idx(k, l)] = Matrix3::from_fn(|i, j| {
+                dk[super::tensor::idx(k, l)] = Matrix3::from_fn(|i, j| {
                     dk_dj[(i, j)] * fi[(l, k)] - g0 * (ci[(i, l)] * fi[(j, k)] + fi[(i, k)] * ci[(l, j)])
                         + g2 * (bp[(i, l)] * fb[(k, j)] + fb[(k, i)] * bp[(l, j)])
                 });

@@ -20,9 +20,10 @@
 //! residual, R(x, C) = 0 ⇒ dx/dC = −(∂R/∂x)⁻¹ ∂R/∂C. The elastic branch (trial ‖dev σ‖ ≤
 //! √(2/3) σy at B_p^n) keeps B_p^n and has a zero tangent.
 
+use super::domain::domain_error;
 use super::dual::{m_det, m_exp, m_mul, m_scale, m_trace_mul, m_transpose, Dual, Scalar, M3};
+use super::law::SkeletonLaw;
 use super::tensor::{from_sym6, to_sym6, SYM_PAIRS};
-use super::{domain_error, HolmesMow};
 use crate::error::{Error, Result};
 use crate::range::Range;
 use nalgebra::{Matrix3, SMatrix, SVector};
@@ -155,8 +156,8 @@ impl Remodelling {
     }
 
     /// The measured norm ([`Self::measured`]) at (C, B_p).
-    fn overstress_norm(&self, hm: &HolmesMow, c: &Matrix3<f64>, bp: &Matrix3<f64>) -> f64 {
-        self.measured(Self::dev_stress_norm(hm, c, bp), c.determinant().sqrt())
+    fn overstress_norm<L: SkeletonLaw>(&self, law: &L, c: &Matrix3<f64>, bp: &Matrix3<f64>) -> f64 {
+        self.measured(Self::dev_stress_norm(law, c, bp), c.determinant().sqrt())
     }
 
     /// √(2/3) σy: the yield radius of ‖dev σ‖.
@@ -165,10 +166,10 @@ impl Remodelling {
     }
 
     /// ‖dev σ_sc‖ at (C, B_p).
-    pub fn dev_stress_norm(hm: &HolmesMow, c: &Matrix3<f64>, bp: &Matrix3<f64>) -> f64 {
+    pub fn dev_stress_norm<L: SkeletonLaw>(law: &L, c: &Matrix3<f64>, bp: &Matrix3<f64>) -> f64 {
         let cm = to_m3(c);
         let ln_j = 0.5 * m_det(&cm).ln();
-        let d = hm.mandel_dev(&m_mul(&cm, &to_m3(bp)), ln_j);
+        let d = law.mandel_dev(&m_mul(&cm, &to_m3(bp)), ln_j);
         m_trace_mul(&d, &d).max(0.0).sqrt() / ln_j.exp()
     }
 
@@ -177,9 +178,9 @@ impl Remodelling {
     /// Δt/2) — (B_p^n, Δt) again where that step is stiff (see [`Integrator::Trapezoidal`]).
     /// C^n depends on the step's start only, so it adds nothing to the tangent of the
     /// backward-Euler system (U̇ = (U − U^n)/Δt).
-    pub fn start(
+    pub fn start<L: SkeletonLaw>(
         &self,
-        hm: &HolmesMow,
+        law: &L,
         c_n: &Matrix3<f64>,
         bp_n: &Matrix3<f64>,
         dt: f64,
@@ -188,7 +189,7 @@ impl Remodelling {
             return Ok((*bp_n, dt));
         }
         let half = 0.5 * dt;
-        let Some(s) = self.trial_overstress(hm, c_n, bp_n, half)? else { return Ok((*bp_n, half)) };
+        let Some(s) = self.trial_overstress(law, c_n, bp_n, half)? else { return Ok((*bp_n, half)) };
         let rate = self.rate_factor(c_n.determinant().sqrt());
         // In a stiff step (Δt λp µ ≳ 1) a frozen rate overshoots the yield surface, and the
         // trapezoidal rule rings: where the half step would relax more than half the overstress,
@@ -198,9 +199,9 @@ impl Remodelling {
         let mut x = [0.0; NX];
         x[..6].copy_from_slice(&to_sym6(bp_n));
         x[6] = half * rate * (s - self.yield_radius()) / s;
-        let (_, b) = self.map(hm, &c6, bp_n, &x);
+        let (_, b) = self.map(law, &c6, bp_n, &x);
         let b = Matrix3::from_fn(|i, k| 0.5 * (b[i][k] + b[k][i]));
-        let s_half = self.overstress_norm(hm, c_n, &b);
+        let s_half = self.overstress_norm(law, c_n, &b);
         if s_half.is_finite() && s_half - self.yield_radius() >= 0.5 * (s - self.yield_radius()) {
             Ok((b, half))
         } else {
@@ -211,33 +212,33 @@ impl Remodelling {
     /// B_p^{n+1} from B_p^n over a step dt at the end-of-step C (domain error if the local
     /// Newton fails, so the caller can cut the step). For the trapezoidal rule, B_p^n and dt are
     /// what [`Remodelling::start`] returns.
-    pub fn update(&self, hm: &HolmesMow, c: &Matrix3<f64>, bp_n: &Matrix3<f64>, dt: f64) -> Result<Update> {
+    pub fn update<L: SkeletonLaw>(&self, law: &L, c: &Matrix3<f64>, bp_n: &Matrix3<f64>, dt: f64) -> Result<Update> {
         if self.integrator == Integrator::Explicit {
-            return Ok(self.explicit(hm, c, bp_n, dt)?.0);
+            return Ok(self.explicit(law, c, bp_n, dt)?.0);
         }
-        Ok(self.solve(hm, c, bp_n, dt)?.0)
+        Ok(self.solve(law, c, bp_n, dt)?.0)
     }
 
     /// The update and ∂x_s/∂c_r (x: the six components of B_p^{n+1}, c: those of C; None on the
     /// elastic branch, where it is zero).
     #[allow(clippy::type_complexity)]
-    pub fn update_and_tangent(
+    pub fn update_and_tangent<L: SkeletonLaw>(
         &self,
-        hm: &HolmesMow,
+        law: &L,
         c: &Matrix3<f64>,
         bp_n: &Matrix3<f64>,
         dt: f64,
     ) -> Result<(Update, Option<[[f64; 6]; 6]>)> {
         if self.integrator == Integrator::Explicit {
-            return self.explicit(hm, c, bp_n, dt);
+            return self.explicit(law, c, bp_n, dt);
         }
-        let (up, x) = self.solve(hm, c, bp_n, dt)?;
+        let (up, x) = self.solve(law, c, bp_n, dt)?;
         let Some(x) = x else { return Ok((up, None)) };
         // R(x, c) with both seeded: 7 + 6 directions.
         let xd: [Dual<13>; NX] = std::array::from_fn(|i| Dual::var(x[i], i));
         let c6 = to_sym6(c);
         let cd: [Dual<13>; 6] = std::array::from_fn(|r| Dual::var(c6[r], NX + r));
-        let (r, _) = self.residual(hm, &cd, bp_n, &xd, dt);
+        let (r, _) = self.residual(law, &cd, bp_n, &xd, dt);
         let jx = SMatrix::<f64, NX, NX>::from_fn(|i, j| r[i].d[j]);
         let jc = SMatrix::<f64, NX, 6>::from_fn(|i, j| r[i].d[NX + j]);
         let lu = jx.lu();
@@ -247,11 +248,17 @@ impl Remodelling {
 
     /// The measured norm ([`Self::measured`]) at the trial state (C^{n+1}, B_p^n) if it lies
     /// outside the yield surface and the step can flow (λp > 0, Δt > 0); None on the elastic branch.
-    fn trial_overstress(&self, hm: &HolmesMow, c: &Matrix3<f64>, bp_n: &Matrix3<f64>, dt: f64) -> Result<Option<f64>> {
+    fn trial_overstress<L: SkeletonLaw>(
+        &self,
+        law: &L,
+        c: &Matrix3<f64>,
+        bp_n: &Matrix3<f64>,
+        dt: f64,
+    ) -> Result<Option<f64>> {
         if !(self.lambda_p > 0.0 && dt > 0.0) {
             return Ok(None);
         }
-        let s_trial = self.overstress_norm(hm, c, bp_n);
+        let s_trial = self.overstress_norm(law, c, bp_n);
         if !(s_trial.is_finite()) {
             return Err(domain_error(f64::NAN, format!("remodelling: non-finite trial stress ({s_trial})")));
         }
@@ -260,14 +267,14 @@ impl Remodelling {
 
     /// The explicit (forward Euler) update and its tangent ∂x_s/∂c_r (None on the elastic branch).
     #[allow(clippy::type_complexity)]
-    fn explicit(
+    fn explicit<L: SkeletonLaw>(
         &self,
-        hm: &HolmesMow,
+        law: &L,
         c: &Matrix3<f64>,
         bp_n: &Matrix3<f64>,
         dt: f64,
     ) -> Result<(Update, Option<[[f64; 6]; 6]>)> {
-        if self.trial_overstress(hm, c, bp_n, dt)?.is_none() {
+        if self.trial_overstress(law, c, bp_n, dt)?.is_none() {
             return Ok((Update::elastic(bp_n), None));
         }
         let c6 = to_sym6(c);
@@ -275,7 +282,7 @@ impl Remodelling {
         let cm = sym_generic(&cd);
         let ln_j = m_det(&cm).ln().scale(0.5);
         let bn: M3<Dual<6>> = std::array::from_fn(|i| std::array::from_fn(|j| Dual::cst(bp_n[(i, j)])));
-        let d = hm.mandel_dev(&m_mul(&cm, &bn), ln_j);
+        let d = law.mandel_dev(&m_mul(&cm, &bn), ln_j);
         let j = ln_j.exp();
         let s = self.measured(m_trace_mul(&d, &d).sqrt() / j, j);
         // Δγ = Δt γp = Δt λp (s − k)/s (spatial form: λp/J).
@@ -294,14 +301,14 @@ impl Remodelling {
     }
 
     /// Local Newton. Returns the update and, on the plastic branch, the converged unknowns.
-    fn solve(
+    fn solve<L: SkeletonLaw>(
         &self,
-        hm: &HolmesMow,
+        law: &L,
         c: &Matrix3<f64>,
         bp_n: &Matrix3<f64>,
         dt: f64,
     ) -> Result<(Update, Option<[f64; NX]>)> {
-        let Some(s_trial) = self.trial_overstress(hm, c, bp_n, dt)? else { return Ok((Update::elastic(bp_n), None)) };
+        let Some(s_trial) = self.trial_overstress(law, c, bp_n, dt)? else { return Ok((Update::elastic(bp_n), None)) };
         let c6 = to_sym6(c).map(f64::cst);
         let norm = |r: &[f64; NX]| r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let mut x = [0.0; NX];
@@ -310,9 +317,9 @@ impl Remodelling {
         // where a Newton step is taken. At the start (x = B_p^n, Δγ = 0) the map is the identity,
         // so R_B = 0 and R_γ is the trial overstress.
         let mut r0 = [0.0; NX];
-        r0[6] = (s_trial - self.yield_radius()) / stress_scale(hm);
+        r0[6] = (s_trial - self.yield_radius()) / law.shear_modulus();
         let mut it = 0;
-        let sref = stress_scale(hm);
+        let sref = law.shear_modulus();
         loop {
             let n0 = norm(&r0);
             // The floor also grows with B_p's entries (O(1) only while the remodelling is small).
@@ -328,7 +335,7 @@ impl Remodelling {
             }
             it += 1;
             let xd: [Dual<NX>; NX] = std::array::from_fn(|i| Dual::var(x[i], i));
-            let (r, _) = self.residual(hm, &c6.map(Dual::cst), bp_n, &xd, dt);
+            let (r, _) = self.residual(law, &c6.map(Dual::cst), bp_n, &xd, dt);
             let jx = SMatrix::<f64, NX, NX>::from_fn(|i, j| r[i].d[j]);
             let step = jx
                 .lu()
@@ -339,7 +346,7 @@ impl Remodelling {
             loop {
                 let mut trial: [f64; NX] = std::array::from_fn(|i| x[i] + alpha * step[i]);
                 trial[6] = trial[6].max(0.0);
-                let (rt, _) = self.residual(hm, &c6, bp_n, &trial, dt);
+                let (rt, _) = self.residual(law, &c6, bp_n, &trial, dt);
                 let nt = norm(&rt);
                 if (nt.is_finite() && nt < (1.0 - 1e-4 * alpha) * n0) || alpha < 1e-6 {
                     x = trial;
@@ -351,16 +358,16 @@ impl Remodelling {
         }
         // B_p^{n+1} from the converged Δγ and dev Σ through the map itself: symmetric, and det
         // preserved to round-off (x[..6] agrees with it to the tolerance).
-        let (_, bp) = self.map(hm, &c6, bp_n, &x);
+        let (_, bp) = self.map(law, &c6, bp_n, &x);
         let bp = Matrix3::from_fn(|i, j| 0.5 * (bp[i][j] + bp[j][i]));
         Ok((Update { bp, dgamma: x[6], iterations: it }, Some(x)))
     }
 
     /// dev Σ at (C, B) and the mapped exp(−Δγ dev Σᵀ) B_p^n exp(−Δγ dev Σ).
-    fn map<T: Scalar>(&self, hm: &HolmesMow, c6: &[T; 6], bp_n: &Matrix3<f64>, x: &[T; NX]) -> (M3<T>, M3<T>) {
+    fn map<T: Scalar, L: SkeletonLaw>(&self, law: &L, c6: &[T; 6], bp_n: &Matrix3<f64>, x: &[T; NX]) -> (M3<T>, M3<T>) {
         let cm = sym_generic(c6);
         let ln_j = m_det(&cm).ln().scale(0.5);
-        let d = hm.mandel_dev(&m_mul(&cm, &sym_generic(&x[..6])), ln_j);
+        let d = law.mandel_dev(&m_mul(&cm, &sym_generic(&x[..6])), ln_j);
         let g = m_exp(&m_scale(&m_transpose(&d), -x[6]));
         let bn: M3<T> = std::array::from_fn(|i| std::array::from_fn(|j| T::cst(bp_n[(i, j)])));
         (d, m_mul(&m_mul(&g, &bn), &m_transpose(&g)))
@@ -369,19 +376,19 @@ impl Remodelling {
     /// R_B = x_B − sym6(map), R_γ = [(s − k) − Δγ s/(λp Δt)] / σ_ref with s = ‖dev σ‖ (‖dev τ‖
     /// in the Kirchhoff variant), k = √(2/3) σy and σ_ref the mixture shear modulus (R is O(1) and
     /// finite as Δt → ∞); the spatial form (40a) has λp/J in place of λp.
-    fn residual<T: Scalar>(
+    fn residual<T: Scalar, L: SkeletonLaw>(
         &self,
-        hm: &HolmesMow,
+        law: &L,
         c6: &[T; 6],
         bp_n: &Matrix3<f64>,
         x: &[T; NX],
         dt: f64,
     ) -> ([T; NX], T) {
-        let (d, mapped) = self.map(hm, c6, bp_n, x);
+        let (d, mapped) = self.map(law, c6, bp_n, x);
         let cm = sym_generic(c6);
         let j = m_det(&cm).sqrt();
         let s = self.measured(m_trace_mul(&d, &d).sqrt() / j, j);
-        let sref = stress_scale(hm);
+        let sref = law.shear_modulus();
         let mut r = [T::cst(0.0); NX];
         for (k, &(a, b)) in SYM_PAIRS.iter().enumerate() {
             r[k] = x[k] - mapped[a][b];
@@ -390,11 +397,6 @@ impl Remodelling {
         r[6] = ((s - T::cst(self.yield_radius())) - x[6] * flow).scale(1.0 / sref);
         (r, s)
     }
-}
-
-/// σ_ref of the consistency residual: the drained shear modulus of the mixture, Φs 2 α0 (α3 − α2).
-fn stress_scale(hm: &HolmesMow) -> f64 {
-    hm.phi_s * 2.0 * hm.alpha0 * (hm.alpha3 - hm.alpha2)
 }
 
 pub(super) fn to_m3(m: &Matrix3<f64>) -> [[f64; 3]; 3] {

@@ -1,11 +1,11 @@
 //! The tests of the remodelling update (`super::remodelling`): the local solve, its tangent, the
 //! flow forms and the integrators.
 use super::dual::{Scalar, M3};
+use super::law::{SkeletonLaw, SolidLaw};
+use super::laws::HolmesMow;
 use super::remodelling::*;
 use super::tensor::{from_sym6, to_sym6};
 use super::test_util::{kin, Rng};
-use super::HolmesMow;
-use super::SolidLaw;
 use crate::material::tensor::sym_basis;
 use nalgebra::Matrix3;
 

@@ -1,6 +1,6 @@
 //! Test helpers: reproducible random states and central finite differences with respect to F.
 
-use super::{idx, Tangent};
+use super::tensor::{idx, Tangent};
 use nalgebra::{Matrix3, Rotation3, Vector3};
 
 /// Small xorshift generator: reproducible states without a rand dependency.
@@ -45,8 +45,8 @@ impl Rng {
 }
 
 /// The kinematics of F (which must be admissible).
-pub fn kin(f: &Matrix3<f64>) -> super::Kinematics {
-    super::Kinematics::new(f).unwrap()
+pub fn kin(f: &Matrix3<f64>) -> super::law::Kinematics {
+    super::law::Kinematics::new(f).unwrap()
 }
 
 /// Relative step for central differences: truncation O(h²) ≈ 1e-12, round-off O(ε/h) ≈ 1e-10.

@@ -15,7 +15,7 @@ use crate::io::recorder::{Column, Observed, StepFields};
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::Vector;
 use crate::physics::problem::{backward_euler_rate, PoroProblem, Post};
-use crate::scene::{LoadedScene, Material};
+use crate::scene::LoadedScene;
 use mpi::topology::SimpleCommunicator;
 
 /// What is observed besides the state itself; built (and validated) before the run directory
@@ -172,7 +172,7 @@ fn observed_columns<'a>(plates: bool, remodelling: bool, named: impl Iterator<It
 /// fit's column are checked against before anything runs.
 pub fn history_column_names(scene: &LoadedScene) -> Result<Vec<String>> {
     let s = &scene.scene;
-    let remodelling = matches!(&s.material, Material::HolmesMow(m) if m.remodelling.is_some());
+    let remodelling = s.material.mixture().is_some_and(|m| m.remodelling.is_some());
     let exact = exact_columns(scene)?;
     let named = s.probe.iter().map(|p| p.name.as_str()).chain(exact.iter().map(|(n, _)| n.as_str()));
     let observed = observed_columns(s.plates.is_some(), remodelling, named);

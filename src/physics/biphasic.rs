@@ -8,9 +8,9 @@
 //!   W = −Q = K(F, B_p) (Grad p − ϱf Fᵀ a_g)         negative referential Darcy flux
 //! ```
 //!
-//! P_sc is the Holmes–Mow solid plus the optional compaction penalty
-//! ([`crate::material::Solid`]), K the Holmes–Mow referential conductivity
-//! ([`crate::material::Permeability`]). With D = dt Grad u̇ the rate is evaluated without
+//! P_sc is the skeleton law L (any [`SkeletonLaw`], one per file in [`crate::material::laws`])
+//! plus the optional compaction penalty ([`crate::material::Solid`]), K the referential
+//! conductivity ([`crate::material::Permeability`]). With D = dt Grad u̇ the rate is evaluated without
 //! cancellation from the exact expansion det(F − D) = J − cof F : D + F : cof D − det D:
 //!
 //! ```text
@@ -42,7 +42,7 @@ use crate::error::{Error, Result};
 use crate::fem::point::{PointFields, PointFlux, PointModel, PointState, PointTangent, QpId, QpState};
 use crate::material::tensor::{cof_cross, dcof, from_sym6, to_sym6};
 use crate::material::{
-    cof, domain_error, idx, locate, AtPoint, CompactionPenalty, HolmesMow, Kinematics, Permeability, Remodelling,
+    cof, domain_error, idx, locate, AtPoint, CompactionPenalty, Kinematics, Permeability, Remodelling, SkeletonLaw,
     Solid, SolidLaw, Tangent,
 };
 use nalgebra::{Matrix3, SMatrix, Vector3};
@@ -50,12 +50,12 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 /// (kg/m³)·(m/s²) → kPa/µm: 1 N/m³ = 1 Pa/m = 1e-3 kPa / 1e6 µm.
 pub const KG_M3_M_S2_TO_KPA_PER_UM: f64 = 1e-9;
 
-/// The biphasic point model: solid, optional compaction penalty, permeability, and the weights
-/// ϱs a_g, ϱf a_g in solver units (kPa/µm).
+/// The biphasic point model: the skeleton law L, optional compaction penalty, permeability, and
+/// the weights ϱs a_g, ϱf a_g in solver units (kPa/µm).
 #[derive(Debug, Clone)]
-pub struct Biphasic {
-    /// Holmes–Mow solid (energy per reference volume of mixture).
-    solid: HolmesMow,
+pub struct Biphasic<L> {
+    /// The skeleton law (energy per reference volume of mixture).
+    solid: L,
     /// Compaction penalty U(J), if any.
     penalty: Option<CompactionPenalty>,
     /// Referential conductivity law.
@@ -88,21 +88,21 @@ struct Kin {
     dbp_dc: Option<[[f64; 6]; 6]>,
 }
 
-impl Biphasic {
+impl<L: SkeletonLaw> Biphasic<L> {
     /// Builds the model from the three laws, the densities (kg/m³) and the gravity acceleration
     /// (m/s², e.g. [0, 0, −9.81]); ϱ a_g is converted to kPa/µm with
     /// [`KG_M3_M_S2_TO_KPA_PER_UM`]. The laws must agree on Φs (relative 1e-12); densities must be
     /// finite and >= 0, gravity finite. The drained moduli are computed here, once, from the
     /// exact tangent at F = B_p = I (see [`PointModel::drained_bulk_modulus`]).
     pub fn new(
-        solid: HolmesMow,
+        solid: L,
         penalty: Option<CompactionPenalty>,
         perm: Permeability,
         rho_s_kg_m3: f64,
         rho_f_kg_m3: f64,
         g_vec_m_s2: [f64; 3],
     ) -> Result<Self> {
-        let phi_s = solid.phi_s;
+        let phi_s = solid.phi_s();
         let same = |x: f64| (x - phi_s).abs() <= 1e-12 * phi_s;
         if !same(perm.phi_s) || !penalty.as_ref().is_none_or(|u| same(u.phi_s)) {
             return Err(Error::Material(format!(
@@ -121,7 +121,7 @@ impl Biphasic {
         }
         let a_g = Vector3::from(g_vec_m_s2) * KG_M3_M_S2_TO_KPA_PER_UM;
         let id = Matrix3::identity();
-        let a0 = Solid { hm: &solid, penalty: penalty.as_ref() }.response(&Kinematics::new(&id)?, &id)?.a;
+        let a0 = Solid { law: &solid, penalty: penalty.as_ref() }.response(&Kinematics::new(&id)?, &id)?.a;
         // K_dr = (1/9) δ_ij A_ijkl δ_kl = Φs (λ + 2µ/3) and M = A_zzzz = Φs (λ + 2µ) for the
         // isotropic linearisation A = Φs [λ δ_ij δ_kl + µ (δ_ik δ_jl + δ_il δ_jk)].
         let k_drained = (0..3).map(|i| (0..3).map(|k| a0[(idx(i, i), idx(k, k))]).sum::<f64>()).sum::<f64>() / 9.0;
@@ -156,9 +156,9 @@ impl Biphasic {
         self.rho_f_g
     }
 
-    /// The solid law: Holmes–Mow plus the penalty, if any.
-    fn solid_law(&self) -> Solid<'_> {
-        Solid { hm: &self.solid, penalty: self.penalty.as_ref() }
+    /// The solid law: the skeleton law plus the penalty, if any.
+    fn solid_law(&self) -> Solid<'_, L> {
+        Solid { law: &self.solid, penalty: self.penalty.as_ref() }
     }
 
     /// Output fields at a point (uses Grad u, p, Grad p). Domain error as in `eval`.
@@ -290,7 +290,7 @@ impl Biphasic {
     }
 }
 
-impl PointModel for Biphasic {
+impl<L: SkeletonLaw> PointModel for Biphasic<L> {
     fn set_gravity_factor(&mut self, factor: f64) {
         self.rho_s_g = self.weights.0 * factor;
         self.rho_f_g = self.weights.1 * factor;

@@ -1,14 +1,36 @@
 //! The point model (constitutive law, permeability, remodelling) a scene's `[material]` asks for.
+//!
+//! A skeleton law is registered in [`with_model`], one line per scene variant: the line builds
+//! the law from its keys and hands it, with the mixture's keys, to what needs the law (the point
+//! model, the ellipticity warning), which is generic over [`SkeletonLaw`].
 
 use crate::error::{Error, Result};
 use crate::fem::point::PointModel;
-use crate::material::{ellipticity, HolmesMow};
+use crate::material::laws::HolmesMow;
+use crate::material::{CompactionPenalty, Permeability, PermeabilityModel, Remodelling, SkeletonLaw};
 use crate::physics::biphasic::Biphasic;
 use crate::physics::linear::LinearPoroelastic;
-use crate::scene::{HolmesMowSpec, LoadedScene, Material, SolidSpec};
+use crate::scene::{LoadedScene, Material, MixtureSpec, SolidSpec};
+
+/// What is done with a scene's model: the linear one, or a mixture around a skeleton law,
+/// whichever law it is.
+trait WithModel {
+    type Out;
+    fn linear(self, mu: f64, nu: f64, permeability: f64) -> Result<Self::Out>;
+    fn mixture<L: SkeletonLaw>(self, law: L, spec: &MixtureSpec) -> Result<Self::Out>;
+}
+
+/// The registry of models: `w` applied to the scene's `[material]`. A skeleton law is one line
+/// here, which builds the law from its keys.
+fn with_model<W: WithModel>(material: &Material, w: W) -> Result<W::Out> {
+    match material {
+        Material::Linear { mu, nu, permeability } => w.linear(*mu, *nu, *permeability),
+        Material::HolmesMow(spec) => w.mixture(holmes_mow(spec)?, spec),
+    }
+}
 
 /// The Holmes–Mow solid of a scene: from (µ, ν) by (56), or from its α's.
-fn holmes_mow(spec: &HolmesMowSpec) -> Result<HolmesMow> {
+fn holmes_mow(spec: &MixtureSpec) -> Result<HolmesMow> {
     match spec.solid().map_err(Error::Material)? {
         SolidSpec::MuNu { mu, nu } => HolmesMow::from_mu_nu(mu, nu, spec.phi_s),
         SolidSpec::Alpha(a) => HolmesMow::new(spec.phi_s, a[0], a[1], a[2], 1.0),
@@ -16,71 +38,85 @@ fn holmes_mow(spec: &HolmesMowSpec) -> Result<HolmesMow> {
 }
 
 /// A warning for a solid law that loses strong ellipticity under the strains of a compression
-/// experiment (`material::ellipticity`, closed form): there the solve stops converging, on
-/// every mesh. It names the compression limit (any elastic principal stretch below
-/// √(−α1/α2)) and the uniaxial-stress tension limit, where the lateral contraction reaches it.
+/// experiment (closed form, [`SkeletonLaw::ellipticity_limit`]): there the solve stops
+/// converging, on every mesh. It names the compression limit (any elastic principal stretch
+/// below it) and the uniaxial-stress tension limit, where the lateral contraction reaches it.
 pub fn ellipticity_warning(scene: &LoadedScene) -> Result<Option<String>> {
-    let Material::HolmesMow(spec) = &scene.scene.material else {
-        return Ok(None);
-    };
-    let solid = holmes_mow(spec)?;
-    let Some(lam) = ellipticity::isochoric_compression_limit(&solid, 0.5)? else {
-        return Ok(None);
-    };
-    let tension = ellipticity::uniaxial_stress_tension_limit(&solid)
-        .map(|t| format!("; {:.1}% stretch in uniaxial-stress tension", 100.0 * (t - 1.0)))
-        .unwrap_or_default();
-    let pct = 100.0 * (1.0 - lam);
-    Ok(Some(format!(
-        "the Holmes–Mow solid (alpha1 = {:.3} < 0{}) loses strong ellipticity beyond {pct:.1}% isochoric \
-         compression, and wherever an elastic principal stretch falls below {lam:.3} ({pct:.1}% \
-         compression in uniaxial strain or stress too{tension}): strains above that localise, and the \
-         solve stops converging there on any mesh (docs/studies.md, stability (f))",
-        solid.alpha1,
-        spec.nu.map(|n| format!(": nu = {n} > 1/3")).unwrap_or_default(),
-    )))
+    with_model(&scene.scene.material, Warning)
 }
 
-/// The scene's point model.
-pub fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
-    match &scene.scene.material {
-        Material::Linear { mu, nu, permeability } => Ok(Box::new(LinearPoroelastic::new(*mu, *nu, *permeability)?)),
-        Material::HolmesMow(spec) => {
-            let model = Biphasic::try_from(spec).map_err(|e| {
-                let msg = match e {
-                    Error::Material(m) => m,
-                    e => e.to_string(),
-                };
-                Error::Scene { path: scene.source.clone(), msg: format!("[material] {msg}") }
-            })?;
-            Ok(Box::new(model))
-        }
+struct Warning;
+
+impl WithModel for Warning {
+    type Out = Option<String>;
+
+    /// Linear elasticity is elliptic for every admissible ν.
+    fn linear(self, _mu: f64, _nu: f64, _permeability: f64) -> Result<Option<String>> {
+        Ok(None)
     }
-}
 
-impl TryFrom<&HolmesMowSpec> for Biphasic {
-    type Error = Error;
-
-    /// The mixture of a scene's `[material]`: solid, penalty, permeability, densities, gravity
-    /// and remodelling, each checked by its law.
-    fn try_from(spec: &HolmesMowSpec) -> Result<Biphasic> {
-        use crate::material::{CompactionPenalty, Permeability, PermeabilityModel, Remodelling};
-        let solid = holmes_mow(spec)?;
-        let phi_s = spec.phi_s;
-        let penalty =
-            spec.penalty.as_ref().map(|p| CompactionPenalty::new(phi_s, p.u0, p.j_cr, p.q, p.r)).transpose()?;
-        let model = match spec.permeability_c {
-            Some(c) => PermeabilityModel::RemodellingDependent { c },
-            None => PermeabilityModel::Isotropic,
+    fn mixture<L: SkeletonLaw>(self, law: L, spec: &MixtureSpec) -> Result<Option<String>> {
+        let Some(limit) = law.ellipticity_limit(0.5)? else {
+            return Ok(None);
         };
-        let perm = Permeability::new(spec.k0, phi_s, spec.kappa, spec.m0, model)?;
-        let mut mixture = Biphasic::new(solid, penalty, perm, spec.rho_s, spec.rho_f, spec.gravity)?;
-        if let Some(r) = &spec.remodelling {
-            let law = Remodelling::new(r.lambda_p, r.sigma_y)?;
-            mixture = mixture.with_remodelling(law.with_form(r.form).with_integrator(r.integrator));
-        }
-        Ok(mixture)
+        let tension = limit
+            .uniaxial_tension
+            .map(|t| format!("; {:.1}% stretch in uniaxial-stress tension", 100.0 * (t - 1.0)))
+            .unwrap_or_default();
+        let (lam, pct) = (limit.stretch, 100.0 * (1.0 - limit.stretch));
+        Ok(Some(format!(
+            "the {} ({}{}) loses strong ellipticity beyond {pct:.1}% isochoric \
+             compression, and wherever an elastic principal stretch falls below {lam:.3} ({pct:.1}% \
+             compression in uniaxial strain or stress too{tension}): strains above that localise, and the \
+             solve stops converging there on any mesh (docs/studies.md, stability (f))",
+            limit.law,
+            limit.cause,
+            spec.nu.map(|n| format!(": nu = {n} > 1/3")).unwrap_or_default(),
+        )))
     }
+}
+
+/// The scene's point model (an error in its `[material]` names the scene).
+pub fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
+    with_model(&scene.scene.material, Model).map_err(|e| {
+        let msg = match e {
+            Error::Material(m) => m,
+            e => e.to_string(),
+        };
+        Error::Scene { path: scene.source.clone(), msg: format!("[material] {msg}") }
+    })
+}
+
+struct Model;
+
+impl WithModel for Model {
+    type Out = Box<dyn PointModel>;
+
+    fn linear(self, mu: f64, nu: f64, permeability: f64) -> Result<Box<dyn PointModel>> {
+        Ok(Box::new(LinearPoroelastic::new(mu, nu, permeability)?))
+    }
+
+    fn mixture<L: SkeletonLaw>(self, law: L, spec: &MixtureSpec) -> Result<Box<dyn PointModel>> {
+        Ok(Box::new(mixture(law, spec)?))
+    }
+}
+
+/// The mixture of a scene's `[material]` around its skeleton law: penalty, permeability,
+/// densities, gravity and remodelling, each checked by its law.
+fn mixture<L: SkeletonLaw>(law: L, spec: &MixtureSpec) -> Result<Biphasic<L>> {
+    let phi_s = spec.phi_s;
+    let penalty = spec.penalty.as_ref().map(|p| CompactionPenalty::new(phi_s, p.u0, p.j_cr, p.q, p.r)).transpose()?;
+    let model = match spec.permeability_c {
+        Some(c) => PermeabilityModel::RemodellingDependent { c },
+        None => PermeabilityModel::Isotropic,
+    };
+    let perm = Permeability::new(spec.k0, phi_s, spec.kappa, spec.m0, model)?;
+    let mut mixture = Biphasic::new(law, penalty, perm, spec.rho_s, spec.rho_f, spec.gravity)?;
+    if let Some(r) = &spec.remodelling {
+        let law = Remodelling::new(r.lambda_p, r.sigma_y)?;
+        mixture = mixture.with_remodelling(law.with_form(r.form).with_integrator(r.integrator));
+    }
+    Ok(mixture)
 }
 
 #[cfg(test)]

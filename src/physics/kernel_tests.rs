@@ -20,9 +20,10 @@ use crate::fem::element::{tabulate_cell, ElementMatrix, MAX_DOF};
 use crate::fem::kernel::{CellKernel, ElementInput, ElementKernel, ElementValues, Fade, Stabilisation};
 use crate::fem::point::{PointModel, PointState, QpId, QpState};
 use crate::fem::quadrature;
+use crate::material::laws::HolmesMow;
 use crate::material::tensor::to_sym6;
 use crate::material::test_util::Rng;
-use crate::material::{CompactionPenalty, HolmesMow, Permeability, PermeabilityModel, Remodelling};
+use crate::material::{CompactionPenalty, Permeability, PermeabilityModel, Remodelling};
 use crate::physics::biphasic::Biphasic;
 use crate::reference_cell::shape::{MAX_NODES, MAX_VERTICES};
 use crate::reference_cell::{Family, TET10_EDGES, TRI6_EDGES};
@@ -31,7 +32,7 @@ use std::marker::PhantomData;
 
 /// Table 1 (µm, kPa, s): µ = 20 kPa, ν = 0.2, Φs = 0.6, the penalty, k0 = 3.7729 µm⁴/(nN s),
 /// ρ = 1000 kg/m³ and g along −z.
-pub(crate) fn table1(gravity: bool) -> Biphasic {
+pub(crate) fn table1(gravity: bool) -> Biphasic<HolmesMow> {
     let solid = HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap();
     let pen = CompactionPenalty::new(0.6, 1000.0, 0.7, 2.0, 0.5).unwrap();
     let perm = Permeability::new(3.7729, 0.6, 4.638, 0.0848, PermeabilityModel::Isotropic).unwrap();

@@ -6,7 +6,7 @@
 
 use super::key::{Key, Unset};
 use super::reference::sections;
-use super::{LoadedScene, Material};
+use super::LoadedScene;
 use crate::error::Result;
 
 /// The resolved scene of `loaded`, each key with its declaration as a comment.
@@ -53,13 +53,10 @@ pub fn explain(loaded: &LoadedScene) -> Result<String> {
 /// The keys a scene can have: its material model's own (`material.mu` is the drained modulus
 /// of the linear model) and every other section's.
 fn declared(loaded: &LoadedScene) -> Vec<Key> {
-    let model = match loaded.scene.material {
-        Material::Linear { .. } => "model = \"linear\"",
-        Material::HolmesMow(_) => "model = \"holmes_mow\"",
-    };
+    let model = format!("model = \"{}\"", loaded.scene.material.model().0);
     sections()
         .iter()
-        .filter(|s| !s.title.contains("model = ") || s.title.contains(model))
+        .filter(|s| !s.title.contains("model = ") || s.title.contains(&model))
         .flat_map(|s| s.keys.iter().copied())
         .collect()
 }
@@ -150,6 +147,17 @@ mod tests {
 
     fn parsed(text: &str) -> toml::Table {
         toml::from_str(text).unwrap_or_else(|e| panic!("{e}\n{text}"))
+    }
+
+    /// The model name `declared` selects the key sections by is the scene's own `model = ".."`
+    /// (what serde writes), for each model.
+    #[test]
+    fn the_model_name_is_the_scenes() {
+        for scene in ["cryer", "reference"] {
+            let material = &LoadedScene::load(scene, &[]).unwrap().scene.material;
+            let written = toml::Table::try_from(material).unwrap();
+            assert_eq!(written["model"].as_str(), Some(material.model().0), "{scene}");
+        }
     }
 
     /// `tst_two_compressions`' table is printed a row a line, aligned, with nothing between its

@@ -24,13 +24,14 @@ pub enum Material {
     },
     /// Finite-strain biphasic mixture (model.md §2–§3): Holmes–Mow solid, compaction penalty,
     /// Holmes–Mow permeability, gravity.
-    HolmesMow(HolmesMowSpec),
+    HolmesMow(MixtureSpec),
 }
 
-/// The finite-strain biphasic mixture of `model = "holmes_mow"`.
+/// A finite-strain biphasic mixture (`model = "holmes_mow"`): its skeleton law's keys (µ and ν,
+/// or the α's) and the mixture's (permeability, penalty, remodelling, densities, gravity).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct HolmesMowSpec {
+pub struct MixtureSpec {
     /// Shear modulus µ (kPa) and Poisson ratio ν of Ψ/Φs; the α's follow from eq. (56) ...
     #[serde(default)]
     pub mu: Option<f64>,
@@ -132,6 +133,20 @@ impl Material {
             Material::HolmesMow(hm) => hm.validate(),
         }
     }
+
+    /// The model's name in a scene (`model = ".."`) and, for a finite-strain model, its mixture
+    /// keys, whichever its skeleton law: one line per model.
+    pub fn model(&self) -> (&'static str, Option<&MixtureSpec>) {
+        match self {
+            Material::Linear { .. } => ("linear", None),
+            Material::HolmesMow(m) => ("holmes_mow", Some(m)),
+        }
+    }
+
+    /// The mixture's keys of a finite-strain model; None for the linear one.
+    pub fn mixture(&self) -> Option<&MixtureSpec> {
+        self.model().1
+    }
 }
 
 /// The keys of `[material]` that each give the solid's stiffness, one of which a scene has: an
@@ -139,7 +154,7 @@ impl Material {
 /// written with `mu`).
 pub(crate) const MODULI: [&str; 3] = ["mu", "drained_shear_modulus", "drained_youngs_modulus"];
 
-impl HolmesMowSpec {
+impl MixtureSpec {
     /// The mixture's density Φs ρs + (1 − Φs) ρf (kg/m³): what its weight is of.
     pub fn mixture_density(&self) -> f64 {
         self.phi_s * self.rho_s + (1.0 - self.phi_s) * self.rho_f

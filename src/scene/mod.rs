@@ -38,7 +38,7 @@ mod validation_tests;
 pub use bc::{Axis, BoundaryCondition, Traction};
 pub(crate) use diagnose::toml_message;
 pub use load::{LoadedScene, BUILTIN};
-pub use material::{HolmesMowSpec, Material, PenaltySpec, RemodellingSpec, SolidSpec};
+pub use material::{Material, MixtureSpec, PenaltySpec, RemodellingSpec, SolidSpec};
 pub use mesh::{Geometry, Grading, MeshSpec};
 pub use numerics::{Element, FemSpec, SolverSpec};
 pub use observe::{Probe, ProbeField, Verification};

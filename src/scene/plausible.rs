@@ -87,28 +87,26 @@ const THICKNESS: Quantity = Quantity {
 /// a note in `notes` for an unusual one.
 pub(super) fn check(scene: &Scene, notes: &mut Vec<String>) -> Result<(), String> {
     let mut values: Vec<(&str, f64, &Quantity)> = Vec::new();
-    match &scene.material {
-        Material::Linear { mu, permeability, .. } => {
-            values.extend([("material.mu", *mu, &MODULUS), ("material.permeability", *permeability, &PERMEABILITY)])
+    if let Material::Linear { mu, permeability, .. } = &scene.material {
+        values.extend([("material.mu", *mu, &MODULUS), ("material.permeability", *permeability, &PERMEABILITY)])
+    }
+    if let Some(m) = scene.material.mixture() {
+        let moduli = [
+            ("material.mu", m.mu),
+            ("material.drained_shear_modulus", m.drained_shear_modulus),
+            ("material.drained_youngs_modulus", m.drained_youngs_modulus),
+            ("material.alpha[0]", m.alpha.map(|a| a[0])),
+            ("material.penalty.u0", m.penalty.as_ref().map(|p| p.u0)),
+        ];
+        values.extend(moduli.iter().filter_map(|(k, v)| v.map(|v| (*k, v, &MODULUS))));
+        values.push(("material.k0", m.k0, &PERMEABILITY));
+        if let Some(r) = &m.remodelling {
+            values.push(("material.remodelling.lambda_p", r.lambda_p, &FLOW_RATE));
+            values.push(("material.remodelling.sigma_y", r.sigma_y, &MODULUS));
         }
-        Material::HolmesMow(m) => {
-            let moduli = [
-                ("material.mu", m.mu),
-                ("material.drained_shear_modulus", m.drained_shear_modulus),
-                ("material.drained_youngs_modulus", m.drained_youngs_modulus),
-                ("material.alpha[0]", m.alpha.map(|a| a[0])),
-                ("material.penalty.u0", m.penalty.as_ref().map(|p| p.u0)),
-            ];
-            values.extend(moduli.iter().filter_map(|(k, v)| v.map(|v| (*k, v, &MODULUS))));
-            values.push(("material.k0", m.k0, &PERMEABILITY));
-            if let Some(r) = &m.remodelling {
-                values.push(("material.remodelling.lambda_p", r.lambda_p, &FLOW_RATE));
-                values.push(("material.remodelling.sigma_y", r.sigma_y, &MODULUS));
-            }
-            values.push(("material.rho_s", m.rho_s, &DENSITY));
-            values.push(("material.rho_f", m.rho_f, &DENSITY));
-            values.push(("|material.gravity|", m.gravity_magnitude(), &GRAVITY));
-        }
+        values.push(("material.rho_s", m.rho_s, &DENSITY));
+        values.push(("material.rho_f", m.rho_f, &DENSITY));
+        values.push(("|material.gravity|", m.gravity_magnitude(), &GRAVITY));
     }
     values.push(("time.t_end", scene.time.t_end, &TIME));
     if let Some(p) = &scene.plates {

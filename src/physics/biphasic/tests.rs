@@ -3,12 +3,13 @@
 
 use super::super::linear::LinearPoroelastic;
 use super::*;
+use crate::material::laws::HolmesMow;
 use crate::material::test_util::Rng;
 use crate::material::{Integrator, PermeabilityModel};
 
 /// Table 1: µ = 20 kPa, ν = 0.2, Φs = 0.6; penalty J_cr = 0.7, U0 = 1000 kPa, q = 2, r = 0.5;
 /// k0 = 3.7729 µm⁴/(nN s), κ = 4.638, m0 = 0.0848.
-fn table1(model: PermeabilityModel, rho: [f64; 2], g: [f64; 3]) -> Biphasic {
+fn table1(model: PermeabilityModel, rho: [f64; 2], g: [f64; 3]) -> Biphasic<HolmesMow> {
     let solid = HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap();
     let pen = CompactionPenalty::new(0.6, 1000.0, 0.7, 2.0, 0.5).unwrap();
     let perm = Permeability::new(3.7729, 0.6, 4.638, 0.0848, model).unwrap();
@@ -33,7 +34,7 @@ fn state(f: Matrix3<f64>, l: Matrix3<f64>, p: f64, gp: Vector3<f64>, dt: f64) ->
 
 /// Central differences of every block of `eval`, the Grad u columns perturbing Grad u̇ by
 /// shift times the same amount (what the assembler's U̇ = shift U + … does).
-fn fd_tangent(m: &Biphasic, s: &PointState, h: QpState, shift: f64) -> PointTangent {
+fn fd_tangent(m: &Biphasic<HolmesMow>, s: &PointState, h: QpState, shift: f64) -> PointTangent {
     let ev = |s: &PointState| m.eval(AT, s, h).unwrap();
     let mut t = PointTangent {
         dstress_du: SMatrix::zeros(),
@@ -419,7 +420,7 @@ fn rejects_bad_construction() {
     let perm_other = Permeability::new(3.7729, 0.5, 4.638, 0.0848, PermeabilityModel::Isotropic).unwrap();
     let pen_other = CompactionPenalty::new(0.65, 1000.0, 0.7, 2.0, 0.5).unwrap();
     let g = [0.0, 0.0, -9.81];
-    let msg = |r: Result<Biphasic>| match r {
+    let msg = |r: Result<Biphasic<HolmesMow>>| match r {
         Err(Error::Material(m)) => m,
         other => panic!("expected a material error, got {other:?}"),
     };

@@ -1,10 +1,46 @@
 //! Holmes–Mow solid (36): Ψ = Φs α0 {exp[α1 (I1e − 3) + α2 (I2e − 3) − α3 ln I3e] − 1},
 //! I1e = tr(C B_p), I2e = ½[I1e² − tr((C B_p)²)], I3e = det C; S_sc = 2 ∂Ψ/∂C (39) without the
 //! penalty, P_sc = F S_sc, and the exact tangent ∂P_sc/∂F.
+//!
+//! # Strong ellipticity
+//!
+//! Strong ellipticity of a solid law: the acoustic tensor Q_ik(N) = A_iJkL N_J N_L (A = ∂P/∂F)
+//! is positive definite for every unit direction N.
+//!
+//! Where it is not, the equilibrium equations lose ellipticity: a deformation can localise in
+//! a band normal to N at no cost, discrete solutions then depend on the mesh (the finer, the
+//! earlier they localise), and Newton stops converging whatever the time step. The pore
+//! pressure adds nothing to Q (its term −pJF⁻ᵀ contributes n̂ ⊗ n̂ − n̂ ⊗ n̂ = 0), so the
+//! solid's law alone decides, drained or undrained.
+//!
+//! Holmes–Mow has a closed form. With B_p = I, e = 2 Φs α0 e^f, b = FFᵀ, G = ∂f/∂C and unit
+//! m, N, the tangent of `HolmesMow::response` gives
+//!   m·Q(N)m = e [α1 + α2 q] + e [α3 (m·F⁻ᵀN)² + 2 (m·FGN)²],
+//!   q = I1 − m·bm − |FN|² + (m·FN)² = I1 − m·bm − |P FN|²  (P: projector normal to m).
+//! q is at least the smallest eigenvalue of b on the plane normal to m, hence at least the
+//! smallest eigenvalue c_min of C; it equals c_c when N = e_a and m = F e_b/|F e_b| for
+//! principal axes a ≠ b ≠ c of C, where the last two terms vanish. So for α2 ≥ 0 the smallest
+//! acoustic eigenvalue is exactly e (α1 + α2 c_min), reached by a shear in the plane normal to
+//! the least-stretched axis: the law is strongly elliptic iff c_min > −α1/α2. With α's from
+//! (µ, ν) by (56) that is λ² > (3ν − 1)/ν: 11.8% compression for ν = 0.45 (λ² = 7/9), 29.3%
+//! for 0.4, 2.1% for 0.49, whatever µ, and never for ν ≤ 1/3 (α1 ≥ 0). In uniaxial-stress
+//! tension the lateral contraction gets there, at axial λ² = −α3/α1 (1.254 for ν = 0.45).
+//! For α2 < 0 (ν < 0) only bounds follow: e (α1 + α2 (I1 − c_min)) ≤ min ≤ e (α1 + α2 c_max).
+//! With a remodelling metric, Ψ(F, B_p) = Ψ(F B_p^½, I) (det B_p = 1), so Q(N) = Q_e(B_p^½ N):
+//! the same criterion holds for the eigenvalues of C_e = B_p^½ C B_p^½ (those of C B_p).
+//! A volumetric penalty U(J) adds J² U'' (F⁻ᵀN)⊗(F⁻ᵀN), zero on that shear: it cannot cure it.
+//!
+//! The sampled minimum over directions of Q's eigenvalues stays as the independent reference,
+//! with the closed form's own test version, in `ellipticity_tests`.
 
-use super::dual::{m_add, m_dev, m_mul, m_scale, m_trace, m_trace_mul, Scalar, M3};
-use super::{add_ik_lj, add_il_kj, add_outer, check_phi_s, domain_error, Kinematics, SolidLaw, SolidResponse, Tangent};
+#[cfg(test)]
+mod ellipticity_tests;
+
 use crate::error::{Error, Result};
+use crate::material::domain::{check_phi_s, domain_error};
+use crate::material::dual::{m_add, m_dev, m_mul, m_scale, m_trace, m_trace_mul, Scalar, M3};
+use crate::material::law::{EllipticityLimit, Kinematics, SkeletonLaw, SolidLaw, SolidResponse};
+use crate::material::tensor::{add_ik_lj, add_il_kj, add_outer, sym_basis, Tangent};
 use nalgebra::Matrix3;
 
 /// Holmes–Mow parameters; energy per unit reference volume of mixture (hence the factor Φs).
@@ -85,41 +121,15 @@ impl HolmesMow {
         )
     }
 
-    /// Deviatoric Mandel stress dev Σ, Σ = C S_sc, as a function of M = C B_p and ln J (generic,
-    /// for the remodelling update and its derivatives). With S = e G:
-    /// Σ = e [(α1 + α2 tr M) M − α2 M² − α3 I], so dev Σ = e dev[(α1 + α2 tr M) M − α2 M²],
-    /// e = 2 Φs α0 exp[α1 (tr M − 3) + α2 (I2(M) − 3) − 2 α3 ln J]. (The compaction penalty adds
-    /// J U'(J) I to Σ: no deviator.)
-    pub fn mandel_dev<T: Scalar>(&self, m: &M3<T>, ln_j: T) -> M3<T> {
+    /// (tr M, f) with f = α1 (tr M − 3) + α2 (I2(M) − 3) − 2 α3 ln J: the exponent as a function
+    /// of M = C B_p, generic (the remodelling update's; [`Self::core`] is the f64 one without the
+    /// cancellation near M = I).
+    fn exponent_of<T: Scalar>(&self, m: &M3<T>, ln_j: T) -> (T, T) {
         let (a1, a2, a3) = (self.alpha1, self.alpha2, self.alpha3);
         let tr = m_trace(m);
         let tr2 = m_trace_mul(m, m);
         let i2 = (tr * tr - tr2).scale(0.5);
-        let f = (tr - T::cst(3.0)).scale(a1) + (i2 - T::cst(3.0)).scale(a2) - ln_j.scale(2.0 * a3);
-        let e = f.exp().scale(2.0 * self.phi_s * self.alpha0);
-        let m2 = m_mul(m, m);
-        let inner = m_add(&m_scale(m, T::cst(a1) + tr.scale(a2)), &m_scale(&m2, T::cst(-a2)));
-        m_scale(&m_dev(&inner), e)
-    }
-
-    /// ∂S_sc/∂B_p \[H\] for the six symmetric unit directions H of [`super::tensor::sym_basis`]:
-    /// with S = e G, ∂f\[H\] = (α1 + α2 I1e) tr(C H) − α2 tr(C B C H) and
-    /// ∂G\[H\] = α2 tr(C H) B + (α1 + α2 I1e) H − α2 (H C B + B C H), ∂S\[H\] = e (∂f\[H\] G + ∂G\[H\]).
-    pub fn stress_derivative_bp(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
-        let core = self.core(kin, bp)?;
-        let (a1, a2) = (self.alpha1, self.alpha2);
-        let e = 2.0 * self.phi_s * self.alpha0 * core.exp_f;
-        let c = &kin.c;
-        let i1 = (c * bp).trace();
-        let cbc = c * bp * c;
-        let cb = c * bp;
-        Ok(super::tensor::sym_basis().map(|h| {
-            let tr_ch = (c * h).trace();
-            let df = (a1 + a2 * i1) * tr_ch - a2 * (cbc * h).trace();
-            let hcb = h * cb;
-            let dg = bp * (a2 * tr_ch) + h * (a1 + a2 * i1) - (hcb + hcb.transpose()) * a2;
-            (core.g * df + dg) * e
-        }))
+        (tr, (tr - T::cst(3.0)).scale(a1) + (i2 - T::cst(3.0)).scale(a2) - ln_j.scale(2.0 * a3))
     }
 
     fn core(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<Core> {
@@ -157,7 +167,7 @@ impl SolidLaw for HolmesMow {
         Ok((kin.f * s, s))
     }
 
-    /// S, P and A = ∂P/∂F (index map of [`super::idx`]).
+    /// S, P and A = ∂P/∂F (index map of [`super::tensor::idx`]).
     ///
     /// With e = 2 Φs α0 e^f, S = e G and dS = e (2 FG:dF) G + e dG, where
     /// dG = α2 (2 F B_p:dF) B_p − α2 B_p dC B_p + α3 C⁻¹ dC C⁻¹ and dC = dFᵀF + FᵀdF. Then
@@ -185,11 +195,113 @@ impl SolidLaw for HolmesMow {
     }
 }
 
+/// −α1/α2 when α1 < 0 (then α2 = (α3 − α1)/2 > 0): the Holmes–Mow solid is strongly elliptic
+/// exactly where every eigenvalue of the elastic C_e exceeds it (module docs, strong ellipticity). None when
+/// α1 ≥ 0: no small stretch makes it lose ellipticity (with α2 ≥ 0 nothing does; with α2 < 0,
+/// ν < 0 by (56), large stretches can: the module's bounds).
+pub fn critical_stretch_squared(law: &HolmesMow) -> Option<f64> {
+    (law.alpha1 < 0.0 && law.alpha2 > 0.0).then(|| -law.alpha1 / law.alpha2)
+}
+
+/// The stretch λ of isochoric uniaxial compression F = diag(λ^−½, λ^−½, λ), B_p = I, below
+/// which the law is not strongly elliptic, if that happens for some λ in [`lambda_min`, 1].
+/// Along the path C has eigenvalues λ² < 1 < 1/λ, so for α2 ≥ 0 it is √(−α1/α2) exactly. For
+/// α2 < 0 the lower bound α1 + 2 α2/λ (module docs, strong ellipticity) proves ellipticity for
+/// λ > 2|α2|/α1, which is below ½ for every admissible law (α1 = α3 + 2|α2| > 4|α2|); an error
+/// if `lambda_min` is not above it (the closed form does not decide there).
+pub fn isochoric_compression_limit(law: &HolmesMow, lambda_min: f64) -> Result<Option<f64>> {
+    if law.alpha2 >= 0.0 {
+        return Ok(critical_stretch_squared(law).map(f64::sqrt).filter(|&lam| lam >= lambda_min));
+    }
+    let proven_to = -2.0 * law.alpha2 / law.alpha1;
+    if lambda_min > proven_to {
+        Ok(None)
+    } else {
+        Err(Error::Material(format!(
+            "Holmes–Mow with alpha2 = {} < 0: strong ellipticity in isochoric compression below \
+             lambda = {proven_to:.4} is not decided by the closed form",
+            law.alpha2
+        )))
+    }
+}
+
+/// The axial stretch of uniaxial-stress tension (F = diag(l, l, λ), B_p = I, P_xx = P_yy = 0)
+/// beyond which the law is not strongly elliptic: √(−α3/α1) when α1 < 0, else None. Why: the
+/// zero lateral stress S_xx = e G_xx = 0 reads α1 + α2 (l² + λ²) − α3/l² = 0, whose root l²
+/// falls from 1 as λ grows; l² is then the smallest eigenvalue of C, and putting l² = −α1/α2
+/// into that equation gives λ² = −α3/α1 (> 1 since α1 + α3 = 2 (α3 − α2) > 0).
+pub fn uniaxial_stress_tension_limit(law: &HolmesMow) -> Option<f64> {
+    critical_stretch_squared(law).map(|_| (-law.alpha3 / law.alpha1).sqrt())
+}
+
+/// What the mixture and the remodelling update ask of the law.
+impl SkeletonLaw for HolmesMow {
+    fn phi_s(&self) -> f64 {
+        self.phi_s
+    }
+
+    /// Deviatoric Mandel stress dev Σ, Σ = C S_sc, as a function of M = C B_p and ln J (generic,
+    /// for the remodelling update and its derivatives). With S = e G:
+    /// Σ = e [(α1 + α2 tr M) M − α2 M² − α3 I], so dev Σ = e dev[(α1 + α2 tr M) M − α2 M²],
+    /// e = 2 Φs α0 exp[α1 (tr M − 3) + α2 (I2(M) − 3) − 2 α3 ln J]. (The compaction penalty adds
+    /// J U'(J) I to Σ: no deviator.)
+    fn mandel_dev<T: Scalar>(&self, m: &M3<T>, ln_j: T) -> M3<T> {
+        let (a1, a2) = (self.alpha1, self.alpha2);
+        let (tr, f) = self.exponent_of(m, ln_j);
+        let e = f.exp().scale(2.0 * self.phi_s * self.alpha0);
+        let m2 = m_mul(m, m);
+        let inner = m_add(&m_scale(m, T::cst(a1) + tr.scale(a2)), &m_scale(&m2, T::cst(-a2)));
+        m_scale(&m_dev(&inner), e)
+    }
+
+    /// Ψ = Φs α0 (e^f − 1) (module docs).
+    fn energy_of<T: Scalar>(&self, m: &M3<T>, ln_j: T) -> T {
+        (self.exponent_of(m, ln_j).1.exp() - T::cst(1.0)).scale(self.phi_s * self.alpha0)
+    }
+
+    /// ∂S_sc/∂B_p \[H\] for the six symmetric unit directions H of [`sym_basis`]:
+    /// with S = e G, ∂f\[H\] = (α1 + α2 I1e) tr(C H) − α2 tr(C B C H) and
+    /// ∂G\[H\] = α2 tr(C H) B + (α1 + α2 I1e) H − α2 (H C B + B C H), ∂S\[H\] = e (∂f\[H\] G + ∂G\[H\]).
+    fn stress_derivative_bp(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
+        let core = self.core(kin, bp)?;
+        let (a1, a2) = (self.alpha1, self.alpha2);
+        let e = 2.0 * self.phi_s * self.alpha0 * core.exp_f;
+        let c = &kin.c;
+        let i1 = (c * bp).trace();
+        let cbc = c * bp * c;
+        let cb = c * bp;
+        Ok(sym_basis().map(|h| {
+            let tr_ch = (c * h).trace();
+            let df = (a1 + a2 * i1) * tr_ch - a2 * (cbc * h).trace();
+            let hcb = h * cb;
+            let dg = bp * (a2 * tr_ch) + h * (a1 + a2 * i1) - (hcb + hcb.transpose()) * a2;
+            (core.g * df + dg) * e
+        }))
+    }
+
+    /// Φs 2 α0 (α3 − α2): Φs µ by (56).
+    fn shear_modulus(&self) -> f64 {
+        self.phi_s * 2.0 * self.alpha0 * (self.alpha3 - self.alpha2)
+    }
+
+    /// The closed form (module docs, strong ellipticity): for α1 < 0 the law loses strong ellipticity where an
+    /// elastic principal stretch falls below √(−α1/α2).
+    fn ellipticity_limit(&self, lambda_min: f64) -> Result<Option<EllipticityLimit>> {
+        let Some(stretch) = isochoric_compression_limit(self, lambda_min)? else { return Ok(None) };
+        Ok(Some(EllipticityLimit {
+            law: "Holmes–Mow solid",
+            cause: format!("alpha1 = {:.3} < 0", self.alpha1),
+            stretch,
+            uniaxial_tension: uniaxial_stress_tension_limit(self),
+        }))
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::super::test_util::{kin, rel_err, Rng};
-    use super::super::{idx, Tangent};
     use super::*;
+    use crate::material::tensor::idx;
+    use crate::material::test_util::{kin, rel_err, Rng};
 
     /// Table 1 (µ = 20 kPa, ν = 0.2) and the soft Forgacs case (µ = 3 kPa, ν = 0.45, α1 < 0).
     fn laws() -> [HolmesMow; 2] {

@@ -1,79 +1,16 @@
-//! Strong ellipticity of a solid law: the acoustic tensor Q_ik(N) = A_iJkL N_J N_L (A = ∂P/∂F)
-//! is positive definite for every unit direction N.
-//!
-//! Where it is not, the equilibrium equations lose ellipticity: a deformation can localise in
-//! a band normal to N at no cost, discrete solutions then depend on the mesh (the finer, the
-//! earlier they localise), and Newton stops converging whatever the time step. The pore
-//! pressure adds nothing to Q (its term −pJF⁻ᵀ contributes n̂ ⊗ n̂ − n̂ ⊗ n̂ = 0), so the
-//! solid's law alone decides, drained or undrained.
-//!
-//! Holmes–Mow has a closed form. With B_p = I, e = 2 Φs α0 e^f, b = FFᵀ, G = ∂f/∂C and unit
-//! m, N, the tangent of `HolmesMow::response` gives
-//!   m·Q(N)m = e [α1 + α2 q] + e [α3 (m·F⁻ᵀN)² + 2 (m·FGN)²],
-//!   q = I1 − m·bm − |FN|² + (m·FN)² = I1 − m·bm − |P FN|²  (P: projector normal to m).
-//! q is at least the smallest eigenvalue of b on the plane normal to m, hence at least the
-//! smallest eigenvalue c_min of C; it equals c_c when N = e_a and m = F e_b/|F e_b| for
-//! principal axes a ≠ b ≠ c of C, where the last two terms vanish. So for α2 ≥ 0 the smallest
-//! acoustic eigenvalue is exactly e (α1 + α2 c_min), reached by a shear in the plane normal to
-//! the least-stretched axis: the law is strongly elliptic iff c_min > −α1/α2. With α's from
-//! (µ, ν) by (56) that is λ² > (3ν − 1)/ν: 11.8% compression for ν = 0.45 (λ² = 7/9), 29.3%
-//! for 0.4, 2.1% for 0.49, whatever µ, and never for ν ≤ 1/3 (α1 ≥ 0). In uniaxial-stress
-//! tension the lateral contraction gets there, at axial λ² = −α3/α1 (1.254 for ν = 0.45).
-//! For α2 < 0 (ν < 0) only bounds follow: e (α1 + α2 (I1 − c_min)) ≤ min ≤ e (α1 + α2 c_max).
-//! With a remodelling metric, Ψ(F, B_p) = Ψ(F B_p^½, I) (det B_p = 1), so Q(N) = Q_e(B_p^½ N):
-//! the same criterion holds for the eigenvalues of C_e = B_p^½ C B_p^½ (those of C B_p).
-//! A volumetric penalty U(J) adds J² U'' (F⁻ᵀN)⊗(F⁻ᵀN), zero on that shear: it cannot cure it.
-//!
-//! The sampled minimum over directions of Q's eigenvalues stays as the independent reference,
-//! with the closed form's own test version (`tests`).
+//! Holmes–Mow's closed-form loss of strong ellipticity (the law's module docs) against the
+//! sampled acoustic tensor, along compression and tension paths and with a remodelling metric.
 
-use super::HolmesMow;
-use crate::error::{Error, Result};
-
-/// −α1/α2 when α1 < 0 (then α2 = (α3 − α1)/2 > 0): the Holmes–Mow solid is strongly elliptic
-/// exactly where every eigenvalue of the elastic C_e exceeds it (module docs). None when
-/// α1 ≥ 0: no small stretch makes it lose ellipticity (with α2 ≥ 0 nothing does; with α2 < 0,
-/// ν < 0 by (56), large stretches can: the module's bounds).
-pub fn critical_stretch_squared(law: &HolmesMow) -> Option<f64> {
-    (law.alpha1 < 0.0 && law.alpha2 > 0.0).then(|| -law.alpha1 / law.alpha2)
-}
-
-/// The stretch λ of isochoric uniaxial compression F = diag(λ^−½, λ^−½, λ), B_p = I, below
-/// which the law is not strongly elliptic, if that happens for some λ in [`lambda_min`, 1].
-/// Along the path C has eigenvalues λ² < 1 < 1/λ, so for α2 ≥ 0 it is √(−α1/α2) exactly. For
-/// α2 < 0 the lower bound α1 + 2 α2/λ (module docs) proves ellipticity for
-/// λ > 2|α2|/α1, which is below ½ for every admissible law (α1 = α3 + 2|α2| > 4|α2|); an error
-/// if `lambda_min` is not above it (the closed form does not decide there).
-pub fn isochoric_compression_limit(law: &HolmesMow, lambda_min: f64) -> Result<Option<f64>> {
-    if law.alpha2 >= 0.0 {
-        return Ok(critical_stretch_squared(law).map(f64::sqrt).filter(|&lam| lam >= lambda_min));
-    }
-    let proven_to = -2.0 * law.alpha2 / law.alpha1;
-    if lambda_min > proven_to {
-        Ok(None)
-    } else {
-        Err(Error::Material(format!(
-            "Holmes–Mow with alpha2 = {} < 0: strong ellipticity in isochoric compression below \
-             lambda = {proven_to:.4} is not decided by the closed form",
-            law.alpha2
-        )))
-    }
-}
-
-/// The axial stretch of uniaxial-stress tension (F = diag(l, l, λ), B_p = I, P_xx = P_yy = 0)
-/// beyond which the law is not strongly elliptic: √(−α3/α1) when α1 < 0, else None. Why: the
-/// zero lateral stress S_xx = e G_xx = 0 reads α1 + α2 (l² + λ²) − α3/l² = 0, whose root l²
-/// falls from 1 as λ grows; l² is then the smallest eigenvalue of C, and putting l² = −α1/α2
-/// into that equation gives λ² = −α3/α1 (> 1 since α1 + α3 = 2 (α3 − α2) > 0).
-pub fn uniaxial_stress_tension_limit(law: &HolmesMow) -> Option<f64> {
-    critical_stretch_squared(law).map(|_| (-law.alpha3 / law.alpha1).sqrt())
-}
+use super::{critical_stretch_squared, isochoric_compression_limit, uniaxial_stress_tension_limit, HolmesMow};
 
 #[cfg(test)]
 mod tests {
-    use super::super::test_util::{kin, Rng};
-    use super::super::{idx, CompactionPenalty, Solid, SolidLaw, SolidResponse, Tangent};
     use super::*;
+    use crate::material::law::{SolidLaw, SolidResponse};
+    use crate::material::penalty::CompactionPenalty;
+    use crate::material::solid::Solid;
+    use crate::material::tensor::{idx, Tangent};
+    use crate::material::test_util::{kin, Rng};
     use nalgebra::{Matrix3, Vector3};
 
     /// Directions on the unit sphere (a Fibonacci lattice; N and −N give the same Q, so the upper
@@ -222,7 +159,7 @@ mod tests {
                 let eig = (f.transpose() * f).symmetric_eigen();
                 let e = prefactor(&law, &f);
                 let alone = law.response(&kin(&f), &ID).unwrap().a;
-                let with_penalty = Solid { hm: &law, penalty: Some(&pen) }.response(&kin(&f), &ID).unwrap().a;
+                let with_penalty = Solid { law: &law, penalty: Some(&pen) }.response(&kin(&f), &ID).unwrap().a;
                 assert!((with_penalty - alone).norm() > 1.0, "penalty inactive");
                 for tangent in [alone, with_penalty] {
                     for (a, b, c) in [(0, 1, 2), (1, 0, 2), (0, 2, 1), (2, 0, 1), (1, 2, 0), (2, 1, 0)] {

@@ -1,0 +1,6 @@
+//! The skeleton laws, one per file, each a [`super::law::SkeletonLaw`]. Adding one: its file
+//! here, its line below, and its scene variant and factory line (docs/developer.md).
+
+pub mod holmes_mow;
+
+pub use holmes_mow::HolmesMow;
