@@ -2,7 +2,7 @@
 
 One curve (a scene, --data or --synthetic, --column) or several experiments at once
 (--experiments FILE.toml: each its data, scene, overrides, column, noise model and time range;
-the format in poroplast_tools/experiments.py and docs/user-guide.md). The parameters (--param
+the format in poroplast_tools/experiments.py and docs/reference-fit.md). The parameters (--param
 KEY=START) are shared by every experiment, or one experiment's own (KEY@NAME=START), and fitted
 in log space (they are positive and of different scales).
 

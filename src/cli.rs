@@ -86,7 +86,7 @@ pub enum Command {
     /// overrides, status, wall time, dofs, steps, iterations, observables, error, directory)
     /// and DIR/cases/<case>-<key>/ (each case's run directory, named after what it runs). The
     /// same command with --out DIR continues an interrupted sweep: completed cases are skipped,
-    /// interrupted ones resume from their checkpoints. See docs/user-guide.md for the
+    /// interrupted ones resume from their checkpoints. See docs/reference-sweep.md for the
     /// STUDY.toml format.
     Sweep {
         /// The study file (.toml).

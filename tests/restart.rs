@@ -322,7 +322,7 @@ fn a_two_rank_run_stopped_by_mpirun_resumes_on_one_rank() {
 /// 1 s later (`odls_base_sigkill_timeout`); it cannot be told to forward SIGINT instead
 /// (`ess_base_forward_signals` refuses it). The ranks still checkpoint and stop, and
 /// `status.txt` says so: that, not mpirun's exit code, is what a resume loop under mpirun keys on
-/// (docs/user-guide.md, "Stopping a run").
+/// (docs/howto-long-runs.md, "Stopping a run").
 #[test]
 fn ctrl_c_to_mpirun_stops_the_ranks_with_a_checkpoint() {
     let _cores = cores(2);

@@ -171,7 +171,7 @@ const LENGTH: Range = Range::POSITIVE.says("a length must be positive");
 
 pub(super) const SECTION: Section = Section {
     title: "[mesh]",
-    enters: "user-guide.md: Shipped meshes",
+    enters: "reference-scene-files.md: Shipped meshes",
     about: "Where the mesh comes from: `geo` or `file` (one of the two). The sizes are µm in `params`, or \
             fractions of the radius in `relative_sizes` (the shipped aggregate scenes: a copy with another R keeps \
             its resolution relative to R).",

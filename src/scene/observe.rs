@@ -88,7 +88,7 @@ impl Verification {
 
 pub(super) const PROBE_SECTION: Section = Section {
     title: "[[probe]]",
-    enters: "user-guide.md: Output",
+    enters: "reference-run-directory.md: history.csv columns",
     about: "A column of history.csv: a field's value at a reference point, or its mean over a surface group.",
     keys: &[
         Key::new("probe.name", "", Unset::Required, "the column's name"),

@@ -38,7 +38,7 @@ pub fn reference() -> String {
          Every key of a scene file, generated from the declarations in `src/scene/` (`poroplast scenes \
          --keys` prints the same text; a test keeps this file equal to it). A scene is TOML; unknown \
          keys are errors. A range is an interval the value must lie in; values are also finite. \
-         docs/user-guide.md shows the keys in use.\n",
+         docs/reference-scene-files.md shows the keys in use.\n",
     );
     for s in sections() {
         out.push_str(&format!("\n## {}\n\n{}\n", s.title, s.about));
@@ -89,7 +89,7 @@ const SECTION: Section = Section {
 
 const PETSC_SECTION: Section = Section {
     title: "[petsc]",
-    enters: "user-guide.md: Solver options",
+    enters: "reference-options.md: PETSc options worth knowing",
     about: "Any PETSc option without the leading dash: `ksp_rtol = 1e-10`, `ksp_monitor = true` (false: left \
             out). Options given on the command line after `--` come after these.",
     keys: &[Key::new("petsc.<option>", "", Unset::Absent(""), "a PETSc option and its value")

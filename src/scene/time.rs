@@ -257,7 +257,7 @@ const CHECKPOINT_MINUTES: Key = Key::new(
 
 pub(super) const OUTPUT_SECTION: Section = Section {
     title: "[output]",
-    enters: "user-guide.md: Output",
+    enters: "reference-run-directory.md: Files",
     about: "history.csv gets a row every step; the fields and checkpoints are written as set here.",
     keys: &[
         Key::new(
