@@ -135,12 +135,7 @@ impl Material {
                 PERMEABILITY.check(*permeability)
             }
             Material::HolmesMow(m) => m.validate("holmes_mow"),
-            Material::NeoHookean(m) => match m.alpha {
-                Some(_) => Err("[material] `alpha` is a Holmes–Mow key (its α's): model = \"neo_hookean\" takes \
-                                `nu` and one of `mu`, `drained_shear_modulus`, `drained_youngs_modulus`"
-                    .into()),
-                None => m.validate("neo_hookean"),
-            },
+            Material::NeoHookean(m) => m.validate("neo_hookean"),
         }
     }
 
@@ -191,8 +186,15 @@ impl MixtureSpec {
         }
     }
 
-    /// The keys in their ranges; `model` names the scene's model in the messages.
+    /// The keys in their ranges; `model` names the scene's model in the messages. A law's own
+    /// keys (Holmes–Mow's `alpha`) are refused here for the other models.
     fn validate(&self, model: &str) -> Result<(), String> {
+        if self.alpha.is_some() && model != "holmes_mow" {
+            return Err(format!(
+                "[material] `alpha` is a Holmes–Mow key (its α's): model = \"{model}\" takes `nu` and one of \
+                 `mu`, `drained_shear_modulus`, `drained_youngs_modulus`"
+            ));
+        }
         match self.solid().map_err(|m| format!("[material] {model}: {m}"))? {
             SolidSpec::MuNu { mu, nu } => {
                 // The modulus given is the one named.
