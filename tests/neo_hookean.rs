@@ -39,8 +39,10 @@ fn column(dir: &Path, drained: bool) -> String {
         ("model = \"neo_hookean\"\nmu = 20.0\nnu = 0.2\nphi_s = 0.6\nk0 = 3.7729\nkappa = 0.0\nm0 = 0.0\ndrained = true",
          "t_end = 1.0\ndt = 0.5\n")
     } else {
-        ("model = \"neo_hookean\"\nmu = 20.0\nnu = 0.2\nphi_s = 0.6\nk0 = 3.7729\nkappa = 4.638\nm0 = 0.0848",
-         "t_end = 5000.0\ndt = 1e-3\ngrowth = 1.5\ndt_max = 500.0\n")
+        (
+            "model = \"neo_hookean\"\nmu = 20.0\nnu = 0.2\nphi_s = 0.6\nk0 = 3.7729\nkappa = 4.638\nm0 = 0.0848",
+            "t_end = 5000.0\ndt = 1e-3\ngrowth = 1.5\ndt_max = 500.0\n",
+        )
     };
     let mut edits = vec![
         (linear, material),
@@ -94,7 +96,10 @@ fn consolidating_column_ends_at_the_drained_closed_form() {
         let (p, s) = (h.col("p_bottom"), h.col("settlement"));
         let n = p.len() - 1;
         let err = (s[n] - want).abs() / want;
-        println!("{name}: first-step p_bottom {:.9}; final settlement {:.9} vs {want:.9} ({err:.2e}), p_bottom {:.2e}", p[1], s[n], p[n]);
+        println!(
+            "{name}: first-step p_bottom {:.9}; final settlement {:.9} vs {want:.9} ({err:.2e}), p_bottom {:.2e}",
+            p[1], s[n], p[n]
+        );
         assert!((p[1] - LOAD).abs() < 1e-6 * LOAD, "{name}: undrained first step");
         assert!(err < 1e-6 && p[n].abs() < 1e-5 * LOAD, "{name}");
     }
@@ -117,7 +122,10 @@ fn plates_against_holmes_mow(scene: &str, t_end: &str) {
     let mut checked = 0;
     for i in (0..f_hm.len()).filter(|&i| f_hm[i] > 0.1) {
         let (diff, strain) = ((f_nh[i] / f_hm[i] - 1.0).abs(), disp[i] / diameter);
-        println!("{scene}: compression {strain:.4}: force {:.4} uN (Holmes–Mow {:.4}), rel. diff {diff:.2e}", f_nh[i], f_hm[i]);
+        println!(
+            "{scene}: compression {strain:.4}: force {:.4} uN (Holmes–Mow {:.4}), rel. diff {diff:.2e}",
+            f_nh[i], f_hm[i]
+        );
         assert!(diff < 0.5 * strain, "{scene}: forces differ by {diff} at compression {strain}");
         checked += 1;
     }

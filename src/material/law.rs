@@ -254,7 +254,12 @@ mod tests {
         }
         let nh = NeoHookean::from_mu_nu(3.0, 0.45, 0.6).unwrap();
         check_solid_law("neo-Hookean", &nh, &[0.7, 0.85, 1.0, 1.2, 1.4], &mut rng);
-        check_solid_law("neo-Hookean + penalty", &Solid { law: &nh, penalty: Some(&pen) }, &[0.63, 0.68, 0.9], &mut rng);
+        check_solid_law(
+            "neo-Hookean + penalty",
+            &Solid { law: &nh, penalty: Some(&pen) },
+            &[0.63, 0.68, 0.9],
+            &mut rng,
+        );
         check_solid_law("penalty", &pen, &[0.62, 0.65, 0.68], &mut rng);
         let solid = Solid { law: &hms[0], penalty: Some(&pen) };
         check_solid_law("Holmes–Mow + penalty", &solid, &[0.63, 0.68, 0.9], &mut rng);

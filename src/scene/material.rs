@@ -291,10 +291,11 @@ const NU: Key = Key::new(
 )
 .range(POISSON)
 .enters("eq. (56); λ = 2µν/(1 − 2ν)");
-const ALPHA: Key = Key::new("material.alpha", "kPa, –, –", Unset::Absent(""), "[α0, α1, α2] given directly (α3 = 1); holmes_mow only")
-    .range(Range::POSITIVE)
-    .rule("the range is α0's; the law checks the others")
-    .enters("the Holmes–Mow energy");
+const ALPHA: Key =
+    Key::new("material.alpha", "kPa, –, –", Unset::Absent(""), "[α0, α1, α2] given directly (α3 = 1); holmes_mow only")
+        .range(Range::POSITIVE)
+        .rule("the range is α0's; the law checks the others")
+        .enters("the Holmes–Mow energy");
 const PHI_S: Key = Key::new("material.phi_s", "", Unset::Required, "referential solid fraction Φs").range(Range::new(
     0.0,
     false,

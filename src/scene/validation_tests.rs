@@ -209,7 +209,10 @@ fn neo_hookean_keys_are_checked() {
     let loaded = LoadedScene::load("reference_axi", &[nh.to_string()]).unwrap();
     assert_eq!(loaded.scene.material.model().0, "neo_hookean");
     let cases = [
-        (vec!["material.alpha=[0.1, 0.5, 0.25]"], "`alpha` is a Holmes–Mow key (its α's): model = \"neo_hookean\" takes `nu`"),
+        (
+            vec!["material.alpha=[0.1, 0.5, 0.25]"],
+            "`alpha` is a Holmes–Mow key (its α's): model = \"neo_hookean\" takes `nu`",
+        ),
         (vec!["material.mu=-3.0"], "material.mu = -3"),
         (vec!["material.nu=0.5"], "material.nu = 0.5"),
         (vec!["material.phi_s=1.0"], "material.phi_s = 1"),
