@@ -66,16 +66,20 @@ fn run(scene: &str, dir: &Path, sets: &[&str]) -> History {
     History::read(dir)
 }
 
+/// The column (`drained` or not) run on the meridian and in 3-D, into `dir`.
+fn column_runs(dir: &Path, drained: bool) -> [(&'static str, History); 2] {
+    let sc = column(dir, drained);
+    [("meridian", &["mesh.geometry=axisymmetric"][..]), ("3-D", &[][..])]
+        .map(|(name, sets)| (name, run(&sc, &dir.join(name), sets)))
+}
+
 /// Drained confined compression of the column, on the meridian and in 3-D: the homogeneous
 /// finite-strain state, which the P2 displacement represents exactly, so the settlement is the
 /// closed form to the solver's tolerance.
 #[test]
 fn drained_column_is_the_closed_form() {
     let want = drained_settlement();
-    let dir = scratch("neo_hookean_drained");
-    let sc = column(&dir, true);
-    for (name, sets) in [("meridian", &["mesh.geometry=axisymmetric"][..]), ("3-D", &[][..])] {
-        let h = run(&sc, &dir.join(name), sets);
+    for (name, h) in column_runs(&scratch("neo_hookean_drained"), true) {
         let got = *h.col("settlement").last().unwrap();
         let err = (got - want).abs() / want;
         println!("{name}: settlement {got:.12} vs closed form {want:.12} (rel. error {err:.2e})");
@@ -89,10 +93,7 @@ fn drained_column_is_the_closed_form() {
 #[test]
 fn consolidating_column_ends_at_the_drained_closed_form() {
     let want = drained_settlement();
-    let dir = scratch("neo_hookean_consolidation");
-    let sc = column(&dir, false);
-    for (name, sets) in [("meridian", &["mesh.geometry=axisymmetric"][..]), ("3-D", &[][..])] {
-        let h = run(&sc, &dir.join(name), sets);
+    for (name, h) in column_runs(&scratch("neo_hookean_consolidation"), false) {
         let (p, s) = (h.col("p_bottom"), h.col("settlement"));
         let n = p.len() - 1;
         let err = (s[n] - want).abs() / want;

@@ -368,30 +368,53 @@ pub(super) const LINEAR_SECTION: Section = Section {
     keys: &[LINEAR_MODEL, LINEAR_MU, LINEAR_NU, PERMEABILITY],
 };
 
+/// The keys of every mixture model, after its `material.model` key and before its law's own.
+const MIXTURE_KEYS: [Key; 15] = [
+    MU,
+    DRAINED_SHEAR_MODULUS,
+    DRAINED_YOUNGS_MODULUS,
+    NU,
+    PHI_S,
+    K0,
+    KAPPA,
+    M0,
+    PERMEABILITY_C,
+    PENALTY,
+    REMODELLING,
+    RHO_S,
+    RHO_F,
+    GRAVITY,
+    DRAINED,
+];
+
+/// A mixture model's key table: its `material.model` key, [`MIXTURE_KEYS`], then its law's own
+/// keys (`L` = 1 + 15 + N, checked when compiled).
+const fn mixture_keys<const L: usize, const N: usize>(model: Key, own: [Key; N]) -> [Key; L] {
+    assert!(L == 1 + MIXTURE_KEYS.len() + N, "L = 1 + MIXTURE_KEYS.len() + N");
+    let mut out = [model; L];
+    let mut i = 0;
+    while i < MIXTURE_KEYS.len() {
+        out[1 + i] = MIXTURE_KEYS[i];
+        i += 1;
+    }
+    let mut j = 0;
+    while j < N {
+        out[1 + MIXTURE_KEYS.len() + j] = own[j];
+        j += 1;
+    }
+    out
+}
+
+const HOLMES_MOW_KEYS: [Key; 17] = mixture_keys(MODEL, [ALPHA]);
+
 pub(super) const HOLMES_MOW_SECTION: Section = Section {
     title: "[material], model = \"holmes_mow\"",
     enters: "model.md: The finite-strain biphasic model",
     about: "The finite-strain biphasic mixture (docs/model.md §2–§4).",
-    keys: &[
-        MODEL,
-        MU,
-        DRAINED_SHEAR_MODULUS,
-        DRAINED_YOUNGS_MODULUS,
-        NU,
-        ALPHA,
-        PHI_S,
-        K0,
-        KAPPA,
-        M0,
-        PERMEABILITY_C,
-        PENALTY,
-        REMODELLING,
-        RHO_S,
-        RHO_F,
-        GRAVITY,
-        DRAINED,
-    ],
+    keys: &HOLMES_MOW_KEYS,
 };
+
+const NEO_HOOKEAN_KEYS: [Key; 16] = mixture_keys(NEO_HOOKEAN_MODEL, []);
 
 /// The Holmes–Mow mixture's keys but `alpha`; constant permeability is κ = m0 = 0.
 pub(super) const NEO_HOOKEAN_SECTION: Section = Section {
@@ -402,24 +425,7 @@ pub(super) const NEO_HOOKEAN_SECTION: Section = Section {
             Ψ = Φs [µ/2 (tr(C B_p) − 3) − µ ln J + λ/2 (ln J)²], λ = 2µν/(1 − 2ν) (docs/model.md, \
             \"The neo-Hookean skeleton\"). `alpha` is refused. Constant permeability k = k0 is `kappa = 0.0`, \
             `m0 = 0.0`.",
-    keys: &[
-        NEO_HOOKEAN_MODEL,
-        MU,
-        DRAINED_SHEAR_MODULUS,
-        DRAINED_YOUNGS_MODULUS,
-        NU,
-        PHI_S,
-        K0,
-        KAPPA,
-        M0,
-        PERMEABILITY_C,
-        PENALTY,
-        REMODELLING,
-        RHO_S,
-        RHO_F,
-        GRAVITY,
-        DRAINED,
-    ],
+    keys: &NEO_HOOKEAN_KEYS,
 };
 
 /// Checked by the law (`material::CompactionPenalty`) when the model is built.

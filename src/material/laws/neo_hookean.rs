@@ -123,16 +123,12 @@ impl SkeletonLaw for NeoHookean {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::test_util::{kin, rel_err, Rng};
+    use crate::material::test_util::{assert_close, kin, rel_err, Rng};
     use nalgebra::Vector3;
 
     /// A soft aggregate (µ = 3 kPa, ν = 0.45) and Table 1's µ = 20 kPa, ν = 0.2.
     fn laws() -> [NeoHookean; 2] {
         [NeoHookean::from_mu_nu(3.0, 0.45, 0.6).unwrap(), NeoHookean::from_mu_nu(20.0, 0.2, 0.6).unwrap()]
-    }
-
-    fn assert_close(x: f64, y: f64, tol: f64) {
-        assert!((x - y).abs() <= tol * y.abs().max(1e-300), "{x} vs {y}");
     }
 
     #[test]
