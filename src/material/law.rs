@@ -147,7 +147,7 @@ pub struct EllipticityLimit {
 #[cfg(test)]
 mod tests {
     use super::super::dual::Dual;
-    use super::super::laws::HolmesMow;
+    use super::super::laws::{HolmesMow, NeoHookean};
     use super::super::penalty::CompactionPenalty;
     use super::super::permeability::{Permeability, PermeabilityModel};
     use super::super::solid::Solid;
@@ -227,16 +227,21 @@ mod tests {
         assert!((a0[(idx(0, 1), idx(0, 1))] - g).abs() < 1e-12 * g, "{name}: shear modulus {g}");
     }
 
-    /// The skeleton laws by [`check_skeleton_law`]: Holmes–Mow with α1 > 0 and < 0.
+    /// The skeleton laws by [`check_skeleton_law`]: Holmes–Mow with α1 > 0 and < 0, neo-Hookean
+    /// with λ > 0 and < 0.
     #[test]
     fn every_skeleton_law_matches_its_energy() {
         let mut rng = Rng::new(24);
         for hm in [HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap(), HolmesMow::from_mu_nu(3.0, 0.45, 0.6).unwrap()] {
             check_skeleton_law(&format!("Holmes–Mow, alpha1 = {}", hm.alpha1), &hm, &[0.7, 1.0, 1.3], &mut rng);
         }
+        for nh in [NeoHookean::from_mu_nu(3.0, 0.45, 0.6).unwrap(), NeoHookean::from_mu_nu(20.0, -0.3, 0.6).unwrap()] {
+            check_skeleton_law(&format!("neo-Hookean, lambda = {}", nh.lambda), &nh, &[0.7, 1.0, 1.3], &mut rng);
+        }
     }
 
-    /// Every law against finite differences: the solids (Holmes–Mow with α1 > 0 and < 0, the
+    /// Every law against finite differences: the solids (Holmes–Mow with α1 > 0 and < 0,
+    /// neo-Hookean alone and with the penalty, the
     /// compaction penalty inside its range J < J_cr = 0.7, the two together inside and outside
     /// that range) by [`check_solid_law`], the permeability's ∂K/∂F (both models) likewise.
     #[test]
@@ -247,6 +252,14 @@ mod tests {
         for hm in &hms {
             check_solid_law(&format!("Holmes–Mow, alpha1 = {}", hm.alpha1), hm, &[0.7, 0.85, 1.0, 1.2, 1.4], &mut rng);
         }
+        let nh = NeoHookean::from_mu_nu(3.0, 0.45, 0.6).unwrap();
+        check_solid_law("neo-Hookean", &nh, &[0.7, 0.85, 1.0, 1.2, 1.4], &mut rng);
+        check_solid_law(
+            "neo-Hookean + penalty",
+            &Solid { law: &nh, penalty: Some(&pen) },
+            &[0.63, 0.68, 0.9],
+            &mut rng,
+        );
         check_solid_law("penalty", &pen, &[0.62, 0.65, 0.68], &mut rng);
         let solid = Solid { law: &hms[0], penalty: Some(&pen) };
         check_solid_law("Holmes–Mow + penalty", &solid, &[0.63, 0.68, 0.9], &mut rng);

@@ -44,6 +44,12 @@ impl Rng {
     }
 }
 
+/// |x − y| ≤ tol |y|, naming both when not.
+#[track_caller]
+pub fn assert_close(x: f64, y: f64, tol: f64) {
+    assert!((x - y).abs() <= tol * y.abs().max(1e-300), "{x} vs {y}");
+}
+
 /// The kinematics of F (which must be admissible).
 pub fn kin(f: &Matrix3<f64>) -> super::law::Kinematics {
     super::law::Kinematics::new(f).unwrap()

@@ -6,7 +6,7 @@
 
 use crate::error::{Error, Result};
 use crate::fem::point::PointModel;
-use crate::material::laws::HolmesMow;
+use crate::material::laws::{HolmesMow, NeoHookean};
 use crate::material::{CompactionPenalty, Permeability, PermeabilityModel, Remodelling, SkeletonLaw};
 use crate::physics::biphasic::Biphasic;
 use crate::physics::linear::LinearPoroelastic;
@@ -26,6 +26,7 @@ fn with_model<W: WithModel>(material: &Material, w: W) -> Result<W::Out> {
     match material {
         Material::Linear { mu, nu, permeability } => w.linear(*mu, *nu, *permeability),
         Material::HolmesMow(spec) => w.mixture(holmes_mow(spec)?, spec),
+        Material::NeoHookean(spec) => w.mixture(neo_hookean(spec)?, spec),
     }
 }
 
@@ -34,6 +35,14 @@ fn holmes_mow(spec: &MixtureSpec) -> Result<HolmesMow> {
     match spec.solid().map_err(Error::Material)? {
         SolidSpec::MuNu { mu, nu } => HolmesMow::from_mu_nu(mu, nu, spec.phi_s),
         SolidSpec::Alpha(a) => HolmesMow::new(spec.phi_s, a[0], a[1], a[2], 1.0),
+    }
+}
+
+/// The neo-Hookean solid of a scene, from (µ, ν); `alpha` is refused by the scene's checks.
+fn neo_hookean(spec: &MixtureSpec) -> Result<NeoHookean> {
+    match spec.solid().map_err(Error::Material)? {
+        SolidSpec::MuNu { mu, nu } => NeoHookean::from_mu_nu(mu, nu, spec.phi_s),
+        SolidSpec::Alpha(_) => Err(Error::Material("neo_hookean: `alpha` is a Holmes–Mow key".into())),
     }
 }
 

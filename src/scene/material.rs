@@ -1,5 +1,6 @@
-//! `[material]`: the constitutive model (linear poroelasticity, or the finite-strain
-//! Holmes–Mow mixture with its penalty and remodelling), its keys and their checks.
+//! `[material]`: the constitutive model (linear poroelasticity, or a finite-strain mixture
+//! around a skeleton law, Holmes–Mow or neo-Hookean, with its penalty and remodelling), its
+//! keys and their checks.
 
 use super::key::{Key, Section, Unset};
 use crate::material::remodelling;
@@ -25,10 +26,13 @@ pub enum Material {
     /// Finite-strain biphasic mixture (model.md §2–§3): Holmes–Mow solid, compaction penalty,
     /// Holmes–Mow permeability, gravity.
     HolmesMow(MixtureSpec),
+    /// The same mixture around a compressible neo-Hookean solid (`material::laws::neo_hookean`);
+    /// Holmes–Mow's `alpha` is refused.
+    NeoHookean(MixtureSpec),
 }
 
-/// A finite-strain biphasic mixture (`model = "holmes_mow"`): its skeleton law's keys (µ and ν,
-/// or the α's) and the mixture's (permeability, penalty, remodelling, densities, gravity).
+/// A finite-strain biphasic mixture (`model = "holmes_mow"` or `"neo_hookean"`): its skeleton
+/// law's keys (µ and ν, or Holmes–Mow's α's) and the mixture's (permeability, penalty, remodelling, densities, gravity).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MixtureSpec {
@@ -130,7 +134,8 @@ impl Material {
                 LINEAR_NU.check(*nu)?;
                 PERMEABILITY.check(*permeability)
             }
-            Material::HolmesMow(hm) => hm.validate(),
+            Material::HolmesMow(m) => m.validate("holmes_mow"),
+            Material::NeoHookean(m) => m.validate("neo_hookean"),
         }
     }
 
@@ -140,6 +145,7 @@ impl Material {
         match self {
             Material::Linear { .. } => ("linear", None),
             Material::HolmesMow(m) => ("holmes_mow", Some(m)),
+            Material::NeoHookean(m) => ("neo_hookean", Some(m)),
         }
     }
 
@@ -174,14 +180,22 @@ impl MixtureSpec {
             (None, Some(g), None, Some(nu), None) => Ok(SolidSpec::MuNu { mu: g / phi_s, nu }),
             (None, None, Some(e), Some(nu), None) => Ok(SolidSpec::MuNu { mu: e / (2.0 * (1.0 + nu)) / phi_s, nu }),
             (None, None, None, None, Some(a)) => Ok(SolidSpec::Alpha(a)),
-            _ => Err("holmes_mow: give `nu` and one modulus — `mu` (the solid's), `drained_shear_modulus` or \
-                      `drained_youngs_modulus` (the aggregate's, what a lab measures) — or `alpha`"
+            _ => Err("give `nu` and one modulus — `mu` (the solid's), `drained_shear_modulus` or \
+                      `drained_youngs_modulus` (the aggregate's, what a lab measures) — or (holmes_mow) `alpha`"
                 .into()),
         }
     }
 
-    fn validate(&self) -> Result<(), String> {
-        match self.solid().map_err(|m| format!("[material] {m}"))? {
+    /// The keys in their ranges; `model` names the scene's model in the messages. A law's own
+    /// keys (Holmes–Mow's `alpha`) are refused here for the other models.
+    fn validate(&self, model: &str) -> Result<(), String> {
+        if self.alpha.is_some() && model != "holmes_mow" {
+            return Err(format!(
+                "[material] `alpha` is a Holmes–Mow key (its α's): model = \"{model}\" takes `nu` and one of \
+                 `mu`, `drained_shear_modulus`, `drained_youngs_modulus`"
+            ));
+        }
+        match self.solid().map_err(|m| format!("[material] {model}: {m}"))? {
             SolidSpec::MuNu { mu, nu } => {
                 // The modulus given is the one named.
                 if let Some(g) = self.drained_shear_modulus {
@@ -244,11 +258,12 @@ const MU: Key = Key::new(
     "material.mu",
     "kPa",
     Unset::Absent(""),
-    "the solid's shear modulus µ (of Ψ/Φs; the aggregate's drained modulus is Φs µ); with ν, the α's by eq. (56)",
+    "the solid's shear modulus µ (of Ψ/Φs; the aggregate's drained modulus is Φs µ); with ν, the α's by eq. (56) \
+     (holmes_mow) or λ = 2µν/(1 − 2ν) (neo_hookean)",
 )
 .range(Range::POSITIVE)
-.rule("one of `mu`, `drained_shear_modulus`, `drained_youngs_modulus` with `nu`; or `alpha`")
-.enters("eq. (56)");
+.rule("one of `mu`, `drained_shear_modulus`, `drained_youngs_modulus` with `nu`; or (holmes_mow) `alpha`")
+.enters("eq. (56); the neo-Hookean energy");
 const DRAINED_SHEAR_MODULUS: Key = Key::new(
     "material.drained_shear_modulus",
     "kPa",
@@ -257,7 +272,7 @@ const DRAINED_SHEAR_MODULUS: Key = Key::new(
 )
 .range(Range::POSITIVE)
 .rule("instead of `mu`, with `nu`")
-.enters("µ = G / Φs, eq. (56)");
+.enters("µ = G / Φs");
 const DRAINED_YOUNGS_MODULUS: Key = Key::new(
     "material.drained_youngs_modulus",
     "kPa",
@@ -266,7 +281,7 @@ const DRAINED_YOUNGS_MODULUS: Key = Key::new(
 )
 .range(Range::POSITIVE)
 .rule("instead of `mu`, with `nu`")
-.enters("µ = E / (2 (1 + ν) Φs), eq. (56)");
+.enters("µ = E / (2 (1 + ν) Φs)");
 /// ν has one range in both models.
 const NU: Key = Key::new(
     "material.nu",
@@ -275,11 +290,12 @@ const NU: Key = Key::new(
     "the aggregate's drained Poisson ratio ν (small strain), also that of Ψ/Φs: Φs scales both Lamé constants",
 )
 .range(POISSON)
-.enters("eq. (56)");
-const ALPHA: Key = Key::new("material.alpha", "kPa, –, –", Unset::Absent(""), "[α0, α1, α2] given directly (α3 = 1)")
-    .range(Range::POSITIVE)
-    .rule("the range is α0's; the law checks the others")
-    .enters("the Holmes–Mow energy");
+.enters("eq. (56); λ = 2µν/(1 − 2ν)");
+const ALPHA: Key =
+    Key::new("material.alpha", "kPa, –, –", Unset::Absent(""), "[α0, α1, α2] given directly (α3 = 1); holmes_mow only")
+        .range(Range::POSITIVE)
+        .rule("the range is α0's; the law checks the others")
+        .enters("the Holmes–Mow energy");
 const PHI_S: Key = Key::new("material.phi_s", "", Unset::Required, "referential solid fraction Φs").range(Range::new(
     0.0,
     false,
@@ -298,6 +314,14 @@ const KAPPA: Key =
         .enters("k(J)");
 const M0: Key =
     Key::new("material.m0", "", Unset::Required, "exponent m0 of the permeability").range(Range::FINITE).enters("k(J)");
+/// The neo-Hookean model's name.
+const NEO_HOOKEAN_MODEL: Key = Key::new(
+    "material.model",
+    "",
+    Unset::Required,
+    "`neo_hookean`: the same mixture around a compressible neo-Hookean solid, \
+     Ψ = Φs [µ/2 (tr(C B_p) − 3) − µ ln J + λ/2 (ln J)²] (FEBio's form)",
+);
 const PERMEABILITY_C: Key = Key::new(
     "material.permeability_c",
     "",
@@ -344,29 +368,64 @@ pub(super) const LINEAR_SECTION: Section = Section {
     keys: &[LINEAR_MODEL, LINEAR_MU, LINEAR_NU, PERMEABILITY],
 };
 
+/// The keys of every mixture model, after its `material.model` key and before its law's own.
+const MIXTURE_KEYS: [Key; 15] = [
+    MU,
+    DRAINED_SHEAR_MODULUS,
+    DRAINED_YOUNGS_MODULUS,
+    NU,
+    PHI_S,
+    K0,
+    KAPPA,
+    M0,
+    PERMEABILITY_C,
+    PENALTY,
+    REMODELLING,
+    RHO_S,
+    RHO_F,
+    GRAVITY,
+    DRAINED,
+];
+
+/// A mixture model's key table: its `material.model` key, [`MIXTURE_KEYS`], then its law's own
+/// keys (`L` = 1 + 15 + N, checked when compiled).
+const fn mixture_keys<const L: usize, const N: usize>(model: Key, own: [Key; N]) -> [Key; L] {
+    assert!(L == 1 + MIXTURE_KEYS.len() + N, "L = 1 + MIXTURE_KEYS.len() + N");
+    let mut out = [model; L];
+    let mut i = 0;
+    while i < MIXTURE_KEYS.len() {
+        out[1 + i] = MIXTURE_KEYS[i];
+        i += 1;
+    }
+    let mut j = 0;
+    while j < N {
+        out[1 + MIXTURE_KEYS.len() + j] = own[j];
+        j += 1;
+    }
+    out
+}
+
+const HOLMES_MOW_KEYS: [Key; 17] = mixture_keys(MODEL, [ALPHA]);
+
 pub(super) const HOLMES_MOW_SECTION: Section = Section {
     title: "[material], model = \"holmes_mow\"",
     enters: "model.md: The finite-strain biphasic model",
     about: "The finite-strain biphasic mixture (docs/model.md §2–§4).",
-    keys: &[
-        MODEL,
-        MU,
-        DRAINED_SHEAR_MODULUS,
-        DRAINED_YOUNGS_MODULUS,
-        NU,
-        ALPHA,
-        PHI_S,
-        K0,
-        KAPPA,
-        M0,
-        PERMEABILITY_C,
-        PENALTY,
-        REMODELLING,
-        RHO_S,
-        RHO_F,
-        GRAVITY,
-        DRAINED,
-    ],
+    keys: &HOLMES_MOW_KEYS,
+};
+
+const NEO_HOOKEAN_KEYS: [Key; 16] = mixture_keys(NEO_HOOKEAN_MODEL, []);
+
+/// The Holmes–Mow mixture's keys but `alpha`; constant permeability is κ = m0 = 0.
+pub(super) const NEO_HOOKEAN_SECTION: Section = Section {
+    title: "[material], model = \"neo_hookean\"",
+    enters: "model.md: The neo-Hookean skeleton",
+    about: "The finite-strain biphasic mixture of `holmes_mow` (penalty, permeability, remodelling, gravity) around a \
+            compressible neo-Hookean solid, FEBio's form with the remodelling metric: \
+            Ψ = Φs [µ/2 (tr(C B_p) − 3) − µ ln J + λ/2 (ln J)²], λ = 2µν/(1 − 2ν) (docs/model.md, \
+            \"The neo-Hookean skeleton\"). `alpha` is refused. Constant permeability k = k0 is `kappa = 0.0`, \
+            `m0 = 0.0`.",
+    keys: &NEO_HOOKEAN_KEYS,
 };
 
 /// Checked by the law (`material::CompactionPenalty`) when the model is built.

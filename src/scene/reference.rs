@@ -11,6 +11,7 @@ pub fn sections() -> Vec<Section> {
         mesh::SECTION,
         material::LINEAR_SECTION,
         material::HOLMES_MOW_SECTION,
+        material::NEO_HOOKEAN_SECTION,
         material::PENALTY_SECTION,
         material::REMODELLING_SECTION,
         bc::SECTION,

@@ -122,12 +122,12 @@ fn implausible_magnitudes_name_the_unit_mistake() {
 
 /// µ and ν of the solid of scene `arg` (with overrides).
 fn solid_of(arg: &str, sets: &[&str]) -> Result<(f64, f64), String> {
-    match load(arg, sets)?.scene.material {
-        super::Material::HolmesMow(m) => match m.solid()? {
+    match load(arg, sets)?.scene.material.mixture() {
+        Some(m) => match m.solid()? {
             super::SolidSpec::MuNu { mu, nu } => Ok((mu, nu)),
             super::SolidSpec::Alpha(_) => Err("alpha".into()),
         },
-        super::Material::Linear { .. } => Err("linear".into()),
+        None => Err("linear".into()),
     }
 }
 

@@ -201,6 +201,29 @@ fn inconsistent_keys_are_named_together() {
     );
 }
 
+/// `model = "neo_hookean"`: the mixture's keys are checked as for Holmes–Mow, each bad value
+/// named; Holmes–Mow's `alpha` is refused naming the keys to give instead.
+#[test]
+fn neo_hookean_keys_are_checked() {
+    let nh = "material.model=neo_hookean";
+    let loaded = LoadedScene::load("reference_axi", &[nh.to_string()]).unwrap();
+    assert_eq!(loaded.scene.material.model().0, "neo_hookean");
+    let cases = [
+        (
+            vec!["material.alpha=[0.1, 0.5, 0.25]"],
+            "`alpha` is a Holmes–Mow key (its α's): model = \"neo_hookean\" takes `nu`",
+        ),
+        (vec!["material.mu=-3.0"], "material.mu = -3"),
+        (vec!["material.nu=0.5"], "material.nu = 0.5"),
+        (vec!["material.phi_s=1.0"], "material.phi_s = 1"),
+        (vec!["material.k0=0.0"], "material.k0 = 0"),
+    ];
+    for (sets, part) in cases {
+        expect("reference_axi", &[], &[&[nh][..], &sets[..]].concat(), part);
+    }
+    expect("reference_axi", &[("nu = 0.2\n", "")], &[nh], "[material] neo_hookean: give `nu` and one modulus");
+}
+
 /// `[surface]`: a negative tension, and values off by 10³ (N/m or µN/m for mN/m), are refused
 /// with the unit named; an unknown key too.
 #[test]

@@ -301,15 +301,11 @@ impl SkeletonLaw for HolmesMow {
 mod tests {
     use super::*;
     use crate::material::tensor::idx;
-    use crate::material::test_util::{kin, rel_err, Rng};
+    use crate::material::test_util::{assert_close, kin, rel_err, Rng};
 
     /// Table 1 (µ = 20 kPa, ν = 0.2) and the soft Forgacs case (µ = 3 kPa, ν = 0.45, α1 < 0).
     fn laws() -> [HolmesMow; 2] {
         [HolmesMow::from_mu_nu(20.0, 0.2, 0.6).unwrap(), HolmesMow::from_mu_nu(3.0, 0.45, 0.6).unwrap()]
-    }
-
-    fn assert_close(x: f64, y: f64, tol: f64) {
-        assert!((x - y).abs() <= tol * y.abs().max(1e-300), "{x} vs {y}");
     }
 
     #[test]

@@ -3,7 +3,7 @@
 
 use super::super::linear::LinearPoroelastic;
 use super::*;
-use crate::material::laws::HolmesMow;
+use crate::material::laws::{HolmesMow, NeoHookean};
 use crate::material::test_util::Rng;
 use crate::material::{Integrator, PermeabilityModel};
 
@@ -172,13 +172,11 @@ fn remodelling_tangent_matches_central_differences() {
     println!("worst rel. error with remodelling {worst:.2e}");
 }
 
-/// Test 2: at Grad u = O(1e-7) the model is linear poroelasticity with drained Lamé constants
-/// Φs (λ, µ); the drained moduli match the linear model and the α closed form.
-#[test]
-fn small_strain_limit_is_linear_poroelasticity() {
+/// At Grad u = O(1e-7) the mixture `m` is linear poroelasticity `lin` (the linear model of the
+/// scene, whose µ is the aggregate's drained Φs µ): stress, rate and flux to 1e-5 relative, no
+/// body force; its drained moduli are the linear model's to round-off.
+fn check_small_strain_limit<L: SkeletonLaw>(name: &str, m: &Biphasic<L>, lin: &LinearPoroelastic) {
     let eps = 1e-7;
-    let m = table1(PermeabilityModel::Isotropic, [1000.0, 1000.0], [0.0; 3]);
-    let lin = LinearPoroelastic::new(0.6 * 20.0, 0.2, 3.7729).unwrap();
     let mut rng = Rng::new(32);
     let mut worst = [0.0f64; 4];
     for _ in 0..5 {
@@ -199,18 +197,30 @@ fn small_strain_limit_is_linear_poroelasticity() {
         }
     }
     println!(
-        "small strain (eps = {eps:e}): stress {:.2e}, rate {:.2e}, flux {:.2e}, |body| {:.1e}",
+        "{name}, small strain (eps = {eps:e}): stress {:.2e}, rate {:.2e}, flux {:.2e}, |body| {:.1e}",
         worst[0], worst[1], worst[2], worst[3]
     );
-    assert!(worst[0] < 1e-5 && worst[1] < 1e-5 && worst[2] < 1e-5 && worst[3] == 0.0);
-    // The drained moduli are those of the linear model, and the closed form of the α's:
-    // µ/Φs = 2 α0 (α3 − α2), K/Φs = 4 α0 (α3 + 2 α2)/3.
+    assert!(worst[0] < 1e-5 && worst[1] < 1e-5 && worst[2] < 1e-5 && worst[3] == 0.0, "{name}");
     let (kl, ml) = (lin.lambda + 2.0 * lin.mu / 3.0, lin.lambda + 2.0 * lin.mu);
-    println!("K_dr = {} (linear {kl}), M = {} (linear {ml})", m.drained_bulk_modulus(), m.p_wave_modulus());
-    assert!((m.drained_bulk_modulus() - kl).abs() < 1e-14 * kl);
-    assert!((m.p_wave_modulus() - ml).abs() < 1e-14 * ml);
-    assert_eq!(m.conductivity(), 3.7729);
+    println!("{name}: K_dr = {} (linear {kl}), M = {} (linear {ml})", m.drained_bulk_modulus(), m.p_wave_modulus());
+    assert!((m.drained_bulk_modulus() - kl).abs() < 1e-14 * kl, "{name}");
+    assert!((m.p_wave_modulus() - ml).abs() < 1e-14 * ml, "{name}");
+    assert_eq!(m.conductivity(), lin.k);
     assert!(!m.is_linear());
+}
+
+/// Test 2: at Grad u = O(1e-7) the mixture is linear poroelasticity with drained Lamé constants
+/// Φs (λ, µ), whichever the skeleton law (Holmes–Mow with the penalty, neo-Hookean with constant
+/// permeability: κ = m0 = 0); the drained moduli match the α closed form too.
+#[test]
+fn small_strain_limit_is_linear_poroelasticity() {
+    let lin = LinearPoroelastic::new(0.6 * 20.0, 0.2, 3.7729).unwrap();
+    let m = table1(PermeabilityModel::Isotropic, [1000.0, 1000.0], [0.0; 3]);
+    check_small_strain_limit("Holmes–Mow", &m, &lin);
+    let nh = NeoHookean::from_mu_nu(20.0, 0.2, 0.6).unwrap();
+    let perm = Permeability::new(3.7729, 0.6, 0.0, 0.0, PermeabilityModel::Isotropic).unwrap();
+    check_small_strain_limit("neo-Hookean", &Biphasic::new(nh, None, perm, 1000.0, 1000.0, [0.0; 3]).unwrap(), &lin);
+    // The closed form of the α's: µ/Φs = 2 α0 (α3 − α2), K/Φs = 4 α0 (α3 + 2 α2)/3.
     let hm = HolmesMow::new(0.6, 0.125, 0.78, 0.11, 1.0).unwrap();
     let perm = Permeability::new(1.0, 0.6, 4.638, 0.0848, PermeabilityModel::Isotropic).unwrap();
     let m = Biphasic::new(hm, None, perm, 0.0, 0.0, [0.0; 3]).unwrap();
