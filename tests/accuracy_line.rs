@@ -83,3 +83,14 @@ fn a_tensiometry_hold_gets_no_class() {
     assert!(out.contains("measure its peak force and F(1005 s)"), "{out}");
     assert!(!out.contains("F(35 s)"), "{out}");
 }
+
+/// The classes were measured on Holmes–Mow aggregates: a neo-Hookean one is told none.
+#[test]
+fn another_solid_law_gets_no_class() {
+    let out = run_ok(
+        1,
+        &["check", "reference", "--set", "mesh.geometry=axisymmetric", "--set", "material.model=neo_hookean"],
+    );
+    assert!(out.contains("none measured for this scene (a neo_hookean solid; measured with Holmes–Mow)"), "{out}");
+    assert!(out.contains("measure its peak force and F(35 s)"), "{out}");
+}

@@ -76,8 +76,12 @@ pub(super) fn accuracy_line(scene: &Scene, family: Family, stab: Stabilisation, 
     };
     // Loading the scene parsed the chart, so it is there.
     let class = auto::chart().ok()?.class_of(geometry, element, remodelling, h_over_r, &domain)?;
-    // The chart measured ramp-hold-release compressions without surface tension.
-    let class = if plates.table.is_some() {
+    // The chart measured ramp-hold-release compressions of a Holmes–Mow solid without surface
+    // tension.
+    let model = scene.material.model().0;
+    let class = if model != "holmes_mow" {
+        Err(format!("a {model} solid; measured with Holmes–Mow"))
+    } else if plates.table.is_some() {
         Err("a plates.table loading; measured on ramp-hold-release compressions".to_string())
     } else if scene.surface.is_some() {
         Err("surface tension; measured without".to_string())
