@@ -13,6 +13,7 @@ in scripts/data/claims.csv) has its source, and a wrong one fails:
 Pure Python, no solver; a few seconds (poroplast_tools/doc_numbers.py says what is not a number:
 section, figure, equation and commit numbers, dates, versions, code, links)."""
 
+import contextlib
 import sys
 import tempfile
 import unittest
@@ -132,27 +133,30 @@ class Machinery(unittest.TestCase):
         with self.assertRaises(KeyError):
             dn.render("nosuch:row|col", ".2f")
 
+    @contextlib.contextmanager
+    def source(self, name, key, text):
+        """A CSV `text` as the source `name` (rows keyed by column `key`) while the block runs."""
+        with tempfile.TemporaryDirectory() as d:
+            path = Path(d) / f"{name}.csv"
+            path.write_text(text, encoding="utf-8")
+            with mock.patch.dict(claims.SOURCES, {name: (path, key)}):
+                yield
+        dn.value.cache_clear()
+        dn.render.cache_clear()
+
     def test_an_extreme_skips_the_rows_without_a_value(self):
         # a run that did not reach the value writes "nan"; first or not, it has no say in min/max
-        with tempfile.TemporaryDirectory() as d:
-            path = Path(d) / "runs.csv"
-            path.write_text("run,t\na,nan\nb,29.5\nc,nan\nd,41.25\n", encoding="utf-8")
-            with mock.patch.dict(claims.SOURCES, {"test_runs_nan": (path, "run")}):
-                self.assertEqual(dn.render("min test_runs_nan|t", ".2f"), "29.50")
-                self.assertEqual(dn.render("max test_runs_nan|t", ".2f"), "41.25")
-                self.assertEqual(dn.render("count test_runs_nan", ".0f"), "4", "count: every row")
+        with self.source("test_runs_nan", "run", "run,t\na,nan\nb,29.5\nc,nan\nd,41.25\n"):
+            self.assertEqual(dn.render("min test_runs_nan|t", ".2f"), "29.50")
+            self.assertEqual(dn.render("max test_runs_nan|t", ".2f"), "41.25")
+            self.assertEqual(dn.render("count test_runs_nan", ".0f"), "4", "count: every row")
 
     def test_an_aggregate_over_the_rows_a_condition_keeps(self):
-        with tempfile.TemporaryDirectory() as d:
-            path = Path(d) / "points.csv"
-            path.write_text("p,share,peak\na,0.3,17\nb,0.5,15\nc,nan,20\nd,0.7,13\n", encoding="utf-8")
-            with mock.patch.dict(claims.SOURCES, {"test_points": (path, "p")}):
-                self.assertEqual(dn.render("count test_points where share at least 0.5", ".0f"), "2")
-                self.assertEqual(dn.render("max test_points|peak where share at least 0.5", ".0f"), "15")
-                self.assertEqual(dn.render("min test_points|peak where share at most 0.5", ".0f"), "15")
-                self.assertEqual(dn.render("count test_points where share at most 0.4", ".0f"), "1", "nan is kept by neither")
-                dn.value.cache_clear()
-                dn.render.cache_clear()
+        with self.source("test_points", "p", "p,share,peak\na,0.3,17\nb,0.5,15\nc,nan,20\nd,0.7,13\n"):
+            self.assertEqual(dn.render("count test_points where share at least 0.5", ".0f"), "2")
+            self.assertEqual(dn.render("max test_points|peak where share at least 0.5", ".0f"), "15")
+            self.assertEqual(dn.render("min test_points|peak where share at most 0.5", ".0f"), "15")
+            self.assertEqual(dn.render("count test_points where share at most 0.4", ".0f"), "1", "nan is kept by neither")
 
     def test_one_unit_in_the_last_digit(self):
         for printed, nudged in [("0.79", "0.80"), ("9", "10"), ("3e-5", "4e-5"), ("−0.54%", "−0.53%"),
