@@ -32,7 +32,7 @@ mod summary;
 pub use check::check;
 use record::RunRecord;
 use run::Run;
-pub use run::{Log, RunArgs, DEFAULT_STABILISATION, EXIT_STOPPED, EXIT_STOPPED_IN_SETUP};
+pub use run::{Log, RunArgs, EXIT_STOPPED, EXIT_STOPPED_IN_SETUP};
 pub use schedule::Schedule;
 
 use crate::error::{Error, Result};

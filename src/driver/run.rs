@@ -162,5 +162,3 @@ pub const EXIT_STOPPED: i32 = 75;
 /// Exit code of a `run`, `check` or `sweep` stopped by a signal during its set-up, before it
 /// wrote anything: there is nothing to resume, run the command again.
 pub const EXIT_STOPPED_IN_SETUP: i32 = 76;
-
-pub use crate::scene::numerics::DEFAULT_STABILISATION;

@@ -2,13 +2,13 @@
 //! and plates → problem → time stepper → observers. Everything that can fail on bad input
 //! fails here, before the run directory is touched.
 
-use super::run::{Run, RunArgs, SetupInfo, DEFAULT_STABILISATION};
+use super::run::{Run, RunArgs, SetupInfo};
 use super::schedule::Schedule;
 use super::state::StepState;
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::tabulate_cell;
-use crate::fem::kernel::{Fade, Stabilisation, STEP_FADE};
+use crate::fem::kernel::{Fade, Stabilisation};
 use crate::fem::point::PointModel;
 use crate::fem::quadrature;
 use crate::io::checkpoint::FileLayout;
@@ -279,11 +279,8 @@ impl<'w> Run<'w> {
         let dofs = DofMap::new(&local);
         let (policy, mut solver_line) = solver::policy(s.solver.preset.unwrap_or_default(), dofs.n_global)?;
         let model = model_of(scene)?;
-        // Degree 2 integrates the linear model exactly on straight elements; the finite-strain
-        // model (exponential energy, curved elements) gets the 8-point degree-3 rule.
-        let default_degree = if model.is_linear() { 2 } else { 3 };
         // On the meridian dV = 2πR dA adds a degree.
-        let degree = s.fem.quadrature_degree.unwrap_or(default_degree);
+        let degree = s.fem.degree(model.is_linear());
         let q = match local.family {
             Family::Tet10 => quadrature::tet(degree),
             Family::Tri6 => quadrature::tri(degree + 1),
@@ -299,8 +296,8 @@ impl<'w> Run<'w> {
         let u = initial_state(comm, scene, &local, &dofs)?;
         let n_global_dofs = dofs.n_global;
         let fields = solver::Fields::new(world, &dofs, &local)?;
-        let c = s.fem.stabilisation.unwrap_or(DEFAULT_STABILISATION);
-        let steps = s.fem.stabilisation_steps.unwrap_or(STEP_FADE);
+        let c = s.fem.stabilisation_c();
+        let steps = s.fem.fade_steps();
         let fade = stabilisation_fade(s, &mut solver_line).map(|tau0| Fade { tau0, dt0: s.time.dt, steps });
         let stabilisation = Stabilisation::new(c, fade, model.as_ref());
         let tab = tabulate_cell(local.family, &q);

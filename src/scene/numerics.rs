@@ -66,6 +66,11 @@ pub enum Element {
 /// exactly (see `fem::kernel::ElementKernel::stab`).
 pub const DEFAULT_STABILISATION: f64 = 4.0;
 
+/// Default quadrature degrees: 2 for the linear model (exact on straight elements), 3 for the
+/// finite-strain ones (exponential energy, curved elements); the meridian adds one (dV = 2πr dA).
+pub const QUADRATURE_DEGREE_LINEAR: usize = 2;
+pub const QUADRATURE_DEGREE_FINITE_STRAIN: usize = 3;
+
 impl SolverSpec {
     /// The preset's default (`auto`) written out.
     pub(super) fn fill_defaults(&mut self) {
@@ -80,8 +85,26 @@ impl FemSpec {
     /// (`stabilisation_fade` has no value to write: absent is the constant weight.)
     pub(super) fn fill_defaults(&mut self, linear: bool) {
         self.element.get_or_insert(Element::P2P1);
-        self.stabilisation.get_or_insert(DEFAULT_STABILISATION);
-        self.quadrature_degree.get_or_insert(if linear { 2 } else { 3 });
+        self.stabilisation.get_or_insert(self.stabilisation_c());
+        self.quadrature_degree.get_or_insert(self.degree(linear));
+    }
+
+    /// The stabilisation's c: the scene's, or [`DEFAULT_STABILISATION`].
+    pub fn stabilisation_c(&self) -> f64 {
+        self.stabilisation.unwrap_or(DEFAULT_STABILISATION)
+    }
+
+    /// The steps s of the stabilisation's fade by step growth: the scene's, or
+    /// `fem::kernel::STEP_FADE`.
+    pub fn fade_steps(&self) -> f64 {
+        self.stabilisation_steps.unwrap_or(crate::fem::kernel::STEP_FADE)
+    }
+
+    /// The quadrature degree on the tetrahedron (the meridian's triangle rule is one higher):
+    /// the scene's, or the default of the linear or the finite-strain model.
+    pub fn degree(&self, linear: bool) -> usize {
+        let default = if linear { QUADRATURE_DEGREE_LINEAR } else { QUADRATURE_DEGREE_FINITE_STRAIN };
+        self.quadrature_degree.unwrap_or(default)
     }
 
     /// Equal-order P1–P1 instead of Taylor–Hood.
@@ -179,6 +202,22 @@ pub(super) const FEM_SECTION: Section = Section {
 #[cfg(test)]
 mod tests {
     use super::super::LoadedScene;
+
+    #[test]
+    fn the_quadrature_key_states_the_defaults() {
+        let super::super::key::Unset::Absent(text) = super::QUADRATURE_DEGREE.default else {
+            panic!("fem.quadrature_degree: its default should be stated as absent-means-a-value")
+        };
+        let want = format!(
+            "{} (linear model), {} (finite strain)",
+            super::QUADRATURE_DEGREE_LINEAR,
+            super::QUADRATURE_DEGREE_FINITE_STRAIN
+        );
+        assert_eq!(text, want);
+        let fem = super::FemSpec::default();
+        assert_eq!((fem.degree(true), fem.degree(false)), (2, 3));
+        assert_eq!((fem.stabilisation_c(), fem.fade_steps()), (4.0, 8.0));
+    }
 
     #[test]
     fn the_stabilisation_steps_key_states_the_kernels_default() {
