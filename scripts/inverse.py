@@ -78,7 +78,6 @@ def row_of(name, what, values, obs, extra=None):
     row = {"point": name, "what": what, **{f"param {n}": values.get(n, p.table1) for n, p in inv.PARAMS.items()}}
     row.update({k: obs[k] for k in OBS})
     inv.scored(row, obs)
-    row.pop("cost_others")
     row.update(extra or {})
     return row
 
@@ -273,7 +272,7 @@ def rescore(out):
         rows = read_rows(out / name)
         fields = list(rows[0])
         new = inv.rescored(rows)
-        fields += [k for k in new[0] if k not in fields and (name != "inverse_screen.csv" or k != "cost_others")]
+        fields += [k for k in new[0] if k not in fields]
         write_rows(out / name, new, fields)
         print(f"{name}: {len(new)} rows scored on today's claims")
 

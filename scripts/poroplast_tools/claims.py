@@ -114,14 +114,19 @@ def printed(quote):
     return float(digits) * scale, 0.5 * 10.0 ** -decimals * scale
 
 
+def quotes(note):
+    """The quotes of the paper in a row's precision_note, in order."""
+    return re.findall(r'"([^"]+)"', note)
+
+
 def paper_number(note):
     """(value, precision) of a row's precision_note: one quote of the paper (`printed`), or two
     joined by " minus " (their difference, the sum of their precisions)."""
-    quotes = re.findall(r'"([^"]+)"', note)
-    if len(quotes) == 1:
-        return printed(quotes[0])
-    if len(quotes) == 2 and '" minus "' in note:
-        (a, pa), (b, pb) = printed(quotes[0]), printed(quotes[1])
+    said = quotes(note)
+    if len(said) == 1:
+        return printed(said[0])
+    if len(said) == 2 and '" minus "' in note:
+        (a, pa), (b, pb) = printed(said[0]), printed(said[1])
         if isinstance(pa, str) or isinstance(pb, str):
             raise ValueError(f"claims.csv: a difference of factors in {note!r}")
         return a - b, pa + pb

@@ -16,7 +16,6 @@ after the release, from its fields at 40 s). `observables` reads them; `claim_re
 them into r. `Model.evaluate` is fit.py's model: a batch of points is one `poroplast sweep`, and a
 finite-difference neighbour replays its point's time steps (runmodel.py does the same)."""
 import math
-import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -61,16 +60,16 @@ def from_claims(id, what, observable, quote=0, rows=None):
     row = next((r for r in (rows or claims.load()) if r["id"] == id), None)
     if row is None:
         raise ValueError(f"inverse: claims.csv has no row {id}")
-    quotes = re.findall(r'"([^"]+)"', row["precision_note"])
-    if quote >= len(quotes):
-        raise ValueError(f"inverse: claims.csv's {id} quotes the paper {len(quotes)} times, not {quote + 1}")
-    value, precision = claims.printed(quotes[quote])
+    said = claims.quotes(row["precision_note"])
+    if quote >= len(said):
+        raise ValueError(f"inverse: claims.csv's {id} quotes the paper {len(said)} times, not {quote + 1}")
+    value, precision = claims.printed(said[quote])
     if isinstance(precision, str):    # a factor: "×F"
         factor = float(precision[1:])
         return Claim(id, what, observable, value, value / factor, value * factor, log=True,
-                     precision=f'"{quotes[quote]}": within a factor {factor:g} of {value:g}')
+                     precision=f'"{said[quote]}": within a factor {factor:g} of {value:g}')
     return Claim(id, what, observable, value, value - precision, value + precision,
-                 precision=f'"{quotes[quote]}": ±{precision:g}')
+                 precision=f'"{said[quote]}": ±{precision:g}')
 
 
 def _claims():
