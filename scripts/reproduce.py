@@ -22,8 +22,10 @@ section figures then show the meridian itself, mirrored), by default into runs/r
 import argparse
 import csv
 import math
+import os
 import shutil
 import subprocess
+from concurrent.futures import ThreadPoolExecutor
 from functools import lru_cache
 from pathlib import Path
 
@@ -33,7 +35,7 @@ from poroplast_tools import fields
 from poroplast_tools import paper_figures as figs
 from poroplast_tools.paper_figures import have
 from poroplast_tools import cases as store
-from poroplast_tools.cases import ROOT, find_case
+from poroplast_tools.cases import ROOT, SceneError, find_case
 from poroplast_tools.history import at as value_at, history, relaxation_time, timings
 from poroplast_tools.refs import references
 from poroplast_tools.tables import write_rows
@@ -121,10 +123,14 @@ def run_cases(out, names):
 
 
 def case_dirs(out):
-    """The run directories of the completed cases in the store (a missing one: a path that does
-    not exist)."""
-    return {c: find_case(out, CASES[c][0], case_overrides(c), extra_sets()) or out / "cases" / f"(no run of {c})"
-            for c in CASES}
+    """The run directories of the completed cases in the store, as the binary finds them (a
+    missing one: a path that does not exist)."""
+    find = lambda c: find_case(out, CASES[c][0], case_overrides(c), extra_sets()) or out / "cases" / f"(no run of {c})"
+    try:
+        with ThreadPoolExecutor(os.cpu_count()) as pool:    # a call of the binary each: its start-up, mostly
+            return dict(zip(CASES, pool.map(find, CASES)))
+    except SceneError as e:
+        raise SystemExit(f"reproduce.py: finding the cases of {out}: {e}")
 
 
 # ---------------------------------------------------------------- summary

@@ -108,6 +108,28 @@ pub enum Command {
         #[arg(last = true, allow_hyphen_values = true)]
         petsc: Vec<String>,
     },
+    /// Print a case as the sweeps know it and, with --cases-dir, whether a case store holds it.
+    ///
+    /// A case is what it runs: its scene (a shipped scene's name or the file's absolute path,
+    /// and a hash of the file's text: an edited scene is another case), its overrides in order
+    /// and its PETSc options. Prints TOML: the case's `key` (its run directory is
+    /// `<case>-<key>`) and that signature, as its case.toml records it; with --cases-dir also its
+    /// `status` in the store (ok, failed, unfinished or absent), its `dir` and a failed case's
+    /// `error`. The overrides are checked against the scene as `sweep` checks them. No MPI.
+    Case {
+        /// A scene file (.toml) or the name of a shipped scene.
+        scene: String,
+        /// An override, as for `run` (in the order the case applies them: a study's `set`
+        /// first, then the case's own).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// The case store to look in: a sweep's DIR/cases, or its --cases-dir.
+        #[arg(long, value_name = "DIR")]
+        cases_dir: Option<PathBuf>,
+        /// The case's PETSc options, after `--` (a study's, then the sweep's command line's).
+        #[arg(last = true, allow_hyphen_values = true)]
+        petsc: Vec<String>,
+    },
     /// Run a poroplast command on N MPI ranks under `mpirun`, stopped like one process.
     ///
     /// `poroplast mpirun -n 4 run my.toml` is `mpirun -n 4 poroplast run my.toml`, except that

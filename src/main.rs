@@ -49,6 +49,17 @@ fn main() {
         }
         return;
     }
+    if let Command::Case { scene, set, cases_dir, petsc } = &cli.command {
+        // No MPI: a case's identity is its scene's text and its arguments.
+        match sweep::find::describe(scene, set, petsc, cases_dir.as_deref()) {
+            Ok(text) => console::print(&text),
+            Err(e) => {
+                eprintln!("poroplast: error: {e}");
+                std::process::exit(1);
+            }
+        }
+        return;
+    }
     if let Command::Mpirun { np, mpirun_args, command } = &cli.command {
         // No MPI here: the ranks are mpirun's.
         exit_with(poroplast::launch::mpirun(*np, mpirun_args, command));
@@ -118,7 +129,8 @@ fn main() {
         | Command::Show { .. }
         | Command::Mpirun { .. }
         | Command::Plot { .. }
-        | Command::Columns { .. } => return,
+        | Command::Columns { .. }
+        | Command::Case { .. } => return,
     };
     let code = match result {
         Ok(msg) => {

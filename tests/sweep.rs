@@ -365,6 +365,65 @@ fn sweeps_sharing_a_store_run_each_case_once() {
     assert!(!ha.contains(&"last:time".to_string()) && ha.contains(&"zero:probe_p".to_string()), "{ha:?}");
 }
 
+/// `poroplast case SCENE --set ... --cases-dir STORE [-- OPTIONS]` as TOML, or its error line.
+fn case_in(store: &Path, scene: &str, set: &[&str], petsc: &[&str]) -> Result<toml::Table, String> {
+    let mut args = vec!["case", scene, "--cases-dir", store.to_str().unwrap()];
+    args.extend(set.iter().flat_map(|s| ["--set", *s]));
+    args.push("--");
+    args.extend(petsc);
+    let out = poroplast(1, &args);
+    if out.status.success() {
+        Ok(toml::from_str(&String::from_utf8_lossy(&out.stdout)).unwrap())
+    } else {
+        Err(String::from_utf8_lossy(&out.stderr).into_owned())
+    }
+}
+
+#[test]
+fn a_case_is_found_by_what_it_runs() {
+    let _cores = cores(1); // one group
+    // Two tiny Terzaghi cases of a scene file, one failing (µ out of range).
+    let d = scratch("sweep_case");
+    let file = scene_variant("terzaghi", &d, &[("t_end = 100.0", "t_end = 0.004")]);
+    let text = std::fs::read_to_string(&file).unwrap();
+    let study = d.join("s.toml");
+    std::fs::write(&study, format!("scene = '{file}'\n[[case]]\nset = [\"material.mu=12\"]\n[[case]]\nset = [\"material.mu=-3\"]\n"))
+        .unwrap();
+    let root = d.join("sweep");
+    assert!(!sweep(1, &study, &root, 1).status.success(), "the second case fails");
+    let (store, dirs) = (root.join("cases"), case_dirs(&root));
+    let status = |set: &[&str], petsc: &[&str]| {
+        let t = case_in(&store, &file, set, petsc).unwrap();
+        (t["status"].as_str().unwrap().to_string(), t.get("dir").map(|d| PathBuf::from(d.as_str().unwrap())))
+    };
+    assert_eq!(status(&["material.mu=12"], &[]), ("ok".into(), Some(dirs[0].clone())));
+    let failed = case_in(&store, &file, &["material.mu=-3"], &[]).unwrap();
+    assert_eq!(failed["status"].as_str(), Some("failed"));
+    assert!(failed["error"].as_str().unwrap().contains("material.mu"), "{failed}");
+    // The key names the run directory; the signature is the one case.toml records.
+    let ok = case_in(&store, &file, &["material.mu=12"], &[]).unwrap();
+    let key = ok["key"].as_str().unwrap();
+    assert!(dirs[0].to_string_lossy().ends_with(&format!("-{key}")), "{ok}");
+    let record: toml::Table = toml::from_str(&std::fs::read_to_string(dirs[0].join("case.toml")).unwrap()).unwrap();
+    for k in ["scene", "scene_text", "set", "petsc"] {
+        assert_eq!(ok[k], record[k], "{k}");
+    }
+    // Other overrides or options; the same ones on the file edited (ν, which no override sets).
+    assert_eq!(status(&["material.mu=13"], &[]), ("absent".into(), None));
+    assert_eq!(status(&["material.mu=12"], &["-ksp_rtol", "1e-9"]), ("absent".into(), None));
+    std::fs::write(&file, text.replacen("nu = 0.2\n", "nu = 0.3\n", 1)).unwrap();
+    assert_eq!(status(&["material.mu=12"], &[]), ("absent".into(), None));
+    std::fs::write(&file, &text).unwrap();
+    // A run directory without its outcome: interrupted (or running).
+    std::fs::remove_file(dirs[0].join("case.toml")).unwrap();
+    assert_eq!(status(&["material.mu=12"], &[]), ("unfinished".into(), Some(dirs[0].clone())));
+    // Bad input: a key the scene has not, a store that is not there.
+    let e = case_in(&store, &file, &["material.muu=12"], &[]).unwrap_err();
+    assert!(e.contains("unknown field `muu`"), "{e}");
+    let e = case_in(&d.join("nowhere"), &file, &[], &[]).unwrap_err();
+    assert!(e.contains("nowhere: cannot read the case store"), "{e}");
+}
+
 #[test]
 fn bad_input_is_refused_before_anything_is_written() {
     let _cores = cores(2); // the sweep on 2 ranks

@@ -55,10 +55,42 @@ def scene_values(scene):
 
 
 class SceneError(Exception):
-    """The solver refused a scene or an override (its message), or could not be run."""
+    """The solver refused a scene or an override (its message), or could not be run;
+    `old_binary`: it does not have the subcommand asked for (built before it)."""
+
+    def __init__(self, message, old_binary=False):
+        super().__init__(message)
+        self.old_binary = old_binary
 
 
-NO_COLUMNS = "unrecognized subcommand"    # clap's words for a binary built before `columns`
+NO_SUBCOMMAND = "unrecognized subcommand"    # clap's words for a binary built before a subcommand
+
+
+def ask(args, what):
+    """The standard output of `poroplast ARGS` (a question that needs no MPI: columns, case,
+    show --explain); SceneError with the solver's message when it refuses, or when it cannot be
+    run. `what`: the command, for the messages."""
+    try:
+        p = subprocess.run([str(BIN)] + list(args), capture_output=True, text=True, env=env(), timeout=600)
+    except FileNotFoundError:
+        raise SceneError(f"no poroplast binary at {BIN}: build it (cargo build --release) or set POROPLAST_BIN")
+    except OSError as e:
+        raise SceneError(f"cannot run {BIN}: {e.strerror}")
+    except subprocess.TimeoutExpired:
+        raise SceneError(f"`poroplast {what}` did not answer in 600 s")
+    if p.returncode != 0:
+        if NO_SUBCOMMAND in p.stderr:
+            raise SceneError(f"{BIN} has no `{args[0]}` subcommand: rebuild it (cargo build --release)",
+                             old_binary=True)
+        lines = [ln.strip() for ln in p.stderr.splitlines() if ln.strip()]
+        said = [ln for ln in lines if ln.startswith("poroplast: error:")] or lines[-1:]
+        raise SceneError(" ".join(ln.removeprefix("poroplast: error:").strip() for ln in said)
+                         or f"`poroplast {what}` failed (exit code {p.returncode})")
+    return p.stdout
+
+
+def _set_args(sets):
+    return [a for k, v in sets for a in ("--set", f"{k}={v}")]
 
 
 def scene_columns(scene, sets):
@@ -66,23 +98,21 @@ def scene_columns(scene, sets):
     `poroplast columns SCENE --set ...` prints them (one per line, after loading and validating
     the scene: the one check that a scene and its overrides load, without a mesh); None from a
     binary without that subcommand. SceneError with the solver's message when it refuses."""
-    cmd = [str(BIN), "columns", _scene_arg(scene)] + [a for k, v in sets for a in ("--set", f"{k}={v}")]
     try:
-        p = subprocess.run(cmd, capture_output=True, text=True, env=env(), timeout=600)
-    except FileNotFoundError:
-        raise SceneError(f"no poroplast binary at {BIN}: build it (cargo build --release) or set POROPLAST_BIN")
-    except OSError as e:
-        raise SceneError(f"cannot run {BIN}: {e.strerror}")
-    except subprocess.TimeoutExpired:
-        raise SceneError(f"`poroplast columns {scene}` did not answer in 600 s")
-    if p.returncode != 0:
-        if NO_COLUMNS in p.stderr:
+        out = ask(["columns", _scene_arg(scene)] + _set_args(sets), f"columns {scene}")
+    except SceneError as e:
+        if e.old_binary:
             return None
-        lines = [ln.strip() for ln in p.stderr.splitlines() if ln.strip()]
-        said = [ln for ln in lines if ln.startswith("poroplast: error:")] or lines[-1:]
-        raise SceneError(" ".join(ln.removeprefix("poroplast: error:").strip() for ln in said)
-                         or f"`poroplast columns` failed (exit code {p.returncode})")
-    return [ln.strip() for ln in p.stdout.splitlines() if ln.strip() and " " not in ln.strip()]
+        raise
+    return [ln.strip() for ln in out.splitlines() if ln.strip() and " " not in ln.strip()]
+
+
+def resolved_scene(scene, sets=()):
+    """`scene` with the overrides `sets` ((key, value) pairs) as a run resolves it — every value
+    a run uses, the mesh sizes in µm among them — as a dict: `poroplast show --explain`'s TOML.
+    SceneError with the solver's message when it refuses."""
+    import tomllib
+    return tomllib.loads(ask(["show", "--explain", _scene_arg(scene)] + _set_args(sets), f"show --explain {scene}"))
 
 
 def consolidation_coefficient(scene):
@@ -237,17 +267,17 @@ def _sweep(root, text, ranks, k, counts=None):
     cmd = launch + [str(BIN), "sweep", str(study), "--out", str(out),
                     "--cases-dir", str(root / "cases"), "--ranks-per-case", str(k)]
     errors, lines = [], []
-    p = subprocess.Popen(cmd, env=env(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1)
-    for line in p.stdout:
-        if not line.startswith("summary: "):     # the sweep's own summary: read below, then removed
-            print(line, end="", flush=True)
-        lines.append(line)
-        if line.startswith("poroplast: error:"):
-            errors.append(line.strip())
-        m = TO_RUN.match(line)
-        if m and counts is not None:
-            counts["ran"] = counts.get("ran", 0) + int(m.group(1))
-    p.wait()
+    with subprocess.Popen(cmd, env=env(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                          bufsize=1) as p:
+        for line in p.stdout:
+            if not line.startswith("summary: "):     # the sweep's own summary: read below, then removed
+                print(line, end="", flush=True)
+            lines.append(line)
+            if line.startswith("poroplast: error:"):
+                errors.append(line.strip())
+            m = TO_RUN.match(line)
+            if m and counts is not None:
+                counts["ran"] = counts.get("ran", 0) + int(m.group(1))
     with _LOG_LOCK, open(root / "sweep.log", "a") as log:
         log.write(f"\n$ {' '.join(cmd)}\n" + "".join(lines))
     if p.returncode == 75:
@@ -267,16 +297,15 @@ def _sweep(root, text, ranks, k, counts=None):
 
 
 def find_case(root, scene, overrides, sets=(), petsc=()):
-    """The run directory of a completed case in the store root/cases (its case.toml records
-    what it ran), or None: what run_cases would return without running anything."""
+    """The run directory of the completed case in the store root/cases, or None: what run_cases
+    would return without running anything. The binary finds it (`poroplast case ... --cases-dir`):
+    a case is its scene (the text of a file included: a case run before the file was edited is
+    another), its overrides (`sets`, then `overrides`) and its PETSc options. SceneError when the
+    solver refuses the scene or an override."""
     import tomllib
-    want = {"scene": _scene_arg(scene), "set": [f"{k}={v}" for k, v in list(sets) + list(overrides)],
-            "petsc": list(petsc)}
-    for record in sorted(Path(root).glob("cases/*/case.toml")):
-        try:
-            r = tomllib.loads(record.read_text())
-        except (OSError, ValueError):
-            continue
-        if r.get("status") == "ok" and all(r.get(k) == v for k, v in want.items()):
-            return record.parent
-    return None
+    store = Path(root) / "cases"
+    if not store.is_dir():
+        return None
+    args = ["case", _scene_arg(scene)] + _set_args(list(sets) + list(overrides)) + ["--cases-dir", str(store)]
+    found = tomllib.loads(ask(args + ["--"] + list(petsc), f"case {scene}"))
+    return Path(found["dir"]) if found["status"] == "ok" else None

@@ -4,7 +4,7 @@ level of the plates experiment."""
 import itertools
 import sys
 
-from .cases import scene_values
+from .cases import SceneError, resolved_scene
 
 # The converged level of the plates experiment (docs/performance.md): the meridian at h = 10 um
 # with the surface and the poles at 2 um, no pressure stabilisation (its error is the largest on
@@ -34,69 +34,22 @@ def grid_cases(axes):
             for combo in itertools.product(*[points for _, points in axes])]
 
 
-def with_sets(values, sets):
-    """`values` (a scene as a dict) with the "KEY=VALUE" overrides `sets` applied as a run applies
-    them (src/scene/overrides.rs: the dotted path's last key replaced, a table value replacing
-    the whole table; a bare word is a string)."""
-    import copy
-    import tomllib
-    out = copy.deepcopy(values)
-    for spec in sets:
-        key, _, text = spec.partition("=")
-        try:
-            value = tomllib.loads(f"v = {text.strip()}")["v"]
-        except tomllib.TOMLDecodeError:
-            value = text.strip()
-        *parents, last = key.strip().split(".")
-        here = out
-        for part in parents:
-            here = here.setdefault(part, {}) if isinstance(here, dict) else None
-            if not isinstance(here, dict):
-                break    # an index into a list ([[bc]]): no mesh size, the run checks it
-        else:
-            here[last] = value
-    return out
-
-
 def base_sizes(scene, sets=()):
     """The bulk size h and the sizes scaled with it (SIZES) that a run of `scene` with the
-    overrides `sets` ("KEY=VALUE") meshes with, as {key: (µm, where it comes from)}: a size in
-    mesh.params (the scene's or a --set one) wins over mesh.relative_sizes × R, as in a run
-    (src/scene/mesh.rs, `MeshSpec::resolve`). Sizes neither gives are the .geo's own defaults
-    (h_pole = h/3, h_surf = h_edge = h: they follow h by themselves)."""
-    mesh = with_sets(scene_values(scene), sets).get("mesh", {})
-    if mesh.get("grading") == "auto":
-        sys.exit(f"{scene}: mesh.grading = \"auto\" takes its sizes from the chart: a mesh study needs them "
-                 f"given (mesh.params in µm or mesh.relative_sizes), e.g. --set mesh.grading=given "
-                 f"--set mesh.params.h=... --set mesh.params.h_pole=...")
-    given = {k.strip().removeprefix("mesh.params.") for k, _, _ in (s.partition("=") for s in sets)
-             if k.strip().startswith("mesh.params.")}
-    whole = any(s.partition("=")[0].strip() == "mesh.params" for s in sets)
-    relative_given = any(s.partition("=")[0].strip().startswith("mesh.relative_sizes") for s in sets)
-    params, relative = mesh.get("params", {}), mesh.get("relative_sizes", {})
-    for name, table in (("mesh.params", params), ("mesh.relative_sizes", relative)):
-        if not isinstance(table, dict):
-            sys.exit(f"{scene}: {name} = {table!r} is not a table (write {name}.h=20 or {name}={{ h = 20 }})")
-
-    def number(table, k):
-        v = table[k]
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            name = "mesh.params" if table is params else "mesh.relative_sizes"
-            sys.exit(f"{scene}: {name}.{k} = {v!r} is not a number (sizes are µm in mesh.params, fractions of R "
-                     f"in mesh.relative_sizes)")
-        return float(v)
-
-    radius = number(params, "R") if "R" in params else None
-    sizes = {}
-    for k in ("h",) + SIZES:
-        if k in params:
-            where = f"--set mesh.params.{k}" if k in given else "--set mesh.params" if whole \
-                else f"the scene's mesh.params.{k}"
-            sizes[k] = (number(params, k), where)
-        elif k in relative and radius is not None:
-            by = "--set " if relative_given else "the scene's "
-            f = number(relative, k)
-            sizes[k] = (f * radius, f"{by}mesh.relative_sizes.{k} = {f:g} × R = {radius:g}")
+    overrides `sets` ("KEY=VALUE") meshes with, as {key: (µm, where it comes from)}: the sizes of
+    mesh.params as the binary resolves the scene (`poroplast show --explain`: mesh.relative_sizes
+    × R, a size given in µm winning, or mesh.grading = "auto"'s chart). Sizes it does not give
+    are the .geo's own defaults (h_pole = h/3, h_surf = h_edge = h: they follow h by themselves)."""
+    pairs = [tuple(s.split("=", 1)) if "=" in s else (s, "") for s in sets]
+    try:
+        params = resolved_scene(scene, pairs).get("mesh", {}).get("params", {})
+    except SceneError as e:
+        sys.exit(f"mesh levels of {scene}: {e}")
+    keys = [k.strip() for k, _ in pairs]
+    resolved = "resolved from the scene" + (" and the --set values" if keys else "")
+    where = lambda k: (f"--set mesh.params.{k}" if f"mesh.params.{k}" in keys
+                       else "--set mesh.params" if "mesh.params" in keys else resolved)
+    sizes = {k: (float(params[k]), where(k)) for k in ("h",) + SIZES if k in params}
     if "h" not in sizes:
         sys.exit(f"{scene}: the mesh has no size h to scale (neither mesh.params.h nor mesh.relative_sizes.h with "
                  f"mesh.params.R): give one, e.g. --set mesh.params.h=20")

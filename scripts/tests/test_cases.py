@@ -1,10 +1,16 @@
-"""What the scripts hand the sweep and read back: the study file, the summary rows, the levels."""
+"""What the scripts hand the sweep and read back: the study file, the summary rows, the levels;
+and a case found again in its store by the binary's identity of it (a real run: POROPLAST_BIN)."""
+import contextlib
+import io
 import math
+import subprocess
+import tempfile
 import tomllib
 import unittest
 from pathlib import Path
 
-from poroplast_tools.cases import _result, study_text
+from poroplast_tools import cases
+from poroplast_tools.cases import _result, find_case, run_cases, study_text
 from poroplast_tools.levels import grid_cases, parse_grid, refined_steps
 from poroplast_tools.tables import pareto
 
@@ -46,3 +52,37 @@ class Cases(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class FindCase(unittest.TestCase):
+    def test_a_case_run_on_an_edited_scene_is_not_found(self):
+        # A tiny Terzaghi case (4 steps) of a scene file, run as the scripts run cases.
+        tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(tmp.cleanup)
+        d = Path(tmp.name)
+        text = subprocess.run([str(cases.BIN), "show", "terzaghi"], check=True, capture_output=True,
+                              text=True).stdout
+        scene = d / "column.toml"
+        scene.write_text(text)
+        sets, case = [("time.t_end", "0.004")], [("material.mu", "12")]
+        with contextlib.redirect_stdout(io.StringIO()):
+            [(run, result)] = run_cases(str(scene), [case], sets, d, 1)
+        self.assertEqual(result["status"], "ok")
+        self.assertEqual(find_case(d, scene, case, sets), run)
+        # Another override, the overrides in another order, other PETSc options: other cases.
+        self.assertIsNone(find_case(d, scene, [("material.mu", "13")], sets))
+        self.assertIsNone(find_case(d, scene, sets, case))
+        self.assertIsNone(find_case(d, scene, case, sets, ["-ksp_rtol", "1e-9"]))
+        # The same file with the same overrides, but edited (ν, which no override sets): another
+        # case, whose results the store does not have.
+        self.assertIn("nu = 0.2\n", text)
+        scene.write_text(text.replace("nu = 0.2\n", "nu = 0.3\n"))
+        self.assertIsNone(find_case(d, scene, case, sets))
+        scene.write_text(text)
+        self.assertEqual(find_case(d, scene, case, sets), run)
+        # A store that does not exist holds no case; a key the scene has not is the solver's error.
+        self.assertIsNone(find_case(d / "elsewhere", scene, case, sets))
+        with self.assertRaises(cases.SceneError) as e:
+            find_case(d, scene, [("material.muu", "12")], sets)
+        self.assertIn("unknown field `muu`", str(e.exception))
+

@@ -40,6 +40,7 @@
 //!   end, in case order, so a killed sweep leaves a usable partial one.
 
 pub mod counters;
+pub mod find;
 pub mod schedule;
 pub mod store;
 pub mod study;
