@@ -381,14 +381,17 @@ fn case_in(store: &Path, scene: &str, set: &[&str], petsc: &[&str]) -> Result<to
 
 #[test]
 fn a_case_is_found_by_what_it_runs() {
-    let _cores = cores(1); // one group
-    // Two tiny Terzaghi cases of a scene file, one failing (µ out of range).
+    // Two tiny Terzaghi cases of a scene file, one failing (µ out of range), on one rank.
+    let _cores = cores(1);
     let d = scratch("sweep_case");
     let file = scene_variant("terzaghi", &d, &[("t_end = 100.0", "t_end = 0.004")]);
     let text = std::fs::read_to_string(&file).unwrap();
     let study = d.join("s.toml");
-    std::fs::write(&study, format!("scene = '{file}'\n[[case]]\nset = [\"material.mu=12\"]\n[[case]]\nset = [\"material.mu=-3\"]\n"))
-        .unwrap();
+    std::fs::write(
+        &study,
+        format!("scene = '{file}'\n[[case]]\nset = [\"material.mu=12\"]\n[[case]]\nset = [\"material.mu=-3\"]\n"),
+    )
+    .unwrap();
     let root = d.join("sweep");
     assert!(!sweep(1, &study, &root, 1).status.success(), "the second case fails");
     let (store, dirs) = (root.join("cases"), case_dirs(&root));

@@ -143,7 +143,8 @@ mod tests {
     fn the_description_is_toml_and_checks_the_keys() {
         let text = describe("cryer", &["material.mu=3".into()], &["-ksp_rtol".into(), "1e-9".into()], None).unwrap();
         let t: toml::Table = toml::from_str(&text).unwrap();
-        let sig = Signature::of("cryer", vec!["material.mu=3".into()], vec!["-ksp_rtol".into(), "1e-9".into()]).unwrap();
+        let sig =
+            Signature::of("cryer", vec!["material.mu=3".into()], vec!["-ksp_rtol".into(), "1e-9".into()]).unwrap();
         assert_eq!(t["key"].as_str(), Some(sig.key().as_str()));
         assert_eq!(t["scene_text"].as_str(), Some(sig.scene_text.as_str()));
         assert_eq!(t["petsc"].as_array().unwrap().len(), 2);
