@@ -2,7 +2,8 @@
 //! on 2 ranks, one summary row per case, failed cases reported and retried, completed ones
 //! skipped), the convergence study, the calibration, `reproduce.py` and `plot_run.py` on tiny cases; and the
 //! scripts' Python unit tests (`scripts/tests`: Richardson, the references reader, the study
-//! file and summary rows, the field observables), which need no solver.
+//! file and summary rows, the field observables, and the questions they ask this build's binary:
+//! a case's identity, a scene's resolved mesh sizes).
 
 use crate::common::*;
 use std::process::Command;
@@ -36,6 +37,7 @@ fn python_unit_tests_pass() {
     let out = Command::new("python3")
         .args(["-m", "unittest", "discover", "-s", "scripts/tests", "-t", "scripts"])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("POROPLAST_BIN", env!("CARGO_BIN_EXE_poroplast"))
         .output()
         .expect("python3 could not be started");
     let text = String::from_utf8_lossy(&out.stderr);
