@@ -3,7 +3,7 @@
 //! Format: a header line with the column names, then one line per [`History::row`], comma-separated,
 //! `\n`-terminated, flushed to the OS after every row so the file can be followed while the run goes on.
 //! Real columns print the shortest decimal that parses back to the same `f64` (see
-//! [`crate::io::fmt_real`]: `0.5`, `1.5e-7`, `NaN`); integer columns print as integers (`12`).
+//! `io::fmt_real`: `0.5`, `1.5e-7`, `NaN`); integer columns print as integers (`12`).
 
 use std::fs::File;
 use std::io::Write;

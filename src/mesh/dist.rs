@@ -110,12 +110,12 @@ impl LocalMesh {
 
     /// Local face indices of the physical surface `name` (error lists the available groups).
     pub fn face_group(&self, name: &str) -> Result<&[u32]> {
-        super::find_group(&self.face_groups, name, "surface")
+        super::global::find_group(&self.face_groups, name, "surface")
     }
 
     /// Local node indices of the physical point `name` present on this rank.
     pub fn point_group(&self, name: &str) -> Result<&[u32]> {
-        super::find_group(&self.point_groups, name, "point")
+        super::global::find_group(&self.point_groups, name, "point")
     }
 }
 

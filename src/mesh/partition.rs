@@ -5,7 +5,8 @@
 //! and so over-connects the graph. The result is deterministic: the graph is built by sorting, and METIS
 //! runs with a fixed seed.
 
-use super::{sorted_cell_faces, unpack_face, Mesh};
+use super::face_match::{sorted_cell_faces, unpack_face};
+use super::Mesh;
 use crate::error::{Error, Result};
 use metis::Idx;
 

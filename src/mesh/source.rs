@@ -2,9 +2,10 @@
 //! read and reflected as the scene asks. The scene hands over the values (`MeshSource`,
 //! parameters, family, mirror planes): this module does not know the scene's types.
 
+use super::global::Mesh;
+use super::gmsh;
 use crate::error::{Error, Result};
 use crate::mesh::generate::BUILTIN_GEO;
-use crate::mesh::{gmsh, Mesh};
 use crate::parallel::path_from_root;
 use crate::reference_cell::Family;
 use mpi::topology::SimpleCommunicator;

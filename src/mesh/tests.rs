@@ -131,7 +131,7 @@ fn check_invariants(mesh: &Mesh) {
     for (f, (face, &(t, lf))) in mesh.faces.iter().zip(&mesh.face_cell).enumerate() {
         let tet = mesh.cells[t as usize];
         assert_eq!(*face, TET_FACES[lf as usize].map(|p| tet[p]), "face {f}");
-        assert!(keys.insert(super::face_key(face[0], face[1], face[2])), "face {f} duplicated");
+        assert!(keys.insert(super::face_match::face_key(face[0], face[1], face[2])), "face {f} duplicated");
         // The opposite vertex lies behind the face.
         let opp = (0..4).find(|k| !TET_FACES[lf as usize][..3].contains(k)).unwrap();
         let n = face_normal(mesh, f);
@@ -147,8 +147,10 @@ fn check_invariants(mesh: &Mesh) {
 
 /// Boundary = tet faces without a neighbour, as sorted vertex triples.
 fn exterior_faces(mesh: &Mesh) -> BTreeSet<[u32; 3]> {
-    let f: Vec<([u32; 3], u32, u8)> =
-        super::sorted_cell_faces(mesh.family, &mesh.cells).into_iter().map(super::unpack_face).collect();
+    let f: Vec<([u32; 3], u32, u8)> = super::face_match::sorted_cell_faces(mesh.family, &mesh.cells)
+        .into_iter()
+        .map(super::face_match::unpack_face)
+        .collect();
     let mut out = BTreeSet::new();
     let mut i = 0;
     while i < f.len() {
@@ -167,7 +169,9 @@ fn exterior_faces(mesh: &Mesh) -> BTreeSet<[u32; 3]> {
 fn face_keys(mesh: &Mesh, faces: &[u32]) -> BTreeSet<[u32; 3]> {
     faces
         .iter()
-        .map(|&f| super::face_key(mesh.faces[f as usize][0], mesh.faces[f as usize][1], mesh.faces[f as usize][2]))
+        .map(|&f| {
+            super::face_match::face_key(mesh.faces[f as usize][0], mesh.faces[f as usize][1], mesh.faces[f as usize][2])
+        })
         .collect()
 }
 

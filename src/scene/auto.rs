@@ -11,7 +11,9 @@
 //! h = 0.2 R graded to 0.03 R at the plate contacts over 0.5 R; scaled by the aggregate's radius
 //! R, a scene of any size gets the same relative resolution, dofs and accuracy class.
 
-use super::{Element, Geometry, Grading, Scene};
+use super::mesh::{Geometry, Grading};
+use super::numerics::Element;
+use super::sections::Scene;
 use crate::material::Integrator;
 use serde::Deserialize;
 use std::collections::BTreeMap;

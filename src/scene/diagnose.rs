@@ -2,7 +2,8 @@
 //! loses the key inside tagged enums such as `[material]`, so it is found by removing values
 //! until the error changes), serde's Rust type names in words, and the `--set` override to blame.
 
-use super::{overrides, Scene};
+use super::overrides;
+use super::sections::Scene;
 
 /// The scene of a TOML table (the file with `--set` overrides applied).
 pub(super) fn from_table(table: &toml::Table) -> std::result::Result<Scene, toml::de::Error> {

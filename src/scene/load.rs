@@ -3,7 +3,9 @@
 //! resolved scene as TOML for the run directory.
 
 use super::diagnose::{from_table, override_message, toml_message};
-use super::{overrides, resolve, Scene};
+use super::overrides;
+use super::resolve;
+use super::sections::Scene;
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 

@@ -370,7 +370,7 @@ fn check_table(rows: &[[f64; 2]], t_end: f64, notes: &mut Vec<String>) -> Result
              do not finish their first move",
             rows[1][0]
         );
-        if last > super::plausible::LONGEST_USUAL_TIME {
+        if last > super::time::LONGEST_USUAL_TIME {
             return Err(format!(
                 "{ends}, and the table lasts {last} s, longer than experiments do. Its times are seconds \
                  (milliseconds? divide them by 1000)"

@@ -5,7 +5,9 @@
 //! the usual ones, when one does. (The radius and the surface tension have their own checks, in
 //! `mesh` and `surface`.)
 
-use super::{Material, Scene};
+use super::material::Material;
+use super::sections::Scene;
+use super::time::LONGEST_USUAL_TIME;
 
 /// The plausible values of a quantity in the solver's unit, and the slips that put a value
 /// outside them.
@@ -51,9 +53,6 @@ const FLOW_RATE: Quantity = Quantity {
         "remodelling rates λp lie around 1e-6–0.5 (kPa s)⁻¹ (tissue viscosities 2 kPa s–1 GPa s; the paper's 0.001)",
     slips: &[("(MPa s)⁻¹", 1e-3), ("(Pa s)⁻¹", 1e3)],
 };
-/// The longest experiment (s): two days.
-pub(super) const LONGEST_USUAL_TIME: f64 = 2.0 * 86400.0;
-
 const TIME: Quantity = Quantity {
     unit: "s",
     hard: (0.0, 1e7),

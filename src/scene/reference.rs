@@ -1,8 +1,15 @@
 //! The scene reference: every section's key table (declared in the section files) as Markdown,
 //! the text of `docs/scene-reference.md` and of `poroplast scenes --keys`.
 
+use super::bc;
 use super::key::{Key, Section, Unset};
-use super::{bc, material, mesh, numerics, observe, plates, surface, time};
+use super::material;
+use super::mesh;
+use super::numerics;
+use super::observe;
+use super::plates;
+use super::surface;
+use super::time;
 
 /// Every section, in the order of a scene file.
 pub fn sections() -> Vec<Section> {

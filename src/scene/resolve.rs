@@ -4,7 +4,9 @@
 //! the defaults written out — so that the run directory's `scene.toml` shows every value the
 //! run used, and a scene scales with one key, `mesh.params.R`.
 
-use super::{auto, Material, Scene};
+use super::auto;
+use super::material::Material;
+use super::sections::Scene;
 
 /// Resolves `scene` in place; Ok: the notes for the user (deprecated keys), Err: the message.
 pub(super) fn resolve(scene: &mut Scene) -> Result<Vec<String>, String> {

@@ -5,6 +5,10 @@ use super::key::{Key, Section, Unset};
 use crate::range::Range;
 use serde::{Deserialize, Serialize};
 
+/// The longest experiment (s): two days. A longer time is unusual (`plausible`), and a plates
+/// table that lasts longer is in ms.
+pub(super) const LONGEST_USUAL_TIME: f64 = 2.0 * 86400.0;
+
 /// Time stepping: geometric growth from `dt` to `dt_max`, landing exactly on `t_end` and on
 /// every time in `land_on`.
 #[derive(Debug, Clone, Deserialize, Serialize)]

@@ -96,7 +96,7 @@ pub struct Study {
     pub set: Vec<String>,
     pub petsc: Vec<String>,
     pub observe: Vec<String>,
-    /// Whether the study file names its observables (else they are [`super::observable::DEFAULT`],
+    /// Whether the study file names its observables (else they are [`crate::io::observable::DEFAULT`],
     /// empty where a scene has no such column).
     pub observe_given: bool,
     /// An earlier summary.csv whose wall times estimate the cases' costs.
@@ -209,7 +209,9 @@ impl Study {
             set: file.set,
             petsc: file.petsc,
             observe_given: file.observe.is_some(),
-            observe: file.observe.unwrap_or_else(|| super::observable::DEFAULT.iter().map(|s| s.to_string()).collect()),
+            observe: file
+                .observe
+                .unwrap_or_else(|| crate::io::observable::DEFAULT.iter().map(|s| s.to_string()).collect()),
             estimate_from,
             cases: resolved,
         })
@@ -346,7 +348,7 @@ mod tests {
         let s = parse("scene = \"x\"\n[[case]]\nset = [\"a=1\"]\n[[case]]\nset = []\n").unwrap();
         assert_eq!(s.cases.len(), 2);
         assert_eq!(s.cases[1].label(), "(base scene)");
-        assert_eq!(s.observe, crate::sweep::observable::DEFAULT);
+        assert_eq!(s.observe, crate::io::observable::DEFAULT);
         let msg = |t: &str| parse(t).unwrap_err().to_string();
         assert!(msg("scene = \"x\"\n").contains("no cases"));
         assert!(msg("scene = \"x\"\nbogus = 1\n[[case]]\nset=[]\n").contains("bogus"));

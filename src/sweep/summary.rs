@@ -1,6 +1,6 @@
 //! The sweep's `summary.csv`: one row per case in case order — its overrides, status, wall
 //! time, dofs, steps, step cuts, Newton and Krylov iterations (the counters of its record),
-//! the observables of its history ([`super::observable`]), the error line and the case's run
+//! the observables of its history ([`crate::io::observable`]), the error line and the case's run
 //! directory:
 //!
 //! `case, [scene,] KEYS..., status, wall_s, dofs, steps, step_cuts, newton_its, ksp_its,
@@ -11,10 +11,10 @@
 //! session ([`Observations`]).
 
 use super::counters::COUNTERS;
-use super::observable::{self, observe};
 use super::store::CaseRecord;
 use super::study::{Case, Study};
 use crate::error::{Error, Result};
+use crate::io::observable::{self, observe};
 use crate::io::rundir;
 use std::cell::RefCell;
 use std::collections::BTreeMap;

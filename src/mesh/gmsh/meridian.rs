@@ -11,7 +11,8 @@ use std::path::Path;
 use super::build::{finish, promote, used_nodes, Parts};
 use super::msh41::Raw;
 use crate::error::{Error, Result};
-use crate::mesh::{face_key, Mesh};
+use crate::mesh::face_match::face_key;
+use crate::mesh::Mesh;
 use crate::reference_cell::shape::fold_point;
 use crate::reference_cell::{area2, Family, TRI6_FLIP, TRI6_SIDES};
 

@@ -7,7 +7,8 @@ use std::path::Path;
 use super::build::{finish, promote, used_nodes, Parts};
 use super::msh41::Raw;
 use crate::error::{Error, Result};
-use crate::mesh::{face_key, Mesh};
+use crate::mesh::face_match::face_key;
+use crate::mesh::Mesh;
 use crate::reference_cell::shape::fold_point;
 use crate::reference_cell::{sub, tet_det, Family, TET10_FLIP, TET_FACES};
 

@@ -17,9 +17,9 @@
 //! terms), p̃_c = 1/(s (1 − bF)), each y^k/s inverting to τ^{k/2}/Γ(1 + k/2).
 //! This reproduces the Mandel–Cryer effect: p_c rises above P before it decays.
 
-use super::special::gamma_half;
 #[cfg(test)]
-use super::Drained;
+use super::drained::Drained;
+use super::special::gamma_half;
 use crate::error::{Error, Result};
 
 /// Below this dimensionless time the Cryer centre and mean pressures use the short-time expansion

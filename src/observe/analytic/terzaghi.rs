@@ -9,8 +9,8 @@
 //! w = P H/(λ + 2µ) · 2√τ [1/√π + 2 Σ_{n≥1} (−1)^n ierfc(n/√τ)].
 //!
 
+use super::drained::Drained;
 use super::special::{erfc, ierfc, FRAC_1_SQRT_PI};
-use super::Drained;
 
 /// Below this dimensionless time the Terzaghi functions use the erfc (images) form.
 const TERZAGHI_SHORT_TIME: f64 = 0.1;

@@ -1,0 +1,50 @@
+//! The whole scene: its sections, each the type of its own file (checked in `validate`).
+
+use super::bc::BoundaryCondition;
+use super::material::Material;
+use super::mesh::MeshSpec;
+use super::numerics::{FemSpec, SolverSpec};
+use super::observe::{Probe, Verification};
+use super::plates::PlatesSpec;
+use super::surface::SurfaceSpec;
+use super::time::{InitialSpec, OutputSpec, TimeSpec};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// A whole scene. Sections are grouped by concern.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Short name (default: the file stem); names the run directory.
+    #[serde(default)]
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    pub mesh: MeshSpec,
+    pub material: Material,
+    #[serde(default)]
+    pub bc: Vec<BoundaryCondition>,
+    pub time: TimeSpec,
+    #[serde(default)]
+    pub output: OutputSpec,
+    #[serde(default)]
+    pub probe: Vec<Probe>,
+    #[serde(default)]
+    pub verification: Option<Verification>,
+    /// Rigid plates squeezing the aggregate (contact, drainage, loading).
+    #[serde(default)]
+    pub plates: Option<PlatesSpec>,
+    /// Surface tension of the aggregate's boundary.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface: Option<SurfaceSpec>,
+    #[serde(default)]
+    pub solver: SolverSpec,
+    #[serde(default)]
+    pub fem: FemSpec,
+    /// The state at t = 0 (default: undeformed, p = 0).
+    #[serde(default)]
+    pub initial: Option<InitialSpec>,
+    /// PETSc options without the leading dash: `ksp_rtol = 1e-10`, `ksp_monitor = true`.
+    #[serde(default)]
+    pub petsc: BTreeMap<String, toml::Value>,
+}
