@@ -32,6 +32,7 @@ mod resolve;
 mod scaling_tests;
 pub mod surface;
 pub mod time;
+pub(crate) mod tools;
 #[cfg(test)]
 mod validation_tests;
 
