@@ -9,6 +9,7 @@ pub mod factory;
 pub mod linear;
 pub mod problem;
 pub mod surface_tension;
+pub(crate) mod tools;
 
 #[cfg(test)]
 mod assembly_tests;

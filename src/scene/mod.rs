@@ -34,6 +34,7 @@ mod scaling_tests;
 mod sections;
 pub mod surface;
 pub mod time;
+pub(crate) mod tools;
 mod validate;
 #[cfg(test)]
 mod validation_tests;
