@@ -5,6 +5,7 @@ use super::{check, ffi};
 use crate::error::Result;
 use std::ffi::c_int;
 
+/// `PetscMalloc` for arrays PETSc will free itself (outputs of DM callbacks).
 pub(crate) unsafe fn petsc_malloc<T>(n: usize) -> Result<*mut T> {
     let mut p: *mut T = std::ptr::null_mut();
     check(ffi::PetscMallocA(

@@ -32,7 +32,6 @@ mod vec;
 
 pub use c_types::Int;
 pub use dm::{DmShell, FieldDecomposition};
-pub(crate) use error::check;
 pub use init::Petsc;
 pub use is::IndexSet;
 pub use ksp::{Ksp, LuFactor, Pc};
@@ -43,7 +42,7 @@ pub use ts::{Ts, TsProblem, TsRef};
 pub use vec::{Scatter, Vector};
 
 pub(crate) use c_types::{cstr, pbool, type_name_of};
-pub(crate) use error::raise;
+pub(crate) use error::{check, raise};
 pub(crate) use lifetime::alive;
 pub(crate) use memory::{petsc_free, petsc_malloc};
 pub(crate) use stage::Stage;

@@ -45,11 +45,12 @@ impl Policy {
     }
 }
 
-/// Defaults for contact: the active-set Newton of [`active_set`](super::active_set) (unless -snes_type names a
-/// PETSc VI solver, e.g. vinewtonrsls) with full Newton steps — with the active set and the
-/// drainage switching, the residual is only piecewise smooth and backtracking stalls; a failed
-/// step is cut by TS instead — and up to 50 iterations (each change of the active set costs
-/// one; a step still cycling after 50 is cut). Set before the preset's, which they override.
+/// Defaults for contact: the active-set Newton of [`active_set`](super::active_set) (unless
+/// -snes_type names a PETSc VI solver, e.g. vinewtonrsls) with full Newton steps — with the
+/// active set and the drainage switching, the residual is only piecewise smooth and backtracking
+/// stalls; a failed step is cut by TS instead — and up to 50 iterations (each change of the
+/// active set costs one; a step still cycling after 50 is cut). Set before the preset's, which
+/// they override.
 pub(crate) fn set_contact_defaults() -> Result<()> {
     options::set_default("snes_linesearch_type", Some("basic"))?;
     options::set_default("snes_max_it", Some("50"))
