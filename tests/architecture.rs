@@ -1,9 +1,11 @@
 //! The source tree's shape, read from its imports: the dependencies between top-level modules
-//! (folders) and between the files of one folder form no cycle, and no source file outside
-//! tests is longer than the limit. Reads `src/` as text (no compiler): `use` trees, inline
-//! `crate::`/`super::` paths and bare paths into child modules, resolved through re-exports to
-//! the file that defines the item. Test code (`#[cfg(test)]` modules and files) counts for the
-//! folder graph but not for file sizes.
+//! (folders) and between the files of one folder form no cycle, every `mod.rs` is a face
+//! (declarations and re-exports) and no file below a face imports anything the face itself
+//! defines, and no source file outside tests is longer than the limit. Reads `src/` as text (no
+//! compiler): `use` trees, inline `crate::`/`super::` paths, bare paths into child modules and
+//! into modules a `use` names, resolved through re-exports to the file that defines the item.
+//! Test code (`#[cfg(test)]` modules and files) counts for the folder graph but not for file
+//! sizes.
 //!
 //! The test tree too: every test file is built (a stray `tests/foo.rs` fails here), and no
 //! test can return early and report "ok" having run nothing.
