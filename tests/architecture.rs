@@ -1,9 +1,11 @@
 //! The source tree's shape, read from its imports: the dependencies between top-level modules
-//! (folders) and between the files of one folder form no cycle, and no source file outside
-//! tests is longer than the limit. Reads `src/` as text (no compiler): `use` trees, inline
-//! `crate::`/`super::` paths and bare paths into child modules, resolved through re-exports to
-//! the file that defines the item. Test code (`#[cfg(test)]` modules and files) counts for the
-//! folder graph but not for file sizes.
+//! (folders) and between the files of one folder form no cycle, every `mod.rs` is a face
+//! (declarations and re-exports) and no file below a face imports anything the face itself
+//! defines, and no source file outside tests is longer than the limit. Reads `src/` as text (no
+//! compiler): `use` trees, inline `crate::`/`super::` paths, bare paths into child modules and
+//! into modules a `use` names, resolved through re-exports to the file that defines the item.
+//! Test code (`#[cfg(test)]` modules and files) counts for the folder graph but not for file
+//! sizes.
 //!
 //! The test tree too: every test file is built (a stray `tests/foo.rs` fails here), and no
 //! test can return early and report "ok" having run nothing.
@@ -192,12 +194,18 @@ fn find_inline_mod(code: &str) -> Option<(String, usize)> {
 
 /// The paths a `use` tree names, expanded: `a::{b, c::d}` → `a::b`, `a::c::d` (aliases dropped).
 fn expand_use(tree: &str) -> Vec<String> {
+    expand_use_named(tree).into_iter().map(|(path, _)| path).collect()
+}
+
+/// The paths a `use` tree names, each with the name it binds: `a::{b as c, d::{self}}` →
+/// (`a::b`, `c`), (`a::d`, `d`).
+fn expand_use_named(tree: &str) -> Vec<(String, String)> {
     let mut out = Vec::new();
     expand_into("", tree, &mut out);
     out
 }
 
-fn expand_into(prefix: &str, tree: &str, out: &mut Vec<String>) {
+fn expand_into(prefix: &str, tree: &str, out: &mut Vec<(String, String)>) {
     let mut depth = 0;
     let mut start = 0;
     let mut items = Vec::new();
@@ -223,8 +231,14 @@ fn expand_into(prefix: &str, tree: &str, out: &mut Vec<String>) {
             let inner = &item[b + 1..item.rfind('}').unwrap_or(item.len())];
             expand_into(&join(prefix, head), inner, out);
         } else {
-            let path: String = item.split(" as ").next().unwrap().chars().filter(|c| !c.is_whitespace()).collect();
-            out.push(join(prefix, &path));
+            let mut parts = item.split(" as ");
+            let path: String = parts.next().unwrap().chars().filter(|c| !c.is_whitespace()).collect();
+            let path = join(prefix, &path);
+            let name = match parts.next() {
+                Some(alias) => alias.trim().to_string(),
+                None => path.rsplit("::").next().unwrap_or_default().to_string(),
+            };
+            out.push((path, name));
         }
     }
 }
@@ -232,7 +246,7 @@ fn expand_into(prefix: &str, tree: &str, out: &mut Vec<String>) {
 fn join(a: &str, b: &str) -> String {
     if a.is_empty() {
         b.to_string()
-    } else if b == "self" {
+    } else if b.is_empty() || b == "self" {
         a.to_string()
     } else {
         format!("{a}::{b}")
@@ -245,26 +259,38 @@ fn is_ident(c: char) -> bool {
 
 /// Paths in code outside `use` lines that start with `crate::` or `super::`.
 fn inline_paths(code: &str) -> Vec<String> {
+    ["crate", "super"]
+        .iter()
+        .flat_map(|start| paths_from(code, start))
+        .map(|(start, rest)| join(&start, &rest))
+        .collect()
+}
+
+/// The paths in `code` that start with the name `start` (`start::a::b`, not `x::start::a` nor
+/// `my_start::a`), each as (`start`, the rest: `a::b`; empty for `start::{...}`).
+fn paths_from(code: &str, start: &str) -> Vec<(String, String)> {
+    let head = format!("{start}::");
     let mut out = Vec::new();
-    for start in ["crate::", "super::"] {
-        let mut from = 0;
-        while let Some(i) = code[from..].find(start) {
-            let at = from + i;
-            from = at + start.len();
-            if at > 0 && is_ident(code[..at].chars().last().unwrap()) {
-                continue;
-            }
-            let mut end = at;
-            let bytes: Vec<char> = code[at..].chars().collect();
-            let mut j = 0;
-            while j < bytes.len()
-                && (is_ident(bytes[j]) || (bytes[j] == ':' && j + 1 < bytes.len() && bytes[j + 1] == ':'))
-            {
-                j += if bytes[j] == ':' { 2 } else { 1 };
-            }
-            end += bytes[..j].iter().map(|c| c.len_utf8()).sum::<usize>();
-            out.push(code[at..end].trim_end_matches("::").to_string());
+    let mut from = 0;
+    while let Some(i) = code[from..].find(&head) {
+        let at = from + i;
+        from = at + head.len();
+        if code[..at].chars().last().is_some_and(|c| is_ident(c) || c == ':') {
+            continue; // inside a longer name, or a later segment of another path
         }
+        let rest = &code[at + head.len()..];
+        let mut len = 0;
+        let mut chars = rest.char_indices().peekable();
+        while let Some((k, c)) = chars.next() {
+            if is_ident(c) {
+                len = k + c.len_utf8();
+            } else if c == ':' && chars.peek().is_some_and(|&(_, n)| n == ':') {
+                chars.next();
+            } else {
+                break;
+            }
+        }
+        out.push((start.to_string(), rest[..len].to_string()));
     }
     out
 }
@@ -295,6 +321,15 @@ fn use_trees(code: &str) -> Vec<(bool, String)> {
     out
 }
 
+/// One path in a file's code, resolved: the file `to` that defines what it names, and the item
+/// named there (None: the module itself).
+struct Dep {
+    from: usize,
+    to: usize,
+    item: Option<String>,
+    is_test: bool,
+}
+
 struct Tree {
     files: Vec<File>,
     /// module path → file index
@@ -306,13 +341,21 @@ impl Tree {
         let src = src_dir();
         let mut paths = Vec::new();
         collect(&src, &mut paths);
-        let mut files = Vec::new();
+        let mut sources = Vec::new();
         for path in paths {
             let rel = path.strip_prefix(&src).unwrap().to_path_buf();
             if rel == Path::new("main.rs") {
                 continue; // the binary: a separate crate using `poroplast::`
             }
-            let text = std::fs::read_to_string(&path).unwrap();
+            sources.push((rel, std::fs::read_to_string(&path).unwrap()));
+        }
+        Tree::from_sources(sources)
+    }
+
+    /// The tree of these files (paths relative to `src/`, with their text).
+    fn from_sources(sources: Vec<(PathBuf, String)>) -> Tree {
+        let mut files = Vec::new();
+        for (rel, text) in sources {
             let (module, is_dir) = module_of(&rel);
             let lines = text.lines().count();
             files.push(File { path: rel, module, is_dir, text, lines, test_only: false });
@@ -387,48 +430,63 @@ impl Tree {
         Some(full)
     }
 
-    /// The file defining what `full` names: the longest module prefix, followed through the
-    /// re-exports (`pub use`) of that module when the next segment is an item re-exported there.
-    fn resolve(&self, full: &[String], depth: usize) -> Option<usize> {
+    /// What `full` names: the file that defines it, and the item named there (None for the
+    /// module itself, `use crate::petsc;`; `*` for a glob). The longest module prefix is the
+    /// file, followed through that module's `use`s (its re-exports, `pub use child::X`, and the
+    /// imports its child modules see) when the next segment is a name one of them binds; a name
+    /// bound from another crate is no file of this one (None). A face re-exports by name: a
+    /// glob re-export (`pub use child::*`) is not followed.
+    fn resolve(&self, full: &[String], depth: usize) -> Option<(usize, Option<String>)> {
         let mut k = full.len();
         while k > 0 && !self.by_module.contains_key(&full[..k]) {
             k -= 1;
         }
         let idx = *self.by_module.get(&full[..k])?;
-        if depth < 8 && k < full.len() {
-            let item = &full[k];
+        let Some(item) = full.get(k) else { return Some((idx, None)) };
+        if depth < 8 && item != "*" {
             let f = &self.files[idx];
             let (prod, _) = split_tests(&strip(&f.text));
             let own = units(&prod, &f.module).swap_remove(0).1;
             for (_, tree) in use_trees(&own) {
-                for p in expand_use(&tree) {
-                    let last = p.rsplit("::").next().unwrap_or("");
-                    if last == item.as_str() {
-                        if let Some(abs) = self.absolute(&f.module, &p) {
-                            if abs != full[..k] {
-                                return self.resolve(&abs, depth + 1);
-                            }
+                for (p, name) in expand_use_named(&tree) {
+                    if name == *item {
+                        match self.absolute(&f.module, &p) {
+                            Some(abs) if abs != full[..k] => return self.resolve(&abs, depth + 1),
+                            Some(_) => {}
+                            None => return None,
                         }
                     }
                 }
             }
         }
-        Some(idx)
+        Some((idx, Some(item.clone())))
     }
 
     /// (from file, to file, is test code) for every dependency between two different files.
     fn edges(&self) -> Vec<(usize, usize, bool)> {
-        let mut out = BTreeSet::new();
+        let set: BTreeSet<_> = self.dependencies().into_iter().map(|d| (d.from, d.to, d.is_test)).collect();
+        set.into_iter().collect()
+    }
+
+    /// Every path in the code that names something in another file of the crate, resolved.
+    fn dependencies(&self) -> Vec<Dep> {
+        let mut out = Vec::new();
         for (i, f) in self.files.iter().enumerate() {
             let (prod, test) = split_tests(&strip(&f.text));
             for (code, is_test) in [(prod, f.test_only), (test, true)] {
                 let mut paths = Vec::new();
                 for (module, code) in units(&code, &f.module) {
                     let top = module == f.module;
+                    // names a `use` binds to a module (`use crate::petsc::options;`), whose bare
+                    // paths (`options::set`) are paths into that module
+                    let mut modules = Vec::new();
                     for (is_pub, tree) in use_trees(&code) {
-                        for p in expand_use(&tree) {
-                            // a directory module's re-export of its own child is structure, not use
+                        for (p, name) in expand_use_named(&tree) {
                             let abs = self.absolute(&module, &p);
+                            if let Some(a) = abs.as_ref().filter(|a| self.by_module.contains_key(*a)) {
+                                modules.push((name, a.clone()));
+                            }
+                            // a directory module's re-export of its own child is structure, not use
                             if is_pub && f.is_dir && top {
                                 if let Some(a) = &abs {
                                     if a.starts_with(&f.module) && a.len() > f.module.len() {
@@ -442,19 +500,24 @@ impl Tree {
                     for p in inline_paths(&code) {
                         paths.push(self.absolute(&module, &p));
                     }
+                    for (name, at) in modules {
+                        for (_, rest) in paths_from(&code, &name).into_iter().filter(|(_, r)| !r.is_empty()) {
+                            paths.push(Some(at.iter().cloned().chain(rest.split("::").map(String::from)).collect()));
+                        }
+                    }
                 }
                 for full in paths.into_iter().flatten() {
-                    if let Some(j) = self.resolve(&full, 0) {
+                    if let Some((j, item)) = self.resolve(&full, 0) {
                         // inside a test module `super::` is the file itself; the crate root only
                         // declares modules (a `super::` in a macro body lands there)
                         if j != i && !self.files[j].module.is_empty() {
-                            out.insert((i, j, is_test));
+                            out.push(Dep { from: i, to: j, item, is_test });
                         }
                     }
                 }
             }
         }
-        out.into_iter().collect()
+        out
     }
 
     fn folder(&self, i: usize) -> String {
@@ -598,6 +661,147 @@ fn files_of_one_folder_form_no_cycle() {
     assert!(found.is_empty(), "cycles between the files of one folder: {found:#?}");
 }
 
+/// What a `mod.rs` (or the crate root) holds beyond a face's declarations (`mod x;`), imports
+/// and re-exports (`use`), attributes and comments: the first line of that code, or None.
+fn beyond_face(text: &str) -> Option<String> {
+    let code = strip(text);
+    let mut rest = code.trim_start();
+    while !rest.is_empty() {
+        if rest.starts_with("#[") || rest.starts_with("#![") {
+            let mut depth = 0;
+            let end = rest.char_indices().find_map(|(k, c)| {
+                match c {
+                    '[' => depth += 1,
+                    ']' => depth -= 1,
+                    _ => return None,
+                }
+                (depth == 0).then_some(k + 1)
+            });
+            rest = rest[end.unwrap_or(rest.len())..].trim_start();
+            continue;
+        }
+        let item = match rest.strip_prefix("pub(") {
+            Some(vis) => vis[vis.find(')').map_or(vis.len(), |k| k + 1)..].trim_start(),
+            None => rest.strip_prefix("pub ").unwrap_or(rest).trim_start(),
+        };
+        let declared = item.strip_prefix("mod ").is_some_and(|m| {
+            let name = m.find(|c: char| !is_ident(c)).unwrap_or(m.len());
+            m[name..].trim_start().starts_with(';')
+        });
+        if declared || item.starts_with("use ") {
+            rest = item[item.find(';').map_or(item.len(), |k| k + 1)..].trim_start();
+            continue;
+        }
+        return Some(rest.lines().next().unwrap_or_default().trim().to_string());
+    }
+    None
+}
+
+/// Every `mod.rs` (and the crate root) is a face: it declares the folder's files and re-exports
+/// what others use of them; the folder's code lives in those files, each named for its concept.
+#[test]
+fn every_mod_rs_is_a_face_only() {
+    let tree = Tree::read();
+    let found: Vec<String> = tree
+        .files
+        .iter()
+        .filter(|f| f.is_dir)
+        .filter_map(|f| beyond_face(&f.text).map(|code| format!("{}: {code}", f.path.display())))
+        .collect();
+    assert!(
+        found.is_empty(),
+        "mod.rs files holding code beyond declarations and re-exports (move it to a named file of the \
+         folder): {found:#?}"
+    );
+}
+
+/// The imports that tie a folder's face to a file below it both ways: the face composes the files
+/// below it (declares them, re-exports from them), so a file there that imports something the face
+/// itself defines closes a cycle. An import through the face of a name it re-exports is followed
+/// to the file defining it (`super::X` after `pub use child::X` names `child`), so it is no tie;
+/// a glob import of a face (`use super::*`) is one if the face holds code. One line per tie:
+/// `importer -> face::item`.
+fn face_ties(tree: &Tree) -> BTreeSet<String> {
+    let mut ties = BTreeSet::new();
+    for d in tree.dependencies() {
+        let (from, face) = (&tree.files[d.from], &tree.files[d.to]);
+        let below = face.is_dir && from.module.len() > face.module.len() && from.module.starts_with(&face.module);
+        let defined_there = match d.item.as_deref() {
+            None => false, // the module itself: its names are read as paths into it
+            Some("*") => beyond_face(&face.text).is_some(),
+            Some(_) => true,
+        };
+        if below && defined_there {
+            ties.insert(format!(
+                "{} -> {}::{}{}",
+                from.path.display(),
+                face.path.display(),
+                d.item.unwrap_or_default(),
+                if d.is_test { " (test)" } else { "" }
+            ));
+        }
+    }
+    ties
+}
+
+/// No folder's face and a file below it form a two-way tie (the cycle checks above see a face's
+/// re-exports as structure, not use, so they cannot see this one).
+#[test]
+fn no_file_imports_what_its_folders_face_defines() {
+    let ties = face_ties(&Tree::read());
+    assert!(
+        ties.is_empty(),
+        "files importing what their folder's mod.rs defines, while that mod.rs declares them (move the \
+         item to a named file of the folder and re-export it): {ties:#?}"
+    );
+}
+
+#[test]
+fn the_reader_follows_a_faces_re_exports() {
+    let tree = |files: &[(&str, &str)]| {
+        Tree::from_sources(files.iter().map(|(p, t)| (PathBuf::from(p), t.to_string())).collect())
+    };
+    let name = |t: &Tree, i: usize| t.files[i].path.display().to_string();
+    // a face only: `b` imports `X` through it, which is `a`'s
+    let face = "//! doc\n#[macro_use]\nmod a;\nmod b;\npub use a::X;\npub(crate) use a::f as g;\n";
+    let a = "pub struct X;\npub(crate) fn f() {}\n";
+    let b = "use super::X;\nuse crate::m;\nfn h() { super::g(); m::a::f(); }\n";
+    let t = tree(&[("lib.rs", "mod m;"), ("m/mod.rs", face), ("m/a.rs", a), ("m/b.rs", b)]);
+    let deps: BTreeSet<(String, String, Option<String>)> =
+        t.dependencies().iter().map(|d| (name(&t, d.from), name(&t, d.to), d.item.clone())).collect();
+    let want = |to: &str, item: Option<&str>| ("m/b.rs".to_string(), to.to_string(), item.map(String::from));
+    assert!(deps.contains(&want("m/a.rs", Some("X"))), "{deps:?}");
+    assert!(deps.contains(&want("m/a.rs", Some("f"))), "through the alias g: {deps:?}");
+    assert!(deps.contains(&want("m/mod.rs", None)), "`use crate::m;` names the module: {deps:?}");
+    assert!(!deps.iter().any(|(_, to, item)| to == "m/mod.rs" && item.is_some()), "{deps:?}");
+    assert!(face_ties(&t).is_empty());
+    // the face defines `Y`, which `b` imports: a two-way tie, however it is named
+    for import in ["use super::Y;", "fn h() { crate::m::Y::new(); }", "use crate::m;\nfn h() { m::Y::new(); }"] {
+        let face = format!("{face}pub struct Y;\n");
+        let t = tree(&[("lib.rs", "mod m;"), ("m/mod.rs", &face), ("m/a.rs", a), ("m/b.rs", import)]);
+        assert_eq!(face_ties(&t), BTreeSet::from(["m/b.rs -> m/mod.rs::Y".to_string()]), "{import}");
+    }
+    // a grandchild, a glob of a face with code, and an item bound from another crate
+    let face_y = format!("{face}pub struct Y;\nuse std::fmt::Debug;\n");
+    let t = tree(&[
+        ("lib.rs", "mod m;"),
+        ("m/mod.rs", &face_y),
+        ("m/a.rs", a),
+        ("m/b/mod.rs", "mod c;"),
+        ("m/b/c.rs", "use super::super::*;\nuse super::super::Debug;\n#[cfg(test)]\nmod t { use crate::m::Y; }\n"),
+    ]);
+    assert_eq!(
+        face_ties(&t),
+        BTreeSet::from(["m/b/c.rs -> m/mod.rs::*".to_string(), "m/b/c.rs -> m/mod.rs::Y (test)".to_string()])
+    );
+    // what a face may hold
+    assert_eq!(beyond_face(face), None);
+    assert_eq!(beyond_face("#![allow(x)]\n#[allow(a, b)]\npub mod ffi;\npub(in crate::x) use a::{b, c};"), None);
+    assert_eq!(beyond_face("mod a;\n/// f\npub fn f() {}\n"), Some("pub fn f() {}".to_string()));
+    assert_eq!(beyond_face("mod a {\n}\n"), Some("mod a {".to_string()));
+    assert_eq!(beyond_face("#[cfg(test)]\nmod tests;\nconst N: usize = 1;"), Some("const N: usize = 1;".to_string()));
+}
+
 #[test]
 fn no_source_file_outside_tests_exceeds_the_limit() {
     let tree = Tree::read();
@@ -629,6 +833,16 @@ fn the_reader_sees_use_trees_and_paths() {
     assert_eq!(expand_use("crate::{a::b, c::{d, e as f}}"), ["crate::a::b", "crate::c::d", "crate::c::e"]);
     assert_eq!(expand_use("super::x::{self, Y}"), ["super::x", "super::x::Y"]);
     assert_eq!(inline_paths("let a = crate::mesh::Mesh::new(); super::f()"), ["crate::mesh::Mesh::new", "super::f"]);
+    assert_eq!(inline_paths("super::super::f(x::super::g)"), ["super::super::f"]);
+    assert_eq!(
+        expand_use_named("crate::{a::b as c, d::{self}, e}"),
+        [("crate::a::b".into(), "c".into()), ("crate::d".into(), "d".into()), ("crate::e".into(), "e".into())]
+            as [(String, String); 3]
+    );
+    assert_eq!(
+        paths_from("options::set(1); x::options::y; my_options::z; options::{a}", "options"),
+        [("options".into(), "set".into()), ("options".into(), String::new())] as [(String, String); 2]
+    );
     let (p, t) =
         split_tests("fn a() {}\n#[cfg(test)]\nmod tests {\n use super::*;\n fn b() { if x { } }\n}\nfn c() {}");
     assert!(p.contains("fn a") && p.contains("fn c") && !p.contains("fn b"));

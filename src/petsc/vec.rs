@@ -155,6 +155,12 @@ impl Vector {
     }
 }
 
+impl super::Object for Vector {
+    fn object(&self) -> ffi::PetscObject {
+        self.raw as ffi::PetscObject
+    }
+}
+
 /// Restores the array on drop.
 pub struct VecRead<'a> {
     v: &'a Vector,

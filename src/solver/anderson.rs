@@ -15,6 +15,7 @@
 //! 5% less time in alternating runs, the observables unchanged to 7 digits; remodel_40 713 →
 //! 631, the full sphere 846 → 755 (docs/performance.md). Depth 3 or 5 did no better (770).
 
+use super::program_options;
 use crate::error::Result;
 use crate::petsc::Vector;
 use nalgebra::{DMatrix, DVector};
@@ -94,4 +95,9 @@ impl Anderson {
         }
         Ok(())
     }
+}
+
+/// Depth of the Anderson mixing of chord iterations (`-poroplast_anderson M`, 0: off).
+pub(super) fn anderson_depth() -> Result<usize> {
+    program_options::count("poroplast_anderson", 2)
 }

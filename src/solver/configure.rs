@@ -3,6 +3,8 @@
 //! one) with the policy's lag, Anderson depth, monitor and treatment of the free rigid modes;
 //! the finest-level SOR hook; the Schur matrix; the tolerances checked.
 
+use super::fieldsplit::{finest_level_sor, finest_sor_enabled, use_schur_matrix};
+use super::tolerances::check_tolerances;
 use super::{anderson, ActiveSetNewton, FreeRigidModes, Lag, Policy};
 use crate::error::Result;
 use crate::petsc::{options, Mat, Ts, TsProblem, Vector};
@@ -51,7 +53,7 @@ pub fn configure<P: TsProblem>(
             }
             let mut newton = ActiveSetNewton::new(world, lo, hi, problem.u_row_scale, lag)?;
             newton.monitor = options::has("poroplast_newton_monitor")?;
-            newton.anderson = anderson::Anderson::new(super::anderson_depth()?);
+            newton.anderson = anderson::Anderson::new(anderson::anderson_depth()?);
             if let Some(m) = free_modes {
                 // A factorisation gets the modes locked (nonsingular, updatable); a Krylov
                 // method with AMG their null space (a point lock defeats AMG).
@@ -66,11 +68,11 @@ pub fn configure<P: TsProblem>(
             ts.set_nonlinear_solver(Box::new(newton))?;
         }
     }
-    if super::finest_sor_enabled()? {
-        snes.ksp()?.set_pre_solve(super::finest_level_sor)?;
+    if finest_sor_enabled()? {
+        snes.ksp()?.set_pre_solve(finest_level_sor)?;
     }
-    let schur_needed = super::use_schur_matrix(&snes, view(ts.problem()).schur)?;
-    super::check_tolerances(&snes)?;
+    let schur_needed = use_schur_matrix(&snes, view(ts.problem()).schur)?;
+    check_tolerances(&snes)?;
     Ok(schur_needed)
 }
 

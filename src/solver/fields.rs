@@ -67,7 +67,7 @@ impl Fields {
             let mut v = Vector::mpi(comm, nc * n)?;
             v.write()?.iter_mut().enumerate().for_each(|(i, x)| *x = mode(nc, 0, i % nc, coords[i / nc]));
             let mut modes = vec![v];
-            super::orthonormalise(&mut modes)?;
+            super::gram_schmidt::orthonormalise(&mut modes)?;
             NullSpace::from_vectors(comm, &modes)?
         };
         Ok(Fields { world: world.duplicate(), nc, u_range: (u0, u1), p_range: (p0, p1), coords, u, p, near_null })
@@ -109,7 +109,7 @@ impl Fields {
             }
             modes.push(v);
         }
-        super::orthonormalise(&mut modes)?;
+        super::gram_schmidt::orthonormalise(&mut modes)?;
         let mut u = IndexSet::general(comm, &u_red)?;
         u.compose("nearnullspace", &NullSpace::from_vectors(comm, &modes)?)?;
         let p = IndexSet::general(comm, &p_red)?;

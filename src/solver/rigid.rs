@@ -165,7 +165,7 @@ impl FreeRigidModes {
             }
             modes.push(v);
         }
-        super::orthonormalise(&mut modes)?;
+        super::gram_schmidt::orthonormalise(&mut modes)?;
         NullSpace::from_vectors(self.world.as_raw(), &modes)
     }
 }
