@@ -1,8 +1,9 @@
 //! What a run writes per step: one `history.csv` row (the step, its observed values — the
 //! experiment's observables, the remodelling summary, probes, exact columns — and its iteration
-//! counts) and, when asked, the fields. The records are this module's: the observers
-//! (`observe::observers`) declare their [`Column`]s and produce [`Observed`] values and
-//! [`StepFields`]; the recorder adds the step's own columns around them.
+//! counts) and, when asked, the fields. The records are this module's: a column is declared
+//! once ([`Declared`]: name, unit, meaning, value); the observers (`observe::observers`) give
+//! their [`Column`]s and produce [`Observed`] values and [`StepFields`]; the recorder adds the
+//! step's own columns ([`STEP`], [`ITERATIONS`]) around them.
 
 use crate::error::Result;
 use crate::io::fields::{restore_backup, Field, FieldFile, FieldKind, OutputMesh};
