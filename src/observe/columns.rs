@@ -75,13 +75,20 @@ mod tests {
         assert_ne!(history_table(&altered).0, reference_table());
     }
 
-    /// Every column of every shipped scene's `history.csv` is in the reference, in its order (a
-    /// probe's under the probes' pattern): a column written but not declared there fails.
+    /// Every column of every shipped scene's `history.csv`, with a probe added (so that the
+    /// probes meet each other observer), is in the reference, in its order (a probe's under the
+    /// probes' pattern): a column written but not declared there, or written elsewhere in the
+    /// row, fails.
     #[test]
     fn every_shipped_scene_writes_referenced_columns_in_order() {
         let docs = reference();
-        for (name, _) in BUILTIN {
-            let scene = LoadedScene::load(name, &[]).unwrap();
+        let dir = std::env::temp_dir().join(format!("poroplast-columns-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (name, text) in BUILTIN {
+            let path = dir.join(format!("{name}.toml"));
+            let probe = "\n[[probe]]\nname = \"added\"\nfield = \"p\"\npoint = [0.0, 0.0, 1.0]\n";
+            std::fs::write(&path, format!("{text}{probe}")).unwrap();
+            let scene = LoadedScene::load(path.to_str().unwrap(), &[]).unwrap();
             let mut at = 0;
             for col in history_column_names(&scene).unwrap() {
                 let is_probe = scene.scene.probe.iter().any(|p| p.name == col);
@@ -92,5 +99,6 @@ mod tests {
                 at += found;
             }
         }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
