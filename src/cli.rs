@@ -3,7 +3,8 @@
 //! - `poroplast resume DIR [-q] [-- PETSC OPTIONS]` (continue from the last checkpoint)
 //! - `poroplast check SCENE [--set KEY=VALUE ...] [-- PETSC OPTIONS]`
 //! - `poroplast sweep STUDY.toml [--ranks-per-case k] [--out DIR] [--cases-dir DIR] [-q] [-- PETSC OPTIONS]`
-//! - `poroplast plot DIR [ARGS]` (scripts/plot_run.py), `poroplast columns SCENE [--set KEY=VALUE ...]`
+//! - `poroplast plot DIR [ARGS]` (scripts/plot_run.py), `poroplast columns SCENE [--set KEY=VALUE ...]`,
+//!   `poroplast columns --table`
 //! - `poroplast scenes [--keys]`, `poroplast show NAME`, `poroplast show --explain NAME|FILE [--set KEY=VALUE ...]`
 //!
 //! The `///` comments below are clap's help text, printed as written: brackets and angle
@@ -163,9 +164,15 @@ pub enum Command {
     ///
     /// The scene is loaded and validated with its overrides, as `run` would (no mesh is built):
     /// scripts check the names of observables and fitted columns with it before running anything.
+    /// With --table (no scene): every column a run can write, with its unit and meaning, as
+    /// Markdown: the table of docs/reference-run-directory.md.
     Columns {
         /// A scene file (.toml) or the name of a shipped scene.
-        scene: String,
+        #[arg(required_unless_present = "table")]
+        scene: Option<String>,
+        /// Print the reference table of every column instead.
+        #[arg(long, conflicts_with_all = ["scene", "set"])]
+        table: bool,
         /// Override a scene value (as for `run`).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,

@@ -27,4 +27,5 @@ pub mod solver;
 pub(crate) mod spelling;
 pub mod sweep;
 
+pub use observe::columns::reference_table as history_column_table;
 pub use observe::observers::history_column_names;

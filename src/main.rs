@@ -37,7 +37,11 @@ fn main() {
     if let Command::Plot { args } = &cli.command {
         exit_with(poroplast::plot::plot(args));
     }
-    if let Command::Columns { scene, set } = &cli.command {
+    if let Command::Columns { scene, table, set } = &cli.command {
+        let Some(scene) = scene.as_ref().filter(|_| !*table) else {
+            console::print(&poroplast::history_column_table());
+            return;
+        };
         // No MPI: loading a scene is serial.
         let names = poroplast::scene::LoadedScene::load(scene, set).and_then(|s| poroplast::history_column_names(&s));
         match names {

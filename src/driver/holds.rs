@@ -65,7 +65,7 @@ pub(crate) fn read(h: &Columns, holds: &[Hold]) -> Vec<HoldReading> {
             let force_mg = observable::at_time(h, "force_total_mg", when);
             let at_end = force_mg
                 .is_finite()
-                .then(|| AtEnd { force_mg, laplace: laplace::COLUMNS.map(|c| observable::at_time(h, c, when)) });
+                .then(|| AtEnd { force_mg, laplace: laplace::COLUMNS.map(|c| observable::at_time(h, c.name(), when)) });
             HoldReading { hold, at_end }
         })
         .collect()

@@ -1,8 +1,9 @@
 //! What a run writes per step: one `history.csv` row (the step, its observed values — the
 //! experiment's observables, the remodelling summary, probes, exact columns — and its iteration
-//! counts) and, when asked, the fields. The records are this module's: the observers
-//! (`observe::observers`) declare their [`Column`]s and produce [`Observed`] values and
-//! [`StepFields`]; the recorder adds the step's own columns around them.
+//! counts) and, when asked, the fields. The records are this module's: a column is declared
+//! once ([`Declared`]: name, unit, meaning, value); the observers (`observe::observers`) give
+//! their [`Column`]s and produce [`Observed`] values and [`StepFields`]; the recorder adds the
+//! step's own columns ([`STEP`], [`ITERATIONS`]) around them.
 
 use crate::error::Result;
 use crate::io::fields::{restore_backup, Field, FieldFile, FieldKind, OutputMesh};
@@ -33,8 +34,66 @@ impl Column {
         Column { name: name.into(), kind: ColumnKind::Real }
     }
 
-    pub fn integer(name: impl Into<String>) -> Column {
-        Column { name: name.into(), kind: ColumnKind::Integer }
+    /// The column a declaration names.
+    pub fn of(doc: &ColumnDoc, kind: ColumnKind) -> Column {
+        Column { name: doc.name.into(), kind }
+    }
+}
+
+/// A `history.csv` column declared once: its name, unit and meaning (the docs' column table,
+/// `poroplast columns --table`), how it prints, and how its value is read from `R`, what its
+/// observer reads in a step. The header and every row are made from the same declarations.
+pub struct Declared<R> {
+    pub doc: ColumnDoc,
+    pub kind: ColumnKind,
+    pub value: fn(&R) -> f64,
+}
+
+/// What the docs say of a column: its name (or, for columns a scene names, the pattern of their
+/// names), its unit ("–": none) and its meaning (Markdown).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ColumnDoc {
+    pub name: &'static str,
+    pub unit: &'static str,
+    pub meaning: &'static str,
+    /// The name is a pattern (`*probe name*`): the scene gives the names.
+    pub pattern: bool,
+}
+
+impl ColumnDoc {
+    /// Columns whose names the scene gives.
+    pub const fn pattern(name: &'static str, unit: &'static str, meaning: &'static str) -> ColumnDoc {
+        ColumnDoc { name, unit, meaning, pattern: true }
+    }
+
+    /// A column of this name.
+    pub const fn named(name: &'static str, unit: &'static str, meaning: &'static str) -> ColumnDoc {
+        ColumnDoc { name, unit, meaning, pattern: false }
+    }
+}
+
+impl<R> Declared<R> {
+    pub const fn real(name: &'static str, unit: &'static str, meaning: &'static str, value: fn(&R) -> f64) -> Self {
+        Declared { doc: ColumnDoc::named(name, unit, meaning), kind: ColumnKind::Real, value }
+    }
+
+    /// A count (printed as an integer).
+    pub const fn integer(name: &'static str, unit: &'static str, meaning: &'static str, value: fn(&R) -> f64) -> Self {
+        Declared { doc: ColumnDoc::named(name, unit, meaning), kind: ColumnKind::Integer, value }
+    }
+
+    pub fn name(&self) -> &'static str {
+        self.doc.name
+    }
+
+    /// The header's entries of `cols`, in order.
+    pub fn header(cols: &[Self]) -> impl Iterator<Item = Column> + '_ {
+        cols.iter().map(|c| Column::of(&c.doc, c.kind))
+    }
+
+    /// The values of `cols` read from `r`, in the header's order.
+    pub fn row<'a>(cols: &'a [Self], r: &'a R) -> impl Iterator<Item = f64> + 'a {
+        cols.iter().map(move |c| (c.value)(r))
     }
 }
 
@@ -150,9 +209,9 @@ impl Recorder {
     /// One history row — the step, its observed values, its iterations and wall time — and its
     /// fields if they were observed (collective).
     pub fn record(&mut self, world: &SimpleCommunicator, row: &StepRow, observed: &Observed) -> Result<()> {
-        let mut values = vec![row.step as f64, row.t, row.dt];
+        let mut values: Vec<f64> = Declared::row(&STEP, row).collect();
         values.extend(&observed.values);
-        values.extend([row.its.0 as f64, row.its.1 as f64, row.wall]);
+        values.extend(Declared::row(&ITERATIONS, row));
         // Only rank 0 writes: all agree before the collective fields output.
         let written = self.history.row(&values);
         crate::parallel::agree(world, written)?;
@@ -179,13 +238,33 @@ impl Recorder {
     }
 }
 
-/// `history.csv`'s columns in [`Recorder::record`]'s order: the step, time and dt, the
-/// `observed` ones, the iterations and the wall time.
-/// The columns of `history.csv`: the step's own around the `observed` ones.
+/// The step's own columns before the observed ones.
+pub const STEP: [Declared<StepRow>; 3] = [
+    Declared::integer(
+        "step",
+        "–",
+        "step number (row 0: the initial state at t = 0; with plates, the state settled under gravity)",
+        |r| r.step as f64,
+    ),
+    Declared::real("time", "s", "time at the end of the step", |r| r.t),
+    Declared::real("dt", "s", "the step's size", |r| r.dt),
+];
+
+/// The step's own columns after the observed ones.
+pub const ITERATIONS: [Declared<StepRow>; 3] = [
+    Declared::integer("newton_its", "–", "nonlinear iterations of the step (failed attempts included)", |r| {
+        r.its.0 as f64
+    }),
+    Declared::integer("ksp_its", "–", "Krylov iterations of the step", |r| r.its.1 as f64),
+    Declared::real("wall_s", "s", "wall time since the start of the run", |r| r.wall),
+];
+
+/// `history.csv`'s columns in [`Recorder::record`]'s order: the step's own ([`STEP`],
+/// [`ITERATIONS`]) around the `observed` ones.
 pub(crate) fn history_columns(observed: &[Column]) -> Vec<Column> {
-    let mut cols = vec![Column::integer("step"), Column::real("time"), Column::real("dt")];
+    let mut cols: Vec<Column> = Declared::header(&STEP).collect();
     cols.extend_from_slice(observed);
-    cols.extend([Column::integer("newton_its"), Column::integer("ksp_its"), Column::real("wall_s")]);
+    cols.extend(Declared::header(&ITERATIONS));
     cols
 }
 
@@ -224,7 +303,7 @@ mod tests {
 
     #[test]
     fn the_step_columns_frame_the_observed_ones() {
-        let observed = [Column::real("force"), Column::integer("contact_nodes")];
+        let observed = [Column::real("force"), Column { name: "contact_nodes".into(), kind: ColumnKind::Integer }];
         let cols = history_columns(&observed);
         let (names, integer) = names(&cols);
         assert_eq!(names, ["step", "time", "dt", "force", "contact_nodes", "newton_its", "ksp_its", "wall_s"]);

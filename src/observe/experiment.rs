@@ -18,10 +18,10 @@
 
 use super::laplace::{self, Point};
 use super::probe::{Probe, Quantity};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
-use crate::io::recorder::ColumnKind::{self, Integer, Real};
+use crate::io::recorder::{ColumnDoc, ColumnKind, Declared};
 use crate::mesh::dist::LocalMesh;
 use crate::parallel::{all_gather_vec, max, sum};
 use crate::physics::contact::{Plates, Touch};
@@ -39,35 +39,108 @@ pub fn micro_newton(mg: f64) -> f64 {
     mg * G
 }
 
-/// history.csv columns of [`Experiment::observe`], in order, with their kind (the contact
-/// node counts are integers). Each force in mg is followed by its µN twin.
-pub const COLUMNS: [(&str, ColumnKind); 25] = [
-    ("plate_disp", Real),
-    ("force_total_mg", Real),
-    ("force_total_uN", Real),
-    ("force_constitutive_mg", Real),
-    ("force_constitutive_uN", Real),
-    ("force_pressure_mg", Real),
-    ("force_pressure_uN", Real),
-    ("force_lower_mg", Real),
-    ("force_lower_uN", Real),
-    ("contact_radius_upper", Real),
-    ("contact_radius_lower", Real),
-    ("height", Real),
-    ("width", Real),
-    ("probe_p", Real),
-    ("probe_porosity", Real),
-    ("fluid_volume", Real),
-    ("outflow", Real),
-    ("outflow_total", Real),
-    ("max_penetration", Real),
-    ("contact_nodes_upper", Integer),
-    ("contact_nodes_lower", Integer),
-    (laplace::COLUMNS[0], Real),
-    (laplace::COLUMNS[1], Real),
-    (laplace::COLUMNS[2], Real),
-    (laplace::COLUMNS[3], Real),
+/// The `history.csv` columns of an [`Observation`], the Laplace analysis's after them
+/// ([`columns`], [`Observation::values`]). Forces are full-sphere equivalents, positive in
+/// compression; each in mg is followed by its µN twin.
+pub const COLUMNS: &[Declared<Observation>] = &[
+    Declared::real(
+        "plate_disp",
+        "µm",
+        "height of the lower plate's top face, z_lower(t): 0 at rest, up to `compression` × 2R in the hold",
+        |o| o.plate_disp,
+    ),
+    Declared::real(
+        "force_total_mg",
+        "mg",
+        "force on the upper plate (the sum of its contact reactions), positive in compression, full-sphere equivalent",
+        |o| o.force_total,
+    ),
+    Declared::real("force_total_uN", "µN", "`force_total_mg` in µN", |o| micro_newton(o.force_total)),
+    Declared::real(
+        "force_constitutive_mg",
+        "mg",
+        "the solid's part of the upper plate's force (total minus pressure part)",
+        |o| o.force_constitutive,
+    ),
+    Declared::real("force_constitutive_uN", "µN", "`force_constitutive_mg` in µN", |o| {
+        micro_newton(o.force_constitutive)
+    }),
+    Declared::real(
+        "force_pressure_mg",
+        "mg",
+        "the pore pressure's part of the upper plate's force (nodal forces of −p J F⁻ᵀ)",
+        |o| o.force_pressure,
+    ),
+    Declared::real("force_pressure_uN", "µN", "`force_pressure_mg` in µN", |o| micro_newton(o.force_pressure)),
+    Declared::real(
+        "force_lower_mg",
+        "mg",
+        "force on the lower plate (its contact reactions, the bottom pole's included), full-sphere equivalent",
+        |o| o.force_lower,
+    ),
+    Declared::real("force_lower_uN", "µN", "`force_lower_mg` in µN", |o| micro_newton(o.force_lower)),
+    Declared::real(
+        "contact_radius_upper",
+        "µm",
+        "radius of the contact patch on the upper plate (current configuration)",
+        |o| o.contact_radius_upper,
+    ),
+    Declared::real(
+        "contact_radius_lower",
+        "µm",
+        "radius of the contact patch on the lower plate (current configuration)",
+        |o| o.contact_radius_lower,
+    ),
+    Declared::real("height", "µm", "current height of the body (max z − min z)", |o| o.height),
+    Declared::real("width", "µm", "current width (2 × the largest distance from the axis)", |o| o.width),
+    Declared::real(
+        "probe_p",
+        "kPa",
+        "pore pressure at the material point X_U = (0.4 R, 0, 1.9 R) (`plates.probe_point`)",
+        |o| o.probe_p,
+    ),
+    Declared::real(
+        "probe_porosity",
+        "–",
+        "porosity 1 − Φs/J at X_U; NaN for a material without a solid fraction Φs (`linear`)",
+        |o| o.probe_porosity,
+    ),
+    Declared::real("fluid_volume", "µm³", "mixture volume ∫ J dV (full sphere)", |o| o.fluid_volume),
+    Declared::real("outflow", "µm³/s", "rate of fluid leaving through the drained surface (full sphere)", |o| {
+        o.outflow
+    }),
+    Declared::real(
+        "outflow_total",
+        "µm³",
+        "the outflow's time integral since t = 0 (equals the volume change at convergence)",
+        |o| o.outflow_total,
+    ),
+    Declared::real(
+        "max_penetration",
+        "µm",
+        "largest penetration of the curved surface into a plate, sampled between nodes",
+        |o| o.max_penetration,
+    ),
+    Declared::integer(
+        "contact_nodes_upper",
+        "–",
+        "nodes in contact with the upper plate (of the meshed part: a quarter's nodes on the quarter)",
+        |o| o.contact_nodes_upper,
+    ),
+    Declared::integer(
+        "contact_nodes_lower",
+        "–",
+        "nodes in contact with the lower plate (of the meshed part)",
+        |o| o.contact_nodes_lower,
+    ),
 ];
+
+/// The experiment's `history.csv` columns in order, as declared: its own, then the Laplace
+/// analysis's (the order of [`Observation::values`]).
+pub fn columns() -> impl Iterator<Item = (&'static ColumnDoc, ColumnKind)> {
+    let own = COLUMNS.iter().map(|c| (&c.doc, c.kind));
+    own.chain(laplace::COLUMNS.iter().map(|c| (&c.doc, c.kind)))
+}
 
 /// The contact states in the order of their gathered code ([`side_code`]).
 const SIDES: [Touch; 3] = [Touch::Free, Touch::Lower, Touch::Upper];
@@ -89,16 +162,42 @@ pub struct Experiment {
     outflow_total: f64,
 }
 
-/// One step's observables (full-sphere equivalents) and the per-node contact state.
+/// One step's observables (full-sphere equivalents; forces in mg), what [`COLUMNS`] read, and the
+/// per-node contact state.
 pub struct Observation {
-    pub values: [f64; 25],
+    plate_disp: f64,
+    force_total: f64,
+    force_constitutive: f64,
+    force_pressure: f64,
+    force_lower: f64,
+    contact_radius_upper: f64,
+    contact_radius_lower: f64,
+    height: f64,
+    width: f64,
+    probe_p: f64,
+    probe_porosity: f64,
+    fluid_volume: f64,
+    outflow: f64,
+    outflow_total: f64,
+    max_penetration: f64,
+    contact_nodes_upper: f64,
+    contact_nodes_lower: f64,
+    laplace: laplace::Reading,
     /// Contact state of every owned node: 0 free, 1 lower plate, 2 upper plate.
     pub node_contact: Vec<f64>,
 }
 
+impl Observation {
+    /// The values of [`columns`], in order.
+    pub fn values(&self) -> impl Iterator<Item = f64> + '_ {
+        Declared::row(COLUMNS, self).chain(Declared::row(&laplace::COLUMNS, &self.laplace))
+    }
+}
+
 impl Experiment {
-    /// Sets up probes (collective) at `probe_point` (default X_U). `volume` is the meshed
-    /// reference volume (all ranks).
+    /// Sets up probes (collective) at `probe_point`, which loading the scene resolves (its
+    /// default, X_U, is decided there: `scene::plates::default_probe_point`). `volume` is the
+    /// meshed reference volume (all ranks).
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         mesh: &LocalMesh,
@@ -112,7 +211,9 @@ impl Experiment {
     ) -> Result<Experiment> {
         let sphere = 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
         let symmetry = (sphere / volume).round().max(1.0);
-        let x_u = probe_point.unwrap_or_else(|| crate::scene::plates::default_probe_point(radius));
+        let Some(x_u) = probe_point else {
+            return Err(Error::Scene { path: context.into(), msg: "plates.probe_point is not resolved".into() });
+        };
         let probe_p = Probe::at_point("probe_p", Quantity::Pressure, x_u, mesh, world, context)?;
         let probe_porosity = match solid_fraction {
             Some(phi) => Some(Probe::at_point("probe_porosity", Quantity::Porosity(phi), x_u, mesh, world, context)?),
@@ -212,37 +313,29 @@ impl Experiment {
             .chunks_exact(3)
             .map(|p| Point { r: p[0], z: p[1], side: SIDES[p[2] as usize] })
             .collect();
-        let reading = laplace::read(&profile, plates.z_lower(t), plates.z_upper, sym * f_up);
-        let [r1, r2, r3, sigma_app] = reading.values();
+        let laplace = laplace::read(&profile, plates.z_lower(t), plates.z_upper, sym * f_up);
         let mg = [f_up, f_up - fp_up, fp_up, sum(world, f_lo - pull_lo)].map(|f| sym * f * NN_TO_MG);
-        let values = [
-            plates.z_lower(t),
-            mg[0],
-            micro_newton(mg[0]),
-            mg[1],
-            micro_newton(mg[1]),
-            mg[2],
-            micro_newton(mg[2]),
-            mg[3],
-            micro_newton(mg[3]),
-            max(world, r_up),
-            max(world, r_lo),
-            max(world, zmax) + max(world, -zmin),
-            2.0 * max(world, rmax),
+        Observation {
+            plate_disp: plates.z_lower(t),
+            force_total: mg[0],
+            force_constitutive: mg[1],
+            force_pressure: mg[2],
+            force_lower: mg[3],
+            contact_radius_upper: max(world, r_up),
+            contact_radius_lower: max(world, r_lo),
+            height: max(world, zmax) + max(world, -zmin),
+            width: 2.0 * max(world, rmax),
             probe_p,
-            probe_por,
-            sym * sum(world, post.volume_j),
+            probe_porosity: probe_por,
+            fluid_volume: sym * sum(world, post.volume_j),
             outflow,
-            self.outflow_total,
-            max(world, pen),
-            sum(world, n_up),
-            sum(world, n_lo),
-            r1,
-            r2,
-            r3,
-            sigma_app,
-        ];
-        Observation { values, node_contact }
+            outflow_total: self.outflow_total,
+            max_penetration: max(world, pen),
+            contact_nodes_upper: sum(world, n_up),
+            contact_nodes_lower: sum(world, n_lo),
+            laplace,
+            node_contact,
+        }
     }
 
     /// Largest distance by which the quadratic contact surface enters a plate, sampled at the

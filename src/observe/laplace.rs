@@ -16,11 +16,35 @@
 //!
 //! Units: µm, nN; σ_app in nN/µm = mN/m.
 
+use crate::io::recorder::Declared;
 use crate::physics::contact::Touch;
 use nalgebra::{DMatrix, DVector};
 
-/// `history.csv` columns of a [`Reading`], in order (µm, µm, µm, mN/m).
-pub const COLUMNS: [&str; 4] = ["R1", "R2", "R3", "sigma_app"];
+/// The `history.csv` columns of a [`Reading`] (the experiment's last; `history.csv` and the run
+/// summary say NaN where a reading does not apply).
+pub const COLUMNS: [Declared<Reading>; 4] = [
+    Declared::real(
+        "R1",
+        "µm",
+        "the Laplace analysis of the profile ([model](model.md), \"The lab's Laplace analysis\"): the radius of \
+         curvature of the profile at the equator (negative for a neck); NaN without enough free nodes between the \
+         plates to fit the profile",
+        |r| r.r1,
+    ),
+    Declared::real("R2", "µm", "the equatorial radius of the profile; NaN where R1 is", |r| r.r2),
+    Declared::real(
+        "R3",
+        "µm",
+        "the radius of the contact with the upper plate, between nodes; NaN without upper contact",
+        |r| r.r3,
+    ),
+    Declared::real(
+        "sigma_app",
+        "mN/m",
+        "the apparent surface tension F / (π R3² (1/R1 + 1/R2)) the lab would read; NaN where R1, R2 or R3 is",
+        |r| r.sigma_app,
+    ),
+];
 
 /// One surface node in the (r, z) half-plane.
 #[derive(Debug, Clone, Copy)]
@@ -37,12 +61,6 @@ pub struct Reading {
     pub r2: f64,
     pub r3: f64,
     pub sigma_app: f64,
-}
-
-impl Reading {
-    pub fn values(&self) -> [f64; 4] {
-        [self.r1, self.r2, self.r3, self.sigma_app]
-    }
 }
 
 /// Free nodes a sextic needs at least (else a quartic from 7, a parabola from 3).

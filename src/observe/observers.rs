@@ -9,9 +9,9 @@ use super::experiment::{self, Experiment};
 use super::pressure_peak::PressurePeak;
 use super::probe::Probe;
 use super::remodelling_summary;
-use super::verification::{exact_columns, ExactFn};
+use super::verification::{exact_columns, Exact};
 use crate::error::Result;
-use crate::io::recorder::{Column, Observed, StepFields};
+use crate::io::recorder::{Column, Declared, Observed, StepFields};
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::Vector;
 use crate::physics::problem::{backward_euler_rate, PoroProblem, Post};
@@ -25,7 +25,7 @@ pub struct Observers {
     /// The plates experiment's observables, if the scene has plates.
     pub experiment: Option<Experiment>,
     /// Exact-solution columns of a verification scene.
-    pub exact: Vec<(String, ExactFn)>,
+    pub exact: Vec<Exact>,
     /// Whether the model keeps qp state (remodelling): its summary is recorded.
     pub remodelling: bool,
     /// Write fields at all.
@@ -60,7 +60,7 @@ impl Observers {
         observed_columns(
             self.experiment.is_some(),
             self.remodelling,
-            self.probes.iter().map(|p| p.name.as_str()).chain(self.exact.iter().map(|(n, _)| n.as_str())),
+            self.probes.iter().map(|p| p.name.as_str()).chain(self.exact.iter().map(|e| e.doc.name)),
         )
     }
 
@@ -124,14 +124,15 @@ impl Observers {
             _ => None,
         };
         if let Some(o) = &obs {
-            values.extend(o.values);
+            values.extend(o.values());
         }
         if let (Some(post), true) = (post, self.remodelling) {
-            values.extend(remodelling_summary::observe(post, world));
+            let summary = remodelling_summary::observe(post, world);
+            values.extend(Declared::row(&remodelling_summary::COLUMNS, &summary));
         }
         self.pressure_peak = self.pressure_peak.max(PressurePeak::of_state(mesh, dofs, local, t, world));
         values.extend(self.probes.iter().map(|p| p.value(mesh, dofs, local, world)));
-        values.extend(self.exact.iter().map(|(_, f)| f(t)));
+        values.extend(self.exact.iter().map(|e| (e.value)(t)));
         let fields = match (sample, fields && self.fields) {
             (Sample::Post(post), true) => {
                 let post = *post;
@@ -158,10 +159,10 @@ impl Observers {
 fn observed_columns<'a>(plates: bool, remodelling: bool, named: impl Iterator<Item = &'a str>) -> Vec<Column> {
     let mut cols = Vec::new();
     if plates {
-        cols.extend(experiment::COLUMNS.iter().map(|&(name, kind)| Column { name: name.into(), kind }));
+        cols.extend(experiment::columns().map(|(doc, kind)| Column::of(doc, kind)));
     }
     if remodelling {
-        cols.extend(remodelling_summary::COLUMNS.iter().map(|&c| Column::real(c)));
+        cols.extend(Declared::header(&remodelling_summary::COLUMNS));
     }
     cols.extend(named.map(Column::real));
     cols
@@ -174,7 +175,7 @@ pub fn history_column_names(scene: &LoadedScene) -> Result<Vec<String>> {
     let s = &scene.scene;
     let remodelling = s.material.mixture().is_some_and(|m| m.remodelling.is_some());
     let exact = exact_columns(scene)?;
-    let named = s.probe.iter().map(|p| p.name.as_str()).chain(exact.iter().map(|(n, _)| n.as_str()));
+    let named = s.probe.iter().map(|p| p.name.as_str()).chain(exact.iter().map(|e| e.doc.name));
     let observed = observed_columns(s.plates.is_some(), remodelling, named);
     Ok(crate::io::recorder::history_columns(&observed).into_iter().map(|c| c.name).collect())
 }

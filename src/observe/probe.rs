@@ -8,6 +8,7 @@
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
+use crate::io::recorder::ColumnDoc;
 use crate::mesh::dist::LocalMesh;
 use crate::parallel::sum;
 use crate::reference_cell::shape::{p1_values as p1, p2_values as shapes};
@@ -43,6 +44,14 @@ enum Where {
     /// Local faces of the group and the group's total area.
     Group(Vec<u32>, f64),
 }
+
+/// The `history.csv` column of each `[[probe]]`, named by the scene.
+pub const COLUMN: ColumnDoc = ColumnDoc::pattern(
+    "*probe name*",
+    "as the field",
+    "a `[[probe]]`: `p` (kPa) or `ux`, `uy`, `uz` (µm) at a point or averaged over a surface group, divided by \
+     `scale`",
+);
 
 pub struct Probe {
     pub name: String,

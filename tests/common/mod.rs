@@ -183,10 +183,10 @@ pub fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
 }
 
 /// The `history.csv` columns that may hold NaN: the Laplace reading where it does not apply
-/// (before upper contact, too few free nodes). docs/reference-run-directory.md says so in their
-/// rows and in no other (`restart::nan_columns_are_the_documented_ones`); every other column is a
-/// number in every row.
-pub const NAN_COLUMNS: [&str; 4] = ["R1", "R2", "R3", "sigma_app"];
+/// (before upper contact, too few free nodes) and the porosity of a material without a solid
+/// fraction. docs/reference-run-directory.md says so in their rows and in no other
+/// (`restart::nan_columns_are_the_documented_ones`); every other column is a number in every row.
+pub const NAN_COLUMNS: [&str; 5] = ["R1", "R2", "R3", "sigma_app", "probe_porosity"];
 
 /// history.csv as named columns.
 pub struct History {
