@@ -26,7 +26,7 @@ pub fn check(world: &SimpleCommunicator, scene_arg: &str, set: &[String], petsc:
         log: Log::Silent,
     };
     with_petsc(world, &petsc_args(&scene, petsc), || {
-        let mut run = setup(world, &scene, &args)?;
+        let mut run = setup(world, &scene, &args, None)?;
         // The same first step as `run` (settling included), into no directory: then the PETSc
         // options have all been read, and the first solve has worked.
         let mut pg = Progress::start(run.dt0());

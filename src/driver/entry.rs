@@ -24,7 +24,7 @@ pub fn run(world: &SimpleCommunicator, args: &RunArgs) -> Result<PathBuf> {
     }
     signals::stop_in_setup(world, signals::NOTHING_WRITTEN)?;
     with_petsc(world, &petsc_args(&scene, &args.petsc), || {
-        let mut run = setup(world, &scene, args)?;
+        let mut run = setup(world, &scene, args, None)?;
         signals::stop_in_setup(world, signals::NOTHING_WRITTEN)?;
         run.execute(None)
     })
@@ -91,9 +91,8 @@ fn resume_from_checkpoint(world: &SimpleCommunicator, dir: &Path, petsc: &[Strin
         log,
     };
     with_petsc(world, &petsc_args(&scene, &args.petsc), || {
-        let mut run = setup(world, &scene, &args)?;
+        let mut run = setup(world, &scene, &args, Some(lock))?;
         signals::stop_in_setup(world, signals::NOTHING_WRITTEN)?;
-        run.hold_lock(lock);
         let per_elem = run.problem().qp_state_per_elem();
         let fingerprint = checkpoint_file::mesh_fingerprint(world, run.problem().mesh());
         let voice = *run.voice();

@@ -30,17 +30,14 @@ pub(super) struct Output {
 }
 
 impl Output {
-    pub fn new(observers: Observers, spec: OutputSpec) -> Output {
-        Output { observers, spec, lock: None }
+    /// The outputs of `observers` as `spec` asks, under `lock` if the run directory was
+    /// locked before the run was set up (a resume).
+    pub fn new(observers: Observers, spec: OutputSpec, lock: Option<rundir::RunLock>) -> Output {
+        Output { observers, spec, lock }
     }
 
     pub fn observers(&self) -> &Observers {
         &self.observers
-    }
-
-    /// Holds the lock of the run directory taken before the run was set up (a resume).
-    pub fn hold_lock(&mut self, lock: rundir::RunLock) {
-        self.lock = Some(lock);
     }
 
     /// Creates the run directory `dir` and its files (nothing is written before this point):

@@ -83,11 +83,6 @@ impl<'w> Run<'w> {
         self.checkpoints.layout()
     }
 
-    /// Holds the lock of the run directory, taken before the set-up (a resume).
-    pub fn hold_lock(&mut self, lock: rundir::RunLock) {
-        self.output.hold_lock(lock);
-    }
-
     /// Continues with the nonlinear solver state saved by a checkpoint (a resume on as many
     /// ranks).
     pub fn restore_solver_state(&mut self, state: SolverState) {

@@ -18,6 +18,7 @@ use crate::fem::kernel::{Fade, Stabilisation};
 use crate::fem::point::PointModel;
 use crate::fem::quadrature;
 use crate::io::checkpoint::FileLayout;
+use crate::io::rundir::RunLock;
 use crate::mesh::dist::{self, LocalMesh};
 use crate::mesh::partition;
 use crate::mesh::source::{mesh_file, read_mesh};
@@ -287,9 +288,15 @@ fn surface_tension(
     Ok(Some(SurfaceTension::new(sf.tension, adhesion, local, &faces)))
 }
 
-/// Sets the run of `scene` up as `args` ask: every part built complete, then the problem from
-/// its parts, the time stepper with its solver, and the run from its pieces.
-pub(super) fn setup<'w>(world: &'w SimpleCommunicator, scene: &LoadedScene, args: &RunArgs) -> Result<Run<'w>> {
+/// Sets the run of `scene` up as `args` ask, holding `lock` if the run directory was locked
+/// before (a resume): every part built complete, then the problem from its parts, the time
+/// stepper with its solver, and the run from its pieces.
+pub(super) fn setup<'w>(
+    world: &'w SimpleCommunicator,
+    scene: &LoadedScene,
+    args: &RunArgs,
+    lock: Option<RunLock>,
+) -> Result<Run<'w>> {
     let t0 = Instant::now();
     let _stage = Stage::register("Setup")?.push();
     let comm = world.as_raw();
@@ -380,7 +387,7 @@ pub(super) fn setup<'w>(world: &'w SimpleCommunicator, scene: &LoadedScene, args
     let ellipticity = ellipticity_warning(scene)?;
     let stepper =
         Stepper::new(ts, StepState::new(u)?, schedule, settle, solver::jacobian_check_step()?, ellipticity.clone());
-    let output = Output::new(observers, s.output.clone());
+    let output = Output::new(observers, s.output.clone(), lock);
     let checkpoints = Checkpoints::new(&s.output, t0, layout);
     let info = SetupInfo { mesh_path, n_global_dofs, solver_line, ellipticity, seconds: t0.elapsed().as_secs_f64() };
     Ok(Run::new(Voice::new(world, args.log), scene.clone(), args.clone(), stepper, output, checkpoints, info))
