@@ -1,7 +1,7 @@
 //! The run record, `DIR/run.toml`: how a run was started — the scene, its overrides and the
 //! PETSc options — which `resume` reads to set the run up again.
 
-use super::run::{Run, RunArgs};
+use super::args::RunArgs;
 use crate::error::{Error, Result};
 use crate::io::rundir;
 use crate::scene::LoadedScene;
@@ -63,12 +63,10 @@ impl RunRecord {
         }
         Ok(scene)
     }
-}
 
-impl<'w> Run<'w> {
-    /// `run.toml`: how to set this run up again (rank 0).
-    pub(super) fn write_record(&self, dir: &Path) -> Result<()> {
-        let record = toml::to_string(&RunRecord::of(&self.args))
+    /// Writes `run.toml` in `dir`: how to set this run up again (rank 0).
+    pub fn write(&self, dir: &Path) -> Result<()> {
+        let record = toml::to_string(self)
             .map_err(|e| Error::io(dir.join(RunRecord::FILE), format!("cannot write the run record: {e}")))?;
         rundir::write_text(
             dir,

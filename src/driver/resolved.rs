@@ -9,7 +9,9 @@
 //! only inside the domain of scenes each class was measured in (the drainage c_v t_ramp / R²,
 //! the compression, the steps through the ramp, the stabilisation); outside it the line says so.
 
+use super::schedule::Schedule;
 use crate::fem::kernel::Stabilisation;
+use crate::physics::problem::PoroProblem;
 use crate::reference_cell::Family;
 use crate::scene::{auto, Element, Geometry, Grading, Scene, SolidSpec};
 
@@ -31,18 +33,16 @@ pub(super) fn discretisation(scene: &Scene, family: Family, n_cells: usize) -> S
 /// and h; None otherwise): the measured class of its discretisation if the scene lies in the
 /// domain that class was measured in (`scene::auto::Class::outside`), else a line that says
 /// which group is outside and how to measure the run's own observables.
-pub(super) fn accuracy_class(run: &super::run::Run) -> Option<String> {
-    let s = &run.scene.scene;
+pub(super) fn accuracy_class(scene: &Scene, schedule: &Schedule, problem: &PoroProblem) -> Option<String> {
     // The steps through the ramp: the run's schedule (kinks, landings, cap), ending there.
-    let ramp = s.plates.as_ref()?.protocol().ramp;
+    let ramp = scene.plates.as_ref()?.protocol().ramp;
     if !ramp.is_finite() {
         return None;
     }
-    let mut through_ramp = run.schedule.clone();
+    let mut through_ramp = schedule.clone();
     through_ramp.t_end = ramp;
     let ramp_steps = through_ramp.remaining(0.0, through_ramp.dt0);
-    let problem = run.ts.problem();
-    accuracy_line(s, problem.mesh().family, problem.stabilisation(), ramp_steps)
+    accuracy_line(scene, problem.mesh().family, problem.stabilisation(), ramp_steps)
 }
 
 /// `accuracy_class` given the stabilisation the run assembles with (its c_v = k0 (λ + 2µ) of

@@ -1,10 +1,16 @@
-//! Setting a run up: scene → mesh (partitioned) → dofs → solver policy → model → constraints
-//! and plates → problem → time stepper → observers. Everything that can fail on bad input
-//! fails here, before the run directory is touched.
+//! Setting a run up ([`setup`]): scene → mesh (partitioned) → dofs → solver policy → model →
+//! the problem's parts, each complete (constraints and loads, plates, surface tension, Schur
+//! matrix) → problem → time stepper and its solver → observers → the run's pieces. Everything
+//! that can fail on bad input fails here, before the run directory is touched.
 
-use super::run::{Run, RunArgs, SetupInfo};
+use super::args::RunArgs;
+use super::checkpoint::Checkpoints;
+use super::output::Output;
+use super::run::{Run, SetupInfo};
 use super::schedule::Schedule;
 use super::state::StepState;
+use super::step::Stepper;
+use super::voice::Voice;
 use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::tabulate_cell;
@@ -12,6 +18,7 @@ use crate::fem::kernel::{Fade, Stabilisation};
 use crate::fem::point::PointModel;
 use crate::fem::quadrature;
 use crate::io::checkpoint::FileLayout;
+use crate::io::rundir::RunLock;
 use crate::mesh::dist::{self, LocalMesh};
 use crate::mesh::partition;
 use crate::mesh::source::{mesh_file, read_mesh};
@@ -24,7 +31,7 @@ use crate::petsc::{DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
 use crate::physics::contact::{Drainage, PlateLoading, Plates, DEFAULT_SEAL_GAP};
 use crate::physics::factory::{ellipticity_warning, model_of};
-use crate::physics::problem::PoroProblem;
+use crate::physics::problem::{PoroProblem, ProblemParts};
 use crate::physics::surface_tension::{Adhesion, SurfaceTension};
 use crate::reference_cell::Family;
 use crate::scene::LoadedScene;
@@ -266,133 +273,122 @@ fn refuse_other_integrators(ts: &Ts<PoroProblem>) -> Result<()> {
     Ok(())
 }
 
-impl<'w> Run<'w> {
-    pub(super) fn setup(world: &'w SimpleCommunicator, scene: &LoadedScene, args: &RunArgs) -> Result<Run<'w>> {
-        let t0 = Instant::now();
-        let _stage = Stage::register("Setup")?.push();
-        let comm = world.as_raw();
-        let s = &scene.scene;
-        if s.plates.is_some() {
-            solver::set_contact_defaults()?;
-        }
-        let Distributed { local, path: mesh_path, layout } = distribute_mesh(world, scene)?;
-        let dofs = DofMap::new(&local);
-        let (policy, mut solver_line) = solver::policy(s.solver.preset.unwrap_or_default(), dofs.n_global)?;
-        let model = model_of(scene)?;
-        // On the meridian dV = 2πR dA adds a degree.
-        let degree = s.fem.degree(model.is_linear());
-        let q = match local.family {
-            Family::Tet10 => quadrature::tet(degree),
-            Family::Tri6 => quadrature::tri(degree + 1),
-        };
-        let (cons, ext, free_modes) = constraints(world, scene, &local, &dofs)?;
-        let plates = plates(world, scene, &local, model.as_ref())?;
-        let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
+/// The surface tension of the boundary, if the scene has it (γ = 0 costs nothing: no surface
+/// term at all).
+fn surface_tension(
+    world: &SimpleCommunicator,
+    scene: &LoadedScene,
+    local: &LocalMesh,
+) -> Result<Option<SurfaceTension>> {
+    let Some(sf) = scene.scene.surface.as_ref().filter(|sf| sf.tension > 0.0) else { return Ok(None) };
+    let ctx = format!("{}: [surface]", scene.source);
+    let faces = agree(world, bc::face_group(local, &sf.group, &ctx))?.to_vec();
+    // The work of adhesion to the plates (its range filled in with the seal distance).
+    let adhesion = sf.adhesion_range.map(|range| Adhesion { work: sf.adhesion, range });
+    Ok(Some(SurfaceTension::new(sf.tension, adhesion, local, &faces)))
+}
 
-        let pre = dofs.preallocation(&local);
-        let mut jac = Mat::aij(comm, dofs.n_owned, &pre.d_nnz, &pre.o_nnz)?;
-        jac.set_name("Jacobian")?;
-        let schur = Mat::aij(comm, dofs.n_owned_vertices, &pre.schur_d, &pre.schur_o)?;
-        let u = initial_state(comm, scene, &local, &dofs)?;
-        let n_global_dofs = dofs.n_global;
-        let fields = solver::Fields::new(world, &dofs, &local)?;
-        let c = s.fem.stabilisation_c();
-        let steps = s.fem.fade_steps();
-        let fade = stabilisation_fade(s, &mut solver_line).map(|tau0| Fade { tau0, dt0: s.time.dt, steps });
-        let stabilisation = Stabilisation::new(c, fade, model.as_ref());
-        let tab = tabulate_cell(local.family, &q);
-        let mut problem = PoroProblem::new(
-            world.duplicate(),
-            local,
-            dofs,
-            model,
-            tab,
-            q.points.clone(),
-            cons,
-            ext,
-            &u,
-            schur,
-            stabilisation,
-        )?;
-        if s.fem.equal_order() {
-            problem.tie_displacement();
-        }
-        if let Some(sf) = &s.surface {
-            // γ = 0 costs nothing: no surface term at all.
-            if sf.tension > 0.0 {
-                let ctx = format!("{}: [surface]", scene.source);
-                let disc = &problem.disc;
-                let faces = agree(world, bc::face_group(&disc.mesh, &sf.group, &ctx))?.to_vec();
-                // The work of adhesion to the plates (its range filled in with the seal distance).
-                let adhesion = sf.adhesion_range.map(|range| Adhesion { work: sf.adhesion, range });
-                problem.surface = Some(SurfaceTension::new(sf.tension, adhesion, &disc.mesh, &faces));
-            }
-        }
-        let plate_faces = match plates {
-            Some((pl, faces)) => {
-                problem.attach_plates(pl, &u)?;
-                Some(faces)
-            }
-            None => None,
-        };
-
-        let dm = DmShell::new(comm, &u, Box::new(fields))?;
-        let mut ts = Ts::new(comm, problem, u.duplicate()?, jac, None, Some(dm))?;
-        let schedule = schedule(scene, ts.problem().plates.iter().flat_map(|p| p.loading.kinks()).collect());
-        ts.set_solution(&u)?;
-        ts.set_time(0.0)?;
-        ts.set_time_step(schedule.step(0.0, schedule.dt0))?;
-        ts.set_max_time(s.time.t_end)?;
-        ts.set_max_rejections(s.time.max_retries)?;
-        ts.set_from_options()?;
-        refuse_other_integrators(&ts)?;
-        let schur_needed =
-            solver::configure(world, &mut ts, &policy, free_modes, &mut solver_line, |p| solver::ProblemView {
-                bounds: p.bounds.as_ref().map(|(lo, hi)| (lo, hi)),
-                u_row_scale: p.u_row_scale(),
-                schur: &p.schur,
-            })?;
-        ts.problem_mut().schur_needed = schur_needed;
-
-        let experiment = match (&s.plates, plate_faces) {
-            (Some(ps), Some(faces)) => {
-                let mesh = ts.problem().mesh();
-                let volume = mesh.volume(world);
-                let phi = ts.problem().model().solid_fraction();
-                Some(Experiment::new(mesh, faces, ps.radius(), ps.probe_point, volume, phi, world, &scene.source)?)
-            }
-            _ => None,
-        };
-        let observers = Observers {
-            probes,
-            experiment,
-            exact: exact_columns(scene)?,
-            remodelling: ts.problem().has_qp_state(),
-            fields: s.output.fields,
-            pressure_peak: Default::default(),
-            mid_edges: if s.output.fields { mid_edge_nodes(ts.problem().mesh()) } else { Vec::new() },
-        };
-        let settle = s.plates.is_some() && s.material.mixture().is_some_and(|m| m.gravity.iter().any(|g| *g != 0.0));
-        Ok(Run {
-            world,
-            scene: scene.clone(),
-            args: args.clone(),
-            ts,
-            state: StepState::new(u)?,
-            observers,
-            schedule,
-            settle,
-            jacobian_check: solver::jacobian_check_step()?,
-            setup: SetupInfo {
-                mesh_path,
-                layout,
-                n_global_dofs,
-                solver_line,
-                ellipticity: ellipticity_warning(scene)?,
-                started: t0,
-                seconds: t0.elapsed().as_secs_f64(),
-            },
-            lock: None,
-        })
+/// Sets the run of `scene` up as `args` ask, holding `lock` if the run directory was locked
+/// before (a resume): every part built complete, then the problem from its parts, the time
+/// stepper with its solver, and the run from its pieces.
+pub(super) fn setup<'w>(
+    world: &'w SimpleCommunicator,
+    scene: &LoadedScene,
+    args: &RunArgs,
+    lock: Option<RunLock>,
+) -> Result<Run<'w>> {
+    let t0 = Instant::now();
+    let _stage = Stage::register("Setup")?.push();
+    let comm = world.as_raw();
+    let s = &scene.scene;
+    if s.plates.is_some() {
+        solver::set_contact_defaults()?;
     }
+    let Distributed { local, path: mesh_path, layout } = distribute_mesh(world, scene)?;
+    let dofs = DofMap::new(&local);
+    let (policy, mut solver_line) = solver::policy(s.solver.preset.unwrap_or_default(), dofs.n_global)?;
+    let model = model_of(scene)?;
+    // On the meridian dV = 2πR dA adds a degree.
+    let degree = s.fem.degree(model.is_linear());
+    let q = match local.family {
+        Family::Tet10 => quadrature::tet(degree),
+        Family::Tri6 => quadrature::tri(degree + 1),
+    };
+    let (cons, ext, free_modes) = constraints(world, scene, &local, &dofs)?;
+    let (plates, plate_faces) = plates(world, scene, &local, model.as_ref())?.unzip();
+    let surface = surface_tension(world, scene, &local)?;
+    let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
+
+    let pre = dofs.preallocation(&local);
+    let mut jac = Mat::aij(comm, dofs.n_owned, &pre.d_nnz, &pre.o_nnz)?;
+    jac.set_name("Jacobian")?;
+    let schur = Mat::aij(comm, dofs.n_owned_vertices, &pre.schur_d, &pre.schur_o)?;
+    let u = initial_state(comm, scene, &local, &dofs)?;
+    let n_global_dofs = dofs.n_global;
+    let fields = solver::Fields::new(world, &dofs, &local)?;
+    let c = s.fem.stabilisation_c();
+    let steps = s.fem.fade_steps();
+    let fade = stabilisation_fade(s, &mut solver_line).map(|tau0| Fade { tau0, dt0: s.time.dt, steps });
+    let stab = Stabilisation::new(c, fade, model.as_ref());
+    let tab = tabulate_cell(local.family, &q);
+    let kinks = plates.iter().flat_map(|p| p.loading.kinks()).collect();
+    let parts = ProblemParts {
+        mesh: local,
+        dofs,
+        model,
+        tab,
+        xi: q.points.clone(),
+        stab,
+        equal_order: s.fem.equal_order(),
+        constraints: cons,
+        loads: ext,
+        surface,
+        plates,
+        schur,
+    };
+    let problem = PoroProblem::new(world.duplicate(), parts, &u)?;
+
+    let dm = DmShell::new(comm, &u, Box::new(fields))?;
+    let mut ts = Ts::new(comm, problem, u.duplicate()?, jac, None, Some(dm))?;
+    let schedule = schedule(scene, kinks);
+    ts.set_solution(&u)?;
+    ts.set_time(0.0)?;
+    ts.set_time_step(schedule.step(0.0, schedule.dt0))?;
+    ts.set_max_time(s.time.t_end)?;
+    ts.set_max_rejections(s.time.max_retries)?;
+    ts.set_from_options()?;
+    refuse_other_integrators(&ts)?;
+    // The preconditioner is read from the options by the time stepper, which holds the problem:
+    // only now is it known whether it uses the Schur approximation.
+    let schur_used = solver::configure(world, &mut ts, &policy, free_modes, &mut solver_line, |p| {
+        solver::ProblemView { bounds: p.bounds(), u_row_scale: p.u_row_scale(), schur: p.schur() }
+    })?;
+    ts.problem_mut().set_schur_used(schur_used);
+
+    let experiment = match (&s.plates, plate_faces) {
+        (Some(ps), Some(faces)) => {
+            let mesh = ts.problem().mesh();
+            let volume = mesh.volume(world);
+            let phi = ts.problem().model().solid_fraction();
+            Some(Experiment::new(mesh, faces, ps.radius(), ps.probe_point, volume, phi, world, &scene.source)?)
+        }
+        _ => None,
+    };
+    let observers = Observers {
+        probes,
+        experiment,
+        exact: exact_columns(scene)?,
+        remodelling: ts.problem().has_qp_state(),
+        fields: s.output.fields,
+        pressure_peak: Default::default(),
+        mid_edges: if s.output.fields { mid_edge_nodes(ts.problem().mesh()) } else { Vec::new() },
+    };
+    let settle = s.plates.is_some() && s.material.mixture().is_some_and(|m| m.gravity.iter().any(|g| *g != 0.0));
+    let ellipticity = ellipticity_warning(scene)?;
+    let stepper =
+        Stepper::new(ts, StepState::new(u)?, schedule, settle, solver::jacobian_check_step()?, ellipticity.clone());
+    let output = Output::new(observers, s.output.clone(), lock);
+    let checkpoints = Checkpoints::new(&s.output, t0, layout);
+    let info = SetupInfo { mesh_path, n_global_dofs, solver_line, ellipticity, seconds: t0.elapsed().as_secs_f64() };
+    Ok(Run::new(Voice::new(world, args.log), scene.clone(), args.clone(), stepper, output, checkpoints, info))
 }

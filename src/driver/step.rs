@@ -1,44 +1,110 @@
-//! A time step of the run: one step from the current state with the schedule's step control
-//! (`Run::advance`), gravity settling before t = 0 and the first step (`Run::first_step`), and
-//! the step's Jacobian against central differences (`-poroplast_check_jacobian`).
+//! Taking the steps ([`Stepper`]): the time stepper with its problem, the state between steps,
+//! the schedule's step control (`Stepper::advance`), gravity settling before t = 0, and the
+//! step's Jacobian against central differences (`-poroplast_check_jacobian`).
 
 use super::progress::{Progress, Stages, Step};
-use super::run::Run;
+use super::schedule::Schedule;
+use super::state::StepState;
+use super::voice::Voice;
 use crate::error::{Error, Result};
-use crate::observe::observers::Sample;
-use crate::petsc::Stage;
+use crate::io::checkpoint::{Counters, FileLayout, RunState};
+use crate::observe::observers::{Observers, Sample};
+use crate::petsc::{SolverState, Stage, Ts};
+use crate::physics::problem::PoroProblem;
 use crate::scene::{Scene, SolidSpec};
+use mpi::topology::SimpleCommunicator;
 use std::time::Instant;
 
-impl<'w> Run<'w> {
-    /// Settling (when starting afresh) and the first step: run before anything is written, so
-    /// that every PETSc option has been read and an unknown one is an error. Returns the step,
-    /// and when starting afresh the state at t = 0 sampled for its row (with the qp state it
-    /// has: the first step commits its own).
-    pub(super) fn first_step(
-        &mut self,
-        pg: &mut Progress,
-        stages: Stages,
-        fresh: bool,
-    ) -> Result<(Step, Option<Sample>)> {
-        let initial = if fresh {
-            self.settle(stages.solve)?;
-            // Settling's iterations are not the experiment's.
-            pg.totals = self.ts.solver_totals()?;
-            let _g = stages.output.push();
-            let u = &self.state.u;
-            Some(self.observers.sample(self.ts.problem_mut(), u, u, 0.0, 0.0, true)?)
-        } else {
-            None
-        };
-        let step = self.advance(pg, stages)?;
-        crate::petsc::options::ensure_all_used()?;
-        Ok((step, initial))
+/// The time stepper and what its steps need.
+pub(super) struct Stepper {
+    ts: Ts<PoroProblem>,
+    /// U, U before the last step, and the last step's rate (the qp state is the problem's).
+    state: StepState,
+    schedule: Schedule,
+    /// Settle under gravity before t = 0.
+    settle: bool,
+    /// `-poroplast_check_jacobian [eps]`: after each step, compare the assembled Jacobian with
+    /// central differences of the residual (`PoroProblem::jacobian_error`, relative step eps,
+    /// default 1e-7) and print the errors.
+    jacobian_check: Option<f64>,
+    /// The solid law loses strong ellipticity under the run's strains (`ellipticity_warning`):
+    /// added to a failed solve's error.
+    ellipticity: Option<String>,
+}
+
+impl Stepper {
+    /// Steps `ts` from the state `state` on `schedule`.
+    pub fn new(
+        ts: Ts<PoroProblem>,
+        state: StepState,
+        schedule: Schedule,
+        settle: bool,
+        jacobian_check: Option<f64>,
+        ellipticity: Option<String>,
+    ) -> Stepper {
+        Stepper { ts, state, schedule, settle, jacobian_check, ellipticity }
+    }
+
+    pub fn problem(&self) -> &PoroProblem {
+        self.ts.problem()
+    }
+
+    pub fn schedule(&self) -> &Schedule {
+        &self.schedule
+    }
+
+    /// The solver's Newton and Krylov iteration totals so far (this process).
+    pub fn solver_totals(&self) -> Result<(usize, usize)> {
+        self.ts.solver_totals()
+    }
+
+    /// Steps TS cut so far.
+    pub fn rejections(&self) -> Result<usize> {
+        self.ts.rejections()
+    }
+
+    /// Samples the state at time t after the step of size dt just taken, for `observers`.
+    pub fn sample(&mut self, observers: &Observers, t: f64, dt: f64, fields: bool) -> Result<Sample> {
+        observers.sample(self.ts.problem_mut(), &self.state.u, &self.state.prev, t, dt, fields)
+    }
+
+    /// Samples the initial state (at t = 0, as if reached from itself), fields included.
+    pub fn sample_initial(&mut self, observers: &Observers) -> Result<Sample> {
+        let u = &self.state.u;
+        observers.sample(self.ts.problem_mut(), u, u, 0.0, 0.0, true)
+    }
+
+    /// The run state after the step just taken with `counters` (collective), the step state
+    /// by the file's numbering `layout`.
+    pub fn capture(&mut self, world: &SimpleCommunicator, layout: FileLayout, counters: Counters) -> Result<RunState> {
+        self.state.capture(world, self.ts.problem_mut(), layout, counters)
+    }
+
+    /// Sets the step state and the time of a checkpoint's run state; returns its counters.
+    pub fn restore(&mut self, state: RunState) -> Result<Counters> {
+        let c = self.state.apply(self.ts.problem_mut(), state)?;
+        self.ts.set_time(c.t)?;
+        Ok(c)
+    }
+
+    /// The nonlinear solver's state between steps (the kept factorised Jacobian), if it has one.
+    pub fn solver_state(&mut self) -> Result<Option<SolverState>> {
+        self.ts.nonlinear_solver_state()
+    }
+
+    /// Continues with a saved nonlinear solver state (a resume on as many ranks).
+    pub fn restore_solver_state(&mut self, state: SolverState) {
+        self.ts.restore_nonlinear_solver_state(state)
+    }
+
+    /// Makes the next solve start afresh, as a resumed run's does.
+    pub fn restart_solver(&mut self) {
+        self.ts.restart_nonlinear_solver()
     }
 
     /// One time step from the current state, with the step size of the schedule (a step the
     /// error estimate rejects is taken again, shorter).
-    pub(super) fn advance(&mut self, pg: &mut Progress, stages: Stages) -> Result<Step> {
+    pub fn advance(&mut self, pg: &mut Progress, stages: Stages, world: &SimpleCommunicator) -> Result<Step> {
         self.state.prev.copy_from(&self.state.u)?;
         let ws = Instant::now();
         let (taken, err) = loop {
@@ -61,7 +127,7 @@ impl<'w> Run<'w> {
             let err = match (self.schedule.tol, &self.state.rate) {
                 (Some(tol), Some(rate)) => {
                     let scales = self.ts.problem().error_scales();
-                    Some(rate.error(self.world, (&self.state.prev, &self.state.u), taken, tol, scales)?)
+                    Some(rate.error(world, (&self.state.prev, &self.state.u), taken, tol, scales)?)
                 }
                 _ => None,
             };
@@ -87,7 +153,7 @@ impl<'w> Run<'w> {
         pg.c.nominal = self.schedule.next_nominal(pg.c.nominal, taken, pg.c.t, err);
         let kink = self.schedule.at_kink(pg.c.t);
         // The step's rate serves the contact predictor and the error estimate; not across a kink.
-        let keep_rate = !kink && (self.ts.problem().plates.is_some() || self.schedule.tol.is_some());
+        let keep_rate = !kink && (self.ts.problem().plates().is_some() || self.schedule.tol.is_some());
         self.state.commit(self.ts.problem_mut(), taken, keep_rate)?;
         if kink {
             self.ts.restart_step()?;
@@ -99,15 +165,16 @@ impl<'w> Run<'w> {
         Ok(Step { dt: taken, its })
     }
 
-    /// Gravity settling: one drained step from t = −T to 0 with T huge (so J̇ ≈ 0 and the fluid
-    /// is at rest): the equilibrium resting on the lower plate, the state at t = 0.
+    /// Gravity settling, if the run settles: one drained step from t = −T to 0 with T huge (so
+    /// J̇ ≈ 0 and the fluid is at rest): the equilibrium resting on the lower plate, the state
+    /// at t = 0.
     ///
     /// From the undeformed sphere the whole weight comes down on one contact point: a full Newton
     /// step can overshoot there (J < Φs) for soft solids (µ = 3 kPa); the active-set Newton halves
     /// such steps. Where that is not enough — pole elements of a micrometre or less, which the
     /// weight alone compacts below Φs before a contact patch forms — the weight is applied in
     /// stages (`SETTLE_RAMP`), each settled state the start of the next.
-    fn settle(&mut self, stage: Stage) -> Result<()> {
+    pub fn settle(&mut self, stage: Stage, scene: &Scene, voice: &Voice) -> Result<()> {
         const SETTLE_RAMP: [f64; 4] = [0.01, 0.1, 0.4, 1.0];
         if !self.settle {
             return Ok(());
@@ -116,16 +183,16 @@ impl<'w> Run<'w> {
         // B_p(X, 0⁻) = I: no remodelling while settling.
         self.ts.problem_mut().freeze_qp_state(true);
         let start = self.state.u.copy()?;
-        if let Err(e) = self.settle_under(1.0) {
+        if let Err(e) = self.settle_under(1.0, scene) {
             // The cause is in the error if the stages fail too; here, what is being done.
             drop(e);
-            self.warn(&format!(
+            voice.warn(&format!(
                 "settling under the whole weight at once did not converge; applying it in stages ({})",
                 SETTLE_RAMP.map(|f| f.to_string()).join(", ")
             ));
             self.state.u.copy_from(&start)?;
             for factor in SETTLE_RAMP {
-                self.settle_under(factor)?;
+                self.settle_under(factor, scene)?;
             }
         }
         self.ts.problem_mut().freeze_qp_state(false);
@@ -133,7 +200,7 @@ impl<'w> Run<'w> {
     }
 
     /// One settling step under `factor` times the scene's gravity.
-    fn settle_under(&mut self, factor: f64) -> Result<()> {
+    fn settle_under(&mut self, factor: f64, scene: &Scene) -> Result<()> {
         const T: f64 = 1e6;
         self.ts.problem_mut().set_gravity_factor(factor);
         self.ts.set_time(-T)?;
@@ -142,7 +209,7 @@ impl<'w> Run<'w> {
             self.explain(Error::Diverged(format!(
                 "settling under gravity (the static equilibrium on the lower plate, before t = 0; \
                  {factor} of the weight) failed: {e}. {}",
-                settle_cause(&self.scene.scene)
+                settle_cause(scene)
             )))
         });
         self.ts.problem_mut().set_gravity_factor(1.0);
@@ -151,7 +218,7 @@ impl<'w> Run<'w> {
 
     /// A failed solve's error, with the likely cause when the solid law is not elliptic.
     fn explain(&self, e: Error) -> Error {
-        match (e, &self.setup.ellipticity) {
+        match (e, &self.ellipticity) {
             (Error::Diverged(m), Some(w)) => Error::Diverged(format!("{m}. Likely cause: {w}")),
             (e, _) => e,
         }
@@ -159,12 +226,12 @@ impl<'w> Run<'w> {
 
     /// `-poroplast_check_jacobian`: the assembled Jacobian of the step against central
     /// differences (rank 0 prints the errors).
-    pub(super) fn report_jacobian_error(&mut self, pg: &Progress, step: Step) -> Result<()> {
+    pub fn report_jacobian_error(&mut self, pg: &Progress, step: Step, voice: &Voice) -> Result<()> {
         let Some(eps) = self.jacobian_check else { return Ok(()) };
         let (problem, jac) = self.ts.problem_and_jacobian();
         let (u, prev) = (&self.state.u, &self.state.prev);
         let (eu, ep) = problem.jacobian_error(pg.c.t, step.dt, u, prev, jac, eps)?;
-        if self.rank0() {
+        if voice.rank0() {
             crate::console::line(&format!(
                 "jacobian check: step {} t = {:.6e}: rel. error u rows {eu:.3e}, p rows {ep:.3e}",
                 pg.c.step, pg.c.t

@@ -23,14 +23,14 @@
 
 use super::holds::{self, Hold, HoldReading};
 use super::liquid_test::{LiquidTest, Tensiometry, TOLERANCE};
-use super::run::Run;
+use super::voice::Voice;
 use crate::error::{Error, Result};
 use crate::io::observable::{self, Columns};
 use crate::io::{fmt_real, fmt_short as g, rundir};
 use crate::observe::experiment::{micro_newton, G};
 use crate::observe::laplace;
 use crate::observe::pressure_peak::PressurePeak;
-use crate::scene::Protocol;
+use crate::scene::{Protocol, Scene};
 use std::fmt::Write;
 use std::path::Path;
 
@@ -345,35 +345,39 @@ impl Summary {
     }
 }
 
-impl<'w> Run<'w> {
-    /// The summary of the completed run in `dir` (rank 0 reads its history): written to
-    /// `summary.toml` and printed; None on the other ranks.
-    pub(super) fn summarise(&self, dir: &Path, wall_s: f64, steps: usize, t: f64) -> Result<Option<Summary>> {
-        let s = &self.scene.scene;
-        let pressure = self.observers.pressure_peak;
-        crate::parallel::on_root(self.world, || {
-            let h = observable::read_history(dir)
-                .ok_or_else(|| Error::io(dir.join("history.csv"), "cannot be read for the summary"))?;
-            let summary = Summary {
-                scene: s.name.clone(),
-                steps,
-                t,
-                wall_s,
-                accuracy: super::resolved::accuracy_class(self),
-                plates: s.plates.as_ref().and_then(|p| {
-                    let holds = holds::holds(&p.path(), s.time.t_end);
-                    PlateSummary::of(&h, p.protocol(), &holds, Tensiometry::of(s))
-                }),
-                pressure,
-                plot_command: Some(crate::launch::command(1, &["plot", &dir.to_string_lossy()])),
-            };
-            rundir::write_text(dir, FILE, &summary.toml())?;
-            for l in summary.lines() {
-                self.say(&l);
-            }
-            Ok(summary)
-        })
-    }
+/// The summary of the completed run of `scene` in `dir` (rank 0 reads its history), its
+/// `accuracy` line and largest pressure `pressure`: written to `summary.toml` and printed; None
+/// on the other ranks.
+pub(super) fn summarise(
+    voice: &Voice,
+    scene: &Scene,
+    accuracy: Option<String>,
+    pressure: PressurePeak,
+    dir: &Path,
+    (wall_s, steps, t): (f64, usize, f64),
+) -> Result<Option<Summary>> {
+    crate::parallel::on_root(voice.world(), || {
+        let h = observable::read_history(dir)
+            .ok_or_else(|| Error::io(dir.join("history.csv"), "cannot be read for the summary"))?;
+        let summary = Summary {
+            scene: scene.name.clone(),
+            steps,
+            t,
+            wall_s,
+            accuracy,
+            plates: scene.plates.as_ref().and_then(|p| {
+                let holds = holds::holds(&p.path(), scene.time.t_end);
+                PlateSummary::of(&h, p.protocol(), &holds, Tensiometry::of(scene))
+            }),
+            pressure,
+            plot_command: Some(crate::launch::command(1, &["plot", &dir.to_string_lossy()])),
+        };
+        rundir::write_text(dir, FILE, &summary.toml())?;
+        for l in summary.lines() {
+            voice.say(&l);
+        }
+        Ok(summary)
+    })
 }
 
 #[cfg(test)]

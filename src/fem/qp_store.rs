@@ -30,11 +30,6 @@ impl QpStore {
         QpStore { len, n_points, committed }
     }
 
-    /// Values per point (0: no qp state).
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
     /// True when the model keeps no qp state.
     pub fn is_empty(&self) -> bool {
         self.len == 0

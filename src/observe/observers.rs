@@ -110,14 +110,14 @@ impl Observers {
         dt: f64,
         fields: bool,
     ) -> Observed {
-        let (mesh, dofs) = (&problem.disc.mesh, &problem.disc.dofs);
+        let (mesh, dofs) = (problem.mesh(), problem.dofs());
         let local = sample.local();
         let post = match &sample {
             Sample::Post(p) => Some(p.as_ref()),
             Sample::State(_) => None,
         };
         let mut values = Vec::new();
-        let obs = match (&mut self.experiment, &problem.plates, post) {
+        let obs = match (&mut self.experiment, problem.plates(), post) {
             (Some(ex), Some(pl), Some(post)) => {
                 Some(ex.observe(t, dt, pl, mesh, dofs, post, problem.drainage_gaps(), world))
             }
@@ -143,7 +143,7 @@ impl Observers {
                     j: post.cell_j,
                     von_mises: post.cell_von_mises,
                     darcy_flux: post.cell_darcy,
-                    porosity: problem.disc.model.solid_fraction().map(|_| post.cell_porosity),
+                    porosity: problem.model().solid_fraction().map(|_| post.cell_porosity),
                     contact: obs.map(|o| o.node_contact),
                     norm_ep: self.remodelling.then_some(post.cell_norm_ep),
                 })
@@ -183,7 +183,7 @@ pub fn history_column_names(scene: &LoadedScene) -> Result<Vec<String>> {
 /// u (three components) and p at the owned nodes from the local state: p of a mid-edge node is
 /// the mean of its edge's ends.
 fn node_fields(problem: &PoroProblem, local: &[f64], mid_edges: &[(usize, usize, usize)]) -> (Vec<f64>, Vec<f64>) {
-    let (mesh, dofs) = (&problem.disc.mesh, &problem.disc.dofs);
+    let (mesh, dofs) = (problem.mesh(), problem.dofs());
     let n = mesh.n_owned_nodes;
     let nc = dofs.nc;
     let mut u = vec![0.0; 3 * n];

@@ -1,6 +1,6 @@
 //! The finite-difference check of the assembled Jacobian (`-poroplast_check_jacobian`).
 
-use super::{backward_euler_rate, PoroProblem};
+use super::poro_problem::{backward_euler_rate, PoroProblem};
 use crate::error::Result;
 use crate::petsc::{Mat, Vector};
 
@@ -22,7 +22,7 @@ impl PoroProblem {
         jac: &mut Mat,
         rel_eps: f64,
     ) -> Result<(f64, f64)> {
-        let dofs = &self.disc.dofs;
+        let dofs = self.dofs();
         let (offset, u_end) = (dofs.offset, dofs.u_range().1);
         let mut v = u.duplicate()?;
         {
@@ -33,7 +33,7 @@ impl PoroProblem {
                 *x = (h >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
             }
             // Constrained dofs never move (their Jacobian columns are dropped, module docs).
-            for (l, _) in self.disc.constrained.iter().enumerate().filter(|(_, &c)| c) {
+            for (l, _) in self.constrained().iter().enumerate().filter(|(_, &c)| c) {
                 if let Some(i) = dofs.local_to_owned(l) {
                     w[i] = 0.0;
                 }
@@ -62,7 +62,7 @@ impl PoroProblem {
                 sums[k + 1] += jv[i].powi(2);
             }
         }
-        let tot = crate::parallel::sum_slice(&self.world, &sums);
+        let tot = crate::parallel::sum_slice(self.world(), &sums);
         Ok(((tot[0] / tot[1]).sqrt(), (tot[2] / tot[3].max(f64::MIN_POSITIVE)).sqrt()))
     }
 }

@@ -1,10 +1,8 @@
-//! Post-processing of a converged state: the reactions (the raw residual with no constraint
-//! rows) and their pressure part, the cell fields and the volume integrals the observers read.
+//! Post-processing of a converged state ([`Post`], made by `PoroProblem::post_process`): the
+//! reactions (the raw residual with no constraint rows) and their pressure part, the cell
+//! fields and the volume integrals the observers read.
 
-use super::PoroProblem;
-use crate::error::Result;
-use crate::fem::assembly::QpStateUse;
-use crate::petsc::Vector;
+use crate::fem::kernel::ElementPost;
 
 /// Post-processing of a converged state.
 pub struct Post {
@@ -38,14 +36,11 @@ pub struct Post {
     pub adhesion_pull: [f64; 2],
 }
 
-impl PoroProblem {
-    /// Reactions (the surface tension's included), their pressure part and cell fields at the
-    /// state (U, U̇) at time t after a step of size dt.
-    pub fn post_process(&mut self, t: f64, dt: f64, u: &Vector, udot: &Vector) -> Result<Post> {
-        self.load_state(u, udot)?;
-        let n_el = self.disc.mesh.cells.len();
-        let mut post = Post {
-            local: self.u_loc.read()?.to_vec(),
+impl Post {
+    /// Nothing yet summed, at the local state `local`, for `n_el` local elements.
+    pub(super) fn new(local: Vec<f64>, n_el: usize) -> Post {
+        Post {
+            local,
             reaction: Vec::new(),
             reaction_pressure: Vec::new(),
             cell_j: Vec::with_capacity(n_el),
@@ -61,73 +56,26 @@ impl PoroProblem {
             max_norm_ep: 0.0,
             max_det_bp_dev: 0.0,
             adhesion_pull: [0.0; 2],
-        };
-        let planes = self.plate_planes(t);
-        let with_qp_state = !self.disc.qp_state.is_empty();
-        let n_local = self.disc.dofs.n_local();
-        let mut pres_loc = Vector::seq(n_local)?;
-        let outcome = {
-            let udl = self.udot_loc.read()?;
-            let mut fl = self.f_loc.write()?;
-            let mut pl = pres_loc.write()?;
-            fl.iter_mut().for_each(|x| *x = 0.0);
-            pl.iter_mut().for_each(|x| *x = 0.0);
-            let disc = &self.disc;
-            let (kernel, n, nu) = (disc.kernel(), disc.ndof(), disc.dofs.nc * disc.family().cell_nodes());
-            let mut run = || -> Result<()> {
-                // The end-of-step qp state is already committed: hold it.
-                disc.each_element(&post.local, &udl, dt, QpStateUse::Held, |_, d, input| {
-                    let ep = kernel.post(input)?;
-                    for k in 0..n {
-                        fl[d[k]] += ep.r[k];
-                    }
-                    for k in 0..nu {
-                        pl[d[k]] += ep.r_pressure[k];
-                    }
-                    post.cell_j.push(ep.j);
-                    post.cell_porosity.push(ep.porosity);
-                    post.cell_von_mises.push(ep.von_mises);
-                    post.cell_darcy.extend(ep.darcy);
-                    post.volume_j += ep.volume_j;
-                    post.volume += ep.volume;
-                    for (a, b) in post.int_cauchy.iter_mut().flatten().zip(ep.int_cauchy.iter().flatten()) {
-                        *a += b;
-                    }
-                    post.int_norm_ep += ep.norm_ep * ep.volume;
-                    post.max_von_mises = post.max_von_mises.max(ep.max_von_mises);
-                    post.max_norm_ep = post.max_norm_ep.max(ep.max_norm_ep);
-                    post.max_det_bp_dev = post.max_det_bp_dev.max(ep.max_det_bp_dev);
-                    if with_qp_state {
-                        post.cell_norm_ep.push(ep.norm_ep);
-                    }
-                    Ok(())
-                })
-            };
-            let r = run();
-            // The surface tension's forces on the nodes, on the plates' too (the residual's).
-            if let Some(st) = &self.surface {
-                st.add_residual(&disc.mesh, &disc.dofs, &post.local, planes, &mut fl);
-                post.adhesion_pull = st.plate_pull(&disc.mesh, &disc.dofs, &post.local, planes);
-            }
-            for (x, ext) in fl.iter_mut().zip(&self.external) {
-                *x -= ext;
-            }
-            r
-        };
-        self.collective(outcome)?;
-        let mut g = u.duplicate()?;
-        g.zero()?;
-        self.scatter.reverse_add(&self.f_loc, &mut g)?;
-        post.reaction = g.read()?.to_vec();
-        g.zero()?;
-        self.scatter.reverse_add(&pres_loc, &mut g)?;
-        post.reaction_pressure = g.read()?.to_vec();
-        Ok(post)
+        }
     }
 
-    /// Local copy (owned + ghost) of a global vector, for post-processing.
-    pub fn localize(&mut self, u: &Vector) -> Result<Vec<f64>> {
-        self.scatter.forward(u, &mut self.u_loc)?;
-        Ok(self.u_loc.read()?.to_vec())
+    /// Adds the next local element's cell fields and integrals (its ‖E_p‖ too `with_qp_state`).
+    pub(super) fn add_element(&mut self, ep: &ElementPost, with_qp_state: bool) {
+        self.cell_j.push(ep.j);
+        self.cell_porosity.push(ep.porosity);
+        self.cell_von_mises.push(ep.von_mises);
+        self.cell_darcy.extend(ep.darcy);
+        self.volume_j += ep.volume_j;
+        self.volume += ep.volume;
+        for (a, b) in self.int_cauchy.iter_mut().flatten().zip(ep.int_cauchy.iter().flatten()) {
+            *a += b;
+        }
+        self.int_norm_ep += ep.norm_ep * ep.volume;
+        self.max_von_mises = self.max_von_mises.max(ep.max_von_mises);
+        self.max_norm_ep = self.max_norm_ep.max(ep.max_norm_ep);
+        self.max_det_bp_dev = self.max_det_bp_dev.max(ep.max_det_bp_dev);
+        if with_qp_state {
+            self.cell_norm_ep.push(ep.norm_ep);
+        }
     }
 }

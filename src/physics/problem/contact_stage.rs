@@ -1,0 +1,163 @@
+//! The rigid plates in the steps ([`ContactStage`]): the plates, their SNESVI contact bounds
+//! moved to each stage time, the predictor of a step (the previous state extrapolated with the
+//! last step's velocity, the contact nodes moved with the plate, or the isochoric guess where
+//! that compacts a point to its solid fraction), whose gaps may set the step's drainage, and
+//! the drainage out of contact in the residual and the Jacobian.
+
+use super::schur::SchurApprox;
+use crate::error::Result;
+use crate::fem::assembly::Discretization;
+use crate::fem::dofmap::DofMap;
+use crate::petsc::{Int, Mat, Vector};
+use crate::physics::contact::{DrainageGap, Plates};
+use crate::physics::surface_tension::PlatePlanes;
+
+/// "No bound" for SNESVI (PETSc's PETSC_INFINITY).
+const INFINITY: f64 = f64::MAX / 4.0;
+
+/// The plates and what the steps keep of them.
+pub(super) struct ContactStage {
+    plates: Plates,
+    /// SNESVI lower/upper bounds (SNES keeps references; refreshed at every stage time).
+    bounds: (Vector, Vector),
+    /// (start, stage) time of the step being solved, for the predictor.
+    stage: (f64, f64),
+    /// The velocity the predictor of the step being solved extrapolates with (the driver's
+    /// last step rate, `driver::rate`; None: no extrapolation, as after a loading kink).
+    extrapolation: Option<Vector>,
+    /// The predictor of the step being solved (local layout), whose gaps set the drainage when
+    /// the plates drain by the predicted gap (`DrainageGap::Predicted`).
+    predicted: Option<Vec<f64>>,
+}
+
+impl ContactStage {
+    /// The plates with their contact bounds at t = 0 on the surface u_z dofs (vectors like
+    /// `template`, ±∞ elsewhere).
+    pub fn new(plates: Plates, template: &Vector, dofs: &DofMap) -> Result<ContactStage> {
+        let (mut lo, mut hi) = (template.duplicate()?, template.duplicate()?);
+        lo.set(-INFINITY)?;
+        hi.set(INFINITY)?;
+        {
+            let (mut l, mut h) = (lo.write()?, hi.write()?);
+            plates.fill_bounds(0.0, dofs, &mut l, &mut h);
+        }
+        Ok(ContactStage { plates, bounds: (lo, hi), stage: (0.0, 0.0), extrapolation: None, predicted: None })
+    }
+
+    pub fn plates(&self) -> &Plates {
+        &self.plates
+    }
+
+    /// The bounds for `SNESVISetVariableBounds`.
+    pub fn bounds(&self) -> (&Vector, &Vector) {
+        (&self.bounds.0, &self.bounds.1)
+    }
+
+    /// The plates' faces at time t, for the surface's adhesion.
+    pub fn planes(&self, t: f64) -> PlatePlanes {
+        PlatePlanes { lower: self.plates.z_lower(t), upper: self.plates.z_upper }
+    }
+
+    /// Sets the velocity the predictor of the next steps extrapolates with (copied; None: the
+    /// previous state, as after a loading kink).
+    pub fn set_extrapolation(&mut self, velocity: Option<&Vector>) -> Result<()> {
+        match velocity {
+            Some(v) => match &mut self.extrapolation {
+                Some(x) => x.copy_from(v)?,
+                None => self.extrapolation = Some(v.copy()?),
+            },
+            None => self.extrapolation = None,
+        }
+        Ok(())
+    }
+
+    /// Whether the predictor extrapolates (else it starts from the previous state).
+    pub fn extrapolating(&self) -> bool {
+        self.extrapolation.is_some()
+    }
+
+    /// The state whose gaps set the last step's drainage (local layout), if not its solution:
+    /// the predictor's, with `DrainageGap::Predicted`.
+    pub fn drainage_gaps(&self) -> Option<&[f64]> {
+        self.predicted.as_deref()
+    }
+
+    /// Moves the lower plate's bound to the stage time t of the step from `start` (also on a
+    /// retried step).
+    pub fn move_to(&mut self, start: f64, t: f64, dofs: &DofMap) -> Result<()> {
+        let (lo, hi) = &mut self.bounds;
+        let (mut l, mut h) = (lo.write()?, hi.write()?);
+        self.plates.fill_bounds(t, dofs, &mut l, &mut h);
+        self.stage = (start, t);
+        Ok(())
+    }
+
+    /// The predictor in `x`: the step's start `start` extrapolated with the last step's
+    /// velocity (if any), the nodes on the lower plate moved with it (`Plates::predict`).
+    /// Returns the start's owned entries.
+    pub fn extrapolate(&self, start: &Vector, dofs: &DofMap, x: &mut Vector) -> Result<Vec<f64>> {
+        let (t0, t1) = self.stage;
+        x.copy_from(start)?;
+        let x0 = start.read()?.to_vec();
+        if let Some(v) = &self.extrapolation {
+            x.axpy(t1 - t0, v)?;
+        }
+        self.plates.predict(t0, t1, dofs, &x0, &mut x.write()?);
+        Ok(x0)
+    }
+
+    /// Whether the drainage takes the predictor's gaps ([`ContactStage::keep_predicted`]).
+    pub fn drains_by_predicted_gap(&self) -> bool {
+        self.plates.drain.gap == DrainageGap::Predicted
+    }
+
+    /// Keeps the predictor of the step (local layout) for the drainage's gaps.
+    pub fn keep_predicted(&mut self, local: &[f64]) {
+        let predicted = self.predicted.get_or_insert_with(Vec::new);
+        predicted.clear();
+        predicted.extend_from_slice(local);
+    }
+
+    /// The isochoric affine guess from the start `start` (owned entries `x0`) in `x`
+    /// (`Plates::predict_isochoric`), the contact nodes moved with the plate.
+    pub fn isochoric(&self, start: &Vector, x0: &[f64], disc: &Discretization, x: &mut Vector) -> Result<()> {
+        let (t0, t1) = self.stage;
+        x.copy_from(start)?;
+        let n = disc.dofs.n_owned_nodes;
+        self.plates.predict_isochoric(t0, t1, &disc.mesh.coords[..n], disc.family().axes(), x0, &mut x.write()?);
+        self.plates.predict(t0, t1, &disc.dofs, x0, &mut x.write()?);
+        Ok(())
+    }
+
+    /// The drainage through the surface off the plates into the local residual `f`: outflow
+    /// c(g) p at the local state `u`.
+    pub fn add_drainage(&self, disc: &Discretization, u: &[f64], t: f64, f: &mut [f64]) {
+        for d in self.plates.drainage(&disc.mesh, &disc.dofs, self.predicted.as_deref().unwrap_or(u), t) {
+            f[d.p] += d.conductance * u[d.p];
+        }
+    }
+
+    /// The drainage's Jacobian: d(c p)/dp = c on the diagonal, d(c p)/du_z = c' p (not with the
+    /// predicted gap, fixed during the step); and c in the Schur approximation.
+    pub fn add_drainage_jacobian(
+        &self,
+        disc: &Discretization,
+        u: &[f64],
+        t: f64,
+        jac: &mut Mat,
+        schur: &mut SchurApprox,
+    ) -> Result<()> {
+        let l2g = &disc.dofs.l2g;
+        let gaps = self.predicted.as_deref();
+        for d in self.plates.drainage(&disc.mesh, &disc.dofs, gaps.unwrap_or(u), t) {
+            if disc.constrained[d.p] {
+                continue;
+            }
+            let dc_du = if gaps.is_some() { 0.0 } else { d.d_conductance * u[d.p] };
+            jac.add_values(&[l2g[d.p]], &[l2g[d.p], l2g[d.uz]], &[d.conductance, dc_du])?;
+            let gv = disc.mesh.vertex_global[d.p - disc.dofs.n_u_local()] as Int;
+            schur.add_diagonal(gv, d.conductance)?;
+        }
+        Ok(())
+    }
+}
