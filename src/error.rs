@@ -59,11 +59,11 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {
     /// A mesh error for `path`.
-    pub fn mesh(path: impl AsRef<std::path::Path>, msg: impl Into<String>) -> Self {
+    pub(crate) fn mesh(path: impl AsRef<std::path::Path>, msg: impl Into<String>) -> Self {
         Error::Mesh { path: path.as_ref().display().to_string(), msg: msg.into() }
     }
     /// An I/O error for `path`.
-    pub fn io(path: impl AsRef<std::path::Path>, msg: impl std::fmt::Display) -> Self {
+    pub(crate) fn io(path: impl AsRef<std::path::Path>, msg: impl std::fmt::Display) -> Self {
         Error::Io { path: path.as_ref().display().to_string(), msg: msg.to_string() }
     }
 }

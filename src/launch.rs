@@ -17,7 +17,7 @@ use std::time::{Duration, Instant};
 /// absolute path, under `poroplast mpirun -n N` when `ranks` > 1 (so that Ctrl-C stops it
 /// cleanly); words with spaces or quotes quoted for a POSIX shell. What a run prints for the user
 /// to paste (`resume DIR`, `plot DIR`).
-pub fn command(ranks: usize, args: &[&str]) -> String {
+pub(crate) fn command(ranks: usize, args: &[&str]) -> String {
     let exe = std::env::current_exe().map_or_else(|_| "poroplast".to_string(), |p| p.display().to_string());
     let n = ranks.to_string();
     let mut words = vec![exe.as_str()];

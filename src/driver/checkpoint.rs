@@ -37,18 +37,18 @@ pub(super) enum Due {
 impl Checkpoints {
     /// The scene's checkpoints (`output.checkpoint_every`, `output.checkpoint_minutes`) of a
     /// run set up from `started` in the numbering `layout`.
-    pub fn new(spec: &OutputSpec, started: Instant, layout: FileLayout) -> Checkpoints {
+    pub(crate) fn new(spec: &OutputSpec, started: Instant, layout: FileLayout) -> Checkpoints {
         Checkpoints { every: spec.checkpoint_every, minutes: spec.checkpoint_minutes, started, layout }
     }
 
     /// The numbering of the run state.
-    pub fn layout(&self) -> FileLayout {
+    pub(crate) fn layout(&self) -> FileLayout {
         self.layout
     }
 
     /// Whether a checkpoint is due after the step just recorded (`stopping`: a stop signal
     /// asks for one). Collective: rank 0's clock decides.
-    pub fn due(&self, world: &SimpleCommunicator, pg: &Progress, stopping: bool) -> Option<Due> {
+    pub(crate) fn due(&self, world: &SimpleCommunicator, pg: &Progress, stopping: bool) -> Option<Due> {
         if self.every > 0 && pg.c.step.is_multiple_of(self.every) {
             return Some(Due::Periodic);
         }
@@ -69,7 +69,7 @@ impl Checkpoints {
     /// Writes the run state after the step just recorded with `counters` (collective), and
     /// makes the next solve start as it would after resuming from this checkpoint, so that a
     /// resumed run repeats the uninterrupted one. Returns the checkpoint's path.
-    pub fn write(
+    pub(crate) fn write(
         &self,
         world: &SimpleCommunicator,
         stepper: &mut Stepper,

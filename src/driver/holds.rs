@@ -10,9 +10,9 @@ use crate::observe::laplace;
 /// A phase of constant ũ > 0 (s, s, ũ = u / (2R)).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Hold {
-    pub start: f64,
-    pub end: f64,
-    pub compression: f64,
+    pub(crate) start: f64,
+    pub(crate) end: f64,
+    pub(crate) compression: f64,
 }
 
 /// The holds of the plate's path `rows` ([t, ũ] from [0, 0], linear between rows, the last held)
@@ -43,15 +43,15 @@ pub(crate) fn holds(rows: &[[f64; 2]], t_end: f64) -> Vec<Hold> {
 /// ended before it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct AtEnd {
-    pub force_mg: f64,
-    pub laplace: [f64; 4],
+    pub(crate) force_mg: f64,
+    pub(crate) laplace: [f64; 4],
 }
 
 /// A hold and its reading.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct HoldReading {
-    pub hold: Hold,
-    pub at_end: Option<AtEnd>,
+    pub(crate) hold: Hold,
+    pub(crate) at_end: Option<AtEnd>,
 }
 
 /// The readings of `holds` in the history `h`. A hold that ends at the run's end is read at the

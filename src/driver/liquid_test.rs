@@ -33,16 +33,16 @@ pub(crate) const CAPILLARY_TIMES: f64 = 0.2;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Tensiometry {
     /// γ (mN/m).
-    pub gamma: f64,
+    pub(crate) gamma: f64,
     /// The plates' work of adhesion w (mN/m; 0: non-adhesive).
-    pub adhesion: f64,
+    pub(crate) adhesion: f64,
     /// ρ g R² / γ with the mixture's density ρ = Φs ρs + (1 − Φs) ρf; None without gravity.
-    pub bond: Option<f64>,
+    pub(crate) bond: Option<f64>,
     /// 1/(λp µ) (s): the deviatoric stress's relaxation time; infinite without remodelling (an
     /// elastic solid), None where µ is not given (a solid given by its α's).
-    pub relaxation_s: Option<f64>,
+    pub(crate) relaxation_s: Option<f64>,
     /// R/(λp γ) (s): the capillary time of the relaxed liquid; None without remodelling.
-    pub capillary_s: Option<f64>,
+    pub(crate) capillary_s: Option<f64>,
 }
 
 impl Tensiometry {
@@ -75,14 +75,14 @@ impl Tensiometry {
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct LiquidTest {
     /// (ũ, σ_app) of the holds read, in time order.
-    pub readings: Vec<(f64, f64)>,
+    pub(crate) readings: Vec<(f64, f64)>,
     /// σ_app at the largest compression over σ_app at the smallest (the last hold at each).
-    pub ratio: f64,
+    pub(crate) ratio: f64,
     /// The largest σ_app over the smallest, less 1.
-    pub spread: f64,
-    pub liquid: bool,
+    pub(crate) spread: f64,
+    pub(crate) liquid: bool,
     /// The biases that apply, each a sentence.
-    pub caveats: Vec<String>,
+    pub(crate) caveats: Vec<String>,
 }
 
 impl LiquidTest {

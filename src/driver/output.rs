@@ -32,18 +32,18 @@ pub(super) struct Output {
 impl Output {
     /// The outputs of `observers` as `spec` asks, under `lock` if the run directory was
     /// locked before the run was set up (a resume).
-    pub fn new(observers: Observers, spec: OutputSpec, lock: Option<rundir::RunLock>) -> Output {
+    pub(crate) fn new(observers: Observers, spec: OutputSpec, lock: Option<rundir::RunLock>) -> Output {
         Output { observers, spec, lock }
     }
 
-    pub fn observers(&self) -> &Observers {
+    pub(crate) fn observers(&self) -> &Observers {
         &self.observers
     }
 
     /// Creates the run directory `dir` and its files (nothing is written before this point):
     /// the scene resolved, the PETSc options, the run record, and the history and fields of
     /// the problem's mesh.
-    pub fn open(
+    pub(crate) fn open(
         &mut self,
         world: &SimpleCommunicator,
         dir: &Path,
@@ -83,7 +83,7 @@ impl Output {
     /// Reopens the run directory of a run resumed from the checkpoint with counters `c`:
     /// history.csv and the fields continue after its step (later rows and steps, from after the
     /// checkpoint, are dropped).
-    pub fn reopen(
+    pub(crate) fn reopen(
         &self,
         voice: &Voice,
         dir: &Path,
@@ -108,7 +108,7 @@ impl Output {
 
     /// The observed values (and fields, if `fields`) of `sample`, the problem's state at time t
     /// after a step of size dt (0: the initial state). Collective.
-    pub fn observe(
+    pub(crate) fn observe(
         &mut self,
         world: &SimpleCommunicator,
         problem: &PoroProblem,
@@ -122,19 +122,19 @@ impl Output {
 
     /// Whether the step `step` ending at t writes fields: every `fields_every` steps, at the
     /// `fields_at` times and at the end (`last`); `t_end` the run's end.
-    pub fn writes_fields(&self, step: usize, t: f64, last: bool, t_end: f64) -> bool {
+    pub(crate) fn writes_fields(&self, step: usize, t: f64, last: bool, t_end: f64) -> bool {
         let every = self.spec.fields_every;
         let listed = self.spec.fields_at.iter().any(|&a| (t - a).abs() <= 1e-10 * t_end);
         last || (every > 0 && step.is_multiple_of(every)) || listed
     }
 
     /// The counters of a checkpoint: `c`, with the observers' cumulative values.
-    pub fn counters(&self, c: Counters) -> Counters {
+    pub(crate) fn counters(&self, c: Counters) -> Counters {
         Counters { outflow: self.observers.outflow(), pressure_peak: self.observers.pressure_peak.to_array(), ..c }
     }
 
     /// Restores the observers' cumulative values from a checkpoint's counters.
-    pub fn restore(&mut self, c: &Counters) {
+    pub(crate) fn restore(&mut self, c: &Counters) {
         self.observers.set_outflow(c.outflow);
         self.observers.pressure_peak = PressurePeak::from_array(c.pressure_peak);
     }

@@ -10,12 +10,12 @@ use std::time::Instant;
 /// The PETSc log stages of the loop.
 #[derive(Clone, Copy)]
 pub(super) struct Stages {
-    pub solve: Stage,
-    pub output: Stage,
+    pub(crate) solve: Stage,
+    pub(crate) output: Stage,
 }
 
 impl Stages {
-    pub fn register() -> Result<Stages> {
+    pub(crate) fn register() -> Result<Stages> {
         Ok(Stages { solve: Stage::register("Solve")?, output: Stage::register("Output")? })
     }
 }
@@ -23,8 +23,8 @@ impl Stages {
 /// A step taken: its size and its Newton and Krylov iterations.
 #[derive(Clone, Copy)]
 pub(super) struct Step {
-    pub dt: f64,
-    pub its: (usize, usize),
+    pub(crate) dt: f64,
+    pub(crate) its: (usize, usize),
 }
 
 /// Where the time loop stands.
@@ -33,23 +33,23 @@ pub(super) struct Progress {
     /// this one (a resume), `solve_s` and `output_s` this session (timings.txt gives this
     /// session's stage times, with the whole run's counts and total), and `fields_written` and
     /// `outflow` are not kept here (the recorder and the experiment keep them).
-    pub c: Counters,
+    pub(crate) c: Counters,
     /// The solver's iteration totals after the last step (this process), to count a step's.
-    pub totals: (usize, usize),
+    pub(crate) totals: (usize, usize),
     /// Wall time of the last checkpoint (this process).
-    pub checkpointed: Option<Instant>,
+    pub(crate) checkpointed: Option<Instant>,
     /// Wall times of the last steps, for the ETA.
-    pub recent: VecDeque<f64>,
+    pub(crate) recent: VecDeque<f64>,
 }
 
 impl Progress {
     /// At t = 0, with a first step of nominal size `dt0`.
-    pub fn start(dt0: f64) -> Progress {
+    pub(crate) fn start(dt0: f64) -> Progress {
         Progress::resumed(&Counters { nominal: dt0, ..Default::default() })
     }
 
     /// The loop's position after a resume from `c` (stage times count again).
-    pub fn resumed(c: &Counters) -> Progress {
+    pub(crate) fn resumed(c: &Counters) -> Progress {
         let c = Counters { solve_s: 0.0, output_s: 0.0, ..c.clone() };
         Progress { c, totals: (0, 0), checkpointed: None, recent: VecDeque::new() }
     }

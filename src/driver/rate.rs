@@ -10,14 +10,14 @@ use crate::physics::problem::{backward_euler_rate, ErrorScales};
 use mpi::topology::SimpleCommunicator;
 
 /// The velocity of an accepted step and its size.
-pub struct StepRate {
-    pub velocity: Vector,
-    pub dt: f64,
+pub(crate) struct StepRate {
+    pub(crate) velocity: Vector,
+    pub(crate) dt: f64,
 }
 
 impl StepRate {
     /// The backward-Euler rate of the step from `prev` to `u` in dt.
-    pub fn of(prev: &Vector, u: &Vector, dt: f64) -> Result<StepRate> {
+    pub(crate) fn of(prev: &Vector, u: &Vector, dt: f64) -> Result<StepRate> {
         Ok(StepRate { velocity: backward_euler_rate(u, prev, dt)?, dt })
     }
 
@@ -31,7 +31,7 @@ impl StepRate {
     /// bulk does not), relative to the field's magnitude with a floor (`scales`: h for u, 10% of
     /// the drained bulk modulus for p), so a field decaying to zero does not force ever smaller
     /// steps.
-    pub fn error(
+    pub(crate) fn error(
         &self,
         world: &SimpleCommunicator,
         (prev, u): (&Vector, &Vector),

@@ -11,15 +11,15 @@ use std::path::Path;
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub(super) struct RunRecord {
     /// The scene argument (a file, made absolute, or a shipped scene's name).
-    pub scene: String,
-    pub set: Vec<String>,
-    pub petsc: Vec<String>,
+    pub(crate) scene: String,
+    pub(crate) set: Vec<String>,
+    pub(crate) petsc: Vec<String>,
 }
 
 impl RunRecord {
-    pub const FILE: &'static str = "run.toml";
+    pub(crate) const FILE: &'static str = "run.toml";
 
-    pub fn of(args: &RunArgs) -> RunRecord {
+    pub(crate) fn of(args: &RunArgs) -> RunRecord {
         let p = Path::new(&args.scene);
         let scene = if p.exists() {
             std::fs::canonicalize(p).map(|a| a.display().to_string()).unwrap_or_else(|_| args.scene.clone())
@@ -29,7 +29,7 @@ impl RunRecord {
         RunRecord { scene, set: args.set.clone(), petsc: args.petsc.clone() }
     }
 
-    pub fn read(dir: &Path) -> Result<RunRecord> {
+    pub(crate) fn read(dir: &Path) -> Result<RunRecord> {
         let path = dir.join(Self::FILE);
         let text =
             std::fs::read_to_string(&path).map_err(|e| Error::io(&path, format!("not a run directory ({e})")))?;
@@ -39,7 +39,7 @@ impl RunRecord {
     /// The scene, loaded as at the start; it must still resolve to the run's `scene.toml`, itself
     /// resolved as a scene (so that a run started by a version that wrote fewer defaults, or keys
     /// since moved, resumes: the values compare, not the text).
-    pub fn scene(&self, dir: &Path) -> Result<LoadedScene> {
+    pub(crate) fn scene(&self, dir: &Path) -> Result<LoadedScene> {
         let scene = LoadedScene::load(&self.scene, &self.set)?;
         let path = dir.join("scene.toml");
         if !path.is_file() {
@@ -65,7 +65,7 @@ impl RunRecord {
     }
 
     /// Writes `run.toml` in `dir`: how to set this run up again (rank 0).
-    pub fn write(&self, dir: &Path) -> Result<()> {
+    pub(crate) fn write(&self, dir: &Path) -> Result<()> {
         let record = toml::to_string(self)
             .map_err(|e| Error::io(dir.join(RunRecord::FILE), format!("cannot write the run record: {e}")))?;
         rundir::write_text(

@@ -27,15 +27,15 @@ use std::time::Instant;
 /// What the set-up found and took, for the log and `timings.txt`.
 pub(super) struct SetupInfo {
     /// The mesh file (given, or generated and cached).
-    pub mesh_path: PathBuf,
-    pub n_global_dofs: usize,
+    pub(crate) mesh_path: PathBuf,
+    pub(crate) n_global_dofs: usize,
     /// The linear solver policy, for the log.
-    pub solver_line: String,
+    pub(crate) solver_line: String,
     /// The solid law loses strong ellipticity under the run's strains (`ellipticity_warning`):
     /// printed at the start, and added to a failed solve's error.
-    pub ellipticity: Option<String>,
+    pub(crate) ellipticity: Option<String>,
     /// The set-up's wall time.
-    pub seconds: f64,
+    pub(crate) seconds: f64,
 }
 
 /// A run set up: its pieces, the scene and what the set-up found.
@@ -53,7 +53,7 @@ pub(super) struct Run<'w> {
 
 impl<'w> Run<'w> {
     /// The run of `scene` as `args` asked, from its pieces (`setup::setup` builds them).
-    pub fn new(
+    pub(crate) fn new(
         voice: Voice<'w>,
         scene: LoadedScene,
         args: RunArgs,
@@ -65,44 +65,44 @@ impl<'w> Run<'w> {
         Run { voice, scene, args, stepper, output, checkpoints, setup }
     }
 
-    pub fn voice(&self) -> &Voice<'w> {
+    pub(crate) fn voice(&self) -> &Voice<'w> {
         &self.voice
     }
 
-    pub fn problem(&self) -> &PoroProblem {
+    pub(crate) fn problem(&self) -> &PoroProblem {
         self.stepper.problem()
     }
 
     /// What the set-up found and took.
-    pub fn setup_info(&self) -> &SetupInfo {
+    pub(crate) fn setup_info(&self) -> &SetupInfo {
         &self.setup
     }
 
     /// The numbering of the run state in checkpoints.
-    pub fn checkpoint_layout(&self) -> FileLayout {
+    pub(crate) fn checkpoint_layout(&self) -> FileLayout {
         self.checkpoints.layout()
     }
 
     /// Continues with the nonlinear solver state saved by a checkpoint (a resume on as many
     /// ranks).
-    pub fn restore_solver_state(&mut self, state: SolverState) {
+    pub(crate) fn restore_solver_state(&mut self, state: SolverState) {
         self.stepper.restore_solver_state(state);
     }
 
     /// The nominal size of the first step.
-    pub fn dt0(&self) -> f64 {
+    pub(crate) fn dt0(&self) -> f64 {
         self.stepper.schedule().dt0
     }
 
     /// The expected accuracy of the plate force (`resolved::accuracy_class`).
-    pub fn accuracy(&self) -> Option<String> {
+    pub(crate) fn accuracy(&self) -> Option<String> {
         super::resolved::accuracy_class(&self.scene.scene, self.stepper.schedule(), self.stepper.problem())
     }
 
     /// The run, step by step, from t = 0 or from a checkpoint (`resume`). The first step runs
     /// before anything is written: then every PETSc option has been read, and an unknown one is
     /// an error that leaves no half-made (or, resuming, no truncated) run directory.
-    pub fn execute(&mut self, resume: Option<RunState>) -> Result<PathBuf> {
+    pub(crate) fn execute(&mut self, resume: Option<RunState>) -> Result<PathBuf> {
         let out = self.out_dir();
         let t_start = Instant::now();
         let stages = Stages::register()?;
@@ -165,7 +165,12 @@ impl<'w> Run<'w> {
     /// that every PETSc option has been read and an unknown one is an error. Returns the step,
     /// and when starting afresh the state at t = 0 sampled for its row (with the qp state it
     /// has: the first step commits its own).
-    pub fn first_step(&mut self, pg: &mut Progress, stages: Stages, fresh: bool) -> Result<(Step, Option<Sample>)> {
+    pub(crate) fn first_step(
+        &mut self,
+        pg: &mut Progress,
+        stages: Stages,
+        fresh: bool,
+    ) -> Result<(Step, Option<Sample>)> {
         let initial = if fresh {
             self.stepper.settle(stages.solve, &self.scene.scene, &self.voice)?;
             // Settling's iterations are not the experiment's.

@@ -5,23 +5,23 @@
 /// dt_max, landing exactly on t_end and the `land_on` times, and restarting from dt0 after each
 /// of the `kinks` (times where the loading rate jumps).
 #[derive(Debug, Clone)]
-pub struct Schedule {
-    pub t_end: f64,
-    pub dt0: f64,
-    pub dt_max: f64,
-    pub growth: f64,
-    pub land_on: Vec<f64>,
-    pub kinks: Vec<f64>,
+pub(crate) struct Schedule {
+    pub(crate) t_end: f64,
+    pub(crate) dt0: f64,
+    pub(crate) dt_max: f64,
+    pub(crate) growth: f64,
+    pub(crate) land_on: Vec<f64>,
+    pub(crate) kinks: Vec<f64>,
     /// (until, dt_max): a smaller largest step for steps that start before `until` (the
     /// loading ramp's `time.dt_max_ramp`).
-    pub cap: Option<(f64, f64)>,
+    pub(crate) cap: Option<(f64, f64)>,
     /// Error tolerance of the step controller (None: geometric growth).
-    pub tol: Option<f64>,
+    pub(crate) tol: Option<f64>,
     /// A step cut below this by failed solves is an error (see `TimeSpec::dt_min`).
-    pub dt_min: f64,
+    pub(crate) dt_min: f64,
     /// The steps are given (`time.steps`, among the landing times): every step ends at the next
     /// landing time, whatever the growth and the error estimate.
-    pub replay: bool,
+    pub(crate) replay: bool,
 }
 
 /// The step controller's limits: a step may grow by at most `MAX_GROWTH` and shrink by at
@@ -39,12 +39,12 @@ impl Schedule {
         self.land_on.iter().chain(&self.kinks).copied().filter(|&l| l > t + self.eps()).fold(self.t_end, f64::min)
     }
     /// True if t is one of the kinks.
-    pub fn at_kink(&self, t: f64) -> bool {
+    pub(crate) fn at_kink(&self, t: f64) -> bool {
         self.kinks.iter().any(|&l| (t - l).abs() <= self.eps())
     }
     /// The step from t with nominal size `nominal`: cut to land on the next landing time, and
     /// stretched by up to 10% instead of leaving a sliver before it.
-    pub fn step(&self, t: f64, nominal: f64) -> f64 {
+    pub(crate) fn step(&self, t: f64, nominal: f64) -> f64 {
         let land = self.next_landing(t);
         let gap = land - t;
         if nominal >= gap * (1.0 - 0.1) {
@@ -63,7 +63,7 @@ impl Schedule {
     /// would meet the tolerance, 0.9 dt err^(−1/2) (BE: local error ∝ dt²), within
     /// [MIN_SHRINK, MAX_GROWTH] × dt; it does not shrink below the nominal step while the error
     /// is within tolerance (a step shortened to land on a time is not a sign of trouble).
-    pub fn next_nominal(&self, nominal: f64, taken: f64, t: f64, err: Option<f64>) -> f64 {
+    pub(crate) fn next_nominal(&self, nominal: f64, taken: f64, t: f64, err: Option<f64>) -> f64 {
         if self.replay {
             return f64::INFINITY;
         }
@@ -91,17 +91,17 @@ impl Schedule {
         }
     }
     /// Whether an error estimate rejects the step, and the step to retry with.
-    pub fn reject(&self, taken: f64, err: Option<f64>) -> Option<f64> {
+    pub(crate) fn reject(&self, taken: f64, err: Option<f64>) -> Option<f64> {
         match err.filter(|_| !self.replay) {
             Some(e) if e > REJECT && taken > 1e-3 * self.dt0 => Some(taken * (0.9 / e.sqrt()).max(MIN_SHRINK)),
             _ => None,
         }
     }
-    pub fn done(&self, t: f64) -> bool {
+    pub(crate) fn done(&self, t: f64) -> bool {
         t >= self.t_end - self.eps()
     }
     /// Steps left from t (no retries), for the ETA.
-    pub fn remaining(&self, mut t: f64, mut nominal: f64) -> usize {
+    pub(crate) fn remaining(&self, mut t: f64, mut nominal: f64) -> usize {
         let mut n = 0;
         while !self.done(t) && n < 1_000_000 {
             let dt = self.step(t, nominal);

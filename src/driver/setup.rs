@@ -43,9 +43,9 @@ use std::time::Instant;
 /// The mesh partitioned and distributed, with the mesh file's node and element counts (the
 /// numbering of the run state).
 pub(super) struct Distributed {
-    pub local: LocalMesh,
-    pub path: std::path::PathBuf,
-    pub layout: FileLayout,
+    pub(crate) local: LocalMesh,
+    pub(crate) path: std::path::PathBuf,
+    pub(crate) layout: FileLayout,
 }
 
 /// A plate scene's mesh with fewer cells than `MIN_CELLS` is refused (sizes in the wrong unit:

@@ -6,7 +6,7 @@
 //!
 //! `main` installs a request before MPI starts, for the whole process: a signal during the
 //! set-up (mesh, partition, PETSc, settling, the first step) stops the command at the next of
-//! the set-up's checks ([`stop_in_setup`]) with nothing written.
+//! the set-up's checks (`stop_in_setup`) with nothing written.
 //!
 //! The flag is the process's, not a request's: a request installed while another is (a sweep's
 //! case, inside the sweep's own request) sees a signal that came before it, so a signal during a
@@ -18,7 +18,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
 
 /// The signals that ask a run to checkpoint and stop.
-pub const SIGNALS: [i32; 3] = [signal_hook::consts::SIGTERM, signal_hook::consts::SIGINT, signal_hook::consts::SIGUSR1];
+pub(crate) const SIGNALS: [i32; 3] =
+    [signal_hook::consts::SIGTERM, signal_hook::consts::SIGINT, signal_hook::consts::SIGUSR1];
 
 /// Set by a stop signal caught by any request of this process; never cleared (a process asked
 /// to stop stays asked).
@@ -50,7 +51,7 @@ impl StopRequest {
     }
 
     /// Whether any rank has been asked to stop (collective: every rank gets the same answer).
-    pub fn requested(&self, world: &SimpleCommunicator) -> bool {
+    pub(crate) fn requested(&self, world: &SimpleCommunicator) -> bool {
         crate::parallel::any(world, self.pending())
     }
 }
@@ -60,7 +61,7 @@ pub(crate) const NOTHING_WRITTEN: &str = "nothing was written; run the command a
 
 /// Stops a command asked to stop during its set-up, before it has written anything (collective:
 /// every rank asks at the same point). `what`: what has not been done, for the message.
-pub fn stop_in_setup(world: &SimpleCommunicator, what: &str) -> Result<()> {
+pub(crate) fn stop_in_setup(world: &SimpleCommunicator, what: &str) -> Result<()> {
     if crate::parallel::any(world, flag().load(Ordering::Relaxed)) {
         return Err(Error::StoppedInSetup(format!("stopped by a signal during the set-up: {what}")));
     }

@@ -17,25 +17,25 @@ use mpi::topology::SimpleCommunicator;
 /// The state between steps, with one owner (the run). Its third part, the committed qp state,
 /// is held by the problem, whose assembly reads it: [`StepState::commit`] commits it with the
 /// step, [`RunState`] captures and applies it with the rest.
-pub struct StepState {
+pub(crate) struct StepState {
     /// U, the solution vector of the time stepper.
-    pub u: Vector,
+    pub(crate) u: Vector,
     /// U at the start of the last step.
-    pub prev: Vector,
+    pub(crate) prev: Vector,
     /// The last accepted step's rate (None after a kink of the loading, where the velocity
     /// jumps, and when neither the predictor nor the error estimate uses it).
-    pub rate: Option<StepRate>,
+    pub(crate) rate: Option<StepRate>,
 }
 
 impl StepState {
     /// The state at the start, U; no step taken yet.
-    pub fn new(u: Vector) -> Result<StepState> {
+    pub(crate) fn new(u: Vector) -> Result<StepState> {
         Ok(StepState { prev: u.duplicate()?, u, rate: None })
     }
 
     /// Commits the accepted step of size dt from `prev` to `u`: the problem's qp state and, with
     /// `keep_rate`, the step's rate for the predictor and the error estimate of the next.
-    pub fn commit(&mut self, problem: &mut PoroProblem, dt: f64, keep_rate: bool) -> Result<()> {
+    pub(crate) fn commit(&mut self, problem: &mut PoroProblem, dt: f64, keep_rate: bool) -> Result<()> {
         problem.commit(&self.prev, &self.u, dt)?;
         self.rate = if keep_rate && dt > 0.0 { Some(StepRate::of(&self.prev, &self.u, dt)?) } else { None };
         problem.set_extrapolation(self.rate.as_ref().map(|r| &r.velocity))
@@ -80,7 +80,7 @@ fn to_owned(mesh: &LocalMesh, dofs: &DofMap, state: &[f64], x: &mut Vector) -> R
 impl StepState {
     /// Captures the run state on rank 0 (collective): the counters, and this step state with
     /// the problem's qp state by the file's numbering `layout`.
-    pub fn capture(
+    pub(crate) fn capture(
         &self,
         world: &SimpleCommunicator,
         problem: &mut PoroProblem,
@@ -114,7 +114,7 @@ impl StepState {
 
     /// Sets this step state from a run state (U, the rate, the problem's qp state); returns
     /// its counters.
-    pub fn apply(&mut self, problem: &mut PoroProblem, state: RunState) -> Result<Counters> {
+    pub(crate) fn apply(&mut self, problem: &mut PoroProblem, state: RunState) -> Result<Counters> {
         let Snapshot { u, velocity, qp_state } = state.snapshot;
         let (mesh, dofs) = (problem.mesh(), problem.dofs());
         to_owned(mesh, dofs, &u, &mut self.u)?;

@@ -34,7 +34,7 @@ pub(super) struct Stepper {
 
 impl Stepper {
     /// Steps `ts` from the state `state` on `schedule`.
-    pub fn new(
+    pub(crate) fn new(
         ts: Ts<PoroProblem>,
         state: StepState,
         schedule: Schedule,
@@ -45,66 +45,71 @@ impl Stepper {
         Stepper { ts, state, schedule, settle, jacobian_check, ellipticity }
     }
 
-    pub fn problem(&self) -> &PoroProblem {
+    pub(crate) fn problem(&self) -> &PoroProblem {
         self.ts.problem()
     }
 
-    pub fn schedule(&self) -> &Schedule {
+    pub(crate) fn schedule(&self) -> &Schedule {
         &self.schedule
     }
 
     /// The solver's Newton and Krylov iteration totals so far (this process).
-    pub fn solver_totals(&self) -> Result<(usize, usize)> {
+    pub(crate) fn solver_totals(&self) -> Result<(usize, usize)> {
         self.ts.solver_totals()
     }
 
     /// Steps TS cut so far.
-    pub fn rejections(&self) -> Result<usize> {
+    pub(crate) fn rejections(&self) -> Result<usize> {
         self.ts.rejections()
     }
 
     /// Samples the state at time t after the step of size dt just taken, for `observers`.
-    pub fn sample(&mut self, observers: &Observers, t: f64, dt: f64, fields: bool) -> Result<Sample> {
+    pub(crate) fn sample(&mut self, observers: &Observers, t: f64, dt: f64, fields: bool) -> Result<Sample> {
         observers.sample(self.ts.problem_mut(), &self.state.u, &self.state.prev, t, dt, fields)
     }
 
     /// Samples the initial state (at t = 0, as if reached from itself), fields included.
-    pub fn sample_initial(&mut self, observers: &Observers) -> Result<Sample> {
+    pub(crate) fn sample_initial(&mut self, observers: &Observers) -> Result<Sample> {
         let u = &self.state.u;
         observers.sample(self.ts.problem_mut(), u, u, 0.0, 0.0, true)
     }
 
     /// The run state after the step just taken with `counters` (collective), the step state
     /// by the file's numbering `layout`.
-    pub fn capture(&mut self, world: &SimpleCommunicator, layout: FileLayout, counters: Counters) -> Result<RunState> {
+    pub(crate) fn capture(
+        &mut self,
+        world: &SimpleCommunicator,
+        layout: FileLayout,
+        counters: Counters,
+    ) -> Result<RunState> {
         self.state.capture(world, self.ts.problem_mut(), layout, counters)
     }
 
     /// Sets the step state and the time of a checkpoint's run state; returns its counters.
-    pub fn restore(&mut self, state: RunState) -> Result<Counters> {
+    pub(crate) fn restore(&mut self, state: RunState) -> Result<Counters> {
         let c = self.state.apply(self.ts.problem_mut(), state)?;
         self.ts.set_time(c.t)?;
         Ok(c)
     }
 
     /// The nonlinear solver's state between steps (the kept factorised Jacobian), if it has one.
-    pub fn solver_state(&mut self) -> Result<Option<SolverState>> {
+    pub(crate) fn solver_state(&mut self) -> Result<Option<SolverState>> {
         self.ts.nonlinear_solver_state()
     }
 
     /// Continues with a saved nonlinear solver state (a resume on as many ranks).
-    pub fn restore_solver_state(&mut self, state: SolverState) {
+    pub(crate) fn restore_solver_state(&mut self, state: SolverState) {
         self.ts.restore_nonlinear_solver_state(state)
     }
 
     /// Makes the next solve start afresh, as a resumed run's does.
-    pub fn restart_solver(&mut self) {
+    pub(crate) fn restart_solver(&mut self) {
         self.ts.restart_nonlinear_solver()
     }
 
     /// One time step from the current state, with the step size of the schedule (a step the
     /// error estimate rejects is taken again, shorter).
-    pub fn advance(&mut self, pg: &mut Progress, stages: Stages, world: &SimpleCommunicator) -> Result<Step> {
+    pub(crate) fn advance(&mut self, pg: &mut Progress, stages: Stages, world: &SimpleCommunicator) -> Result<Step> {
         self.state.prev.copy_from(&self.state.u)?;
         let ws = Instant::now();
         let (taken, err) = loop {
@@ -174,7 +179,7 @@ impl Stepper {
     /// such steps. Where that is not enough — pole elements of a micrometre or less, which the
     /// weight alone compacts below Φs before a contact patch forms — the weight is applied in
     /// stages (`SETTLE_RAMP`), each settled state the start of the next.
-    pub fn settle(&mut self, stage: Stage, scene: &Scene, voice: &Voice) -> Result<()> {
+    pub(crate) fn settle(&mut self, stage: Stage, scene: &Scene, voice: &Voice) -> Result<()> {
         const SETTLE_RAMP: [f64; 4] = [0.01, 0.1, 0.4, 1.0];
         if !self.settle {
             return Ok(());
@@ -226,7 +231,7 @@ impl Stepper {
 
     /// `-poroplast_check_jacobian`: the assembled Jacobian of the step against central
     /// differences (rank 0 prints the errors).
-    pub fn report_jacobian_error(&mut self, pg: &Progress, step: Step, voice: &Voice) -> Result<()> {
+    pub(crate) fn report_jacobian_error(&mut self, pg: &Progress, step: Step, voice: &Voice) -> Result<()> {
         let Some(eps) = self.jacobian_check else { return Ok(()) };
         let (problem, jac) = self.ts.problem_and_jacobian();
         let (u, prev) = (&self.state.u, &self.state.prev);

@@ -41,24 +41,24 @@ pub(crate) const FILE: &str = "summary.toml";
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct PlateSummary {
     /// The plates' phases (the scene's; their ends: `Protocol::ends`).
-    pub protocol: Protocol,
-    pub peak_force: f64,
-    pub peak_time: f64,
+    pub(crate) protocol: Protocol,
+    pub(crate) peak_force: f64,
+    pub(crate) peak_time: f64,
     /// NaN if the run ended before the hold did.
-    pub hold_end_force: f64,
+    pub(crate) hold_end_force: f64,
     /// None if the upper plate still touches at the end of the run.
-    pub opening_time: Option<f64>,
-    pub final_height_over_width: f64,
+    pub(crate) opening_time: Option<f64>,
+    pub(crate) final_height_over_width: f64,
     /// R1, R2, R3 (µm) and σ_app (mN/m) at the end of the hold and of the run (NaN where they
     /// do not apply).
-    pub laplace_hold_end: [f64; 4],
-    pub laplace_final: [f64; 4],
+    pub(crate) laplace_hold_end: [f64; 4],
+    pub(crate) laplace_final: [f64; 4],
     /// Every hold of the protocol, read at its end.
-    pub holds: Vec<HoldReading>,
+    pub(crate) holds: Vec<HoldReading>,
     /// The scene's surface tension and what bears on the liquid test; None without tension.
-    pub tensiometry: Option<Tensiometry>,
+    pub(crate) tensiometry: Option<Tensiometry>,
     /// The liquid test, where holds at two compressions or more read a σ_app.
-    pub liquid_test: Option<LiquidTest>,
+    pub(crate) liquid_test: Option<LiquidTest>,
 }
 
 impl PlateSummary {
@@ -185,15 +185,15 @@ fn reading(v: [f64; 4]) -> String {
 /// A completed run in numbers.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Summary {
-    pub scene: String,
-    pub steps: usize,
-    pub t: f64,
-    pub wall_s: f64,
-    pub accuracy: Option<String>,
-    pub plates: Option<PlateSummary>,
-    pub pressure: PressurePeak,
+    pub(crate) scene: String,
+    pub(crate) steps: usize,
+    pub(crate) t: f64,
+    pub(crate) wall_s: f64,
+    pub(crate) accuracy: Option<String>,
+    pub(crate) plates: Option<PlateSummary>,
+    pub(crate) pressure: PressurePeak,
     /// The command that plots the run, as it can be pasted into a shell.
-    pub plot_command: Option<String>,
+    pub(crate) plot_command: Option<String>,
 }
 
 /// Without surface tension the Laplace reading is the solid's stress over the same geometry.

@@ -13,32 +13,32 @@ pub(super) struct Voice<'w> {
 }
 
 impl<'w> Voice<'w> {
-    pub fn new(world: &'w SimpleCommunicator, log: Log) -> Voice<'w> {
+    pub(crate) fn new(world: &'w SimpleCommunicator, log: Log) -> Voice<'w> {
         Voice { world, log }
     }
 
-    pub fn world(&self) -> &'w SimpleCommunicator {
+    pub(crate) fn world(&self) -> &'w SimpleCommunicator {
         self.world
     }
 
-    pub fn rank0(&self) -> bool {
+    pub(crate) fn rank0(&self) -> bool {
         self.world.rank() == 0
     }
 
     /// Whether the per-step progress lines print.
-    pub fn steps(&self) -> bool {
+    pub(crate) fn steps(&self) -> bool {
         self.log == Log::Steps
     }
 
     /// A log line (rank 0; nothing when silent).
-    pub fn say(&self, s: &str) {
+    pub(crate) fn say(&self, s: &str) {
         if self.rank0() && self.log != Log::Silent {
             crate::console::line(s);
         }
     }
 
     /// A warning that `-q` does not silence (rank 0, standard error).
-    pub fn warn(&self, s: &str) {
+    pub(crate) fn warn(&self, s: &str) {
         if self.rank0() {
             eprintln!("poroplast: warning: {s}");
         }

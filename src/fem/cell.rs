@@ -19,7 +19,8 @@ use crate::reference_cell::{Family, TET10_EDGES, TRI6_EDGES};
 /// The map of a cell at one quadrature point.
 #[derive(Debug, Clone, Copy)]
 pub struct CellPoint {
-    /// Reference position of the point.
+    /// Reference position of the point (the manufactured solutions of the tests).
+    #[cfg(test)]
     pub x: [f64; 3],
     /// Integration weight of the point: det J times the rule's weight (times 2πR on the meridian).
     pub w: f64,
@@ -41,7 +42,6 @@ pub trait CellShape: Copy + Default + 'static {
     /// u dofs and all dofs of a cell (the layout of `element`: u of node a, component c at
     /// NC a + c, then p of vertex m).
     const NU: usize = Self::NC * Self::NN;
-    const NDOF: usize = Self::NU + Self::NV;
     /// Whether points carry the hoop entries.
     const AXI: bool = Self::FAMILY.axisymmetric();
     /// The Cartesian axis of each displacement component (the meridian's (u_r, u_z) are x and z).
@@ -74,7 +74,14 @@ impl CellShape for Tet10 {
     fn point(coords: &[[f64; 3]; MAX_NODES], tab: &Tabulation<MAX_NODES>, q: usize) -> Result<CellPoint> {
         let g = tet10_geometry(coords, tab, q)?;
         let w = tab.weights[q] * g.jac_det;
-        Ok(CellPoint { x: g.x, w, w_cell: w, dn: g.dn_dx, inv_r: 0.0 })
+        Ok(CellPoint {
+            #[cfg(test)]
+            x: g.x,
+            w,
+            w_cell: w,
+            dn: g.dn_dx,
+            inv_r: 0.0,
+        })
     }
 
     #[inline]
@@ -123,7 +130,14 @@ impl CellShape for Tri6Axi {
             dn_dx[a][2] = (dn[a][1] * j[0][0] - dn[a][0] * j[0][1]) / det;
         }
         let w_cell = tab.weights[q] * det;
-        Ok(CellPoint { x, w: 2.0 * std::f64::consts::PI * x[0] * w_cell, w_cell, dn: dn_dx, inv_r: 1.0 / x[0] })
+        Ok(CellPoint {
+            #[cfg(test)]
+            x,
+            w: 2.0 * std::f64::consts::PI * x[0] * w_cell,
+            w_cell,
+            dn: dn_dx,
+            inv_r: 1.0 / x[0],
+        })
     }
 
     #[inline]

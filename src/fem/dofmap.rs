@@ -18,7 +18,6 @@ pub struct DofMap {
     pub nc: usize,
     /// Local nodes / vertices (owned + ghost).
     pub n_nodes: usize,
-    pub n_vertices: usize,
     pub n_owned_nodes: usize,
     pub n_owned_vertices: usize,
     /// Dofs owned here, first owned global dof, total.
@@ -41,7 +40,6 @@ impl DofMap {
             rank: m.rank,
             nc,
             n_nodes,
-            n_vertices,
             n_owned_nodes: m.n_owned_nodes,
             n_owned_vertices: m.n_owned_vertices,
             n_owned: nc * m.n_owned_nodes + m.n_owned_vertices,
@@ -151,10 +149,6 @@ impl DofMap {
     pub fn p_range(&self) -> (usize, usize) {
         let s = self.offset + self.n_u_owned();
         (s, s + self.n_owned_vertices)
-    }
-    /// First global vertex owned here (row offset of the pressure-only Schur matrix).
-    pub fn vertex_offset(&self) -> usize {
-        self.vertex_ranges[self.rank]
     }
 
     /// Exact nonzeros per owned row, in the diagonal and off-diagonal blocks, of the full u–p

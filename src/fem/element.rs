@@ -54,6 +54,7 @@ pub fn tabulate_cell(family: Family, q: &Quadrature) -> Tabulation<10> {
 /// The isoparametric map of a 10-node tet at one quadrature point.
 #[derive(Debug, Clone, Copy)]
 pub struct Geometry {
+    #[cfg(test)]
     pub x: [f64; 3],
     pub jac_det: f64,
     /// Physical gradients ∂N_a/∂X of the 10 P2 functions.
@@ -100,7 +101,12 @@ pub fn tet10_geometry(coords: &[[f64; 3]; 10], tab: &Tabulation<10>, q: usize) -
             dn_dx[a][d] = dn[a][0] * inv[0][d] + dn[a][1] * inv[1][d] + dn[a][2] * inv[2][d];
         }
     }
-    Ok(Geometry { x, jac_det: det, dn_dx })
+    Ok(Geometry {
+        #[cfg(test)]
+        x,
+        jac_det: det,
+        dn_dx,
+    })
 }
 
 /// A 6-node triangle at one quadrature point.

@@ -32,6 +32,7 @@ pub struct QpState<'a> {
 
 impl QpState<'_> {
     /// No qp state (models without state).
+    #[cfg(test)]
     pub const NONE: QpState<'static> = QpState { committed: &[], evolve: false };
 }
 

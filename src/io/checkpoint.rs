@@ -27,32 +27,32 @@ const FORMAT: f64 = 1.0;
 /// Checkpoints kept in a run directory.
 const KEEP: usize = 2;
 /// Sub-directory of the run directory that holds them.
-pub const DIR: &str = "checkpoints";
+pub(crate) const DIR: &str = "checkpoints";
 
 /// Where the time loop stands, and what has been counted and written so far.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct Counters {
-    pub step: usize,
-    pub t: f64,
+pub(crate) struct Counters {
+    pub(crate) step: usize,
+    pub(crate) t: f64,
     /// The nominal size of the next step (the schedule's growth or error control).
-    pub nominal: f64,
-    pub newton: usize,
-    pub ksp: usize,
+    pub(crate) nominal: f64,
+    pub(crate) newton: usize,
+    pub(crate) ksp: usize,
     /// Steps rejected by the error estimate.
-    pub rejected: usize,
+    pub(crate) rejected: usize,
     /// Steps cut by failed solves.
-    pub cuts: usize,
-    pub solve_s: f64,
-    pub output_s: f64,
+    pub(crate) cuts: usize,
+    pub(crate) solve_s: f64,
+    pub(crate) output_s: f64,
     /// Wall time of the run so far (setup included), over all its sessions.
-    pub wall_s: f64,
+    pub(crate) wall_s: f64,
     /// Steps written to the fields file.
-    pub fields_written: usize,
+    pub(crate) fields_written: usize,
     /// Time-integrated outflow of the experiment so far.
-    pub outflow: f64,
+    pub(crate) outflow: f64,
     /// The largest nodal p so far, its time and place (`observe::pressure_peak`: p, t, x, y, z;
     /// p = −∞ in a checkpoint of an earlier version, which did not keep it).
-    pub pressure_peak: [f64; 5],
+    pub(crate) pressure_peak: [f64; 5],
 }
 
 impl Counters {
@@ -106,35 +106,35 @@ impl Counters {
 
 /// The mesh file's node and element counts: the numbering of the run state.
 #[derive(Debug, Clone, Copy)]
-pub struct FileLayout {
-    pub n_nodes: usize,
-    pub n_elems: usize,
+pub(crate) struct FileLayout {
+    pub(crate) n_nodes: usize,
+    pub(crate) n_elems: usize,
 }
 
 /// The step state by original numbering (complete on rank 0 where a run captured it, on every
 /// rank after [`RunState::read`]).
-pub struct Snapshot {
+pub(crate) struct Snapshot {
     /// 4 values per original node: u_x, u_y, u_z, p (0 at mid-edge nodes).
-    pub u: Vec<f64>,
+    pub(crate) u: Vec<f64>,
     /// The last step's velocity in the same layout and its step size (None after a kink).
-    pub velocity: Option<(Vec<f64>, f64)>,
+    pub(crate) velocity: Option<(Vec<f64>, f64)>,
     /// Per original element, its points' committed qp state (empty without; dataset `history`).
-    pub qp_state: Vec<f64>,
+    pub(crate) qp_state: Vec<f64>,
 }
 
 /// Everything a restart needs, the content of a checkpoint file: the counters and a snapshot of
 /// the step state.
-pub struct RunState {
-    pub counters: Counters,
-    pub snapshot: Snapshot,
+pub(crate) struct RunState {
+    pub(crate) counters: Counters,
+    pub(crate) snapshot: Snapshot,
     /// [`mesh_fingerprint`] of the mesh it was written on.
-    pub mesh: f64,
+    pub(crate) mesh: f64,
 }
 
 /// A fingerprint of the mesh by the file's numbering (collective): Σ (o + 1)(x + 2y + 3z) over
 /// the nodes o. A mesh regenerated or edited since the checkpoint, with the same counts, moves
 /// it.
-pub fn mesh_fingerprint(world: &SimpleCommunicator, mesh: &LocalMesh) -> f64 {
+pub(crate) fn mesh_fingerprint(world: &SimpleCommunicator, mesh: &LocalMesh) -> f64 {
     let local: f64 = (0..mesh.n_owned_nodes)
         .map(|n| {
             let x = mesh.coords[n];
@@ -148,7 +148,7 @@ impl RunState {
     /// Writes the checkpoint of step `counters.step` into `run_dir/checkpoints/` (rank 0; the
     /// result is agreed by the caller): to a temporary name, renamed, older ones beyond the last
     /// two removed. Returns its path.
-    pub fn write(&self, run_dir: &Path) -> Result<PathBuf> {
+    pub(crate) fn write(&self, run_dir: &Path) -> Result<PathBuf> {
         let dir = run_dir.join(DIR);
         let path = dir.join(format!("step-{:08}.h5", self.counters.step));
         write_atomically(&path, |tmp| {
@@ -186,7 +186,7 @@ impl RunState {
     /// `fingerprint` are this run's mesh, which the file must match. A file that
     /// cannot be read (cut short, damaged) is `Ok(Checkpoint::Damaged)`, so that the caller can
     /// take the one before; one that does not match this run is an error.
-    pub fn read(
+    pub(crate) fn read(
         world: &SimpleCommunicator,
         path: &Path,
         layout: FileLayout,
@@ -270,7 +270,7 @@ impl RunState {
 }
 
 /// What reading a checkpoint file gave.
-pub enum Checkpoint {
+pub(crate) enum Checkpoint {
     Read(RunState),
     /// The file could not be read (why): cut short or damaged.
     Damaged(Error),
@@ -283,13 +283,13 @@ fn solver_file(run_dir: &Path, step: usize, rank: i32, size: i32) -> PathBuf {
 
 /// Writes this rank's solver state for the checkpoint of `step` (before the checkpoint itself,
 /// whose rename commits both).
-pub fn write_solver(run_dir: &Path, step: usize, rank: i32, size: i32, s: &SolverState) -> Result<()> {
+pub(crate) fn write_solver(run_dir: &Path, step: usize, rank: i32, size: i32, s: &SolverState) -> Result<()> {
     let path = solver_file(run_dir, step, rank, size);
     write_atomically(&path, |tmp| std::fs::write(tmp, s.to_bytes()).map_err(|e| Error::io(tmp, e)))
 }
 
 /// This rank's solver state of the checkpoint of `step`, if one was saved for `size` ranks.
-pub fn read_solver(run_dir: &Path, step: usize, rank: i32, size: i32) -> Result<Option<SolverState>> {
+pub(crate) fn read_solver(run_dir: &Path, step: usize, rank: i32, size: i32) -> Result<Option<SolverState>> {
     let path = solver_file(run_dir, step, rank, size);
     match std::fs::read(&path) {
         Ok(b) => SolverState::from_bytes(&b)
@@ -301,12 +301,12 @@ pub fn read_solver(run_dir: &Path, step: usize, rank: i32, size: i32) -> Result<
 
 /// The copy of the fields file taken at the last checkpoint: what `resume` continues from if
 /// `fields.h5` itself was damaged (a kill in the middle of writing it).
-pub fn fields_backup(run_dir: &Path) -> PathBuf {
+pub(crate) fn fields_backup(run_dir: &Path) -> PathBuf {
     run_dir.join(DIR).join(crate::io::fields::H5_NAME)
 }
 
 /// The checkpoints of a run directory, oldest first.
-pub fn list(run_dir: &Path) -> Result<Vec<PathBuf>> {
+pub(crate) fn list(run_dir: &Path) -> Result<Vec<PathBuf>> {
     let dir = run_dir.join(DIR);
     if !dir.is_dir() {
         return Ok(vec![]);

@@ -16,7 +16,7 @@ use crate::io::fmt_real;
 const MAX_EXACT_INT: f64 = 9_007_199_254_740_992.0;
 
 /// The `history.csv` writer; on ranks other than 0 a no-op handle that still checks row lengths.
-pub struct History {
+pub(crate) struct History {
     path: PathBuf,
     file: Option<File>,
     columns: Vec<String>,
@@ -30,7 +30,7 @@ impl History {
     /// `columns` are the column names in order; those also listed in `integer_columns` (for example
     /// `"step"`, `"newton_its"`) are printed as integers, and a non-integral value there is an error.
     /// Names must be non-empty, unique, and free of `,`, `"` and line breaks.
-    pub fn create(path: &Path, columns: &[&str], integer_columns: &[&str], is_root: bool) -> Result<Self> {
+    pub(crate) fn create(path: &Path, columns: &[&str], integer_columns: &[&str], is_root: bool) -> Result<Self> {
         let mut h = History::create_handle(path, columns, integer_columns)?;
         if is_root {
             let mut f = File::create(path).map_err(|e| Error::io(path, e))?;
@@ -66,7 +66,13 @@ impl History {
 
     /// Reopens the CSV at `path` to continue it after its first `keep` rows (rank 0 truncates
     /// the rest): the header must be `columns`, and the file must hold at least `keep` rows.
-    pub fn reopen(path: &Path, columns: &[&str], integer_columns: &[&str], keep: usize, is_root: bool) -> Result<Self> {
+    pub(crate) fn reopen(
+        path: &Path,
+        columns: &[&str],
+        integer_columns: &[&str],
+        keep: usize,
+        is_root: bool,
+    ) -> Result<Self> {
         let mut h = History::create_handle(path, columns, integer_columns)?;
         if is_root {
             let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
@@ -98,14 +104,9 @@ impl History {
         Ok(h)
     }
 
-    /// The column names.
-    pub fn columns(&self) -> &[String] {
-        &self.columns
-    }
-
     /// Appends one line and flushes it. `values` must have one value per column; values of
     /// integer columns must be integral (and below 2^53 in magnitude).
-    pub fn row(&mut self, values: &[f64]) -> Result<()> {
+    pub(crate) fn row(&mut self, values: &[f64]) -> Result<()> {
         if values.len() != self.columns.len() {
             return Err(Error::io(
                 &self.path,

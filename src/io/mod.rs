@@ -2,12 +2,12 @@
 //! `history.csv` log (and the observables read from it) and the checkpoint files; `format`
 //! writes their numbers (and the log's).
 
-pub mod checkpoint;
+pub(crate) mod checkpoint;
 pub mod fields;
 mod format;
-pub mod history;
-pub mod observable;
-pub mod recorder;
-pub mod rundir;
+pub(crate) mod history;
+pub(crate) mod observable;
+pub(crate) mod recorder;
+pub(crate) mod rundir;
 
 pub(crate) use format::{fmt_duration, fmt_real, fmt_short, fmt_significant, fmt_time};

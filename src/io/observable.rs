@@ -22,15 +22,15 @@ use std::path::Path;
 /// The observables of `summary.csv` when the study names none: those of the plates experiment —
 /// the peak force, F(35 s), the probe pressure p(X_U) at 5 and 30 s and its zero crossing, the
 /// final height over width (empty where a scene has no such column).
-pub const DEFAULT: [&str; 6] =
+pub(crate) const DEFAULT: [&str; 6] =
     ["max:force_total_mg", "force_total_mg@35", "probe_p@5", "probe_p@30", "zero:probe_p", "last:height/width"];
 
 /// A history's columns by name.
-pub type Columns = BTreeMap<String, Vec<f64>>;
+pub(crate) type Columns = BTreeMap<String, Vec<f64>>;
 
 /// `history.csv` (of a run directory) as columns; None without the file. A field that does not
 /// parse reads as NaN.
-pub fn read_history(dir: &Path) -> Option<Columns> {
+pub(crate) fn read_history(dir: &Path) -> Option<Columns> {
     let text = std::fs::read_to_string(dir.join("history.csv")).ok()?;
     let mut lines = text.lines();
     let names: Vec<String> = lines.next()?.split(',').map(|s| s.trim().to_string()).collect();
@@ -44,7 +44,7 @@ pub fn read_history(dir: &Path) -> Option<Columns> {
 }
 
 /// The observable `spec` of a history (NaN where it does not apply).
-pub fn observe(h: &Columns, spec: &str) -> f64 {
+pub(crate) fn observe(h: &Columns, spec: &str) -> f64 {
     let nan = f64::NAN;
     let col = |c: &str| h.get(c).filter(|v| !v.is_empty());
     if let Some((kind, rest)) = spec.split_once(':') {
@@ -81,7 +81,7 @@ pub fn observe(h: &Columns, spec: &str) -> f64 {
 }
 
 /// A time of a spec in seconds: a number, or a number with the unit `s`, `min` or `h`.
-pub fn time(text: &str) -> Option<f64> {
+pub(crate) fn time(text: &str) -> Option<f64> {
     let t = text.trim();
     let (num, scale) = [("min", 60.0), ("h", 3600.0), ("s", 1.0)]
         .iter()
@@ -96,7 +96,7 @@ const GRAMMAR: &str = "max:COL, min:COL, last:COL, last:A/B, zero:COL, COL@T, er
 
 /// Ok if `spec` is an observable of a run whose history has `columns` and ends at `t_end` (s);
 /// else what is wrong, with the nearest column name for a misspelt one.
-pub fn check(spec: &str, columns: &[String], t_end: f64) -> Result<(), String> {
+pub(crate) fn check(spec: &str, columns: &[String], t_end: f64) -> Result<(), String> {
     let names = || columns.iter().map(String::as_str);
     let column = |c: &str| -> Result<(), String> {
         if columns.iter().any(|k| k == c) {
@@ -147,7 +147,7 @@ pub fn check(spec: &str, columns: &[String], t_end: f64) -> Result<(), String> {
 }
 
 /// Column `col` interpolated linearly at time `when` (NaN without the column or outside the run).
-pub fn at_time(h: &Columns, col: &str, when: f64) -> f64 {
+pub(crate) fn at_time(h: &Columns, col: &str, when: f64) -> f64 {
     h.get(col).map_or(f64::NAN, |v| at(h, v, when))
 }
 

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 /// How a `history.csv` column prints.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ColumnKind {
+pub(crate) enum ColumnKind {
     /// The shortest decimal that parses back to the same value.
     Real,
     /// A count, printed as an integer (a non-integral value is an error).
@@ -24,18 +24,18 @@ pub enum ColumnKind {
 
 /// A `history.csv` column as an observer declares it.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Column {
-    pub name: String,
-    pub kind: ColumnKind,
+pub(crate) struct Column {
+    pub(crate) name: String,
+    pub(crate) kind: ColumnKind,
 }
 
 impl Column {
-    pub fn real(name: impl Into<String>) -> Column {
+    pub(crate) fn real(name: impl Into<String>) -> Column {
         Column { name: name.into(), kind: ColumnKind::Real }
     }
 
     /// The column a declaration names.
-    pub fn of(doc: &ColumnDoc, kind: ColumnKind) -> Column {
+    pub(crate) fn of(doc: &ColumnDoc, kind: ColumnKind) -> Column {
         Column { name: doc.name.into(), kind }
     }
 }
@@ -43,97 +43,107 @@ impl Column {
 /// A `history.csv` column declared once: its name, unit and meaning (the docs' column table,
 /// `poroplast columns --table`), how it prints, and how its value is read from `R`, what its
 /// observer reads in a step. The header and every row are made from the same declarations.
-pub struct Declared<R> {
-    pub doc: ColumnDoc,
-    pub kind: ColumnKind,
-    pub value: fn(&R) -> f64,
+pub(crate) struct Declared<R> {
+    pub(crate) doc: ColumnDoc,
+    pub(crate) kind: ColumnKind,
+    pub(crate) value: fn(&R) -> f64,
 }
 
 /// What the docs say of a column: its name (or, for columns a scene names, the pattern of their
 /// names), its unit ("–": none) and its meaning (Markdown).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ColumnDoc {
-    pub name: &'static str,
-    pub unit: &'static str,
-    pub meaning: &'static str,
+pub(crate) struct ColumnDoc {
+    pub(crate) name: &'static str,
+    pub(crate) unit: &'static str,
+    pub(crate) meaning: &'static str,
     /// The name is a pattern (`*probe name*`): the scene gives the names.
-    pub pattern: bool,
+    pub(crate) pattern: bool,
 }
 
 impl ColumnDoc {
     /// Columns whose names the scene gives.
-    pub const fn pattern(name: &'static str, unit: &'static str, meaning: &'static str) -> ColumnDoc {
+    pub(crate) const fn pattern(name: &'static str, unit: &'static str, meaning: &'static str) -> ColumnDoc {
         ColumnDoc { name, unit, meaning, pattern: true }
     }
 
     /// A column of this name.
-    pub const fn named(name: &'static str, unit: &'static str, meaning: &'static str) -> ColumnDoc {
+    pub(crate) const fn named(name: &'static str, unit: &'static str, meaning: &'static str) -> ColumnDoc {
         ColumnDoc { name, unit, meaning, pattern: false }
     }
 }
 
 impl<R> Declared<R> {
-    pub const fn real(name: &'static str, unit: &'static str, meaning: &'static str, value: fn(&R) -> f64) -> Self {
+    pub(crate) const fn real(
+        name: &'static str,
+        unit: &'static str,
+        meaning: &'static str,
+        value: fn(&R) -> f64,
+    ) -> Self {
         Declared { doc: ColumnDoc::named(name, unit, meaning), kind: ColumnKind::Real, value }
     }
 
     /// A count (printed as an integer).
-    pub const fn integer(name: &'static str, unit: &'static str, meaning: &'static str, value: fn(&R) -> f64) -> Self {
+    pub(crate) const fn integer(
+        name: &'static str,
+        unit: &'static str,
+        meaning: &'static str,
+        value: fn(&R) -> f64,
+    ) -> Self {
         Declared { doc: ColumnDoc::named(name, unit, meaning), kind: ColumnKind::Integer, value }
     }
 
-    pub fn name(&self) -> &'static str {
+    pub(crate) fn name(&self) -> &'static str {
         self.doc.name
     }
 
     /// The header's entries of `cols`, in order.
-    pub fn header(cols: &[Self]) -> impl Iterator<Item = Column> + '_ {
+    pub(crate) fn header(cols: &[Self]) -> impl Iterator<Item = Column> + '_ {
         cols.iter().map(|c| Column::of(&c.doc, c.kind))
     }
 
     /// The values of `cols` read from `r`, in the header's order.
-    pub fn row<'a>(cols: &'a [Self], r: &'a R) -> impl Iterator<Item = f64> + 'a {
+    pub(crate) fn row<'a>(cols: &'a [Self], r: &'a R) -> impl Iterator<Item = f64> + 'a {
         cols.iter().map(move |c| (c.value)(r))
     }
 }
 
 /// The observed values of a step: its `history.csv` columns between the step's (step, time,
 /// dt) and its iteration counts, and its fields if asked.
-pub struct Observed {
-    pub values: Vec<f64>,
-    pub fields: Option<StepFields>,
+pub(crate) struct Observed {
+    pub(crate) values: Vec<f64>,
+    pub(crate) fields: Option<StepFields>,
 }
 
 /// The fields of a step: per owned node, u (three components on both families: (u_r, 0, u_z) on
 /// the meridian) and p (P1, shown on the P2 nodes); per local element, the rest.
-pub struct StepFields {
-    pub u: Vec<f64>,
-    pub p: Vec<f64>,
-    pub j: Vec<f64>,
-    pub von_mises: Vec<f64>,
-    pub darcy_flux: Vec<f64>,
+pub(crate) struct StepFields {
+    pub(crate) u: Vec<f64>,
+    pub(crate) p: Vec<f64>,
+    pub(crate) j: Vec<f64>,
+    pub(crate) von_mises: Vec<f64>,
+    pub(crate) darcy_flux: Vec<f64>,
     /// With a solid fraction.
-    pub porosity: Option<Vec<f64>>,
+    pub(crate) porosity: Option<Vec<f64>>,
     /// With plates: 0 free, 1 lower plate, 2 upper plate (per owned node).
-    pub contact: Option<Vec<f64>>,
+    pub(crate) contact: Option<Vec<f64>>,
     /// With qp state: the element's mean ‖E_p‖.
-    pub norm_ep: Option<Vec<f64>>,
+    pub(crate) norm_ep: Option<Vec<f64>>,
 }
 
 /// One step's row, besides the observed values.
-pub struct StepRow {
-    pub step: usize,
-    pub t: f64,
-    pub dt: f64,
+pub(crate) struct StepRow {
+    pub(crate) step: usize,
+    pub(crate) t: f64,
+    pub(crate) dt: f64,
     /// Newton and Krylov iterations of the step.
-    pub its: (usize, usize),
+    pub(crate) its: (usize, usize),
     /// Wall time since the start of the run.
-    pub wall: f64,
+    pub(crate) wall: f64,
 }
 
 /// The open outputs of a run directory.
-pub struct Recorder {
-    pub dir: PathBuf,
+pub(crate) struct Recorder {
+    pub(crate) dir: PathBuf,
     fields: Option<FieldFile>,
     history: History,
 }
@@ -141,7 +151,7 @@ pub struct Recorder {
 impl Recorder {
     /// Creates `fields.h5/.xdmf` (if `fields`) and `history.csv` with the `observed` columns in
     /// `dir` (collective).
-    pub fn create(
+    pub(crate) fn create(
         world: &SimpleCommunicator,
         dir: &Path,
         mesh: &LocalMesh,
@@ -160,7 +170,7 @@ impl Recorder {
     /// rows, the fields after their first `fields` steps (collective). A fields file that cannot
     /// be continued (damaged by a kill while it was written) is set aside and replaced by
     /// `backup`, the copy taken at the last checkpoint; what was done is returned as a warning.
-    pub fn reopen(
+    pub(crate) fn reopen(
         world: &SimpleCommunicator,
         dir: &Path,
         mesh: &LocalMesh,
@@ -197,18 +207,18 @@ impl Recorder {
     }
 
     /// Copies the fields file as it stands to `to` (collective; nothing without fields).
-    pub fn backup_fields(&self, to: &Path) -> Result<()> {
+    pub(crate) fn backup_fields(&self, to: &Path) -> Result<()> {
         self.fields.as_ref().map_or(Ok(()), |f| f.backup(to))
     }
 
     /// Steps written to the fields file so far.
-    pub fn fields_written(&self) -> usize {
+    pub(crate) fn fields_written(&self) -> usize {
         self.fields.as_ref().map_or(0, |f| f.n_steps())
     }
 
     /// One history row — the step, its observed values, its iterations and wall time — and its
     /// fields if they were observed (collective).
-    pub fn record(&mut self, world: &SimpleCommunicator, row: &StepRow, observed: &Observed) -> Result<()> {
+    pub(crate) fn record(&mut self, world: &SimpleCommunicator, row: &StepRow, observed: &Observed) -> Result<()> {
         let mut values: Vec<f64> = Declared::row(&STEP, row).collect();
         values.extend(&observed.values);
         values.extend(Declared::row(&ITERATIONS, row));
@@ -239,7 +249,7 @@ impl Recorder {
 }
 
 /// The step's own columns before the observed ones.
-pub const STEP: [Declared<StepRow>; 3] = [
+pub(crate) const STEP: [Declared<StepRow>; 3] = [
     Declared::integer(
         "step",
         "–",
@@ -251,7 +261,7 @@ pub const STEP: [Declared<StepRow>; 3] = [
 ];
 
 /// The step's own columns after the observed ones.
-pub const ITERATIONS: [Declared<StepRow>; 3] = [
+pub(crate) const ITERATIONS: [Declared<StepRow>; 3] = [
     Declared::integer("newton_its", "–", "nonlinear iterations of the step (failed attempts included)", |r| {
         r.its.0 as f64
     }),

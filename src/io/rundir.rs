@@ -10,14 +10,14 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use crate::error::{Error, Result};
 // Atomic writes live in `crate::files`; re-exported for the run directory's users.
-pub use crate::files::{write_atomically, write_text_atomically};
+pub(crate) use crate::files::{write_atomically, write_text_atomically};
 
 /// Prepares `dir` for a run (root rank only; other ranks return `Ok` at once).
 ///
 /// If `dir` exists and is not empty, fails unless `force`, leaving it untouched; with `force` the
 /// existing files are kept and those this run writes are overwritten (nothing is deleted).
 /// A missing directory is created with its parents.
-pub fn prepare(dir: &Path, force: bool, is_root: bool) -> Result<()> {
+pub(crate) fn prepare(dir: &Path, force: bool, is_root: bool) -> Result<()> {
     if !is_root {
         return Ok(());
     }
@@ -43,18 +43,18 @@ pub fn prepare(dir: &Path, force: bool, is_root: bool) -> Result<()> {
 }
 
 /// The lock file a run holds in its directory while it writes there (left behind, unlocked).
-pub const LOCK_NAME: &str = ".lock";
+pub(crate) const LOCK_NAME: &str = ".lock";
 
 /// An exclusive lock on a run directory (held by the root rank): a second run or `resume` into
 /// the same directory — a job resubmitted while the first still runs — is refused instead of
 /// mixing its files with the first's. The operating system releases it when the process ends,
 /// however it ends.
-pub struct RunLock {
+pub(crate) struct RunLock {
     _held: Option<std::fs::File>,
 }
 
 /// Takes the lock of `dir` (root rank only; the others get an empty one), or says who holds it.
-pub fn lock(dir: &Path, is_root: bool) -> Result<RunLock> {
+pub(crate) fn lock(dir: &Path, is_root: bool) -> Result<RunLock> {
     use std::io::{Read, Seek, Write};
     if !is_root {
         return Ok(RunLock { _held: None });
@@ -104,7 +104,7 @@ fn hostname() -> String {
 
 /// Writes `contents` to `dir/name` (a plain file name, no separators), replacing any old file;
 /// call on rank 0 only. For the resolved scene, options, timings and the like.
-pub fn write_text(dir: &Path, name: &str, contents: &str) -> Result<()> {
+pub(crate) fn write_text(dir: &Path, name: &str, contents: &str) -> Result<()> {
     let path = dir.join(name);
     if name.is_empty() || name.contains(['/', '\\']) || name == "." || name == ".." {
         return Err(Error::io(&path, "expected a plain file name"));
@@ -113,14 +113,14 @@ pub fn write_text(dir: &Path, name: &str, contents: &str) -> Result<()> {
 }
 
 /// `runs/<scene_stem>-<YYYYmmdd-HHMMSS>` with the current UTC time. See the module note on ranks.
-pub fn default_run_dir(scene_stem: &str) -> PathBuf {
+pub(crate) fn default_run_dir(scene_stem: &str) -> PathBuf {
     let secs = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_secs());
     default_run_dir_at(scene_stem, secs)
 }
 
 /// `runs/<scene_stem>-<YYYYmmdd-HHMMSS>` for `unix_secs` seconds since 1970-01-01T00:00:00Z.
 /// The stem is reduced to a plain name (a scene `name` of `../../x` or `/abs` stays in `runs/`).
-pub fn default_run_dir_at(scene_stem: &str, unix_secs: u64) -> PathBuf {
+pub(crate) fn default_run_dir_at(scene_stem: &str, unix_secs: u64) -> PathBuf {
     let safe: String = scene_stem
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.') { c } else { '_' })
@@ -131,7 +131,7 @@ pub fn default_run_dir_at(scene_stem: &str, unix_secs: u64) -> PathBuf {
 }
 
 /// `YYYYmmdd-HHMMSS` (UTC) for `unix_secs` seconds since the Unix epoch (proleptic Gregorian).
-pub fn utc_stamp(unix_secs: u64) -> String {
+pub(crate) fn utc_stamp(unix_secs: u64) -> String {
     let days = (unix_secs / 86_400) as i64;
     let rem = unix_secs % 86_400;
     let (y, m, d) = civil_from_days(days);

@@ -26,6 +26,7 @@ pub struct LocalMesh {
     pub node_offset: usize,
     pub n_global_nodes: usize,
     /// Local node -> owning rank.
+    #[cfg(test)]
     pub node_owner: Vec<u32>,
     /// Local node -> local vertex index, or -1 for a mid-edge node.
     pub vertex_of_node: Vec<i32>,
@@ -34,6 +35,7 @@ pub struct LocalMesh {
     pub n_owned_vertices: usize,
     /// Local vertex -> global (rank-contiguous) vertex id.
     pub vertex_global: Vec<u32>,
+    #[cfg(test)]
     pub vertex_offset: usize,
     pub n_global_vertices: usize,
     /// The cells of this part, in increasing original index, with local node ids (see [`Mesh::cells`]).
@@ -50,6 +52,7 @@ pub struct LocalMesh {
     /// Every physical surface of the file (even if empty here) -> local face indices.
     pub face_groups: Vec<(String, Vec<u32>)>,
     /// Every physical volume of the file -> local tet indices.
+    #[cfg(test)]
     pub volume_groups: Vec<(String, Vec<u32>)>,
     /// Every physical point group of the file -> local node indices (only nodes present locally).
     pub point_groups: Vec<(String, Vec<u32>)>,
@@ -57,8 +60,6 @@ pub struct LocalMesh {
     /// over the whole mesh. Row `i` is `node_nbr[node_nbr_offsets[i]..node_nbr_offsets[i + 1]]`.
     pub node_nbr_offsets: Vec<usize>,
     pub node_nbr: Vec<u32>,
-    /// Parallel to `node_nbr`: the neighbour is a vertex (carries a pressure dof).
-    pub node_nbr_is_vertex: Vec<bool>,
     /// Parallel to `node_nbr`: the neighbour's global vertex id, or -1.
     pub node_nbr_vertex_global: Vec<i32>,
     /// Rank r owns global nodes `node_ranges[r]..node_ranges[r + 1]` (length nranks + 1).
@@ -69,21 +70,25 @@ pub struct LocalMesh {
 
 impl LocalMesh {
     /// Whether local node `local` is owned by this rank (owned nodes come first).
+    #[cfg(test)]
     pub fn is_owned_node(&self, local: usize) -> bool {
         local < self.n_owned_nodes
     }
 
     /// Whether local vertex `local` is owned by this rank (owned vertices come first).
+    #[cfg(test)]
     pub fn is_owned_vertex(&self, local: usize) -> bool {
         local < self.n_owned_vertices
     }
 
     /// Rank owning global node `g` (`g < n_global_nodes`).
+    #[cfg(test)]
     pub fn owner_of_global_node(&self, g: usize) -> usize {
         owner_in(&self.node_ranges, g)
     }
 
     /// Rank owning global vertex `g` (`g < n_global_vertices`).
+    #[cfg(test)]
     pub fn owner_of_global_vertex(&self, g: usize) -> usize {
         owner_in(&self.vertex_ranges, g)
     }
@@ -107,19 +112,10 @@ impl LocalMesh {
     pub fn n_vertices(&self) -> usize {
         self.vertex_node.len()
     }
-
-    /// Local face indices of the physical surface `name` (error lists the available groups).
-    pub fn face_group(&self, name: &str) -> Result<&[u32]> {
-        super::global::find_group(&self.face_groups, name, "surface")
-    }
-
-    /// Local node indices of the physical point `name` present on this rank.
-    pub fn point_group(&self, name: &str) -> Result<&[u32]> {
-        super::global::find_group(&self.point_groups, name, "point")
-    }
 }
 
 /// Index r with ranges[r] <= g < ranges[r + 1] (empty ranks are skipped).
+#[cfg(test)]
 fn owner_in(ranges: &[usize], g: usize) -> usize {
     ranges.partition_point(|&s| s <= g).saturating_sub(1)
 }
@@ -146,6 +142,7 @@ pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Resu
     let local_of = &nodes.local_of;
     let coords: Vec<[f64; 3]> = nodes.original.iter().map(|&n| mesh.coords[n as usize]).collect();
     let node_global: Vec<u32> = nodes.original.iter().map(|&n| num.gnode[n as usize]).collect();
+    #[cfg(test)]
     let node_owner: Vec<u32> = nodes.original.iter().map(|&n| num.owner[n as usize]).collect();
     let vertices = LocalVertices::new(mesh, &num, &nodes);
 
@@ -158,7 +155,6 @@ pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Resu
     }
     let faces = LocalFaces::new(mesh, &local_tet, relabel)?;
     let face_groups = map_groups(&mesh.face_groups, &faces.local_of);
-    let volume_groups = map_groups(&mesh.volume_groups, &local_tet);
     let point_groups = map_groups(&mesh.point_groups, local_of);
     let graph = NeighbourGraph::new(mesh, &num, &nodes);
 
@@ -172,11 +168,13 @@ pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Resu
         node_original: nodes.original,
         node_offset: num.node_ranges[rank],
         n_global_nodes: mesh.coords.len(),
+        #[cfg(test)]
         node_owner,
         vertex_of_node: vertices.of_node,
         vertex_node: vertices.node,
         n_owned_vertices: vertices.n_owned,
         vertex_global: vertices.global,
+        #[cfg(test)]
         vertex_offset: num.vertex_ranges[rank],
         n_global_vertices: num.vertex_ranges[nranks],
         cells,
@@ -186,11 +184,11 @@ pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Resu
         faces: faces.faces,
         face_cell: faces.face_cell,
         face_groups,
-        volume_groups,
+        #[cfg(test)]
+        volume_groups: map_groups(&mesh.volume_groups, &local_tet),
         point_groups,
         node_nbr_offsets: graph.offsets,
         node_nbr: graph.nbr,
-        node_nbr_is_vertex: graph.is_vertex,
         node_nbr_vertex_global: graph.vertex_global,
         node_ranges: num.node_ranges,
         vertex_ranges: num.vertex_ranges,
@@ -369,7 +367,6 @@ impl LocalFaces {
 struct NeighbourGraph {
     offsets: Vec<usize>,
     nbr: Vec<u32>,
-    is_vertex: Vec<bool>,
     vertex_global: Vec<i32>,
 }
 
@@ -423,8 +420,7 @@ impl NeighbourGraph {
             vertex_global.extend(row.iter().map(|e| e.1));
             offsets.push(nbr.len());
         }
-        let is_vertex: Vec<bool> = vertex_global.iter().map(|&v| v >= 0).collect();
-        NeighbourGraph { offsets, nbr, is_vertex, vertex_global }
+        NeighbourGraph { offsets, nbr, vertex_global }
     }
 }
 

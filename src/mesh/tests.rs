@@ -878,7 +878,6 @@ fn check_distribution(mesh: &Mesh, part: &[u32], nranks: usize) -> Vec<LocalMesh
     }
     for l in &locals {
         assert_eq!(l.node_nbr_offsets.len(), l.n_owned_nodes + 1);
-        assert_eq!(l.node_nbr.len(), l.node_nbr_is_vertex.len());
         assert_eq!(l.node_nbr.len(), l.node_nbr_vertex_global.len());
         for i in 0..l.n_owned_nodes {
             let row = &l.node_nbr[l.node_nbr_offsets[i]..l.node_nbr_offsets[i + 1]];
@@ -886,7 +885,6 @@ fn check_distribution(mesh: &Mesh, part: &[u32], nranks: usize) -> Vec<LocalMesh
             assert_eq!(row, expect.as_slice());
             for k in l.node_nbr_offsets[i]..l.node_nbr_offsets[i + 1] {
                 let o = orig_of_global[l.node_nbr[k] as usize];
-                assert_eq!(l.node_nbr_is_vertex[k], mesh.is_vertex[o]);
                 let vg = if mesh.is_vertex[o] { vglobal_of[o] as i32 } else { -1 };
                 assert_eq!(l.node_nbr_vertex_global[k], vg);
             }

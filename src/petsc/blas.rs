@@ -11,7 +11,7 @@ extern "C" {
 }
 
 /// The kernel family OpenBLAS chose ("Prescott", "SkylakeX", ...), if OpenBLAS is loaded.
-pub fn kernel() -> Option<String> {
+pub(crate) fn kernel() -> Option<String> {
     // RTLD_DEFAULT (a null handle in glibc): search every loaded library.
     let f = unsafe { dlsym(std::ptr::null_mut(), c"openblas_get_corename".as_ptr()) };
     if f.is_null() {

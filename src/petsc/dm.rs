@@ -12,7 +12,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// Supplies named fields (index sets into the vector of the system being solved). `snes` is the
 /// solver asking, so a VI solver's inactive set can be queried.
-pub trait FieldDecomposition {
+pub(crate) trait FieldDecomposition {
     fn fields(&mut self, snes: Option<Snes>) -> Result<Vec<(String, IndexSet)>>;
 }
 
@@ -87,7 +87,7 @@ unsafe extern "C" fn decomposition_tramp(
 
 impl DmShell {
     /// A shell DM whose global vectors look like `global`, with the given field decomposition.
-    pub fn new(comm: ffi::MPI_Comm, global: &Vector, fields: Box<dyn FieldDecomposition>) -> Result<DmShell> {
+    pub(crate) fn new(comm: ffi::MPI_Comm, global: &Vector, fields: Box<dyn FieldDecomposition>) -> Result<DmShell> {
         let mut raw = std::ptr::null_mut();
         check(unsafe { ffi::DMShellCreate(comm, &mut raw) })?;
         let mut dm = DmShell { raw, ctx: Box::new(Ctx { fields, snes: None }) };
@@ -100,7 +100,7 @@ impl DmShell {
     }
 
     /// Tells the callback which SNES is asking (set once the TS/SNES exists).
-    pub fn set_snes(&mut self, snes: Snes) {
+    pub(crate) fn set_snes(&mut self, snes: Snes) {
         self.ctx.snes = Some(snes);
     }
 }

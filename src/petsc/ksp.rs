@@ -6,7 +6,7 @@ use std::ffi::c_void;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// Work done before every solve of a KSP (before its own setup).
-pub type PreSolve = fn(Ksp) -> Result<()>;
+pub(crate) type PreSolve = fn(Ksp) -> Result<()>;
 
 unsafe extern "C" fn pre_solve_tramp(
     ksp: ffi::KSP,
@@ -40,64 +40,60 @@ impl Ksp {
         check(unsafe { ffi::KSPSetType(self.raw, c.as_ptr()) })
     }
     /// Type name as PETSc reports it ("fgmres", "preonly", ...).
-    pub fn type_name(&self) -> Result<String> {
+    pub(crate) fn type_name(&self) -> Result<String> {
         let mut t: ffi::KSPType = std::ptr::null();
         check(unsafe { ffi::KSPGetType(self.raw, &mut t) })?;
         Ok(super::type_name_of(t))
     }
-    pub fn set_tolerances(&self, rtol: f64, atol: f64, max_it: Option<usize>) -> Result<()> {
-        let mi = max_it.map_or(ffi::PETSC_DEFAULT, |m| m as i32);
-        check(unsafe { ffi::KSPSetTolerances(self.raw, rtol, atol, ffi::PETSC_DEFAULT as f64, mi as Int) })
-    }
     /// (rtol, atol, dtol, max_it) as set (by options too), unclamped.
-    pub fn tolerances(&self) -> Result<(f64, f64, f64, i64)> {
+    pub(crate) fn tolerances(&self) -> Result<(f64, f64, f64, i64)> {
         let (mut rtol, mut atol, mut dtol, mut maxit) = (0.0, 0.0, 0.0, 0 as Int);
         check(unsafe { ffi::KSPGetTolerances(self.raw, &mut rtol, &mut atol, &mut dtol, &mut maxit) })?;
         Ok((rtol, atol, dtol, maxit as i64))
     }
     /// The iteration limit in effect.
-    pub fn max_it(&self) -> Result<usize> {
+    pub(crate) fn max_it(&self) -> Result<usize> {
         let (mut rtol, mut atol, mut dtol, mut maxit) = (0.0, 0.0, 0.0, 0 as Int);
         check(unsafe { ffi::KSPGetTolerances(self.raw, &mut rtol, &mut atol, &mut dtol, &mut maxit) })?;
         Ok(maxit.max(0) as usize)
     }
     /// Sets only the iteration limit (PETSC_DEFAULT leaves the others as they are).
-    pub fn set_max_it(&self, max_it: usize) -> Result<()> {
+    pub(crate) fn set_max_it(&self, max_it: usize) -> Result<()> {
         let keep = ffi::PETSC_DEFAULT as f64;
         check(unsafe { ffi::KSPSetTolerances(self.raw, keep, keep, keep, max_it as Int) })
     }
     /// Iterations of the last solve.
-    pub fn iterations(&self) -> Result<usize> {
+    pub(crate) fn iterations(&self) -> Result<usize> {
         let mut n: Int = 0;
         check(unsafe { ffi::KSPGetIterationNumber(self.raw, &mut n) })?;
         Ok(n as usize)
     }
-    pub fn set_operators(&self, a: &Mat, p: &Mat) -> Result<()> {
+    pub(crate) fn set_operators(&self, a: &Mat, p: &Mat) -> Result<()> {
         check(unsafe { ffi::KSPSetOperators(self.raw, a.raw, p.raw) })
     }
     /// Solves A x = b with the current operators (divergence is not an error here: see
     /// [`Ksp::converged_reason`]).
-    pub fn solve(&self, b: &super::Vector, x: &mut super::Vector) -> Result<()> {
+    pub(crate) fn solve(&self, b: &super::Vector, x: &mut super::Vector) -> Result<()> {
         check(unsafe { ffi::KSPSolve(self.raw, b.raw, x.raw) })
     }
     /// Converged reason code (> 0 converged, < 0 diverged).
-    pub fn converged_reason(&self) -> Result<i32> {
+    pub(crate) fn converged_reason(&self) -> Result<i32> {
         let mut r = ffi::KSPConvergedReason(0);
         check(unsafe { ffi::KSPGetConvergedReason(self.raw, &mut r) })?;
         Ok(r.0)
     }
     /// Keep the preconditioner of the last setup although the operator changed (until reset).
-    pub fn set_reuse_preconditioner(&self, reuse: bool) -> Result<()> {
+    pub(crate) fn set_reuse_preconditioner(&self, reuse: bool) -> Result<()> {
         check(unsafe { ffi::KSPSetReusePreconditioner(self.raw, super::pbool(reuse)) })
     }
-    pub fn set_up(&self) -> Result<()> {
+    pub(crate) fn set_up(&self) -> Result<()> {
         check(unsafe { ffi::KSPSetUp(self.raw) })
     }
-    pub fn set_from_options(&self) -> Result<()> {
+    pub(crate) fn set_from_options(&self) -> Result<()> {
         check(unsafe { ffi::KSPSetFromOptions(self.raw) })
     }
     /// Calls `f` at the start of every solve, before the KSP sets itself up.
-    pub fn set_pre_solve(&self, f: PreSolve) -> Result<()> {
+    pub(crate) fn set_pre_solve(&self, f: PreSolve) -> Result<()> {
         check(unsafe { ffi::KSPSetPreSolve(self.raw, Some(pre_solve_tramp), f as *mut c_void) })
     }
 }
@@ -109,7 +105,7 @@ pub struct Pc {
 }
 
 impl Pc {
-    pub fn raw_handle(&self) -> ffi::PC {
+    pub(crate) fn raw_handle(&self) -> ffi::PC {
         self.raw
     }
     pub fn set_type(&self, t: &str) -> Result<()> {
@@ -117,13 +113,13 @@ impl Pc {
         check(unsafe { ffi::PCSetType(self.raw, c.as_ptr()) })
     }
     /// Type name as PETSc reports it ("fieldsplit", "lu", ...).
-    pub fn type_name(&self) -> Result<String> {
+    pub(crate) fn type_name(&self) -> Result<String> {
         let mut t: ffi::PCType = std::ptr::null();
         check(unsafe { ffi::PCGetType(self.raw, &mut t) })?;
         Ok(super::type_name_of(t))
     }
     /// SOR by forward sweeps over each rank's own rows (PCSOR's default is the symmetric sweep).
-    pub fn set_sor_local_forward(&self) -> Result<()> {
+    pub(crate) fn set_sor_local_forward(&self) -> Result<()> {
         check(unsafe { ffi::PCSORSetSymmetric(self.raw, ffi::MatSORType::SOR_LOCAL_FORWARD_SWEEP) })
     }
     /// x = M⁻¹ b with the preconditioner as set up (for a direct one, an exact solve).
@@ -134,7 +130,7 @@ impl Pc {
     /// at once: `out[j]` = M⁻¹ `rhs[j]`, by one `MatMatSolve` on dense blocks (MUMPS then
     /// passes over the factors once, with BLAS-3, instead of once per column). The vectors
     /// share one layout. Another preconditioner type: one `apply` per column.
-    pub fn apply_columns(&self, rhs: &[super::Vector], out: &mut [super::Vector]) -> Result<()> {
+    pub(crate) fn apply_columns(&self, rhs: &[super::Vector], out: &mut [super::Vector]) -> Result<()> {
         if rhs.len() != out.len() {
             return Err(Error::Internal(format!(
                 "apply_columns: {} right-hand sides, {} outputs",
@@ -172,7 +168,7 @@ impl Pc {
         }
     }
     /// The KSPs of a fieldsplit's blocks (set up before), in split order.
-    pub fn split_ksps(&self) -> Result<Vec<Ksp>> {
+    pub(crate) fn split_ksps(&self) -> Result<Vec<Ksp>> {
         let mut n: Int = 0;
         let mut subs: *mut ffi::KSP = std::ptr::null_mut();
         check(unsafe { ffi::PCFieldSplitGetSubKSP(self.raw, &mut n, &mut subs) })?;
@@ -181,13 +177,13 @@ impl Pc {
         Ok(out)
     }
     /// A multigrid preconditioner's number of levels (set up before).
-    pub fn mg_levels(&self) -> Result<usize> {
+    pub(crate) fn mg_levels(&self) -> Result<usize> {
         let mut n: Int = 0;
         check(unsafe { ffi::PCMGGetLevels(self.raw, &mut n) })?;
         Ok(n.max(0) as usize)
     }
     /// A multigrid preconditioner's smoother on `level` (0: the coarsest).
-    pub fn mg_smoother(&self, level: usize) -> Result<Ksp> {
+    pub(crate) fn mg_smoother(&self, level: usize) -> Result<Ksp> {
         let mut raw = std::ptr::null_mut();
         check(unsafe { ffi::PCMGGetSmoother(self.raw, level as Int, &mut raw) })?;
         Ok(Ksp { raw })
@@ -195,7 +191,7 @@ impl Pc {
     /// Makes the preconditioners of a fieldsplit's blocks (set up before) forget what they kept
     /// from earlier setups — GAMG its interpolation — so that the next setup builds them as a new
     /// solver would. Nothing for another type.
-    pub fn renew_split_preconditioners(&self) -> Result<()> {
+    pub(crate) fn renew_split_preconditioners(&self) -> Result<()> {
         if self.type_name()? != "fieldsplit" {
             return Ok(());
         }
@@ -210,7 +206,7 @@ impl Pc {
         })
     }
     /// A Schur fieldsplit's Schur-complement preconditioner: built from `schur` (user's).
-    pub fn set_schur_pre_user(&self, schur: &Mat) -> Result<()> {
+    pub(crate) fn set_schur_pre_user(&self, schur: &Mat) -> Result<()> {
         check(unsafe {
             ffi::PCFieldSplitSetSchurPre(
                 self.raw_handle(),

@@ -30,7 +30,7 @@ impl Mat {
 
     /// A dense matrix with `n_local` rows on this rank and `cols` columns, in PETSc's own
     /// column-major storage (leading dimension `n_local`).
-    pub fn dense(comm: ffi::MPI_Comm, n_local: usize, cols: usize) -> Result<Mat> {
+    pub(crate) fn dense(comm: ffi::MPI_Comm, n_local: usize, cols: usize) -> Result<Mat> {
         let mut raw = std::ptr::null_mut();
         check(unsafe {
             ffi::MatCreateDense(
@@ -50,18 +50,12 @@ impl Mat {
     ///
     /// # Safety
     /// `raw` must be valid for the lifetime of the returned value.
-    pub unsafe fn borrowed(raw: ffi::Mat) -> std::mem::ManuallyDrop<Mat> {
+    pub(crate) unsafe fn borrowed(raw: ffi::Mat) -> std::mem::ManuallyDrop<Mat> {
         std::mem::ManuallyDrop::new(Mat { raw })
     }
 
-    pub fn as_raw(&self) -> ffi::Mat {
+    pub(crate) fn as_raw(&self) -> ffi::Mat {
         self.raw
-    }
-
-    /// Another owning handle to the same matrix (PETSc reference counting).
-    pub fn clone_ref(&self) -> Result<Mat> {
-        check(unsafe { ffi::PetscObjectReference(self.raw as ffi::PetscObject) })?;
-        Ok(Mat { raw: self.raw })
     }
 
     /// Adds a dense block `vals` (row-major, rows.len() × cols.len()) at global indices.
@@ -107,7 +101,7 @@ impl Mat {
     }
 
     /// y = Aᵀ x
-    pub fn mult_transpose(&self, x: &Vector, y: &mut Vector) -> Result<()> {
+    pub(crate) fn mult_transpose(&self, x: &Vector, y: &mut Vector) -> Result<()> {
         check(unsafe { ffi::MatMultTranspose(self.raw, x.raw, y.raw) })
     }
 
@@ -119,38 +113,31 @@ impl Mat {
     }
 
     /// Copies the values of `src`, which has the same nonzero pattern.
-    pub fn copy_values_from(&mut self, src: &Mat) -> Result<()> {
+    pub(crate) fn copy_values_from(&mut self, src: &Mat) -> Result<()> {
         check(unsafe { ffi::MatCopy(src.raw, self.raw, ffi::MatStructure::SAME_NONZERO_PATTERN) })
     }
 
     /// The operator's null space: Krylov methods remove it from their iterates.
-    pub fn set_null_space(&mut self, ns: &NullSpace) -> Result<()> {
+    pub(crate) fn set_null_space(&mut self, ns: &NullSpace) -> Result<()> {
         check(unsafe { ffi::MatSetNullSpace(self.raw, ns.raw) })
     }
 
     /// Vectors compatible with the matrix layout (right, left).
-    pub fn create_vecs(&self) -> Result<(Vector, Vector)> {
+    pub(crate) fn create_vecs(&self) -> Result<(Vector, Vector)> {
         let (mut r, mut l) = (std::ptr::null_mut(), std::ptr::null_mut());
         check(unsafe { ffi::MatCreateVecs(self.raw, &mut r, &mut l) })?;
         Ok((Vector { raw: r }, Vector { raw: l }))
     }
 
-    /// Global number of stored nonzeros (for logs and memory estimates).
-    pub fn nonzeros(&self) -> Result<f64> {
-        let mut info = std::mem::MaybeUninit::<ffi::MatInfo>::zeroed();
-        check(unsafe { ffi::MatGetInfo(self.raw, ffi::MatInfoType::MAT_GLOBAL_SUM, info.as_mut_ptr()) })?;
-        Ok(unsafe { info.assume_init() }.nz_used)
-    }
-
     /// Names the matrix.
-    pub fn set_name(&mut self, name: &str) -> Result<()> {
+    pub(crate) fn set_name(&mut self, name: &str) -> Result<()> {
         let c = super::cstr(name);
         check(unsafe { ffi::PetscObjectSetName(self.raw as ffi::PetscObject, c.as_ptr()) })
     }
 }
 
 /// A (near) null space: here the six rigid-body modes of 3-D elasticity.
-pub struct NullSpace {
+pub(crate) struct NullSpace {
     pub(crate) raw: ffi::MatNullSpace,
 }
 
@@ -158,7 +145,7 @@ destroy_on_drop!(NullSpace, MatNullSpaceDestroy);
 
 impl NullSpace {
     /// A near-null space spanned by `vecs` (orthonormal, see `MatNullSpaceCreate`).
-    pub fn from_vectors(comm: ffi::MPI_Comm, vecs: &[Vector]) -> Result<NullSpace> {
+    pub(crate) fn from_vectors(comm: ffi::MPI_Comm, vecs: &[Vector]) -> Result<NullSpace> {
         let raws: Vec<ffi::Vec> = vecs.iter().map(|v| v.raw).collect();
         let mut raw = std::ptr::null_mut();
         check(unsafe { ffi::MatNullSpaceCreate(comm, pbool(false), raws.len() as Int, raws.as_ptr(), &mut raw) })?;
@@ -166,7 +153,7 @@ impl NullSpace {
     }
 
     /// Rigid-body modes from nodal coordinates (`coords` has block size 3, one block per node).
-    pub fn rigid_body(coords: &Vector) -> Result<NullSpace> {
+    pub(crate) fn rigid_body(coords: &Vector) -> Result<NullSpace> {
         let mut raw = std::ptr::null_mut();
         check(unsafe { ffi::MatNullSpaceCreateRigidBody(coords.raw, &mut raw) })?;
         Ok(NullSpace { raw })
@@ -186,22 +173,22 @@ impl super::Object for Mat {
 }
 
 /// A sequential CSR block of this rank's rows (row pointers, column indices, values).
-pub struct CsrBlock<'a> {
-    pub ia: &'a [Int],
-    pub ja: &'a [Int],
-    pub vals: &'a mut [f64],
+pub(crate) struct CsrBlock<'a> {
+    pub(crate) ia: &'a [Int],
+    pub(crate) ja: &'a [Int],
+    pub(crate) vals: &'a mut [f64],
 }
 
 /// Direct access to the locally owned rows of an assembled AIJ matrix: the diagonal block
 /// (columns local to [col_start, col_end)) and, in parallel, the off-diagonal block whose
 /// compressed column j is global column `garray[j]`.
-pub struct LocalCsr<'a> {
-    pub row_start: usize,
-    pub col_start: usize,
-    pub col_end: usize,
-    pub diag: CsrBlock<'a>,
-    pub off: Option<CsrBlock<'a>>,
-    pub garray: &'a [Int],
+pub(crate) struct LocalCsr<'a> {
+    pub(crate) row_start: usize,
+    pub(crate) col_start: usize,
+    pub(crate) col_end: usize,
+    pub(crate) diag: CsrBlock<'a>,
+    pub(crate) off: Option<CsrBlock<'a>>,
+    pub(crate) garray: &'a [Int],
 }
 
 struct RawBlock {
@@ -254,7 +241,7 @@ impl Mat {
     /// The values of the locally owned rows (diagonal block, then off-diagonal block), in
     /// storage order: with [`set_local_values`](Self::set_local_values) on a matrix of the
     /// same pattern, a copy.
-    pub fn local_values(&mut self) -> Result<Vec<f64>> {
+    pub(crate) fn local_values(&mut self) -> Result<Vec<f64>> {
         self.with_local_csr(|c| {
             let mut v = c.diag.vals.to_vec();
             if let Some(o) = &c.off {
@@ -266,7 +253,7 @@ impl Mat {
 
     /// Sets the values of the locally owned rows from [`local_values`](Self::local_values) of a
     /// matrix with the same pattern, and assembles.
-    pub fn set_local_values(&mut self, values: &[f64]) -> Result<()> {
+    pub(crate) fn set_local_values(&mut self, values: &[f64]) -> Result<()> {
         self.with_local_csr(|c| {
             let nd = c.diag.vals.len();
             let no = c.off.as_ref().map_or(0, |o| o.vals.len());
@@ -289,7 +276,7 @@ impl Mat {
     /// Runs `f` with direct access to the local CSR blocks of an assembled AIJ matrix. Values
     /// written there bypass `MatSetValues` (and its per-entry search); call [`Mat::assemble`]
     /// afterwards as usual.
-    pub fn with_local_csr<R>(&mut self, f: impl FnOnce(&mut LocalCsr) -> Result<R>) -> Result<R> {
+    pub(crate) fn with_local_csr<R>(&mut self, f: impl FnOnce(&mut LocalCsr) -> Result<R>) -> Result<R> {
         unsafe {
             let mut t: ffi::MatType = std::ptr::null();
             check(ffi::MatGetType(self.raw, &mut t))?;

@@ -31,15 +31,18 @@ mod ts;
 mod vec;
 
 pub use c_types::Int;
-pub use dm::{DmShell, FieldDecomposition};
+pub(crate) use dm::{DmShell, FieldDecomposition};
 pub use init::Petsc;
-pub use is::IndexSet;
-pub use ksp::{Ksp, LuFactor, Pc};
-pub use mat::{CsrBlock, LocalCsr, Mat, NullSpace};
-pub use object::Object;
-pub use snes::{ShellSolve, Snes, SolverState};
+pub(crate) use is::IndexSet;
+pub use ksp::LuFactor;
+pub(crate) use ksp::{Ksp, Pc};
+pub use mat::Mat;
+pub(crate) use mat::{CsrBlock, LocalCsr, NullSpace};
+pub(crate) use object::Object;
+pub(crate) use snes::{ShellSolve, Snes, SolverState};
 pub use ts::{Ts, TsProblem, TsRef};
-pub use vec::{Scatter, Vector};
+pub(crate) use vec::Scatter;
+pub use vec::Vector;
 
 pub(crate) use c_types::{cstr, pbool, type_name_of};
 pub(crate) use error::{check, raise};

@@ -3,6 +3,6 @@
 use super::ffi;
 
 /// A live PETSc object owned by one of the wrappers (for compose).
-pub trait Object {
+pub(crate) trait Object {
     fn object(&self) -> ffi::PetscObject;
 }

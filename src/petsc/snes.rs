@@ -10,7 +10,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 /// A nonlinear solver written in Rust, run by a SNESSHELL inside TS: it evaluates the residual
 /// and Jacobian through the SNES ([`Snes::compute_function`], [`Snes::compute_jacobian`]) and
 /// reports through [`Snes::set_converged_reason`] and [`Snes::set_iteration_number`].
-pub trait ShellSolve {
+pub(crate) trait ShellSolve {
     /// Solves F(x) = 0 from the initial guess in `x`.
     fn solve(&mut self, snes: Snes, x: &mut Vector) -> Result<()>;
     /// Newton and Krylov iterations summed over every solve so far (failed ones included).
@@ -31,15 +31,15 @@ pub trait ShellSolve {
 /// A nonlinear solver's state between solves on one rank: the local values of a kept operator,
 /// a set of global indices (e.g. an active set), and counters.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SolverState {
-    pub values: Vec<f64>,
-    pub indices: Vec<Int>,
-    pub counters: Vec<u64>,
+pub(crate) struct SolverState {
+    pub(crate) values: Vec<f64>,
+    pub(crate) indices: Vec<Int>,
+    pub(crate) counters: Vec<u64>,
 }
 
 impl SolverState {
     /// Little-endian bytes: three length-prefixed arrays.
-    pub fn to_bytes(&self) -> Vec<u8> {
+    pub(crate) fn to_bytes(&self) -> Vec<u8> {
         let mut b = Vec::new();
         b.extend((self.values.len() as u64).to_le_bytes());
         self.values.iter().for_each(|v| b.extend(v.to_le_bytes()));
@@ -51,7 +51,7 @@ impl SolverState {
     }
 
     /// The inverse of [`to_bytes`](Self::to_bytes); None for anything else.
-    pub fn from_bytes(b: &[u8]) -> Option<SolverState> {
+    pub(crate) fn from_bytes(b: &[u8]) -> Option<SolverState> {
         let mut at = 0;
         // Every array length is checked against the file's (a damaged file cannot make a huge
         // allocation).
@@ -120,34 +120,34 @@ impl Snes {
     }
     /// Gives `ksp` this SNES's DM for PC information only (field decomposition), not for its
     /// operators.
-    pub fn lend_dm_to(&self, ksp: &Ksp) -> Result<()> {
+    pub(crate) fn lend_dm_to(&self, ksp: &Ksp) -> Result<()> {
         let mut dm: ffi::DM = std::ptr::null_mut();
         check(unsafe { ffi::SNESGetDM(self.raw, &mut dm) })?;
         check(unsafe { ffi::KSPSetDM(ksp.raw, dm) })?;
         check(unsafe { ffi::KSPSetDMActive(ksp.raw, super::pbool(false)) })
     }
-    pub fn set_type(&self, t: &str) -> Result<()> {
+    pub(crate) fn set_type(&self, t: &str) -> Result<()> {
         let c = super::cstr(t);
         check(unsafe { ffi::SNESSetType(self.raw, c.as_ptr()) })
     }
     /// Whether the solver is a variational-inequality (bounded) Newton method.
-    pub fn is_vi(&self) -> Result<bool> {
+    pub(crate) fn is_vi(&self) -> Result<bool> {
         let mut t: ffi::SNESType = std::ptr::null();
         check(unsafe { ffi::SNESGetType(self.raw, &mut t) })?;
         Ok(!t.is_null() && unsafe { std::ffi::CStr::from_ptr(t) }.to_bytes().starts_with(b"vi"))
     }
     /// Converged reason code (> 0 converged, < 0 diverged).
-    pub fn converged_reason(&self) -> Result<i32> {
+    pub(crate) fn converged_reason(&self) -> Result<i32> {
         let mut r = ffi::SNESConvergedReason(0);
         check(unsafe { ffi::SNESGetConvergedReason(self.raw, &mut r) })?;
         Ok(r.0)
     }
     /// Lower and upper bounds for a VI solve. SNES keeps references: update the vectors in place.
-    pub fn set_vi_bounds(&self, lower: &Vector, upper: &Vector) -> Result<()> {
+    pub(crate) fn set_vi_bounds(&self, lower: &Vector, upper: &Vector) -> Result<()> {
         check(unsafe { ffi::SNESVISetVariableBounds(self.raw, lower.raw, upper.raw) })
     }
     /// The inactive (free) set of the current VI iterate, if the VI solver has one yet.
-    pub fn vi_inactive_set(&self) -> Result<Option<super::IndexSet>> {
+    pub(crate) fn vi_inactive_set(&self) -> Result<Option<super::IndexSet>> {
         let mut is: ffi::IS = std::ptr::null_mut();
         check(unsafe { ffi::SNESVIGetInactiveSet(self.raw, &mut is) })?;
         if is.is_null() {
@@ -158,36 +158,36 @@ impl Snes {
     }
     /// Tells SNES the last function evaluation left the admissible domain (J <= Φs ...):
     /// the solve fails softly and TS retries with a smaller step.
-    pub fn set_function_domain_error(&self) -> Result<()> {
+    pub(crate) fn set_function_domain_error(&self) -> Result<()> {
         check(unsafe { ffi::SNESSetFunctionDomainError(self.raw) })
     }
     /// F(x) into `f` through the SNES (for TS: the IFunction at the stage). A domain error in
     /// the residual makes `f` infinite on every rank.
-    pub fn compute_function(&self, x: &Vector, f: &mut Vector) -> Result<()> {
+    pub(crate) fn compute_function(&self, x: &Vector, f: &mut Vector) -> Result<()> {
         check(unsafe { ffi::SNESComputeFunction(self.raw, x.raw, f.raw) })
     }
     /// Assembles the Jacobian at x into the SNES's matrices and returns them (operator,
     /// preconditioning matrix; possibly the same object).
-    pub fn compute_jacobian(&self, x: &Vector) -> Result<(ManuallyDrop<Mat>, ManuallyDrop<Mat>)> {
+    pub(crate) fn compute_jacobian(&self, x: &Vector) -> Result<(ManuallyDrop<Mat>, ManuallyDrop<Mat>)> {
         let (mut a, mut p) = (std::ptr::null_mut(), std::ptr::null_mut());
         check(unsafe { ffi::SNESGetJacobian(self.raw, &mut a, &mut p, std::ptr::null_mut(), std::ptr::null_mut()) })?;
         check(unsafe { ffi::SNESComputeJacobian(self.raw, x.raw, a, p) })?;
         Ok(unsafe { (Mat::borrowed(a), Mat::borrowed(p)) })
     }
     /// (atol, rtol, stol, max_it) as set by options.
-    pub fn tolerances(&self) -> Result<(f64, f64, f64, usize)> {
+    pub(crate) fn tolerances(&self) -> Result<(f64, f64, f64, usize)> {
         let (mut atol, mut rtol, mut stol, mut maxit, mut maxf) = (0.0, 0.0, 0.0, 0 as Int, 0 as Int);
         check(unsafe { ffi::SNESGetTolerances(self.raw, &mut atol, &mut rtol, &mut stol, &mut maxit, &mut maxf) })?;
         Ok((atol, rtol, stol, maxit.max(0) as usize))
     }
-    pub fn set_converged_reason(&self, reason: ffi::SNESConvergedReason) -> Result<()> {
+    pub(crate) fn set_converged_reason(&self, reason: ffi::SNESConvergedReason) -> Result<()> {
         check(unsafe { ffi::SNESSetConvergedReason(self.raw, reason) })
     }
     /// Runs the monitors set by options (`-snes_monitor` ...) for iteration `it`.
-    pub fn monitor(&self, it: usize, fnorm: f64) -> Result<()> {
+    pub(crate) fn monitor(&self, it: usize, fnorm: f64) -> Result<()> {
         check(unsafe { ffi::SNESMonitor(self.raw, it as Int, fnorm) })
     }
-    pub fn set_iteration_number(&self, n: usize) -> Result<()> {
+    pub(crate) fn set_iteration_number(&self, n: usize) -> Result<()> {
         check(unsafe { ffi::SNESSetIterationNumber(self.raw, n as Int) })
     }
     /// Makes this a SNESSHELL running `solver` (kept alive by the caller at a stable address).
@@ -196,22 +196,16 @@ impl Snes {
         check(unsafe { ffi::SNESShellSetContext(self.raw, solver as *mut ShellBox as *mut c_void) })?;
         check(unsafe { ffi::SNESShellSetSolve(self.raw, Some(shell_solve_tramp)) })
     }
-    pub fn set_tolerances(&self, atol: f64, rtol: f64, stol: f64, max_it: usize) -> Result<()> {
-        check(unsafe { ffi::SNESSetTolerances(self.raw, atol, rtol, stol, max_it as Int, ffi::PETSC_DEFAULT) })
-    }
     fn line_search(&self) -> Result<ffi::SNESLineSearch> {
         let mut ls: ffi::SNESLineSearch = std::ptr::null_mut();
         check(unsafe { ffi::SNESGetLineSearch(self.raw, &mut ls) })?;
         Ok(ls)
     }
     /// The line search type of the Newton iteration ("basic", "bt", ...).
-    pub fn line_search_type(&self) -> Result<String> {
+    pub(crate) fn line_search_type(&self) -> Result<String> {
         let mut t: ffi::SNESLineSearchType = std::ptr::null();
         check(unsafe { ffi::SNESLineSearchGetType(self.line_search()?, &mut t) })?;
         Ok(super::type_name_of(t))
-    }
-    pub fn set_from_options(&self) -> Result<()> {
-        check(unsafe { ffi::SNESSetFromOptions(self.raw) })
     }
 }
 

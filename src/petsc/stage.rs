@@ -10,14 +10,14 @@ pub(crate) struct Stage(ffi::PetscLogStage);
 
 impl Stage {
     /// Registers a named stage.
-    pub fn register(name: &str) -> Result<Stage> {
+    pub(crate) fn register(name: &str) -> Result<Stage> {
         let n = CString::new(name).unwrap_or_default();
         let mut s: ffi::PetscLogStage = 0;
         check(unsafe { ffi::PetscLogStageRegister(n.as_ptr(), &mut s) })?;
         Ok(Stage(s))
     }
     /// Enters the stage until the guard drops.
-    pub fn push(self) -> StageGuard {
+    pub(crate) fn push(self) -> StageGuard {
         unsafe { ffi::PetscLogStagePush(self.0) };
         StageGuard
     }

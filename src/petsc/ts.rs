@@ -16,7 +16,7 @@ pub struct TsRef {
 }
 
 impl TsRef {
-    pub fn snes(&self) -> Result<Snes> {
+    pub(crate) fn snes(&self) -> Result<Snes> {
         let mut raw = std::ptr::null_mut();
         check(unsafe { ffi::TSGetSNES(self.raw, &mut raw) })?;
         Ok(Snes { raw })
@@ -29,13 +29,13 @@ impl TsRef {
     }
     /// The solution at the start of the step being attempted (TS replaces it only when the
     /// step is accepted).
-    pub fn solution(&self) -> Result<std::mem::ManuallyDrop<Vector>> {
+    pub(crate) fn solution(&self) -> Result<std::mem::ManuallyDrop<Vector>> {
         let mut raw = std::ptr::null_mut();
         check(unsafe { ffi::TSGetSolution(self.raw, &mut raw) })?;
         Ok(unsafe { Vector::borrowed(raw) })
     }
     /// Start time of the step being attempted.
-    pub fn time(&self) -> Result<f64> {
+    pub(crate) fn time(&self) -> Result<f64> {
         let mut t = 0.0;
         check(unsafe { ffi::TSGetTime(self.raw, &mut t) })?;
         Ok(t)
@@ -264,25 +264,25 @@ impl<P: TsProblem> Ts<P> {
         Ok(ts)
     }
 
-    pub fn as_ref(&self) -> TsRef {
+    pub(crate) fn as_ref(&self) -> TsRef {
         TsRef { raw: self.raw }
     }
     pub fn problem(&self) -> &P {
         &self.ctx.problem
     }
-    pub fn problem_mut(&mut self) -> &mut P {
+    pub(crate) fn problem_mut(&mut self) -> &mut P {
         &mut self.ctx.problem
     }
     /// The problem together with the Jacobian matrix TS assembles into (for diagnostics that
     /// assemble outside a solve).
-    pub fn problem_and_jacobian(&mut self) -> (&mut P, &mut Mat) {
+    pub(crate) fn problem_and_jacobian(&mut self) -> (&mut P, &mut Mat) {
         (&mut self.ctx.problem, &mut self._keep.1)
     }
     pub fn snes(&self) -> Result<Snes> {
         self.as_ref().snes()
     }
     /// Replaces the SNES by `solver` (a SNESSHELL); the TS keeps it alive.
-    pub fn set_nonlinear_solver(&mut self, solver: Box<dyn ShellSolve>) -> Result<()> {
+    pub(crate) fn set_nonlinear_solver(&mut self, solver: Box<dyn ShellSolve>) -> Result<()> {
         let snes = self.snes()?;
         let shell = self.shell.insert(Box::new(solver));
         snes.set_shell(shell)
@@ -290,27 +290,27 @@ impl<P: TsProblem> Ts<P> {
     /// Makes the next nonlinear solve start afresh (see [`ShellSolve::restart`]). PETSc's own
     /// objects keep what they keep (e.g. GAMG's reused interpolation): a run resumed with
     /// them repeats the uninterrupted one only to solver tolerance.
-    pub fn restart_nonlinear_solver(&mut self) {
+    pub(crate) fn restart_nonlinear_solver(&mut self) {
         if let Some(s) = self.shell.as_mut() {
             s.restart();
         }
     }
     /// The shell nonlinear solver's state between solves (see [`ShellSolve::saved_state`]).
-    pub fn nonlinear_solver_state(&mut self) -> Result<Option<super::SolverState>> {
+    pub(crate) fn nonlinear_solver_state(&mut self) -> Result<Option<super::SolverState>> {
         match self.shell.as_mut() {
             Some(s) => s.saved_state(),
             None => Ok(None),
         }
     }
     /// Hands the shell nonlinear solver a saved state for its next solve.
-    pub fn restore_nonlinear_solver_state(&mut self, state: super::SolverState) {
+    pub(crate) fn restore_nonlinear_solver_state(&mut self, state: super::SolverState) {
         if let Some(s) = self.shell.as_mut() {
             s.restore_state(state);
         }
     }
     /// Newton and Krylov iterations summed over every nonlinear solve so far (failed attempts of
     /// cut steps included).
-    pub fn solver_totals(&self) -> Result<(usize, usize)> {
+    pub(crate) fn solver_totals(&self) -> Result<(usize, usize)> {
         if let Some(s) = &self.shell {
             return Ok(s.totals());
         }
@@ -332,9 +332,6 @@ impl<P: TsProblem> Ts<P> {
     pub fn set_time_step(&mut self, dt: f64) -> Result<()> {
         check(unsafe { ffi::TSSetTimeStep(self.raw, dt) })
     }
-    pub fn time_step(&self) -> Result<f64> {
-        self.as_ref().time_step()
-    }
     pub fn set_max_time(&mut self, t: f64) -> Result<()> {
         check(unsafe { ffi::TSSetMaxTime(self.raw, t) })
     }
@@ -355,13 +352,10 @@ impl<P: TsProblem> Ts<P> {
         check(unsafe { ffi::TSSetFromOptions(self.raw) })
     }
     /// Type name as PETSc reports it ("beuler", "bdf", ...).
-    pub fn type_name(&self) -> Result<String> {
+    pub(crate) fn type_name(&self) -> Result<String> {
         let mut t: ffi::TSType = std::ptr::null();
         check(unsafe { ffi::TSGetType(self.raw, &mut t) })?;
         Ok(super::type_name_of(t))
-    }
-    pub fn set_up(&mut self) -> Result<()> {
-        check(unsafe { ffi::TSSetUp(self.raw) })
     }
     /// Integrates to the max time with `TSSolve` (calls the post-step and monitor hooks).
     pub fn solve(&mut self, u: &mut Vector) -> Result<()> {
@@ -406,12 +400,12 @@ impl<P: TsProblem> Ts<P> {
         Ok(())
     }
     /// Undoes the last accepted step (state and time), e.g. when an error estimate rejects it.
-    pub fn roll_back(&mut self) -> Result<()> {
+    pub(crate) fn roll_back(&mut self) -> Result<()> {
         check(unsafe { ffi::TSRollBack(self.raw) })
     }
     /// Tells multistep methods (BDF) that the solution's history is not smooth across the
     /// current time (a kink of the loading): the next step starts afresh.
-    pub fn restart_step(&mut self) -> Result<()> {
+    pub(crate) fn restart_step(&mut self) -> Result<()> {
         check(unsafe { ffi::TSRestartStep(self.raw) })
     }
 }

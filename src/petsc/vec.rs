@@ -20,7 +20,7 @@ impl Vector {
     }
 
     /// A sequential (rank-local) vector.
-    pub fn seq(n: usize) -> Result<Vector> {
+    pub(crate) fn seq(n: usize) -> Result<Vector> {
         let mut raw = std::ptr::null_mut();
         check(unsafe { ffi::VecCreateSeq(mpi::ffi::RSMPI_COMM_SELF, n as Int, &mut raw) })?;
         Ok(Vector { raw })
@@ -30,18 +30,13 @@ impl Vector {
     ///
     /// # Safety
     /// `raw` must be a valid Vec for the lifetime of the returned value.
-    pub unsafe fn borrowed(raw: ffi::Vec) -> ManuallyDrop<Vector> {
+    pub(crate) unsafe fn borrowed(raw: ffi::Vec) -> ManuallyDrop<Vector> {
         ManuallyDrop::new(Vector { raw })
-    }
-
-    /// Takes one more reference (for PETSc objects that keep a vector we also keep).
-    pub fn as_raw(&self) -> ffi::Vec {
-        self.raw
     }
 
     /// Another owning handle to the same vector (PETSc reference counting): both see the same
     /// values.
-    pub fn clone_ref(&self) -> Result<Vector> {
+    pub(crate) fn clone_ref(&self) -> Result<Vector> {
         check(unsafe { ffi::PetscObjectReference(self.raw as ffi::PetscObject) })?;
         Ok(Vector { raw: self.raw })
     }
@@ -54,27 +49,27 @@ impl Vector {
     }
 
     /// A new vector with the same layout and values.
-    pub fn copy(&self) -> Result<Vector> {
+    pub(crate) fn copy(&self) -> Result<Vector> {
         let mut v = self.duplicate()?;
         v.copy_from(self)?;
         Ok(v)
     }
 
     /// The communicator the vector lives on.
-    pub fn comm(&self) -> Result<ffi::MPI_Comm> {
+    pub(crate) fn comm(&self) -> Result<ffi::MPI_Comm> {
         let mut comm: ffi::MPI_Comm = unsafe { std::mem::zeroed() };
         check(unsafe { ffi::PetscObjectGetComm(self.raw as ffi::PetscObject, &mut comm) })?;
         Ok(comm)
     }
 
-    pub fn local_size(&self) -> usize {
+    pub(crate) fn local_size(&self) -> usize {
         let mut n: Int = 0;
         unsafe { ffi::VecGetLocalSize(self.raw, &mut n) };
         n as usize
     }
 
     /// First global index owned by this rank.
-    pub fn ownership_start(&self) -> usize {
+    pub(crate) fn ownership_start(&self) -> usize {
         let (mut lo, mut hi): (Int, Int) = (0, 0);
         unsafe { ffi::VecGetOwnershipRange(self.raw, &mut lo, &mut hi) };
         lo as usize
@@ -88,7 +83,7 @@ impl Vector {
         check(unsafe { ffi::VecZeroEntries(self.raw) })
     }
 
-    pub fn copy_from(&mut self, other: &Vector) -> Result<()> {
+    pub(crate) fn copy_from(&mut self, other: &Vector) -> Result<()> {
         check(unsafe { ffi::VecCopy(other.raw, self.raw) })
     }
 
@@ -117,7 +112,7 @@ impl Vector {
     }
 
     /// Global dot product.
-    pub fn dot(&self, other: &Vector) -> Result<f64> {
+    pub(crate) fn dot(&self, other: &Vector) -> Result<f64> {
         let mut r = 0.0;
         check(unsafe { ffi::VecDot(self.raw, other.raw, &mut r) })?;
         Ok(r)
@@ -149,7 +144,7 @@ impl Vector {
     }
 
     /// Names the vector (shown by viewers and monitors).
-    pub fn set_name(&mut self, name: &str) -> Result<()> {
+    pub(crate) fn set_name(&mut self, name: &str) -> Result<()> {
         let c = super::cstr(name);
         check(unsafe { ffi::PetscObjectSetName(self.raw as ffi::PetscObject, c.as_ptr()) })
     }
@@ -204,7 +199,7 @@ impl Drop for VecWrite<'_> {
 }
 
 /// Scatter between a distributed vector and a rank-local one (owned + ghost entries).
-pub struct Scatter {
+pub(crate) struct Scatter {
     raw: ffi::VecScatter,
 }
 
@@ -212,14 +207,14 @@ destroy_on_drop!(Scatter, VecScatterDestroy);
 
 impl Scatter {
     /// Gathers `global[from[i]]` into `local[i]`.
-    pub fn new(global: &Vector, from: &IndexSet, local: &Vector) -> Result<Scatter> {
+    pub(crate) fn new(global: &Vector, from: &IndexSet, local: &Vector) -> Result<Scatter> {
         let mut raw = std::ptr::null_mut();
         check(unsafe { ffi::VecScatterCreate(global.raw, from.raw, local.raw, std::ptr::null_mut(), &mut raw) })?;
         Ok(Scatter { raw })
     }
 
     /// local <- global (gather owned and ghost values).
-    pub fn forward(&self, global: &Vector, local: &mut Vector) -> Result<()> {
+    pub(crate) fn forward(&self, global: &Vector, local: &mut Vector) -> Result<()> {
         unsafe {
             check(ffi::VecScatterBegin(
                 self.raw,
@@ -239,7 +234,7 @@ impl Scatter {
     }
 
     /// global += local (accumulate element contributions, ghosts included).
-    pub fn reverse_add(&self, local: &Vector, global: &mut Vector) -> Result<()> {
+    pub(crate) fn reverse_add(&self, local: &Vector, global: &mut Vector) -> Result<()> {
         unsafe {
             check(ffi::VecScatterBegin(
                 self.raw,

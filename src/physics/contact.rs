@@ -43,8 +43,8 @@
 use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
-pub use crate::scene::plates::DEFAULT_SEAL_GAP;
-pub use crate::scene::DrainageGap;
+pub(crate) use crate::scene::plates::DEFAULT_SEAL_GAP;
+pub(crate) use crate::scene::DrainageGap;
 
 /// Lower-plate displacement u(t): linear between the points (t, u) of the plate's path, from
 /// (0, 0), the last value after it. The compression–release test (53) (ramp to u_max, hold,

@@ -257,7 +257,7 @@ fn jacobian_defect<C: CellShape>(equal_order: bool, remodelling: bool) -> f64 {
     let mut kk: ElementMatrix = [[0.0; MAX_DOF]; MAX_DOF];
     let mut schur = [[0.0; MAX_VERTICES]; MAX_VERTICES];
     k.jacobian(&input(values), shift, &mut kk, &mut schur).unwrap();
-    let ndof = C::NDOF;
+    let ndof = C::NU + C::NV;
     let mut worst: f64 = 0.0;
     for col in 0..ndof {
         let eps = if col < C::NU { 1e-6 } else { 1e-5 };

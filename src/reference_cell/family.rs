@@ -30,39 +30,39 @@ impl Family {
         }
     }
     /// Nodes per boundary face (P2).
-    pub const fn face_nodes(self) -> usize {
+    pub(crate) const fn face_nodes(self) -> usize {
         match self {
             Family::Tet10 => 6,
             Family::Tri6 => 3,
         }
     }
     /// Vertices per boundary face (the first nodes of a face).
-    pub const fn face_vertices(self) -> usize {
+    pub(crate) const fn face_vertices(self) -> usize {
         match self {
             Family::Tet10 => 3,
             Family::Tri6 => 2,
         }
     }
     /// Displacement components per node.
-    pub const fn components(self) -> usize {
+    pub(crate) const fn components(self) -> usize {
         match self {
             Family::Tet10 => 3,
             Family::Tri6 => 2,
         }
     }
     /// The Cartesian axis (0 = x or r, 1 = y, 2 = z) of each displacement component.
-    pub const fn axes(self) -> &'static [usize] {
+    pub(crate) const fn axes(self) -> &'static [usize] {
         match self {
             Family::Tet10 => &[0, 1, 2],
             Family::Tri6 => &[0, 2],
         }
     }
     /// The displacement component along Cartesian `axis`, if the family has one.
-    pub fn component(self, axis: usize) -> Option<usize> {
+    pub(crate) fn component(self, axis: usize) -> Option<usize> {
         self.axes().iter().position(|&a| a == axis)
     }
     /// Local faces of a cell (cell node positions, in face node order, outward).
-    pub fn cell_faces(self) -> &'static [&'static [usize]] {
+    pub(crate) fn cell_faces(self) -> &'static [&'static [usize]] {
         const TET: [&[usize]; 4] = [&TET_FACES[0], &TET_FACES[1], &TET_FACES[2], &TET_FACES[3]];
         const TRI: [&[usize]; 3] = [&TRI6_SIDES[0], &TRI6_SIDES[1], &TRI6_SIDES[2]];
         match self {
@@ -71,25 +71,25 @@ impl Family {
         }
     }
     /// Edges of a cell (vertex pairs) in the order of its mid-edge nodes.
-    pub fn edges(self) -> &'static [(usize, usize)] {
+    pub(crate) fn edges(self) -> &'static [(usize, usize)] {
         match self {
             Family::Tet10 => &TET10_EDGES,
             Family::Tri6 => &TRI6_EDGES,
         }
     }
     /// Whether the geometry is axisymmetric (weights 2πr, hoop strain u_r / r).
-    pub const fn axisymmetric(self) -> bool {
+    pub(crate) const fn axisymmetric(self) -> bool {
         matches!(self, Family::Tri6)
     }
     /// Short plural of the cells, for logs.
-    pub const fn cells_name(self) -> &'static str {
+    pub(crate) const fn cells_name(self) -> &'static str {
         match self {
             Family::Tet10 => "tets",
             Family::Tri6 => "meridian triangles",
         }
     }
     /// Name of a cell, for messages.
-    pub const fn cell_name(self) -> &'static str {
+    pub(crate) const fn cell_name(self) -> &'static str {
         match self {
             Family::Tet10 => "tetrahedron",
             Family::Tri6 => "triangle",

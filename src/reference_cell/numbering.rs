@@ -2,7 +2,7 @@
 //! `reference_cell`), and the largest node counts.
 
 /// Mid-edge node `4 + k` of a Tetrahedron10 sits on the edge between vertices `TET10_EDGES[k]` (gmsh order).
-pub const TET10_EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (0, 2), (0, 3), (2, 3), (1, 3)];
+pub(crate) const TET10_EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (0, 2), (0, 3), (2, 3), (1, 3)];
 
 /// Local faces of a Tetrahedron10: 3 vertex positions then the 3 mid-edge positions (Triangle6 order),
 /// ordered so that the right-hand-rule normal points OUT of a positively oriented tet.

@@ -4,8 +4,8 @@
 use super::{Family, TET10_EDGES, TRI6_EDGES};
 
 /// Largest number of nodes and vertices of a family's cell.
-pub const MAX_NODES: usize = super::MAX_CELL_NODES;
-pub const MAX_VERTICES: usize = 4;
+pub(crate) const MAX_NODES: usize = super::MAX_CELL_NODES;
+pub(crate) const MAX_VERTICES: usize = 4;
 
 /// Reference gradients of the P1 functions (barycentric coordinates) of the tetrahedron ...
 const DL_TET: [[f64; 3]; 4] = [[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
@@ -15,7 +15,7 @@ const DL_TRI: [[f64; 2]; 3] = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
 /// P1 values (barycentric coordinates) of a family's cell at the reference point ξ (a
 /// triangle's in the first 3 slots; its `ξ[2]` is ignored).
 #[inline]
-pub fn p1_values(family: Family, xi: &[f64; 3]) -> [f64; MAX_VERTICES] {
+pub(crate) fn p1_values(family: Family, xi: &[f64; 3]) -> [f64; MAX_VERTICES] {
     match family {
         Family::Tet10 => [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]],
         Family::Tri6 => [1.0 - xi[0] - xi[1], xi[0], xi[1], 0.0],
@@ -23,7 +23,7 @@ pub fn p1_values(family: Family, xi: &[f64; 3]) -> [f64; MAX_VERTICES] {
 }
 
 /// P2 on the tetrahedron: N_i = L_i (2 L_i − 1) at vertices, 4 L_a L_b on edges.
-pub fn tet10(xi: &[f64; 3]) -> ([f64; 10], [[f64; 3]; 10]) {
+pub(crate) fn tet10(xi: &[f64; 3]) -> ([f64; 10], [[f64; 3]; 10]) {
     let (l, dl) = (p1_values(Family::Tet10, xi), DL_TET);
     let mut n = [0.0; 10];
     let mut dn = [[0.0; 3]; 10];
@@ -43,7 +43,7 @@ pub fn tet10(xi: &[f64; 3]) -> ([f64; 10], [[f64; 3]; 10]) {
 }
 
 /// P2 on the triangle.
-pub fn tri6(xi: &[f64; 2]) -> ([f64; 6], [[f64; 2]; 6]) {
+pub(crate) fn tri6(xi: &[f64; 2]) -> ([f64; 6], [[f64; 2]; 6]) {
     let (l, dl) = (p1_values(Family::Tri6, &[xi[0], xi[1], 0.0]), DL_TRI);
     let mut n = [0.0; 6];
     let mut dn = [[0.0; 2]; 6];
@@ -64,7 +64,7 @@ pub fn tri6(xi: &[f64; 2]) -> ([f64; 6], [[f64; 2]; 6]) {
 
 /// P2 values and reference gradients of a family's cell at ξ, in the 10-slot layout (a
 /// triangle's 6 functions first, the other slots zero; its gradients (∂/∂ξ, ∂/∂η, 0)).
-pub fn p2_values(family: Family, xi: &[f64; 3]) -> ([f64; MAX_NODES], [[f64; 3]; MAX_NODES]) {
+pub(crate) fn p2_values(family: Family, xi: &[f64; 3]) -> ([f64; MAX_NODES], [[f64; 3]; MAX_NODES]) {
     match family {
         Family::Tet10 => tet10(xi),
         Family::Tri6 => {
@@ -80,7 +80,7 @@ pub fn p2_values(family: Family, xi: &[f64; 3]) -> ([f64; MAX_NODES], [[f64; 3];
 /// Where the P2 map of a positively oriented cell (nodes `x`; straight measure `det0`: det of the
 /// vertex simplex's map) folds: the first of its nodes and its centroid with det J ≤ 1e-8 det0,
 /// that point and that det; None if nowhere. J is ∂x/∂ξ in 3-D, ∂(x, z)/∂(ξ, η) on the meridian.
-pub fn fold_point(family: Family, x: &[[f64; 3]], det0: f64) -> Option<([f64; 3], f64)> {
+pub(crate) fn fold_point(family: Family, x: &[[f64; 3]], det0: f64) -> Option<([f64; 3], f64)> {
     let vertices = family.cell_vertices();
     let dim = vertices - 1;
     // the reference nodes (vertices, then mid-edges) and the centroid, as ξ

@@ -25,51 +25,51 @@ const CHART: &str = include_str!("../../scripts/data/accuracy_classes.toml");
 /// The measured chart: the automatic sizes and the accuracy classes.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Chart {
+pub(crate) struct Chart {
     /// Mesh sizes relative to R (`h`, `h_pole`, `r_pole`).
-    pub auto_sizes: BTreeMap<String, f64>,
+    pub(crate) auto_sizes: BTreeMap<String, f64>,
     /// The classes, the first match wins.
-    pub class: Vec<Class>,
+    pub(crate) class: Vec<Class>,
 }
 
 /// One accuracy class, the discretisations it holds for and the domain of scenes it was
 /// measured in.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Class {
-    pub geometry: Geometry,
+pub(crate) struct Class {
+    pub(crate) geometry: Geometry,
     /// The element pair (any if absent).
     #[serde(default)]
-    pub element: Option<Element>,
+    pub(crate) element: Option<Element>,
     /// Remodelling scenes integrated by one of these (any scene if absent).
     #[serde(default)]
-    pub remodelling: Option<Vec<Integrator>>,
+    pub(crate) remodelling: Option<Vec<Integrator>>,
     /// The largest h/R (any if absent).
     #[serde(default)]
-    pub max_h_over_r: Option<f64>,
+    pub(crate) max_h_over_r: Option<f64>,
     /// The range of c_v t_ramp / R² measured (any if absent).
     #[serde(default)]
-    pub drainage: Option<[f64; 2]>,
+    pub(crate) drainage: Option<[f64; 2]>,
     /// The range of the compression ũ measured (any if absent).
     #[serde(default)]
-    pub compression: Option<[f64; 2]>,
+    pub(crate) compression: Option<[f64; 2]>,
     /// The fewest steps through the ramp measured (any if absent).
     #[serde(default)]
-    pub min_ramp_steps: Option<usize>,
+    pub(crate) min_ramp_steps: Option<usize>,
     /// The stabilisations measured (any if absent).
     #[serde(default)]
-    pub stabilisation: Option<Vec<Stabilisation>>,
+    pub(crate) stabilisation: Option<Vec<Stabilisation>>,
     /// What to expect of the plate force; `{hold}` stands for the force at the end of the
     /// scene's hold, F(t) with its own t.
-    pub class: String,
+    pub(crate) class: String,
     /// What it was measured on.
-    pub basis: String,
+    pub(crate) basis: String,
 }
 
 /// The pressure stabilisation of a scene, as the chart tells them apart.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Stabilisation {
+pub(crate) enum Stabilisation {
     /// At full weight in every step (`fem.stabilisation_fade` absent).
     Constant,
     /// Faded (`fem.stabilisation_fade`).
@@ -81,21 +81,21 @@ pub enum Stabilisation {
 /// Where a plate scene lies in the dimensionless groups its force's discretisation error
 /// depends on besides the mesh (docs/performance.md, "What the accuracy line means").
 #[derive(Debug, Clone, Copy)]
-pub struct Domain {
+pub(crate) struct Domain {
     /// c_v t_ramp / R²: how far the ramp drains the aggregate. With h/R it gives the drainage
     /// layer √(c_v t_ramp) in elements, which decides what the stabilisation costs.
-    pub drainage: f64,
+    pub(crate) drainage: f64,
     /// The compression ũ.
-    pub compression: f64,
+    pub(crate) compression: f64,
     /// The steps the schedule takes through the ramp.
-    pub ramp_steps: usize,
-    pub stabilisation: Stabilisation,
+    pub(crate) ramp_steps: usize,
+    pub(crate) stabilisation: Stabilisation,
 }
 
 impl Class {
     /// The first group of `d` outside the domain this class was measured in, said for a user
     /// (None: inside).
-    pub fn outside(&self, d: &Domain) -> Option<String> {
+    pub(crate) fn outside(&self, d: &Domain) -> Option<String> {
         let out = |x: f64, [lo, hi]: [f64; 2]| x < lo || x > hi;
         if let Some(r) = self.drainage.filter(|&r| out(d.drainage, r)) {
             return Some(format!("c_v t_ramp / R² = {:.2e}, measured {:.2e} to {:.2e}", d.drainage, r[0], r[1]));
@@ -120,7 +120,7 @@ impl Class {
 }
 
 /// The chart, parsed once; Err: the data file's error.
-pub fn chart() -> Result<&'static Chart, String> {
+pub(crate) fn chart() -> Result<&'static Chart, String> {
     static PARSED: OnceLock<Result<Chart, String>> = OnceLock::new();
     PARSED
         .get_or_init(|| toml::from_str(CHART).map_err(|e| format!("scripts/data/accuracy_classes.toml: {e}")))
@@ -131,7 +131,7 @@ pub fn chart() -> Result<&'static Chart, String> {
 impl Chart {
     /// The classes of a discretisation, in the chart's order: the geometry, the element pair
     /// (P2–P1 or P1–P1), the remodelling's integrator if any, and h/R.
-    pub fn classes_of(
+    pub(crate) fn classes_of(
         &self,
         geometry: Geometry,
         element: Element,
@@ -149,7 +149,7 @@ impl Chart {
     /// The class of a scene: the first of its discretisation's classes measured in a domain
     /// that holds `domain`; Err: the first such class's reason why the scene is outside it, or
     /// the h/R the discretisation was charted up to (None: not charted at all).
-    pub fn class_of(
+    pub(crate) fn class_of(
         &self,
         geometry: Geometry,
         element: Element,
@@ -170,7 +170,7 @@ impl Chart {
 /// Replaces the scene's `auto` element and grading by what they stand for. Err: a message for
 /// the scene's error (an automatic grading without the radius it scales with; a chart that does
 /// not parse, for every scene, so that it shows at the first load).
-pub fn resolve(scene: &mut Scene) -> Result<(), String> {
+pub(crate) fn resolve(scene: &mut Scene) -> Result<(), String> {
     let chart = chart()?;
     if scene.fem.element == Some(Element::Auto) {
         scene.fem.element = Some(Element::P2P1);

@@ -9,33 +9,33 @@ use std::collections::BTreeMap;
 /// A boundary condition on a named physical surface group. Exactly one kind per entry.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct BoundaryCondition {
-    pub group: String,
+pub(crate) struct BoundaryCondition {
+    pub(crate) group: String,
     /// Prescribed displacement components, e.g. `{ z = 0.0 }` or `{ x = 0, y = 0, z = 0 }`.
     #[serde(default)]
-    pub displacement: Option<BTreeMap<Axis, f64>>,
+    pub(crate) displacement: Option<BTreeMap<Axis, f64>>,
     /// Zero normal displacement on an axis-aligned plane (symmetry planes, confined sides).
     #[serde(default)]
-    pub roller: Option<bool>,
+    pub(crate) roller: Option<bool>,
     /// Reference-configuration traction: `{ normal = -1.0 }` (t = value·N) or `{ vector = [..] }`.
     #[serde(default)]
-    pub traction: Option<Traction>,
+    pub(crate) traction: Option<Traction>,
     /// Prescribed pore pressure (kPa), e.g. 0 on a drained surface.
     #[serde(default)]
-    pub pressure: Option<f64>,
+    pub(crate) pressure: Option<f64>,
     /// Prescribed outward fluid flux Q·N (µm/s); zero flux is the default and needs no entry.
     #[serde(default)]
-    pub flux: Option<f64>,
+    pub(crate) flux: Option<f64>,
     /// Only in this geometry (e.g. the quarter's symmetry rollers: `geometry = "solid"`); both if
     /// absent.
     #[serde(default)]
-    pub geometry: Option<Geometry>,
+    pub(crate) geometry: Option<Geometry>,
 }
 
 /// A Cartesian axis: a displacement component's name.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Axis {
+pub(crate) enum Axis {
     X,
     Y,
     Z,
@@ -43,18 +43,18 @@ pub enum Axis {
 
 impl Axis {
     /// 0, 1, 2.
-    pub fn index(self) -> usize {
+    pub(crate) fn index(self) -> usize {
         self as usize
     }
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct Traction {
+pub(crate) struct Traction {
     #[serde(default)]
-    pub normal: Option<f64>,
+    pub(crate) normal: Option<f64>,
     #[serde(default)]
-    pub vector: Option<[f64; 3]>,
+    pub(crate) vector: Option<[f64; 3]>,
 }
 
 impl BoundaryCondition {

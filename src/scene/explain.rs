@@ -1,5 +1,5 @@
 //! A scene explained: the resolved scene as TOML (every default written out) with each key's
-//! meaning, unit, default and valid range from its declaration ([`super::key`]) as a comment
+//! meaning, unit, default and valid range from its declaration (`super::key`) as a comment
 //! above it, and the keys left unset listed with what that means — `poroplast show --explain`
 //! and the run directory's `scene.toml`. Values are written on their key's line, except a table
 //! of numbers (`plates.table`), which is written a row a line with its columns aligned.

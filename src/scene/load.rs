@@ -12,13 +12,13 @@ use std::path::{Path, PathBuf};
 /// A scene together with where it came from.
 #[derive(Debug, Clone)]
 pub struct LoadedScene {
-    pub scene: Scene,
+    pub(crate) scene: Scene,
     /// The `--set KEY=VALUE` overrides applied to the file (already in `scene`).
-    pub overrides: Vec<String>,
+    pub(crate) overrides: Vec<String>,
     /// The file, or `builtin:<name>`.
     pub source: String,
     /// Directory relative paths are resolved against (None for builtin scenes).
-    pub dir: Option<PathBuf>,
+    pub(crate) dir: Option<PathBuf>,
     /// What the user should know: deprecated keys and what to write instead, values allowed but
     /// likely mistaken (printed by `run` and `check` as notes).
     pub notes: Vec<String>,
@@ -44,7 +44,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
 
 impl LoadedScene {
     /// Loads `arg`: a path to a `.toml` file, or the name of a builtin scene, with the
-    /// `--set KEY=VALUE` overrides applied in order (see [`overrides`]).
+    /// `--set KEY=VALUE` overrides applied in order (see `overrides`).
     pub fn load(arg: &str, overrides: &[String]) -> Result<LoadedScene> {
         let (mut scene, source, dir, stem) = Self::read(arg, overrides)?;
         if scene.name.is_empty() {
@@ -59,7 +59,7 @@ impl LoadedScene {
     /// That the overrides name keys of the scene `arg`, with values of their types: the scene
     /// read, neither resolved nor validated. A sweep checks this of every case before it runs
     /// any; a value out of range stays the failure of the case that has it.
-    pub fn check_keys(arg: &str, overrides: &[String]) -> Result<()> {
+    pub(crate) fn check_keys(arg: &str, overrides: &[String]) -> Result<()> {
         Self::read(arg, overrides).map(drop)
     }
 
@@ -103,7 +103,7 @@ impl LoadedScene {
     }
 
     /// The `[petsc]` table as command-line style options (`-key value`).
-    pub fn petsc_args(&self) -> Vec<String> {
+    pub(crate) fn petsc_args(&self) -> Vec<String> {
         let mut out = Vec::new();
         for (k, v) in &self.scene.petsc {
             let key = format!("-{}", k.trim_start_matches('-'));
@@ -125,7 +125,7 @@ impl LoadedScene {
 
     /// Where the scene's mesh comes from (`mesh.file`, or the `.geo` of its geometry), resolved
     /// against the scene file.
-    pub fn mesh_source(&self) -> crate::mesh::source::MeshSource<'_> {
+    pub(crate) fn mesh_source(&self) -> crate::mesh::source::MeshSource<'_> {
         use crate::mesh::source::MeshSource;
         match self.scene.mesh.source() {
             (_, Some(file)) => MeshSource::Msh(self.resolve(file)),
@@ -137,7 +137,7 @@ impl LoadedScene {
     }
 
     /// Resolves a path given in the scene: relative to the scene file.
-    pub fn resolve(&self, p: &str) -> PathBuf {
+    pub(crate) fn resolve(&self, p: &str) -> PathBuf {
         match &self.dir {
             Some(d) if Path::new(p).is_relative() => d.join(p),
             _ => PathBuf::from(p),
@@ -146,7 +146,7 @@ impl LoadedScene {
 
     /// The scene as TOML, every value on its key's line (`explain` writes the run directory's
     /// `scene.toml` from it).
-    pub fn to_toml(&self) -> Result<String> {
+    pub(crate) fn to_toml(&self) -> Result<String> {
         toml::to_string(&self.scene).map_err(|e| self.err(format!("cannot write the resolved scene as TOML: {e}")))
     }
 }

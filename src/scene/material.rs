@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, tag = "model", rename_all = "snake_case")]
-pub enum Material {
+pub(crate) enum Material {
     /// Small-strain linear poroelasticity, incompressible constituents (Biot α = 1, M = ∞).
     Linear {
         /// Drained shear modulus µ (kPa).
@@ -35,55 +35,55 @@ pub enum Material {
 /// law's keys (µ and ν, or Holmes–Mow's α's) and the mixture's (permeability, penalty, remodelling, densities, gravity).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct MixtureSpec {
+pub(crate) struct MixtureSpec {
     /// Shear modulus µ (kPa) and Poisson ratio ν of Ψ/Φs; the α's follow from eq. (56) ...
     #[serde(default)]
-    pub mu: Option<f64>,
+    pub(crate) mu: Option<f64>,
     #[serde(default)]
-    pub nu: Option<f64>,
+    pub(crate) nu: Option<f64>,
     /// ... or µ follows from the aggregate's drained shear modulus G = Φs µ (kPa), what a plate
     /// or AFM experiment measures ...
     #[serde(default)]
-    pub drained_shear_modulus: Option<f64>,
+    pub(crate) drained_shear_modulus: Option<f64>,
     /// ... or from its drained Young's modulus E = 2 G (1 + ν) (kPa) ...
     #[serde(default)]
-    pub drained_youngs_modulus: Option<f64>,
+    pub(crate) drained_youngs_modulus: Option<f64>,
     /// ... or the α's are given directly: [α0 (kPa), α1, α2] (α3 = 1).
     #[serde(default)]
-    pub alpha: Option<[f64; 3]>,
+    pub(crate) alpha: Option<[f64; 3]>,
     /// Referential solid fraction Φs.
-    pub phi_s: f64,
+    pub(crate) phi_s: f64,
     /// Referential conductivity k0 (µm⁴/(nN s); 1 mm⁴/(N s) = 1000).
-    pub k0: f64,
+    pub(crate) k0: f64,
     /// Permeability exponents: k = k0 [(J − Φs)/(1 − Φs)]^κ exp(m0 (J² − 1)/2).
-    pub kappa: f64,
-    pub m0: f64,
+    pub(crate) kappa: f64,
+    pub(crate) m0: f64,
     /// Remodelling-dependent permeability (model.md (45)–(48)) with this c; isotropic if absent.
     #[serde(default)]
-    pub permeability_c: Option<f64>,
+    pub(crate) permeability_c: Option<f64>,
     /// Compaction penalty U(J) (model.md (33)); none if absent.
     #[serde(default)]
-    pub penalty: Option<PenaltySpec>,
+    pub(crate) penalty: Option<PenaltySpec>,
     /// Visco-plastic remodelling of B_p (model.md §4); none if absent (B_p = I, no qp state).
     #[serde(default)]
-    pub remodelling: Option<RemodellingSpec>,
+    pub(crate) remodelling: Option<RemodellingSpec>,
     /// Densities (kg/m³).
     #[serde(default = "water")]
-    pub rho_s: f64,
+    pub(crate) rho_s: f64,
     #[serde(default = "water")]
-    pub rho_f: f64,
+    pub(crate) rho_f: f64,
     /// Gravity acceleration (m/s²).
     #[serde(default)]
-    pub gravity: [f64; 3],
+    pub(crate) gravity: [f64; 3],
     /// No fluid: p ≡ 0 everywhere, the drained skeleton alone (each step a static solve,
     /// the limit a long hold relaxes to).
     #[serde(default)]
-    pub drained: bool,
+    pub(crate) drained: bool,
 }
 
 /// How a Holmes–Mow solid is given: by (µ, ν) or by its α's (never both).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum SolidSpec {
+pub(crate) enum SolidSpec {
     /// Shear modulus (kPa) and Poisson ratio; the α's from eq. (56).
     MuNu { mu: f64, nu: f64 },
     /// [α0 (kPa), α1, α2], α3 = 1.
@@ -93,32 +93,32 @@ pub enum SolidSpec {
 /// Compaction penalty U(J) = Φs U0 H(J_cr − J) (J − J_cr)^{2q} / (J − Φs)^r.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct PenaltySpec {
-    pub j_cr: f64,
+pub(crate) struct PenaltySpec {
+    pub(crate) j_cr: f64,
     /// U0 (kPa).
-    pub u0: f64,
-    pub q: f64,
-    pub r: f64,
+    pub(crate) u0: f64,
+    pub(crate) q: f64,
+    pub(crate) r: f64,
 }
 
 /// Perzyna remodelling dB_p/dt = −2 γp B_p dev Σ, γp = λp [‖dev σ‖ − √(2/3) σy]₊ / ‖dev σ‖.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct RemodellingSpec {
+pub(crate) struct RemodellingSpec {
     /// λp in (kPa s)⁻¹ (Table 1: 0.001 = 1 (MPa s)⁻¹).
-    pub lambda_p: f64,
+    pub(crate) lambda_p: f64,
     /// Yield stress σy (kPa).
-    pub sigma_y: f64,
+    pub(crate) sigma_y: f64,
     /// Which form of the paper's flow rule (40): "40b" (default, dB_p/dt = −2 γp B_p dev Σ,
     /// what the paper says it solved), "40a" (L b_e = −2 γp b_e dev σ: a rate 1/J faster) or "40b_tau"
     /// ((40b) with γp of τ = J σ: yields later where J < 1).
     #[serde(default)]
-    pub form: FlowForm,
+    pub(crate) form: FlowForm,
     /// Step integrator: "implicit" (default: the exponential map, unconditionally stable),
     /// "trapezoidal" (half the step explicit, half implicit: second order, A-stable) or
     /// "explicit" (forward Euler in B_p, conditionally stable: for stability studies).
     #[serde(default)]
-    pub integrator: Integrator,
+    pub(crate) integrator: Integrator,
 }
 
 fn water() -> f64 {
@@ -141,7 +141,7 @@ impl Material {
 
     /// The model's name in a scene (`model = ".."`) and, for a finite-strain model, its mixture
     /// keys, whichever its skeleton law: one line per model.
-    pub fn model(&self) -> (&'static str, Option<&MixtureSpec>) {
+    pub(crate) fn model(&self) -> (&'static str, Option<&MixtureSpec>) {
         match self {
             Material::Linear { .. } => ("linear", None),
             Material::HolmesMow(m) => ("holmes_mow", Some(m)),
@@ -150,7 +150,7 @@ impl Material {
     }
 
     /// The mixture's keys of a finite-strain model; None for the linear one.
-    pub fn mixture(&self) -> Option<&MixtureSpec> {
+    pub(crate) fn mixture(&self) -> Option<&MixtureSpec> {
         self.model().1
     }
 }
@@ -162,18 +162,18 @@ pub(crate) const MODULI: [&str; 3] = ["mu", "drained_shear_modulus", "drained_yo
 
 impl MixtureSpec {
     /// The mixture's density Φs ρs + (1 − Φs) ρf (kg/m³): what its weight is of.
-    pub fn mixture_density(&self) -> f64 {
+    pub(crate) fn mixture_density(&self) -> f64 {
         self.phi_s * self.rho_s + (1.0 - self.phi_s) * self.rho_f
     }
 
     /// |g| (m/s²).
-    pub fn gravity_magnitude(&self) -> f64 {
+    pub(crate) fn gravity_magnitude(&self) -> f64 {
         self.gravity.iter().map(|a| a * a).sum::<f64>().sqrt()
     }
 
     /// How the solid is given, µ from the aggregate's moduli if they are; Err: none or two ways
     /// (the message without its section).
-    pub fn solid(&self) -> Result<SolidSpec, String> {
+    pub(crate) fn solid(&self) -> Result<SolidSpec, String> {
         let phi_s = self.phi_s;
         match (self.mu, self.drained_shear_modulus, self.drained_youngs_modulus, self.nu, self.alpha) {
             (Some(mu), None, None, Some(nu), None) => Ok(SolidSpec::MuNu { mu, nu }),

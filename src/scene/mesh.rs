@@ -9,45 +9,45 @@ use std::collections::BTreeMap;
 /// Where the mesh comes from: a Gmsh `.geo` source meshed on the fly (cached), or a `.msh` file.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct MeshSpec {
+pub(crate) struct MeshSpec {
     /// A `.geo` file (relative to the scene file, or the name of one shipped in `meshes/`).
     #[serde(default)]
-    pub geo: Option<String>,
+    pub(crate) geo: Option<String>,
     /// A ready Gmsh 4.1 `.msh` file (relative to the scene file).
     #[serde(default)]
-    pub file: Option<String>,
+    pub(crate) file: Option<String>,
     /// `-setnumber` parameters for the `.geo` (R, h, h_pole, ...).
     #[serde(default)]
-    pub params: BTreeMap<String, f64>,
+    pub(crate) params: BTreeMap<String, f64>,
     /// Symmetry planes (face groups) to reflect the mesh across, in order: a quarter sphere
     /// mirrored across `["symmetry_x", "symmetry_y"]` is a full sphere with the same elements.
     #[serde(default)]
-    pub mirror: Vec<String>,
+    pub(crate) mirror: Vec<String>,
     /// The body's geometry: `solid` (3-D, tetrahedra) or `axisymmetric` (a body of revolution
     /// about the z axis, meshed on its meridian in the x–z plane with triangles).
     #[serde(default)]
-    pub geometry: Geometry,
+    pub(crate) geometry: Geometry,
     /// The `.geo` of the body's meridian, used instead of `geo` when `geometry = "axisymmetric"`
     /// (with the same `params`): so one override switches a scene to its meridian.
     #[serde(default)]
-    pub meridian: Option<String>,
+    pub(crate) meridian: Option<String>,
     /// `given` (default: the sizes in `params` and `relative_sizes`) or `auto` (the measured best
     /// sizes for plate experiments, relative to `params.R`; sizes given win). See [`super::auto`].
     #[serde(default)]
-    pub grading: Grading,
+    pub(crate) grading: Grading,
     /// Mesh sizes relative to `params.R` (`h = 0.2`: a fifth of the radius), so that a scene
     /// keeps its resolution when only R changes; moved into `params` in µm when the scene is
     /// loaded (a size given there in µm wins, so `--set mesh.params.h=10` still works). The
     /// shipped aggregate scenes give them rather than `grading = "auto"`: a refresh of the chart
     /// must not move their meshes, and `reference_axi`'s meridian is finer than the chart's.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
-    pub relative_sizes: BTreeMap<String, f64>,
+    pub(crate) relative_sizes: BTreeMap<String, f64>,
 }
 
 /// The geometry of a scene's body (see [`MeshSpec::geometry`]).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Geometry {
+pub(crate) enum Geometry {
     #[default]
     Solid,
     Axisymmetric,
@@ -55,7 +55,7 @@ pub enum Geometry {
 
 impl Geometry {
     /// The mesh family this geometry is discretised with.
-    pub fn family(self) -> crate::reference_cell::Family {
+    pub(crate) fn family(self) -> crate::reference_cell::Family {
         match self {
             Geometry::Solid => crate::reference_cell::Family::Tet10,
             Geometry::Axisymmetric => crate::reference_cell::Family::Tri6,
@@ -66,7 +66,7 @@ impl Geometry {
 /// How the mesh sizes of a `.geo` are chosen (`mesh.grading`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Grading {
+pub(crate) enum Grading {
     /// The sizes in `mesh.params`; the `.geo`'s own defaults for the others.
     #[default]
     Given,
@@ -77,7 +77,7 @@ pub enum Grading {
 
 impl MeshSpec {
     /// The `.geo` source and `.msh` file the geometry uses (one of the two is set).
-    pub fn source(&self) -> (Option<&str>, Option<&str>) {
+    pub(crate) fn source(&self) -> (Option<&str>, Option<&str>) {
         match (self.geometry, &self.meridian) {
             (Geometry::Axisymmetric, Some(m)) => (Some(m.as_str()), None),
             _ => (self.geo.as_deref(), self.file.as_deref()),

@@ -8,49 +8,49 @@ use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct SolverSpec {
+pub(crate) struct SolverSpec {
     /// `auto` (default: `direct` for small systems, `fieldsplit` for large ones), `direct`
     /// (Krylov with a reused MUMPS factorisation), `fieldsplit` (Schur fieldsplit, AMG on u with
     /// rigid-body modes, fixed-stress Schur approximation) or `lu` (MUMPS for every Newton
     /// system, the reference). See `solver`.
     #[serde(default)]
-    pub preset: Option<crate::solver::Preset>,
+    pub(crate) preset: Option<crate::solver::Preset>,
 }
 
 #[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct FemSpec {
+pub(crate) struct FemSpec {
     /// Degree of the quadrature rule (default 2 for the linear model, exact on straight
     /// elements; 3 for the finite-strain models). On a meridian mesh the triangle rule is one
     /// degree higher (dV = 2πR dA).
     #[serde(default)]
-    pub quadrature_degree: Option<usize>,
+    pub(crate) quadrature_degree: Option<usize>,
     /// c of the pressure stabilisation (c / (λ + 2µ)) ∫ (ṗ − Πṗ)(q − Πq) that keeps the
     /// undrained limit monotone next to drained boundaries (default 4: exact lumping; 0 off).
     #[serde(default)]
-    pub stabilisation: Option<f64>,
+    pub(crate) stabilisation: Option<f64>,
     /// τ₀: the stabilisation fades, weight c (1 − r²)₊ with r the larger of τ/τ₀, τ = c_v Δt / h²
     /// (the step resolves the drainage), and (Δt/Δt₀ − 1)/(s − 1) (the steps have grown since a
     /// kink; s = `stabilisation_steps`) (`fem::kernel::Stabilisation`; default: constant).
     /// Taylor–Hood only: P1–P1 keeps the constant weight, which its inf–sup stability needs.
     #[serde(default)]
-    pub stabilisation_fade: Option<f64>,
+    pub(crate) stabilisation_fade: Option<f64>,
     /// s: with `stabilisation_fade`, the faded weight is gone once the steps have grown to s
     /// times the first step after a kink (`time.dt`) (default `fem::kernel::STEP_FADE`, 8).
     #[serde(default)]
-    pub stabilisation_steps: Option<f64>,
+    pub(crate) stabilisation_steps: Option<f64>,
     /// The element: "P2-P1" (Taylor–Hood, default), "auto" (the measured best: P2–P1; see
     /// [`super::auto`]) or "P1-P1" (equal order, unstable without
     /// the stabilisation; `fem::equal_order`). With plates, P1–P1's contact bounds and contact
     /// state are on the vertices (its mid-edge nodes follow their edges); its stabilisation
     /// keeps the constant weight (`stabilisation_fade` is for Taylor–Hood only).
     #[serde(default)]
-    pub element: Option<Element>,
+    pub(crate) element: Option<Element>,
 }
 
 /// The element pair of the u–p discretisation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
-pub enum Element {
+pub(crate) enum Element {
     /// Taylor–Hood P2–P1.
     #[serde(rename = "P2-P1")]
     P2P1,
@@ -64,12 +64,12 @@ pub enum Element {
 
 /// Default c of the pressure stabilisation: 4 lumps the P1 mass of the undrained constraint
 /// exactly (see `fem::kernel::ElementKernel::stab`).
-pub const DEFAULT_STABILISATION: f64 = 4.0;
+pub(crate) const DEFAULT_STABILISATION: f64 = 4.0;
 
 /// Default quadrature degrees: 2 for the linear model (exact on straight elements), 3 for the
 /// finite-strain ones (exponential energy, curved elements); the meridian adds one (dV = 2πr dA).
-pub const QUADRATURE_DEGREE_LINEAR: usize = 2;
-pub const QUADRATURE_DEGREE_FINITE_STRAIN: usize = 3;
+pub(crate) const QUADRATURE_DEGREE_LINEAR: usize = 2;
+pub(crate) const QUADRATURE_DEGREE_FINITE_STRAIN: usize = 3;
 
 impl SolverSpec {
     /// The preset's default (`auto`) written out.
@@ -90,25 +90,25 @@ impl FemSpec {
     }
 
     /// The stabilisation's c: the scene's, or [`DEFAULT_STABILISATION`].
-    pub fn stabilisation_c(&self) -> f64 {
+    pub(crate) fn stabilisation_c(&self) -> f64 {
         self.stabilisation.unwrap_or(DEFAULT_STABILISATION)
     }
 
     /// The steps s of the stabilisation's fade by step growth: the scene's, or
     /// `fem::kernel::STEP_FADE`.
-    pub fn fade_steps(&self) -> f64 {
+    pub(crate) fn fade_steps(&self) -> f64 {
         self.stabilisation_steps.unwrap_or(crate::fem::kernel::STEP_FADE)
     }
 
     /// The quadrature degree on the tetrahedron (the meridian's triangle rule is one higher):
     /// the scene's, or the default of the linear or the finite-strain model.
-    pub fn degree(&self, linear: bool) -> usize {
+    pub(crate) fn degree(&self, linear: bool) -> usize {
         let default = if linear { QUADRATURE_DEGREE_LINEAR } else { QUADRATURE_DEGREE_FINITE_STRAIN };
         self.quadrature_degree.unwrap_or(default)
     }
 
     /// Equal-order P1–P1 instead of Taylor–Hood.
-    pub fn equal_order(&self) -> bool {
+    pub(crate) fn equal_order(&self) -> bool {
         self.element == Some(Element::P1P1)
     }
 

@@ -8,20 +8,20 @@ use serde::{Deserialize, Serialize};
 /// A scalar observable written to `history.csv` each step.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct Probe {
+pub(crate) struct Probe {
     /// Column name.
-    pub name: String,
+    pub(crate) name: String,
     /// `p`, `ux`, `uy` or `uz`.
-    pub field: ProbeField,
+    pub(crate) field: ProbeField,
     /// Value at this reference point ...
     #[serde(default)]
-    pub point: Option<[f64; 3]>,
+    pub(crate) point: Option<[f64; 3]>,
     /// ... or the mean over this surface group.
     #[serde(default)]
-    pub group: Option<String>,
+    pub(crate) group: Option<String>,
     /// The column holds value / scale (e.g. the applied load, to normalise).
     #[serde(default = "one")]
-    pub scale: f64,
+    pub(crate) scale: f64,
 }
 
 fn one() -> f64 {
@@ -31,7 +31,7 @@ fn one() -> f64 {
 /// What a probe reads: the pore pressure or a displacement component.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum ProbeField {
+pub(crate) enum ProbeField {
     P,
     Ux,
     Uy,
@@ -53,7 +53,7 @@ impl std::fmt::Display for ProbeField {
 /// Adds exact-solution columns next to the probes, for verification scenes.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, tag = "kind", rename_all = "snake_case")]
-pub enum Verification {
+pub(crate) enum Verification {
     /// Columns `<probe>_exact` for probes named `p_bottom` (pressure at z = 0, normalised by the
     /// load) and `settlement` (top displacement, downward positive).
     Terzaghi { height: f64, load: f64 },

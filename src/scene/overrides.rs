@@ -5,7 +5,7 @@
 //! (`material.model=holmes_mow`). The result is validated like the file itself.
 
 /// Sets `spec` ("KEY=VALUE") in `root`; the message names the override and what is wrong.
-pub fn apply(root: &mut toml::Table, spec: &str) -> Result<(), String> {
+pub(crate) fn apply(root: &mut toml::Table, spec: &str) -> Result<(), String> {
     let err = |m: String| format!("--set {spec}: {m}");
     let (key, text) = spec.split_once('=').ok_or_else(|| err("expected KEY=VALUE".into()))?;
     let path: Vec<&str> = key.trim().split('.').collect();

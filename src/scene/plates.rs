@@ -10,68 +10,68 @@ use serde::{Deserialize, Serialize};
 /// (top face z = 0, moving up by u(t), eq. (53)) and the fixed upper plate (bottom face z = 2R).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct PlatesSpec {
+pub(crate) struct PlatesSpec {
     /// Radius R of the reference sphere; `mesh.params.R` when absent (filled in when loaded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub radius: Option<f64>,
+    pub(crate) radius: Option<f64>,
     /// Surface group that can touch the plates (and drains where it does not).
     #[serde(default = "default_surface")]
-    pub group: String,
+    pub(crate) group: String,
     /// ũ_max = u_max / (2R): the lower plate rises by u_max (absent with `table`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub compression: Option<f64>,
+    pub(crate) compression: Option<f64>,
     /// The protocol as a table of (t in s, ũ = u / (2R)) rows, linear between them, from
     /// [0, 0]: instead of `compression` and the phases (two compressions, a long hold, ...).
     #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "table_rows")]
-    pub table: Option<Vec<[f64; 2]>>,
+    pub(crate) table: Option<Vec<[f64; 2]>>,
     /// The protocol's phases (s): the plate rises over `ramp`, holds for `hold`, returns over
     /// `release`; then the aggregate rests until time.t_end.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub ramp: Option<f64>,
+    pub(crate) ramp: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub hold: Option<f64>,
+    pub(crate) hold: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub release: Option<f64>,
+    pub(crate) release: Option<f64>,
     /// Deprecated: the duration of both ramps, and the end of the release (read into `ramp`,
     /// `hold` and `release` when the scene is loaded, with a note saying what to write).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub t_ramp: Option<f64>,
+    pub(crate) t_ramp: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub t_end: Option<f64>,
+    pub(crate) t_end: Option<f64>,
     /// p = 0 on the surface out of contact (false: sealed aggregate).
     #[serde(default = "yes")]
-    pub drainage: bool,
+    pub(crate) drainage: bool,
     /// Point group of the bottom pole, kept on the lower plate (bilateral contact).
     #[serde(default = "default_anchor")]
-    pub anchor: String,
+    pub(crate) anchor: String,
     /// γ of the free-surface drainage conductance β_max = γ k0 / h (stiff Robin, p ≈ 0).
     #[serde(default = "default_penalty")]
-    pub drainage_penalty: f64,
+    pub(crate) drainage_penalty: f64,
     /// Gap (µm) over which drainage opens as a contact separates (default 0.01 R).
     #[serde(default)]
-    pub seal_gap: Option<f64>,
+    pub(crate) seal_gap: Option<f64>,
     /// Which gap opens the drainage within a step: the step predictor's (default) or the
     /// Newton iterate's (fully implicit; numerics.md, "Drainage that follows contact").
     #[serde(default)]
-    pub drainage_gap: DrainageGap,
+    pub(crate) drainage_gap: DrainageGap,
     /// The plates' permeability k_β (µm⁴/(nN s); the paper's Table 1: 3.7729e-4): fluid leaves
     /// through the contact area with the conductance k_β / `thickness` (a Robin outflow; the
     /// plates are impermeable when it is omitted).
     #[serde(default)]
-    pub permeability: Option<f64>,
+    pub(crate) permeability: Option<f64>,
     /// The plates' thickness L (µm) that the outflow through them crosses (with `permeability`).
     #[serde(default)]
-    pub thickness: Option<f64>,
+    pub(crate) thickness: Option<f64>,
     /// The material point X_U of the `probe_p` and `probe_porosity` columns (reference
     /// coordinates, µm; default the paper's (0.4 R, 0, 1.9 R), 1.5 µm under the surface).
     #[serde(default)]
-    pub probe_point: Option<[f64; 3]>,
+    pub(crate) probe_point: Option<[f64; 3]>,
 }
 
 /// The gap that sets a surface vertex's drainage conductance during a step.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum DrainageGap {
+pub(crate) enum DrainageGap {
     /// The step predictor's gap (semi-implicit: fixed during the Newton iteration).
     #[default]
     Predicted,
@@ -115,15 +115,15 @@ fn yes() -> bool {
 /// The plate protocol's phases (s): u rises to u_max over `ramp`, holds for `hold`, returns to 0
 /// over `release`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Protocol {
-    pub ramp: f64,
-    pub hold: f64,
-    pub release: f64,
+pub(crate) struct Protocol {
+    pub(crate) ramp: f64,
+    pub(crate) hold: f64,
+    pub(crate) release: f64,
 }
 
 impl Protocol {
     /// The ends of the ramp, of the hold and of the release.
-    pub fn ends(&self) -> [f64; 3] {
+    pub(crate) fn ends(&self) -> [f64; 3] {
         let hold_end = self.ramp + self.hold;
         [self.ramp, hold_end, hold_end + self.release]
     }
@@ -133,22 +133,22 @@ impl Protocol {
 pub(crate) const PHASE_KEYS: [&str; 6] = ["compression", "ramp", "hold", "release", "t_ramp", "t_end"];
 
 /// The seal gap's default, relative to R.
-pub const DEFAULT_SEAL_GAP: f64 = 0.01;
+pub(crate) const DEFAULT_SEAL_GAP: f64 = 0.01;
 
 /// The default probe point X_U = (0.4 R, 0, 1.9 R): the paper's, 1.5 µm under the upper pole's
 /// surface at R = 100 µm.
-pub fn default_probe_point(radius: f64) -> [f64; 3] {
+pub(crate) fn default_probe_point(radius: f64) -> [f64; 3] {
     [0.4 * radius, 0.0, 1.9 * radius]
 }
 
 impl PlatesSpec {
     /// R (filled in from `mesh.params.R` when the scene is loaded: NaN before).
-    pub fn radius(&self) -> f64 {
+    pub(crate) fn radius(&self) -> f64 {
         self.radius.unwrap_or(f64::NAN)
     }
 
     /// ũ_max: `compression`, or the table's largest ũ (NaN before the scene is loaded).
-    pub fn compression(&self) -> f64 {
+    pub(crate) fn compression(&self) -> f64 {
         match &self.table {
             Some(rows) => rows.iter().map(|r| r[1]).fold(0.0, f64::max),
             None => self.compression.unwrap_or(f64::NAN),
@@ -157,7 +157,7 @@ impl PlatesSpec {
 
     /// The plate's path as rows [t, ũ] from [0, 0], linear between them: the table, or the
     /// phases' corners (eq. (53)).
-    pub fn path(&self) -> Vec<[f64; 2]> {
+    pub(crate) fn path(&self) -> Vec<[f64; 2]> {
         if let Some(rows) = &self.table {
             return rows.clone();
         }
@@ -169,7 +169,7 @@ impl PlatesSpec {
     /// The phases (filled in from the deprecated keys when the scene is loaded: NaN before). A
     /// table's: the ramp to its first row at the largest ũ, the hold to its last such row, the
     /// release to the next row at ũ = 0 (or the table's end), as the summary reports them.
-    pub fn protocol(&self) -> Protocol {
+    pub(crate) fn protocol(&self) -> Protocol {
         if let Some(rows) = &self.table {
             let top = self.compression();
             let first = rows.iter().position(|r| r[1] == top).unwrap_or(0);

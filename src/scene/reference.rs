@@ -12,7 +12,7 @@ use super::surface;
 use super::time;
 
 /// Every section, in the order of a scene file.
-pub fn sections() -> Vec<Section> {
+pub(crate) fn sections() -> Vec<Section> {
     vec![
         SECTION,
         mesh::SECTION,
@@ -163,7 +163,7 @@ mod tests {
         for name in ["bc.traction.normal", "bc.traction.vector", "initial.displacement_gradient", "material.model"] {
             assert!(keys.contains(name), "{name}");
         }
-        let initial = toml::from_str::<super::super::InitialSpec>("zz_unknown = 1").unwrap_err().to_string();
+        let initial = toml::from_str::<super::super::time::InitialSpec>("zz_unknown = 1").unwrap_err().to_string();
         assert!(initial.contains("`displacement_gradient`"), "{initial}");
     }
 

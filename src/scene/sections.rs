@@ -14,37 +14,37 @@ use std::collections::BTreeMap;
 /// A whole scene. Sections are grouped by concern.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct Scene {
+pub(crate) struct Scene {
     /// Short name (default: the file stem); names the run directory.
     #[serde(default)]
-    pub name: String,
+    pub(crate) name: String,
     #[serde(default)]
-    pub description: String,
-    pub mesh: MeshSpec,
-    pub material: Material,
+    pub(crate) description: String,
+    pub(crate) mesh: MeshSpec,
+    pub(crate) material: Material,
     #[serde(default)]
-    pub bc: Vec<BoundaryCondition>,
-    pub time: TimeSpec,
+    pub(crate) bc: Vec<BoundaryCondition>,
+    pub(crate) time: TimeSpec,
     #[serde(default)]
-    pub output: OutputSpec,
+    pub(crate) output: OutputSpec,
     #[serde(default)]
-    pub probe: Vec<Probe>,
+    pub(crate) probe: Vec<Probe>,
     #[serde(default)]
-    pub verification: Option<Verification>,
+    pub(crate) verification: Option<Verification>,
     /// Rigid plates squeezing the aggregate (contact, drainage, loading).
     #[serde(default)]
-    pub plates: Option<PlatesSpec>,
+    pub(crate) plates: Option<PlatesSpec>,
     /// Surface tension of the aggregate's boundary.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub surface: Option<SurfaceSpec>,
+    pub(crate) surface: Option<SurfaceSpec>,
     #[serde(default)]
-    pub solver: SolverSpec,
+    pub(crate) solver: SolverSpec,
     #[serde(default)]
-    pub fem: FemSpec,
+    pub(crate) fem: FemSpec,
     /// The state at t = 0 (default: undeformed, p = 0).
     #[serde(default)]
-    pub initial: Option<InitialSpec>,
+    pub(crate) initial: Option<InitialSpec>,
     /// PETSc options without the leading dash: `ksp_rtol = 1e-10`, `ksp_monitor = true`.
     #[serde(default)]
-    pub petsc: BTreeMap<String, toml::Value>,
+    pub(crate) petsc: BTreeMap<String, toml::Value>,
 }

@@ -9,19 +9,19 @@ use serde::{Deserialize, Serialize};
 /// (model.md: Surface tension).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct SurfaceSpec {
+pub(crate) struct SurfaceSpec {
     /// γ in mN/m (= kPa µm, the solver's unit).
-    pub tension: f64,
+    pub(crate) tension: f64,
     /// The boundary group the tension acts on.
     #[serde(default = "default_group")]
-    pub group: String,
+    pub(crate) group: String,
     /// Work of adhesion w to the plates, mN/m: faces on a plate carry γ − w (model.md: Surface
     /// tension). 0: non-adhesive plates.
     #[serde(default)]
-    pub adhesion: f64,
+    pub(crate) adhesion: f64,
     /// Adhesion range g_a, µm: the gap over which the adhesion switches off (filled in: 0.05 R).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub adhesion_range: Option<f64>,
+    pub(crate) adhesion_range: Option<f64>,
 }
 
 fn default_group() -> String {
@@ -33,7 +33,7 @@ fn default_group() -> String {
 /// (Newton fails in the first step at w = 5 mN/m, µ = 20 kPa with 0.01 R; converges with 0.05 R);
 /// the contact angle away from the contact line does not depend on the range (model.md: Surface
 /// tension).
-pub const DEFAULT_ADHESION_RANGE: f64 = 0.05;
+pub(crate) const DEFAULT_ADHESION_RANGE: f64 = 0.05;
 
 /// Tissue surface tensions measured by tensiometry lie around 1–30 mN/m; a value outside
 /// [`PLAUSIBLE`] is most likely in another unit.

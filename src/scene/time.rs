@@ -13,41 +13,41 @@ pub(super) const LONGEST_USUAL_TIME: f64 = 2.0 * 86400.0;
 /// every time in `land_on`.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct TimeSpec {
-    pub t_end: f64,
+pub(crate) struct TimeSpec {
+    pub(crate) t_end: f64,
     /// First step (s).
-    pub dt: f64,
+    pub(crate) dt: f64,
     #[serde(default)]
-    pub dt_max: Option<f64>,
+    pub(crate) dt_max: Option<f64>,
     /// Largest step during the plates' loading ramp (0 to `plates.t_ramp`): backward Euler
     /// over-integrates a flow that rises through the ramp (the remodelling) by a share of
     /// Δt / t, which geometric growth keeps constant; a cap makes it shrink.
     #[serde(default)]
-    pub dt_max_ramp: Option<f64>,
+    pub(crate) dt_max_ramp: Option<f64>,
     /// dt_{n+1} = min(growth · dt_n, dt_max); 1 = constant steps. With `error_tolerance`, only
     /// where there is no error estimate (the first step after a kink of the loading).
     #[serde(default = "one")]
-    pub growth: f64,
+    pub(crate) growth: f64,
     /// Choose the steps by a local error estimate (see `driver::rate::StepRate::error`): the
     /// tolerance relative to each field's magnitude. Absent: geometric growth.
     #[serde(default)]
-    pub error_tolerance: Option<f64>,
+    pub(crate) error_tolerance: Option<f64>,
     #[serde(default)]
-    pub land_on: Vec<f64>,
+    pub(crate) land_on: Vec<f64>,
     /// The end times of the steps, in order: the run takes exactly these (a failed solve still
     /// cuts a step, whose rest then ends at the next of them), the step controller and the
     /// growth unused. Replaying one run's accepted steps (its history.csv `time` column) makes
     /// runs at nearby parameters take the same steps, so that a result is a smooth function of
     /// the parameters (calibration's finite differences); adaptive steps chosen anew would jump.
     #[serde(default)]
-    pub steps: Vec<f64>,
+    pub(crate) steps: Vec<f64>,
     /// Retries (each cutting the step, by 0.25 by default) allowed when a solve fails.
     #[serde(default = "default_retries")]
-    pub max_retries: usize,
+    pub(crate) max_retries: usize,
     /// A step cut below this (s) by failed solves ends the run with an error: the solve is not
     /// converging there, and ever shorter steps would only make the run crawl (default 1e-6 dt).
     #[serde(default)]
-    pub dt_min: Option<f64>,
+    pub(crate) dt_min: Option<f64>,
 }
 
 fn one() -> f64 {
@@ -59,23 +59,23 @@ fn default_retries() -> usize {
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct OutputSpec {
+pub(crate) struct OutputSpec {
     /// Write fields every N steps (and always the last); 0 = last step only.
     #[serde(default = "default_every")]
-    pub fields_every: usize,
+    pub(crate) fields_every: usize,
     /// Write fields at all (large runs in studies may only want history.csv).
     #[serde(default = "yes")]
-    pub fields: bool,
+    pub(crate) fields: bool,
     /// Also write fields at these times (the time steps land on them).
     #[serde(default)]
-    pub fields_at: Vec<f64>,
+    pub(crate) fields_at: Vec<f64>,
     /// Write a checkpoint every N steps (0: not by steps).
     #[serde(default = "default_checkpoint_every")]
-    pub checkpoint_every: usize,
+    pub(crate) checkpoint_every: usize,
     /// Write a checkpoint when this much wall time (minutes) has passed since the last (0: not
     /// by time).
     #[serde(default = "default_checkpoint_minutes")]
-    pub checkpoint_minutes: f64,
+    pub(crate) checkpoint_minutes: f64,
 }
 fn default_checkpoint_every() -> usize {
     25
@@ -105,9 +105,9 @@ fn yes() -> bool {
 /// stretch applied at t = 0 and then held by the boundary conditions.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct InitialSpec {
+pub(crate) struct InitialSpec {
     /// G = Grad u, rows i: `G[i][j]` = ∂u_i/∂X_j.
-    pub displacement_gradient: [[f64; 3]; 3],
+    pub(crate) displacement_gradient: [[f64; 3]; 3],
 }
 
 impl TimeSpec {

@@ -17,36 +17,36 @@ use serde::{Deserialize, Serialize};
 /// One rigid tool: its profile of revolution and where it is at displacement 0.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct ToolSpec {
+pub(crate) struct ToolSpec {
     /// Names the tool in messages; unique among the tools.
-    pub name: String,
-    pub kind: ToolKind,
+    pub(crate) name: String,
+    pub(crate) kind: ToolKind,
     /// The sphere's or the punch's radius (µm).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub radius: Option<f64>,
+    pub(crate) radius: Option<f64>,
     /// The radius rounding the punch's edge (µm), ≤ `radius`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub edge_radius: Option<f64>,
+    pub(crate) edge_radius: Option<f64>,
     /// The pipette's inner radius R_p (µm).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub inner_radius: Option<f64>,
+    pub(crate) inner_radius: Option<f64>,
     /// The pipette's wall thickness (µm).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub wall: Option<f64>,
+    pub(crate) wall: Option<f64>,
     /// The radius rounding both corners of the pipette's rim (µm), ≤ `wall` / 2.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub rim_radius: Option<f64>,
+    pub(crate) rim_radius: Option<f64>,
     /// The tool's point at displacement 0 (µm): a point of the plane, the sphere's centre, the
     /// centre of the punch's face, the centre of the pipette's mouth.
-    pub origin: [f64; 3],
+    pub(crate) origin: [f64; 3],
     /// The axis of revolution, from the tool towards the body (normalised when read).
-    pub axis: [f64; 3],
+    pub(crate) axis: [f64; 3],
 }
 
 /// The shape of a tool's profile.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum ToolKind {
+pub(crate) enum ToolKind {
     Plane,
     Sphere,
     Punch,
@@ -55,7 +55,7 @@ pub enum ToolKind {
 
 impl ToolKind {
     /// As the scene writes it.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             ToolKind::Plane => "plane",
             ToolKind::Sphere => "sphere",
@@ -87,7 +87,7 @@ impl ToolSpec {
     }
 
     /// The axis as a unit vector (the checks ensure it has a length).
-    pub fn unit_axis(&self) -> [f64; 3] {
+    pub(crate) fn unit_axis(&self) -> [f64; 3] {
         let n = norm(self.axis);
         self.axis.map(|c| c / n)
     }
@@ -95,7 +95,7 @@ impl ToolSpec {
     /// The tool alone: a name, its kind's dimensions (each positive; no other's), the rounding
     /// radii within the corners they round, a finite origin and a non-zero axis. What the
     /// geometry needs, so `physics::tools` builds a tool from a spec that passes.
-    pub fn check_shape(&self) -> Result<(), String> {
+    pub(crate) fn check_shape(&self) -> Result<(), String> {
         if self.name.trim().is_empty() {
             return Err("[[tools]]: every tool needs a name (tools.name = \"bead\", say)".into());
         }
@@ -180,7 +180,7 @@ impl ToolSpec {
 
 /// Every tool's shape; names unique; on a meridian mesh, every tool on the axis. An axis that is
 /// not of unit length is read as its direction, with a note.
-pub fn validate(tools: &[ToolSpec], geometry: Geometry, notes: &mut Vec<String>) -> Result<(), String> {
+pub(crate) fn validate(tools: &[ToolSpec], geometry: Geometry, notes: &mut Vec<String>) -> Result<(), String> {
     for (i, t) in tools.iter().enumerate() {
         t.check_shape()?;
         if let Some(first) = tools[..i].iter().find(|o| o.name == t.name) {

@@ -37,7 +37,7 @@ impl Anderson {
     }
 
     /// Forgets the history (a new operator, a cut step, a new solve).
-    pub fn reset(&mut self) {
+    pub(crate) fn reset(&mut self) {
         self.last = None;
         self.history.clear();
     }

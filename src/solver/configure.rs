@@ -11,19 +11,19 @@ use crate::petsc::{options, Mat, Ts, TsProblem, Vector};
 use mpi::topology::SimpleCommunicator;
 
 /// What the solver set-up reads of the problem.
-pub struct ProblemView<'a> {
+pub(crate) struct ProblemView<'a> {
     /// With contact: the bounds l ≤ x ≤ u (shared: the problem moves them with the plates).
-    pub bounds: Option<(&'a Vector, &'a Vector)>,
+    pub(crate) bounds: Option<(&'a Vector, &'a Vector)>,
     /// The scale of a u row of the Jacobian (the diagonal of an active dof's identity row).
-    pub u_row_scale: f64,
+    pub(crate) u_row_scale: f64,
     /// The fixed-stress Schur approximation, for a Schur fieldsplit.
-    pub schur: &'a Mat,
+    pub(crate) schur: &'a Mat,
 }
 
 /// Sets up `ts`'s nonlinear solver for the problem `view` shows of it, noting in `solver_line`
 /// how the rigid modes the plates leave free (`free_modes`) are treated. Returns whether the
 /// preconditioner uses the Schur matrix (else nothing needs to assemble it).
-pub fn configure<P: TsProblem>(
+pub(crate) fn configure<P: TsProblem>(
     world: &SimpleCommunicator,
     ts: &mut Ts<P>,
     policy: &Policy,
@@ -84,7 +84,7 @@ fn singular_factorisations() -> Result<()> {
 
 /// `-poroplast_check_jacobian [eps]`: the relative step of the per-step Jacobian check (1e-7
 /// when given without one), None without the option.
-pub fn jacobian_check_step() -> Result<Option<f64>> {
+pub(crate) fn jacobian_check_step() -> Result<Option<f64>> {
     super::program_options::optional("poroplast_check_jacobian", Some(1e-7), "a relative step like 1e-7", |v| {
         v.parse().ok()
     })

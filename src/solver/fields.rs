@@ -24,7 +24,7 @@ use mpi::traits::*;
 ///
 /// On the meridian (u_r, u_z per node) the only rigid motion is the translation along the axis:
 /// the near-null space is that one vector, and the u block has block size 2.
-pub struct Fields {
+pub(crate) struct Fields {
     world: SimpleCommunicator,
     /// Displacement components per node (3, or 2 on the meridian).
     nc: usize,
@@ -38,7 +38,7 @@ pub struct Fields {
 }
 
 impl Fields {
-    pub fn new(world: &SimpleCommunicator, dofs: &DofMap, mesh: &LocalMesh) -> Result<Fields> {
+    pub(crate) fn new(world: &SimpleCommunicator, dofs: &DofMap, mesh: &LocalMesh) -> Result<Fields> {
         let comm = world.as_raw();
         let (u0, u1) = dofs.u_range();
         let (p0, p1) = dofs.p_range();

@@ -8,12 +8,12 @@ use crate::solver::Lag;
 
 /// Largest system the "auto" preset solves with the lagged direct factorisation (2 ranks: at
 /// 47 613 dofs the contact ramp took 155 s direct against 317 s with fieldsplit).
-pub const DIRECT_MAX_DOFS: usize = 60_000;
+pub(crate) const DIRECT_MAX_DOFS: usize = 60_000;
 
 /// The linear-solver preset a scene names (`[solver] preset`; module docs).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Preset {
+pub(crate) enum Preset {
     /// "direct" up to [`DIRECT_MAX_DOFS`], "fieldsplit" above.
     #[default]
     Auto,
@@ -24,16 +24,16 @@ pub enum Preset {
 
 /// The linear solver chosen for a run.
 #[derive(Debug, Clone)]
-pub struct Policy {
+pub(crate) struct Policy {
     /// The preset in effect ("direct", "fieldsplit" or "lu").
-    pub preset: &'static str,
+    pub(crate) preset: &'static str,
     /// When the active-set Newton rebuilds its preconditioner.
-    pub lag: Lag,
+    pub(crate) lag: Lag,
 }
 
 impl Policy {
     /// One line for the run log.
-    pub fn describe(&self, n_dofs: usize, auto: bool) -> String {
+    pub(crate) fn describe(&self, n_dofs: usize, auto: bool) -> String {
         let what = match self.preset {
             "direct" => "FGMRES + MUMPS LU; with contact, chord iterations on a kept Jacobian and factorisation",
             "fieldsplit" => "FGMRES + Schur fieldsplit (GAMG on u, BoomerAMG on the Schur approximation)",

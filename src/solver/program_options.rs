@@ -6,13 +6,18 @@ use crate::error::{Error, Result};
 use crate::petsc::options;
 
 /// `-name V` parsed by `parse` (None: not what the option `expects`); `default` without it.
-pub fn value<T>(name: &str, default: T, expects: &str, parse: impl Fn(&str) -> Option<T>) -> Result<T> {
+pub(crate) fn value<T>(name: &str, default: T, expects: &str, parse: impl Fn(&str) -> Option<T>) -> Result<T> {
     Ok(optional(name, None, expects, parse)?.unwrap_or(default))
 }
 
 /// `-name [V]`: None without it, `bare` when given without a value (if that is allowed), else
 /// the value parsed by `parse`.
-pub fn optional<T>(name: &str, bare: Option<T>, expects: &str, parse: impl Fn(&str) -> Option<T>) -> Result<Option<T>> {
+pub(crate) fn optional<T>(
+    name: &str,
+    bare: Option<T>,
+    expects: &str,
+    parse: impl Fn(&str) -> Option<T>,
+) -> Result<Option<T>> {
     let Some(v) = options::get_string(name)? else { return Ok(None) };
     let parsed = match bare {
         Some(b) if v.is_empty() => Some(b),
@@ -22,12 +27,12 @@ pub fn optional<T>(name: &str, bare: Option<T>, expects: &str, parse: impl Fn(&s
 }
 
 /// `-name N`, a count (a non-negative integer); `default` without it.
-pub fn count(name: &str, default: usize) -> Result<usize> {
+pub(crate) fn count(name: &str, default: usize) -> Result<usize> {
     value(name, default, "a non-negative integer", |v| v.parse().ok())
 }
 
 /// `-name [1|0]` (also true/false, yes/no; on when given without a value); `default` without it.
-pub fn switch(name: &str, default: bool, expects: &str) -> Result<bool> {
+pub(crate) fn switch(name: &str, default: bool, expects: &str) -> Result<bool> {
     Ok(optional(name, Some(true), expects, |v| match v {
         "1" | "true" | "yes" => Some(true),
         "0" | "false" | "no" => Some(false),

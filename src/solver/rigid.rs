@@ -49,7 +49,7 @@ fn candidate_mode(m: usize, x: &[f64; 3]) -> [f64; 3] {
 }
 
 /// The free rigid modes of a scene (see the module docs).
-pub struct FreeRigidModes {
+pub(crate) struct FreeRigidModes {
     world: SimpleCommunicator,
     /// Which of (x translation, y translation, z rotation) are free.
     free: [bool; 3],
@@ -60,7 +60,7 @@ pub struct FreeRigidModes {
 impl FreeRigidModes {
     /// The modes that none of the constrained local dofs `constrained_u` (u dofs 3n + c of local
     /// nodes n) blocks, on any rank; None if all are blocked.
-    pub fn find(
+    pub(crate) fn find(
         world: &SimpleCommunicator,
         dofs: &DofMap,
         mesh: &LocalMesh,
@@ -87,7 +87,7 @@ impl FreeRigidModes {
     }
 
     /// Names of the free modes, for the log.
-    pub fn describe(&self) -> String {
+    pub(crate) fn describe(&self) -> String {
         let names = ["x translation", "y translation", "rotation about z"];
         (0..3).filter(|&m| self.free[m]).map(|m| names[m]).collect::<Vec<_>>().join(", ")
     }
@@ -97,7 +97,7 @@ impl FreeRigidModes {
     /// A in the xy-plane, chosen so that the modes' values there form the best-conditioned
     /// square matrix (largest |det|). `first` is the global index of the first owned dof.
     /// Collective.
-    pub fn pins(&self, first: usize) -> Vec<Int> {
+    pub(crate) fn pins(&self, first: usize) -> Vec<Int> {
         let free: Vec<usize> = (0..3).filter(|&m| self.free[m]).collect();
         let a = self.farthest(|p| p[0] * p[0] + p[1] * p[1]);
         let b = self.farthest(|p| (p[0] - a.1[0]).powi(2) + (p[1] - a.1[1]).powi(2));
@@ -149,7 +149,7 @@ impl FreeRigidModes {
 
     /// The null space at the state `x` (owned u then p entries; zero on p): the free modes at
     /// the current positions X + u.
-    pub fn null_space(&self, x: &Vector) -> Result<NullSpace> {
+    pub(crate) fn null_space(&self, x: &Vector) -> Result<NullSpace> {
         let mut modes = Vec::new();
         for m in (0..3).filter(|&m| self.free[m]) {
             let mut v = x.duplicate()?;

@@ -25,7 +25,7 @@ use nalgebra::{DMatrix, DVector, Dyn, LU};
 /// B⁻¹ for an active set that differs from the factorised operator's in a few dofs.
 pub struct ActiveSetUpdate {
     /// The active set (owned dofs, global indices) this update solves for.
-    pub active: Vec<Int>,
+    pub(crate) active: Vec<Int>,
     /// Global indices of the changed dofs D (the same list on every rank).
     changed: Vec<Int>,
     /// r_i = (B − P)ᵀ e_i for i ∈ D.

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 /// summary.csv column ← timings.txt key.
-pub const COUNTERS: [(&str, &str); 6] = [
+pub(crate) const COUNTERS: [(&str, &str); 6] = [
     ("wall_s", "total"),
     ("dofs", "dofs"),
     ("steps", "steps"),
@@ -16,7 +16,7 @@ pub const COUNTERS: [(&str, &str); 6] = [
 ];
 
 /// The counters of the timings.txt in a run directory (summary.csv's names).
-pub fn counters(dir: &Path) -> BTreeMap<String, f64> {
+pub(crate) fn counters(dir: &Path) -> BTreeMap<String, f64> {
     let timings = read_timings(&dir.join("timings.txt"));
     COUNTERS.iter().filter_map(|(c, k)| timings.get(*k).map(|v| (c.to_string(), *v))).collect()
 }

@@ -1,5 +1,5 @@
 //! `poroplast case SCENE [--set KEY=VALUE ...] [--cases-dir DIR] [-- PETSC OPTIONS]`: a case as
-//! the sweeps know it — its [`Signature`] and key — and, in a case store, where it is and how it
+//! the sweeps know it — its `Signature` and key — and, in a case store, where it is and how it
 //! ended. Scripts find their cases with it rather than by matching `case.toml` files themselves,
 //! which would have to know what makes a case (the scene's text, for one).
 
@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 /// What a case store holds of a case.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Status {
+pub(crate) enum Status {
     /// Completed: its `case.toml` says ok.
     Ok,
     /// Ended in an error (its line).
@@ -36,7 +36,7 @@ impl Status {
 /// named after the case's key counts (`<readable part>-<key>`: the readable part depends on how
 /// a study split its overrides); a completed one wins over a failed one, which wins over an
 /// unfinished one. Err if `store` is not a directory.
-pub fn find(store: &Path, sig: &Signature) -> Result<(Status, Option<PathBuf>)> {
+pub(crate) fn find(store: &Path, sig: &Signature) -> Result<(Status, Option<PathBuf>)> {
     let entries = std::fs::read_dir(store).map_err(|e| {
         Error::io(store, format!("cannot read the case store ({e}); it is a sweep's DIR/cases or its --cases-dir"))
     })?;

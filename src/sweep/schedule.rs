@@ -16,12 +16,12 @@ use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// The claims directory of a sweep directory.
-pub fn claims_dir(root: &Path) -> PathBuf {
+pub(crate) fn claims_dir(root: &Path) -> PathBuf {
     root.join("claims")
 }
 
 /// Empties the claims of an earlier session (world rank 0, with the sweep's lock held).
-pub fn reset_claims(root: &Path) -> Result<()> {
+pub(crate) fn reset_claims(root: &Path) -> Result<()> {
     let dir = claims_dir(root);
     if dir.exists() {
         std::fs::remove_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
@@ -30,18 +30,18 @@ pub fn reset_claims(root: &Path) -> Result<()> {
 }
 
 /// The claim name of a case: its directory's name in the store.
-pub fn claim_name(dir: &Path) -> String {
+pub(crate) fn claim_name(dir: &Path) -> String {
     dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default()
 }
 
 /// Whether the case in `dir` has been claimed in this session.
-pub fn claimed(root: &Path, dir: &Path) -> bool {
+pub(crate) fn claimed(root: &Path, dir: &Path) -> bool {
     claims_dir(root).join(claim_name(dir)).exists()
 }
 
 /// The order in which the cases to run are tried: by estimated cost, longest first (a case
 /// without an estimate counts as the mean of the others), else in case order.
-pub fn order(study: &Study, todo: &[usize]) -> Result<Vec<usize>> {
+pub(crate) fn order(study: &Study, todo: &[usize]) -> Result<Vec<usize>> {
     let mut order = todo.to_vec();
     let Some(path) = &study.estimate_from else { return Ok(order) };
     let walls = read_wall_times(path, study)?;
@@ -58,7 +58,7 @@ pub fn order(study: &Study, todo: &[usize]) -> Result<Vec<usize>> {
 }
 
 /// A group leader's walk through the order.
-pub struct Dispenser {
+pub(crate) struct Dispenser {
     root: PathBuf,
     /// The cases to try, in order: (case index, claim name).
     order: Vec<(usize, String)>,
@@ -67,7 +67,7 @@ pub struct Dispenser {
 }
 
 impl Dispenser {
-    pub fn new(root: &Path, order: Vec<(usize, String)>, group: usize) -> Dispenser {
+    pub(crate) fn new(root: &Path, order: Vec<(usize, String)>, group: usize) -> Dispenser {
         Dispenser {
             root: root.to_path_buf(),
             order,
@@ -77,7 +77,7 @@ impl Dispenser {
     }
 
     /// The next case this group claims, or None when every case is taken.
-    pub fn claim(&mut self) -> Result<Option<usize>> {
+    pub(crate) fn claim(&mut self) -> Result<Option<usize>> {
         use std::io::Write;
         while let Some((index, name)) = self.order.get(self.next) {
             self.next += 1;
@@ -98,7 +98,7 @@ impl Dispenser {
 
 /// The cases left to run: those without a record of a completed run, each case of the store
 /// once (two cases of a study that run the same are one: the first stands for both).
-pub fn todo(dirs: &[PathBuf], sigs: &[Signature]) -> Vec<usize> {
+pub(crate) fn todo(dirs: &[PathBuf], sigs: &[Signature]) -> Vec<usize> {
     let mut seen = std::collections::BTreeSet::new();
     (0..dirs.len())
         .filter(|&i| seen.insert(&dirs[i]) && !CaseRecord::read(&dirs[i], &sigs[i]).is_some_and(|r| r.ok()))

@@ -28,21 +28,21 @@ use std::path::{Path, PathBuf};
 
 /// What a case runs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Signature {
+pub(crate) struct Signature {
     /// A shipped scene's name, or the scene file's absolute path.
-    pub scene: String,
+    pub(crate) scene: String,
     /// FNV-1a hash of the scene's text (16 hex digits): an edited scene file is another case.
-    pub scene_text: String,
+    pub(crate) scene_text: String,
     /// Every override, the study's first.
-    pub set: Vec<String>,
+    pub(crate) set: Vec<String>,
     /// Every PETSc option, the study's first.
-    pub petsc: Vec<String>,
+    pub(crate) petsc: Vec<String>,
 }
 
 impl Signature {
     /// The signature of a case of `scene` (a file, or a shipped scene's name) with these
     /// overrides and options.
-    pub fn of(scene: &str, set: Vec<String>, petsc: Vec<String>) -> Result<Signature> {
+    pub(crate) fn of(scene: &str, set: Vec<String>, petsc: Vec<String>) -> Result<Signature> {
         let path = Path::new(scene);
         let (scene, text) = if path.is_file() {
             let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
@@ -59,7 +59,7 @@ impl Signature {
     }
 
     /// The case's key: a hash of the whole signature (16 hex digits).
-    pub fn key(&self) -> String {
+    pub(crate) fn key(&self) -> String {
         let mut h = Fnv::new();
         h.field(b"poroplast case 1");
         h.field(self.scene.as_bytes());
@@ -76,7 +76,7 @@ impl Signature {
 
 /// The run directory of `case` (with signature `sig`) in the store `store`: a readable part —
 /// its scene's stem and its own overrides, at most 80 characters — and the signature's key.
-pub fn case_dir(store: &Path, case: &Case, sig: &Signature) -> PathBuf {
+pub(crate) fn case_dir(store: &Path, case: &Case, sig: &Signature) -> PathBuf {
     let scene = case.own_scene.as_deref().unwrap_or(&case.scene);
     store.join(format!("{}-{}", slug(Some(stem(scene)), case), sig.key()))
 }
@@ -102,29 +102,29 @@ fn slug(scene: Option<String>, case: &Case) -> String {
 
 /// The outcome of a case that ended (`case.toml` in its run directory).
 #[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct CaseRecord {
+pub(crate) struct CaseRecord {
     /// "ok" or "failed".
-    pub status: String,
+    pub(crate) status: String,
     /// The error line of a failed case.
     #[serde(default)]
-    pub error: String,
-    pub scene: String,
-    pub scene_text: String,
-    pub set: Vec<String>,
-    pub petsc: Vec<String>,
+    pub(crate) error: String,
+    pub(crate) scene: String,
+    pub(crate) scene_text: String,
+    pub(crate) set: Vec<String>,
+    pub(crate) petsc: Vec<String>,
     /// The counters of timings.txt (`wall_s` its total; `counters::COUNTERS`), of an ok case.
     #[serde(default)]
-    pub counters: BTreeMap<String, f64>,
+    pub(crate) counters: BTreeMap<String, f64>,
 }
 
 /// The file of a case's outcome.
-pub const RECORD: &str = "case.toml";
+pub(crate) const RECORD: &str = "case.toml";
 
 impl CaseRecord {
     /// The outcome of the case `sig` whose run ended in `dir` (`error`: its error, if it
     /// failed), with the counters of its timings.txt — of an ok case only: a failed run may have
     /// ended before writing them, and those in the directory would be an earlier run's.
-    pub fn of(dir: &Path, sig: &Signature, error: Option<String>) -> CaseRecord {
+    pub(crate) fn of(dir: &Path, sig: &Signature, error: Option<String>) -> CaseRecord {
         let counters = if error.is_none() { super::counters::counters(dir) } else { BTreeMap::new() };
         CaseRecord {
             status: if error.is_some() { "failed".into() } else { "ok".into() },
@@ -139,21 +139,21 @@ impl CaseRecord {
     }
 
     /// The record in `dir`, if there is one and it is of the case `sig`.
-    pub fn read(dir: &Path, sig: &Signature) -> Option<CaseRecord> {
+    pub(crate) fn read(dir: &Path, sig: &Signature) -> Option<CaseRecord> {
         let text = std::fs::read_to_string(dir.join(RECORD)).ok()?;
         let r: CaseRecord = toml::from_str(&text).ok()?;
         (r.signature() == *sig).then_some(r)
     }
 
     /// Writes the record into `dir` (atomically: a reader finds the whole record or none).
-    pub fn write(&self, dir: &Path) -> Result<()> {
+    pub(crate) fn write(&self, dir: &Path) -> Result<()> {
         let path = dir.join(RECORD);
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         let text = toml::to_string(self).map_err(|e| Error::io(&path, e))?;
         rundir::write_text_atomically(&path, &format!("# the outcome of this case of a poroplast sweep\n{text}"))
     }
 
-    pub fn signature(&self) -> Signature {
+    pub(crate) fn signature(&self) -> Signature {
         Signature {
             scene: self.scene.clone(),
             scene_text: self.scene_text.clone(),
@@ -162,14 +162,14 @@ impl CaseRecord {
         }
     }
 
-    pub fn ok(&self) -> bool {
+    pub(crate) fn ok(&self) -> bool {
         self.status == "ok"
     }
 }
 
 /// The claim lock of a case, held by the leader of the group that runs it (released on drop,
 /// or when the process ends, however it ends).
-pub struct Claim {
+pub(crate) struct Claim {
     _held: Option<std::fs::File>,
 }
 
@@ -179,7 +179,7 @@ const CLAIM: &str = ".claim";
 /// Takes the claim lock of the case directory `dir` (created if missing); if another process
 /// holds it, calls `waiting` and waits for it. On a file system without locks the case runs
 /// unguarded (with a warning), as a run does.
-pub fn claim(dir: &Path, waiting: impl FnOnce()) -> Result<Claim> {
+pub(crate) fn claim(dir: &Path, waiting: impl FnOnce()) -> Result<Claim> {
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, format!("cannot create ({e})")))?;
     let path = dir.join(CLAIM);
     let f = std::fs::OpenOptions::new()
@@ -232,7 +232,7 @@ fn legacy_dir_name(case: &Case) -> String {
 /// their signature (`sigs`): a completed case stays complete, an interrupted one is resumed.
 /// Run by rank 0 with the sweep directory's lock held; safe to interrupt (the record is
 /// rewritten before its directory moves, in one rename). Returns how many moved.
-pub fn adopt_legacy(root: &Path, study: &Study, dirs: &[PathBuf], sigs: &[Signature]) -> Result<usize> {
+pub(crate) fn adopt_legacy(root: &Path, study: &Study, dirs: &[PathBuf], sigs: &[Signature]) -> Result<usize> {
     let mut moved = 0;
     for ((case, dir), sig) in study.cases.iter().zip(dirs).zip(sigs) {
         let old = root.join("cases").join(legacy_dir_name(case));

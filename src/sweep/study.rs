@@ -90,36 +90,36 @@ fn one_or_list<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Ve
 
 /// A study: the base scene and settings, and its cases in order.
 #[derive(Debug, Clone)]
-pub struct Study {
-    pub name: String,
+pub(crate) struct Study {
+    pub(crate) name: String,
     /// Overrides of every case (before the case's own).
-    pub set: Vec<String>,
-    pub petsc: Vec<String>,
-    pub observe: Vec<String>,
+    pub(crate) set: Vec<String>,
+    pub(crate) petsc: Vec<String>,
+    pub(crate) observe: Vec<String>,
     /// Whether the study file names its observables (else they are [`crate::io::observable::DEFAULT`],
     /// empty where a scene has no such column).
-    pub observe_given: bool,
+    pub(crate) observe_given: bool,
     /// An earlier summary.csv whose wall times estimate the cases' costs.
-    pub estimate_from: Option<PathBuf>,
-    pub cases: Vec<Case>,
+    pub(crate) estimate_from: Option<PathBuf>,
+    pub(crate) cases: Vec<Case>,
 }
 
 /// One case: its index in the study, its scene and its own overrides.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Case {
-    pub index: usize,
+pub(crate) struct Case {
+    pub(crate) index: usize,
     /// The scene argument of the case (the study's, or its own): a shipped scene's name, or a
     /// file's absolute path.
-    pub scene: String,
+    pub(crate) scene: String,
     /// Its own scene as the study file names it (`[[case]] scene`), if it has one.
-    pub own_scene: Option<String>,
+    pub(crate) own_scene: Option<String>,
     /// `KEY=VALUE` overrides of this case (after the study's `set`).
-    pub set: Vec<String>,
+    pub(crate) set: Vec<String>,
 }
 
 impl Case {
     /// The case's overrides as (key, value).
-    pub fn pairs(&self) -> Vec<(String, String)> {
+    pub(crate) fn pairs(&self) -> Vec<(String, String)> {
         self.set
             .iter()
             .map(|s| match s.split_once('=') {
@@ -131,7 +131,7 @@ impl Case {
 
     /// How the case is named in progress lines: its own scene, if any, and its overrides; a
     /// list value of more than 4 items shown by its first and last (`time.steps=[0.05, …(36), 10.0]`).
-    pub fn label(&self) -> String {
+    pub(crate) fn label(&self) -> String {
         let mut parts: Vec<String> = self.own_scene.iter().map(|s| format!("scene={s}")).collect();
         parts.extend(self.set.iter().map(|s| short_list(s)));
         if parts.is_empty() {
@@ -160,7 +160,7 @@ fn short_list(set: &str) -> String {
 impl Study {
     /// Parses the text of the study file `path` (read by the caller); relative paths in it are
     /// relative to the file's directory.
-    pub fn parse(path: &Path, text: &str) -> Result<Study> {
+    pub(crate) fn parse(path: &Path, text: &str) -> Result<Study> {
         let err = |msg: String| Error::Sweep(format!("study {}: {msg}", path.display()));
         let file: StudyFile = toml::from_str(text).map_err(|e| err(crate::scene::toml_message(text, &e)))?;
         let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
@@ -218,7 +218,7 @@ impl Study {
     }
 
     /// The scenes of the cases, each once, in order of first appearance.
-    pub fn scenes(&self) -> Vec<&str> {
+    pub(crate) fn scenes(&self) -> Vec<&str> {
         let mut out: Vec<&str> = Vec::new();
         for c in &self.cases {
             if !out.contains(&c.scene.as_str()) {
@@ -230,23 +230,23 @@ impl Study {
 
     /// The columns of summary.csv that tell cases apart: `scene` when cases have their own
     /// scenes, then the override keys.
-    pub fn label_keys(&self) -> Vec<String> {
+    pub(crate) fn label_keys(&self) -> Vec<String> {
         let scene = self.per_case_scenes().then(|| "scene".to_string());
         scene.into_iter().chain(self.keys()).collect()
     }
 
     /// Whether some case has its own scene (summary.csv then has a `scene` column).
-    pub fn per_case_scenes(&self) -> bool {
+    pub(crate) fn per_case_scenes(&self) -> bool {
         self.cases.iter().any(|c| c.own_scene.is_some())
     }
 
     /// Every override of a case: the study's, then the case's own.
-    pub fn overrides(&self, case: &Case) -> Vec<String> {
+    pub(crate) fn overrides(&self, case: &Case) -> Vec<String> {
         self.set.iter().chain(&case.set).cloned().collect()
     }
 
     /// The override keys of the cases, in order of first appearance (summary.csv's first columns).
-    pub fn keys(&self) -> Vec<String> {
+    pub(crate) fn keys(&self) -> Vec<String> {
         let mut keys: Vec<String> = Vec::new();
         for c in &self.cases {
             for (k, _) in c.pairs() {

@@ -22,13 +22,13 @@ use std::path::{Path, PathBuf};
 
 /// The observables of the cases that ended ok, each history read once (a case's history does
 /// not change once it has ended).
-pub struct Observations {
+pub(crate) struct Observations {
     observe: Vec<String>,
     seen: RefCell<BTreeMap<PathBuf, Vec<f64>>>,
 }
 
 impl Observations {
-    pub fn new(observe: &[String]) -> Observations {
+    pub(crate) fn new(observe: &[String]) -> Observations {
         Observations { observe: observe.to_vec(), seen: RefCell::new(BTreeMap::new()) }
     }
 
@@ -47,7 +47,7 @@ impl Observations {
 }
 
 /// A case's state as the summary shows it.
-pub enum State {
+pub(crate) enum State {
     Ended(CaseRecord),
     /// Not ended: "running" (claimed in this session), "interrupted" (a run directory without
     /// an outcome, to resume) or "pending".
@@ -55,15 +55,15 @@ pub enum State {
 }
 
 /// A case's row: the case, its state and its run directory.
-pub struct Row {
-    pub case: Case,
-    pub state: State,
-    pub dir: PathBuf,
+pub(crate) struct Row {
+    pub(crate) case: Case,
+    pub(crate) state: State,
+    pub(crate) dir: PathBuf,
 }
 
 /// Writes `summary.csv` in `root` from the rows of all cases (in case order); the `dir` column
 /// is relative to `root` where the directory is in it.
-pub fn write(root: &Path, study: &Study, rows: &[Row], observations: &Observations) -> Result<()> {
+pub(crate) fn write(root: &Path, study: &Study, rows: &[Row], observations: &Observations) -> Result<()> {
     let keys = study.keys();
     let mut out = String::new();
     let scenes = study.per_case_scenes();
@@ -144,7 +144,7 @@ fn csv_fields(line: &str) -> Vec<String> {
 }
 
 /// Wall times by case label from an earlier summary.csv (`estimate_from`), as cost estimates.
-pub fn read_wall_times(path: &Path, study: &Study) -> Result<BTreeMap<Vec<(String, String)>, f64>> {
+pub(crate) fn read_wall_times(path: &Path, study: &Study) -> Result<BTreeMap<Vec<(String, String)>, f64>> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, format!("estimate_from: {e}")))?;
     let mut lines = text.lines();
     let header = csv_fields(lines.next().unwrap_or_default());
@@ -171,7 +171,7 @@ pub fn read_wall_times(path: &Path, study: &Study) -> Result<BTreeMap<Vec<(Strin
 
 /// A case's overrides in the form [`read_wall_times`] keys them (the last value of each key, by
 /// key; `scene`: the case's scene as summary.csv shows it).
-pub fn label_key(case: &Case, keys: &[String]) -> Vec<(String, String)> {
+pub(crate) fn label_key(case: &Case, keys: &[String]) -> Vec<(String, String)> {
     let pairs = case.pairs();
     keys.iter()
         .filter_map(|k| match k.as_str() {

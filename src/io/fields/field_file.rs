@@ -66,7 +66,7 @@ impl FieldFile {
     /// its first `keep` steps (collective): later steps are removed, and the next step is
     /// number `keep`. If this run numbers the mesh differently (another rank count), its mesh
     /// is written as a new group `/mesh_g` that the following steps use.
-    pub fn reopen(dir: &Path, comm: &SimpleCommunicator, mesh: &OutputMesh, keep: usize) -> Result<Self> {
+    pub(crate) fn reopen(dir: &Path, comm: &SimpleCommunicator, mesh: &OutputMesh, keep: usize) -> Result<Self> {
         let comm = comm.duplicate();
         let h5_path = dir.join(H5_NAME);
         let xdmf_path = dir.join(XDMF_NAME);
@@ -121,18 +121,8 @@ impl FieldFile {
     }
 
     /// Number of steps written so far.
-    pub fn n_steps(&self) -> usize {
+    pub(crate) fn n_steps(&self) -> usize {
         self.steps.len()
-    }
-
-    /// Path of the HDF5 file.
-    pub fn h5_path(&self) -> &Path {
-        &self.h5_path
-    }
-
-    /// Path of the XDMF file.
-    pub fn xdmf_path(&self) -> &Path {
-        &self.xdmf_path
     }
 
     /// Appends one time step with the given fields. Collective: every rank passes the same `time`
@@ -252,7 +242,7 @@ impl FieldFile {
 
     /// Copies the file as it stands after its last step (flushed) to `to` (collective: rank 0
     /// copies it to a temporary name and renames it over `to`).
-    pub fn backup(&self, to: &Path) -> Result<()> {
+    pub(crate) fn backup(&self, to: &Path) -> Result<()> {
         on_root(&self.comm, || copy_atomically(&self.h5_path, to)).map(|_| ())
     }
 

@@ -5,13 +5,13 @@
 use crate::reference_cell::Family;
 
 /// Name of the HDF5 file inside the run directory.
-pub const H5_NAME: &str = "fields.h5";
+pub(crate) const H5_NAME: &str = "fields.h5";
 /// Name of the XDMF file inside the run directory.
-pub const XDMF_NAME: &str = "fields.xdmf";
+pub(crate) const XDMF_NAME: &str = "fields.xdmf";
 /// XDMF topology type written for 10-node tetrahedra (accepted by ParaView's XDMF 2 and XDMF 3 readers).
-pub const XDMF_TOPOLOGY_TYPE: &str = "Tetrahedron_10";
+pub(crate) const XDMF_TOPOLOGY_TYPE: &str = "Tetrahedron_10";
 /// XDMF topology type written for the 6-node triangles of a meridian mesh.
-pub const XDMF_TOPOLOGY_TYPE_TRI6: &str = "Triangle_6";
+pub(crate) const XDMF_TOPOLOGY_TYPE_TRI6: &str = "Triangle_6";
 
 /// The XDMF topology type and nodes per cell of a family.
 pub(super) fn cell_type(family: Family) -> (&'static str, usize) {
@@ -22,7 +22,7 @@ pub(super) fn cell_type(family: Family) -> (&'static str, usize) {
 }
 /// `xdmf[i] = gmsh[GMSH_TO_XDMF_TET10[i]]`: GMSH `Tetrahedron10` order to XDMF/VTK quadratic-tet
 /// order (the mid-nodes of edges (2,3) and (1,3) swap places). The permutation is its own inverse.
-pub const GMSH_TO_XDMF_TET10: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8];
+pub(crate) const GMSH_TO_XDMF_TET10: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8];
 
 /// The part of the mesh this rank writes.
 pub struct OutputMesh<'a> {

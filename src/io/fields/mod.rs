@@ -10,7 +10,7 @@
 //! * `/time`: `f64`, 1-D, extendible; `time[k]` is the time of step `k`.
 //! * `/step_mesh`: `i64`, 1-D, extendible: the mesh group step `k` uses, 0 for `/mesh`, g for
 //!   `/mesh_g` — a run resumed on another rank count numbers the nodes differently and writes
-//!   its mesh again ([`FieldFile::reopen`]).
+//!   its mesh again (`FieldFile::reopen`).
 //! * `/fields/<name>/<k as 6 digits>`: `f64`; N (node scalar), N×3 (node vector), M (cell scalar) or
 //!   M×3 (cell vector) values of field `<name>` at step `k`. A field may be absent from some steps.
 //!
@@ -19,7 +19,7 @@
 //! (0,1),(1,2),(0,2),(0,3),(2,3),(1,3). XDMF's `Tetrahedron_10` is handed by ParaView's XDMF readers
 //! unchanged to VTK's `VTK_QUADRATIC_TETRA` (cell type 24), whose order is vertices, then edges
 //! (0,1),(1,2),(0,2),(0,3),(1,3),(2,3). So the last two mid-edge nodes are swapped when writing
-//! ([`GMSH_TO_XDMF_TET10`]); `/mesh/topology` is stored in the XDMF/VTK order.
+//! (`layout::GMSH_TO_XDMF_TET10`); `/mesh/topology` is stored in the XDMF/VTK order.
 //!
 //! The topology name is `Tetrahedron_10`: ParaView 5.11's `Xdmf3ReaderS`/`Xdmf3ReaderT` (XDMF 3) reject
 //! `Tet_10` ("Invalid Type selected in XdmfTopologyType::New"), and its legacy `XDMFReader`
@@ -69,6 +69,5 @@ mod xdmf;
 
 pub(crate) use field_file::restore_backup;
 pub use field_file::FieldFile;
-pub use layout::{
-    Field, FieldKind, OutputMesh, GMSH_TO_XDMF_TET10, H5_NAME, XDMF_NAME, XDMF_TOPOLOGY_TYPE, XDMF_TOPOLOGY_TYPE_TRI6,
-};
+pub(crate) use layout::H5_NAME;
+pub use layout::{Field, FieldKind, OutputMesh};

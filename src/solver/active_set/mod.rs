@@ -23,5 +23,5 @@ mod convergence;
 mod newton;
 mod reuse;
 
-pub use newton::ActiveSetNewton;
-pub use reuse::Lag;
+pub(crate) use newton::ActiveSetNewton;
+pub(crate) use reuse::Lag;

@@ -19,7 +19,7 @@ use mpi::traits::*;
 const STEP_HALVINGS: i32 = 5;
 
 /// The active-set Newton solver (a SNESSHELL inside TS).
-pub struct ActiveSetNewton {
+pub(crate) struct ActiveSetNewton {
     world: SimpleCommunicator,
     bounds: Bounds,
     /// Diagonal of the identity rows of active dofs (the scale of a u row of the Jacobian).
@@ -55,9 +55,9 @@ pub struct ActiveSetNewton {
     /// A checkpoint's state, set up at the start of the next solve.
     pending: Option<SolverState>,
     /// Print each iteration on rank 0 (`-poroplast_newton_monitor`).
-    pub monitor: bool,
+    pub(crate) monitor: bool,
     /// Acceleration of the chord iterations (`-poroplast_anderson M`).
-    pub anderson: Anderson,
+    pub(crate) anderson: Anderson,
     /// The active set of the last chord iteration (the map `anderson` has a history of).
     chord_active: Option<Vec<Int>>,
     /// Free rigid modes taken as each Jacobian's null space (None when there are none, or when
@@ -67,7 +67,7 @@ pub struct ActiveSetNewton {
 
 impl ActiveSetNewton {
     /// A solver for the bounds `lower`, `upper` (shared: updates to them are seen).
-    pub fn new(
+    pub(crate) fn new(
         world: &SimpleCommunicator,
         lower: &Vector,
         upper: &Vector,
@@ -105,7 +105,7 @@ impl ActiveSetNewton {
     /// Rigid modes the bounds leave free: with a direct factorisation (`pin`) locked at as many
     /// dofs, else attached to each Jacobian as its null space (module docs of `solver::rigid`).
     /// Collective.
-    pub fn set_free_modes(&mut self, modes: FreeRigidModes, pin: bool) {
+    pub(crate) fn set_free_modes(&mut self, modes: FreeRigidModes, pin: bool) {
         if pin {
             self.bounds.pinned = modes.pins(self.bounds.lower.ownership_start());
         } else {

@@ -9,15 +9,15 @@
 /// entered or left the active set since its setup, when the last solve needed more than
 /// `max_krylov` iterations (or failed), or after `max_reuse` reuses.
 #[derive(Debug, Clone, Copy)]
-pub struct Lag {
+pub(crate) struct Lag {
     /// Reuse a preconditioner at most this many times (0: rebuild for every Jacobian).
-    pub max_reuse: usize,
+    pub(crate) max_reuse: usize,
     /// Rebuild after a solve that needed more Krylov iterations than this.
-    pub max_krylov: usize,
+    pub(crate) max_krylov: usize,
     /// Rebuild when more dofs than this entered or left the active set since the setup. With
     /// chord iterations: the largest active-set change a chord iteration absorbs by a low-rank
     /// update of a direct factorisation ([`ActiveSetUpdate`](crate::solver::ActiveSetUpdate); 0: none).
-    pub max_changes: usize,
+    pub(crate) max_changes: usize,
     /// Chord iterations: keep the last assembled Jacobian and its preconditioner (no assembly,
     /// no setup) while each iteration reduces the free residual by at least this factor and
     /// the active set is the one it was assembled with — or, with a direct factorisation,
@@ -25,12 +25,12 @@ pub struct Lag {
     /// one pair of triangular solves. When > 0, every assembly sets up a new preconditioner
     /// (`max_reuse` and `max_krylov` apply only with 0: assemble at every iteration, and lag
     /// the preconditioner instead).
-    pub chord: f64,
+    pub(crate) chord: f64,
 }
 
 impl Lag {
     /// A new preconditioner for every Jacobian.
-    pub const NEVER: Lag = Lag { max_reuse: 0, max_krylov: 0, max_changes: 0, chord: 0.0 };
+    pub(crate) const NEVER: Lag = Lag { max_reuse: 0, max_krylov: 0, max_changes: 0, chord: 0.0 };
 
     /// Whether the preconditioner of the last setup may serve the current Jacobian: it differs
     /// from the setup's active set in `changes` dofs (None: no setup), has served `uses` times,
