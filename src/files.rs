@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// then renames it over `path`; the temporary file is removed if that fails. The temporary name
 /// is this process's and this call's, so several processes or threads may write the same file
 /// (a sweep's groups, its summary.csv, a cached mesh): each rename installs a whole one.
-pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+pub(crate) fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
     static CALLS: AtomicUsize = AtomicUsize::new(0);
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
@@ -26,12 +26,12 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) ->
 }
 
 /// [`write_atomically`] of a text.
-pub fn write_text_atomically(path: &Path, text: &str) -> Result<()> {
+pub(crate) fn write_text_atomically(path: &Path, text: &str) -> Result<()> {
     write_atomically(path, |tmp| std::fs::write(tmp, text).map_err(|e| Error::io(tmp, e)))
 }
 
 /// `from` copied over `to` ([`write_atomically`]).
-pub fn copy_atomically(from: &Path, to: &Path) -> Result<()> {
+pub(crate) fn copy_atomically(from: &Path, to: &Path) -> Result<()> {
     write_atomically(to, |tmp| {
         std::fs::copy(from, tmp).map(drop).map_err(|e| Error::io(tmp, format!("cannot copy {}: {e}", from.display())))
     })

@@ -3,7 +3,7 @@
 //! cache names) and for comparing a collective call's arguments across ranks.
 
 /// An FNV-1a hash being built; [`Fnv::finish`] gives its value.
-pub struct Fnv(u64);
+pub(crate) struct Fnv(u64);
 
 impl Default for Fnv {
     fn default() -> Self {
@@ -13,12 +13,12 @@ impl Default for Fnv {
 
 impl Fnv {
     /// The empty hash (FNV's offset basis).
-    pub fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Fnv(0xcbf2_9ce4_8422_2325)
     }
 
     /// Hashes in `b`, byte by byte.
-    pub fn bytes(&mut self, b: &[u8]) -> &mut Self {
+    pub(crate) fn bytes(&mut self, b: &[u8]) -> &mut Self {
         for &x in b {
             self.0 ^= u64::from(x);
             self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
@@ -27,23 +27,23 @@ impl Fnv {
     }
 
     /// Hashes in `v` (little-endian bytes).
-    pub fn u64(&mut self, v: u64) -> &mut Self {
+    pub(crate) fn u64(&mut self, v: u64) -> &mut Self {
         self.bytes(&v.to_le_bytes())
     }
 
     /// Hashes in `b` after its length, so that the boundaries of consecutive fields cannot be
     /// confused.
-    pub fn field(&mut self, b: &[u8]) -> &mut Self {
+    pub(crate) fn field(&mut self, b: &[u8]) -> &mut Self {
         self.u64(b.len() as u64).bytes(b)
     }
 
     /// The hash value.
-    pub fn finish(&self) -> u64 {
+    pub(crate) fn finish(&self) -> u64 {
         self.0
     }
 
     /// The hash value as 16 hex digits (names of cached meshes and stored cases).
-    pub fn hex(&self) -> String {
+    pub(crate) fn hex(&self) -> String {
         format!("{:016x}", self.0)
     }
 }

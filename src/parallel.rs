@@ -14,7 +14,7 @@ use mpi::traits::*;
 use std::path::{Path, PathBuf};
 
 /// All ranks agree on success; on failure the lowest failing rank's message is shared.
-pub fn agree<T>(world: &SimpleCommunicator, local: Result<T>) -> Result<T> {
+pub(crate) fn agree<T>(world: &SimpleCommunicator, local: Result<T>) -> Result<T> {
     let me = if local.is_err() { world.rank() } else { world.size() };
     let mut first = 0;
     world.all_reduce_into(&me, &mut first, SystemOperation::min());
@@ -35,7 +35,7 @@ pub fn agree<T>(world: &SimpleCommunicator, local: Result<T>) -> Result<T> {
 /// [`agree`], and the gravest class of outcome on any rank: `class` ranks an error (≥ 1; a
 /// success is 0), so that a caller can tell, e.g., a failure that cuts a time step from one
 /// that ends the run, whichever rank it happened on.
-pub fn agree_ranked<T>(
+pub(crate) fn agree_ranked<T>(
     world: &SimpleCommunicator,
     local: Result<T>,
     class: impl Fn(&Error) -> i32,
@@ -47,7 +47,7 @@ pub fn agree_ranked<T>(
 }
 
 /// Whether `hash` (of a collective call's arguments, say) is the same on every rank.
-pub fn same_on_all(world: &SimpleCommunicator, hash: u64) -> bool {
+pub(crate) fn same_on_all(world: &SimpleCommunicator, hash: u64) -> bool {
     // The maxima of h and of !h are h and !h only if every rank has h.
     let send = [hash, !hash];
     let mut recv = [0u64; 2];
@@ -57,26 +57,26 @@ pub fn same_on_all(world: &SimpleCommunicator, hash: u64) -> bool {
 
 /// Runs `f` on rank 0 only, its outcome made collective ([`agree`]): rank 0's value (None on
 /// the other ranks), or its error on every rank.
-pub fn on_root<T>(world: &SimpleCommunicator, f: impl FnOnce() -> Result<T>) -> Result<Option<T>> {
+pub(crate) fn on_root<T>(world: &SimpleCommunicator, f: impl FnOnce() -> Result<T>) -> Result<Option<T>> {
     let local = if world.rank() == 0 { f().map(Some) } else { Ok(None) };
     agree(world, local)
 }
 
 /// Rank 0's `path` on every rank (the other ranks' is ignored), broadcast as its bytes.
-pub fn broadcast_path(world: &SimpleCommunicator, path: Option<&Path>) -> PathBuf {
+pub(crate) fn broadcast_path(world: &SimpleCommunicator, path: Option<&Path>) -> PathBuf {
     let mut bytes = path.map(|p| p.to_string_lossy().into_owned().into_bytes()).unwrap_or_default();
     broadcast_vec(world, 0, &mut bytes);
     PathBuf::from(String::from_utf8_lossy(&bytes).into_owned())
 }
 
 /// The path of a file that rank 0 makes (`f`), on every rank; its error on every rank.
-pub fn path_from_root(world: &SimpleCommunicator, f: impl FnOnce() -> Result<PathBuf>) -> Result<PathBuf> {
+pub(crate) fn path_from_root(world: &SimpleCommunicator, f: impl FnOnce() -> Result<PathBuf>) -> Result<PathBuf> {
     let path = on_root(world, f)?;
     Ok(broadcast_path(world, path.as_deref()))
 }
 
 /// Broadcasts a vector of unknown length from `root`.
-pub fn broadcast_vec<T: Equivalence + Default + Clone>(world: &SimpleCommunicator, root: i32, v: &mut Vec<T>) {
+pub(crate) fn broadcast_vec<T: Equivalence + Default + Clone>(world: &SimpleCommunicator, root: i32, v: &mut Vec<T>) {
     let mut n = v.len() as u64;
     world.process_at_rank(root).broadcast_into(&mut n);
     v.resize(n as usize, T::default());
@@ -86,49 +86,49 @@ pub fn broadcast_vec<T: Equivalence + Default + Clone>(world: &SimpleCommunicato
 }
 
 /// Whether `mine` holds on every rank.
-pub fn all(world: &SimpleCommunicator, mine: bool) -> bool {
+pub(crate) fn all(world: &SimpleCommunicator, mine: bool) -> bool {
     let mut out = 0u8;
     world.all_reduce_into(&u8::from(mine), &mut out, SystemOperation::min());
     out == 1
 }
 
 /// Whether `mine` holds on some rank.
-pub fn any(world: &SimpleCommunicator, mine: bool) -> bool {
+pub(crate) fn any(world: &SimpleCommunicator, mine: bool) -> bool {
     let mut out = 0u8;
     world.all_reduce_into(&u8::from(mine), &mut out, SystemOperation::max());
     out == 1
 }
 
 /// Sum of a scalar over ranks.
-pub fn sum(world: &SimpleCommunicator, v: f64) -> f64 {
+pub(crate) fn sum(world: &SimpleCommunicator, v: f64) -> f64 {
     let mut t = 0.0;
     world.all_reduce_into(&v, &mut t, SystemOperation::sum());
     t
 }
 
 /// Maximum of a scalar over ranks.
-pub fn max(world: &SimpleCommunicator, v: f64) -> f64 {
+pub(crate) fn max(world: &SimpleCommunicator, v: f64) -> f64 {
     let mut t = 0.0;
     world.all_reduce_into(&v, &mut t, SystemOperation::max());
     t
 }
 
 /// Element-wise sum of `local` over ranks (the same length on every rank).
-pub fn sum_slice<T: Equivalence + Copy + Default>(world: &SimpleCommunicator, local: &[T]) -> Vec<T> {
+pub(crate) fn sum_slice<T: Equivalence + Copy + Default>(world: &SimpleCommunicator, local: &[T]) -> Vec<T> {
     let mut out = vec![T::default(); local.len()];
     world.all_reduce_into(local, &mut out[..], SystemOperation::sum());
     out
 }
 
 /// Element-wise maximum of `local` over ranks (the same length on every rank).
-pub fn max_slice<T: Equivalence + Copy + Default>(world: &SimpleCommunicator, local: &[T]) -> Vec<T> {
+pub(crate) fn max_slice<T: Equivalence + Copy + Default>(world: &SimpleCommunicator, local: &[T]) -> Vec<T> {
     let mut out = vec![T::default(); local.len()];
     world.all_reduce_into(local, &mut out[..], SystemOperation::max());
     out
 }
 
 /// Every rank's `local`, concatenated in rank order, on every rank (the lengths may differ).
-pub fn all_gather_vec<T: Equivalence + Copy + Default>(world: &SimpleCommunicator, local: &[T]) -> Vec<T> {
+pub(crate) fn all_gather_vec<T: Equivalence + Copy + Default>(world: &SimpleCommunicator, local: &[T]) -> Vec<T> {
     let mut counts = vec![0i32; world.size() as usize];
     world.all_gather_into(&(local.len() as i32), &mut counts[..]);
     let displs: Vec<i32> = counts.iter().scan(0, |acc, &c| Some(std::mem::replace(acc, *acc + c))).collect();
@@ -138,7 +138,7 @@ pub fn all_gather_vec<T: Equivalence + Copy + Default>(world: &SimpleCommunicato
 }
 
 /// Element-wise sum over ranks into rank 0's `v` (the other ranks' are left as they were).
-pub fn reduce_to_root(world: &SimpleCommunicator, v: &mut [f64]) {
+pub(crate) fn reduce_to_root(world: &SimpleCommunicator, v: &mut [f64]) {
     let root = world.process_at_rank(0);
     if world.rank() == 0 {
         let mut out = vec![0.0; v.len()];

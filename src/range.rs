@@ -6,7 +6,7 @@ use std::fmt;
 
 /// An interval of finite numbers (open or closed at either end), with the words an error says.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Range {
+pub(crate) struct Range {
     lo: f64,
     lo_closed: bool,
     hi: f64,
@@ -17,36 +17,36 @@ pub struct Range {
 
 impl Range {
     /// Any finite number.
-    pub const FINITE: Range = Range::new(f64::NEG_INFINITY, false, f64::INFINITY, false, "must be finite");
+    pub(crate) const FINITE: Range = Range::new(f64::NEG_INFINITY, false, f64::INFINITY, false, "must be finite");
     /// (0, ∞).
-    pub const POSITIVE: Range = Range::new(0.0, false, f64::INFINITY, false, "must be positive");
+    pub(crate) const POSITIVE: Range = Range::new(0.0, false, f64::INFINITY, false, "must be positive");
     /// [0, ∞).
-    pub const NON_NEGATIVE: Range = Range::new(0.0, true, f64::INFINITY, false, "must be finite and >= 0");
+    pub(crate) const NON_NEGATIVE: Range = Range::new(0.0, true, f64::INFINITY, false, "must be finite and >= 0");
 
     /// From `lo` to `hi`, each end included if `*_closed`; an infinite end is always open.
-    pub const fn new(lo: f64, lo_closed: bool, hi: f64, hi_closed: bool, says: &'static str) -> Range {
+    pub(crate) const fn new(lo: f64, lo_closed: bool, hi: f64, hi_closed: bool, says: &'static str) -> Range {
         Range { lo, lo_closed, hi, hi_closed, says }
     }
 
     /// The same interval with other words.
-    pub const fn says(self, says: &'static str) -> Range {
+    pub(crate) const fn says(self, says: &'static str) -> Range {
         Range { says, ..self }
     }
 
     /// Whether `v` is finite and inside.
-    pub fn contains(&self, v: f64) -> bool {
+    pub(crate) fn contains(&self, v: f64) -> bool {
         let above = if self.lo_closed { v >= self.lo } else { v > self.lo };
         let below = if self.hi_closed { v <= self.hi } else { v < self.hi };
         v.is_finite() && above && below
     }
 
     /// Ok, or "`name` = `v`: `says`".
-    pub fn check(&self, name: &str, v: f64) -> Result<(), String> {
+    pub(crate) fn check(&self, name: &str, v: f64) -> Result<(), String> {
         self.check_shown(name, v, v)
     }
 
     /// As [`Range::check`], with the value shown as `shown` (an integer as given).
-    pub fn check_shown(&self, name: &str, v: f64, shown: impl fmt::Display) -> Result<(), String> {
+    pub(crate) fn check_shown(&self, name: &str, v: f64, shown: impl fmt::Display) -> Result<(), String> {
         if self.contains(v) {
             Ok(())
         } else {

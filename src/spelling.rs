@@ -4,7 +4,7 @@
 /// The candidate nearest to `word` by edit distance (case-insensitive), if it is near enough to
 /// be a slip: at most a third of the longer name's characters changed, or `word` a prefix of
 /// it (a unit suffix left out).
-pub fn nearest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+pub(crate) fn nearest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
     let w = word.to_lowercase();
     candidates
         .into_iter()
@@ -18,7 +18,7 @@ pub fn nearest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) ->
 }
 
 /// " (did you mean `X`?)" for the nearest candidate, or "".
-pub fn suggestion<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
+pub(crate) fn suggestion<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
     nearest(word, candidates).map_or(String::new(), |c| format!(" (did you mean `{c}`?)"))
 }
 

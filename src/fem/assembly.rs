@@ -17,29 +17,29 @@ use crate::reference_cell::Family;
 use std::marker::PhantomData;
 
 /// What the element loops read: mesh, dofs, model, quadrature, constraint flags.
-pub struct Discretization {
-    pub mesh: LocalMesh,
-    pub dofs: DofMap,
-    pub model: Box<dyn PointModel>,
+pub(crate) struct Discretization {
+    pub(crate) mesh: LocalMesh,
+    pub(crate) dofs: DofMap,
+    pub(crate) model: Box<dyn PointModel>,
     /// Cell functions at the quadrature points (`element::tabulate_cell`).
-    pub tab: Tabulation<MAX_NODES>,
-    pub xi: Vec<[f64; 3]>,
+    pub(crate) tab: Tabulation<MAX_NODES>,
+    pub(crate) xi: Vec<[f64; 3]>,
     /// Per local dof: fixed by a constraint.
-    pub constrained: Vec<bool>,
+    pub(crate) constrained: Vec<bool>,
     /// The pressure stabilisation (see `fem::kernel::ElementKernel::stab`).
-    pub stab: Stabilisation,
+    pub(crate) stab: Stabilisation,
     /// Committed qp state of the model (empty when it has none).
-    pub qp_state: QpStore,
+    pub(crate) qp_state: QpStore,
     /// Equal-order P1–P1 instead of Taylor–Hood (`fem::equal_order`; tetrahedra only).
-    pub equal_order: bool,
+    pub(crate) equal_order: bool,
     /// Whether the qp state evolves in the steps being solved (false while settling before t = 0,
     /// where B_p(X, 0⁻) = I holds by definition).
-    pub evolve: bool,
+    pub(crate) evolve: bool,
 }
 
 /// Whose qp state an element sees.
 #[derive(Clone, Copy, PartialEq, Eq)]
-pub enum QpStateUse {
+pub(crate) enum QpStateUse {
     /// The step being solved: evolves from the committed state (unless `evolve` is off).
     Step,
     /// Held at the committed state (post-processing of a committed step).
@@ -47,18 +47,18 @@ pub enum QpStateUse {
 }
 
 impl Discretization {
-    pub fn family(&self) -> Family {
+    pub(crate) fn family(&self) -> Family {
         self.mesh.family
     }
 
     /// Dofs of an element.
-    pub fn ndof(&self) -> usize {
+    pub(crate) fn ndof(&self) -> usize {
         let f = self.family();
         f.components() * f.cell_nodes() + f.cell_vertices()
     }
 
     /// The kernel of the mesh's cell family.
-    pub fn kernel(&self) -> Box<dyn CellKernel + '_> {
+    pub(crate) fn kernel(&self) -> Box<dyn CellKernel + '_> {
         fn make<'a, C: CellShape>(d: &'a Discretization) -> Box<dyn CellKernel + 'a> {
             Box::new(ElementKernel::<C> {
                 model: d.model.as_ref(),
@@ -78,7 +78,7 @@ impl Discretization {
     /// The one element loop: element e's local dofs and kernel input at the local state (u, u̇)
     /// of a step of size dt go to `body`; an error names the cell of the file (the input's
     /// `elem`, which the model puts in its domain errors).
-    pub fn each_element(
+    pub(crate) fn each_element(
         &self,
         u: &[f64],
         udot: &[f64],
@@ -97,7 +97,7 @@ impl Discretization {
     }
 
     /// Adds the element residuals at (u, u̇) into `f` (local layout).
-    pub fn add_residual(&self, u: &[f64], udot: &[f64], dt: f64, f: &mut [f64]) -> Result<()> {
+    pub(crate) fn add_residual(&self, u: &[f64], udot: &[f64], dt: f64, f: &mut [f64]) -> Result<()> {
         let (kernel, n) = (self.kernel(), self.ndof());
         self.each_element(u, udot, dt, QpStateUse::Step, |_, d, input| {
             let mut r = [0.0; MAX_DOF];
@@ -111,7 +111,7 @@ impl Discretization {
 
     /// Element loop of the Jacobian: element matrices (constrained rows and columns zeroed,
     /// so the pattern stays fixed) go to `sink`, Schur blocks into `schur` if given.
-    pub fn jacobian_loop(
+    pub(crate) fn jacobian_loop(
         &self,
         ul: &[f64],
         udl: &[f64],
@@ -159,7 +159,7 @@ impl Discretization {
     }
 
     /// The end-of-step qp state of every point at the accepted state (u, u̇) of a step of size dt.
-    pub fn advanced_qp_state(&self, u: &[f64], udot: &[f64], dt: f64) -> Result<QpStore> {
+    pub(crate) fn advanced_qp_state(&self, u: &[f64], udot: &[f64], dt: f64) -> Result<QpStore> {
         let kernel = self.kernel();
         let mut next = self.qp_state.clone();
         self.each_element(u, udot, dt, QpStateUse::Step, |e, _, input| {
@@ -169,7 +169,7 @@ impl Discretization {
     }
 
     /// The smallest J = det F over this rank's points in the state `u`.
-    pub fn min_j(&self, u: &[f64]) -> Result<f64> {
+    pub(crate) fn min_j(&self, u: &[f64]) -> Result<f64> {
         let kernel = self.kernel();
         let mut m = f64::INFINITY;
         self.each_element(u, u, 1.0, QpStateUse::Step, |_, _, input| {
@@ -181,7 +181,7 @@ impl Discretization {
 
     /// Local dof indices of element e in kernel order (the first `ndof()` entries).
     #[inline]
-    pub fn element_dofs(&self, e: usize) -> ElementDofs {
+    pub(crate) fn element_dofs(&self, e: usize) -> ElementDofs {
         self.dofs.element_dofs(&self.mesh, e)
     }
 

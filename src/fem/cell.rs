@@ -18,22 +18,22 @@ use crate::reference_cell::{Family, TET10_EDGES, TRI6_EDGES};
 
 /// The map of a cell at one quadrature point.
 #[derive(Debug, Clone, Copy)]
-pub struct CellPoint {
+pub(crate) struct CellPoint {
     /// Reference position of the point (the manufactured solutions of the tests).
     #[cfg(test)]
-    pub x: [f64; 3],
+    pub(crate) x: [f64; 3],
     /// Integration weight of the point: det J times the rule's weight (times 2πR on the meridian).
-    pub w: f64,
+    pub(crate) w: f64,
     /// The same without the 2πR factor: the point's share of the cell's own measure (volume or area).
-    pub w_cell: f64,
+    pub(crate) w_cell: f64,
     /// ∂N_a/∂X of the P2 functions (3-D; (∂/∂R, 0, ∂/∂Z) on the meridian).
-    pub dn: [[f64; 3]; MAX_NODES],
+    pub(crate) dn: [[f64; 3]; MAX_NODES],
     /// 1/R on the meridian (the hoop entries N_a / R), 0 in 3-D.
-    pub inv_r: f64,
+    pub(crate) inv_r: f64,
 }
 
 /// A cell family of the kernel.
-pub trait CellShape: Copy + Default + 'static {
+pub(crate) trait CellShape: Copy + Default + 'static {
     const FAMILY: Family;
     /// P2 nodes, P1 vertices, displacement components per node.
     const NN: usize = Self::FAMILY.cell_nodes();
@@ -60,11 +60,11 @@ pub trait CellShape: Copy + Default + 'static {
 
 /// The 10-node tetrahedron.
 #[derive(Debug, Clone, Copy, Default)]
-pub struct Tet10;
+pub(crate) struct Tet10;
 
 /// The 6-node triangle of the meridian plane.
 #[derive(Debug, Clone, Copy, Default)]
-pub struct Tri6Axi;
+pub(crate) struct Tri6Axi;
 
 impl CellShape for Tet10 {
     const FAMILY: Family = Family::Tet10;
@@ -154,7 +154,7 @@ impl CellShape for Tri6Axi {
 /// L_m equals N_m + ½ Σ N_mid over the mid-edge nodes of the edges at m, in reference coordinates,
 /// so its gradient follows from the P2 gradients.
 #[inline]
-pub fn p1_gradients<C: CellShape>(dn: &[[f64; 3]; MAX_NODES]) -> [[f64; 3]; MAX_VERTICES] {
+pub(crate) fn p1_gradients<C: CellShape>(dn: &[[f64; 3]; MAX_NODES]) -> [[f64; 3]; MAX_VERTICES] {
     let mut g = [[0.0; 3]; MAX_VERTICES];
     g[..C::NV].copy_from_slice(&dn[..C::NV]);
     let edges: &[(usize, usize)] = if C::AXI { &TRI6_EDGES } else { &TET10_EDGES };

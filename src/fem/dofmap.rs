@@ -12,26 +12,26 @@ use super::element::{ElementDofs, MAX_DOF};
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::Int;
 
-pub struct DofMap {
-    pub rank: usize,
+pub(crate) struct DofMap {
+    pub(crate) rank: usize,
     /// Displacement components per node (3, or 2 on the meridian: u_r, u_z); z is the last.
-    pub nc: usize,
+    pub(crate) nc: usize,
     /// Local nodes / vertices (owned + ghost).
-    pub n_nodes: usize,
-    pub n_owned_nodes: usize,
-    pub n_owned_vertices: usize,
+    pub(crate) n_nodes: usize,
+    pub(crate) n_owned_nodes: usize,
+    pub(crate) n_owned_vertices: usize,
     /// Dofs owned here, first owned global dof, total.
-    pub n_owned: usize,
-    pub offset: usize,
-    pub n_global: usize,
+    pub(crate) n_owned: usize,
+    pub(crate) offset: usize,
+    pub(crate) n_global: usize,
     /// Local dof → global dof.
-    pub l2g: Vec<Int>,
+    pub(crate) l2g: Vec<Int>,
     node_ranges: Vec<usize>,
     vertex_ranges: Vec<usize>,
 }
 
 impl DofMap {
-    pub fn new(m: &LocalMesh) -> DofMap {
+    pub(crate) fn new(m: &LocalMesh) -> DofMap {
         let (nr, vr) = (&m.node_ranges, &m.vertex_ranges);
         let n_nodes = m.coords.len();
         let n_vertices = m.vertex_node.len();
@@ -63,7 +63,7 @@ impl DofMap {
 
     /// Local dofs of cell `e` of `m` in the kernel's order (`fem::element`): u of node a,
     /// component c at nc a + c, then p of vertex m.
-    pub fn element_dofs(&self, m: &LocalMesh, e: usize) -> ElementDofs {
+    pub(crate) fn element_dofs(&self, m: &LocalMesh, e: usize) -> ElementDofs {
         let (nn, nv, nc) = (m.family.cell_nodes(), m.family.cell_vertices(), self.nc);
         let t = &m.cells[e];
         let mut d = [0usize; MAX_DOF];
@@ -83,48 +83,48 @@ impl DofMap {
     }
 
     /// Global u dof of global node `g`, component `c`.
-    pub fn u_global(&self, g: usize, c: usize) -> usize {
+    pub(crate) fn u_global(&self, g: usize, c: usize) -> usize {
         self.nc * g + self.vertex_ranges[Self::owner(&self.node_ranges, g)] + c
     }
 
     /// Global p dof of global vertex `v`.
-    pub fn p_global(&self, v: usize) -> usize {
+    pub(crate) fn p_global(&self, v: usize) -> usize {
         self.nc * self.node_ranges[Self::owner(&self.vertex_ranges, v) + 1] + v
     }
 
     /// Local u dof of local node n.
     #[inline]
-    pub fn u_local(&self, n: usize, c: usize) -> usize {
+    pub(crate) fn u_local(&self, n: usize, c: usize) -> usize {
         self.nc * n + c
     }
     /// Local u_z dof of local node n (z is the last component).
     #[inline]
-    pub fn uz_local(&self, n: usize) -> usize {
+    pub(crate) fn uz_local(&self, n: usize) -> usize {
         self.nc * n + self.nc - 1
     }
     /// Number of local u dofs (owned + ghost nodes).
     #[inline]
-    pub fn n_u_local(&self) -> usize {
+    pub(crate) fn n_u_local(&self) -> usize {
         self.nc * self.n_nodes
     }
     /// Number of owned u dofs.
     #[inline]
-    pub fn n_u_owned(&self) -> usize {
+    pub(crate) fn n_u_owned(&self) -> usize {
         self.nc * self.n_owned_nodes
     }
     /// Local p dof of local vertex m.
     #[inline]
-    pub fn p_local(&self, m: usize) -> usize {
+    pub(crate) fn p_local(&self, m: usize) -> usize {
         self.nc * self.n_nodes + m
     }
     /// Size of the local (owned + ghost) vector.
-    pub fn n_local(&self) -> usize {
+    pub(crate) fn n_local(&self) -> usize {
         self.l2g.len()
     }
 
     /// Whether a local dof is owned here.
     #[inline]
-    pub fn is_owned(&self, l: usize) -> bool {
+    pub(crate) fn is_owned(&self, l: usize) -> bool {
         let nu = self.n_u_local();
         if l < nu {
             l < self.n_u_owned()
@@ -134,7 +134,7 @@ impl DofMap {
     }
     /// Position of an owned local dof among the owned dofs (its global index minus offset).
     #[inline]
-    pub fn local_to_owned(&self, l: usize) -> Option<usize> {
+    pub(crate) fn local_to_owned(&self, l: usize) -> Option<usize> {
         if !self.is_owned(l) {
             return None;
         }
@@ -143,17 +143,17 @@ impl DofMap {
     }
 
     /// Global u range [start, end) owned here, and p range.
-    pub fn u_range(&self) -> (usize, usize) {
+    pub(crate) fn u_range(&self) -> (usize, usize) {
         (self.offset, self.offset + self.n_u_owned())
     }
-    pub fn p_range(&self) -> (usize, usize) {
+    pub(crate) fn p_range(&self) -> (usize, usize) {
         let s = self.offset + self.n_u_owned();
         (s, s + self.n_owned_vertices)
     }
 
     /// Exact nonzeros per owned row, in the diagonal and off-diagonal blocks, of the full u–p
     /// matrix and of the pressure-only Schur matrix, from the node neighbour graph.
-    pub fn preallocation(&self, m: &LocalMesh) -> Preallocation {
+    pub(crate) fn preallocation(&self, m: &LocalMesh) -> Preallocation {
         let (nlo, nhi) = (self.node_ranges[self.rank], self.node_ranges[self.rank + 1]);
         let (vlo, vhi) = (self.vertex_ranges[self.rank], self.vertex_ranges[self.rank + 1]);
         let mut node_counts = Vec::with_capacity(self.n_owned_nodes);
@@ -201,11 +201,11 @@ impl DofMap {
     }
 }
 
-pub struct Preallocation {
-    pub d_nnz: Vec<Int>,
-    pub o_nnz: Vec<Int>,
-    pub schur_d: Vec<Int>,
-    pub schur_o: Vec<Int>,
+pub(crate) struct Preallocation {
+    pub(crate) d_nnz: Vec<Int>,
+    pub(crate) o_nnz: Vec<Int>,
+    pub(crate) schur_d: Vec<Int>,
+    pub(crate) schur_o: Vec<Int>,
 }
 
 #[cfg(test)]

@@ -12,29 +12,29 @@ use crate::reference_cell::shape::{p2_values, tri6};
 use crate::reference_cell::Family;
 
 /// Largest number of element dofs of a family.
-pub const MAX_DOF: usize = 34;
+pub(crate) const MAX_DOF: usize = 34;
 
 /// Local dofs of an element (the first `NDOF` of its family).
-pub type ElementDofs = [usize; MAX_DOF];
+pub(crate) type ElementDofs = [usize; MAX_DOF];
 /// An element matrix (the leading NDOF × NDOF block of its family).
-pub type ElementMatrix = [[f64; MAX_DOF]; MAX_DOF];
+pub(crate) type ElementMatrix = [[f64; MAX_DOF]; MAX_DOF];
 
 /// Shape values and reference gradients at every point of a rule, computed once.
 #[derive(Debug, Clone)]
-pub struct Tabulation<const N: usize> {
-    pub n: Vec<[f64; N]>,
+pub(crate) struct Tabulation<const N: usize> {
+    pub(crate) n: Vec<[f64; N]>,
     /// Reference gradients (third component 0 for triangles).
-    pub dn: Vec<[[f64; 3]; N]>,
-    pub weights: Vec<f64>,
+    pub(crate) dn: Vec<[[f64; 3]; N]>,
+    pub(crate) weights: Vec<f64>,
 }
 
 #[cfg(test)]
-pub fn tabulate_tet10(q: &Quadrature) -> Tabulation<10> {
+pub(crate) fn tabulate_tet10(q: &Quadrature) -> Tabulation<10> {
     let (n, dn) = q.points.iter().map(crate::reference_cell::shape::tet10).unzip();
     Tabulation { n, dn, weights: q.weights.clone() }
 }
 
-pub fn tabulate_tri6(q: &Quadrature) -> Tabulation<6> {
+pub(crate) fn tabulate_tri6(q: &Quadrature) -> Tabulation<6> {
     let mut t = Tabulation { n: vec![], dn: vec![], weights: q.weights.clone() };
     for p in &q.points {
         let (n, d) = tri6(&[p[0], p[1]]);
@@ -46,24 +46,24 @@ pub fn tabulate_tri6(q: &Quadrature) -> Tabulation<6> {
 
 /// The cell functions of a family at every point of a rule, in the kernel's 10-slot layout
 /// ([`p2_values`]).
-pub fn tabulate_cell(family: Family, q: &Quadrature) -> Tabulation<10> {
+pub(crate) fn tabulate_cell(family: Family, q: &Quadrature) -> Tabulation<10> {
     let (n, dn) = q.points.iter().map(|p| p2_values(family, p)).unzip();
     Tabulation { n, dn, weights: q.weights.clone() }
 }
 
 /// The isoparametric map of a 10-node tet at one quadrature point.
 #[derive(Debug, Clone, Copy)]
-pub struct Geometry {
+pub(crate) struct Geometry {
     #[cfg(test)]
-    pub x: [f64; 3],
-    pub jac_det: f64,
+    pub(crate) x: [f64; 3],
+    pub(crate) jac_det: f64,
     /// Physical gradients ∂N_a/∂X of the 10 P2 functions.
-    pub dn_dx: [[f64; 3]; 10],
+    pub(crate) dn_dx: [[f64; 3]; 10],
 }
 
 /// Geometry at point `q` of a tabulation; an error for an inverted or degenerate element.
 #[inline]
-pub fn tet10_geometry(coords: &[[f64; 3]; 10], tab: &Tabulation<10>, q: usize) -> Result<Geometry> {
+pub(crate) fn tet10_geometry(coords: &[[f64; 3]; 10], tab: &Tabulation<10>, q: usize) -> Result<Geometry> {
     let dn = &tab.dn[q];
     let mut j = [[0.0; 3]; 3]; // j[d][k] = ∂x_d/∂ξ_k
     let mut x = [0.0; 3];
@@ -111,15 +111,15 @@ pub fn tet10_geometry(coords: &[[f64; 3]; 10], tab: &Tabulation<10>, q: usize) -
 
 /// A 6-node triangle at one quadrature point.
 #[derive(Debug, Clone, Copy)]
-pub struct Surface {
-    pub x: [f64; 3],
+pub(crate) struct Surface {
+    pub(crate) x: [f64; 3],
     /// Area element |∂x/∂ξ × ∂x/∂η|.
-    pub da: f64,
+    pub(crate) da: f64,
     /// Unit normal, oriented by the node order (right-hand rule).
-    pub normal: [f64; 3],
+    pub(crate) normal: [f64; 3],
 }
 
-pub fn tri6_surface(coords: &[[f64; 3]; 6], tab: &Tabulation<6>, q: usize) -> Surface {
+pub(crate) fn tri6_surface(coords: &[[f64; 3]; 6], tab: &Tabulation<6>, q: usize) -> Surface {
     let (mut x, mut t1, mut t2) = ([0.0; 3], [0.0; 3], [0.0; 3]);
     for a in 0..6 {
         for d in 0..3 {

@@ -46,20 +46,20 @@ fn fold_rows(r: &mut [f64; NDOF], tie: impl Fn(usize, usize, usize, usize) -> f6
 
 /// Transforms one element's residual `r` (its contribution only) to P1 rows and tie rows, at
 /// nodal displacements `u`, tie stiffness `s`.
-pub fn tie_residual(r: &mut [f64; NDOF], u: &[[f64; 3]; 10], s: f64) {
+pub(crate) fn tie_residual(r: &mut [f64; NDOF], u: &[[f64; 3]; 10], s: f64) {
     fold_rows(r, |m, a, b, i| s * (u[m][i] - 0.5 * (u[a][i] + u[b][i])));
 }
 
 /// The P1 rows of a part of the nodal forces (the pressure part of post-processing): the
 /// mid-edge rows moved to the vertices, nothing left on the tie rows (whose residual is not a
 /// force).
-pub fn fold_forces(r: &mut [f64; NDOF]) {
+pub(crate) fn fold_forces(r: &mut [f64; NDOF]) {
     fold_rows(r, |_, _, _, _| 0.0);
 }
 
 /// The same transformation of one element's Jacobian rows (the derivative of
 /// [`tie_residual`]'s result).
-pub fn tie_jacobian(k: &mut ElementMatrix, s: f64) {
+pub(crate) fn tie_jacobian(k: &mut ElementMatrix, s: f64) {
     for (m, a, b) in edges() {
         for i in 0..3 {
             let row = k[3 * m + i];
@@ -86,7 +86,7 @@ fn local_edges(mesh: &LocalMesh) -> impl Iterator<Item = (usize, usize, usize)> 
 
 /// Moves external loads on mid-edge u dofs (local layout: u of local node n at 3n + c) to the
 /// edge's vertices, half to each.
-pub fn tie_loads(ext: &mut [f64], mesh: &LocalMesh) {
+pub(crate) fn tie_loads(ext: &mut [f64], mesh: &LocalMesh) {
     for (m, a, b) in local_edges(mesh) {
         for i in 0..3 {
             let f = std::mem::take(&mut ext[3 * m + i]);
@@ -98,7 +98,7 @@ pub fn tie_loads(ext: &mut [f64], mesh: &LocalMesh) {
 
 /// Puts every local mid-edge node's displacement back on its edge, u_m = ½ (u_a + u_b) (local
 /// layout as in [`tie_loads`]): the state the tie rows hold, for a predictor that moved vertices.
-pub fn tie_nodes(u: &mut [f64], mesh: &LocalMesh) {
+pub(crate) fn tie_nodes(u: &mut [f64], mesh: &LocalMesh) {
     for (m, a, b) in local_edges(mesh) {
         for i in 0..3 {
             u[3 * m + i] = 0.5 * (u[3 * a + i] + u[3 * b + i]);

@@ -21,7 +21,7 @@ const NOT_OWNED: i32 = i32::MIN;
 
 /// Offsets of each element's blocks in the local CSR rows: >= 0 in the diagonal block,
 /// -(k+1) at position k of the off-diagonal block.
-pub struct ElementInserter {
+pub(crate) struct ElementInserter {
     table: Vec<[[i32; GROUPS]; MAX_NODES]>,
     /// Nodes, vertices and components of the cell family.
     nn: usize,
@@ -31,7 +31,7 @@ pub struct ElementInserter {
 
 /// Entries of rows owned elsewhere, inserted with `MatSetValues` after the fast pass.
 #[derive(Default)]
-pub struct GhostRows {
+pub(crate) struct GhostRows {
     rows: Vec<Int>,
     cols: Vec<[Int; MAX_DOF]>,
     vals: Vec<[f64; MAX_DOF]>,
@@ -58,7 +58,7 @@ fn row_slice<'a>(b: &'a CsrBlock, r: usize) -> &'a [Int] {
 impl ElementInserter {
     /// Builds the table from an assembled matrix holding the full element pattern.
     /// `elem_dofs(e)` gives element e's local dofs in kernel order.
-    pub fn build(
+    pub(crate) fn build(
         mat: &mut Mat,
         dofs: &DofMap,
         family: Family,
@@ -138,7 +138,7 @@ impl ElementInserter {
     /// rows owned elsewhere are collected in `ghosts`. Fails if `csr` lacks the off-diagonal
     /// block the table was built with (another matrix than the one given to `build`).
     #[inline]
-    pub fn add(
+    pub(crate) fn add(
         &self,
         csr: &mut LocalCsr,
         e: usize,
@@ -189,7 +189,7 @@ impl ElementInserter {
 
 impl GhostRows {
     /// Sends the collected rows to their owners (through PETSc's stash) and clears.
-    pub fn flush(&mut self, mat: &mut Mat) -> Result<()> {
+    pub(crate) fn flush(&mut self, mat: &mut Mat) -> Result<()> {
         for i in 0..self.rows.len() {
             mat.add_values(&[self.rows[i]], &self.cols[i][..self.ndof], &self.vals[i][..self.ndof])?;
         }

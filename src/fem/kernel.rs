@@ -32,21 +32,21 @@ const THETA: usize = idx(1, 1);
 /// What the kernel needs of one element: its number in the mesh file (for messages), node
 /// coordinates, nodal values, the step size and the committed qp state of its points.
 #[derive(Debug, Clone, Copy)]
-pub struct ElementInput<'a> {
-    pub elem: usize,
-    pub coords: [[f64; 3]; MAX_NODES],
-    pub values: ElementValues,
-    pub dt: f64,
-    pub qp_state: QpState<'a>,
+pub(crate) struct ElementInput<'a> {
+    pub(crate) elem: usize,
+    pub(crate) coords: [[f64; 3]; MAX_NODES],
+    pub(crate) values: ElementValues,
+    pub(crate) dt: f64,
+    pub(crate) qp_state: QpState<'a>,
 }
 
 /// Nodal values of one element: `u[a][c]` is component c of node a (its family's components).
 #[derive(Debug, Clone, Copy)]
-pub struct ElementValues {
-    pub u: [[f64; 3]; MAX_NODES],
-    pub udot: [[f64; 3]; MAX_NODES],
-    pub p: [f64; MAX_VERTICES],
-    pub pdot: [f64; MAX_VERTICES],
+pub(crate) struct ElementValues {
+    pub(crate) u: [[f64; 3]; MAX_NODES],
+    pub(crate) udot: [[f64; 3]; MAX_NODES],
+    pub(crate) p: [f64; MAX_VERTICES],
+    pub(crate) pdot: [f64; MAX_VERTICES],
 }
 
 /// Kinematics at one quadrature point.
@@ -128,11 +128,11 @@ fn point<C: CellShape>(
 }
 
 /// What the element loops need besides the element itself, for cells of family `C`.
-pub struct ElementKernel<'a, C: CellShape> {
-    pub model: &'a dyn PointModel,
-    pub tab: &'a Tabulation<MAX_NODES>,
+pub(crate) struct ElementKernel<'a, C: CellShape> {
+    pub(crate) model: &'a dyn PointModel,
+    pub(crate) tab: &'a Tabulation<MAX_NODES>,
     /// Reference coordinates of the quadrature points of `tab`.
-    pub xi: &'a [[f64; 3]],
+    pub(crate) xi: &'a [[f64; 3]],
     /// c_s of the pressure stabilisation c_s ∫ (ṗ − Πṗ)(q − Πq) dV, Π the element mean.
     ///
     /// Why: in the undrained limit (Δt → 0) next to a drained boundary, Taylor–Hood is stable
@@ -146,11 +146,11 @@ pub struct ElementKernel<'a, C: CellShape> {
     /// (so it conserves fluid mass exactly element by element), and needs no mesh size. This is
     /// the local pressure projection of Dohrmann & Bochev (2004) used by White & Borja (2008)
     /// for poroelasticity, applied here to Taylor–Hood for monotonicity.
-    pub stab: Stabilisation,
+    pub(crate) stab: Stabilisation,
     /// Equal-order P1–P1: the displacement's mid-edge nodes tied to their edges' vertices
     /// (`fem::equal_order`; tetrahedra only).
-    pub equal_order: bool,
-    pub family: PhantomData<C>,
+    pub(crate) equal_order: bool,
+    pub(crate) family: PhantomData<C>,
 }
 
 /// The pressure stabilisation of a run: c_s and how it fades.
@@ -169,25 +169,25 @@ pub struct ElementKernel<'a, C: CellShape> {
 /// longer, whatever c_v. Quadratic, so that at Δt → 0 it stays the exact lumping
 /// (a linear fade let the undrained first step overshoot by 5e-6).
 #[derive(Clone, Copy, Debug)]
-pub struct Stabilisation {
+pub(crate) struct Stabilisation {
     /// c_s = c / (λ + 2µ) as Δt → 0 (0: off).
-    pub c_s: f64,
+    pub(crate) c_s: f64,
     /// How the weight fades (None: constant weight).
-    pub fade: Option<Fade>,
+    pub(crate) fade: Option<Fade>,
     /// The consolidation coefficient c_v = k (λ + 2µ) of the reference state (µm²/s).
-    pub c_v: f64,
+    pub(crate) c_v: f64,
 }
 
 /// The fade of the stabilisation: by the step's drainage (τ₀) and by the steps' growth since a
 /// kink (Δt₀, the first step after one; gone at Δt = `steps` Δt₀).
 #[derive(Clone, Copy, Debug)]
-pub struct Fade {
+pub(crate) struct Fade {
     /// τ₀: gone from c_v Δt / h² = τ₀ on.
-    pub tau0: f64,
+    pub(crate) tau0: f64,
     /// Δt₀: the schedule's first step after a kink (`time.dt`).
-    pub dt0: f64,
+    pub(crate) dt0: f64,
     /// The growth Δt/Δt₀ at which it is gone (`fem.stabilisation_steps`, default `STEP_FADE`).
-    pub steps: f64,
+    pub(crate) steps: f64,
 }
 
 /// The default growth of the steps since a kink, Δt/Δt₀, at which the faded weight is gone:
@@ -195,19 +195,19 @@ pub struct Fade {
 /// aggregate's peak then costs it 0.02% (the fade by drainage alone: 2.8%); with 4 PETSc's
 /// reduced-space VI Newton had to cut a step early in a hold that it takes whole with 8
 /// (docs/decisions/0012-stabilisation-fade-by-steps.md).
-pub const STEP_FADE: f64 = 8.0;
+pub(crate) const STEP_FADE: f64 = 8.0;
 
 impl Stabilisation {
     /// c (the weight as Δt → 0, relative to the model's P-wave modulus) and the fade (None:
     /// constant), with the model's reference consolidation coefficient.
-    pub fn new(c: f64, fade: Option<Fade>, model: &dyn PointModel) -> Stabilisation {
+    pub(crate) fn new(c: f64, fade: Option<Fade>, model: &dyn PointModel) -> Stabilisation {
         let m = model.p_wave_modulus();
         Stabilisation { c_s: c / m, fade, c_v: model.conductivity() * m }
     }
 
     /// The weight for a cell of (reference) measure `m` in a step of `dt`; h is the edge of the
     /// regular cell of that volume (or area, on the meridian).
-    pub fn weight<C: CellShape>(&self, m: f64, dt: f64) -> f64 {
+    pub(crate) fn weight<C: CellShape>(&self, m: f64, dt: f64) -> f64 {
         match self.fade {
             Some(Fade { tau0, dt0, steps }) if dt > 0.0 => {
                 let drained = self.c_v * dt / (C::h2(m) * tau0);
@@ -272,26 +272,26 @@ impl Projection {
 
 /// Post-processing of one element: nodal forces of the total stress and of its pressure part,
 /// the raw mass residual, and element averages of the output fields.
-pub struct ElementPost {
+pub(crate) struct ElementPost {
     /// The element residual (u rows: internal minus body force; p rows: mass balance).
-    pub r: [f64; MAX_DOF],
+    pub(crate) r: [f64; MAX_DOF],
     /// u rows of the pressure part alone, ∫ P_p : Grad w (P_p = −p J F⁻ᵀ).
-    pub r_pressure: [f64; MAX_DOF],
+    pub(crate) r_pressure: [f64; MAX_DOF],
     /// ∫ dV and ∫ J dV over the element (reference volume, current volume).
-    pub volume: f64,
-    pub volume_j: f64,
+    pub(crate) volume: f64,
+    pub(crate) volume_j: f64,
     /// Element averages: J, porosity, von Mises, spatial Darcy flux, ‖E_p‖.
-    pub j: f64,
-    pub porosity: f64,
-    pub von_mises: f64,
-    pub darcy: [f64; 3],
-    pub norm_ep: f64,
+    pub(crate) j: f64,
+    pub(crate) porosity: f64,
+    pub(crate) von_mises: f64,
+    pub(crate) darcy: [f64; 3],
+    pub(crate) norm_ep: f64,
     /// ∫ σ_sc dV over the element (solid Cauchy stress, reference volume).
-    pub int_cauchy: [[f64; 3]; 3],
+    pub(crate) int_cauchy: [[f64; 3]; 3],
     /// Largest von Mises stress, ‖E_p‖ and |det B_p − 1| at the element's points.
-    pub max_von_mises: f64,
-    pub max_norm_ep: f64,
-    pub max_det_bp_dev: f64,
+    pub(crate) max_von_mises: f64,
+    pub(crate) max_norm_ep: f64,
+    pub(crate) max_det_bp_dev: f64,
 }
 
 impl<C: CellShape> ElementKernel<'_, C> {
@@ -341,7 +341,7 @@ impl<C: CellShape> ElementKernel<'_, C> {
 
 /// The element operations of a kernel, whatever its cell family: what the one element loop
 /// (`fem::assembly`) calls.
-pub trait CellKernel {
+pub(crate) trait CellKernel {
     fn residual(&self, e: &ElementInput, r: &mut [f64; MAX_DOF]) -> Result<()>;
     fn jacobian(
         &self,

@@ -15,17 +15,17 @@
 //! - `surface`: quadrature on boundary faces (loads, drainage areas, probes, contact);
 //! - `test_util` (tests only): the discretisation on a structured mesh of either family.
 
-pub mod assembly;
-pub mod cell;
-pub mod dofmap;
-pub mod element;
-pub mod equal_order;
-pub mod insert;
-pub mod kernel;
-pub mod point;
-pub mod qp_store;
-pub mod quadrature;
-pub mod surface;
+pub(crate) mod assembly;
+pub(crate) mod cell;
+pub(crate) mod dofmap;
+pub(crate) mod element;
+pub(crate) mod equal_order;
+pub(crate) mod insert;
+pub(crate) mod kernel;
+pub(crate) mod point;
+pub(crate) mod qp_store;
+pub(crate) mod quadrature;
+pub(crate) mod surface;
 
 #[cfg(test)]
 pub(crate) mod test_util;

@@ -22,95 +22,95 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// The committed qp state of a model at one point and whether it evolves over the step.
 #[derive(Debug, Clone, Copy)]
-pub struct QpState<'a> {
+pub(crate) struct QpState<'a> {
     /// State at the start of the step ([`PointModel::qp_state_len`] values; empty without qp state).
-    pub committed: &'a [f64],
+    pub(crate) committed: &'a [f64],
     /// false: hold the state at its committed value (settling before t = 0, and post-processing
     /// of a step whose end state has already been committed).
-    pub evolve: bool,
+    pub(crate) evolve: bool,
 }
 
 impl QpState<'_> {
     /// No qp state (models without state).
     #[cfg(test)]
-    pub const NONE: QpState<'static> = QpState { committed: &[], evolve: false };
+    pub(crate) const NONE: QpState<'static> = QpState { committed: &[], evolve: false };
 }
 
 /// Which quadrature point is being evaluated (the element's index in the mesh file, the point
 /// within it): what a domain error names (`material::locate`).
 #[derive(Debug, Clone, Copy)]
-pub struct QpId {
-    pub elem: usize,
-    pub point: usize,
+pub(crate) struct QpId {
+    pub(crate) elem: usize,
+    pub(crate) point: usize,
 }
 
 /// Kinematic input at one point. `grad_u[(i, j)] = ∂u_i/∂X_j`.
 #[derive(Debug, Clone, Copy)]
-pub struct PointState {
-    pub grad_u: Matrix3<f64>,
-    pub grad_udot: Matrix3<f64>,
-    pub p: f64,
-    pub grad_p: Vector3<f64>,
+pub(crate) struct PointState {
+    pub(crate) grad_u: Matrix3<f64>,
+    pub(crate) grad_udot: Matrix3<f64>,
+    pub(crate) p: f64,
+    pub(crate) grad_p: Vector3<f64>,
     /// Size of the current time step (backward Euler): the rate uses the end-of-step values.
-    pub dt: f64,
+    pub(crate) dt: f64,
 }
 
 /// The four pointwise terms of the residual.
 #[derive(Debug, Clone, Copy)]
-pub struct PointFlux {
+pub(crate) struct PointFlux {
     /// P: total first Piola–Kirchhoff stress (tested against Grad w).
-    pub stress: Matrix3<f64>,
+    pub(crate) stress: Matrix3<f64>,
     /// b: body force per reference volume (tested against w, enters with a minus sign).
-    pub body: Vector3<f64>,
+    pub(crate) body: Vector3<f64>,
     /// ṡ: rate of fluid content per reference volume (tested against q).
-    pub rate: f64,
+    pub(crate) rate: f64,
     /// W = −Q: negative referential Darcy flux (tested against Grad q).
-    pub flux: Vector3<f64>,
+    pub(crate) flux: Vector3<f64>,
 }
 
 /// Derivatives of [`PointFlux`] with respect to the unknowns. Indices of Grad u are flattened
 /// row-major with [`crate::material::idx`] (the constitutive tangents' map); `drate` already
 /// includes the time-derivative shift.
 #[derive(Debug, Clone, Copy)]
-pub struct PointTangent {
+pub(crate) struct PointTangent {
     /// ∂P_ij/∂(Grad u)_kl
-    pub dstress_du: SMatrix<f64, 9, 9>,
+    pub(crate) dstress_du: SMatrix<f64, 9, 9>,
     /// ∂P_ij/∂p
-    pub dstress_dp: Matrix3<f64>,
+    pub(crate) dstress_dp: Matrix3<f64>,
     /// ∂b_i/∂(Grad u)_kl
-    pub dbody_du: SMatrix<f64, 3, 9>,
+    pub(crate) dbody_du: SMatrix<f64, 3, 9>,
     /// d ṡ/d(Grad u)_kl, total (∂/∂Grad u + shift ∂/∂Grad u̇)
-    pub drate_du: Matrix3<f64>,
+    pub(crate) drate_du: Matrix3<f64>,
     /// ∂W_i/∂(Grad u)_kl
-    pub dflux_du: SMatrix<f64, 3, 9>,
+    pub(crate) dflux_du: SMatrix<f64, 3, 9>,
     /// ∂W_i/∂(Grad p)_j
-    pub dflux_dgradp: Matrix3<f64>,
+    pub(crate) dflux_dgradp: Matrix3<f64>,
 }
 
 /// Post-processing quantities at a point: output fields and experiment observables.
 #[derive(Debug, Clone, Copy)]
-pub struct PointFields {
+pub(crate) struct PointFields {
     /// J = det F (1 + div u at small strain).
-    pub j: f64,
+    pub(crate) j: f64,
     /// Porosity φf = 1 − Φs/J (NaN for models without a solid fraction).
-    pub porosity: f64,
+    pub(crate) porosity: f64,
     /// Constitutive (effective) Cauchy stress of the solid σ_sc = J⁻¹ P_sc Fᵀ (kPa).
-    pub cauchy_sc: Matrix3<f64>,
+    pub(crate) cauchy_sc: Matrix3<f64>,
     /// Von Mises stress √(3/2)‖dev σ_sc‖ (kPa).
-    pub von_mises: f64,
+    pub(crate) von_mises: f64,
     /// Spatial Darcy flux q (µm/s).
-    pub darcy: Vector3<f64>,
+    pub(crate) darcy: Vector3<f64>,
     /// ‖E_p‖ (Frobenius), E_p = ½(B_p⁻¹ − I): the remodelling strain (0 without remodelling).
-    pub norm_ep: f64,
+    pub(crate) norm_ep: f64,
     /// |det B_p − 1|: drift of the isochoric remodelling (0 without remodelling).
-    pub det_bp_dev: f64,
+    pub(crate) det_bp_dev: f64,
     /// Pore-pressure part of the total first Piola stress (−p J F⁻ᵀ; −p I at small strain):
     /// splits contact forces exactly into pressure and constitutive parts.
-    pub pressure_stress: Matrix3<f64>,
+    pub(crate) pressure_stress: Matrix3<f64>,
 }
 
 /// Constitutive physics at a quadrature point.
-pub trait PointModel {
+pub(crate) trait PointModel {
     /// The residual terms.
     fn eval(&self, at: QpId, s: &PointState, h: QpState) -> Result<PointFlux>;
     /// The residual terms and their derivatives (through the qp-state update too); `shift` =

@@ -10,7 +10,7 @@
 use crate::error::{Error, Result};
 
 #[derive(Debug, Clone, Default)]
-pub struct QpStore {
+pub(crate) struct QpStore {
     /// Values per point.
     len: usize,
     /// Quadrature points per element.
@@ -22,7 +22,7 @@ pub struct QpStore {
 impl QpStore {
     /// A store for `n_elems` elements of `n_points` points, each initialised by `init`
     /// (which fills `len` values). Nothing is allocated when `len = 0`.
-    pub fn new(n_elems: usize, n_points: usize, len: usize, init: impl Fn(&mut [f64])) -> QpStore {
+    pub(crate) fn new(n_elems: usize, n_points: usize, len: usize, init: impl Fn(&mut [f64])) -> QpStore {
         let mut committed = vec![0.0; n_elems * n_points * len];
         if len > 0 {
             committed.chunks_exact_mut(len).for_each(init);
@@ -31,32 +31,32 @@ impl QpStore {
     }
 
     /// True when the model keeps no qp state.
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.len == 0
     }
 
     /// The committed values of element `e` (all its points; empty without qp state).
     #[inline]
-    pub fn element(&self, e: usize) -> &[f64] {
+    pub(crate) fn element(&self, e: usize) -> &[f64] {
         let n = self.len * self.n_points;
         &self.committed[e * n..(e + 1) * n]
     }
 
     /// Mutable values of element `e`, for committing an accepted step.
-    pub fn element_mut(&mut self, e: usize) -> &mut [f64] {
+    pub(crate) fn element_mut(&mut self, e: usize) -> &mut [f64] {
         let n = self.len * self.n_points;
         &mut self.committed[e * n..(e + 1) * n]
     }
 
     /// (original element number, its values) for every local element, e.g. for a checkpoint:
     /// `original[e]` is the original number of local element e.
-    pub fn export<'a>(&'a self, original: &'a [u32]) -> impl Iterator<Item = (u32, &'a [f64])> + 'a {
+    pub(crate) fn export<'a>(&'a self, original: &'a [u32]) -> impl Iterator<Item = (u32, &'a [f64])> + 'a {
         original.iter().enumerate().map(move |(e, &o)| (o, self.element(e)))
     }
 
     /// Loads values by original element number (the inverse of [`export`](Self::export) on any
     /// partition); every local element must be found.
-    pub fn import(&mut self, original: &[u32], lookup: impl Fn(u32) -> Option<Vec<f64>>) -> Result<()> {
+    pub(crate) fn import(&mut self, original: &[u32], lookup: impl Fn(u32) -> Option<Vec<f64>>) -> Result<()> {
         for (e, &o) in original.iter().enumerate() {
             let v = lookup(o).ok_or_else(|| Error::Checkpoint(format!("qp state of element {o} missing")))?;
             let dst = self.element_mut(e);

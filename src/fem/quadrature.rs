@@ -30,27 +30,27 @@
 
 /// A quadrature rule: points in reference coordinates and their weights.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Quadrature {
+pub(crate) struct Quadrature {
     /// Reference coordinates of the points (triangle rules have a zero third component).
-    pub points: Vec<[f64; 3]>,
+    pub(crate) points: Vec<[f64; 3]>,
     /// Weights; they sum to the reference measure (1/6 for the tet, 1/2 for the triangle).
-    pub weights: Vec<f64>,
+    pub(crate) weights: Vec<f64>,
 }
 
 #[cfg(test)]
 impl Quadrature {
     /// Number of points.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.weights.len()
     }
 }
 
 /// Highest polynomial degree integrated exactly by a tetrahedron rule of this module.
 #[cfg(test)]
-pub const TET_MAX_DEGREE: usize = 7;
+pub(crate) const TET_MAX_DEGREE: usize = 7;
 /// Highest polynomial degree integrated exactly by a triangle rule of this module.
 #[cfg(test)]
-pub const TRI_MAX_DEGREE: usize = 8;
+pub(crate) const TRI_MAX_DEGREE: usize = 8;
 
 /// Builder that expands barycentric orbits into points.
 struct Builder {
@@ -155,7 +155,7 @@ impl Builder {
 
 /// Quadrature rule on the reference tetrahedron exact for polynomials of total degree `degree`
 /// (see the module table; 4 gives the degree-5 rule, anything above 7 the degree-7 rule).
-pub fn tet(degree: usize) -> Quadrature {
+pub(crate) fn tet(degree: usize) -> Quadrature {
     let b = Builder::new();
     match degree {
         0 | 1 => b.s4(1.0 / 6.0),
@@ -182,7 +182,7 @@ pub fn tet(degree: usize) -> Quadrature {
 
 /// Quadrature rule on the reference triangle, points `[ξ, η, 0]`, exact for polynomials of total
 /// degree `degree` (see the module table; 3 gives the degree-4 rule, 7 and above the degree-8 rule).
-pub fn tri(degree: usize) -> Quadrature {
+pub(crate) fn tri(degree: usize) -> Quadrature {
     let b = Builder::new();
     match degree {
         0 | 1 => b.s3(0.5),

@@ -9,22 +9,22 @@ use crate::reference_cell::Family;
 
 /// A quadrature point of a boundary face.
 #[derive(Debug, Clone, Copy)]
-pub struct FacePoint {
+pub(crate) struct FacePoint {
     /// The point (the tests check the normal's orientation against it).
     #[cfg_attr(not(test), allow(dead_code))]
-    pub x: [f64; 3],
+    pub(crate) x: [f64; 3],
     /// Weight: the rule's weight times the area element (times 2πR on the meridian).
-    pub w: f64,
+    pub(crate) w: f64,
     /// Unit outward normal (in the x–z plane on the meridian).
-    pub normal: [f64; 3],
+    pub(crate) normal: [f64; 3],
     /// P2 face functions at the point (the first `face_nodes` entries).
-    pub n: [f64; 6],
+    pub(crate) n: [f64; 6],
     /// P1 face functions (the first `face_vertices` entries).
-    pub l: [f64; 3],
+    pub(crate) l: [f64; 3],
 }
 
 /// Quadrature rules of the faces of a family, tabulated once.
-pub struct FaceRule {
+pub(crate) struct FaceRule {
     family: Family,
     tri: Tabulation<6>,
     tri_points: Vec<[f64; 3]>,
@@ -34,13 +34,13 @@ pub struct FaceRule {
 
 impl FaceRule {
     /// A rule exact to degree 5 on flat faces (3-point Gauss on lines; 7 points on triangles).
-    pub fn new(family: Family) -> FaceRule {
+    pub(crate) fn new(family: Family) -> FaceRule {
         FaceRule::with_degree(family, 5)
     }
 
     /// A rule of (at least) `degree` on triangles; lines take 3-point Gauss (degree 5) from degree 3
     /// up, 2-point Gauss below.
-    pub fn with_degree(family: Family, degree: usize) -> FaceRule {
+    pub(crate) fn with_degree(family: Family, degree: usize) -> FaceRule {
         let q = quadrature::tri(degree);
         let line = if degree >= 3 {
             gauss3_line().to_vec()
@@ -53,7 +53,7 @@ impl FaceRule {
 
     /// The quadrature points of a face with node coordinates `coords` (face node order; the first
     /// `face_nodes` entries are used).
-    pub fn points(&self, coords: &[[f64; 3]]) -> Vec<FacePoint> {
+    pub(crate) fn points(&self, coords: &[[f64; 3]]) -> Vec<FacePoint> {
         match self.family {
             Family::Tet10 => {
                 let c: [[f64; 3]; 6] = std::array::from_fn(|a| coords[a]);
@@ -77,13 +77,13 @@ impl FaceRule {
 }
 
 /// 3-point Gauss–Legendre on [0, 1]: (point, weight), exact to degree 5.
-pub fn gauss3_line() -> [(f64, f64); 3] {
+pub(crate) fn gauss3_line() -> [(f64, f64); 3] {
     let a = 0.5 * (0.6f64).sqrt();
     [(0.5 - a, 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.5 + a, 5.0 / 18.0)]
 }
 
 /// The Line3 functions (vertices a, b, then the mid-node) and their s-derivatives at s ∈ [0, 1].
-pub fn line3(s: f64) -> ([f64; 3], [f64; 3]) {
+pub(crate) fn line3(s: f64) -> ([f64; 3], [f64; 3]) {
     (
         [(1.0 - s) * (1.0 - 2.0 * s), s * (2.0 * s - 1.0), 4.0 * s * (1.0 - s)],
         [4.0 * s - 3.0, 4.0 * s - 1.0, 4.0 - 8.0 * s],

@@ -6,12 +6,12 @@ use crate::error::{Error, Result};
 
 /// A state outside a law's domain. The material code does not know where it is evaluated, so
 /// cell and point are 0; the caller fills them in with [`locate`] or [`AtPoint::at_point`].
-pub fn domain_error(j: f64, msg: impl Into<String>) -> Error {
+pub(crate) fn domain_error(j: f64, msg: impl Into<String>) -> Error {
     Error::Domain { cell: 0, point: 0, j, msg: msg.into() }
 }
 
 /// Puts the element and quadrature point into a [`Error::Domain`]; other errors pass unchanged.
-pub fn locate(err: Error, cell: usize, point: usize) -> Error {
+pub(crate) fn locate(err: Error, cell: usize, point: usize) -> Error {
     match err {
         Error::Domain { j, msg, .. } => Error::Domain { cell, point, j, msg },
         other => other,
@@ -19,7 +19,7 @@ pub fn locate(err: Error, cell: usize, point: usize) -> Error {
 }
 
 /// `material_call(..).at_point(cell, q)?` fills in where a domain error happened.
-pub trait AtPoint {
+pub(crate) trait AtPoint {
     fn at_point(self, cell: usize, point: usize) -> Self;
 }
 

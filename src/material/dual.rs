@@ -6,7 +6,7 @@
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// A scalar the generic matrix code runs on: f64, or a dual number.
-pub trait Scalar:
+pub(crate) trait Scalar:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
 {
     fn cst(x: f64) -> Self;
@@ -47,14 +47,14 @@ impl Scalar for f64 {
 
 /// a + Σ εᵢ dᵢ.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Dual<const N: usize> {
-    pub re: f64,
-    pub d: [f64; N],
+pub(crate) struct Dual<const N: usize> {
+    pub(crate) re: f64,
+    pub(crate) d: [f64; N],
 }
 
 impl<const N: usize> Dual<N> {
     /// The independent variable number `i` with value x.
-    pub fn var(x: f64, i: usize) -> Self {
+    pub(crate) fn var(x: f64, i: usize) -> Self {
         let mut d = [0.0; N];
         d[i] = 1.0;
         Dual { re: x, d }
@@ -154,14 +154,14 @@ impl<const N: usize> Scalar for Dual<N> {
 }
 
 /// A 3 × 3 matrix, row-major `a[i][j]`.
-pub type M3<T> = [[T; 3]; 3];
+pub(crate) type M3<T> = [[T; 3]; 3];
 
-pub fn m_cst<T: Scalar>(a: &[[f64; 3]; 3]) -> M3<T> {
+pub(crate) fn m_cst<T: Scalar>(a: &[[f64; 3]; 3]) -> M3<T> {
     a.map(|r| r.map(T::cst))
 }
 
 #[inline]
-pub fn m_mul<T: Scalar>(a: &M3<T>, b: &M3<T>) -> M3<T> {
+pub(crate) fn m_mul<T: Scalar>(a: &M3<T>, b: &M3<T>) -> M3<T> {
     // Written into a copy, not built by `array::from_fn`: for duals that copied each entry (a
     // third of a remodelling run's time went to memmove).
     let mut c = *a;
@@ -174,7 +174,7 @@ pub fn m_mul<T: Scalar>(a: &M3<T>, b: &M3<T>) -> M3<T> {
 }
 
 #[inline]
-pub fn m_add<T: Scalar>(a: &M3<T>, b: &M3<T>) -> M3<T> {
+pub(crate) fn m_add<T: Scalar>(a: &M3<T>, b: &M3<T>) -> M3<T> {
     let mut c = *a;
     for (ci, bi) in c.iter_mut().zip(b) {
         for (x, y) in ci.iter_mut().zip(bi) {
@@ -185,14 +185,14 @@ pub fn m_add<T: Scalar>(a: &M3<T>, b: &M3<T>) -> M3<T> {
 }
 
 #[inline]
-pub fn m_scale<T: Scalar>(a: &M3<T>, s: T) -> M3<T> {
+pub(crate) fn m_scale<T: Scalar>(a: &M3<T>, s: T) -> M3<T> {
     let mut c = *a;
     c.iter_mut().flatten().for_each(|x| *x = *x * s);
     c
 }
 
 #[inline]
-pub fn m_transpose<T: Scalar>(a: &M3<T>) -> M3<T> {
+pub(crate) fn m_transpose<T: Scalar>(a: &M3<T>) -> M3<T> {
     let mut c = *a;
     for i in 0..3 {
         for j in 0..i {
@@ -204,13 +204,13 @@ pub fn m_transpose<T: Scalar>(a: &M3<T>) -> M3<T> {
 }
 
 #[inline]
-pub fn m_trace<T: Scalar>(a: &M3<T>) -> T {
+pub(crate) fn m_trace<T: Scalar>(a: &M3<T>) -> T {
     a[0][0] + a[1][1] + a[2][2]
 }
 
 /// tr(A B) without forming the product.
 #[inline]
-pub fn m_trace_mul<T: Scalar>(a: &M3<T>, b: &M3<T>) -> T {
+pub(crate) fn m_trace_mul<T: Scalar>(a: &M3<T>, b: &M3<T>) -> T {
     let mut s = T::cst(0.0);
     for i in 0..3 {
         for k in 0..3 {
@@ -220,14 +220,14 @@ pub fn m_trace_mul<T: Scalar>(a: &M3<T>, b: &M3<T>) -> T {
     s
 }
 
-pub fn m_det<T: Scalar>(a: &M3<T>) -> T {
+pub(crate) fn m_det<T: Scalar>(a: &M3<T>) -> T {
     a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
         + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
 }
 
 /// dev A = A − (tr A / 3) I.
 #[inline]
-pub fn m_dev<T: Scalar>(a: &M3<T>) -> M3<T> {
+pub(crate) fn m_dev<T: Scalar>(a: &M3<T>) -> M3<T> {
     let m = m_trace(a).scale(1.0 / 3.0);
     let mut d = *a;
     for i in 0..3 {
@@ -239,7 +239,7 @@ pub fn m_dev<T: Scalar>(a: &M3<T>) -> M3<T> {
 /// exp A by scaling and squaring: A/2^s with ‖A/2^s‖∞ ≤ 1/4, a Taylor polynomial (Horner) to
 /// 1e-17 relative, then s squarings. The number of terms and squarings depends on the value only,
 /// so derivatives are those of one fixed polynomial map (exact to the same truncation).
-pub fn m_exp<T: Scalar>(a: &M3<T>) -> M3<T> {
+pub(crate) fn m_exp<T: Scalar>(a: &M3<T>) -> M3<T> {
     let norm = a.iter().map(|r| r.iter().map(|x| x.re().abs()).sum::<f64>()).fold(0.0, f64::max);
     let mut s = 0;
     let mut n = norm;

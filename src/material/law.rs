@@ -15,28 +15,28 @@ use std::fmt::Debug;
 
 /// Kinematic quantities shared by all laws at one point, computed once per F.
 #[derive(Clone, Debug)]
-pub struct Kinematics {
+pub(crate) struct Kinematics {
     /// Deformation gradient F.
-    pub f: Matrix3<f64>,
+    pub(crate) f: Matrix3<f64>,
     /// J = det F.
-    pub j: f64,
+    pub(crate) j: f64,
     /// ln J, from J − 1 without cancellation (J − 1 is summed from the invariants of F − I).
-    pub ln_j: f64,
+    pub(crate) ln_j: f64,
     /// F⁻¹.
-    pub f_inv: Matrix3<f64>,
+    pub(crate) f_inv: Matrix3<f64>,
     /// cof F = J F⁻ᵀ (from the entries of F, see [`cof`]).
-    pub cof_f: Matrix3<f64>,
+    pub(crate) cof_f: Matrix3<f64>,
     /// C = FᵀF.
-    pub c: Matrix3<f64>,
+    pub(crate) c: Matrix3<f64>,
     /// C − I = H + Hᵀ + HᵀH with H = F − I (= 2E, no cancellation near F = I).
-    pub c_minus_i: Matrix3<f64>,
+    pub(crate) c_minus_i: Matrix3<f64>,
     /// C⁻¹ = F⁻¹F⁻ᵀ.
-    pub c_inv: Matrix3<f64>,
+    pub(crate) c_inv: Matrix3<f64>,
 }
 
 impl Kinematics {
     /// Domain error when F is not finite or J <= 0.
-    pub fn new(f: &Matrix3<f64>) -> Result<Self> {
+    pub(crate) fn new(f: &Matrix3<f64>) -> Result<Self> {
         let h = f - Matrix3::identity();
         let tr = h.trace();
         // det(I + H) − 1 = I1(H) + I2(H) + I3(H): exact expansion, small when H is small.
@@ -66,19 +66,19 @@ impl Kinematics {
 
 /// Solid response at one point: first and second Piola–Kirchhoff stresses and ∂P/∂F.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SolidResponse {
+pub(crate) struct SolidResponse {
     /// First Piola–Kirchhoff stress P_sc = F S_sc.
-    pub p: Matrix3<f64>,
+    pub(crate) p: Matrix3<f64>,
     /// Tangent ∂P_sc/∂F, index map of [`super::tensor::idx`].
-    pub a: Tangent,
+    pub(crate) a: Tangent,
     /// Second Piola–Kirchhoff stress S_sc.
-    pub s: Matrix3<f64>,
+    pub(crate) s: Matrix3<f64>,
 }
 
 /// A hyperelastic solid law at one point, evaluated at the kinematics of F (computed once per
 /// point by the caller, [`Kinematics::new`]) and the remodelling metric B_p (ignored by laws
 /// without one): the energy Ψ, the stresses (P, S) and the tangent ∂P/∂F.
-pub trait SolidLaw {
+pub(crate) trait SolidLaw {
     /// Ψ per unit reference volume of mixture: the tests' reference, of which the stresses and
     /// the tangent are checked to be the derivatives.
     #[cfg_attr(not(test), allow(dead_code))]
@@ -99,7 +99,7 @@ pub trait SolidLaw {
 ///
 /// A law is one file in [`super::laws`]: it implements [`SolidLaw`] (Ψ, S, P and ∂P/∂F in closed
 /// form: the hot path) and this trait.
-pub trait SkeletonLaw: SolidLaw + Clone + Debug + 'static {
+pub(crate) trait SkeletonLaw: SolidLaw + Clone + Debug + 'static {
     /// The referential solid fraction Φs the energy is scaled by.
     fn phi_s(&self) -> f64;
 
@@ -132,16 +132,16 @@ pub trait SkeletonLaw: SolidLaw + Clone + Debug + 'static {
 /// A closed-form limit of strong ellipticity ([`SkeletonLaw::ellipticity_limit`]): beyond it
 /// a deformation can localise, and the solve stops converging on any mesh.
 #[derive(Clone, Debug, PartialEq)]
-pub struct EllipticityLimit {
+pub(crate) struct EllipticityLimit {
     /// The law, as a warning names it ("Holmes–Mow solid").
-    pub law: &'static str,
+    pub(crate) law: &'static str,
     /// Why it loses ellipticity, in its own parameters ("alpha1 = -0.636 < 0").
-    pub cause: String,
+    pub(crate) cause: String,
     /// The elastic principal stretch below which it is not strongly elliptic.
-    pub stretch: f64,
+    pub(crate) stretch: f64,
     /// The axial stretch of uniaxial-stress tension at which the lateral contraction gets
     /// there, if it does.
-    pub uniaxial_tension: Option<f64>,
+    pub(crate) uniaxial_tension: Option<f64>,
 }
 
 #[cfg(test)]

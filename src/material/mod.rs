@@ -6,25 +6,25 @@
 //! What a law is ([`law`]), the laws one per file ([`laws`]), the mixture's solid ([`solid`]);
 //! fourth-order tangents and the other tensor helpers are in [`tensor`].
 
-pub mod domain;
-pub mod dual;
-pub mod law;
-pub mod laws;
-pub mod penalty;
-pub mod permeability;
-pub mod remodelling;
+pub(crate) mod domain;
+pub(crate) mod dual;
+pub(crate) mod law;
+pub(crate) mod laws;
+pub(crate) mod penalty;
+pub(crate) mod permeability;
+pub(crate) mod remodelling;
 #[cfg(test)]
 mod remodelling_tests;
-pub mod solid;
-pub mod tensor;
+pub(crate) mod solid;
+pub(crate) mod tensor;
 
 #[cfg(test)]
 pub(crate) mod test_util;
 
-pub use domain::{domain_error, locate, AtPoint};
-pub use law::{Kinematics, SkeletonLaw, SolidLaw};
-pub use penalty::CompactionPenalty;
-pub use permeability::{Permeability, PermeabilityModel};
-pub use remodelling::{FlowForm, Integrator, Remodelling};
-pub use solid::Solid;
-pub use tensor::{cof, idx, Tangent};
+pub(crate) use domain::{domain_error, locate, AtPoint};
+pub(crate) use law::{Kinematics, SkeletonLaw, SolidLaw};
+pub(crate) use penalty::CompactionPenalty;
+pub(crate) use permeability::{Permeability, PermeabilityModel};
+pub(crate) use remodelling::{FlowForm, Integrator, Remodelling};
+pub(crate) use solid::Solid;
+pub(crate) use tensor::{cof, idx, Tangent};

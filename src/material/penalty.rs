@@ -9,22 +9,22 @@ use nalgebra::Matrix3;
 
 /// Penalty against compaction of the solid towards J = Φs; zero for J >= J_cr.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CompactionPenalty {
+pub(crate) struct CompactionPenalty {
     /// Referential solid fraction Φs (the singular volume ratio).
-    pub phi_s: f64,
+    pub(crate) phi_s: f64,
     /// U0 (stress units).
-    pub u0: f64,
+    pub(crate) u0: f64,
     /// Onset J_cr ∈ (Φs, 1].
-    pub j_cr: f64,
+    pub(crate) j_cr: f64,
     /// Exponent q >= 1 (paper: 2): U, U' continuous and U'' bounded at J_cr.
-    pub q: f64,
+    pub(crate) q: f64,
     /// Exponent r >= 0 of the barrier at J = Φs (paper: 0.5).
-    pub r: f64,
+    pub(crate) r: f64,
 }
 
 impl CompactionPenalty {
     /// Validates Φs ∈ (0, 1), U0 >= 0, Φs < J_cr <= 1 (stress-free reference), q >= 1, r >= 0.
-    pub fn new(phi_s: f64, u0: f64, j_cr: f64, q: f64, r: f64) -> Result<Self> {
+    pub(crate) fn new(phi_s: f64, u0: f64, j_cr: f64, q: f64, r: f64) -> Result<Self> {
         check_phi_s("compaction penalty", phi_s)?;
         let bad = |name: &str, v: f64, need: &str| {
             Err(Error::Material(format!("compaction penalty: {name} = {v} must be {need}")))
@@ -49,7 +49,7 @@ impl CompactionPenalty {
     /// With d = J_cr − J > 0 and s = J − Φs > 0, U = Φs U0 d^{2q} s^{−r}:
     /// U'  = −Φs U0 [2q d^{2q−1} s^{−r} + r d^{2q} s^{−r−1}],
     /// U'' =  Φs U0 [2q(2q−1) d^{2q−2} s^{−r} + 4qr d^{2q−1} s^{−r−1} + r(r+1) d^{2q} s^{−r−2}].
-    pub fn u_and_derivatives(&self, j: f64) -> Result<(f64, f64, f64)> {
+    pub(crate) fn u_and_derivatives(&self, j: f64) -> Result<(f64, f64, f64)> {
         if j.is_nan() || j <= self.phi_s {
             return Err(domain_error(
                 j,

@@ -10,28 +10,28 @@ use nalgebra::Matrix3;
 /// Which permeability tensor: spherical k g⁻¹ (42), or k g⁻¹ + k1 b_e + k2 b_e² (45) with
 /// k0⁽¹⁾ = k0/c, k0⁽²⁾ = k0/c² (47).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum PermeabilityModel {
+pub(crate) enum PermeabilityModel {
     Isotropic,
     RemodellingDependent { c: f64 },
 }
 
 /// Holmes–Mow permeability and its pull-back K to the reference configuration.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Permeability {
+pub(crate) struct Permeability {
     /// Reference permeability k0 (at J = 1).
-    pub k0: f64,
+    pub(crate) k0: f64,
     /// Referential solid fraction Φs; k vanishes at J = Φs.
-    pub phi_s: f64,
+    pub(crate) phi_s: f64,
     /// Exponent κ.
-    pub kappa: f64,
+    pub(crate) kappa: f64,
     /// Exponent m0.
-    pub m0: f64,
-    pub model: PermeabilityModel,
+    pub(crate) m0: f64,
+    pub(crate) model: PermeabilityModel,
 }
 
 impl Permeability {
     /// Validates k0 > 0, Φs ∈ (0, 1), κ >= 0, m0 finite, c > 0.
-    pub fn new(k0: f64, phi_s: f64, kappa: f64, m0: f64, model: PermeabilityModel) -> Result<Self> {
+    pub(crate) fn new(k0: f64, phi_s: f64, kappa: f64, m0: f64, model: PermeabilityModel) -> Result<Self> {
         check_phi_s("permeability", phi_s)?;
         let bad =
             |name: &str, v: f64, need: &str| Err(Error::Material(format!("permeability: {name} = {v} must be {need}")));
@@ -53,7 +53,7 @@ impl Permeability {
     }
 
     /// k(J) and dk/dJ = k [κ/(J − Φs) + m0 J]. Domain error for J <= Φs or non-finite J.
-    pub fn k(&self, j: f64) -> Result<(f64, f64)> {
+    pub(crate) fn k(&self, j: f64) -> Result<(f64, f64)> {
         if !(j > self.phi_s && j.is_finite()) {
             return Err(super::domain::domain_error(j, format!("J <= phi_s = {}: permeability vanishes", self.phi_s)));
         }
@@ -64,7 +64,7 @@ impl Permeability {
     }
 
     /// K = g0 C⁻¹ + g1 B_p + g2 B_p C B_p at the kinematics of F.
-    pub fn tensor(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<Matrix3<f64>> {
+    pub(crate) fn tensor(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<Matrix3<f64>> {
         let [(g0, _), (g1, _), (g2, _)] = self.coefficients(kin.j)?;
         Ok(kin.c_inv * g0 + bp * g1 + bp * kin.c * bp * g2)
     }
@@ -74,7 +74,7 @@ impl Permeability {
     /// With ∂J/∂F_kl = J F⁻¹_lk, ∂C⁻¹_ij/∂F_kl = −(C⁻¹_il F⁻¹_jk + F⁻¹_ik C⁻¹_lj) and
     /// ∂(B C B)_ij/∂F_kl = B_il (FB)_kj + (FB)_ki B_lj:
     /// ∂K_ij/∂F_kl = (g0' C⁻¹ + g1' B + g2' BCB)_ij J F⁻¹_lk + g0 ∂C⁻¹_ij/∂F_kl + g2 ∂(BCB)_ij/∂F_kl.
-    pub fn tensor_and_derivative(
+    pub(crate) fn tensor_and_derivative(
         &self,
         kin: &Kinematics,
         bp: &Matrix3<f64>,
@@ -100,7 +100,7 @@ impl Permeability {
 
     /// ∂K/∂B_p \[H\] = g1 H + g2 (H C B_p + B_p C H) for the six symmetric unit directions H of
     /// [`super::tensor::sym_basis`] (zero for the isotropic model).
-    pub fn derivative_bp(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
+    pub(crate) fn derivative_bp(&self, kin: &Kinematics, bp: &Matrix3<f64>) -> Result<[Matrix3<f64>; 6]> {
         if self.model == PermeabilityModel::Isotropic {
             return Ok([Matrix3::zeros(); 6]);
         }

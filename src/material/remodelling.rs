@@ -38,7 +38,7 @@ fn sym_generic<T: Scalar>(x: &[T]) -> M3<T> {
 /// `form = "40b"`, `"40a"`, or `"40b_tau"`, a third place a J can enter: γp of the Kirchhoff
 /// stress τ = J σ (the reproduction weighs it against (40a)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
-pub enum FlowForm {
+pub(crate) enum FlowForm {
     /// (40b)/(54c): dB_p/dt = −2 γp B_p dev Σ (pushed forward: L b_e = −2 γp b_e dev τ).
     #[default]
     #[serde(rename = "40b")]
@@ -55,7 +55,7 @@ pub enum FlowForm {
 /// How a step integrates the flow rule (in a scene: `integrator = "implicit"` or `"explicit"`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Integrator {
+pub(crate) enum Integrator {
     /// The implicit, symmetric exponential map (module docs): unconditionally stable, det B_p
     /// kept. The default.
     #[default]
@@ -77,26 +77,26 @@ pub enum Integrator {
 
 /// Perzyna flow-rule parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Remodelling {
+pub(crate) struct Remodelling {
     /// λp ((kPa s)⁻¹; Table 1: 0.001 = 1 (MPa s)⁻¹).
-    pub lambda_p: f64,
+    pub(crate) lambda_p: f64,
     /// Yield stress σy (kPa).
-    pub sigma_y: f64,
-    pub form: FlowForm,
-    pub integrator: Integrator,
+    pub(crate) sigma_y: f64,
+    pub(crate) form: FlowForm,
+    pub(crate) integrator: Integrator,
 }
 
 /// The end-of-step remodelling metric at one point.
 #[derive(Clone, Copy, Debug)]
-pub struct Update {
-    pub bp: Matrix3<f64>,
+pub(crate) struct Update {
+    pub(crate) bp: Matrix3<f64>,
     /// Δγ = Δt γp (0 on the elastic branch). Read by the tests of the local solve, as are the
     /// iterations.
     #[cfg_attr(not(test), allow(dead_code))]
-    pub dgamma: f64,
+    pub(crate) dgamma: f64,
     /// Local Newton iterations (0 on the elastic branch).
     #[cfg_attr(not(test), allow(dead_code))]
-    pub iterations: usize,
+    pub(crate) iterations: usize,
 }
 
 impl Update {
@@ -117,24 +117,24 @@ const MAX_ITERATIONS: usize = 50;
 const TOLERANCE: f64 = 1e-14;
 
 /// The valid λp ((kPa s)⁻¹) and σy (kPa), which a scene's keys check too.
-pub const LAMBDA_P: Range = Range::NON_NEGATIVE;
-pub const SIGMA_Y: Range = Range::NON_NEGATIVE;
+pub(crate) const LAMBDA_P: Range = Range::NON_NEGATIVE;
+pub(crate) const SIGMA_Y: Range = Range::NON_NEGATIVE;
 
 impl Remodelling {
     /// Requires λp in [`LAMBDA_P`] and σy in [`SIGMA_Y`].
-    pub fn new(lambda_p: f64, sigma_y: f64) -> Result<Self> {
+    pub(crate) fn new(lambda_p: f64, sigma_y: f64) -> Result<Self> {
         LAMBDA_P.check("remodelling: lambda_p", lambda_p).map_err(Error::Material)?;
         SIGMA_Y.check("remodelling: sigma_y", sigma_y).map_err(Error::Material)?;
         Ok(Remodelling { lambda_p, sigma_y, form: FlowForm::Referential, integrator: Integrator::Implicit })
     }
 
     /// The same law in the other form of (40).
-    pub fn with_form(self, form: FlowForm) -> Self {
+    pub(crate) fn with_form(self, form: FlowForm) -> Self {
         Remodelling { form, ..self }
     }
 
     /// The same law with another step integrator.
-    pub fn with_integrator(self, integrator: Integrator) -> Self {
+    pub(crate) fn with_integrator(self, integrator: Integrator) -> Self {
         Remodelling { integrator, ..self }
     }
 
@@ -161,12 +161,12 @@ impl Remodelling {
     }
 
     /// √(2/3) σy: the yield radius of ‖dev σ‖.
-    pub fn yield_radius(&self) -> f64 {
+    pub(crate) fn yield_radius(&self) -> f64 {
         (2.0f64 / 3.0).sqrt() * self.sigma_y
     }
 
     /// ‖dev σ_sc‖ at (C, B_p).
-    pub fn dev_stress_norm<L: SkeletonLaw>(law: &L, c: &Matrix3<f64>, bp: &Matrix3<f64>) -> f64 {
+    pub(crate) fn dev_stress_norm<L: SkeletonLaw>(law: &L, c: &Matrix3<f64>, bp: &Matrix3<f64>) -> f64 {
         let cm = to_m3(c);
         let ln_j = 0.5 * m_det(&cm).ln();
         let d = law.mandel_dev(&m_mul(&cm, &to_m3(bp)), ln_j);
@@ -178,7 +178,7 @@ impl Remodelling {
     /// Δt/2) — (B_p^n, Δt) again where that step is stiff (see [`Integrator::Trapezoidal`]).
     /// C^n depends on the step's start only, so it adds nothing to the tangent of the
     /// backward-Euler system (U̇ = (U − U^n)/Δt).
-    pub fn start<L: SkeletonLaw>(
+    pub(crate) fn start<L: SkeletonLaw>(
         &self,
         law: &L,
         c_n: &Matrix3<f64>,
@@ -212,7 +212,13 @@ impl Remodelling {
     /// B_p^{n+1} from B_p^n over a step dt at the end-of-step C (domain error if the local
     /// Newton fails, so the caller can cut the step). For the trapezoidal rule, B_p^n and dt are
     /// what [`Remodelling::start`] returns.
-    pub fn update<L: SkeletonLaw>(&self, law: &L, c: &Matrix3<f64>, bp_n: &Matrix3<f64>, dt: f64) -> Result<Update> {
+    pub(crate) fn update<L: SkeletonLaw>(
+        &self,
+        law: &L,
+        c: &Matrix3<f64>,
+        bp_n: &Matrix3<f64>,
+        dt: f64,
+    ) -> Result<Update> {
         if self.integrator == Integrator::Explicit {
             return Ok(self.explicit(law, c, bp_n, dt)?.0);
         }
@@ -222,7 +228,7 @@ impl Remodelling {
     /// The update and ∂x_s/∂c_r (x: the six components of B_p^{n+1}, c: those of C; None on the
     /// elastic branch, where it is zero).
     #[allow(clippy::type_complexity)]
-    pub fn update_and_tangent<L: SkeletonLaw>(
+    pub(crate) fn update_and_tangent<L: SkeletonLaw>(
         &self,
         law: &L,
         c: &Matrix3<f64>,

@@ -9,9 +9,9 @@ use nalgebra::Matrix3;
 /// The mixture's solid: a skeleton law plus, if given, the compaction penalty (model.md (39) in
 /// full).
 #[derive(Clone, Copy, Debug)]
-pub struct Solid<'a, L> {
-    pub law: &'a L,
-    pub penalty: Option<&'a CompactionPenalty>,
+pub(crate) struct Solid<'a, L> {
+    pub(crate) law: &'a L,
+    pub(crate) penalty: Option<&'a CompactionPenalty>,
 }
 
 impl<L: SkeletonLaw> SolidLaw for Solid<'_, L> {

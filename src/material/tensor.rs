@@ -12,17 +12,17 @@
 use nalgebra::{Matrix3, SMatrix};
 
 /// A fourth-order tensor ∂P_ij/∂F_kl stored at `[(idx(i, j), idx(k, l))]`.
-pub type Tangent = SMatrix<f64, 9, 9>;
+pub(crate) type Tangent = SMatrix<f64, 9, 9>;
 
 /// Row-major position of the pair (i, j) in a 9-vector: 3 i + j.
 #[inline(always)]
-pub const fn idx(i: usize, j: usize) -> usize {
+pub(crate) const fn idx(i: usize, j: usize) -> usize {
     3 * i + j
 }
 
 /// Cofactor matrix cof A = det(A) A⁻ᵀ from the entries: cof_ij = A_{i1 j1} A_{i2 j2} − A_{i1 j2} A_{i2 j1},
 /// with i1 = i + 1, i2 = i + 2 (mod 3), likewise for j.
-pub fn cof(a: &Matrix3<f64>) -> Matrix3<f64> {
+pub(crate) fn cof(a: &Matrix3<f64>) -> Matrix3<f64> {
     Matrix3::from_fn(|i, j| {
         let (i1, i2, j1, j2) = ((i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3);
         a[(i1, j1)] * a[(i2, j2)] - a[(i1, j2)] * a[(i2, j1)]
@@ -31,7 +31,7 @@ pub fn cof(a: &Matrix3<f64>) -> Matrix3<f64> {
 
 /// The bilinear part X(A, B) of the cofactor, cof(A + B) = cof A + X(A, B) + cof B; X(A, ·) is
 /// the derivative of cof at A, and X(A, L)_kl = ∂(cof A : L)/∂A_kl.
-pub fn cof_cross(a: &Matrix3<f64>, b: &Matrix3<f64>) -> Matrix3<f64> {
+pub(crate) fn cof_cross(a: &Matrix3<f64>, b: &Matrix3<f64>) -> Matrix3<f64> {
     Matrix3::from_fn(|i, j| {
         let (i1, i2, j1, j2) = ((i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3);
         a[(i1, j1)] * b[(i2, j2)] + b[(i1, j1)] * a[(i2, j2)] - a[(i1, j2)] * b[(i2, j1)] - b[(i1, j2)] * a[(i2, j1)]
@@ -45,7 +45,7 @@ fn levi(i: usize, j: usize, k: usize) -> f64 {
 }
 
 /// ∂(cof F)_ij/∂F_kl = ε_ikm ε_jln F_mn (= J (F⁻ᵀ_ij F⁻ᵀ_kl − F⁻ᵀ_il F⁻ᵀ_kj)), polynomial in F.
-pub fn dcof(f: &Matrix3<f64>) -> Tangent {
+pub(crate) fn dcof(f: &Matrix3<f64>) -> Tangent {
     let mut a = Tangent::zeros();
     for i in 0..3 {
         for j in 0..3 {
@@ -109,7 +109,7 @@ pub(crate) fn add_il_kj(a: &mut Tangent, s: f64, x: &Matrix3<f64>, y: &Matrix3<f
 
 /// The symmetric unit directions of the six components (00, 11, 22, 01, 02, 12): a symmetric
 /// matrix is Σ_s x_s `sym_basis()[s]`.
-pub fn sym_basis() -> [Matrix3<f64>; 6] {
+pub(crate) fn sym_basis() -> [Matrix3<f64>; 6] {
     std::array::from_fn(|s| {
         let mut x = [0.0; 6];
         x[s] = 1.0;
@@ -118,15 +118,15 @@ pub fn sym_basis() -> [Matrix3<f64>; 6] {
 }
 
 /// (row, column) of the six symmetric components.
-pub const SYM_PAIRS: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
+pub(crate) const SYM_PAIRS: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
 
 /// The six components of a symmetric matrix (upper triangle).
-pub fn to_sym6(m: &Matrix3<f64>) -> [f64; 6] {
+pub(crate) fn to_sym6(m: &Matrix3<f64>) -> [f64; 6] {
     SYM_PAIRS.map(|(a, b)| 0.5 * (m[(a, b)] + m[(b, a)]))
 }
 
 /// The symmetric matrix of six components.
-pub fn from_sym6(x: &[f64]) -> Matrix3<f64> {
+pub(crate) fn from_sym6(x: &[f64]) -> Matrix3<f64> {
     Matrix3::new(x[0], x[3], x[4], x[3], x[1], x[5], x[4], x[5], x[2])
 }
 

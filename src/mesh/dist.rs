@@ -10,106 +10,106 @@ use mpi::topology::SimpleCommunicator;
 
 /// One rank's part of the mesh. See [`distribute`] for the numbering rules.
 #[derive(Debug, Clone, Default)]
-pub struct LocalMesh {
+pub(crate) struct LocalMesh {
     /// The element family (as the file's [`Mesh`]).
-    pub family: Family,
-    pub rank: usize,
-    pub nranks: usize,
+    pub(crate) family: Family,
+    pub(crate) rank: usize,
+    pub(crate) nranks: usize,
     /// Coordinates of the local nodes (owned first, then ghosts).
-    pub coords: Vec<[f64; 3]>,
-    pub n_owned_nodes: usize,
+    pub(crate) coords: Vec<[f64; 3]>,
+    pub(crate) n_owned_nodes: usize,
     /// Local node -> global (rank-contiguous) node id.
-    pub node_global: Vec<u32>,
+    pub(crate) node_global: Vec<u32>,
     /// Local node -> node index in the file's [`Mesh`].
-    pub node_original: Vec<u32>,
+    pub(crate) node_original: Vec<u32>,
     /// This rank owns global nodes `node_offset .. node_offset + n_owned_nodes`.
-    pub node_offset: usize,
-    pub n_global_nodes: usize,
+    pub(crate) node_offset: usize,
+    pub(crate) n_global_nodes: usize,
     /// Local node -> owning rank.
     #[cfg(test)]
-    pub node_owner: Vec<u32>,
+    pub(crate) node_owner: Vec<u32>,
     /// Local node -> local vertex index, or -1 for a mid-edge node.
-    pub vertex_of_node: Vec<i32>,
+    pub(crate) vertex_of_node: Vec<i32>,
     /// Local vertex -> local node.
-    pub vertex_node: Vec<u32>,
-    pub n_owned_vertices: usize,
+    pub(crate) vertex_node: Vec<u32>,
+    pub(crate) n_owned_vertices: usize,
     /// Local vertex -> global (rank-contiguous) vertex id.
-    pub vertex_global: Vec<u32>,
+    pub(crate) vertex_global: Vec<u32>,
     #[cfg(test)]
-    pub vertex_offset: usize,
-    pub n_global_vertices: usize,
+    pub(crate) vertex_offset: usize,
+    pub(crate) n_global_vertices: usize,
     /// The cells of this part, in increasing original index, with local node ids (see [`Mesh::cells`]).
-    pub cells: Vec<[u32; MAX_CELL_NODES]>,
+    pub(crate) cells: Vec<[u32; MAX_CELL_NODES]>,
     /// Local tet -> tet index in the file's [`Mesh`].
-    pub cell_original: Vec<u32>,
+    pub(crate) cell_original: Vec<u32>,
     /// Local tet `i` has global (output) id `elem_offset + i`; ids are contiguous per rank.
-    pub elem_offset: usize,
-    pub n_global_elems: usize,
+    pub(crate) elem_offset: usize,
+    pub(crate) n_global_elems: usize,
     /// Boundary faces whose tet is local (local node ids, outward).
-    pub faces: Vec<[u32; MAX_FACE_NODES]>,
+    pub(crate) faces: Vec<[u32; MAX_FACE_NODES]>,
     /// Local face -> (local tet, local face index of that tet).
-    pub face_cell: Vec<(u32, u8)>,
+    pub(crate) face_cell: Vec<(u32, u8)>,
     /// Every physical surface of the file (even if empty here) -> local face indices.
-    pub face_groups: Vec<(String, Vec<u32>)>,
+    pub(crate) face_groups: Vec<(String, Vec<u32>)>,
     /// Every physical volume of the file -> local tet indices.
     #[cfg(test)]
-    pub volume_groups: Vec<(String, Vec<u32>)>,
+    pub(crate) volume_groups: Vec<(String, Vec<u32>)>,
     /// Every physical point group of the file -> local node indices (only nodes present locally).
-    pub point_groups: Vec<(String, Vec<u32>)>,
+    pub(crate) point_groups: Vec<(String, Vec<u32>)>,
     /// CSR over OWNED nodes: sorted global ids of all nodes sharing a tet with the node (itself included),
     /// over the whole mesh. Row `i` is `node_nbr[node_nbr_offsets[i]..node_nbr_offsets[i + 1]]`.
-    pub node_nbr_offsets: Vec<usize>,
-    pub node_nbr: Vec<u32>,
+    pub(crate) node_nbr_offsets: Vec<usize>,
+    pub(crate) node_nbr: Vec<u32>,
     /// Parallel to `node_nbr`: the neighbour's global vertex id, or -1.
-    pub node_nbr_vertex_global: Vec<i32>,
+    pub(crate) node_nbr_vertex_global: Vec<i32>,
     /// Rank r owns global nodes `node_ranges[r]..node_ranges[r + 1]` (length nranks + 1).
-    pub node_ranges: Vec<usize>,
+    pub(crate) node_ranges: Vec<usize>,
     /// Rank r owns global vertices `vertex_ranges[r]..vertex_ranges[r + 1]` (length nranks + 1).
-    pub vertex_ranges: Vec<usize>,
+    pub(crate) vertex_ranges: Vec<usize>,
 }
 
 impl LocalMesh {
     /// Whether local node `local` is owned by this rank (owned nodes come first).
     #[cfg(test)]
-    pub fn is_owned_node(&self, local: usize) -> bool {
+    pub(crate) fn is_owned_node(&self, local: usize) -> bool {
         local < self.n_owned_nodes
     }
 
     /// Whether local vertex `local` is owned by this rank (owned vertices come first).
     #[cfg(test)]
-    pub fn is_owned_vertex(&self, local: usize) -> bool {
+    pub(crate) fn is_owned_vertex(&self, local: usize) -> bool {
         local < self.n_owned_vertices
     }
 
     /// Rank owning global node `g` (`g < n_global_nodes`).
     #[cfg(test)]
-    pub fn owner_of_global_node(&self, g: usize) -> usize {
+    pub(crate) fn owner_of_global_node(&self, g: usize) -> usize {
         owner_in(&self.node_ranges, g)
     }
 
     /// Rank owning global vertex `g` (`g < n_global_vertices`).
     #[cfg(test)]
-    pub fn owner_of_global_vertex(&self, g: usize) -> usize {
+    pub(crate) fn owner_of_global_vertex(&self, g: usize) -> usize {
         owner_in(&self.vertex_ranges, g)
     }
 
     /// The nodes of local cell e.
-    pub fn cell(&self, e: usize) -> &[u32] {
+    pub(crate) fn cell(&self, e: usize) -> &[u32] {
         &self.cells[e][..self.family.cell_nodes()]
     }
 
     /// The nodes of local face f.
-    pub fn face(&self, f: usize) -> &[u32] {
+    pub(crate) fn face(&self, f: usize) -> &[u32] {
         &self.faces[f][..self.family.face_nodes()]
     }
 
     /// Number of local nodes (owned + ghost).
-    pub fn n_nodes(&self) -> usize {
+    pub(crate) fn n_nodes(&self) -> usize {
         self.coords.len()
     }
 
     /// Number of local vertices (owned + ghost).
-    pub fn n_vertices(&self) -> usize {
+    pub(crate) fn n_vertices(&self) -> usize {
         self.vertex_node.len()
     }
 }
@@ -128,7 +128,7 @@ fn owner_in(ranges: &[usize], g: usize) -> usize {
 ///   Local vertices: owned, then ghosts, in the same order.
 /// * Local cells: those of part `rank` in increasing original index; global element ids are contiguous per
 ///   rank (`elem_offset` = number of cells in lower parts).
-pub fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Result<LocalMesh> {
+pub(crate) fn distribute(mesh: &Mesh, part: &[u32], nranks: usize, rank: usize) -> Result<LocalMesh> {
     check_partition(mesh, part, nranks, rank)?;
     let nt = mesh.cells.len();
     let r32 = rank as u32;
@@ -443,7 +443,7 @@ fn map_groups(groups: &[(String, Vec<u32>)], local: &[u32]) -> Vec<(String, Vec<
 impl LocalMesh {
     /// Mean edge-length scale: volume^(1/3) of the vertex tetrahedra, area^(1/2) of the vertex
     /// triangles on the meridian; 1 for an empty mesh (collective).
-    pub fn mean_size(&self, world: &SimpleCommunicator) -> f64 {
+    pub(crate) fn mean_size(&self, world: &SimpleCommunicator) -> f64 {
         let sum: f64 = (0..self.cells.len())
             .map(|e| {
                 let m = self.straight_measure(e);
@@ -463,7 +463,7 @@ impl LocalMesh {
 
     /// Volume of the straight (vertex) cells: tetrahedra, or the rings the meridian triangles
     /// sweep (Pappus: 2π × centroid radius × area) (collective).
-    pub fn volume(&self, world: &SimpleCommunicator) -> f64 {
+    pub(crate) fn volume(&self, world: &SimpleCommunicator) -> f64 {
         let local: f64 = (0..self.cells.len())
             .map(|e| {
                 let m = self.straight_measure(e);

@@ -15,20 +15,20 @@ use crate::files::write_text_atomically;
 use crate::hash::Fnv;
 
 /// Full sphere (radius `R`, centre (0,0,R)): volume "aggregate", surface "surface", points "pole_bottom", "pole_top".
-pub const SPHERE_GEO: &str = include_str!("../../meshes/sphere.geo");
+pub(crate) const SPHERE_GEO: &str = include_str!("../../meshes/sphere.geo");
 /// Quarter sphere x, y >= 0: adds surfaces "symmetry_x", "symmetry_y".
-pub const SPHERE_QUARTER_GEO: &str = include_str!("../../meshes/sphere_quarter.geo");
+pub(crate) const SPHERE_QUARTER_GEO: &str = include_str!("../../meshes/sphere_quarter.geo");
 /// Terzaghi column `[0,W]^2 x [0,H]`: volume "column", surfaces "top", "bottom", "sides".
-pub const COLUMN_GEO: &str = include_str!("../../meshes/column.geo");
+pub(crate) const COLUMN_GEO: &str = include_str!("../../meshes/column.geo");
 /// The block [0, L]³ with its six faces as groups (0-D verification).
-pub const BLOCK_GEO: &str = include_str!("../../meshes/block.geo");
+pub(crate) const BLOCK_GEO: &str = include_str!("../../meshes/block.geo");
 /// The meridian half-disc of the sphere (axisymmetric scenes).
-pub const SPHERE_MERIDIAN_GEO: &str = include_str!("../../meshes/sphere_meridian.geo");
+pub(crate) const SPHERE_MERIDIAN_GEO: &str = include_str!("../../meshes/sphere_meridian.geo");
 /// The meridian rectangle of a cylinder column (axisymmetric Terzaghi).
-pub const COLUMN_MERIDIAN_GEO: &str = include_str!("../../meshes/column_meridian.geo");
+pub(crate) const COLUMN_MERIDIAN_GEO: &str = include_str!("../../meshes/column_meridian.geo");
 
 /// The `.geo` sources shipped inside the binary, by file name.
-pub const BUILTIN_GEO: &[(&str, &str)] = &[
+pub(crate) const BUILTIN_GEO: &[(&str, &str)] = &[
     ("sphere.geo", SPHERE_GEO),
     ("sphere_quarter.geo", SPHERE_QUARTER_GEO),
     ("column.geo", COLUMN_GEO),
@@ -79,7 +79,7 @@ fn error_lines(out: &Output) -> Vec<String> {
 
 /// gmsh's complaints when it only reads `geo` (`gmsh -0`, nothing meshed) with the parameters
 /// set: empty if it reads the file without error.
-pub fn read_errors(geo: &Path, params: &[(String, f64)]) -> Result<Vec<String>> {
+pub(crate) fn read_errors(geo: &Path, params: &[(String, f64)]) -> Result<Vec<String>> {
     let tmp = temp_path(&std::env::temp_dir().join("poroplast-read-check"), "geo_unrolled");
     let mut args: Vec<OsString> = vec!["-0".into()];
     for (name, value) in params {
@@ -101,7 +101,7 @@ fn temp_path(target: &Path, ext: &str) -> PathBuf {
 
 /// Mesh `geo` in 3-D at the given element `order`, with `-setnumber name value` for each parameter,
 /// into `out` (MSH 4.1 ASCII).
-pub fn generate(geo: &Path, params: &[(String, f64)], order: usize, out: &Path) -> Result<()> {
+pub(crate) fn generate(geo: &Path, params: &[(String, f64)], order: usize, out: &Path) -> Result<()> {
     generate_with(&gmsh_exe(), geo, params, order, out)
 }
 
@@ -151,7 +151,7 @@ pub(crate) fn generate_with(exe: &OsStr, geo: &Path, params: &[(String, f64)], o
 /// gmsh's version string (`gmsh --version` prints it on stderr), queried once per process and
 /// remembered in `cache_dir` under the executable's identity (path, size, modification time):
 /// running gmsh costs 0.1 s, a third of the start of a run that finds its mesh in the cache.
-pub fn gmsh_version(cache_dir: &Path) -> Result<String> {
+pub(crate) fn gmsh_version(cache_dir: &Path) -> Result<String> {
     static VERSION: OnceLock<String> = OnceLock::new();
     if let Some(v) = VERSION.get() {
         return Ok(v.clone());
@@ -209,7 +209,7 @@ fn cache_key(geo_source: &str, params: &[(String, f64)], order: usize, version: 
 
 /// Path of `<stem>-<hash>.msh` in `cache_dir`, generating it from `geo_source` (saved as `<stem>-<hash>.geo`)
 /// only if it does not exist yet. The hash covers the source, the parameters, the order and gmsh's version.
-pub fn cached(
+pub(crate) fn cached(
     geo_name: &str,
     geo_source: &str,
     params: &[(String, f64)],

@@ -5,55 +5,55 @@ use crate::reference_cell::{Family, MAX_CELL_NODES, MAX_FACE_NODES};
 
 /// The global mesh: quadratic cells, outward boundary faces and named physical groups.
 #[derive(Debug, Clone, Default)]
-pub struct Mesh {
+pub(crate) struct Mesh {
     /// Node coordinates, compact 0-based numbering.
-    pub coords: Vec<[f64; 3]>,
+    pub(crate) coords: Vec<[f64; 3]>,
     /// The element family: what a cell and a boundary face are.
-    pub family: Family,
+    pub(crate) family: Family,
     /// Cells, positively oriented, in gmsh node order (Tetrahedron10, or Triangle6 of the meridian);
     /// a cell uses the first [`Family::cell_nodes`] slots (the rest are `u32::MAX`).
-    pub cells: Vec<[u32; MAX_CELL_NODES]>,
+    pub(crate) cells: Vec<[u32; MAX_CELL_NODES]>,
     /// Boundary (tagged) faces — Triangle6, or Line3 on the meridian — each unique, outward from
     /// their cell; a face uses the first [`Family::face_nodes`] slots.
-    pub faces: Vec<[u32; MAX_FACE_NODES]>,
+    pub(crate) faces: Vec<[u32; MAX_FACE_NODES]>,
     /// For each face: its cell and that cell's local face index (see [`Family::cell_faces`]).
-    pub face_cell: Vec<(u32, u8)>,
+    pub(crate) face_cell: Vec<(u32, u8)>,
     /// Physical volume name -> tet indices (sorted).
-    pub volume_groups: Vec<(String, Vec<u32>)>,
+    pub(crate) volume_groups: Vec<(String, Vec<u32>)>,
     /// Physical surface name -> face indices (sorted; a face may be in several groups).
-    pub face_groups: Vec<(String, Vec<u32>)>,
+    pub(crate) face_groups: Vec<(String, Vec<u32>)>,
     /// Physical point name -> node indices (sorted).
-    pub point_groups: Vec<(String, Vec<u32>)>,
+    pub(crate) point_groups: Vec<(String, Vec<u32>)>,
     /// The node is a corner of some cell (carries a P1 pressure dof).
-    pub is_vertex: Vec<bool>,
+    pub(crate) is_vertex: Vec<bool>,
 }
 
 impl Mesh {
     /// Face indices of the physical surface `name`.
-    pub fn face_group(&self, name: &str) -> Result<&[u32]> {
+    pub(crate) fn face_group(&self, name: &str) -> Result<&[u32]> {
         find_group(&self.face_groups, name, "surface")
     }
 
     /// Node indices of the physical point `name`.
     #[cfg(test)]
-    pub fn point_group(&self, name: &str) -> Result<&[u32]> {
+    pub(crate) fn point_group(&self, name: &str) -> Result<&[u32]> {
         find_group(&self.point_groups, name, "point")
     }
 
     /// Cell indices of the physical volume `name` (a physical surface on the meridian).
     #[cfg(test)]
-    pub fn volume_group(&self, name: &str) -> Result<&[u32]> {
+    pub(crate) fn volume_group(&self, name: &str) -> Result<&[u32]> {
         find_group(&self.volume_groups, name, "volume")
     }
 
     /// The nodes of cell e.
-    pub fn cell(&self, e: usize) -> &[u32] {
+    pub(crate) fn cell(&self, e: usize) -> &[u32] {
         &self.cells[e][..self.family.cell_nodes()]
     }
 
     /// Number of cell corner nodes (P1 pressure nodes).
     #[cfg(test)]
-    pub fn n_vertices(&self) -> usize {
+    pub(crate) fn n_vertices(&self) -> usize {
         self.is_vertex.iter().filter(|&&v| v).count()
     }
 }

@@ -12,7 +12,7 @@ const FLIPPED_FACE: [u8; 4] = [0, 3, 2, 1];
 /// The mesh and its reflection across the face group `plane`, which must lie in x = 0, y = 0 or
 /// z = 0 and becomes interior (it is dropped). Nodes on the plane are shared; all other groups
 /// are extended by their reflections (a point group off the plane gains the mirror node).
-pub fn mirror(mesh: &Mesh, plane: &str) -> Result<Mesh> {
+pub(crate) fn mirror(mesh: &Mesh, plane: &str) -> Result<Mesh> {
     let err = |msg: String| Error::Mesh { path: format!("mirror across \"{plane}\""), msg };
     if mesh.family != Family::Tet10 {
         return Err(err("only a tetrahedral mesh can be mirrored (a meridian mesh is already the whole body)".into()));

@@ -4,18 +4,18 @@
 //! (`face_match`). The node numbering of a cell and of a face is the reference cell's
 //! ([`crate::reference_cell`]).
 
-pub mod dist;
+pub(crate) mod dist;
 mod face_match;
-pub mod generate;
+pub(crate) mod generate;
 mod global;
-pub mod gmsh;
-pub mod mirror;
-pub mod partition;
-pub mod source;
+pub(crate) mod gmsh;
+pub(crate) mod mirror;
+pub(crate) mod partition;
+pub(crate) mod source;
 
 #[cfg(test)]
 pub(crate) mod test_util;
 #[cfg(test)]
 mod tests;
 
-pub use global::Mesh;
+pub(crate) use global::Mesh;

@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use metis::Idx;
 
 /// Part (0..nparts) of each cell of `mesh`. Every part is non-empty.
-pub fn partition(mesh: &Mesh, nparts: usize) -> Result<Vec<u32>> {
+pub(crate) fn partition(mesh: &Mesh, nparts: usize) -> Result<Vec<u32>> {
     let n = mesh.cells.len();
     let err = |msg: String| Error::mesh("partition", msg);
     if nparts == 0 {

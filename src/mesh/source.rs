@@ -29,7 +29,7 @@ fn cache_dir() -> PathBuf {
 
 /// Where a scene's mesh comes from, with its paths resolved against the scene file.
 #[derive(Debug, Clone)]
-pub enum MeshSource<'a> {
+pub(crate) enum MeshSource<'a> {
     /// A ready Gmsh `.msh` file.
     Msh(PathBuf),
     /// A `.geo` source: `name` as the scene gives it (also the name of a shipped one), `path`
@@ -40,7 +40,7 @@ pub enum MeshSource<'a> {
 /// The `.msh` file of a mesh source: given, or generated from its `.geo` by rank 0 (cached), with
 /// the `-setnumber` parameters `params`. `scene` names the scene (for the message of an unknown
 /// parameter).
-pub fn mesh_file(
+pub(crate) fn mesh_file(
     world: &SimpleCommunicator,
     source: MeshSource,
     params: &BTreeMap<String, f64>,
@@ -106,7 +106,7 @@ fn define_constants(source: &str) -> Vec<&str> {
 /// Reads the mesh file and reflects it across the symmetry planes `mirror` (in order); the mesh
 /// must be of the `family` the scene's geometry needs (tetrahedra for a solid, meridian
 /// triangles for an axisymmetric body).
-pub fn read_mesh(path: &Path, family: Family, mirror: &[String]) -> Result<Mesh> {
+pub(crate) fn read_mesh(path: &Path, family: Family, mirror: &[String]) -> Result<Mesh> {
     let mut mesh = gmsh::read(path)?;
     if mesh.family != family {
         return Err(Error::mesh(

@@ -9,7 +9,7 @@ use crate::io::recorder::{ColumnDoc, ITERATIONS, STEP};
 /// Every column a run can write, in order: the step's, the experiment's (with its Laplace
 /// analysis), the remodelling summary's, the probes' (a pattern), the exact solutions', and the
 /// step's iterations and wall time. A scene's run writes those that apply, in this order.
-pub fn reference() -> Vec<ColumnDoc> {
+pub(crate) fn reference() -> Vec<ColumnDoc> {
     let mut docs: Vec<ColumnDoc> = STEP.iter().map(|c| c.doc).collect();
     docs.extend(experiment::columns().map(|(doc, _)| *doc));
     docs.extend(remodelling_summary::COLUMNS.iter().map(|c| c.doc));

@@ -29,20 +29,20 @@ use crate::physics::problem::Post;
 use mpi::topology::SimpleCommunicator;
 
 /// The g of the forces in mg (m/s²): 1 mg-force = 9.81 µN. Every mg ↔ µN conversion uses it.
-pub const G: f64 = 9.81;
+pub(crate) const G: f64 = 9.81;
 
 /// nN → mg under g: 1e-9 N / 9.81 m/s² = 1.0194e-10 kg = 1.0194e-4 mg.
-pub const NN_TO_MG: f64 = 1e-3 / G;
+pub(crate) const NN_TO_MG: f64 = 1e-3 / G;
 
 /// A force in mg as µN.
-pub fn micro_newton(mg: f64) -> f64 {
+pub(crate) fn micro_newton(mg: f64) -> f64 {
     mg * G
 }
 
 /// The `history.csv` columns of an [`Observation`], the Laplace analysis's after them
 /// ([`columns`], [`Observation::values`]). Forces are full-sphere equivalents, positive in
 /// compression; each in mg is followed by its µN twin.
-pub const COLUMNS: &[Declared<Observation>] = &[
+pub(crate) const COLUMNS: &[Declared<Observation>] = &[
     Declared::real(
         "plate_disp",
         "µm",
@@ -137,7 +137,7 @@ pub const COLUMNS: &[Declared<Observation>] = &[
 
 /// The experiment's `history.csv` columns in order, as declared: its own, then the Laplace
 /// analysis's (the order of [`Observation::values`]).
-pub fn columns() -> impl Iterator<Item = (&'static ColumnDoc, ColumnKind)> {
+pub(crate) fn columns() -> impl Iterator<Item = (&'static ColumnDoc, ColumnKind)> {
     let own = COLUMNS.iter().map(|c| (&c.doc, c.kind));
     own.chain(laplace::COLUMNS.iter().map(|c| (&c.doc, c.kind)))
 }
@@ -150,10 +150,10 @@ fn side_code(t: Touch) -> f64 {
     SIDES.iter().position(|&s| s == t).unwrap_or(0) as f64
 }
 
-pub struct Experiment {
+pub(crate) struct Experiment {
     /// Full-sphere equivalent factor: 4π R³/3 over the meshed volume (4 for a quarter, 1 for the
     /// meridian, whose volume integrals already carry 2πR).
-    pub symmetry: f64,
+    pub(crate) symmetry: f64,
     probe_p: Probe,
     probe_porosity: Option<Probe>,
     /// Local faces of the contact surface (for penetration between nodes).
@@ -164,7 +164,7 @@ pub struct Experiment {
 
 /// One step's observables (full-sphere equivalents; forces in mg), what [`COLUMNS`] read, and the
 /// per-node contact state.
-pub struct Observation {
+pub(crate) struct Observation {
     plate_disp: f64,
     force_total: f64,
     force_constitutive: f64,
@@ -184,12 +184,12 @@ pub struct Observation {
     contact_nodes_lower: f64,
     laplace: laplace::Reading,
     /// Contact state of every owned node: 0 free, 1 lower plate, 2 upper plate.
-    pub node_contact: Vec<f64>,
+    pub(crate) node_contact: Vec<f64>,
 }
 
 impl Observation {
     /// The values of [`columns`], in order.
-    pub fn values(&self) -> impl Iterator<Item = f64> + '_ {
+    pub(crate) fn values(&self) -> impl Iterator<Item = f64> + '_ {
         Declared::row(COLUMNS, self).chain(Declared::row(&laplace::COLUMNS, &self.laplace))
     }
 }
@@ -199,7 +199,7 @@ impl Experiment {
     /// default, X_U, is decided there: `scene::plates::default_probe_point`). `volume` is the
     /// meshed reference volume (all ranks).
     #[allow(clippy::too_many_arguments)]
-    pub fn new(
+    pub(crate) fn new(
         mesh: &LocalMesh,
         faces: Vec<u32>,
         radius: f64,
@@ -223,19 +223,19 @@ impl Experiment {
     }
 
     /// The time-integrated outflow so far (µm³, full sphere), for a checkpoint.
-    pub fn outflow(&self) -> f64 {
+    pub(crate) fn outflow(&self) -> f64 {
         self.outflow_total
     }
 
     /// Restores the outflow of a checkpoint.
-    pub fn set_outflow(&mut self, v: f64) {
+    pub(crate) fn set_outflow(&mut self, v: f64) {
         self.outflow_total = v;
     }
 
     /// Observables at time t after a step of size dt (collective). `drainage_gaps`: the state
     /// whose gaps set the step's drainage, if not the solution's (for the outflow).
     #[allow(clippy::too_many_arguments)]
-    pub fn observe(
+    pub(crate) fn observe(
         &mut self,
         t: f64,
         dt: f64,

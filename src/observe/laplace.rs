@@ -22,7 +22,7 @@ use nalgebra::{DMatrix, DVector};
 
 /// The `history.csv` columns of a [`Reading`] (the experiment's last; `history.csv` and the run
 /// summary say NaN where a reading does not apply).
-pub const COLUMNS: [Declared<Reading>; 4] = [
+pub(crate) const COLUMNS: [Declared<Reading>; 4] = [
     Declared::real(
         "R1",
         "µm",
@@ -48,19 +48,19 @@ pub const COLUMNS: [Declared<Reading>; 4] = [
 
 /// One surface node in the (r, z) half-plane.
 #[derive(Debug, Clone, Copy)]
-pub struct Point {
-    pub r: f64,
-    pub z: f64,
-    pub side: Touch,
+pub(crate) struct Point {
+    pub(crate) r: f64,
+    pub(crate) z: f64,
+    pub(crate) side: Touch,
 }
 
 /// The Laplace analysis of one state; NaN where it does not apply (no contact, too few nodes).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Reading {
-    pub r1: f64,
-    pub r2: f64,
-    pub r3: f64,
-    pub sigma_app: f64,
+pub(crate) struct Reading {
+    pub(crate) r1: f64,
+    pub(crate) r2: f64,
+    pub(crate) r3: f64,
+    pub(crate) sigma_app: f64,
 }
 
 /// Free nodes a sextic needs at least (else a quartic from 7, a parabola from 3).
@@ -71,7 +71,7 @@ const EDGE_POINTS: usize = 3;
 
 /// The reading of `points` between the plates at `z_lower` < `z_upper` under the upper
 /// plate's force `force` (nN, full sphere).
-pub fn read(points: &[Point], z_lower: f64, z_upper: f64, force: f64) -> Reading {
+pub(crate) fn read(points: &[Point], z_lower: f64, z_upper: f64, force: f64) -> Reading {
     let (r1, r2) = equator(points, z_lower, z_upper).unwrap_or((f64::NAN, f64::NAN));
     let r3 = contact_radius(points, z_lower, z_upper).unwrap_or(f64::NAN);
     let pressure_per_tension = 1.0 / r1 + 1.0 / r2;

@@ -4,12 +4,12 @@
 //! probes, the remodelling summary, the run's largest pore pressure, and the exact solutions of the verification scenes;
 //! each declares its `history.csv` columns once (name, unit, meaning, value), and `columns` lists them all for the docs.
 
-pub mod analytic;
-pub mod columns;
-pub mod experiment;
-pub mod laplace;
-pub mod observers;
-pub mod pressure_peak;
-pub mod probe;
-pub mod remodelling_summary;
-pub mod verification;
+pub(crate) mod analytic;
+pub(crate) mod columns;
+pub(crate) mod experiment;
+pub(crate) mod laplace;
+pub(crate) mod observers;
+pub(crate) mod pressure_peak;
+pub(crate) mod probe;
+pub(crate) mod remodelling_summary;
+pub(crate) mod verification;

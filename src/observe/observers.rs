@@ -20,26 +20,26 @@ use mpi::topology::SimpleCommunicator;
 
 /// What is observed besides the state itself; built (and validated) before the run directory
 /// is touched.
-pub struct Observers {
-    pub probes: Vec<Probe>,
+pub(crate) struct Observers {
+    pub(crate) probes: Vec<Probe>,
     /// The plates experiment's observables, if the scene has plates.
-    pub experiment: Option<Experiment>,
+    pub(crate) experiment: Option<Experiment>,
     /// Exact-solution columns of a verification scene.
-    pub exact: Vec<Exact>,
+    pub(crate) exact: Vec<Exact>,
     /// Whether the model keeps qp state (remodelling): its summary is recorded.
-    pub remodelling: bool,
+    pub(crate) remodelling: bool,
     /// Write fields at all.
-    pub fields: bool,
+    pub(crate) fields: bool,
     /// The largest nodal p of the steps observed so far (with a checkpoint's, after a resume).
-    pub pressure_peak: PressurePeak,
+    pub(crate) pressure_peak: PressurePeak,
     /// The owned mid-edge nodes and their edges' ends ([`mid_edge_nodes`]): where the fields show
     /// the P1 pressure interpolated (empty without fields).
-    pub mid_edges: Vec<(usize, usize, usize)>,
+    pub(crate) mid_edges: Vec<(usize, usize, usize)>,
 }
 
 /// A converged state sampled for output: its local (owned + ghost) values, post-processed when
 /// something reads more than the values.
-pub enum Sample {
+pub(crate) enum Sample {
     State(Vec<f64>),
     Post(Box<Post>),
 }
@@ -56,7 +56,7 @@ impl Sample {
 impl Observers {
     /// The `history.csv` columns these observers fill, in the order of [`Observed::values`]
     /// (the recorder adds the step's own around them).
-    pub fn columns(&self) -> Vec<Column> {
+    pub(crate) fn columns(&self) -> Vec<Column> {
         observed_columns(
             self.experiment.is_some(),
             self.remodelling,
@@ -65,12 +65,12 @@ impl Observers {
     }
 
     /// The experiment's time-integrated outflow so far (0 without plates).
-    pub fn outflow(&self) -> f64 {
+    pub(crate) fn outflow(&self) -> f64 {
         self.experiment.as_ref().map_or(0.0, |e| e.outflow())
     }
 
     /// Restores the experiment's outflow of a checkpoint.
-    pub fn set_outflow(&mut self, outflow: f64) {
+    pub(crate) fn set_outflow(&mut self, outflow: f64) {
         if let Some(ex) = self.experiment.as_mut() {
             ex.set_outflow(outflow);
         }
@@ -80,7 +80,7 @@ impl Observers {
     /// state):
     /// the post-processing element loop (reactions, cell fields) only when something reads it;
     /// probes and history alone need just the local state.
-    pub fn sample(
+    pub(crate) fn sample(
         &self,
         problem: &mut PoroProblem,
         u: &Vector,
@@ -101,7 +101,7 @@ impl Observers {
     /// The observed values of a sample at time t after a step of size dt, with the fields if
     /// `fields` (collective). The experiment's outflow uses the drainage gaps of the problem's
     /// last step.
-    pub fn observe(
+    pub(crate) fn observe(
         &mut self,
         world: &SimpleCommunicator,
         problem: &PoroProblem,
@@ -208,7 +208,7 @@ fn node_fields(problem: &PoroProblem, local: &[f64], mid_edges: &[(usize, usize,
 }
 
 /// (mid-edge node, end a, end b) for owned mid-edge nodes, to show P1 pressure on P2 nodes.
-pub fn mid_edge_nodes(mesh: &LocalMesh) -> Vec<(usize, usize, usize)> {
+pub(crate) fn mid_edge_nodes(mesh: &LocalMesh) -> Vec<(usize, usize, usize)> {
     let mut seen = vec![false; mesh.n_owned_nodes];
     let mut out = Vec::new();
     let nv = mesh.family.cell_vertices();

@@ -12,10 +12,10 @@ use mpi::traits::*;
 /// The largest p seen so far (kPa), at time `t` (s), at the node of reference position `at`
 /// (µm; on the meridian (r, 0, z)). `p` is −∞ before any state.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PressurePeak {
-    pub p: f64,
-    pub t: f64,
-    pub at: [f64; 3],
+pub(crate) struct PressurePeak {
+    pub(crate) p: f64,
+    pub(crate) t: f64,
+    pub(crate) at: [f64; 3],
 }
 
 impl Default for PressurePeak {
@@ -27,7 +27,7 @@ impl Default for PressurePeak {
 impl PressurePeak {
     /// The largest p of the state `local` at time t (collective): of the owned vertices, the
     /// lowest rank's on a tie.
-    pub fn of_state(mesh: &LocalMesh, dofs: &DofMap, local: &[f64], t: f64, world: &SimpleCommunicator) -> Self {
+    pub(crate) fn of_state(mesh: &LocalMesh, dofs: &DofMap, local: &[f64], t: f64, world: &SimpleCommunicator) -> Self {
         let mut mine = PressurePeak { t, ..PressurePeak::default() };
         for node in 0..mesh.n_owned_nodes {
             let v = mesh.vertex_of_node[node];
@@ -49,7 +49,7 @@ impl PressurePeak {
     }
 
     /// The larger of two peaks (the earlier on a tie).
-    pub fn max(self, other: PressurePeak) -> PressurePeak {
+    pub(crate) fn max(self, other: PressurePeak) -> PressurePeak {
         if other.p > self.p {
             other
         } else {
@@ -58,11 +58,11 @@ impl PressurePeak {
     }
 
     /// As a checkpoint stores it: p, t, x, y, z.
-    pub fn to_array(self) -> [f64; 5] {
+    pub(crate) fn to_array(self) -> [f64; 5] {
         [self.p, self.t, self.at[0], self.at[1], self.at[2]]
     }
 
-    pub fn from_array(a: [f64; 5]) -> PressurePeak {
+    pub(crate) fn from_array(a: [f64; 5]) -> PressurePeak {
         PressurePeak { p: a[0], t: a[1], at: [a[2], a[3], a[4]] }
     }
 }

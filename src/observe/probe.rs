@@ -20,7 +20,7 @@ use mpi::traits::*;
 
 /// Which scalar a probe reads.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Quantity {
+pub(crate) enum Quantity {
     Pressure,
     Displacement(usize),
     /// Porosity 1 − Φs/J at the point, with this Φs.
@@ -46,15 +46,15 @@ enum Where {
 }
 
 /// The `history.csv` column of each `[[probe]]`, named by the scene.
-pub const COLUMN: ColumnDoc = ColumnDoc::pattern(
+pub(crate) const COLUMN: ColumnDoc = ColumnDoc::pattern(
     "*probe name*",
     "as the field",
     "a `[[probe]]`: `p` (kPa) or `ux`, `uy`, `uz` (µm) at a point or averaged over a surface group, divided by \
      `scale`",
 );
 
-pub struct Probe {
-    pub name: String,
+pub(crate) struct Probe {
+    pub(crate) name: String,
     quantity: Quantity,
     scale: f64,
     at: Where,
@@ -62,7 +62,7 @@ pub struct Probe {
 
 /// The point of the mesh's space that stands for the reference point x: itself in 3-D, its
 /// meridian point (√(x² + y²), 0, z) on a meridian mesh.
-pub fn mesh_point(family: Family, x: [f64; 3]) -> [f64; 3] {
+pub(crate) fn mesh_point(family: Family, x: [f64; 3]) -> [f64; 3] {
     match family {
         Family::Tet10 => x,
         Family::Tri6 => [x[0].hypot(x[1]), 0.0, x[2]],
@@ -71,7 +71,7 @@ pub fn mesh_point(family: Family, x: [f64; 3]) -> [f64; 3] {
 
 /// Reference coordinates of X (a point of the mesh's space, [`mesh_point`]) in element `e` if it
 /// lies inside (Newton on the isoparametric map).
-pub fn locate_in_element(mesh: &LocalMesh, e: usize, x: [f64; 3]) -> Option<[f64; 3]> {
+pub(crate) fn locate_in_element(mesh: &LocalMesh, e: usize, x: [f64; 3]) -> Option<[f64; 3]> {
     let fam = mesh.family;
     let t = mesh.cell(e);
     let c = |i: usize| mesh.coords[t[i] as usize];
@@ -117,7 +117,7 @@ pub fn locate_in_element(mesh: &LocalMesh, e: usize, x: [f64; 3]) -> Option<[f64
 
 impl Probe {
     /// A point probe of `quantity` at reference point `x` (collective), named `name`.
-    pub fn at_point(
+    pub(crate) fn at_point(
         name: &str,
         quantity: Quantity,
         x: [f64; 3],
@@ -132,7 +132,7 @@ impl Probe {
     }
 
     /// Sets up a probe (collective).
-    pub fn new(spec: &ProbeSpec, mesh: &LocalMesh, world: &SimpleCommunicator, context: &str) -> Result<Probe> {
+    pub(crate) fn new(spec: &ProbeSpec, mesh: &LocalMesh, world: &SimpleCommunicator, context: &str) -> Result<Probe> {
         let quantity = Quantity::from(spec.field);
         if let Quantity::Displacement(axis) = quantity {
             if mesh.family.component(axis).is_none() {
@@ -169,7 +169,7 @@ impl Probe {
     }
 
     /// The probe's value (collective); `local` is the owned+ghost state vector.
-    pub fn value(&self, mesh: &LocalMesh, dofs: &DofMap, local: &[f64], world: &SimpleCommunicator) -> f64 {
+    pub(crate) fn value(&self, mesh: &LocalMesh, dofs: &DofMap, local: &[f64], world: &SimpleCommunicator) -> f64 {
         let v = match &self.at {
             Where::Point(Some((e, xi))) => {
                 let t = mesh.cell(*e);
@@ -218,7 +218,7 @@ impl Probe {
 
 /// F = I + Grad u at reference coordinates ξ of local element e (isoparametric map; with the
 /// hoop stretch 1 + u_r / R on the meridian).
-pub fn deformation_gradient(
+pub(crate) fn deformation_gradient(
     mesh: &LocalMesh,
     dofs: &DofMap,
     e: usize,

@@ -13,7 +13,7 @@ use crate::physics::problem::Post;
 use mpi::topology::SimpleCommunicator;
 
 /// The `history.csv` columns of a [`Summary`] (with `material.remodelling`).
-pub const COLUMNS: [Declared<Summary>; 7] = [
+pub(crate) const COLUMNS: [Declared<Summary>; 7] = [
     Declared::real(
         "stress_xx",
         "kPa",
@@ -36,7 +36,7 @@ pub const COLUMNS: [Declared<Summary>; 7] = [
 ];
 
 /// The summary of a post-processed state.
-pub struct Summary {
+pub(crate) struct Summary {
     /// The volume-averaged σ_sc's diagonal (xx, yy, zz).
     stress: [f64; 3],
     max_von_mises: f64,
@@ -46,7 +46,7 @@ pub struct Summary {
 }
 
 /// The summary of a post-processed state (all ranks).
-pub fn observe(post: &Post, world: &SimpleCommunicator) -> Summary {
+pub(crate) fn observe(post: &Post, world: &SimpleCommunicator) -> Summary {
     let local = [post.volume, post.int_cauchy[0][0], post.int_cauchy[1][1], post.int_cauchy[2][2], post.int_norm_ep];
     let tot = sum_slice(world, &local);
     let top = max_slice(world, &[post.max_von_mises, post.max_norm_ep, post.max_det_bp_dev]);

@@ -6,12 +6,12 @@ use crate::io::recorder::ColumnDoc;
 use crate::scene::{LoadedScene, Material, Verification};
 
 /// An exact solution as a function of time.
-pub type ExactFn = Box<dyn Fn(f64) -> f64>;
+pub(crate) type ExactFn = Box<dyn Fn(f64) -> f64>;
 
 /// An exact-solution column: what the docs say of it, and its value at a time.
-pub struct Exact {
-    pub doc: &'static ColumnDoc,
-    pub value: ExactFn,
+pub(crate) struct Exact {
+    pub(crate) doc: &'static ColumnDoc,
+    pub(crate) value: ExactFn,
 }
 
 const P_BOTTOM: ColumnDoc = ColumnDoc::named(
@@ -28,10 +28,10 @@ const P_CENTER: ColumnDoc = ColumnDoc::named(
 );
 
 /// Every exact-solution column, as the docs list them.
-pub const COLUMNS: [&ColumnDoc; 3] = [&P_BOTTOM, &SETTLEMENT, &P_CENTER];
+pub(crate) const COLUMNS: [&ColumnDoc; 3] = [&P_BOTTOM, &SETTLEMENT, &P_CENTER];
 
 /// Exact-solution columns of a verification scene.
-pub fn exact_columns(scene: &LoadedScene) -> Result<Vec<Exact>> {
+pub(crate) fn exact_columns(scene: &LoadedScene) -> Result<Vec<Exact>> {
     let Some(v) = &scene.scene.verification else { return Ok(vec![]) };
     let Material::Linear { mu, nu, permeability } = scene.scene.material.clone() else {
         return Err(Error::Scene {

@@ -12,18 +12,18 @@ use crate::scene::BoundaryCondition;
 
 /// A constrained local dof and its value.
 #[derive(Debug, Clone, Copy)]
-pub struct Constraint {
-    pub local: usize,
-    pub value: f64,
+pub(crate) struct Constraint {
+    pub(crate) local: usize,
+    pub(crate) value: f64,
 }
 
 /// Local faces of a surface group, or an error naming the group and the available ones.
-pub fn face_group<'m>(mesh: &'m LocalMesh, name: &str, context: &str) -> Result<&'m [u32]> {
+pub(crate) fn face_group<'m>(mesh: &'m LocalMesh, name: &str, context: &str) -> Result<&'m [u32]> {
     lookup(&mesh.face_groups, mesh, name, context, "a surface")
 }
 
 /// Local nodes of a point group, or an error naming it and the available groups.
-pub fn point_group<'m>(mesh: &'m LocalMesh, name: &str, context: &str) -> Result<&'m [u32]> {
+pub(crate) fn point_group<'m>(mesh: &'m LocalMesh, name: &str, context: &str) -> Result<&'m [u32]> {
     lookup(&mesh.point_groups, mesh, name, context, "a point")
 }
 
@@ -52,7 +52,7 @@ fn missing(mesh: &LocalMesh, name: &str, context: &str, kind: &str) -> Error {
 }
 
 /// Local nodes touched by a group: all nodes of its faces, or the nodes of a point group.
-pub fn group_nodes(mesh: &LocalMesh, name: &str, context: &str) -> Result<Vec<usize>> {
+pub(crate) fn group_nodes(mesh: &LocalMesh, name: &str, context: &str) -> Result<Vec<usize>> {
     if let Some((_, faces)) = mesh.face_groups.iter().find(|(n, _)| n == name) {
         let mut nodes: Vec<usize> =
             faces.iter().flat_map(|&f| mesh.face(f as usize).iter().map(|&n| n as usize)).collect();
@@ -107,7 +107,7 @@ fn axis_constraints(mesh: &LocalMesh, dofs: &DofMap) -> Vec<Constraint> {
 
 /// Constraints and external loads of this rank's part. Constraints on nodes of this rank's
 /// faces only: the caller makes the flags consistent across ranks.
-pub fn build(
+pub(crate) fn build(
     bcs: &[BoundaryCondition],
     mesh: &LocalMesh,
     dofs: &DofMap,

@@ -48,12 +48,12 @@ use crate::material::{
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// (kg/m³)·(m/s²) → kPa/µm: 1 N/m³ = 1 Pa/m = 1e-3 kPa / 1e6 µm.
-pub const KG_M3_M_S2_TO_KPA_PER_UM: f64 = 1e-9;
+pub(crate) const KG_M3_M_S2_TO_KPA_PER_UM: f64 = 1e-9;
 
 /// The biphasic point model: the skeleton law L, optional compaction penalty, permeability, and
 /// the weights ϱs a_g, ϱf a_g in solver units (kPa/µm).
 #[derive(Debug, Clone)]
-pub struct Biphasic<L> {
+pub(crate) struct Biphasic<L> {
     /// The skeleton law (energy per reference volume of mixture).
     solid: L,
     /// Compaction penalty U(J), if any.
@@ -94,7 +94,7 @@ impl<L: SkeletonLaw> Biphasic<L> {
     /// [`KG_M3_M_S2_TO_KPA_PER_UM`]. The laws must agree on Φs (relative 1e-12); densities must be
     /// finite and >= 0, gravity finite. The drained moduli are computed here, once, from the
     /// exact tangent at F = B_p = I (see [`PointModel::drained_bulk_modulus`]).
-    pub fn new(
+    pub(crate) fn new(
         solid: L,
         penalty: Option<CompactionPenalty>,
         perm: Permeability,
@@ -146,13 +146,13 @@ impl<L: SkeletonLaw> Biphasic<L> {
     }
 
     /// The same mixture with visco-plastic remodelling of B_p (model.md §4).
-    pub fn with_remodelling(self, remodel: Remodelling) -> Self {
+    pub(crate) fn with_remodelling(self, remodel: Remodelling) -> Self {
         Biphasic { remodel: Some(remodel), ..self }
     }
 
     /// ϱf a_g in kPa/µm.
     #[cfg(test)]
-    pub fn fluid_weight(&self) -> Vector3<f64> {
+    pub(crate) fn fluid_weight(&self) -> Vector3<f64> {
         self.rho_f_g
     }
 
@@ -162,7 +162,7 @@ impl<L: SkeletonLaw> Biphasic<L> {
     }
 
     /// Output fields at a point (uses Grad u, p, Grad p). Domain error as in `eval`.
-    pub fn point_fields(&self, at: QpId, s: &PointState, h: QpState) -> Result<PointFields> {
+    pub(crate) fn point_fields(&self, at: QpId, s: &PointState, h: QpState) -> Result<PointFields> {
         let k = self.kinematics(at, s, h, false)?;
         let (_, s_sc) = self.solid_law().stresses(&k.kin, &k.bp).at_point(at.elem, at.point)?;
         let cauchy = k.kin.f * s_sc * k.kin.f.transpose() / k.kin.j;

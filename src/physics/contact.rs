@@ -50,18 +50,18 @@ pub(crate) use crate::scene::DrainageGap;
 /// (0, 0), the last value after it. The compression–release test (53) (ramp to u_max, hold,
 /// release back to 0, rest) is the path of its four corners (`PlatesSpec::path`).
 #[derive(Debug, Clone)]
-pub struct PlateLoading {
+pub(crate) struct PlateLoading {
     /// (t, u) in increasing t, from (0, 0).
     points: Vec<(f64, f64)>,
 }
 
 impl PlateLoading {
     /// The table (t, u) (increasing t; the scene checks it).
-    pub fn table(points: Vec<(f64, f64)>) -> PlateLoading {
+    pub(crate) fn table(points: Vec<(f64, f64)>) -> PlateLoading {
         PlateLoading { points }
     }
 
-    pub fn displacement(&self, t: f64) -> f64 {
+    pub(crate) fn displacement(&self, t: f64) -> f64 {
         let p = &self.points;
         if t <= p[0].0 {
             return p[0].1;
@@ -73,14 +73,14 @@ impl PlateLoading {
     }
 
     /// The kinks of u(t), the table's times after 0: steps must land on them.
-    pub fn kinks(&self) -> Vec<f64> {
+    pub(crate) fn kinks(&self) -> Vec<f64> {
         self.points.iter().map(|p| p.0).filter(|&t| t > 0.0).collect()
     }
 }
 
 /// Which plate a surface node touches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Touch {
+pub(crate) enum Touch {
     Free,
     Lower,
     Upper,
@@ -91,16 +91,16 @@ pub enum Touch {
 const AT_BOUND: f64 = 1e-9;
 
 /// The plates and the aggregate surface that can touch them.
-pub struct Plates {
-    pub loading: PlateLoading,
+pub(crate) struct Plates {
+    pub(crate) loading: PlateLoading,
     /// Height of the upper plate's bottom face (2R).
-    pub z_upper: f64,
+    pub(crate) z_upper: f64,
     /// Local nodes of the contact surface (their vertices only for P1–P1, see `new`) and their
     /// reference heights: the nodes with bounds, the contact nodes of the observables.
-    pub nodes: Vec<usize>,
+    pub(crate) nodes: Vec<usize>,
     z_ref: Vec<f64>,
     /// How the surface drains (module docs).
-    pub drain: Drainage,
+    pub(crate) drain: Drainage,
     /// The drainage shares: each (face, vertex) of this rank's contact faces (module docs).
     shares: Vec<Share>,
     /// Local node (if here) of the bottom pole, which stays on the lower plate (see `new`).
@@ -110,17 +110,17 @@ pub struct Plates {
 
 /// The drainage of the contact surface (module docs); conductances per area in µm³/(nN s) per µm².
 #[derive(Debug, Clone, Copy)]
-pub struct Drainage {
+pub(crate) struct Drainage {
     /// Drain the surface at all — off for a sealed aggregate.
-    pub on: bool,
+    pub(crate) on: bool,
     /// β_max, the free surface's conductance.
-    pub beta_max: f64,
+    pub(crate) beta_max: f64,
     /// β_c, the plates' conductance where the surface touches them (0: impermeable).
-    pub beta_plate: f64,
+    pub(crate) beta_plate: f64,
     /// Seal distance g_s: the conductance opens fully over this gap.
-    pub seal_gap: f64,
+    pub(crate) seal_gap: f64,
     /// Whose gap sets the conductance within a step.
-    pub gap: DrainageGap,
+    pub(crate) gap: DrainageGap,
 }
 
 impl Plates {
@@ -137,7 +137,7 @@ impl Plates {
     /// any Newton iterate that frees it makes the Jacobian singular. Pinning the pole removes
     /// that mode without changing the converged solution as long as its reaction stays
     /// compressive (reported as `force_lower_mg`).
-    pub fn new(
+    pub(crate) fn new(
         loading: PlateLoading,
         radius: f64,
         mesh: &LocalMesh,
@@ -174,12 +174,12 @@ impl Plates {
     }
 
     /// Height of the lower plate's top face at time t.
-    pub fn z_lower(&self, t: f64) -> f64 {
+    pub(crate) fn z_lower(&self, t: f64) -> f64 {
         self.loading.displacement(t)
     }
 
     /// Writes the bounds of the owned surface u_z dofs at time t (others stay ±∞).
-    pub fn fill_bounds(&self, t: f64, dofs: &DofMap, lo: &mut [f64], hi: &mut [f64]) {
+    pub(crate) fn fill_bounds(&self, t: f64, dofs: &DofMap, lo: &mut [f64], hi: &mut [f64]) {
         let zl = self.z_lower(t);
         for (k, &n) in self.nodes.iter().enumerate() {
             if let Some(i) = dofs.local_to_owned(dofs.uz_local(n)) {
@@ -198,7 +198,7 @@ impl Plates {
     /// small the step. Moved with the plate they stay active while the reaction is compressive,
     /// and leave the plate only when it turns tensile.
     /// `x0` is the state at t0 (owned entries), `x` the guess being built.
-    pub fn predict(&self, t0: f64, t1: f64, dofs: &DofMap, x0: &[f64], x: &mut [f64]) {
+    pub(crate) fn predict(&self, t0: f64, t1: f64, dofs: &DofMap, x0: &[f64], x: &mut [f64]) {
         let (z0, z1) = (self.z_lower(t0), self.z_lower(t1));
         for (k, &n) in self.nodes.iter().enumerate() {
             if let Some(i) = dofs.local_to_owned(dofs.uz_local(n)) {
@@ -216,7 +216,15 @@ impl Plates {
     /// owned nodes first, `axes` per node: the Cartesian axis of each component; `coords` their
     /// reference positions). Short steps load the mixture almost undrained, so this guess
     /// respects J > Φs where an extrapolated compaction rate overshoots it.
-    pub fn predict_isochoric(&self, t0: f64, t1: f64, coords: &[[f64; 3]], axes: &[usize], x0: &[f64], x: &mut [f64]) {
+    pub(crate) fn predict_isochoric(
+        &self,
+        t0: f64,
+        t1: f64,
+        coords: &[[f64; 3]],
+        axes: &[usize],
+        x0: &[f64],
+        x: &mut [f64],
+    ) {
         let (z0, z1) = (self.z_lower(t0), self.z_lower(t1));
         let nc = axes.len();
         for (n, c) in coords.iter().enumerate() {
@@ -244,7 +252,7 @@ impl Plates {
     }
 
     /// Contact state of every contact-surface node (same order as `nodes`).
-    pub fn states(&self, dofs: &DofMap, u_local: &[f64], t: f64) -> Vec<Touch> {
+    pub(crate) fn states(&self, dofs: &DofMap, u_local: &[f64], t: f64) -> Vec<Touch> {
         self.nodes.iter().zip(&self.z_ref).map(|(&n, &z)| self.touch(z, u_local[dofs.uz_local(n)], t)).collect()
     }
 
@@ -262,7 +270,7 @@ impl Plates {
     /// *Faces drain only towards the bath*). The meridian's Line3 corners take p/6 and cannot
     /// lift, so there the rule only seals the half of an edge vertex's share that faces the
     /// contact.
-    pub fn drainage(&self, mesh: &LocalMesh, dofs: &DofMap, u_local: &[f64], t: f64) -> Vec<Drain> {
+    pub(crate) fn drainage(&self, mesh: &LocalMesh, dofs: &DofMap, u_local: &[f64], t: f64) -> Vec<Drain> {
         let d = &self.drain;
         if !d.on {
             return Vec::new();
@@ -317,11 +325,11 @@ struct Share {
 
 /// The drainage term of one (face, vertex) share (see [`Plates::drainage`]).
 #[derive(Debug, Clone, Copy)]
-pub struct Drain {
-    pub p: usize,
-    pub uz: usize,
-    pub conductance: f64,
-    pub d_conductance: f64,
+pub(crate) struct Drain {
+    pub(crate) p: usize,
+    pub(crate) uz: usize,
+    pub(crate) conductance: f64,
+    pub(crate) d_conductance: f64,
 }
 
 /// β = β_c + (β_max − β_c) S and dβ/dx for the smoothstep value S(x) and S'(x): from the plates'

@@ -50,7 +50,7 @@ fn neo_hookean(spec: &MixtureSpec) -> Result<NeoHookean> {
 /// experiment (closed form, [`SkeletonLaw::ellipticity_limit`]): there the solve stops
 /// converging, on every mesh. It names the compression limit (any elastic principal stretch
 /// below it) and the uniaxial-stress tension limit, where the lateral contraction reaches it.
-pub fn ellipticity_warning(scene: &LoadedScene) -> Result<Option<String>> {
+pub(crate) fn ellipticity_warning(scene: &LoadedScene) -> Result<Option<String>> {
     with_model(&scene.scene.material, Warning)
 }
 
@@ -86,7 +86,7 @@ impl WithModel for Warning {
 }
 
 /// The scene's point model (an error in its `[material]` names the scene).
-pub fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
+pub(crate) fn model_of(scene: &LoadedScene) -> Result<Box<dyn PointModel>> {
     with_model(&scene.scene.material, Model).map_err(|e| {
         let msg = match e {
             Error::Material(m) => m,

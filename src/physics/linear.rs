@@ -14,15 +14,15 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// Drained Lamé constants and isotropic conductivity.
 #[derive(Debug, Clone, Copy)]
-pub struct LinearPoroelastic {
-    pub lambda: f64,
-    pub mu: f64,
-    pub k: f64,
+pub(crate) struct LinearPoroelastic {
+    pub(crate) lambda: f64,
+    pub(crate) mu: f64,
+    pub(crate) k: f64,
 }
 
 impl LinearPoroelastic {
     /// From shear modulus, Poisson ratio and conductivity.
-    pub fn new(mu: f64, nu: f64, k: f64) -> Result<Self> {
+    pub(crate) fn new(mu: f64, nu: f64, k: f64) -> Result<Self> {
         if !(mu > 0.0 && nu > -1.0 && nu < 0.5 && k > 0.0) {
             return Err(Error::Material(format!(
                 "linear poroelastic: need mu > 0, -1 < nu < 0.5, k > 0 (got mu = {mu}, nu = {nu}, k = {k})"

@@ -2,13 +2,13 @@
 //! rigid plates' contact and drainage, the model built from a scene, and the discrete problem
 //! TS integrates. What a run observes of its states is `observe`.
 
-pub mod bc;
-pub mod biphasic;
-pub mod contact;
-pub mod factory;
-pub mod linear;
-pub mod problem;
-pub mod surface_tension;
+pub(crate) mod bc;
+pub(crate) mod biphasic;
+pub(crate) mod contact;
+pub(crate) mod factory;
+pub(crate) mod linear;
+pub(crate) mod problem;
+pub(crate) mod surface_tension;
 pub(crate) mod tools;
 
 #[cfg(test)]

@@ -135,16 +135,16 @@ fn point_area<T: Scalar>(rule: &Rule, q: usize, x: &[T]) -> (T, [T; MAX]) {
 /// The plates' faces at the residual's time: the lower plate's top at z = `lower`, the upper's
 /// bottom at z = `upper`.
 #[derive(Debug, Clone, Copy)]
-pub struct PlatePlanes {
-    pub lower: f64,
-    pub upper: f64,
+pub(crate) struct PlatePlanes {
+    pub(crate) lower: f64,
+    pub(crate) upper: f64,
 }
 
 /// The work of adhesion w to the plates and its range g_a (model.md: Surface tension).
 #[derive(Debug, Clone, Copy)]
-pub struct Adhesion {
-    pub work: f64,
-    pub range: f64,
+pub(crate) struct Adhesion {
+    pub(crate) work: f64,
+    pub(crate) range: f64,
 }
 
 /// S(x) = 10x³ − 15x⁴ + 6x⁵ on [0, 1], 0 below, 1 above, and S'(x) = 30x²(1 − x)²: C², so that
@@ -301,7 +301,7 @@ fn norm<T: Scalar>(a: &[T; 3]) -> T {
 
 /// The tension γ on this rank's faces of the boundary group, lowered to γ − w on the plates by
 /// the work of adhesion w.
-pub struct SurfaceTension {
+pub(crate) struct SurfaceTension {
     gamma: f64,
     adhesion: Option<Adhesion>,
     faces: Vec<u32>,
@@ -312,7 +312,7 @@ pub struct SurfaceTension {
 
 impl SurfaceTension {
     /// `adhesion`: the work of adhesion to the plates (None or w = 0: none, the tension alone).
-    pub fn new(gamma: f64, adhesion: Option<Adhesion>, mesh: &LocalMesh, faces: &[u32]) -> SurfaceTension {
+    pub(crate) fn new(gamma: f64, adhesion: Option<Adhesion>, mesh: &LocalMesh, faces: &[u32]) -> SurfaceTension {
         let adhesion = adhesion.filter(|a| a.work > 0.0);
         let mut st = SurfaceTension {
             gamma,
@@ -381,7 +381,14 @@ impl SurfaceTension {
 
     /// Adds the energy's gradient to the residual `f` (local layout) at the displacement `u`:
     /// γ ∂A/∂x, or with adhesion ∂E/∂x with the plates at `planes` (the residual's time).
-    pub fn add_residual(&self, mesh: &LocalMesh, dofs: &DofMap, u: &[f64], planes: Option<PlatePlanes>, f: &mut [f64]) {
+    pub(crate) fn add_residual(
+        &self,
+        mesh: &LocalMesh,
+        dofs: &DofMap,
+        u: &[f64],
+        planes: Option<PlatePlanes>,
+        f: &mut [f64],
+    ) {
         let adhering = self.adhering(planes);
         for (i, &face) in self.faces.iter().enumerate() {
             let (idx, x, n) = self.face(mesh, dofs, face, u);
@@ -407,7 +414,13 @@ impl SurfaceTension {
     /// force on a plate is −∂E/∂z_plate, of size Σ_q P_q w S'(g_q/g_a)/g_a over the points nearer
     /// it, towards the aggregate. The contact reactions miss it: it acts on faces within the
     /// range but off the plate.
-    pub fn plate_pull(&self, mesh: &LocalMesh, dofs: &DofMap, u: &[f64], planes: Option<PlatePlanes>) -> [f64; 2] {
+    pub(crate) fn plate_pull(
+        &self,
+        mesh: &LocalMesh,
+        dofs: &DofMap,
+        u: &[f64],
+        planes: Option<PlatePlanes>,
+    ) -> [f64; 2] {
         let mut pull = [0.0; 2];
         let Some((ad, pl)) = self.adhering(planes) else { return pull };
         for (i, &face) in self.faces.iter().enumerate() {
@@ -423,7 +436,7 @@ impl SurfaceTension {
 
     /// Calls `add` with each face's local dofs and its block γ ∂²A/∂x² (with adhesion ∂²E/∂x²,
     /// the plates at `planes`), row-major.
-    pub fn for_each_block(
+    pub(crate) fn for_each_block(
         &self,
         mesh: &LocalMesh,
         dofs: &DofMap,

@@ -47,14 +47,14 @@ use nalgebra::Matrix3;
 /// Every method takes the remodelling metric B_p, which the caller keeps symmetric positive
 /// definite with det 1 (not checked here: it is a qp-state variable, checked where updated).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct HolmesMow {
+pub(crate) struct HolmesMow {
     /// Referential solid fraction Φs.
-    pub phi_s: f64,
+    pub(crate) phi_s: f64,
     /// α0 (stress units).
-    pub alpha0: f64,
-    pub alpha1: f64,
-    pub alpha2: f64,
-    pub alpha3: f64,
+    pub(crate) alpha0: f64,
+    pub(crate) alpha1: f64,
+    pub(crate) alpha2: f64,
+    pub(crate) alpha3: f64,
 }
 
 /// What stress, energy and tangent share: the exponent f = α1 (I1e − 3) + α2 (I2e − 3) − α3 ln I3e,
@@ -70,7 +70,7 @@ impl HolmesMow {
     /// Direct α's. Requires Φs ∈ (0, 1), α0 > 0, α3 = α1 + 2 α2 (stress-free reference, to a
     /// relative 1e-6 so printed tables pass) and a positive-definite linearisation: µ/Φs =
     /// 2 α0 (α3 − α2) > 0 and bulk modulus/Φs = 4 α0 (α3 + 2 α2)/3 > 0.
-    pub fn new(phi_s: f64, alpha0: f64, alpha1: f64, alpha2: f64, alpha3: f64) -> Result<Self> {
+    pub(crate) fn new(phi_s: f64, alpha0: f64, alpha1: f64, alpha2: f64, alpha3: f64) -> Result<Self> {
         check_phi_s("Holmes–Mow", phi_s)?;
         let all = [alpha0, alpha1, alpha2, alpha3];
         if !all.iter().all(|a| a.is_finite()) {
@@ -104,7 +104,7 @@ impl HolmesMow {
     /// α's from the shear modulus µ and Poisson ratio ν of the solid (56), α3 = 1:
     /// α0 = (1−ν) µ / (2 (1−2ν)), α1 = (1−3ν)/(1−ν), α2 = ν/(1−ν). The linearisation of Ψ/Φs at
     /// C = B_p = I then has Lamé constants µ and 2µν/(1−2ν).
-    pub fn from_mu_nu(mu: f64, nu: f64, phi_s: f64) -> Result<Self> {
+    pub(crate) fn from_mu_nu(mu: f64, nu: f64, phi_s: f64) -> Result<Self> {
         if !(mu > 0.0 && mu.is_finite()) {
             return Err(Error::Material(format!("Holmes–Mow: shear modulus mu = {mu} must be > 0")));
         }
@@ -199,7 +199,7 @@ impl SolidLaw for HolmesMow {
 /// exactly where every eigenvalue of the elastic C_e exceeds it (module docs, strong ellipticity). None when
 /// α1 ≥ 0: no small stretch makes it lose ellipticity (with α2 ≥ 0 nothing does; with α2 < 0,
 /// ν < 0 by (56), large stretches can: the module's bounds).
-pub fn critical_stretch_squared(law: &HolmesMow) -> Option<f64> {
+pub(crate) fn critical_stretch_squared(law: &HolmesMow) -> Option<f64> {
     (law.alpha1 < 0.0 && law.alpha2 > 0.0).then(|| -law.alpha1 / law.alpha2)
 }
 
@@ -209,7 +209,7 @@ pub fn critical_stretch_squared(law: &HolmesMow) -> Option<f64> {
 /// α2 < 0 the lower bound α1 + 2 α2/λ (module docs, strong ellipticity) proves ellipticity for
 /// λ > 2|α2|/α1, which is below ½ for every admissible law (α1 = α3 + 2|α2| > 4|α2|); an error
 /// if `lambda_min` is not above it (the closed form does not decide there).
-pub fn isochoric_compression_limit(law: &HolmesMow, lambda_min: f64) -> Result<Option<f64>> {
+pub(crate) fn isochoric_compression_limit(law: &HolmesMow, lambda_min: f64) -> Result<Option<f64>> {
     if law.alpha2 >= 0.0 {
         return Ok(critical_stretch_squared(law).map(f64::sqrt).filter(|&lam| lam >= lambda_min));
     }
@@ -230,7 +230,7 @@ pub fn isochoric_compression_limit(law: &HolmesMow, lambda_min: f64) -> Result<O
 /// zero lateral stress S_xx = e G_xx = 0 reads α1 + α2 (l² + λ²) − α3/l² = 0, whose root l²
 /// falls from 1 as λ grows; l² is then the smallest eigenvalue of C, and putting l² = −α1/α2
 /// into that equation gives λ² = −α3/α1 (> 1 since α1 + α3 = 2 (α3 − α2) > 0).
-pub fn uniaxial_stress_tension_limit(law: &HolmesMow) -> Option<f64> {
+pub(crate) fn uniaxial_stress_tension_limit(law: &HolmesMow) -> Option<f64> {
     critical_stretch_squared(law).map(|_| (-law.alpha3 / law.alpha1).sqrt())
 }
 

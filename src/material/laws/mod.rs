@@ -1,8 +1,8 @@
 //! The skeleton laws, one per file, each a [`super::law::SkeletonLaw`]. Adding one: its file
 //! here, its line below, and its scene variant and factory line (docs/developer.md).
 
-pub mod holmes_mow;
-pub mod neo_hookean;
+pub(crate) mod holmes_mow;
+pub(crate) mod neo_hookean;
 
-pub use holmes_mow::HolmesMow;
-pub use neo_hookean::NeoHookean;
+pub(crate) use holmes_mow::HolmesMow;
+pub(crate) use neo_hookean::NeoHookean;

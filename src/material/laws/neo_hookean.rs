@@ -22,19 +22,19 @@ use nalgebra::Matrix3;
 /// Neo-Hookean parameters; energy per unit reference volume of mixture (hence the factor Φs).
 /// B_p is kept symmetric positive definite with det 1 by the caller, as for every law.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct NeoHookean {
+pub(crate) struct NeoHookean {
     /// Referential solid fraction Φs.
-    pub phi_s: f64,
+    pub(crate) phi_s: f64,
     /// The solid's shear modulus µ (kPa).
-    pub mu: f64,
+    pub(crate) mu: f64,
     /// The solid's first Lamé constant λ (kPa).
-    pub lambda: f64,
+    pub(crate) lambda: f64,
 }
 
 impl NeoHookean {
     /// From the solid's Lamé constants. Requires Φs ∈ (0, 1), µ > 0 and a positive bulk modulus
     /// λ + 2µ/3 > 0.
-    pub fn new(phi_s: f64, mu: f64, lambda: f64) -> Result<Self> {
+    pub(crate) fn new(phi_s: f64, mu: f64, lambda: f64) -> Result<Self> {
         check_phi_s("neo-Hookean", phi_s)?;
         if !(mu > 0.0 && mu.is_finite()) {
             return Err(Error::Material(format!("neo-Hookean: shear modulus mu = {mu} must be > 0")));
@@ -49,7 +49,7 @@ impl NeoHookean {
 
     /// From the solid's shear modulus µ and Poisson ratio ν: λ = 2µν/(1 − 2ν), the linearisation
     /// of Ψ/Φs at C = B_p = I (that of Holmes–Mow with the same µ, ν by (56)).
-    pub fn from_mu_nu(mu: f64, nu: f64, phi_s: f64) -> Result<Self> {
+    pub(crate) fn from_mu_nu(mu: f64, nu: f64, phi_s: f64) -> Result<Self> {
         if !(nu > -1.0 && nu < 0.5) {
             return Err(Error::Material(format!("neo-Hookean: Poisson ratio nu = {nu} outside (-1, 0.5)")));
         }

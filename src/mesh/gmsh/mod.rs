@@ -17,4 +17,4 @@ mod msh41;
 mod reader;
 mod tet;
 
-pub use reader::read;
+pub(crate) use reader::read;

@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 
 /// Read a Gmsh MSH 4.1 ASCII file into a [`Mesh`].
-pub fn read(path: &Path) -> Result<Mesh> {
+pub(crate) fn read(path: &Path) -> Result<Mesh> {
     let bytes = std::fs::read(path).map_err(|e| {
         if e.kind() == std::io::ErrorKind::NotFound {
             Error::mesh(path, "file does not exist")

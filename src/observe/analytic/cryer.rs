@@ -34,7 +34,7 @@ const SHORT_ORDER: usize = 10;
 
 /// Roots of Cryer's characteristic equation and the series coefficients, for one ν.
 #[derive(Debug, Clone)]
-pub struct CryerSeries {
+pub(crate) struct CryerSeries {
     /// β = 4µ/(3K) = 2(1 − 2ν)/(1 + ν).
     beta: f64,
     roots: Vec<f64>,
@@ -47,7 +47,7 @@ pub struct CryerSeries {
 impl CryerSeries {
     /// Series for drained Poisson ratio `nu` (−1 < ν < 1/2), with enough roots that the truncation
     /// error is below ~1e-16 for every τ ≥ `tau_min` (clamped to ≥ 1e-8).
-    pub fn new(nu: f64, tau_min: f64) -> Result<Self> {
+    pub(crate) fn new(nu: f64, tau_min: f64) -> Result<Self> {
         if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
             return Err(Error::Material(format!("Cryer solution needs -1 < nu < 0.5 (got {nu})")));
         }
@@ -71,7 +71,7 @@ impl CryerSeries {
     }
 
     /// Centre pressure p_c/P at dimensionless time τ = c t/a² (τ ≤ 0 gives the 0⁺ value 1).
-    pub fn center_pressure(&self, tau: f64) -> f64 {
+    pub(crate) fn center_pressure(&self, tau: f64) -> f64 {
         if tau.is_nan() {
             return f64::NAN;
         }

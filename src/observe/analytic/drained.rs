@@ -5,18 +5,18 @@ use crate::error::{Error, Result};
 
 /// Drained skeleton and permeability of a linear poroelastic medium with incompressible constituents.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Drained {
+pub(crate) struct Drained {
     /// Drained shear modulus µ (> 0).
-    pub mu: f64,
+    pub(crate) mu: f64,
     /// Drained Poisson ratio ν, −1 < ν < 1/2.
-    pub nu: f64,
+    pub(crate) nu: f64,
     /// Permeability / hydraulic conductivity k in Darcy's law q = −k ∇p (> 0).
-    pub k: f64,
+    pub(crate) k: f64,
 }
 
 impl Drained {
     /// Validated parameters: µ > 0, −1 < ν < 1/2, k > 0, all finite.
-    pub fn new(mu: f64, nu: f64, k: f64) -> Result<Self> {
+    pub(crate) fn new(mu: f64, nu: f64, k: f64) -> Result<Self> {
         let m = Drained { mu, nu, k };
         if m.is_valid() {
             Ok(m)
@@ -56,7 +56,7 @@ impl Drained {
     }
 
     /// Consolidation coefficient c = k (λ + 2µ).
-    pub fn consolidation_coefficient(&self) -> f64 {
+    pub(crate) fn consolidation_coefficient(&self) -> f64 {
         self.k * self.oedometric_modulus()
     }
 }

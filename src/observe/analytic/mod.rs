@@ -33,6 +33,6 @@ mod reference;
 mod special;
 mod terzaghi;
 
-pub use cryer::CryerSeries;
-pub use drained::Drained;
-pub use terzaghi::{terzaghi_pressure, terzaghi_settlement};
+pub(crate) use cryer::CryerSeries;
+pub(crate) use drained::Drained;
+pub(crate) use terzaghi::{terzaghi_pressure, terzaghi_settlement};

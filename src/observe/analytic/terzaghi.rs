@@ -19,7 +19,7 @@ const TERZAGHI_SHORT_TIME: f64 = 0.1;
 /// t = 0⁺ by a compressive traction `load` on its drained top z = H (bottom z = 0 impermeable and
 /// fixed). p(z, 0⁺) = P for z < H; p(H, t) = 0. z is clamped to [0, H] within 1e-12 H; beyond
 /// that, and for invalid parameters, the result is NaN.
-pub fn terzaghi_pressure(z: f64, t: f64, height: f64, load: f64, mat: &Drained) -> f64 {
+pub(crate) fn terzaghi_pressure(z: f64, t: f64, height: f64, load: f64, mat: &Drained) -> f64 {
     if !(mat.is_valid() && height > 0.0 && height.is_finite() && load.is_finite()) {
         return f64::NAN;
     }
@@ -34,7 +34,7 @@ pub fn terzaghi_pressure(z: f64, t: f64, height: f64, load: f64, mat: &Drained) 
 
 /// Settlement (downward displacement of the loaded top, ≥ 0) of the Terzaghi column at time t:
 /// 0 at t = 0⁺, P H/(λ + 2µ) as t → ∞. NaN for invalid parameters.
-pub fn terzaghi_settlement(t: f64, height: f64, load: f64, mat: &Drained) -> f64 {
+pub(crate) fn terzaghi_settlement(t: f64, height: f64, load: f64, mat: &Drained) -> f64 {
     if !(mat.is_valid() && height > 0.0 && height.is_finite() && load.is_finite() && t.is_finite()) {
         return f64::NAN;
     }

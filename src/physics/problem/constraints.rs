@@ -24,7 +24,7 @@ impl ConstraintRows {
     /// The rows of the constraints `raw` (found from this rank's boundary faces) and, per local
     /// dof, whether it is constrained (every rank holding a copy of a constrained dof must
     /// know: its elements drop that row and column). `h`: the mean element size.
-    pub fn new(
+    pub(crate) fn new(
         raw: &[Constraint],
         local: &LocalVectors,
         template: &Vector,
@@ -42,12 +42,12 @@ impl ConstraintRows {
     }
 
     /// The mean element size the scales take.
-    pub fn h(&self) -> f64 {
+    pub(crate) fn h(&self) -> f64 {
         self.h
     }
 
     /// Scale of the u and p constraint rows at time-derivative shift `shift`.
-    pub fn scales(&self, model: &dyn PointModel, shift: f64) -> (f64, f64) {
+    pub(crate) fn scales(&self, model: &dyn PointModel, shift: f64) -> (f64, f64) {
         let h = self.h;
         let su = model.p_wave_modulus() * h;
         let sp = model.conductivity() * h + shift * h.powi(3) / model.drained_bulk_modulus();
@@ -63,7 +63,7 @@ impl ConstraintRows {
     }
 
     /// Sets the owned constraint rows of `f` (owned entries) to s (U_i − g_i), U the local `u`.
-    pub fn set_residual_rows(&self, dofs: &DofMap, scales: (f64, f64), u: &[f64], f: &mut [f64]) {
+    pub(crate) fn set_residual_rows(&self, dofs: &DofMap, scales: (f64, f64), u: &[f64], f: &mut [f64]) {
         for &(i, ref c) in &self.owned {
             f[i] = Self::scale_of(dofs, c.local, scales) * (u[c.local] - c.value);
         }
@@ -71,7 +71,7 @@ impl ConstraintRows {
 
     /// Adds s on the diagonal of the constraint rows of `jac`, and of the Schur approximation's
     /// pressure rows.
-    pub fn add_jacobian_rows(
+    pub(crate) fn add_jacobian_rows(
         &self,
         mesh: &LocalMesh,
         dofs: &DofMap,

@@ -33,7 +33,7 @@ pub(super) struct ContactStage {
 impl ContactStage {
     /// The plates with their contact bounds at t = 0 on the surface u_z dofs (vectors like
     /// `template`, ±∞ elsewhere).
-    pub fn new(plates: Plates, template: &Vector, dofs: &DofMap) -> Result<ContactStage> {
+    pub(crate) fn new(plates: Plates, template: &Vector, dofs: &DofMap) -> Result<ContactStage> {
         let (mut lo, mut hi) = (template.duplicate()?, template.duplicate()?);
         lo.set(-INFINITY)?;
         hi.set(INFINITY)?;
@@ -44,23 +44,23 @@ impl ContactStage {
         Ok(ContactStage { plates, bounds: (lo, hi), stage: (0.0, 0.0), extrapolation: None, predicted: None })
     }
 
-    pub fn plates(&self) -> &Plates {
+    pub(crate) fn plates(&self) -> &Plates {
         &self.plates
     }
 
     /// The bounds for `SNESVISetVariableBounds`.
-    pub fn bounds(&self) -> (&Vector, &Vector) {
+    pub(crate) fn bounds(&self) -> (&Vector, &Vector) {
         (&self.bounds.0, &self.bounds.1)
     }
 
     /// The plates' faces at time t, for the surface's adhesion.
-    pub fn planes(&self, t: f64) -> PlatePlanes {
+    pub(crate) fn planes(&self, t: f64) -> PlatePlanes {
         PlatePlanes { lower: self.plates.z_lower(t), upper: self.plates.z_upper }
     }
 
     /// Sets the velocity the predictor of the next steps extrapolates with (copied; None: the
     /// previous state, as after a loading kink).
-    pub fn set_extrapolation(&mut self, velocity: Option<&Vector>) -> Result<()> {
+    pub(crate) fn set_extrapolation(&mut self, velocity: Option<&Vector>) -> Result<()> {
         match velocity {
             Some(v) => match &mut self.extrapolation {
                 Some(x) => x.copy_from(v)?,
@@ -72,19 +72,19 @@ impl ContactStage {
     }
 
     /// Whether the predictor extrapolates (else it starts from the previous state).
-    pub fn extrapolating(&self) -> bool {
+    pub(crate) fn extrapolating(&self) -> bool {
         self.extrapolation.is_some()
     }
 
     /// The state whose gaps set the last step's drainage (local layout), if not its solution:
     /// the predictor's, with `DrainageGap::Predicted`.
-    pub fn drainage_gaps(&self) -> Option<&[f64]> {
+    pub(crate) fn drainage_gaps(&self) -> Option<&[f64]> {
         self.predicted.as_deref()
     }
 
     /// Moves the lower plate's bound to the stage time t of the step from `start` (also on a
     /// retried step).
-    pub fn move_to(&mut self, start: f64, t: f64, dofs: &DofMap) -> Result<()> {
+    pub(crate) fn move_to(&mut self, start: f64, t: f64, dofs: &DofMap) -> Result<()> {
         let (lo, hi) = &mut self.bounds;
         let (mut l, mut h) = (lo.write()?, hi.write()?);
         self.plates.fill_bounds(t, dofs, &mut l, &mut h);
@@ -95,7 +95,7 @@ impl ContactStage {
     /// The predictor in `x`: the step's start `start` extrapolated with the last step's
     /// velocity (if any), the nodes on the lower plate moved with it (`Plates::predict`).
     /// Returns the start's owned entries.
-    pub fn extrapolate(&self, start: &Vector, dofs: &DofMap, x: &mut Vector) -> Result<Vec<f64>> {
+    pub(crate) fn extrapolate(&self, start: &Vector, dofs: &DofMap, x: &mut Vector) -> Result<Vec<f64>> {
         let (t0, t1) = self.stage;
         x.copy_from(start)?;
         let x0 = start.read()?.to_vec();
@@ -107,12 +107,12 @@ impl ContactStage {
     }
 
     /// Whether the drainage takes the predictor's gaps ([`ContactStage::keep_predicted`]).
-    pub fn drains_by_predicted_gap(&self) -> bool {
+    pub(crate) fn drains_by_predicted_gap(&self) -> bool {
         self.plates.drain.gap == DrainageGap::Predicted
     }
 
     /// Keeps the predictor of the step (local layout) for the drainage's gaps.
-    pub fn keep_predicted(&mut self, local: &[f64]) {
+    pub(crate) fn keep_predicted(&mut self, local: &[f64]) {
         let predicted = self.predicted.get_or_insert_with(Vec::new);
         predicted.clear();
         predicted.extend_from_slice(local);
@@ -120,7 +120,7 @@ impl ContactStage {
 
     /// The isochoric affine guess from the start `start` (owned entries `x0`) in `x`
     /// (`Plates::predict_isochoric`), the contact nodes moved with the plate.
-    pub fn isochoric(&self, start: &Vector, x0: &[f64], disc: &Discretization, x: &mut Vector) -> Result<()> {
+    pub(crate) fn isochoric(&self, start: &Vector, x0: &[f64], disc: &Discretization, x: &mut Vector) -> Result<()> {
         let (t0, t1) = self.stage;
         x.copy_from(start)?;
         let n = disc.dofs.n_owned_nodes;
@@ -131,7 +131,7 @@ impl ContactStage {
 
     /// The drainage through the surface off the plates into the local residual `f`: outflow
     /// c(g) p at the local state `u`.
-    pub fn add_drainage(&self, disc: &Discretization, u: &[f64], t: f64, f: &mut [f64]) {
+    pub(crate) fn add_drainage(&self, disc: &Discretization, u: &[f64], t: f64, f: &mut [f64]) {
         for d in self.plates.drainage(&disc.mesh, &disc.dofs, self.predicted.as_deref().unwrap_or(u), t) {
             f[d.p] += d.conductance * u[d.p];
         }
@@ -139,7 +139,7 @@ impl ContactStage {
 
     /// The drainage's Jacobian: d(c p)/dp = c on the diagonal, d(c p)/du_z = c' p (not with the
     /// predicted gap, fixed during the step); and c in the Schur approximation.
-    pub fn add_drainage_jacobian(
+    pub(crate) fn add_drainage_jacobian(
         &self,
         disc: &Discretization,
         u: &[f64],

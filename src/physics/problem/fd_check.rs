@@ -13,7 +13,7 @@ impl PoroProblem {
     /// smoothstep's second derivative jumps; round-off O(1e-16 / ε). A wrong Jacobian entry
     /// shows as an error that does not shrink with ε.
     /// `jac` must be the matrix of the solves (assembly reuses its pattern).
-    pub fn jacobian_error(
+    pub(crate) fn jacobian_error(
         &mut self,
         t: f64,
         dt: f64,

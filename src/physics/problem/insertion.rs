@@ -21,14 +21,14 @@ pub(super) struct JacobianInsertion {
 
 impl JacobianInsertion {
     /// Whether the last assembly was at `shift`.
-    pub fn assembled_at(&self, shift: f64) -> bool {
+    pub(crate) fn assembled_at(&self, shift: f64) -> bool {
         self.assembled_shift == Some(shift)
     }
 
     /// The element loop of `disc` at the local state (`ul`, `udl`) into `jac` (and `schur`):
     /// the rows owned elsewhere are kept for [`JacobianInsertion::flush`].
     #[allow(clippy::too_many_arguments)]
-    pub fn add_elements(
+    pub(crate) fn add_elements(
         &mut self,
         disc: &Discretization,
         ul: &[f64],
@@ -64,13 +64,13 @@ impl JacobianInsertion {
     }
 
     /// Adds the rows owned elsewhere that the element loop collected.
-    pub fn flush(&mut self, jac: &mut Mat) -> Result<()> {
+    pub(crate) fn flush(&mut self, jac: &mut Mat) -> Result<()> {
         self.ghosts.flush(jac)
     }
 
     /// After an assembly of `jac` at `shift`: the first one fixes the pattern the offsets
     /// point into.
-    pub fn finish(&mut self, disc: &Discretization, shift: f64, jac: &mut Mat) -> Result<()> {
+    pub(crate) fn finish(&mut self, disc: &Discretization, shift: f64, jac: &mut Mat) -> Result<()> {
         if self.inserter.is_none() {
             self.inserter = Some(ElementInserter::build(jac, &disc.dofs, disc.family(), disc.mesh.cells.len(), |e| {
                 disc.element_dofs(e)

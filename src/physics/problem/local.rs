@@ -15,7 +15,7 @@ pub(super) struct LocalVectors {
 
 impl LocalVectors {
     /// Work vectors for the local dofs of `dofs`, scattering from vectors like `template`.
-    pub fn new(comm: MPI_Comm, dofs: &DofMap, template: &Vector) -> Result<LocalVectors> {
+    pub(crate) fn new(comm: MPI_Comm, dofs: &DofMap, template: &Vector) -> Result<LocalVectors> {
         let n_local = dofs.n_local();
         let from = IndexSet::general(comm, &dofs.l2g)?;
         let u = Vector::seq(n_local)?;
@@ -25,55 +25,55 @@ impl LocalVectors {
     }
 
     /// local ← global (owned and ghost values).
-    pub fn gather(&self, global: &Vector, local: &mut Vector) -> Result<()> {
+    pub(crate) fn gather(&self, global: &Vector, local: &mut Vector) -> Result<()> {
         self.scatter.forward(global, local)
     }
 
     /// global += local (ghost contributions included).
-    pub fn add_to(&self, local: &Vector, global: &mut Vector) -> Result<()> {
+    pub(crate) fn add_to(&self, local: &Vector, global: &mut Vector) -> Result<()> {
         self.scatter.reverse_add(local, global)
     }
 
     /// Scatters U and U̇ to the local work vectors.
-    pub fn load(&mut self, u: &Vector, udot: &Vector) -> Result<()> {
+    pub(crate) fn load(&mut self, u: &Vector, udot: &Vector) -> Result<()> {
         self.scatter.forward(u, &mut self.u)?;
         self.scatter.forward(udot, &mut self.udot)
     }
 
     /// Scatters a state `x` to the local U (U̇ untouched).
-    pub fn load_u(&mut self, x: &Vector) -> Result<()> {
+    pub(crate) fn load_u(&mut self, x: &Vector) -> Result<()> {
         self.scatter.forward(x, &mut self.u)
     }
 
     /// The local U and U̇ as loaded, and the local F zeroed, for an assembly to fill.
-    pub fn with_zeroed_f<R>(&mut self, f: impl FnOnce(&[f64], &[f64], &mut [f64]) -> R) -> Result<R> {
+    pub(crate) fn with_zeroed_f<R>(&mut self, f: impl FnOnce(&[f64], &[f64], &mut [f64]) -> R) -> Result<R> {
         let (ul, udl, mut fl) = (self.u.read()?, self.udot.read()?, self.f.write()?);
         fl.iter_mut().for_each(|x| *x = 0.0);
         Ok(f(&ul, &udl, &mut fl))
     }
 
     /// Reads the local U and U̇ as loaded.
-    pub fn with_state<R>(&self, f: impl FnOnce(&[f64], &[f64]) -> R) -> Result<R> {
+    pub(crate) fn with_state<R>(&self, f: impl FnOnce(&[f64], &[f64]) -> R) -> Result<R> {
         Ok(f(&self.u.read()?, &self.udot.read()?))
     }
 
     /// Reads the local U as loaded.
-    pub fn with_u<R>(&self, f: impl FnOnce(&[f64]) -> R) -> Result<R> {
+    pub(crate) fn with_u<R>(&self, f: impl FnOnce(&[f64]) -> R) -> Result<R> {
         Ok(f(&self.u.read()?))
     }
 
     /// Edits the local U as loaded.
-    pub fn with_u_mut<R>(&mut self, f: impl FnOnce(&mut [f64]) -> R) -> Result<R> {
+    pub(crate) fn with_u_mut<R>(&mut self, f: impl FnOnce(&mut [f64]) -> R) -> Result<R> {
         Ok(f(&mut self.u.write()?))
     }
 
     /// A copy of the local U as loaded.
-    pub fn u(&self) -> Result<Vec<f64>> {
+    pub(crate) fn u(&self) -> Result<Vec<f64>> {
         Ok(self.u.read()?.to_vec())
     }
 
     /// global ← the local F summed over the ranks holding each dof.
-    pub fn sum_f_into(&self, global: &mut Vector) -> Result<()> {
+    pub(crate) fn sum_f_into(&self, global: &mut Vector) -> Result<()> {
         global.zero()?;
         self.scatter.reverse_add(&self.f, global)
     }

@@ -13,6 +13,6 @@ mod post;
 mod schur;
 mod timers;
 
-pub use parts::ProblemParts;
-pub use poro_problem::{backward_euler_rate, ErrorScales, PoroProblem};
-pub use post::Post;
+pub(crate) use parts::ProblemParts;
+pub(crate) use poro_problem::{backward_euler_rate, ErrorScales, PoroProblem};
+pub(crate) use post::Post;

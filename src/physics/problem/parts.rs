@@ -14,26 +14,26 @@ use crate::physics::surface_tension::SurfaceTension;
 use crate::reference_cell::shape::MAX_NODES;
 
 /// The parts of a problem.
-pub struct ProblemParts {
-    pub mesh: LocalMesh,
-    pub dofs: DofMap,
-    pub model: Box<dyn PointModel>,
+pub(crate) struct ProblemParts {
+    pub(crate) mesh: LocalMesh,
+    pub(crate) dofs: DofMap,
+    pub(crate) model: Box<dyn PointModel>,
     /// The reference element tabulated at the quadrature points `xi`.
-    pub tab: Tabulation<MAX_NODES>,
-    pub xi: Vec<[f64; 3]>,
+    pub(crate) tab: Tabulation<MAX_NODES>,
+    pub(crate) xi: Vec<[f64; 3]>,
     /// The pressure stabilisation the assembly uses.
-    pub stab: Stabilisation,
+    pub(crate) stab: Stabilisation,
     /// Equal-order P1–P1 (`fem::equal_order`): the displacement's mid-edge nodes tied to their
     /// edges' vertices, their loads moved there.
-    pub equal_order: bool,
+    pub(crate) equal_order: bool,
     /// The prescribed dofs this rank's boundary faces found (`bc::build`).
-    pub constraints: Vec<Constraint>,
+    pub(crate) constraints: Vec<Constraint>,
     /// External loads (traction, prescribed flux) in the local layout, already integrated.
-    pub loads: Vec<f64>,
+    pub(crate) loads: Vec<f64>,
     /// Surface tension of the boundary, if the scene has it.
-    pub surface: Option<SurfaceTension>,
+    pub(crate) surface: Option<SurfaceTension>,
     /// Rigid plates (contact bounds, drainage out of contact), if the scene has them.
-    pub plates: Option<Plates>,
+    pub(crate) plates: Option<Plates>,
     /// The fixed-stress Schur approximation's matrix on the pressure space (preallocated).
-    pub schur: Mat,
+    pub(crate) schur: Mat,
 }

@@ -39,7 +39,7 @@ use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use std::time::Instant;
 
-pub struct PoroProblem {
+pub(crate) struct PoroProblem {
     world: SimpleCommunicator,
     disc: Discretization,
     rows: ConstraintRows,
@@ -57,17 +57,17 @@ pub struct PoroProblem {
 
 /// The scales of the local error estimate of a step (`PoroProblem::error_scales`).
 #[derive(Debug, Clone, Copy)]
-pub struct ErrorScales {
+pub(crate) struct ErrorScales {
     /// Owned dofs before the first p dof (the owned layout is u, then p).
-    pub n_u_owned: usize,
+    pub(crate) n_u_owned: usize,
     /// Floors of the u and p magnitudes the error is measured against.
-    pub u_floor: f64,
-    pub p_floor: f64,
+    pub(crate) u_floor: f64,
+    pub(crate) p_floor: f64,
 }
 
 impl PoroProblem {
     /// The problem of `parts` on `world`, for distributed vectors like `template` (collective).
-    pub fn new(world: SimpleCommunicator, parts: ProblemParts, template: &Vector) -> Result<PoroProblem> {
+    pub(crate) fn new(world: SimpleCommunicator, parts: ProblemParts, template: &Vector) -> Result<PoroProblem> {
         let ProblemParts {
             mesh,
             dofs,
@@ -121,7 +121,7 @@ impl PoroProblem {
     /// The scales of the local error estimate (`driver::rate`): the owned u dofs come first;
     /// the floors of the fields' magnitudes are h for u and 10% of the drained bulk modulus
     /// for p, so that a field decaying to zero does not force ever smaller steps.
-    pub fn error_scales(&self) -> ErrorScales {
+    pub(crate) fn error_scales(&self) -> ErrorScales {
         ErrorScales {
             n_u_owned: self.disc.dofs.n_u_owned(),
             u_floor: self.rows.h(),
@@ -132,7 +132,7 @@ impl PoroProblem {
     /// Commits the end-of-step qp state of the accepted step from `prev` to `u` (size dt): the
     /// update every evaluation of that step computed, now stored. Nothing without qp state, or
     /// while it is frozen (settling).
-    pub fn commit(&mut self, prev: &Vector, u: &Vector, dt: f64) -> Result<()> {
+    pub(crate) fn commit(&mut self, prev: &Vector, u: &Vector, dt: f64) -> Result<()> {
         if self.disc.qp_state.is_empty() || !self.disc.evolve {
             return Ok(());
         }
@@ -150,89 +150,89 @@ impl PoroProblem {
 /// state the problem holds for its assembly (captured into and applied from a checkpoint
 /// through these).
 impl PoroProblem {
-    pub fn world(&self) -> &SimpleCommunicator {
+    pub(crate) fn world(&self) -> &SimpleCommunicator {
         &self.world
     }
 
-    pub fn mesh(&self) -> &LocalMesh {
+    pub(crate) fn mesh(&self) -> &LocalMesh {
         &self.disc.mesh
     }
 
-    pub fn dofs(&self) -> &DofMap {
+    pub(crate) fn dofs(&self) -> &DofMap {
         &self.disc.dofs
     }
 
-    pub fn model(&self) -> &dyn PointModel {
+    pub(crate) fn model(&self) -> &dyn PointModel {
         self.disc.model.as_ref()
     }
 
     /// Whether each local dof is constrained.
-    pub fn constrained(&self) -> &[bool] {
+    pub(crate) fn constrained(&self) -> &[bool] {
         &self.disc.constrained
     }
 
     /// The plates, if the scene has them.
-    pub fn plates(&self) -> Option<&Plates> {
+    pub(crate) fn plates(&self) -> Option<&Plates> {
         self.contact.as_ref().map(ContactStage::plates)
     }
 
     /// The contact bounds l ≤ x ≤ u, with plates (SNES keeps them: the problem moves them with
     /// the plates).
-    pub fn bounds(&self) -> Option<(&Vector, &Vector)> {
+    pub(crate) fn bounds(&self) -> Option<(&Vector, &Vector)> {
         self.contact.as_ref().map(ContactStage::bounds)
     }
 
     /// The fixed-stress Schur approximation, for a Schur fieldsplit.
-    pub fn schur(&self) -> &Mat {
+    pub(crate) fn schur(&self) -> &Mat {
         self.schur.mat()
     }
 
     /// Whether the preconditioner uses the Schur approximation (else it is not assembled).
     /// Told once the solver is configured: the preconditioner is read from the options by the
     /// time stepper, which holds the problem.
-    pub fn set_schur_used(&mut self, used: bool) {
+    pub(crate) fn set_schur_used(&mut self, used: bool) {
         self.schur.set_used(used);
     }
 
     /// Wall-clock totals of the residual, the Jacobian and the qp-state commits.
-    pub fn timers(&self) -> Timers {
+    pub(crate) fn timers(&self) -> Timers {
         self.timers
     }
 
     /// The pressure stabilisation the assembly uses.
-    pub fn stabilisation(&self) -> Stabilisation {
+    pub(crate) fn stabilisation(&self) -> Stabilisation {
         self.disc.stab
     }
 
     /// Scales the model's gravity (settling ramps it up).
-    pub fn set_gravity_factor(&mut self, factor: f64) {
+    pub(crate) fn set_gravity_factor(&mut self, factor: f64) {
         self.disc.model.set_gravity_factor(factor);
     }
 
     /// Whether the model keeps qp state (remodelling).
-    pub fn has_qp_state(&self) -> bool {
+    pub(crate) fn has_qp_state(&self) -> bool {
         !self.disc.qp_state.is_empty()
     }
 
     /// Holds the qp state at its committed value in the steps solved (settling before t = 0,
     /// where B_p(X, 0⁻) = I holds by definition), or lets it evolve.
-    pub fn freeze_qp_state(&mut self, frozen: bool) {
+    pub(crate) fn freeze_qp_state(&mut self, frozen: bool) {
         self.disc.evolve = !frozen;
     }
 
     /// Values of committed qp state per element (0 without).
-    pub fn qp_state_per_elem(&self) -> usize {
+    pub(crate) fn qp_state_per_elem(&self) -> usize {
         self.disc.qp_state.element(0).len()
     }
 
     /// The committed qp state of the local elements, by original element id.
-    pub fn qp_state_by_original(&self) -> impl Iterator<Item = (u32, &[f64])> {
+    pub(crate) fn qp_state_by_original(&self) -> impl Iterator<Item = (u32, &[f64])> {
         self.disc.qp_state.export(&self.disc.mesh.cell_original)
     }
 
     /// Sets the committed qp state from all elements' values by original id
     /// ([`Self::qp_state_per_elem`] per element).
-    pub fn set_qp_state_by_original(&mut self, values: &[f64]) -> Result<()> {
+    pub(crate) fn set_qp_state_by_original(&mut self, values: &[f64]) -> Result<()> {
         let per_elem = self.qp_state_per_elem();
         if per_elem == 0 {
             return Ok(());
@@ -244,13 +244,13 @@ impl PoroProblem {
     }
 
     /// Scale of a u row of the Jacobian (for rows replaced by the identity).
-    pub fn u_row_scale(&self) -> f64 {
+    pub(crate) fn u_row_scale(&self) -> f64 {
         self.rows.scales(self.disc.model.as_ref(), 0.0).0
     }
 
     /// Sets the velocity the predictor of the next steps extrapolates with (copied; None: the
     /// previous state, as after a loading kink). Only the plates' predictor uses it.
-    pub fn set_extrapolation(&mut self, velocity: Option<&Vector>) -> Result<()> {
+    pub(crate) fn set_extrapolation(&mut self, velocity: Option<&Vector>) -> Result<()> {
         match &mut self.contact {
             Some(c) => c.set_extrapolation(velocity),
             None => Ok(()),
@@ -259,12 +259,12 @@ impl PoroProblem {
 
     /// The state whose gaps set the last step's drainage (local layout), if not its solution:
     /// the predictor's, with `DrainageGap::Predicted`.
-    pub fn drainage_gaps(&self) -> Option<&[f64]> {
+    pub(crate) fn drainage_gaps(&self) -> Option<&[f64]> {
         self.contact.as_ref().and_then(ContactStage::drainage_gaps)
     }
 
     /// Local copy (owned + ghost) of a global vector, for post-processing.
-    pub fn localize(&mut self, u: &Vector) -> Result<Vec<f64>> {
+    pub(crate) fn localize(&mut self, u: &Vector) -> Result<Vec<f64>> {
         self.local.load_u(u)?;
         self.local.u()
     }
@@ -280,7 +280,14 @@ impl PoroProblem {
     /// Residual of the current step at (t, U, U̇) with step size dt: the element loop, the
     /// surface tension, the drainage through the surface off the plates, the external loads,
     /// and the constraint rows s (U_i − g_i).
-    pub fn assemble_residual(&mut self, t: f64, dt: f64, u: &Vector, udot: &Vector, f: &mut Vector) -> Result<()> {
+    pub(crate) fn assemble_residual(
+        &mut self,
+        t: f64,
+        dt: f64,
+        u: &Vector,
+        udot: &Vector,
+        f: &mut Vector,
+    ) -> Result<()> {
         let t0 = Instant::now();
         self.local.load(u, udot)?;
         let r = self.residual_with(t, dt, f);
@@ -323,7 +330,7 @@ impl PoroProblem {
     /// Jacobian dF/dU + shift dF/dU̇ into `jac`, and the Schur approximation if the
     /// preconditioner uses it: the element loop (see `insertion`), the surface tension's face
     /// blocks, the drainage rows, and the constraint rows on the diagonal.
-    pub fn assemble_jacobian(
+    pub(crate) fn assemble_jacobian(
         &mut self,
         t: f64,
         dt: f64,
@@ -387,7 +394,7 @@ impl PoroProblem {
 impl PoroProblem {
     /// Reactions (the surface tension's included), their pressure part and cell fields at the
     /// state (U, U̇) at time t after a step of size dt.
-    pub fn post_process(&mut self, t: f64, dt: f64, u: &Vector, udot: &Vector) -> Result<Post> {
+    pub(crate) fn post_process(&mut self, t: f64, dt: f64, u: &Vector, udot: &Vector) -> Result<Post> {
         self.local.load(u, udot)?;
         let mut post = Post::new(self.local.u()?, self.disc.mesh.cells.len());
         let planes = self.plate_planes(t);
@@ -506,7 +513,7 @@ impl PoroProblem {
 }
 
 /// The backward-Euler rate (u − prev) / dt of a step.
-pub fn backward_euler_rate(u: &Vector, prev: &Vector, dt: f64) -> Result<Vector> {
+pub(crate) fn backward_euler_rate(u: &Vector, prev: &Vector, dt: f64) -> Result<Vector> {
     let mut r = u.copy()?;
     r.axpy(-1.0, prev)?;
     r.scale(1.0 / dt)?;

@@ -5,35 +5,35 @@
 use crate::fem::kernel::ElementPost;
 
 /// Post-processing of a converged state.
-pub struct Post {
+pub(crate) struct Post {
     /// The state, owned + ghost entries (local layout).
-    pub local: Vec<f64>,
+    pub(crate) local: Vec<f64>,
     /// Raw residual — internal minus external forces on u rows, mass balance on p rows — with
     /// no constraint rows: the reactions of constrained and contact dofs. Owned entries.
-    pub reaction: Vec<f64>,
+    pub(crate) reaction: Vec<f64>,
     /// The pressure part of the u-row reactions (p entries zero). Owned entries.
-    pub reaction_pressure: Vec<f64>,
+    pub(crate) reaction_pressure: Vec<f64>,
     /// Per local element: J, porosity, von Mises, Darcy flux (3 per element).
-    pub cell_j: Vec<f64>,
-    pub cell_porosity: Vec<f64>,
-    pub cell_von_mises: Vec<f64>,
-    pub cell_darcy: Vec<f64>,
+    pub(crate) cell_j: Vec<f64>,
+    pub(crate) cell_porosity: Vec<f64>,
+    pub(crate) cell_von_mises: Vec<f64>,
+    pub(crate) cell_darcy: Vec<f64>,
     /// Per local element: mean ‖E_p‖ (empty without qp state).
-    pub cell_norm_ep: Vec<f64>,
+    pub(crate) cell_norm_ep: Vec<f64>,
     /// Σ over local elements of ∫ J dV.
-    pub volume_j: f64,
+    pub(crate) volume_j: f64,
     /// Σ over local elements of ∫ dV, ∫ σ_sc dV and ∫ ‖E_p‖ dV.
-    pub volume: f64,
-    pub int_cauchy: [[f64; 3]; 3],
-    pub int_norm_ep: f64,
+    pub(crate) volume: f64,
+    pub(crate) int_cauchy: [[f64; 3]; 3],
+    pub(crate) int_norm_ep: f64,
     /// Largest von Mises stress, ‖E_p‖ and |det B_p − 1| at the local quadrature points.
-    pub max_von_mises: f64,
-    pub max_norm_ep: f64,
-    pub max_det_bp_dev: f64,
+    pub(crate) max_von_mises: f64,
+    pub(crate) max_norm_ep: f64,
+    pub(crate) max_det_bp_dev: f64,
     /// The adhesion's pull on the [lower, upper] plate, this rank's faces (nN; 0 without
     /// adhesion): a force on the plates besides the contact reactions
     /// (`SurfaceTension::plate_pull`).
-    pub adhesion_pull: [f64; 2],
+    pub(crate) adhesion_pull: [f64; 2],
 }
 
 impl Post {

@@ -14,27 +14,27 @@ pub(super) struct SchurApprox {
 impl SchurApprox {
     /// The approximation in `mat` (preallocated on the owned vertices), assembled until the
     /// solver says whether it uses it ([`SchurApprox::set_used`]).
-    pub fn new(mat: Mat) -> SchurApprox {
+    pub(crate) fn new(mat: Mat) -> SchurApprox {
         SchurApprox { mat, used: true }
     }
 
     /// The matrix, for the preconditioner.
-    pub fn mat(&self) -> &Mat {
+    pub(crate) fn mat(&self) -> &Mat {
         &self.mat
     }
 
     /// Whether the preconditioner reads the matrix (else it is not assembled).
-    pub fn set_used(&mut self, used: bool) {
+    pub(crate) fn set_used(&mut self, used: bool) {
         self.used = used;
     }
 
     /// The matrix for the element loop to add to, if used.
-    pub fn active(&mut self) -> Option<&mut Mat> {
+    pub(crate) fn active(&mut self) -> Option<&mut Mat> {
         self.used.then_some(&mut self.mat)
     }
 
     /// Starts an assembly.
-    pub fn zero(&mut self) -> Result<()> {
+    pub(crate) fn zero(&mut self) -> Result<()> {
         match self.active() {
             Some(m) => m.zero_entries(),
             None => Ok(()),
@@ -42,7 +42,7 @@ impl SchurApprox {
     }
 
     /// Adds `value` to the diagonal entry of global pressure row `row`.
-    pub fn add_diagonal(&mut self, row: Int, value: f64) -> Result<()> {
+    pub(crate) fn add_diagonal(&mut self, row: Int, value: f64) -> Result<()> {
         match self.active() {
             Some(m) => m.add_values(&[row], &[row], &[value]),
             None => Ok(()),
@@ -50,7 +50,7 @@ impl SchurApprox {
     }
 
     /// Ends an assembly.
-    pub fn assemble(&mut self) -> Result<()> {
+    pub(crate) fn assemble(&mut self) -> Result<()> {
         match self.active() {
             Some(m) => m.assemble(),
             None => Ok(()),

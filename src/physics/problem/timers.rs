@@ -2,11 +2,11 @@
 
 /// Wall-clock totals of the expensive callbacks.
 #[derive(Debug, Default, Clone, Copy)]
-pub struct Timers {
-    pub residual_s: f64,
-    pub residual_n: usize,
-    pub jacobian_s: f64,
-    pub jacobian_n: usize,
+pub(crate) struct Timers {
+    pub(crate) residual_s: f64,
+    pub(crate) residual_n: usize,
+    pub(crate) jacobian_s: f64,
+    pub(crate) jacobian_n: usize,
     /// Committing the qp state of accepted steps (timings.txt: `history_commit`).
-    pub qp_commit_s: f64,
+    pub(crate) qp_commit_s: f64,
 }

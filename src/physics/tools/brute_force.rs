@@ -36,13 +36,13 @@ impl Piece {
 
 /// A profile's boundary in the half-plane ρ ≥ 0, by arc length; straight parts end at depth
 /// `depth` (the plane at ρ = `depth`).
-pub struct Boundary {
+pub(crate) struct Boundary {
     pieces: Vec<Piece>,
-    pub length: f64,
+    pub(crate) length: f64,
 }
 
 impl Boundary {
-    pub fn of(profile: &Profile, depth: f64) -> Boundary {
+    pub(crate) fn of(profile: &Profile, depth: f64) -> Boundary {
         let pieces = match *profile {
             Profile::Plane => vec![Piece::Line([0.0, 0.0], [depth, 0.0])],
             Profile::Sphere { radius } => vec![Piece::Arc([0.0, 0.0], radius, -0.5 * PI, 0.5 * PI)],
@@ -64,7 +64,7 @@ impl Boundary {
     }
 
     /// The point at arc length `s` (clamped to the boundary).
-    pub fn at(&self, s: f64) -> [f64; 2] {
+    pub(crate) fn at(&self, s: f64) -> [f64; 2] {
         let mut s = s.clamp(0.0, self.length);
         for p in &self.pieces {
             let l = p.length();
@@ -79,7 +79,7 @@ impl Boundary {
 }
 
 /// Whether (ρ ≥ 0, ζ) lies strictly inside the solid, from its definition.
-pub fn inside(profile: &Profile, rho: f64, zeta: f64) -> bool {
+pub(crate) fn inside(profile: &Profile, rho: f64, zeta: f64) -> bool {
     // Outside the disc of radius r at c, in the corner it rounds (above and beside the centre).
     let cut = |c: [f64; 2], r: f64, outer: bool| {
         let beside = if outer { rho > c[0] } else { rho < c[0] };
@@ -102,7 +102,7 @@ pub fn inside(profile: &Profile, rho: f64, zeta: f64) -> bool {
 /// The least of `f` over a grid of `n` values of each parameter in `lo..hi`, refined around the
 /// `keep` best local minima of the grid's rows (the first parameter) by zooming: returns the
 /// least value and its parameters.
-pub fn minimise<const D: usize>(
+pub(crate) fn minimise<const D: usize>(
     f: impl Fn([f64; D]) -> f64,
     lo: [f64; D],
     hi: [f64; D],

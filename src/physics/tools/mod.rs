@@ -19,6 +19,6 @@ mod tool;
 #[cfg(test)]
 mod tool_tests;
 
-pub use profile::Profile;
-pub use sdf::Sdf2;
-pub use tool::{Gap, Tool};
+pub(crate) use profile::Profile;
+pub(crate) use sdf::Sdf2;
+pub(crate) use tool::{Gap, Tool};

@@ -12,7 +12,7 @@ use super::sdf::Sdf2;
 
 /// A tool's section (lengths in µm). The scene checks the dimensions (`scene::tools`).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Profile {
+pub(crate) enum Profile {
     /// The half-space ζ ≤ 0 (a plate).
     Plane,
     /// A sphere of this radius, centred at the frame's origin (an indenter, a bead).
@@ -30,7 +30,7 @@ impl Profile {
     /// section). Exact (a Euclidean distance) everywhere; the gradient and the closest point are
     /// those of one nearest point where there are several (the medial axis: the sphere's centre,
     /// the pipette's bore axis, deep inside a wall).
-    pub fn sdf(&self, rho: f64, zeta: f64) -> Sdf2 {
+    pub(crate) fn sdf(&self, rho: f64, zeta: f64) -> Sdf2 {
         let half = self.half_sdf(rho.abs(), zeta);
         if rho < 0.0 {
             half.mirrored()
@@ -40,7 +40,7 @@ impl Profile {
     }
 
     /// The largest dimension of the section (0 for the plane): a length scale for tolerances.
-    pub fn size(&self) -> f64 {
+    pub(crate) fn size(&self) -> f64 {
         match *self {
             Profile::Plane => 0.0,
             Profile::Sphere { radius } => radius,

@@ -15,15 +15,15 @@ use super::sdf::Sdf2;
 /// (0 < r ≤ h; the profile's checks ensure it).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct RoundedStrip {
-    pub rc: f64,
-    pub h: f64,
-    pub r: f64,
+    pub(crate) rc: f64,
+    pub(crate) h: f64,
+    pub(crate) r: f64,
 }
 
 impl RoundedStrip {
     /// φ, ∇φ, its Hessian and the closest point at (ρ, ζ), by zone (off the medial axis, where
     /// the closest point is unique).
-    pub fn sdf(&self, rho: f64, zeta: f64) -> Sdf2 {
+    pub(crate) fn sdf(&self, rho: f64, zeta: f64) -> Sdf2 {
         let RoundedStrip { rc, h, r } = *self;
         let d = (rho - rc).abs();
         // The side of the strip's mid-line the point is on (on it: the outer side).

@@ -5,11 +5,11 @@
 /// [[φ_ρρ, φ_ρζ], [φ_ζρ, φ_ζζ]] (the curvature of the level set: 0 on flat faces), and the
 /// closest point of the section's boundary.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sdf2 {
-    pub phi: f64,
-    pub grad: [f64; 2],
-    pub hess: [[f64; 2]; 2],
-    pub closest: [f64; 2],
+pub(crate) struct Sdf2 {
+    pub(crate) phi: f64,
+    pub(crate) grad: [f64; 2],
+    pub(crate) hess: [[f64; 2]; 2],
+    pub(crate) closest: [f64; 2],
 }
 
 impl Sdf2 {

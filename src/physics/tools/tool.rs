@@ -10,24 +10,24 @@ use crate::scene::tools::{ToolKind, ToolSpec};
 
 /// A rigid tool of revolution.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Tool {
-    pub name: String,
-    pub profile: Profile,
+pub(crate) struct Tool {
+    pub(crate) name: String,
+    pub(crate) profile: Profile,
     /// The frame's origin c at displacement 0 (the sphere's centre, the punch's face centre, the
     /// pipette's mouth centre, a point of the plane).
-    pub origin: [f64; 3],
+    pub(crate) origin: [f64; 3],
     /// The unit axis a, from the tool towards the body (the body lies at ζ > 0).
-    pub axis: [f64; 3],
+    pub(crate) axis: [f64; 3],
 }
 
 /// The signed distance at a point of space: φ, its gradient ∇φ (the unit normal of the level
 /// set, pointing away from the tool), its Hessian ∇²φ and the closest point of the tool's surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Gap {
-    pub phi: f64,
-    pub normal: [f64; 3],
-    pub hess: [[f64; 3]; 3],
-    pub closest: [f64; 3],
+pub(crate) struct Gap {
+    pub(crate) phi: f64,
+    pub(crate) normal: [f64; 3],
+    pub(crate) hess: [[f64; 3]; 3],
+    pub(crate) closest: [f64; 3],
 }
 
 /// Below this distance from the axis (relative to the tool's and the point's scale), a point is
@@ -36,7 +36,7 @@ const ON_AXIS: f64 = 1e-12;
 
 impl Tool {
     /// A tool with the axis along `axis` (any non-zero vector: normalised).
-    pub fn new(name: &str, profile: Profile, origin: [f64; 3], axis: [f64; 3]) -> Tool {
+    pub(crate) fn new(name: &str, profile: Profile, origin: [f64; 3], axis: [f64; 3]) -> Tool {
         let n = dot(axis, axis).sqrt();
         debug_assert!(n > 0.0, "tool {name}: zero axis");
         Tool { name: name.to_string(), profile, origin, axis: axis.map(|c| c / n) }
@@ -44,7 +44,7 @@ impl Tool {
 
     /// The tool a scene's `[[tools]]` entry describes; a malformed one is an error naming the
     /// key, with `context` (the scene file) as its path.
-    pub fn from_spec(spec: &ToolSpec, context: &str) -> Result<Tool> {
+    pub(crate) fn from_spec(spec: &ToolSpec, context: &str) -> Result<Tool> {
         spec.check_shape().map_err(|msg| Error::Scene { path: context.to_string(), msg })?;
         // Given, as the kind needs them (checked above).
         let dim = |v: Option<f64>| v.unwrap_or(f64::NAN);
@@ -60,7 +60,7 @@ impl Tool {
     }
 
     /// The frame's origin at the tool's position `d` along its axis: c = origin + d a.
-    pub fn centre(&self, d: f64) -> [f64; 3] {
+    pub(crate) fn centre(&self, d: f64) -> [f64; 3] {
         std::array::from_fn(|i| self.origin[i] + d * self.axis[i])
     }
 
@@ -68,7 +68,7 @@ impl Tool {
     /// ∇²φ = φ_ρρ e_ρe_ρ + φ_ρζ (e_ρa + ae_ρ) + φ_ζζ aa + (φ_ρ / ρ) e_θe_θ, the last (the hoop
     /// curvature) its limit φ_ρρ on the axis, where the profiles are smooth or, in the
     /// pipette's bore, far from any contact (there only φ means anything).
-    pub fn gap(&self, x: [f64; 3], d: f64) -> Gap {
+    pub(crate) fn gap(&self, x: [f64; 3], d: f64) -> Gap {
         let c = self.centre(d);
         let a = self.axis;
         let v: [f64; 3] = std::array::from_fn(|i| x[i] - c[i]);
@@ -98,13 +98,13 @@ impl Tool {
     }
 
     /// The closest point of the tool's surface to `x` (the tool at `d`): x − φ ∇φ.
-    pub fn project(&self, x: [f64; 3], d: f64) -> [f64; 3] {
+    pub(crate) fn project(&self, x: [f64; 3], d: f64) -> [f64; 3] {
         self.gap(x, d).closest
     }
 
     /// Whether the tool lies on the z axis, as a meridian (r, z) model needs: axis ±e_z, origin
     /// (0, 0, z) (the scene's checks refuse others on a meridian mesh).
-    pub fn on_z_axis(&self) -> bool {
+    pub(crate) fn on_z_axis(&self) -> bool {
         let [ax, ay, _] = self.axis;
         let [ox, oy, _] = self.origin;
         ax == 0.0 && ay == 0.0 && ox == 0.0 && oy == 0.0
@@ -113,7 +113,7 @@ impl Tool {
     /// The signed distance at (r, z) of a meridian model, the tool (on the z axis) at `d`:
     /// ρ = r, ζ = σ (z − c_z) with a = σ e_z, so ∇φ = (φ_ρ, σ φ_ζ) and the Hessian's mixed
     /// term has the sign σ; no hoop term (u_θ ≡ 0). At r = 0 every profile gives ∇φ = ±e_z.
-    pub fn meridian(&self, rz: [f64; 2], d: f64) -> Sdf2 {
+    pub(crate) fn meridian(&self, rz: [f64; 2], d: f64) -> Sdf2 {
         debug_assert!(self.on_z_axis(), "tool {} off the axis in a meridian model", self.name);
         let sigma = self.axis[2];
         let cz = self.centre(d)[2];

@@ -41,7 +41,7 @@ mod tests {
     /// The smallest eigenvalue of Q(N) over 1000 directions N: negative where the law has lost
     /// strong ellipticity. Any law; it can miss a loss by a thin margin (the minimising N is a
     /// principal axis, generally not on the lattice).
-    pub fn min_acoustic_eigenvalue(a: &Tangent) -> f64 {
+    pub(crate) fn min_acoustic_eigenvalue(a: &Tangent) -> f64 {
         directions(1000).map(|n| acoustic_tensor(a, &n).symmetric_eigenvalues().min()).fold(f64::INFINITY, f64::min)
     }
 
@@ -51,7 +51,7 @@ mod tests {
     /// α1 + α2 (c_mid + c_max) undecided: None there, since a longitudinal mode can go before the
     /// shear (test `negative_alpha2_gap_is_real`; with α3 = 1, as (56) gives, none was seen to).
     /// None also when C_e is not finite or not positive definite.
-    pub fn is_strongly_elliptic(law: &HolmesMow, c_e: &Matrix3<f64>) -> Option<bool> {
+    pub(crate) fn is_strongly_elliptic(law: &HolmesMow, c_e: &Matrix3<f64>) -> Option<bool> {
         // The eigen-solver iterates without bound on NaN: check first.
         if !c_e.iter().all(|x| x.is_finite()) {
             return None;
