@@ -29,7 +29,7 @@ use crate::observe::verification::exact_columns;
 use crate::parallel::{agree, broadcast_vec, on_root};
 use crate::petsc::{DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
-use crate::physics::contact::{Drainage, PlateLoading, Plates, DEFAULT_SEAL_GAP};
+use crate::physics::contact::{Drainage, PlateLoading, Plates};
 use crate::physics::factory::{ellipticity_warning, model_of};
 use crate::physics::problem::{PoroProblem, ProblemParts};
 use crate::physics::surface_tension::{Adhesion, SurfaceTension};
@@ -186,7 +186,11 @@ fn plates(
         beta_max,
         // The paper's slightly permeable plates: a Robin outflow k_β / L through the contact area.
         beta_plate: ps.permeability.zip(ps.thickness).map_or(0.0, |(k, l)| k / l),
-        seal_gap: ps.seal_gap.unwrap_or(DEFAULT_SEAL_GAP * radius),
+        // Filled in when the scene is loaded (`PlatesSpec::resolve`).
+        seal_gap: ps.seal_gap.ok_or_else(|| Error::Scene {
+            path: scene.source.clone(),
+            msg: "plates.seal_gap was not resolved".into(),
+        })?,
         gap: ps.drainage_gap,
     };
     let plates = Plates::new(loading, radius, local, &faces, anchor, drain, scene.scene.fem.equal_order());
@@ -248,13 +252,13 @@ fn schedule(scene: &LoadedScene, kinks: Vec<f64>) -> Schedule {
         t_end: t.t_end,
         // Given steps: each nominal step reaches the next landing time.
         dt0: if replay { f64::INFINITY } else { t.dt },
-        dt_max: t.dt_max.unwrap_or(t.t_end),
+        dt_max: t.dt_max(),
         growth: t.growth,
         land_on: t.land_on.iter().chain(&o.fields_at).chain(&t.steps).copied().collect(),
         kinks,
         cap: t.dt_max_ramp.zip(scene.scene.plates.as_ref()).map(|(m, p)| (p.protocol().ramp, m)),
         tol: t.error_tolerance.filter(|_| !replay),
-        dt_min: t.dt_min.unwrap_or(1e-6 * t.dt),
+        dt_min: t.dt_min(),
         replay,
     }
 }

@@ -43,7 +43,6 @@
 use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
-pub(crate) use crate::scene::plates::DEFAULT_SEAL_GAP;
 pub(crate) use crate::scene::DrainageGap;
 
 /// Lower-plate displacement u(t): linear between the points (t, u) of the plate's path, from

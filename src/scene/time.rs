@@ -110,7 +110,20 @@ pub(crate) struct InitialSpec {
     pub(crate) displacement_gradient: [[f64; 3]; 3],
 }
 
+/// The smallest step, relative to `dt`, when `time.dt_min` is not given.
+pub(crate) const DT_MIN_RELATIVE: f64 = 1e-6;
+
 impl TimeSpec {
+    /// The smallest step a failed solve may cut to: `dt_min`, or [`DT_MIN_RELATIVE`] dt.
+    pub(crate) fn dt_min(&self) -> f64 {
+        self.dt_min.unwrap_or(DT_MIN_RELATIVE * self.dt)
+    }
+
+    /// The largest step: `dt_max`, or the run's length (no cap).
+    pub(crate) fn dt_max(&self) -> f64 {
+        self.dt_max.unwrap_or(self.t_end)
+    }
+
     /// Positive steps and end time, growth >= 1, landing times (and `fields_at`) inside the
     /// run; a ramp cap only with plates (`plates`: the scene has them).
     pub(super) fn validate(&self, fields_at: &[f64], plates: bool) -> Result<(), String> {
@@ -300,3 +313,22 @@ pub(super) const INITIAL_SECTION: Section = Section {
     about: "The state at t = 0 (default: undeformed, p = 0).",
     keys: &[DISPLACEMENT_GRADIENT],
 };
+
+#[cfg(test)]
+mod tests {
+    use super::super::key::Unset;
+
+    #[test]
+    fn the_step_bounds_keys_state_the_defaults() {
+        // The key texts are &'static str: they cannot be formatted from the constants, so they are held to them.
+        let Unset::Absent(text) = super::DT_MIN.default else { panic!("time.dt_min: its default should be stated") };
+        let relative = text.strip_suffix(" dt").and_then(|f| f.parse::<f64>().ok());
+        assert_eq!(relative, Some(super::DT_MIN_RELATIVE), "time.dt_min's text: {text}");
+        let Unset::Absent(text) = super::DT_MAX.default else { panic!("time.dt_max: its default should be stated") };
+        assert_eq!(text, "no cap");
+        let time: super::TimeSpec = toml::from_str("dt = 0.5\nt_end = 40.0").unwrap();
+        assert_eq!((time.dt_min(), time.dt_max()), (0.5e-6, 40.0));
+        let time: super::TimeSpec = toml::from_str("dt = 0.5\nt_end = 40.0\ndt_min = 1e-3\ndt_max = 2.0").unwrap();
+        assert_eq!((time.dt_min(), time.dt_max()), (1e-3, 2.0));
+    }
+}
