@@ -54,7 +54,7 @@ def enum_defaults(sources):
     `rename_all` (snake_case or lowercase)."""
     out = {}
     for text in sources.values():
-        for m in re.finditer(r"((?:#\[[^\]]*\]\s*)*)pub enum (\w+)\s*\{(.*?)\n\}", text, re.S):
+        for m in re.finditer(r"((?:#\[[^\]]*\]\s*)*)pub(?:\(crate\))? enum (\w+)\s*\{(.*?)\n\}", text, re.S):
             attrs, name, body = m.groups()
             d = re.search(r"#\[default\]\s*((?:#\[[^\]]*\]\s*|///[^\n]*\n\s*)*)(\w+)", body)
             if d is None:
@@ -80,7 +80,7 @@ def enum_fields(sources, enums):
     for path, text in sources.items():
         if "scene" not in path.parts:
             continue
-        for field, ty in re.findall(r"pub (\w+): (\w+),", text):
+        for field, ty in re.findall(r"pub(?:\(crate\))? (\w+): (\w+),", text):
             if ty in enums:
                 out[field] = ty
     return out
