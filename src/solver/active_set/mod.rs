@@ -16,10 +16,14 @@
 //!
 //! The files: the solver and its Newton loop (`newton`); `convergence` the tests that stop
 //! it; `bounds` the bounds and the active-set split; `reuse` the decisions to reuse an operator or
-//! preconditioner ([`Lag`]).
+//! preconditioner ([`Lag`]); `frames` the per-node rotated frames of contact on curved tools
+//! (issue 53, not yet wired in).
 
 mod bounds;
 mod convergence;
+mod frames;
+#[cfg(test)]
+mod frames_tests;
 mod newton;
 mod reuse;
 
