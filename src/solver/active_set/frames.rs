@@ -74,13 +74,13 @@ impl Frame {
     }
 
     /// v ← Qᵀ v on the nc entries of `v` (Cartesian to rotated components).
-    pub(crate) fn to_frame(&self, v: &mut [f64]) {
+    pub(crate) fn frame_components(&self, v: &mut [f64]) {
         let w: [f64; 3] = std::array::from_fn(|j| (0..self.nc).map(|i| self.q[i][j] * v[i]).sum());
         v[..self.nc].copy_from_slice(&w[..self.nc]);
     }
 
     /// v ← Q v on the nc entries of `v` (rotated to Cartesian components).
-    pub(crate) fn from_frame(&self, v: &mut [f64]) {
+    pub(crate) fn cartesian_components(&self, v: &mut [f64]) {
         let w: [f64; 3] = std::array::from_fn(|i| (0..self.nc).map(|j| self.q[i][j] * v[j]).sum());
         v[..self.nc].copy_from_slice(&w[..self.nc]);
     }
@@ -170,7 +170,7 @@ impl FrameIndex {
                     let len = block.ia[r + 1] as usize - starts[0];
                     for k in 0..len {
                         let mut v: [f64; 3] = std::array::from_fn(|c| block.vals[starts[c] + k]);
-                        f.to_frame(&mut v);
+                        f.frame_components(&mut v);
                         for c in 0..nc {
                             block.vals[starts[c] + k] = v[c];
                         }
@@ -186,7 +186,7 @@ impl FrameIndex {
                         None => continue,
                     },
                 };
-                f.to_frame(seg);
+                f.frame_components(seg);
             }
         }
     }
@@ -244,9 +244,9 @@ pub(crate) fn rotate_owned(v: &mut [f64], framed: &[(usize, Frame)], back: bool)
         let nc = f.components();
         let u = &mut v[nc * n..nc * n + nc];
         if back {
-            f.from_frame(u)
+            f.cartesian_components(u)
         } else {
-            f.to_frame(u)
+            f.frame_components(u)
         }
     }
 }
