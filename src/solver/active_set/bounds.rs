@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::petsc::{Int, Vector};
 
 /// PETSc's vinewtonrsls tolerance for "at the bound" (absolute, in the unknowns' units).
-const AT_BOUND: f64 = 1e-8;
+pub(super) const AT_BOUND: f64 = 1e-8;
 
 /// Size of the symmetric difference of two ascending index lists.
 pub(super) fn symmetric_difference(a: &[Int], b: &[Int]) -> usize {

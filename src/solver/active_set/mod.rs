@@ -16,10 +16,11 @@
 //!
 //! The files: the solver and its Newton loop (`newton`); `convergence` the tests that stop
 //! it; `bounds` the bounds and the active-set split; `reuse` the decisions to reuse an operator or
-//! preconditioner ([`Lag`]); `frames` the per-node rotated frames of contact on curved tools
-//! (issue 53, not yet wired in).
+//! preconditioner ([`Lag`]); `frames` the per-node rotated frames of contact on curved tools and
+//! `contact` a node's split and curvature in its frame (issue 53, not yet wired in).
 
 mod bounds;
+mod contact;
 mod convergence;
 mod frames;
 #[cfg(test)]
