@@ -33,6 +33,7 @@ use crate::physics::contact::{Drainage, PlateLoading, Plates};
 use crate::physics::factory::{ellipticity_warning, model_of};
 use crate::physics::problem::{PoroProblem, ProblemParts};
 use crate::physics::surface_tension::{Adhesion, SurfaceTension};
+use crate::physics::tools::{Tool, ToolSet};
 use crate::reference_cell::Family;
 use crate::scene::LoadedScene;
 use crate::solver;
@@ -148,6 +149,37 @@ fn held(world: &SimpleCommunicator, scene: &LoadedScene, local: &LocalMesh, cons
             free[0]
         ),
     })
+}
+
+/// The scene's tools and the surface nodes that can touch them (None without tools): nodes
+/// within two mean cell sizes of a tool get a frame.
+fn tools(
+    world: &SimpleCommunicator,
+    scene: &LoadedScene,
+    local: &LocalMesh,
+    dofs: &DofMap,
+    cons: &[Constraint],
+) -> Result<Option<ToolSet>> {
+    let s = &scene.scene;
+    if s.tools.is_empty() {
+        return Ok(None);
+    }
+    let ctx = format!("{}: [[tools]]", scene.source);
+    let mut faces: Vec<u32> = Vec::new();
+    let (mut tools, mut paths) = (Vec::new(), Vec::new());
+    for spec in &s.tools {
+        faces.extend_from_slice(agree(world, bc::face_group(local, &spec.group, &ctx))?);
+        tools.push(Tool::from_spec(spec, &ctx)?);
+        paths.push(PlateLoading::table(spec.path()));
+    }
+    faces.sort_unstable();
+    faces.dedup();
+    let mut constrained = vec![false; dofs.n_local()];
+    for c in cons {
+        constrained[c.local] = true;
+    }
+    let band = 2.0 * local.mean_size(world);
+    Ok(Some(ToolSet::new(tools, paths, local, dofs, &faces, s.fem.equal_order(), &constrained, band)))
 }
 
 /// The plates and the surface faces that can touch them (also the experiment's).
@@ -305,7 +337,7 @@ pub(super) fn setup<'w>(
     let _stage = Stage::register("Setup")?.push();
     let comm = world.as_raw();
     let s = &scene.scene;
-    if s.plates.is_some() {
+    if s.plates.is_some() || !s.tools.is_empty() {
         solver::set_contact_defaults()?;
     }
     let Distributed { local, path: mesh_path, layout } = distribute_mesh(world, scene)?;
@@ -320,6 +352,7 @@ pub(super) fn setup<'w>(
     };
     let (cons, ext, free_modes) = constraints(world, scene, &local, &dofs)?;
     let (plates, plate_faces) = plates(world, scene, &local, model.as_ref())?.unzip();
+    let tools = tools(world, scene, &local, &dofs, &cons)?;
     let surface = surface_tension(world, scene, &local)?;
     let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
 
@@ -335,7 +368,7 @@ pub(super) fn setup<'w>(
     let fade = stabilisation_fade(s, &mut solver_line).map(|tau0| Fade { tau0, dt0: s.time.dt, steps });
     let stab = Stabilisation::new(c, fade, model.as_ref());
     let tab = tabulate_cell(local.family, &q);
-    let kinks = plates.iter().flat_map(|p| p.loading.kinks()).collect();
+    let kinks = plates.iter().flat_map(|p| p.loading.kinks()).chain(tools.iter().flat_map(ToolSet::kinks)).collect();
     let parts = ProblemParts {
         mesh: local,
         dofs,
@@ -348,6 +381,7 @@ pub(super) fn setup<'w>(
         loads: ext,
         surface,
         plates,
+        tools,
         schur,
     };
     let problem = PoroProblem::new(world.duplicate(), parts, &u)?;
@@ -365,7 +399,12 @@ pub(super) fn setup<'w>(
     // The preconditioner is read from the options by the time stepper, which holds the problem:
     // only now is it known whether it uses the Schur approximation.
     let schur_used = solver::configure(world, &mut ts, &policy, free_modes, &mut solver_line, |p| {
-        solver::ProblemView { bounds: p.bounds(), u_row_scale: p.u_row_scale(), schur: p.schur() }
+        solver::ProblemView {
+            bounds: p.bounds(),
+            u_row_scale: p.u_row_scale(),
+            schur: p.schur(),
+            curved: p.curved_contact(),
+        }
     })?;
     ts.problem_mut().set_schur_used(schur_used);
 
@@ -381,6 +420,7 @@ pub(super) fn setup<'w>(
     let observers = Observers {
         probes,
         experiment,
+        tools: s.tools.iter().map(|t| t.name.clone()).collect(),
         exact: exact_columns(scene)?,
         remodelling: ts.problem().has_qp_state(),
         fields: s.output.fields,

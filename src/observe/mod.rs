@@ -12,4 +12,5 @@ pub(crate) mod observers;
 pub(crate) mod pressure_peak;
 pub(crate) mod probe;
 pub(crate) mod remodelling_summary;
+pub(crate) mod tools;
 pub(crate) mod verification;

@@ -9,9 +9,10 @@ use super::experiment::{self, Experiment};
 use super::pressure_peak::PressurePeak;
 use super::probe::Probe;
 use super::remodelling_summary;
+use super::tools;
 use super::verification::{exact_columns, Exact};
 use crate::error::Result;
-use crate::io::recorder::{Column, Declared, Observed, StepFields};
+use crate::io::recorder::{Column, ColumnKind, Declared, Observed, StepFields};
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::Vector;
 use crate::physics::problem::{backward_euler_rate, PoroProblem, Post};
@@ -24,6 +25,8 @@ pub(crate) struct Observers {
     pub(crate) probes: Vec<Probe>,
     /// The plates experiment's observables, if the scene has plates.
     pub(crate) experiment: Option<Experiment>,
+    /// The names of the scene's tools (their columns: `observe::tools`).
+    pub(crate) tools: Vec<String>,
     /// Exact-solution columns of a verification scene.
     pub(crate) exact: Vec<Exact>,
     /// Whether the model keeps qp state (remodelling): its summary is recorded.
@@ -59,6 +62,7 @@ impl Observers {
     pub(crate) fn columns(&self) -> Vec<Column> {
         observed_columns(
             self.experiment.is_some(),
+            self.tools.iter().map(String::as_str),
             self.remodelling,
             self.probes.iter().map(|p| p.name.as_str()).chain(self.exact.iter().map(|e| e.doc.name)),
         )
@@ -89,7 +93,7 @@ impl Observers {
         dt: f64,
         fields: bool,
     ) -> Result<Sample> {
-        if self.experiment.is_some() || (fields && self.fields) || self.remodelling {
+        if self.experiment.is_some() || !self.tools.is_empty() || (fields && self.fields) || self.remodelling {
             let dt_eff = if dt > 0.0 { dt } else { 1.0 };
             let udot = backward_euler_rate(u, prev, dt_eff)?;
             Ok(Sample::Post(Box::new(problem.post_process(t, dt_eff, u, &udot)?)))
@@ -126,6 +130,9 @@ impl Observers {
         if let Some(o) = &obs {
             values.extend(o.values());
         }
+        if let (Some(post), Some(set)) = (post, problem.tools()) {
+            values.extend(tools::read(t, &set, dofs, local, &post.reaction, world));
+        }
         if let (Some(post), true) = (post, self.remodelling) {
             let summary = remodelling_summary::observe(post, world);
             values.extend(Declared::row(&remodelling_summary::COLUMNS, &summary));
@@ -154,13 +161,23 @@ impl Observers {
     }
 }
 
-/// The observed columns, in order: the experiment's (with plates), the remodelling summary's
-/// (with qp state), then `named` (the probes', then the exact solutions').
-fn observed_columns<'a>(plates: bool, remodelling: bool, named: impl Iterator<Item = &'a str>) -> Vec<Column> {
+/// The observed columns, in order: the experiment's (with plates), the tools' (five per tool),
+/// the remodelling summary's (with qp state), then `named` (the probes', then the exact
+/// solutions').
+fn observed_columns<'a>(
+    plates: bool,
+    tool_names: impl Iterator<Item = &'a str>,
+    remodelling: bool,
+    named: impl Iterator<Item = &'a str>,
+) -> Vec<Column> {
     let mut cols = Vec::new();
     if plates {
         cols.extend(experiment::columns().map(|(doc, kind)| Column::of(doc, kind)));
     }
+    cols.extend(tools::column_names(tool_names).into_iter().map(|name| {
+        let kind = if name.ends_with("_contact_nodes") { ColumnKind::Integer } else { ColumnKind::Real };
+        Column { name, kind }
+    }));
     if remodelling {
         cols.extend(Declared::header(&remodelling_summary::COLUMNS));
     }
@@ -176,7 +193,7 @@ pub fn history_column_names(scene: &LoadedScene) -> Result<Vec<String>> {
     let remodelling = s.material.mixture().is_some_and(|m| m.remodelling.is_some());
     let exact = exact_columns(scene)?;
     let named = s.probe.iter().map(|p| p.name.as_str()).chain(exact.iter().map(|e| e.doc.name));
-    let observed = observed_columns(s.plates.is_some(), remodelling, named);
+    let observed = observed_columns(s.plates.is_some(), s.tools.iter().map(|t| t.name.as_str()), remodelling, named);
     Ok(crate::io::recorder::history_columns(&observed).into_iter().map(|c| c.name).collect())
 }
 

@@ -9,6 +9,7 @@ use super::numerics;
 use super::observe;
 use super::plates;
 use super::surface;
+use super::tools;
 use super::time;
 
 /// Every section, in the order of a scene file.
@@ -28,6 +29,7 @@ pub(crate) fn sections() -> Vec<Section> {
         observe::PROBE_SECTION,
         observe::VERIFICATION_SECTION,
         plates::SECTION,
+        tools::SECTION,
         surface::SECTION,
         numerics::SOLVER_SECTION,
         numerics::FEM_SECTION,

@@ -7,6 +7,7 @@ use super::numerics::{FemSpec, SolverSpec};
 use super::observe::{Probe, Verification};
 use super::plates::PlatesSpec;
 use super::surface::SurfaceSpec;
+use super::tools::ToolSpec;
 use super::time::{InitialSpec, OutputSpec, TimeSpec};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -34,6 +35,9 @@ pub(crate) struct Scene {
     /// Rigid plates squeezing the aggregate (contact, drainage, loading).
     #[serde(default)]
     pub(crate) plates: Option<PlatesSpec>,
+    /// Rigid tools of revolution (an indenter, a pipette, planes), with exact frictionless contact.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(crate) tools: Vec<ToolSpec>,
     /// Surface tension of the aggregate's boundary.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(crate) surface: Option<SurfaceSpec>,

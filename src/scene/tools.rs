@@ -1,13 +1,7 @@
 //! `[[tools]]`: rigid tools of revolution (a plane, a sphere, a flat punch, a micropipette),
-//! their names, shapes and placement; their keys and checks.
-//!
-//! Not yet a section of a scene (issue 53, stage a): the contact does not use tools yet, so
-//! `Scene` has no `tools` field and a scene with `[[tools]]` is refused like any unknown key,
-//! and the scene reference does not list these keys; the geometry they describe is
-//! `physics::tools`, which builds a tool from a checked [`ToolSpec`].
-
-// Wired into the scene in stage b (issue 53): until then only the tests use it.
-#![allow(dead_code)]
+//! their names, shapes, placement, the surface they touch and their displacement protocol;
+//! their keys and checks. The geometry they describe is `physics::tools`, which builds a tool
+//! from a checked [`ToolSpec`].
 
 use super::key::{Key, Section, Unset};
 use super::mesh::Geometry;
@@ -41,6 +35,31 @@ pub(crate) struct ToolSpec {
     pub(crate) origin: [f64; 3],
     /// The axis of revolution, from the tool towards the body (normalised when read).
     pub(crate) axis: [f64; 3],
+    /// The body's surface group that can touch the tool.
+    #[serde(default = "default_group")]
+    pub(crate) group: String,
+    /// The tool's displacement along its axis against time: rows {t, displacement}, linear
+    /// between them, held after the last (empty: held at 0).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(crate) protocol: Vec<ProtocolRow>,
+}
+
+fn default_group() -> String {
+    "surface".into()
+}
+
+/// One row of a tool's protocol.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ProtocolRow {
+    /// Time (s).
+    pub(crate) t: f64,
+    /// The displacement along the axis (µm), towards the body positive.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) displacement: Option<f64>,
+    /// The force on the tool (µN): force control.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) force: Option<f64>,
 }
 
 /// The shape of a tool's profile.
@@ -131,6 +150,7 @@ impl ToolSpec {
         for (i, x) in self.axis.iter().enumerate() {
             AXIS.check_as(&format!("{label}: tools.axis[{i}]"), *x)?;
         }
+        self.check_protocol(&label)?;
         let n = norm(self.axis);
         if !(n > 0.0 && n.is_finite()) {
             return Err(format!(
@@ -140,6 +160,45 @@ impl ToolSpec {
             ));
         }
         Ok(())
+    }
+
+    /// The protocol: displacement rows (force control of a tool is not available yet), finite,
+    /// at increasing times from t ≥ 0.
+    fn check_protocol(&self, label: &str) -> Result<(), String> {
+        for (i, row) in self.protocol.iter().enumerate() {
+            let n = i + 1;
+            if row.force.is_some() {
+                return Err(format!(
+                    "{label}: tools.protocol row {n} gives a force: force control of a tool is not available yet \
+                     (plates only, through [plates]); give {{ t = {}, displacement = ... }} (µm)",
+                    row.t
+                ));
+            }
+            let Some(d) = row.displacement else {
+                return Err(format!("{label}: tools.protocol row {n} has no displacement: give {{ t = ..., displacement = ... }} (µm)"));
+            };
+            if !(row.t.is_finite() && row.t >= 0.0 && d.is_finite()) {
+                return Err(format!("{label}: tools.protocol row {n} = {{ t = {}, displacement = {d} }}: t ≥ 0 and finite values", row.t));
+            }
+            if i > 0 && row.t <= self.protocol[i - 1].t {
+                return Err(format!(
+                    "{label}: tools.protocol row {n} (t = {}) is not after row {i} (t = {}): rows go in increasing time",
+                    row.t,
+                    self.protocol[i - 1].t
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The displacement path as (t, d) points from (0, 0): the rows, with (0, 0) first unless a
+    /// row is at t = 0.
+    pub(crate) fn path(&self) -> Vec<(f64, f64)> {
+        let mut points: Vec<(f64, f64)> = self.protocol.iter().map(|r| (r.t, r.displacement.unwrap_or(0.0))).collect();
+        if points.first().is_none_or(|p| p.0 > 0.0) {
+            points.insert(0, (0.0, 0.0));
+        }
+        points
     }
 
     /// A rounding no larger than the corner it rounds: the punch's edge within its radius, the
@@ -274,6 +333,17 @@ const AXIS: Key = Key::new(
 .range(Range::FINITE)
 .rule("not zero; [0, 0, ±1] on a meridian mesh");
 
+const GROUP: Key =
+    Key::new("tools.group", "", Unset::Value("\"surface\""), "the body's surface group that can touch the tool");
+const PROTOCOL: Key = Key::new(
+    "tools.protocol",
+    "s, µm",
+    Unset::Value("[] (held at 0)"),
+    "the tool's displacement along its axis (towards the body positive): rows `{ t = 0.0, displacement = 0.0 }`, \
+     linear between them, held after the last",
+)
+.rule("increasing t ≥ 0; displacement rows only (force control: [plates])");
+
 /// The dimension keys, in the order of [`ToolSpec::dimension_values`].
 const DIMENSIONS: [Key; 5] = [RADIUS, EDGE_RADIUS, INNER_RADIUS, WALL, RIM_RADIUS];
 
@@ -283,7 +353,7 @@ pub(super) const SECTION: Section = Section {
     about: "Rigid tools of revolution about their own axis: a plane, a sphere, a flat punch with a rounded edge, \
             a micropipette (a tube with a rounded rim). Each is placed by its origin and its axis, which points \
             from the tool towards the body.",
-    keys: &[NAME, KIND, RADIUS, EDGE_RADIUS, INNER_RADIUS, WALL, RIM_RADIUS, ORIGIN, AXIS],
+    keys: &[NAME, KIND, RADIUS, EDGE_RADIUS, INNER_RADIUS, WALL, RIM_RADIUS, ORIGIN, AXIS, GROUP, PROTOCOL],
 };
 
 #[cfg(test)]

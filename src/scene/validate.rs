@@ -24,6 +24,7 @@ impl Scene {
         if let Some(p) = &self.plates {
             p.validate(self.time.t_end, notes)?;
         }
+        super::tools::validate(&self.tools, self.mesh.geometry, notes)?;
         if let Some(v) = &self.verification {
             v.validate()?;
         }

@@ -8,7 +8,10 @@ use super::tolerances::check_tolerances;
 use super::{anderson, ActiveSetNewton, FreeRigidModes, Lag, Policy};
 use crate::error::Result;
 use crate::petsc::{options, Mat, Ts, TsProblem, Vector};
+use super::active_set::CurvedContact;
 use mpi::topology::SimpleCommunicator;
+use std::cell::RefCell;
+use std::rc::Rc;
 
 /// What the solver set-up reads of the problem.
 pub(crate) struct ProblemView<'a> {
@@ -18,6 +21,8 @@ pub(crate) struct ProblemView<'a> {
     pub(crate) u_row_scale: f64,
     /// The fixed-stress Schur approximation, for a Schur fieldsplit.
     pub(crate) schur: &'a Mat,
+    /// Contact with curved tools, if the scene has tools.
+    pub(crate) curved: Option<Rc<RefCell<dyn CurvedContact>>>,
 }
 
 /// Sets up `ts`'s nonlinear solver for the problem `view` shows of it, noting in `solver_line`
@@ -35,6 +40,13 @@ pub(crate) fn configure<P: TsProblem>(
     let problem = view(ts.problem());
     if let Some((lo, hi)) = problem.bounds {
         if options::has("snes_type")? {
+            if problem.curved.is_some() {
+                return Err(crate::error::Error::Options(
+                    "-snes_type: PETSc's VI solvers take bounds on single unknowns, which cannot hold a curved \
+                     tool: leave -snes_type out with [[tools]]"
+                        .into(),
+                ));
+            }
             snes.set_vi_bounds(lo, hi)?;
             if let Some(m) = free_modes {
                 solver_line.push_str(&format!("\nrigid modes left free by the plates (not handled): {}", m.describe()));
@@ -54,6 +66,9 @@ pub(crate) fn configure<P: TsProblem>(
             let mut newton = ActiveSetNewton::new(world, lo, hi, problem.u_row_scale, lag)?;
             newton.monitor = options::has("poroplast_newton_monitor")?;
             newton.anderson = anderson::Anderson::new(anderson::anderson_depth()?);
+            if let Some(c) = problem.curved.clone() {
+                newton.set_curved(c);
+            }
             if let Some(m) = free_modes {
                 // A factorisation gets the modes locked (nonsingular, updatable); a Krylov
                 // method with AMG their null space (a point lock defeats AMG).

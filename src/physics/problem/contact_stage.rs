@@ -13,7 +13,7 @@ use crate::physics::contact::{DrainageGap, Plates};
 use crate::physics::surface_tension::PlatePlanes;
 
 /// "No bound" for SNESVI (PETSc's PETSC_INFINITY).
-const INFINITY: f64 = f64::MAX / 4.0;
+pub(super) const INFINITY: f64 = f64::MAX / 4.0;
 
 /// The plates and what the steps keep of them.
 pub(super) struct ContactStage {

@@ -12,6 +12,7 @@ mod poro_problem;
 mod post;
 mod schur;
 mod timers;
+mod tool_stage;
 
 pub(crate) use parts::ProblemParts;
 pub(crate) use poro_problem::{backward_euler_rate, ErrorScales, PoroProblem};

@@ -11,6 +11,7 @@ use crate::petsc::Mat;
 use crate::physics::bc::Constraint;
 use crate::physics::contact::Plates;
 use crate::physics::surface_tension::SurfaceTension;
+use crate::physics::tools::ToolSet;
 use crate::reference_cell::shape::MAX_NODES;
 
 /// The parts of a problem.
@@ -34,6 +35,8 @@ pub(crate) struct ProblemParts {
     pub(crate) surface: Option<SurfaceTension>,
     /// Rigid plates (contact bounds, drainage out of contact), if the scene has them.
     pub(crate) plates: Option<Plates>,
+    /// Rigid tools of revolution (exact frictionless contact in their frames), if any.
+    pub(crate) tools: Option<ToolSet>,
     /// The fixed-stress Schur approximation's matrix on the pressure space (preallocated).
     pub(crate) schur: Mat,
 }

@@ -24,6 +24,7 @@ use super::parts::ProblemParts;
 use super::post::Post;
 use super::schur::SchurApprox;
 use super::timers::Timers;
+use super::tool_stage::ToolStage;
 use crate::error::{Error, Result};
 use crate::fem::assembly::{Discretization, QpStateUse};
 use crate::fem::dofmap::DofMap;
@@ -35,8 +36,12 @@ use crate::mesh::dist::LocalMesh;
 use crate::petsc::{Int, Mat, TsProblem, TsRef, Vector};
 use crate::physics::contact::Plates;
 use crate::physics::surface_tension::{PlatePlanes, SurfaceTension};
+use crate::physics::tools::ToolSet;
+use crate::solver::active_set::CurvedContact;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
+use std::cell::RefCell;
+use std::rc::Rc;
 use std::time::Instant;
 
 pub(crate) struct PoroProblem {
@@ -50,6 +55,7 @@ pub(crate) struct PoroProblem {
     insertion: JacobianInsertion,
     /// Rigid plates, if the scene has them.
     contact: Option<ContactStage>,
+    tools: Option<ToolStage>,
     /// Surface tension of the boundary, if the scene has it.
     surface: Option<SurfaceTension>,
     timers: Timers,
@@ -80,6 +86,7 @@ impl PoroProblem {
             loads: mut external,
             surface,
             plates,
+            tools,
             schur,
         } = parts;
         let local = LocalVectors::new(world.as_raw(), &dofs, template)?;
@@ -89,6 +96,7 @@ impl PoroProblem {
         if equal_order {
             equal_order::tie_loads(&mut external, &mesh);
         }
+        let tools = tools.map(|t| ToolStage::new(t, plates.is_some(), template)).transpose()?;
         let contact = plates.map(|p| ContactStage::new(p, template, &dofs)).transpose()?;
         Ok(PoroProblem {
             world,
@@ -99,6 +107,7 @@ impl PoroProblem {
             schur: SchurApprox::new(schur),
             insertion: JacobianInsertion::default(),
             contact,
+            tools,
             surface,
             timers: Timers::default(),
         })
@@ -177,9 +186,19 @@ impl PoroProblem {
     }
 
     /// The contact bounds l ≤ x ≤ u, with plates (SNES keeps them: the problem moves them with
-    /// the plates).
+    /// the plates), or ±∞ with tools alone.
     pub(crate) fn bounds(&self) -> Option<(&Vector, &Vector)> {
-        self.contact.as_ref().map(ContactStage::bounds)
+        self.contact.as_ref().map(ContactStage::bounds).or_else(|| self.tools.as_ref()?.free_bounds())
+    }
+
+    /// The tools' contact as the solver reads it, if the scene has tools.
+    pub(crate) fn curved_contact(&self) -> Option<Rc<RefCell<dyn CurvedContact>>> {
+        self.tools.as_ref().map(ToolStage::contact)
+    }
+
+    /// The tools, if the scene has them.
+    pub(crate) fn tools(&self) -> Option<std::cell::Ref<'_, ToolSet>> {
+        self.tools.as_ref().map(ToolStage::set)
     }
 
     /// The fixed-stress Schur approximation, for a Schur fieldsplit.
@@ -299,7 +318,12 @@ impl PoroProblem {
     fn residual_with(&mut self, t: f64, dt: f64, f: &mut Vector) -> Result<()> {
         let planes = self.plate_planes(t);
         let (disc, surface, contact, external) = (&self.disc, &self.surface, &self.contact, &self.external);
+        let tools = &self.tools;
         let outcome = self.local.with_zeroed_f(|ul, udl, fl| {
+            // The tools' contact at this iterate, for the solver's split.
+            if let Some(ts) = tools {
+                ts.update(ul);
+            }
             let res = disc.add_residual(ul, udl, dt, fl);
             // Surface tension: γ ∂A/∂x of the boundary's nodes (with the adhesion to the plates
             // where they are at time t).
@@ -344,6 +368,7 @@ impl PoroProblem {
         // lets PETSc keep the preconditioner too.
         if self.disc.model.is_linear()
             && self.contact.is_none()
+            && self.tools.is_none()
             && self.surface.is_none()
             && self.insertion.assembled_at(shift)
         {
@@ -542,6 +567,9 @@ impl TsProblem for PoroProblem {
 
     /// Moves the lower plate's bound to the stage time (also on a retried step).
     fn pre_stage(&mut self, ts: TsRef, t: f64) -> Result<()> {
+        if let Some(tools) = &self.tools {
+            tools.move_to(t);
+        }
         match &mut self.contact {
             Some(c) => c.move_to(ts.time()?, t, &self.disc.dofs),
             None => Ok(()),

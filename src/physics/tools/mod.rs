@@ -15,10 +15,12 @@ mod profile;
 mod profile_tests;
 mod rounded_strip;
 mod sdf;
+mod set;
 mod tool;
 #[cfg(test)]
 mod tool_tests;
 
 pub(crate) use profile::Profile;
 pub(crate) use sdf::Sdf2;
+pub(crate) use set::{Nearest, ToolSet};
 pub(crate) use tool::{Gap, Tool};

@@ -8,11 +8,29 @@
 //! So the step onto the tool is −σφ, whatever the node's position: the bound is re-linearised
 //! at every iterate.
 
-// Wired into the split in stage b (issue 53): until then only the tests use it.
-#![allow(dead_code)]
-
 use super::bounds::AT_BOUND;
 use super::frames::Frame;
+use crate::error::Result;
+use crate::petsc::{Int, Vector};
+
+/// What the active-set Newton needs of the curved tools (the problem implements it: the solver
+/// knows no geometry). Its values are those of the iterate last evaluated: the problem updates
+/// them in every residual evaluation, after the ghost exchange, so that every rank computes a
+/// ghost node's frame from the same bits as its owner.
+pub(crate) trait CurvedContact {
+    /// The displacement components per node (2 on the meridian, 3 in space).
+    fn components(&self) -> usize;
+    /// The first global u dof of every local candidate node (owned and ghost), fixed for the run.
+    fn candidates(&self) -> &[Int];
+    /// Per candidate (the order of [`candidates`](Self::candidates)), its frame at the iterate:
+    /// None for a node far from every curved tool (not rotated).
+    fn frames(&self) -> &[Option<Frame>];
+    /// The owned candidates with a frame, as the split takes them.
+    fn nodes(&self) -> &[NodeContact];
+    /// Moves the owned candidates of `x` that are inside a tool onto its surface (the
+    /// projection of an iterate onto the admissible set, as the bounds' clamp for the plates).
+    fn project(&self, x: &mut Vector) -> Result<()>;
+}
 
 /// A candidate node's contact with its nearest curved tool at the current iterate.
 #[derive(Debug, Clone, Copy)]
@@ -31,17 +49,19 @@ pub(crate) struct NodeContact {
 
 impl NodeContact {
     /// The split of the node's nc dofs from their residual `f` (Cartesian): F̃ = QᵀF, the
-    /// normal dof active if the node is at the tool (φ ≤ AT_BOUND) and F̃ pushes into it
-    /// (σF̃_last > 0). Writes the Newton right-hand side in the frame, −F̃ (0 on the active
-    /// normal), and the step onto the tool, −σφ on the active normal (0 elsewhere). Returns
-    /// whether the normal is active, and the contact force λ = σF̃_last (≥ 0 when active).
-    pub(crate) fn split(&self, f: &[f64], rhs: &mut [f64], to_bound: &mut [f64]) -> (bool, f64) {
+    /// normal dof active if F̃ pushes into the tool (λ = σF̃_last > 0) and the node is at it
+    /// (φ ≤ AT_BOUND) or would reach it (λ > c φ, `c` the scale of a u row: the free step
+    /// would close the gap — the primal–dual active-set test, which keeps a node that a
+    /// retreating tool leaves behind in contact while it is pushed). Writes the Newton
+    /// right-hand side in the frame, −F̃ (0 on the active normal), and the step onto the tool,
+    /// −σφ on the active normal (0 elsewhere). Returns whether the normal is active, and λ.
+    pub(crate) fn split(&self, f: &[f64], c: f64, rhs: &mut [f64], to_bound: &mut [f64]) -> (bool, f64) {
         let nc = self.frame.components();
         let mut ft = [0.0; 3];
         ft[..nc].copy_from_slice(&f[..nc]);
         self.frame.frame_components(&mut ft);
         let lambda = self.sigma * ft[nc - 1];
-        let active = self.phi <= AT_BOUND && lambda > 0.0;
+        let active = lambda > 0.0 && (self.phi <= AT_BOUND || lambda > c * self.phi);
         for c in 0..nc {
             rhs[c] = -ft[c];
             to_bound[c] = 0.0;
@@ -73,6 +93,50 @@ impl NodeContact {
     }
 }
 
+/// The curved-tool nodes' part of the split, after the plane split of every dof (`Bounds::split`,
+/// which leaves their dofs free: no bound is finite there): each node's nc entries of `rhs` and
+/// `to_bound` (owned arrays; `first` the global index of the first owned dof) rewritten in its
+/// frame by [`NodeContact::split`], its normal dof added to `active` (kept ascending) when
+/// active. `lambda` gets each node's contact force (0 when free), in the order of `nodes`. A node with a dof
+/// the plane split made active (a pin) is an error: its frame would mix the pin's row with
+/// its others.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn split_curved(
+    nodes: &[NodeContact],
+    c: f64,
+    first: usize,
+    f: &[f64],
+    rhs: &mut [f64],
+    to_bound: &mut [f64],
+    active: &mut Vec<Int>,
+    lambda: &mut Vec<f64>,
+) -> Result<()> {
+    lambda.clear();
+    let mut added = Vec::new();
+    for node in nodes {
+        let nc = node.frame.components();
+        let i = nc * node.node;
+        let dofs = (first + i) as Int..(first + i + nc) as Int;
+        let k = active.partition_point(|&a| a < dofs.start);
+        if k < active.len() && active[k] < dofs.end {
+            return Err(crate::error::Error::Diverged(format!(
+                "global dofs {}..{} are held (a pinned rigid mode) and touch a curved tool: hold the body elsewhere",
+                dofs.start, dofs.end
+            )));
+        }
+        let (on, l) = node.split(&f[i..i + nc], c, &mut rhs[i..i + nc], &mut to_bound[i..i + nc]);
+        lambda.push(if on { l } else { 0.0 });
+        if on {
+            added.push(dofs.end - 1);
+        }
+    }
+    if !added.is_empty() {
+        active.extend(added);
+        active.sort_unstable();
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -98,7 +162,7 @@ mod tests {
         let f = [2.0 * n[0] + 0.5, 2.0 * n[1] - 0.1, 2.0 * n[2] - 0.125];
         let at = on_sphere(n, 10.0, 1e-12);
         let (mut rhs, mut d) = ([9.0; 3], [9.0; 3]);
-        let (active, lambda) = at.split(&f, &mut rhs, &mut d);
+        let (active, lambda) = at.split(&f, 0.0, &mut rhs, &mut d);
         let along: f64 = (0..3).map(|i| f[i] * n[i]).sum();
         assert!(active && (lambda - along).abs() < 1e-15, "λ = {lambda}, F·n̂ = {along}");
         assert_eq!((rhs[2], d[2]), (0.0, -1e-12), "active normal: no rhs, the step onto the tool −φ");
@@ -111,12 +175,12 @@ mod tests {
         assert_eq!((d[0], d[1]), (0.0, 0.0), "tangents: no step onto the tool");
         // Away from the tool, or pulled off it: free, the whole −F̃.
         for (node, f) in [(on_sphere(n, 10.0, 1e-6), f), (at, f.map(|x| -x))] {
-            let (active, _) = node.split(&f, &mut rhs, &mut d);
+            let (active, _) = node.split(&f, 0.0, &mut rhs, &mut d);
             assert!(!active && rhs[2] != 0.0 && d == [0.0; 3], "φ {}: active {active}, rhs {rhs:?}", node.phi);
         }
         // An upper bound (the tool above, σ = −1): pushed into it is F̃_last < 0; the step +φ.
         let above = NodeContact { sigma: -1.0, phi: -2e-13, ..at };
-        let (active, lambda) = above.split(&f.map(|x| -x), &mut rhs, &mut d);
+        let (active, lambda) = above.split(&f.map(|x| -x), 0.0, &mut rhs, &mut d);
         assert!(active && lambda > 0.0 && d[2] == -2e-13, "upper: active {active}, λ {lambda}, step {}", d[2]);
     }
 

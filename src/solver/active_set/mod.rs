@@ -22,11 +22,14 @@
 mod bounds;
 mod contact;
 mod convergence;
+mod curved;
 mod frames;
 #[cfg(test)]
 mod frames_tests;
 mod newton;
 mod reuse;
 
+pub(crate) use contact::{CurvedContact, NodeContact};
+pub(crate) use frames::Frame;
 pub(crate) use newton::ActiveSetNewton;
 pub(crate) use reuse::Lag;

@@ -3,7 +3,9 @@
 //! search, and the solver state a checkpoint keeps.
 
 use super::bounds::{symmetric_difference, Bounds};
+use super::contact::CurvedContact;
 use super::convergence::{residual_test, stagnates};
+use super::curved::CurvedStep;
 use super::reuse::{Lag, Step};
 use crate::error::Result;
 use crate::parallel::sum_slice;
@@ -13,6 +15,8 @@ use crate::solver::woodbury::ActiveSetUpdate;
 use crate::solver::FreeRigidModes;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
+use std::cell::RefCell;
+use std::rc::Rc;
 
 /// Halvings of a Newton step that leaves the admissible domain (or fails the Armijo test when
 /// backtracking).
@@ -63,6 +67,8 @@ pub(crate) struct ActiveSetNewton {
     /// Free rigid modes taken as each Jacobian's null space (None when there are none, or when
     /// they are pinned: [`set_free_modes`](Self::set_free_modes)).
     free_modes: Option<FreeRigidModes>,
+    /// Contact with curved tools, if the scene has them ([`set_curved`](Self::set_curved)).
+    curved: Option<CurvedStep>,
 }
 
 impl ActiveSetNewton {
@@ -99,6 +105,7 @@ impl ActiveSetNewton {
             anderson: Anderson::new(0),
             chord_active: None,
             free_modes: None,
+            curved: None,
         })
     }
 
@@ -111,6 +118,23 @@ impl ActiveSetNewton {
         } else {
             self.free_modes = Some(modes);
         }
+    }
+
+    /// Contact with curved tools: their nodes split in their frames, the operator rotated.
+    pub(crate) fn set_curved(&mut self, contact: Rc<RefCell<dyn CurvedContact>>) {
+        self.curved = Some(CurvedStep::new(contact));
+    }
+
+    /// The split of the iterate `x` whose residual is in `f` ([`split`]).
+    fn split(&mut self, x: &Vector) -> Result<f64> {
+        let Self { bounds, curved, world, diag, f, rhs, to_bound, active, .. } = self;
+        split(bounds, curved.as_mut(), world, *diag, x, f, rhs, to_bound, active)
+    }
+
+    /// The split of the trial iterate.
+    fn split_trial(&mut self) -> Result<f64> {
+        let Self { bounds, curved, world, diag, f, rhs, to_bound, active, trial, .. } = self;
+        split(bounds, curved.as_mut(), world, *diag, trial, f, rhs, to_bound, active)
     }
 
     /// Whether the preconditioner of the last setup may serve the current Jacobian (the same
@@ -166,6 +190,7 @@ impl ActiveSetNewton {
             || self.lag.max_changes == 0
             || !same
             || self.free_modes.is_some()
+            || self.curved.is_some()
             || ksp.pc()?.type_name()? != "lu"
         {
             self.jac = None;
@@ -286,12 +311,15 @@ impl ShellSolve for ActiveSetNewton {
         let backtrack = snes.line_search_type()? == "bt";
         let ksp = snes.ksp()?;
         self.bounds.project(x)?;
+        if let Some(c) = &self.curved {
+            c.project(x)?;
+        }
         snes.compute_function(x, &mut self.f)?;
         if let Some(state) = self.pending.take() {
             // Assembled where the residual just was (the uninterrupted run evaluates there too).
             self.set_up_saved(&snes, &ksp, x, state)?;
         }
-        let mut fnorm = self.bounds.split(x, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;
+        let mut fnorm = self.split(x)?;
         let fnorm0 = fnorm;
         self.chord_active = None;
         let mut it = 0;
@@ -328,7 +356,7 @@ impl ShellSolve for ActiveSetNewton {
                 // whose contact has since changed), Newton may not recover — on the release of
                 // the default scene, and on the mirrored full sphere of tests/plates.rs.
                 snes.compute_function(x, &mut self.f)?;
-                self.bounds.split(x, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;
+                self.split(x)?;
                 contraction = f64::INFINITY;
                 continue;
             }
@@ -382,6 +410,9 @@ impl ActiveSetNewton {
         if !chord {
             self.assembled_solve(snes, ksp, x)?;
         }
+        if let Some(c) = &self.curved {
+            c.rotate_back(&mut self.step)?;
+        }
         Ok((chord, updated))
     }
 
@@ -394,6 +425,14 @@ impl ActiveSetNewton {
         }
         let same = a.as_raw() == p.as_raw();
         self.keep_jacobian(&a, ksp, same)?;
+        if let Some(c) = &mut self.curved {
+            if !same {
+                return Err(crate::error::Error::Options(
+                    "curved tools need the Jacobian as its own preconditioning matrix (no -poroplast_* split Pmat)".into(),
+                ));
+            }
+            c.rotate(&mut a)?;
+        }
         a.zero_rows_columns(&self.active, self.diag, Some((&self.to_bound, &mut self.rhs)))?;
         if !same {
             p.zero_rows_columns(&self.active, self.diag, None)?;
@@ -446,8 +485,11 @@ impl ActiveSetNewton {
             self.trial.copy_from(x)?;
             self.trial.axpy(lambda, &self.step)?;
             self.bounds.project(&mut self.trial)?;
+            if let Some(c) = &self.curved {
+                c.project(&mut self.trial)?;
+            }
             snes.compute_function(&self.trial, &mut self.f)?;
-            let n = self.bounds.split(&self.trial, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;
+            let n = self.split_trial()?;
             let admissible = n.is_finite();
             let good = admissible && (!backtrack || n <= (1.0 - 1e-4 * lambda) * fnorm);
             if good || lambda < 0.5f64.powi(STEP_HALVINGS) {
@@ -456,4 +498,25 @@ impl ActiveSetNewton {
             lambda *= 0.5;
         }
     }
+}
+
+/// The active-set split of the iterate `x` with residual `f` (`Bounds::split`), then the curved
+/// tools' nodes in their frames; returns the free residual norm. Without curved tools, exactly
+/// the plane split.
+#[allow(clippy::too_many_arguments)]
+fn split(
+    bounds: &Bounds,
+    curved: Option<&mut CurvedStep>,
+    world: &SimpleCommunicator,
+    diag: f64,
+    x: &Vector,
+    f: &Vector,
+    rhs: &mut Vector,
+    to_bound: &mut Vector,
+    active: &mut Vec<Int>,
+) -> Result<f64> {
+    let norm = bounds.split(x, f, rhs, to_bound, active)?;
+    let Some(c) = curved else { return Ok(norm) };
+    c.split(world, diag, x.ownership_start(), f, rhs, to_bound, active)?;
+    rhs.norm2()
 }

@@ -1,0 +1,244 @@
+//! The tools of a scene and the body's surface that can touch them, as the active-set Newton
+//! sees them at each iterate ([`CurvedContact`]): for every candidate node (a node of the
+//! contact surface, owned or ghost) its nearest tool, the gap φ there, and — within a band of
+//! the tool — the frame whose last axis is the tool's normal ∇φ, with ∇²φ for the contact's
+//! curvature. The frames are recomputed from the iterate in every residual evaluation (the bound
+//! is re-linearised at each iterate: issue 53's design, §3.2), after the ghost exchange, so every
+//! rank computes a shared node's frame from the same bits.
+//!
+//! Exact contact at the nodes: an iterate is projected onto the tools (a node inside one is moved
+//! to its closest surface point), as the bounds' clamp does for the plates; the split then moves
+//! an active node onto the linearised tool, −σφ along its normal, which is round-off after the
+//! projection.
+
+use super::tool::Tool;
+use crate::error::Result;
+use crate::fem::dofmap::DofMap;
+use crate::mesh::dist::LocalMesh;
+use crate::petsc::{Int, Vector};
+use crate::physics::contact::PlateLoading;
+use crate::solver::active_set::{CurvedContact, Frame, NodeContact};
+
+/// A candidate node of the contact surface.
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    /// Local node (owned if below the dof map's `n_owned_nodes`).
+    node: usize,
+    /// Its reference position in space (the meridian's (r, 0, z)).
+    x_ref: [f64; 3],
+}
+
+/// The nearest tool of a candidate in a state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Nearest {
+    pub(crate) tool: usize,
+    pub(crate) phi: f64,
+}
+
+/// The scene's tools, their displacement protocols and the surface that can touch them.
+pub(crate) struct ToolSet {
+    tools: Vec<Tool>,
+    /// Each tool's displacement along its axis against time.
+    paths: Vec<PlateLoading>,
+    /// The tools' positions at the stage time being solved.
+    position: Vec<f64>,
+    /// Displacement components per node: 2 on the meridian (r, z), else 3.
+    nc: usize,
+    candidates: Vec<Candidate>,
+    first_dofs: Vec<Int>,
+    n_owned_nodes: usize,
+    /// Candidates within this gap of a tool get a frame (µm).
+    band: f64,
+    /// At the iterate last evaluated: per candidate its frame; the owned framed nodes.
+    frames: Vec<Option<Frame>>,
+    nodes: Vec<NodeContact>,
+}
+
+impl ToolSet {
+    /// The tools with their paths, touching the nodes of the local `faces` (their vertices only
+    /// with `on_vertices`, as for the plates under P1–P1), except nodes with a prescribed
+    /// displacement off the meridian's axis (a frame would mix its constraint row with the
+    /// others; on the axis the tools' normal is ±e_z, the frame ±I). `band`: the gap within which
+    /// a node gets a frame.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        tools: Vec<Tool>,
+        paths: Vec<PlateLoading>,
+        mesh: &LocalMesh,
+        dofs: &DofMap,
+        faces: &[u32],
+        on_vertices: bool,
+        constrained: &[bool],
+        band: f64,
+    ) -> ToolSet {
+        let per_face = if on_vertices { mesh.family.face_vertices() } else { mesh.family.face_nodes() };
+        let mut nodes: Vec<usize> =
+            faces.iter().flat_map(|&f| mesh.face(f as usize)[..per_face].iter().map(|&n| n as usize)).collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        let nc = dofs.nc;
+        let meridian = nc == 2;
+        let held = |n: usize| (0..nc).any(|c| constrained[dofs.u_local(n, c)]);
+        let on_axis = |n: usize| meridian && mesh.coords[n][0] == 0.0;
+        nodes.retain(|&n| !held(n) || on_axis(n));
+        let candidates: Vec<Candidate> = nodes.iter().map(|&n| Candidate { node: n, x_ref: mesh.coords[n] }).collect();
+        let first_dofs = nodes.iter().map(|&n| dofs.l2g[dofs.u_local(n, 0)]).collect();
+        let position = vec![0.0; tools.len()];
+        let k = candidates.len();
+        ToolSet {
+            tools,
+            paths,
+            position,
+            nc,
+            candidates,
+            first_dofs,
+            n_owned_nodes: dofs.n_owned_nodes,
+            band,
+            frames: vec![None; k],
+            nodes: Vec::new(),
+        }
+    }
+
+    pub(crate) fn tools(&self) -> &[Tool] {
+        &self.tools
+    }
+
+    /// The tools' positions along their axes at time t.
+    pub(crate) fn positions_at(&self, t: f64) -> Vec<f64> {
+        self.paths.iter().map(|p| p.displacement(t)).collect()
+    }
+
+    /// The kinks of the tools' paths (steps land on them).
+    pub(crate) fn kinks(&self) -> Vec<f64> {
+        self.paths.iter().flat_map(PlateLoading::kinks).collect()
+    }
+
+    /// Moves the tools to the stage time t.
+    pub(crate) fn move_to(&mut self, t: f64) {
+        for (d, p) in self.position.iter_mut().zip(&self.paths) {
+            *d = p.displacement(t);
+        }
+    }
+
+    /// The current position of candidate i in the local state `u` (the meridian's (r, 0, z)).
+    fn position_of(&self, i: usize, u: &[f64]) -> [f64; 3] {
+        let c = &self.candidates[i];
+        let mut x = c.x_ref;
+        let axes: &[usize] = if self.nc == 2 { &[0, 2] } else { &[0, 1, 2] };
+        for (k, &a) in axes.iter().enumerate() {
+            x[a] += u[self.nc * c.node + k];
+        }
+        x
+    }
+
+    /// The nearest tool at x, the tools at `position`: (tool, φ, the normal ∇φ, ∇²φ, the closest
+    /// point), in the node's components ((r, z) on the meridian).
+    fn nearest_at(&self, x: [f64; 3], position: &[f64]) -> Option<(usize, Local)> {
+        let mut best: Option<(usize, Local)> = None;
+        for (k, tool) in self.tools.iter().enumerate() {
+            let g = if self.nc == 2 {
+                let s = tool.meridian([x[0], x[2]], position[k]);
+                let [[a, b], [c, d]] = s.hess;
+                Local {
+                    phi: s.phi,
+                    normal: [s.grad[0], s.grad[1], 0.0],
+                    hess: [[a, b, 0.0], [c, d, 0.0], [0.0; 3]],
+                    closest: [s.closest[0], s.closest[1], 0.0],
+                }
+            } else {
+                let g = tool.gap(x, position[k]);
+                Local { phi: g.phi, normal: g.normal, hess: g.hess, closest: g.closest }
+            };
+            if best.as_ref().is_none_or(|(_, b)| g.phi < b.phi) {
+                best = Some((k, g));
+            }
+        }
+        best
+    }
+
+    /// The contact data of the local state `u` (owned + ghost, after the ghost exchange).
+    pub(crate) fn update(&mut self, u: &[f64]) {
+        self.nodes.clear();
+        for i in 0..self.candidates.len() {
+            let x = self.position_of(i, u);
+            let near = self.nearest_at(x, &self.position);
+            self.frames[i] = None;
+            let Some((_, g)) = near.filter(|(_, g)| g.phi <= self.band) else { continue };
+            // σ = +1 with n̂ = ∇φ on the meridian; in space n̂ = ±∇φ with n̂_z ≥ 0 (the
+            // rotation taking e_z to it is then well conditioned).
+            let (sigma, frame) = if self.nc == 2 {
+                (1.0, Frame::meridian([g.normal[0], g.normal[1]]))
+            } else {
+                let sigma = if g.normal[2] >= 0.0 { 1.0 } else { -1.0 };
+                (sigma, Frame::spatial(g.normal.map(|v| sigma * v)))
+            };
+            self.frames[i] = Some(frame);
+            let node = self.candidates[i].node;
+            if node < self.n_owned_nodes {
+                self.nodes.push(NodeContact { node, frame, sigma, phi: g.phi, hess: g.hess });
+            }
+        }
+    }
+
+    /// The owned candidates in the local state `u`, the tools at `position`: (local node, current
+    /// position, nearest tool).
+    pub(crate) fn owned_gaps<'a>(
+        &'a self,
+        u: &'a [f64],
+        position: &'a [f64],
+    ) -> impl Iterator<Item = (usize, [f64; 3], Nearest)> + 'a {
+        (0..self.candidates.len()).filter(|&i| self.candidates[i].node < self.n_owned_nodes).filter_map(move |i| {
+            let x = self.position_of(i, u);
+            let (tool, g) = self.nearest_at(x, position)?;
+            Some((self.candidates[i].node, x, Nearest { tool, phi: g.phi }))
+        })
+    }
+}
+
+/// A tool's distance in a node's components.
+struct Local {
+    phi: f64,
+    normal: [f64; 3],
+    hess: [[f64; 3]; 3],
+    closest: [f64; 3],
+}
+
+impl CurvedContact for ToolSet {
+    fn components(&self) -> usize {
+        self.nc
+    }
+
+    fn candidates(&self) -> &[Int] {
+        &self.first_dofs
+    }
+
+    fn frames(&self) -> &[Option<Frame>] {
+        &self.frames
+    }
+
+    fn nodes(&self) -> &[NodeContact] {
+        &self.nodes
+    }
+
+    fn project(&self, x: &mut Vector) -> Result<()> {
+        let mut xv = x.write()?;
+        let nc = self.nc;
+        for c in self.candidates.iter().filter(|c| c.node < self.n_owned_nodes) {
+            let u = &mut xv[nc * c.node..nc * c.node + nc];
+            let mut pos = c.x_ref;
+            let axes: &[usize] = if nc == 2 { &[0, 2] } else { &[0, 1, 2] };
+            for (k, &a) in axes.iter().enumerate() {
+                pos[a] += u[k];
+            }
+            let Some((_, g)) = self.nearest_at(pos, &self.position) else { continue };
+            if g.phi < 0.0 {
+                for (k, &a) in axes.iter().enumerate() {
+                    // The closest point in the node's components ((r, z) on the meridian).
+                    let target = if nc == 2 { g.closest[k] } else { g.closest[a] };
+                    u[k] = target - c.x_ref[a];
+                }
+            }
+        }
+        Ok(())
+    }
+}
