@@ -34,5 +34,7 @@ mod study;
 mod surface;
 #[path = "sweep.rs"]
 mod sweep;
+#[path = "tools.rs"]
+mod tools;
 #[path = "verification.rs"]
 mod verification;

@@ -179,7 +179,35 @@ fn tools(
         constrained[c.local] = true;
     }
     let band = 2.0 * local.mean_size(world);
-    Ok(Some(ToolSet::new(tools, paths, local, dofs, &faces, s.fem.equal_order(), &constrained, band)))
+    let set = ToolSet::new(world, tools, paths, local, dofs, &faces, s.fem.equal_order(), &constrained, band);
+    refuse_overlap(world, &set, dofs, &ctx)?;
+    Ok(Some(set))
+}
+
+/// A tool must not reach into the body at t = 0 (beyond round-off of the body's size): the
+/// contact would start by pushing the surface out of it in one step.
+fn refuse_overlap(world: &SimpleCommunicator, set: &ToolSet, dofs: &DofMap, ctx: &str) -> Result<()> {
+    let zero = vec![0.0; dofs.n_local()];
+    let position = set.positions_at(0.0);
+    let mut depth = vec![0.0f64; set.tools().len()];
+    for (_, _, near) in set.owned_gaps(&zero, &position) {
+        depth[near.tool] = depth[near.tool].max(-near.phi);
+    }
+    let depth = crate::parallel::max_slice(world, &depth);
+    for (tool, d) in set.tools().iter().zip(depth) {
+        let tol = 1e-9 * tool.profile.size().max(1.0);
+        if d > tol {
+            return Err(Error::Scene {
+                path: ctx.to_string(),
+                msg: format!(
+                    "tool \"{}\" overlaps the body by {d:.4} µm at t = 0 (its origin {:?}, axis {:?}): place it touching \
+                     or clear of the surface, and move it in with tools.protocol",
+                    tool.name, tool.origin, tool.axis
+                ),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The plates and the surface faces that can touch them (also the experiment's).

@@ -27,6 +27,9 @@ pub(crate) const SPHERE_MERIDIAN_GEO: &str = include_str!("../../meshes/sphere_m
 /// The meridian rectangle of a cylinder column (axisymmetric Terzaghi).
 pub(crate) const COLUMN_MERIDIAN_GEO: &str = include_str!("../../meshes/column_meridian.geo");
 
+/// The meridian rectangle of a block graded towards the top of its axis (indentation).
+pub(crate) const BLOCK_MERIDIAN_GEO: &str = include_str!("../../meshes/block_meridian.geo");
+
 /// The `.geo` sources shipped inside the binary, by file name.
 pub(crate) const BUILTIN_GEO: &[(&str, &str)] = &[
     ("sphere.geo", SPHERE_GEO),
@@ -35,6 +38,7 @@ pub(crate) const BUILTIN_GEO: &[(&str, &str)] = &[
     ("block.geo", BLOCK_GEO),
     ("sphere_meridian.geo", SPHERE_MERIDIAN_GEO),
     ("column_meridian.geo", COLUMN_MERIDIAN_GEO),
+    ("block_meridian.geo", BLOCK_MERIDIAN_GEO),
 ];
 
 fn gmsh_exe() -> OsString {

@@ -247,12 +247,30 @@ pub(super) const SECTION: Section = Section {
         ),
         Key::new("mesh.params.r_edge", "µm", Unset::Absent("0.62 R"), "the reference radius of the contact-edge rings"),
         Key::new("mesh.params.w_edge", "µm", Unset::Absent("0.25 R"), "the distance over which h_edge grows back to h"),
-        Key::new("mesh.params.H", "µm", Unset::Absent("1"), "`column.geo`, `column_meridian.geo`: the column's height"),
+        Key::new(
+            "mesh.params.H",
+            "µm",
+            Unset::Absent("1 (`block_meridian.geo`: 1000)"),
+            "`column.geo`, `column_meridian.geo`, `block_meridian.geo`: the column's or block's height",
+        ),
         Key::new(
             "mesh.params.W",
             "µm",
-            Unset::Absent("0.1 H"),
-            "the column's width (`column.geo`, square section) or radius (`column_meridian.geo`)",
+            Unset::Absent("0.1 H (`block_meridian.geo`: H)"),
+            "the column's width (`column.geo`, square section) or radius (`column_meridian.geo`, `block_meridian.geo`)",
+        ),
+        Key::new(
+            "mesh.params.h_c",
+            "µm",
+            Unset::Absent("H / 200"),
+            "`block_meridian.geo`: the mesh size within d_c of the top of the axis, where a tool indents",
+        ),
+        Key::new("mesh.params.d_c", "µm", Unset::Absent("20 h_c"), "`block_meridian.geo`: the radius of the finest region"),
+        Key::new(
+            "mesh.params.w_c",
+            "µm",
+            Unset::Absent("H / 2"),
+            "`block_meridian.geo`: the distance over which the size grows from h_c to h",
         ),
         Key::new(
             "mesh.params.h_top",

@@ -322,7 +322,7 @@ impl PoroProblem {
         let outcome = self.local.with_zeroed_f(|ul, udl, fl| {
             // The tools' contact at this iterate, for the solver's split.
             if let Some(ts) = tools {
-                ts.update(ul);
+                ts.update(ul, &disc.dofs);
             }
             let res = disc.add_residual(ul, udl, dt, fl);
             // Surface tension: γ ∂A/∂x of the boundary's nodes (with the adhesion to the plates

@@ -51,7 +51,7 @@ impl ToolStage {
     }
 
     /// The contact data of the iterate whose local state is `u`.
-    pub(super) fn update(&self, u: &[f64]) {
-        self.set.borrow_mut().update(u);
+    pub(super) fn update(&self, u: &[f64], dofs: &crate::fem::dofmap::DofMap) {
+        self.set.borrow_mut().update(u, dofs);
     }
 }

@@ -17,7 +17,10 @@ use crate::fem::dofmap::DofMap;
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::{Int, Vector};
 use crate::physics::contact::PlateLoading;
+use crate::parallel::all_gather_vec;
 use crate::solver::active_set::{CurvedContact, Frame, NodeContact};
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::Communicator;
 
 /// A candidate node of the contact surface.
 #[derive(Debug, Clone, Copy)]
@@ -45,23 +48,29 @@ pub(crate) struct ToolSet {
     /// Displacement components per node: 2 on the meridian (r, z), else 3.
     nc: usize,
     candidates: Vec<Candidate>,
-    first_dofs: Vec<Int>,
+    /// The first global u dof of every candidate of every rank, ascending: a node's frame
+    /// rotates its columns on every rank whose rows couple to it, which may not hold the node
+    /// at all (its rows gather other ranks' cells), so every rank keeps every frame.
+    global_first: Vec<Int>,
+    world: SimpleCommunicator,
     n_owned_nodes: usize,
     /// Candidates within this gap of a tool get a frame (µm).
     band: f64,
-    /// At the iterate last evaluated: per candidate its frame; the owned framed nodes.
+    /// At the iterate last evaluated: the frame of each candidate of `global_first`; the owned
+    /// framed nodes.
     frames: Vec<Option<Frame>>,
     nodes: Vec<NodeContact>,
 }
 
 impl ToolSet {
-    /// The tools with their paths, touching the nodes of the local `faces` (their vertices only
-    /// with `on_vertices`, as for the plates under P1–P1), except nodes with a prescribed
+    /// The tools with their paths, touching the nodes of the `faces` (this rank's; their vertices
+    /// only with `on_vertices`, as for the plates under P1–P1), except nodes with a prescribed
     /// displacement off the meridian's axis (a frame would mix its constraint row with the
     /// others; on the axis the tools' normal is ±e_z, the frame ±I). `band`: the gap within which
     /// a node gets a frame.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
+        world: &SimpleCommunicator,
         tools: Vec<Tool>,
         paths: Vec<PlateLoading>,
         mesh: &LocalMesh,
@@ -80,18 +89,39 @@ impl ToolSet {
         let meridian = nc == 2;
         let held = |n: usize| (0..nc).any(|c| constrained[dofs.u_local(n, c)]);
         let on_axis = |n: usize| meridian && mesh.coords[n][0] == 0.0;
-        nodes.retain(|&n| !held(n) || on_axis(n));
+        // A node's frame rotates its rows (on its owner) and its columns (on every rank whose rows
+        // couple to it): every rank must agree on the candidates, also where it holds a node only
+        // through a cell whose surface face it does not hold. So the set is the union over ranks
+        // (by global node), less every node held on some rank.
+        let global = |ns: &mut dyn Iterator<Item = usize>| -> Vec<u32> {
+            let mut g = all_gather_vec(world, &ns.map(|n| mesh.node_global[n]).collect::<Vec<u32>>());
+            g.sort_unstable();
+            g.dedup();
+            g
+        };
+        let on_surface = global(&mut nodes.iter().copied());
+        let excluded = global(&mut nodes.iter().copied().filter(|&n| held(n) && !on_axis(n)));
+        let nodes: Vec<usize> = (0..mesh.coords.len())
+            .filter(|&n| {
+                let g = mesh.node_global[n];
+                on_surface.binary_search(&g).is_ok() && excluded.binary_search(&g).is_err()
+            })
+            .collect();
         let candidates: Vec<Candidate> = nodes.iter().map(|&n| Candidate { node: n, x_ref: mesh.coords[n] }).collect();
-        let first_dofs = nodes.iter().map(|&n| dofs.l2g[dofs.u_local(n, 0)]).collect();
+        let owned_first: Vec<Int> =
+            nodes.iter().filter(|&&n| n < dofs.n_owned_nodes).map(|&n| dofs.l2g[dofs.u_local(n, 0)]).collect();
+        let mut global_first = all_gather_vec(world, &owned_first);
+        global_first.sort_unstable();
         let position = vec![0.0; tools.len()];
-        let k = candidates.len();
+        let k = global_first.len();
         ToolSet {
             tools,
             paths,
             position,
             nc,
             candidates,
-            first_dofs,
+            global_first,
+            world: world.duplicate(),
             n_owned_nodes: dofs.n_owned_nodes,
             band,
             frames: vec![None; k],
@@ -156,27 +186,39 @@ impl ToolSet {
         best
     }
 
-    /// The contact data of the local state `u` (owned + ghost, after the ghost exchange).
-    pub(crate) fn update(&mut self, u: &[f64]) {
+    /// The contact data of the local state `u` (owned + ghost, after the ghost exchange): the
+    /// owned candidates' frames, computed here and shared with every rank (collective).
+    pub(crate) fn update(&mut self, u: &[f64], dofs: &DofMap) {
         self.nodes.clear();
-        for i in 0..self.candidates.len() {
+        // (first global u dof, n̂) of each owned framed node.
+        let mut framed: Vec<f64> = Vec::new();
+        for i in (0..self.candidates.len()).filter(|&i| self.candidates[i].node < self.n_owned_nodes) {
             let x = self.position_of(i, u);
-            let near = self.nearest_at(x, &self.position);
-            self.frames[i] = None;
-            let Some((_, g)) = near.filter(|(_, g)| g.phi <= self.band) else { continue };
+            let Some((_, g)) = self.nearest_at(x, &self.position).filter(|(_, g)| g.phi <= self.band) else {
+                continue;
+            };
             // σ = +1 with n̂ = ∇φ on the meridian; in space n̂ = ±∇φ with n̂_z ≥ 0 (the
             // rotation taking e_z to it is then well conditioned).
-            let (sigma, frame) = if self.nc == 2 {
-                (1.0, Frame::meridian([g.normal[0], g.normal[1]]))
-            } else {
-                let sigma = if g.normal[2] >= 0.0 { 1.0 } else { -1.0 };
-                (sigma, Frame::spatial(g.normal.map(|v| sigma * v)))
-            };
-            self.frames[i] = Some(frame);
+            let sigma = if self.nc == 2 || g.normal[2] >= 0.0 { 1.0 } else { -1.0 };
+            let n = g.normal.map(|v| sigma * v);
             let node = self.candidates[i].node;
-            if node < self.n_owned_nodes {
-                self.nodes.push(NodeContact { node, frame, sigma, phi: g.phi, hess: g.hess });
+            self.nodes.push(NodeContact { node, frame: self.frame(n), sigma, phi: g.phi, hess: g.hess });
+            framed.extend([dofs.l2g[dofs.u_local(node, 0)] as f64, n[0], n[1], n[2]]);
+        }
+        self.frames.fill(None);
+        for f in all_gather_vec(&self.world, &framed).chunks_exact(4) {
+            if let Ok(k) = self.global_first.binary_search(&(f[0] as Int)) {
+                self.frames[k] = Some(self.frame([f[1], f[2], f[3]]));
             }
+        }
+    }
+
+    /// The frame of the normal n̂ (in the node's components): the same bits on every rank.
+    fn frame(&self, n: [f64; 3]) -> Frame {
+        if self.nc == 2 {
+            Frame::meridian([n[0], n[1]])
+        } else {
+            Frame::spatial(n)
         }
     }
 
@@ -209,7 +251,7 @@ impl CurvedContact for ToolSet {
     }
 
     fn candidates(&self) -> &[Int] {
-        &self.first_dofs
+        &self.global_first
     }
 
     fn frames(&self) -> &[Option<Frame>] {
