@@ -426,14 +426,13 @@ pub(super) fn setup<'w>(
     refuse_other_integrators(&ts)?;
     // The preconditioner is read from the options by the time stepper, which holds the problem:
     // only now is it known whether it uses the Schur approximation.
-    let schur_used = solver::configure(world, &mut ts, &policy, free_modes, &mut solver_line, |p| {
-        solver::ProblemView {
+    let schur_used =
+        solver::configure(world, &mut ts, &policy, free_modes, &mut solver_line, |p| solver::ProblemView {
             bounds: p.bounds(),
             u_row_scale: p.u_row_scale(),
             schur: p.schur(),
             curved: p.curved_contact(),
-        }
-    })?;
+        })?;
     ts.problem_mut().set_schur_used(schur_used);
 
     let experiment = match (&s.plates, plate_faces) {

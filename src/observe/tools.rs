@@ -36,9 +36,7 @@ pub(crate) const COLUMNS: [ColumnDoc; 5] = [
 
 /// The column names of the tools named `names`, in order.
 pub(crate) fn column_names<'a>(names: impl Iterator<Item = &'a str>) -> Vec<String> {
-    names
-        .flat_map(|n| COLUMNS.iter().map(move |c| format!("{n}{}", c.name.trim_start_matches("*tool*"))))
-        .collect()
+    names.flat_map(|n| COLUMNS.iter().map(move |c| format!("{n}{}", c.name.trim_start_matches("*tool*")))).collect()
 }
 
 /// The five values of every tool at time t (collective): `local` the local state, `reaction` the
@@ -59,11 +57,8 @@ pub(crate) fn read(
         let tool = &set.tools()[near.tool];
         let a = tool.axis;
         // The axis in the node's components ((r, z) on the meridian: tools lie on the z axis).
-        let along: f64 = if nc == 2 {
-            a[2] * reaction[nc * node + 1]
-        } else {
-            (0..3).map(|c| a[c] * reaction[nc * node + c]).sum()
-        };
+        let along: f64 =
+            if nc == 2 { a[2] * reaction[nc * node + 1] } else { (0..3).map(|c| a[c] * reaction[nc * node + c]).sum() };
         force[near.tool] += along;
         depth[near.tool] = depth[near.tool].max(-near.phi);
         if near.phi <= IN_CONTACT && along > 0.0 {

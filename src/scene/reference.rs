@@ -9,8 +9,8 @@ use super::numerics;
 use super::observe;
 use super::plates;
 use super::surface;
-use super::tools;
 use super::time;
+use super::tools;
 
 /// Every section, in the order of a scene file.
 pub(crate) fn sections() -> Vec<Section> {
@@ -177,7 +177,8 @@ mod tests {
                 "[mesh]\ngeo = \"g\"\n[material]\n{material}\n[time]\nt_end = 1.0\ndt = 0.1\n\
                  [plates]\nradius = 1.0\ncompression = 0.1\nt_ramp = 1.0\nt_end = 2.0\n\
                  [[probe]]\nname = \"p\"\nfield = \"p\"\ngroup = \"g\"\n\
-                 [[bc]]\ngroup = \"g\"\nroller = true\n[surface]\ntension = 1.0\n"
+                 [[bc]]\ngroup = \"g\"\nroller = true\n[surface]\ntension = 1.0\n\
+                 [[tools]]\nname = \"t\"\nkind = \"plane\"\norigin = [0.0, 0.0, 0.0]\naxis = [0.0, 0.0, 1.0]\n"
             );
             let scene: Scene = toml::from_str(&text).unwrap();
             toml::Table::try_from(&scene).unwrap()

@@ -7,8 +7,8 @@ use super::numerics::{FemSpec, SolverSpec};
 use super::observe::{Probe, Verification};
 use super::plates::PlatesSpec;
 use super::surface::SurfaceSpec;
-use super::tools::ToolSpec;
 use super::time::{InitialSpec, OutputSpec, TimeSpec};
+use super::tools::ToolSpec;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 

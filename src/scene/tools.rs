@@ -175,10 +175,15 @@ impl ToolSpec {
                 ));
             }
             let Some(d) = row.displacement else {
-                return Err(format!("{label}: tools.protocol row {n} has no displacement: give {{ t = ..., displacement = ... }} (µm)"));
+                return Err(format!(
+                    "{label}: tools.protocol row {n} has no displacement: give {{ t = ..., displacement = ... }} (µm)"
+                ));
             };
             if !(row.t.is_finite() && row.t >= 0.0 && d.is_finite()) {
-                return Err(format!("{label}: tools.protocol row {n} = {{ t = {}, displacement = {d} }}: t ≥ 0 and finite values", row.t));
+                return Err(format!(
+                    "{label}: tools.protocol row {n} = {{ t = {}, displacement = {d} }}: t ≥ 0 and finite values",
+                    row.t
+                ));
             }
             if i > 0 && row.t <= self.protocol[i - 1].t {
                 return Err(format!(
@@ -338,7 +343,7 @@ const GROUP: Key =
 const PROTOCOL: Key = Key::new(
     "tools.protocol",
     "s, µm",
-    Unset::Value("[] (held at 0)"),
+    Unset::Absent("held at 0"),
     "the tool's displacement along its axis (towards the body positive): rows `{ t = 0.0, displacement = 0.0 }`, \
      linear between them, held after the last",
 )
@@ -506,18 +511,26 @@ axis = [0.0, 0.0, -1.0]
     fn unknown_keys_and_kinds_are_refused_by_name() {
         let msg = edited("kind = \"plane\"", "kind = \"cone\"", Geometry::Solid).unwrap_err();
         assert!(msg.contains("cone") && msg.contains("pipette"), "{msg}");
-        // Protocols come with the contact (a later stage): not a key yet.
-        let msg = edited("radius = 50.0", "radius = 50.0\nprotocol = []", Geometry::Solid).unwrap_err();
-        assert!(msg.contains("unknown field `protocol`"), "{msg}");
+        // Friction is not a property of these tools: refused by name.
+        let msg = edited("radius = 50.0", "radius = 50.0\nfriction = 0.1", Geometry::Solid).unwrap_err();
+        assert!(msg.contains("unknown field `friction`"), "{msg}");
     }
 
     #[test]
     fn the_section_declares_every_key_of_a_tool() {
         let mut all = parse(TOOLS).unwrap().remove(2);
         (all.radius, all.edge_radius) = (Some(1.0), Some(1.0));
+        all.protocol = vec![super::ProtocolRow { t: 0.0, displacement: Some(0.0), force: None }];
         let text = toml::to_string(&all).unwrap();
-        let written: Vec<String> =
-            text.lines().filter_map(|l| l.split_once(" = ")).map(|(k, _)| format!("tools.{k}")).collect();
+        // Top-level `key = value` lines, and the protocol's rows as the array of tables they are.
+        let top = text.split("\n[[").next().unwrap();
+        let rows = text.lines().filter_map(|l| l.strip_prefix("[[")?.strip_suffix("]]"));
+        let written: Vec<String> = top
+            .lines()
+            .filter_map(|l| l.split_once(" = ").map(|(k, _)| k))
+            .chain(rows)
+            .map(|k| format!("tools.{k}"))
+            .collect();
         let mut declared: Vec<String> = SECTION.keys.iter().map(|k| k.name.to_string()).collect();
         let mut written = written;
         written.sort();
@@ -526,15 +539,30 @@ axis = [0.0, 0.0, -1.0]
     }
 
     #[test]
-    fn a_scene_with_tools_is_refused_until_they_are_wired() {
-        // Not a section of a scene yet: refused as any unknown key is, before anything runs.
+    fn a_scenes_tools_are_read_with_their_protocols_and_refused_when_out_of_order() {
         let text = crate::scene::BUILTIN.iter().find(|(n, _)| *n == "reference").unwrap().1;
         let dir = std::env::temp_dir().join(format!("poroplast-tools-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("tools.toml");
-        std::fs::write(&path, format!("{text}\n{TOOLS}")).unwrap();
+        let bead = TOOLS.replace(
+            "axis = [0.0, 0.0, -1.0]\n\n[[tools]]\nname = \"pipette\"",
+            "axis = [0.0, 0.0, -1.0]\nprotocol = [ { t = 1.0, displacement = 2.0 } ]\n\n[[tools]]\nname = \"pipette\"",
+        );
+        assert_ne!(bead, TOOLS);
+        std::fs::write(&path, format!("{text}\n{bead}")).unwrap();
+        let loaded = crate::scene::LoadedScene::load(&path.display().to_string(), &[]).unwrap();
+        let tools = &loaded.scene.tools;
+        assert_eq!(tools.iter().map(|t| t.name.as_str()).collect::<Vec<_>>(), ["dish", "bead", "pipette"]);
+        assert_eq!(tools[1].path(), vec![(0.0, 0.0), (1.0, 2.0)], "from (0, 0), then the rows");
+        assert_eq!(tools[0].path(), vec![(0.0, 0.0)], "no protocol: held at 0");
+        assert_eq!(tools[0].group, "surface");
+        let late = bead.replace(
+            "{ t = 1.0, displacement = 2.0 }",
+            "{ t = 1.0, displacement = 2.0 }, { t = 1.0, displacement = 3.0 }",
+        );
+        std::fs::write(&path, format!("{text}\n{late}")).unwrap();
         let msg = crate::scene::LoadedScene::load(&path.display().to_string(), &[]).err().unwrap().to_string();
-        assert!(msg.contains("tools"), "{msg}");
+        assert!(msg.contains("\"bead\"") && msg.contains("row 2 (t = 1) is not after row 1"), "{msg}");
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -3,12 +3,12 @@
 //! one) with the policy's lag, Anderson depth, monitor and treatment of the free rigid modes;
 //! the finest-level SOR hook; the Schur matrix; the tolerances checked.
 
+use super::active_set::CurvedContact;
 use super::fieldsplit::{finest_level_sor, finest_sor_enabled, use_schur_matrix};
 use super::tolerances::check_tolerances;
 use super::{anderson, ActiveSetNewton, FreeRigidModes, Lag, Policy};
 use crate::error::Result;
 use crate::petsc::{options, Mat, Ts, TsProblem, Vector};
-use super::active_set::CurvedContact;
 use mpi::topology::SimpleCommunicator;
 use std::cell::RefCell;
 use std::rc::Rc;

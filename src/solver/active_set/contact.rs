@@ -173,11 +173,15 @@ mod tests {
             assert!((back[i] - f[i]).abs() < 1e-15, "component {i}: {back:?} vs {f:?}");
         }
         assert_eq!((d[0], d[1]), (0.0, 0.0), "tangents: no step onto the tool");
-        // Away from the tool, or pulled off it: free, the whole −F̃.
-        for (node, f) in [(on_sphere(n, 10.0, 1e-6), f), (at, f.map(|x| -x))] {
-            let (active, _) = node.split(&f, 0.0, &mut rhs, &mut d);
+        // Away from the tool (λ = 2 below c φ = 10), or pulled off it: free, the whole −F̃.
+        for (node, f) in [(on_sphere(n, 10.0, 1e-2), f), (at, f.map(|x| -x))] {
+            let (active, _) = node.split(&f, 1e3, &mut rhs, &mut d);
             assert!(!active && rhs[2] != 0.0 && d == [0.0; 3], "φ {}: active {active}, rhs {rhs:?}", node.phi);
         }
+        // Off the tool but pushed harder than the stiffness c holds over the gap (λ = 2 > c φ =
+        // 1e-3): active, stepped onto the tool (the primal–dual test).
+        let (active, _) = on_sphere(n, 10.0, 1e-6).split(&f, 1e3, &mut rhs, &mut d);
+        assert!(active && rhs[2] == 0.0 && d[2] == -1e-6, "PDAS: active {active}, step {}", d[2]);
         // An upper bound (the tool above, σ = −1): pushed into it is F̃_last < 0; the step +φ.
         let above = NodeContact { sigma: -1.0, phi: -2e-13, ..at };
         let (active, lambda) = above.split(&f.map(|x| -x), 0.0, &mut rhs, &mut d);

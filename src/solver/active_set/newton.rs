@@ -428,7 +428,7 @@ impl ActiveSetNewton {
         if let Some(c) = &mut self.curved {
             if !same {
                 return Err(crate::error::Error::Options(
-                    "curved tools need the Jacobian as its own preconditioning matrix (no -poroplast_* split Pmat)".into(),
+                    "curved tools need the Jacobian as its own preconditioning matrix".into(),
                 ));
             }
             c.rotate(&mut a)?;
