@@ -1,0 +1,125 @@
+"""Micropipette aspiration of an incompressible elastic half-space (Theret, Levesque, Sato, Nerem
+& Wheeler, J. Biomech. Eng. 110, 190 (1988)): a rigid pipette, inner radius Rp, wall ratio
+η = wall thickness / Rp, held on the surface (its end a flat annulus Rp ≤ r ≤ Rp(1 + η) that does
+not move), suction Δp over the bore r < Rp. The aspirated length, the displacement of the surface
+on the axis into the pipette, is
+
+    L = 3 Rp Δp Φ(η) / (2π E),
+
+the wall function Φ computed here (Theret's table was not available; see the issue-53
+references note) as an axisymmetric Boussinesq problem:
+
+* surface displacement of a ring load: w(r) = ((1 − ν²)/(πE)) ∫ p(s) 4s/(r + s) K(4rs/(r + s)²) ds
+  (K the complete elliptic integral, parameter m = k²);
+* the suction's own displacement in closed form (Johnson, Contact Mechanics, §3.4);
+* the annulus' unknown pressure q(s) = φ(s)/√((s − a)(b − s)) (the square-root edges of a flat
+  punch), φ a Chebyshev series, collocated so that the total displacement vanishes on the
+  annulus; L = w_suction(0) + 2((1 − ν²)/E) ∫ q ds.
+
+At ν = ½ a normal surface load moves the surface only normally, so a frictionless and a bonded
+pipette end give the same L (the question whether Theret's contact was bonded does not arise in
+the linear half-space). Exact limits: a free disc (no wall) Φ = π; a wall filling the plane
+(η → ∞) is half a pressurised penny-shaped crack, w(0) = 4(1 − ν²)Δp Rp/(πE), Φ = 2.
+"""
+import math
+
+import numpy as np
+
+C = 1.0    # (1 − ν²)/E, Rp and Δp: the computation is dimensionless, Φ = (π/2) L / (C Rp Δp)
+
+
+def _agm_k_e(m, k_prime=None):
+    """Complete elliptic integrals K(m), E(m) (parameter m = k², 0 ≤ m < 1) by the AGM; near
+    m = 1 pass the complementary modulus k' = √(1 − m) itself (it is not recoverable from m)."""
+    m = np.asarray(m, dtype=float)
+    b = np.sqrt(1.0 - m) if k_prime is None else np.asarray(k_prime, dtype=float)
+    a = np.ones_like(b)
+    c = np.sqrt(np.maximum(1.0 - b * b, 0.0))
+    total, power = 0.5 * c * c, 0.5
+    for _ in range(40):
+        a, b, c = 0.5 * (a + b), np.sqrt(a * b), 0.5 * (a - b)
+        power *= 2.0
+        total = total + power * c * c
+        if np.all(np.abs(c) < 1e-17):
+            break
+    k = math.pi / (2.0 * a)
+    return k, k * (1.0 - total)
+
+
+def ellipk(m):
+    return _agm_k_e(m)[0]
+
+
+def ellipe(m):
+    return 1.0 if m == 1.0 else _agm_k_e(m)[1]
+
+
+def disc_displacement(r, a=1.0, pressure=1.0):
+    """Normal surface displacement at radius r under a uniform pressure over the disc r < a, in
+    units of (1 − ν²)/E (Johnson §3.4): (4pa/π) E((r/a)²) inside, (4pr/π)[E − (1 − a²/r²)K]((a/r)²)
+    outside."""
+    if r <= a:
+        return 4.0 * pressure * a / math.pi * float(ellipe((r / a) ** 2))
+    m = (a / r) ** 2
+    return 4.0 * pressure * r / math.pi * float(ellipe(m) - (1.0 - m) * ellipk(m))
+
+
+def ring_kernel(r, s):
+    """Displacement at r per unit pressure on the ring (s, s + ds), per ds, units (1 − ν²)/E."""
+    # k' = |r − s|/(r + s) directly: 4rs/(r + s)² rounds to 1 within ~1e-8 of the ring.
+    k_prime = np.abs(r - s) / (r + s)
+    return 4.0 / math.pi * s / (r + s) * _agm_k_e(1.0 - k_prime ** 2, k_prime)[0]
+
+
+_GL_U, _GL_W = np.polynomial.legendre.leggauss(16)
+_GL_U, _GL_W = 0.5 * (_GL_U + 1.0), 0.5 * _GL_W     # on (0, 1)
+
+
+def _graded(f, lo, hi, at, panels=8):
+    """∫_lo^hi f, f log-singular at `at` (an end or inside): `panels` equal panels on each side
+    of `at`, 16-point Gauss–Legendre on each in u with x − (the panel's end nearer `at`) ∝ u³,
+    which smooths the logarithm (and costs nothing on smooth panels). f may return an array of
+    integrands (shape (len(x), k)): then the k integrals."""
+    total = 0.0
+    for end in (lo, hi):
+        if end == at:
+            continue
+        edges = at + (end - at) * np.arange(panels + 1) / panels
+        for near, far in zip(edges[:-1], edges[1:]):
+            span = far - near
+            x = near + span * _GL_U ** 3
+            w = abs(span) * _GL_W * 3.0 * _GL_U ** 2
+            total = total + np.tensordot(w, f(x), axes=(0, 0))
+    return total
+
+
+def disc_displacement_by_kernel(r, a=1.0):
+    """The uniform disc's displacement by integrating ring_kernel (a check of the kernel)."""
+    return _graded(lambda s: ring_kernel(r, s), 0.0, a, min(r, a))
+
+
+def wall_function(eta, n=32):
+    """Φ(η) with an n-term Chebyshev series for the annulus' pressure."""
+    if not (math.isfinite(eta) and eta > 0):
+        raise ValueError(f"wall ratio η = {eta} must be positive and finite")
+    a, b = 1.0, 1.0 + eta
+    s_of = lambda th: 0.5 * (a + b) + 0.5 * (b - a) * np.cos(th)
+    thetas = (np.arange(n) + 0.5) * math.pi / n
+    orders = np.arange(n)
+    panels = max(4, n // 4)        # panels resolve cos(jθ) up to j = n − 1 on each side
+    matrix = np.array([C * _graded(lambda th: np.cos(np.outer(th, orders))
+                                   * ring_kernel(s_of(ti), s_of(th))[:, None], 0.0, math.pi, ti,
+                                   panels)
+                       for ti in thetas])
+    rhs = np.array([-C * disc_displacement(s_of(t)) for t in thetas])
+    coef = np.linalg.solve(matrix, rhs)
+    length = C * disc_displacement(0.0) + 2.0 * C * math.pi * coef[0]
+    return 0.5 * math.pi * length / C
+
+
+def aspirated_length(rp, suction, young, eta, n=32):
+    """Theret's L = 3 Rp Δp Φ(η)/(2πE) (incompressible half-space)."""
+    for name, v in (("rp", rp), ("young", young)):
+        if not (math.isfinite(v) and v > 0):
+            raise ValueError(f"{name} = {v} must be positive and finite")
+    return 3.0 * rp * suction * wall_function(eta, n) / (2.0 * math.pi * young)
