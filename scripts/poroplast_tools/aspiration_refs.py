@@ -20,6 +20,11 @@ At ν = ½ a normal surface load moves the surface only normally, so a frictionl
 pipette end give the same L (the question whether Theret's contact was bonded does not arise in
 the linear half-space). Exact limits: a free disc (no wall) Φ = π; a wall filling the plane
 (η → ∞) is half a pressurised penny-shaped crack, w(0) = 4(1 − ν²)Δp Rp/(πE), Φ = 2.
+The pipette end is held, not force-balanced: it carries 65% (η = 0.1) to 98% (η = 10) of the
+suction force πRp²Δp, the rest goes to infinity (a finite body's base); its contact pressure is
+compressive all over the annulus (checked η = 0.1–10), so the unilateral contact stays closed.
+Accuracy (default n = 32, against n = 64, 128 extrapolated): 2e-7 at η = 0.1, 2e-6 at 0.5,
+1.4e-5 at 2, 1.6e-4 at 10.
 """
 import math
 
