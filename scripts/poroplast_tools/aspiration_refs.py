@@ -1,31 +1,41 @@
 """Micropipette aspiration of an incompressible elastic half-space (Theret, Levesque, Sato, Nerem
 & Wheeler, J. Biomech. Eng. 110, 190 (1988)): a rigid pipette, inner radius Rp, wall ratio
-η = wall thickness / Rp, held on the surface (its end a flat annulus Rp ≤ r ≤ Rp(1 + η) that does
-not move), suction Δp over the bore r < Rp. The aspirated length, the displacement of the surface
-on the axis into the pipette, is
+η = wall thickness / Rp, its flat end the annulus Rp ≤ r ≤ Rp(1 + η) on the surface, suction Δp
+over the bore r < Rp. The aspirated length, the surface's displacement on the axis relative to
+the pipette end, is
 
     L = 3 Rp Δp Φ(η) / (2π E),
 
 the wall function Φ computed here (Theret's table was not available; see the issue-53
-references note) as an axisymmetric Boussinesq problem:
+references note) as an axisymmetric Boussinesq problem, for the two ways to hold the pipette:
 
+* "held": the pipette end does not move (zero displacement; the force it takes is what it
+  takes: 65% (η = 0.1) to 98% (η = 10) of the suction force πRp²Δp, the rest reaches infinity,
+  a finite body's base);
+* "balanced": the pipette presses with exactly the suction force (no net force on the body, as
+  on a free cell) and moves with the surface; L is measured from its end.
+Which of the two Theret tabulated is not known here; both tend to Φ = 2 as η → ∞ and lie in the
+"2.0–2.1" quoted in the literature for η ≳ 0.3–0.5; they part at small η (0.1: 2.157 held,
+2.60 balanced).
+
+Method:
 * surface displacement of a ring load: w(r) = ((1 − ν²)/(πE)) ∫ p(s) 4s/(r + s) K(4rs/(r + s)²) ds
   (K the complete elliptic integral, parameter m = k²);
 * the suction's own displacement in closed form (Johnson, Contact Mechanics, §3.4);
 * the annulus' unknown pressure q(s) = φ(s)/√((s − a)(b − s)) (the square-root edges of a flat
-  punch), φ a Chebyshev series, collocated so that the total displacement vanishes on the
-  annulus; L = w_suction(0) + 2((1 − ν²)/E) ∫ q ds.
+  punch), φ a Chebyshev series, collocated so that the displacement on the annulus is the
+  pipette's (0 held; unknown, with the force condition, balanced);
+  L = w_suction(0) + 2((1 − ν²)/E) ∫ q ds − w_pipette.
 
 At ν = ½ a normal surface load moves the surface only normally, so a frictionless and a bonded
-pipette end give the same L (the question whether Theret's contact was bonded does not arise in
-the linear half-space). Exact limits: a free disc (no wall) Φ = π; a wall filling the plane
-(η → ∞) is half a pressurised penny-shaped crack, w(0) = 4(1 − ν²)Δp Rp/(πE), Φ = 2.
-The pipette end is held, not force-balanced: it carries 65% (η = 0.1) to 98% (η = 10) of the
-suction force πRp²Δp, the rest goes to infinity (a finite body's base); its contact pressure is
-compressive all over the annulus (checked η = 0.1–10), so the unilateral contact stays closed.
-Accuracy (default n = 32, against n = 64, 128 extrapolated): 2e-7 at η = 0.1, 2e-6 at 0.5,
-1.4e-5 at 2, 1.6e-4 at 10.
+pipette end give the same L (whether Theret's contact was bonded does not matter in the linear
+half-space). Exact limits: a free disc (no wall) Φ = π; a wall filling the plane (η → ∞) is half
+a pressurised penny-shaped crack, w(0) = 4(1 − ν²)Δp Rp/(πE), Φ = 2. The contact pressure is
+compressive all over the annulus (held, checked η = 0.1–10), so unilateral contact stays closed.
+Accuracy of the held Φ (default n = 32, against n = 64, 128 extrapolated): 2e-7 at η = 0.1,
+2e-6 at 0.5, 1.4e-5 at 2, 1.6e-4 at 10.
 """
+import functools
 import math
 
 import numpy as np
@@ -103,8 +113,9 @@ def disc_displacement_by_kernel(r, a=1.0):
     return _graded(lambda s: ring_kernel(r, s), 0.0, a, min(r, a))
 
 
-def wall_function(eta, n=32):
-    """Φ(η) with an n-term Chebyshev series for the annulus' pressure."""
+def _annulus(eta, n):
+    """The annulus a = 1 ≤ s ≤ b = 1 + η: its collocation matrix (displacement at the n Chebyshev
+    points per Chebyshev coefficient of φ), the points, and s(θ)."""
     if not (math.isfinite(eta) and eta > 0):
         raise ValueError(f"wall ratio η = {eta} must be positive and finite")
     a, b = 1.0, 1.0 + eta
@@ -116,15 +127,55 @@ def wall_function(eta, n=32):
                                    * ring_kernel(s_of(ti), s_of(th))[:, None], 0.0, math.pi, ti,
                                    panels)
                        for ti in thetas])
-    rhs = np.array([-C * disc_displacement(s_of(t)) for t in thetas])
-    coef = np.linalg.solve(matrix, rhs)
-    length = C * disc_displacement(0.0) + 2.0 * C * math.pi * coef[0]
+    return matrix, thetas, s_of
+
+
+def annulus_force(coef, eta):
+    """2π∫q s ds of the annulus pressure with Chebyshev coefficients `coef` (s = (a+b)/2 +
+    (b−a)/2 cos θ, ds/√((s−a)(b−s)) = dθ: only the first two terms survive)."""
+    a, b = 1.0, 1.0 + eta
+    return 2.0 * math.pi * (coef[0] * math.pi * 0.5 * (a + b) + coef[1] * 0.25 * math.pi * (b - a))
+
+
+def annulus_displacement(coef, eta, r):
+    """The displacement at r (units (1 − ν²)/E) of the annulus pressure `coef`."""
+    a, b = 1.0, 1.0 + eta
+    s_of = lambda th: 0.5 * (a + b) + 0.5 * (b - a) * np.cos(th)
+    orders = np.arange(len(coef))
+    at = math.acos(max(-1.0, min(1.0, (2.0 * r - a - b) / (b - a)))) if a <= r <= b else 0.0
+    return C * float(_graded(lambda th: (np.cos(np.outer(th, orders)) @ coef) * ring_kernel(r, s_of(th)),
+                             0.0, math.pi, at, max(4, len(coef) // 4)))
+
+
+def solve_annulus(eta, n=32, pipette="held", suction=1.0, displacement=0.0):
+    """The annulus pressure's Chebyshev coefficients and the pipette's displacement, for a
+    suction over the bore and a pipette "held" at `displacement` or "balanced" (its force
+    −π·suction, pressing; its displacement unknown). Units: Rp = 1, (1 − ν²)/E = 1."""
+    matrix, thetas, s_of = _annulus(eta, n)
+    rhs = np.array([-C * disc_displacement(s_of(t), pressure=suction) for t in thetas])
+    if pipette == "held":
+        return np.linalg.solve(matrix, rhs + displacement), displacement
+    if pipette != "balanced":
+        raise ValueError(f'pipette "{pipette}": "held" or "balanced"')
+    bordered = np.zeros((n + 1, n + 1))
+    bordered[:n, :n], bordered[:n, n] = matrix, -1.0
+    bordered[n, :2] = annulus_force(np.eye(n)[0], eta), annulus_force(np.eye(n)[1], eta)
+    x = np.linalg.solve(bordered, np.append(rhs, -math.pi * suction))
+    return x[:n], x[n]
+
+
+@functools.lru_cache(maxsize=256)     # each costs ~0.3 s; tests and studies ask again
+def wall_function(eta, n=32, pipette="held"):
+    """Φ(η) with an n-term Chebyshev series for the annulus' pressure (pipette "held" or
+    "balanced", see the module's docstring)."""
+    coef, w_pipette = solve_annulus(eta, n, pipette)
+    length = C * disc_displacement(0.0) + 2.0 * C * math.pi * coef[0] - w_pipette
     return 0.5 * math.pi * length / C
 
 
-def aspirated_length(rp, suction, young, eta, n=32):
+def aspirated_length(rp, suction, young, eta, n=32, pipette="held"):
     """Theret's L = 3 Rp Δp Φ(η)/(2πE) (incompressible half-space)."""
     for name, v in (("rp", rp), ("young", young)):
         if not (math.isfinite(v) and v > 0):
             raise ValueError(f"{name} = {v} must be positive and finite")
-    return 3.0 * rp * suction * wall_function(eta, n) / (2.0 * math.pi * young)
+    return 3.0 * rp * suction * wall_function(eta, n, pipette) / (2.0 * math.pi * young)

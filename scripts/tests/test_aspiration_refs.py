@@ -1,6 +1,7 @@
 """Theret's aspiration of an incompressible half-space (poroplast_tools.aspiration_refs): the
 elliptic integrals and the ring kernel against closed forms, the wall function's exact limits
-(penny-shaped crack: Φ → 2; no wall: Φ = π), its monotony and its convergence. Pure Python + numpy."""
+(penny-shaped crack: Φ → 2; no wall: Φ = π), its monotony, its convergence, Betti's reciprocity
+between two different annulus solutions. Pure Python + numpy."""
 import math
 import unittest
 
@@ -27,6 +28,14 @@ class Kernel(unittest.TestCase):
         self.assertAlmostEqual(ar.disc_displacement(100.0) * 100.0, 1.0, delta=1e-4)
 
 
+def _bore_rule():
+    """Nodes and weights on (0, 1), graded towards the rim r = 1 (w₂ has a √ edge there)."""
+    import numpy as np
+    u, w = np.polynomial.legendre.leggauss(40)
+    u, w = 0.5 * (u + 1), 0.5 * w
+    return 1 - u ** 3, 3 * u ** 2 * w
+
+
 class WallFunction(unittest.TestCase):
     def test_limits_and_monotony(self):
         values = [ar.wall_function(eta) for eta in (0.1, 0.5, 2.0, 10.0)]
@@ -35,6 +44,27 @@ class WallFunction(unittest.TestCase):
         self.assertTrue(values[0] < math.pi)                       # a free disc: π
         # The range quoted for Theret's Φ in the literature, 2.0–2.1, for usual walls.
         self.assertTrue(2.0 < ar.wall_function(0.2) < 2.1 < ar.wall_function(0.1))
+
+    def test_a_balanced_pipette(self):
+        # Pressing with the suction force and moving: larger L, the same limit 2 as η → ∞.
+        for eta in (0.1, 0.5, 2.0):
+            self.assertGreater(ar.wall_function(eta, pipette="balanced"), ar.wall_function(eta))
+        self.assertTrue(2.0 < ar.wall_function(10.0, pipette="balanced") < 2.0 + 1e-3)
+        coef, _ = ar.solve_annulus(0.5, pipette="balanced")
+        self.assertAlmostEqual(ar.annulus_force(coef, 0.5), -math.pi, delta=1e-12)
+        with self.assertRaises(ValueError):
+            ar.wall_function(0.5, pipette="free")
+
+    def test_betti_reciprocity(self):
+        # Held pipette under unit suction (force F₁ on the annulus, no displacement there) and
+        # the same pipette pushed by a unit displacement without suction (w₂ in the bore):
+        # Betti's theorem gives F₁ = −∫_bore w₂ dA. Two different solves, one identity.
+        eta = 0.3
+        coef1, _ = ar.solve_annulus(eta)
+        coef2, _ = ar.solve_annulus(eta, suction=0.0, displacement=1.0)
+        bore = sum(w * 2 * math.pi * r * ar.annulus_displacement(coef2, eta, r)
+                   for r, w in zip(*_bore_rule()))
+        self.assertAlmostEqual(ar.annulus_force(coef1, eta) / -bore, 1.0, delta=1e-5)
 
     def test_converged(self):
         # Third-order convergence in the series length (measured: n = 16, 32, 64, 128 differ by
