@@ -14,9 +14,11 @@ references note) as an axisymmetric Boussinesq problem, for the two ways to hold
   a finite body's base);
 * "balanced": the pipette presses with exactly the suction force (no net force on the body, as
   on a free cell) and moves with the surface; L is measured from its end.
-Which of the two Theret tabulated is not known here; both tend to Φ = 2 as η → ∞ and lie in the
-"2.0–2.1" quoted in the literature for η ≳ 0.3–0.5; they part at small η (0.1: 2.157 held,
-2.60 balanced).
+Which of the two Theret tabulated is not known here; both tend to Φ = 2 as η → ∞; the "2.0–2.1"
+quoted in the literature holds for η ≥ 0.2 held (2.096 at 0.2) but only for η ≳ 0.7 balanced
+(2.36 at 0.2, 2.14 at 0.5); at η = 0.1: 2.157 held, 2.602 balanced. In a finite body on a fixed
+base, a held pipette leaves a net force that shifts the annulus at O(Rp/H) (first order in L);
+a balanced one leaves none, and its L (tip minus pipette) drops a near-rigid base shift.
 
 Method:
 * surface displacement of a ring load: w(r) = ((1 − ν²)/(πE)) ∫ p(s) 4s/(r + s) K(4rs/(r + s)²) ds
@@ -32,8 +34,8 @@ pipette end give the same L (whether Theret's contact was bonded does not matter
 half-space). Exact limits: a free disc (no wall) Φ = π; a wall filling the plane (η → ∞) is half
 a pressurised penny-shaped crack, w(0) = 4(1 − ν²)Δp Rp/(πE), Φ = 2. The contact pressure is
 compressive all over the annulus (held, checked η = 0.1–10), so unilateral contact stays closed.
-Accuracy of the held Φ (default n = 32, against n = 64, 128 extrapolated): 2e-7 at η = 0.1,
-2e-6 at 0.5, 1.4e-5 at 2, 1.6e-4 at 10.
+Accuracy of Φ, held or balanced (default n = 32, against n = 64, 128 extrapolated): 3e-7 at
+η = 0.1, 2e-6 at 0.5, 1.4e-5 at 2, 1.6e-4 at 10.
 """
 import functools
 import math
