@@ -47,10 +47,9 @@ class WallFunction(unittest.TestCase):
 
     def test_a_balanced_pipette(self):
         # Pressing with the suction force and moving: larger L, the same limit 2 as η → ∞.
-        for eta in (0.1, 0.5, 2.0):
-            self.assertGreater(ar.wall_function(eta, pipette="balanced"), ar.wall_function(eta))
+        self.assertGreater(ar.wall_function(0.1, pipette="balanced"), ar.wall_function(0.1) + 0.4)
         self.assertTrue(2.0 < ar.wall_function(10.0, pipette="balanced") < 2.0 + 1e-3)
-        coef, _ = ar.solve_annulus(0.5, pipette="balanced")
+        coef, _ = ar.solve_annulus(0.5, 16, pipette="balanced")
         self.assertAlmostEqual(ar.annulus_force(coef, 0.5), -math.pi, delta=1e-12)
         with self.assertRaises(ValueError):
             ar.wall_function(0.5, pipette="free")
