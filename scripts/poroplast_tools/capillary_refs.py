@@ -19,7 +19,7 @@ the suction Δp(R_c) peaks just above R_c = Rp (the saddle-node where the static
 below it in R_c the shapes are the unstable branch), at 2γ(1/R_c − 1/R_o) within ~1e-7 of the
 hemispherical cap's 2γ(1/Rp − 1/R_o) (R₀ = 5Rp), with L within ~1e-3 Rp of Rp + r.
 Guevorkian et al. (PRL 104, 218101 (2010)) write Δp_c = 2γ(1/Rp − 1/R₀), R₀ the drop's radius
-before the suction: slightly above the exact value (−0.03% at R₀ = 5Rp), since the tongue's
+before the suction: 0.03% above the exact value at R₀ = 5Rp, since the tongue's
 volume shrinks the outer sphere.
 """
 import math
