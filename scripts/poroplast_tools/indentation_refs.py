@@ -6,7 +6,7 @@ check the solver's sphere tool against, computed independently of it.
   1/R = 1/R_indenter + 1/R_body. With the shear modulus G: E* = 2G/(1 − ν), so
   instantaneous (undrained, incompressible constituents, ν = ½) F₀ = (16/3) G δ a and drained
   (ν the drained ratio) F∞ = F₀ / (2(1 − ν)).
-* Sneddon's exact sphere (Int. J. Eng. Sci. 3, 47 (1965)), in the contact radius a:
+* Sneddon's exact sphere (Sneddon 1965), in the contact radius a:
   F = (E*/2) [(a² + R²) ln((R + a)/(R − a)) − 2aR],  δ = (a/2) ln((R + a)/(R − a)).
   At equal depth F_Sneddon/F_Hertz = 1 − (a/R)²/10 + O((a/R)⁴): −0.025% at a/R = 0.05,
   −0.100% at 0.1, −0.41% at 0.2.
