@@ -6,8 +6,8 @@ the pipette end, is
 
     L = 3 Rp Δp Φ(η) / (2π E),
 
-the wall function Φ computed here (Theret's table was not available; see the issue-53
-references note) as an axisymmetric Boussinesq problem, for the two ways to hold the pipette:
+the wall function Φ computed here (Theret's own table was not available to us) as an
+axisymmetric Boussinesq problem, for the two ways to hold the pipette:
 
 * "held": the pipette end does not move (zero displacement; the force it takes is what it
   takes: 65% (η = 0.1) to 98% (η = 10) of the suction force πRp²Δp, the rest reaches infinity,

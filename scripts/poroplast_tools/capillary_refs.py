@@ -1,6 +1,6 @@
 """A liquid drop (surface tension γ, volume V₀ = 4πR₀³/3, no gravity) held at a pipette by a
 suction Δp below its threshold: the static shape and the threshold, computed independently of the
-solver (issue-53 design §8.5).
+solver (issue 53's verification).
 
 Meridian (ρ, z), the pipette's axis along z, its bore towards −z, its mouth plane z = 0. The rim
 is a circle of radius r (the rounded wall end; r = 0: a sharp edge) centred at (ρ_r, ζ_r) =

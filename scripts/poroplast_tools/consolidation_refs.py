@@ -1,6 +1,5 @@
 """Terzaghi's one-dimensional consolidation under a constant total stress: the settlement of a
-laterally confined column (the creep check of a force-controlled plate, docs' §8.1 of the issue-53
-design), computed here independently of the solver (its Rust twin is
+laterally confined column (the creep check of a force-controlled plate, issue 53), computed here independently of the solver (its Rust twin is
 src/observe/analytic/terzaghi.rs; this one serves the study scripts and their tests).
 
 Column of height H, one drained face, incompressible constituents, oedometric modulus

@@ -15,7 +15,7 @@ check the solver's sphere tool against, computed independently of it.
   g(τ) = 0.491 e^{−0.908√τ} + 0.509 e^{−1.679τ}, D = 2(1 − ν) G k/(1 − 2ν) = k(λ + 2µ) (k the
   code's k/η). g is their fit to finite-element results, independent of ν; it assumes a step
   (no ramp) and a half-space (√(Dt) ≪ the body). Its stated accuracy is not known here
-  (see the issue-53 references note); its coefficients sum to exactly 1 (g(0) = 1).
+  (not found in what we could read); its coefficients sum to exactly 1 (g(0) = 1).
 """
 import math
 

@@ -18,8 +18,8 @@ class HertzAndSneddon(unittest.TestCase):
             rel = f / ir.hertz_force(depth, 1.0, 1.0) - 1
             self.assertAlmostEqual(rel / x ** 2, -0.1, delta=0.2 * x ** 2)
 
-    def test_the_design_notes_percentages(self):
-        # Issue-53 design §8.2: −0.025% at a/R = 0.05, −0.10% at 0.1, −0.41% at 0.2 (equal δ).
+    def test_the_quoted_percentages(self):
+        # The gaps quoted for issue 53: −0.025% at a/R = 0.05, −0.10% at 0.1, −0.41% at 0.2 (equal δ).
         for x, pct in ((0.05, -0.025), (0.1, -0.10), (0.2, -0.41)):
             depth, f = ir.sneddon_sphere(100.0 * x, 100.0, 3.0)
             rel = 100 * (f / ir.hertz_force(depth, 100.0, 3.0) - 1)
