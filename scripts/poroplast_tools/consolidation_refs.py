@@ -1,6 +1,7 @@
 """Terzaghi's one-dimensional consolidation under a constant total stress: the settlement of a
-laterally confined column (the creep check of a force-controlled plate, issue 53), computed here independently of the solver (its Rust twin is
-src/observe/analytic/terzaghi.rs; this one serves the study scripts and their tests).
+laterally confined column (the creep check of a force-controlled plate, issue 53), computed
+here independently of the solver (its Rust twin is src/observe/analytic/terzaghi.rs; this one
+serves the study scripts and their tests).
 
 Column of height H, one drained face, incompressible constituents, oedometric modulus
 M = λ + 2µ, consolidation coefficient c = k M, τ = c t / H². Degree of consolidation
