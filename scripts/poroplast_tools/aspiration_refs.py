@@ -114,13 +114,17 @@ def disc_displacement_by_kernel(r, a=1.0):
     return _graded(lambda s: ring_kernel(r, s), 0.0, a, min(r, a))
 
 
-def _annulus(eta, n):
-    """The annulus a = 1 ≤ s ≤ b = 1 + η: its collocation matrix (displacement at the n Chebyshev
-    points per Chebyshev coefficient of φ), the points, and s(θ)."""
+def _radius_of(eta):
+    """s(θ) = (a + b)/2 + (b − a)/2 cos θ on the annulus a = 1 ≤ s ≤ b = 1 + η."""
     if not (math.isfinite(eta) and eta > 0):
         raise ValueError(f"wall ratio η = {eta} must be positive and finite")
-    a, b = 1.0, 1.0 + eta
-    s_of = lambda th: 0.5 * (a + b) + 0.5 * (b - a) * np.cos(th)
+    return lambda th: 1.0 + 0.5 * eta + 0.5 * eta * np.cos(th)
+
+
+def _annulus(eta, n):
+    """The annulus' collocation matrix (displacement at the n Chebyshev points per Chebyshev
+    coefficient of φ), the points, and s(θ)."""
+    s_of = _radius_of(eta)
     thetas = (np.arange(n) + 0.5) * math.pi / n
     orders = np.arange(n)
     panels = max(4, n // 4)        # panels resolve cos(jθ) up to j = n − 1 on each side
@@ -141,7 +145,7 @@ def annulus_force(coef, eta):
 def annulus_displacement(coef, eta, r):
     """The displacement at r (units (1 − ν²)/E) of the annulus pressure `coef`."""
     a, b = 1.0, 1.0 + eta
-    s_of = lambda th: 0.5 * (a + b) + 0.5 * (b - a) * np.cos(th)
+    s_of = _radius_of(eta)
     orders = np.arange(len(coef))
     at = math.acos(max(-1.0, min(1.0, (2.0 * r - a - b) / (b - a)))) if a <= r <= b else 0.0
     return C * float(_graded(lambda th: (np.cos(np.outer(th, orders)) @ coef) * ring_kernel(r, s_of(th)),
@@ -165,7 +169,7 @@ def solve_annulus(eta, n=32, pipette="held", suction=1.0, displacement=0.0):
     return x[:n], x[n]
 
 
-@functools.lru_cache(maxsize=256)     # each costs ~0.3 s; tests and studies ask again
+@functools.lru_cache(maxsize=256)     # ~0.1 s each (n = 32); tests and studies ask again
 def wall_function(eta, n=32, pipette="held"):
     """Φ(η) with an n-term Chebyshev series for the annulus' pressure (pipette "held" or
     "balanced", see the module's docstring)."""
