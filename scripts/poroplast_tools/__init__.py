@@ -9,6 +9,11 @@
   * richardson  observed orders, Richardson corrections and extrapolation with error bars
   * convergence the convergence-study design (mesh levels x step levels) and its extrapolation
   * refs        scripts/data/references.csv, the converged values
+  * closed forms to check the solver against, computed independently of it (issue 53):
+                consolidation_refs (Terzaghi's settlement), indentation_refs (Hertz, Sneddon's
+                sphere, Hu et al.'s poroelastic relaxation), aspiration_refs (Theret's elastic
+                half-space: the wall function Φ(η) computed), capillary_refs (a liquid drop at a
+                pipette: threshold and static shape)
   * fields      observables of a run's fields (region means, the pressure bubble) and events
   * labels      figure labels in the docs' units
   * tables      CSV tables and the Pareto front
