@@ -122,17 +122,22 @@ fn constraints(
     Ok((cons, ext, free_modes))
 }
 
-/// Without plates, the `[[bc]]` entries must hold the body: a translation no displacement or
-/// roller blocks (along z on the meridian, any axis in 3-D) leaves the Newton system singular,
+/// Without plates, the `[[bc]]` entries or tools pressing from both sides must hold the body: a
+/// translation nothing blocks (along z on the meridian, any axis in 3-D) leaves the Newton system singular,
 /// which would surface as a diverged first step (SNES reason -3) with no word of the cause.
 fn held(world: &SimpleCommunicator, scene: &LoadedScene, local: &LocalMesh, constrained_u: &[usize]) -> Result<()> {
     let nc = local.family.components();
     let axes: Vec<usize> = if local.family.axisymmetric() { vec![nc - 1] } else { (0..nc).collect() };
+    // Tools pressing from both sides along a direction hold it (while they touch).
+    let opposed = |d: usize| {
+        let along = |sign: f64| scene.scene.tools.iter().any(|t| sign * t.unit_axis()[d] > 0.5);
+        along(1.0) && along(-1.0)
+    };
     let free: Vec<&str> = axes
         .into_iter()
         .filter(|&c| {
             let here = f64::from(u8::from(constrained_u.iter().any(|&l| l % nc == c)));
-            crate::parallel::max(world, here) == 0.0
+            crate::parallel::max(world, here) == 0.0 && !opposed(local.family.axes()[c])
         })
         .map(|c| ["x", "y", "z"][local.family.axes()[c]])
         .collect();
@@ -142,8 +147,8 @@ fn held(world: &SimpleCommunicator, scene: &LoadedScene, local: &LocalMesh, cons
     Err(Error::Scene {
         path: scene.source.clone(),
         msg: format!(
-            "nothing holds the body along {}: the scene has no [plates] and no [[bc]] displacement or roller \
-             blocks that translation, so the first step cannot converge (add [plates], or a [[bc]] such as \
+            "nothing holds the body along {}: the scene has no [plates], no [[bc]] displacement or roller and no \
+             two [[tools]] pressing from both sides block that translation, so the first step cannot converge (add [plates], or a [[bc]] such as \
              `group = \"pole_bottom\"`, `displacement = {{ {} = 0.0 }}`)",
             free.join(", "),
             free[0]

@@ -19,7 +19,8 @@ pub(crate) const COLUMNS: [ColumnDoc; 5] = [
         "*tool*_force_uN",
         "µN",
         "the force on the tool along its axis, positive pushing the body: the sum of the contact reactions of the \
-         surface nodes nearest to it (the whole body on the meridian; the meshed part in 3-D)",
+         surface nodes nearest to it and within two cells of it (the whole body on the meridian; the meshed part in \
+         3-D)",
     ),
     ColumnDoc::pattern("*tool*_contact_nodes", "–", "surface nodes on the tool (gap ≤ 1e-8 µm, pushed)"),
     ColumnDoc::pattern(
@@ -53,7 +54,9 @@ pub(crate) fn read(
     let nc = dofs.nc;
     let (mut force, mut nodes, mut radius, mut depth) = (vec![0.0; n], vec![0.0; n], vec![0.0f64; n], vec![0.0f64; n]);
     let position = set.positions_at(t);
-    for (node, x, near) in set.owned_gaps(local, &position) {
+    // The nodes within the band of a tool: the others are free (no reaction) or held elsewhere
+    // (a constraint's reaction is not the tool's).
+    for (node, x, near) in set.owned_gaps(local, &position).filter(|(_, _, n)| n.phi <= set.band()) {
         let tool = &set.tools()[near.tool];
         let a = tool.axis;
         // The axis in the node's components ((r, z) on the meridian: tools lie on the z axis).

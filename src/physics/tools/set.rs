@@ -133,6 +133,11 @@ impl ToolSet {
         &self.tools
     }
 
+    /// The gap within which a node gets a frame (µm).
+    pub(crate) fn band(&self) -> f64 {
+        self.band
+    }
+
     /// The tools' positions along their axes at time t.
     pub(crate) fn positions_at(&self, t: f64) -> Vec<f64> {
         self.paths.iter().map(|p| p.displacement(t)).collect()
