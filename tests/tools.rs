@@ -147,7 +147,7 @@ fn a_tool_overlapping_the_body_or_force_controlled_is_refused() {
 
 /// A sealed linear sphere (R = 100 µm) between a dish and a bead (R = 50 µm) pressed 4 µm on the
 /// axis, on the meridian and on the 3-D quarter (two ranks; frames in space): the dish carries the
-/// bead's force (equilibrium, to round-off), no node enters a tool, and the two discretisations
+/// bead's force (equilibrium, to the Newton tolerance: 1e-7), no node enters a tool, and the two discretisations
 /// agree to within their meshes' difference (measured 4.2% at these sizes; the meridian's own
 /// refinement moves it by 4%, and it approaches Hertz's two contacts in series, 4.03 µm at its
 /// finest force).
@@ -197,7 +197,7 @@ dt = 0.25
     let (hq, hm) = (History::read(&q), History::read(&m));
     for h in [&hq, &hm] {
         for (b, d) in h.col("bead_force_uN").iter().zip(h.col("dish_force_uN")) {
-            assert!((b - d).abs() <= 1e-9 * b.abs().max(1e-9), "bead {b} against dish {d} µN");
+            assert!((b - d).abs() <= 1e-7 * b.abs().max(1e-9), "bead {b} against dish {d} µN");
         }
         for col in ["bead_penetration", "dish_penetration"] {
             assert!(h.col(col).iter().all(|p| p.abs() <= 1e-12 * 100.0), "{col}: {:?}", h.col(col));
