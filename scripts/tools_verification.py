@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """The rigid tools against their closed forms: a sphere (R = 100 µm) indenting a linear block on
 the meridian (G = 1 kPa, ν = 0.2, bottom on rollers), against Hertz and Sneddon
-(poroplast_tools/indentation_refs.py), undrained (sealed, ν = ½) at several meshes and block
-heights, and drained at two depths with the mesh scaled with the contact. Writes one row per
+(poroplast_tools/indentation_refs.py), undrained (ν = ½) at several meshes and block
+heights, and drained at two depths with the mesh scaled with the contact, all from
+tests/data/hertz_block.toml with overrides. Writes one row per
 case and step to scripts/data/tools_hertz.csv (docs/verification.md, "Rigid tools"); the tests
 of tests/tools.rs run the cheapest of these cases.
 
@@ -23,47 +24,31 @@ ROOT = Path(__file__).resolve().parent.parent
 OUT = ROOT / "scripts" / "data" / "tools_hertz.csv"
 R_SPHERE, G, NU = 100.0, 1.0, 0.2
 
-# (case, sealed, δ µm, H µm, h_c µm)
+SCENE = ROOT / "tests" / "data" / "hertz_block.toml"
+
+# (case, drained, δ µm, H µm, h_c µm)
 CASES = [
-    ("undrained_H500_hc1", True, 1.0, 500.0, 1.0),
-    ("undrained_H500_hc0.5", True, 1.0, 500.0, 0.5),
-    ("undrained_H1000_hc0.5", True, 1.0, 1000.0, 0.5),
-    ("drained_d0.1", False, 0.1, 500.0, 0.1 ** 0.5),
-    ("drained_d0.025", False, 0.025, 500.0, 0.025 ** 0.5),
+    ("undrained_H500_hc1", False, 1.0, 500.0, 1.0),
+    ("undrained_H500_hc0.5", False, 1.0, 500.0, 0.5),
+    ("undrained_H1000_hc0.5", False, 1.0, 1000.0, 0.5),
+    ("drained_d0.1", True, 0.1, 500.0, 0.1 ** 0.5),
+    ("drained_d0.025", True, 0.025, 500.0, 0.025 ** 0.5),
 ]
 
 
-def scene(sealed, delta, height, h_c):
-    k, drain = ("1e-6", "") if sealed else ("1e6", '\n[[bc]]\ngroup = "top"\npressure = 0.0\n')
-    return f"""name = "hertz"
-[mesh]
-geo = "block_meridian.geo"
-geometry = "axisymmetric"
-params = {{ H = {height}, h = {height / 8}, h_c = {h_c}, d_c = {40 * h_c}, w_c = {0.4 * height} }}
-
-[material]
-model = "linear"
-mu = {G}
-nu = {NU}
-permeability = {k}
-
-[[bc]]
-group = "bottom"
-displacement = {{ z = 0.0 }}
-{drain}
-[[tools]]
-name = "bead"
-kind = "sphere"
-radius = {R_SPHERE}
-origin = [0.0, 0.0, {height + R_SPHERE}]
-axis = [0.0, 0.0, -1.0]
-group = "top"
-protocol = [ {{ t = 0.0, displacement = 0.0 }}, {{ t = 1.0, displacement = {delta} }} ]
-
-[time]
-t_end = 1.0
-dt = 0.25
-"""
+def overrides(drained, delta, height, h_c):
+    """tests/data/hertz_block.toml's keys for one case (the mesh scaled with H, h_c at the contact;
+    drained: a huge permeability and the top drained)."""
+    sets = {
+        "material.permeability": 1e6 if drained else 1e-6,
+        "mesh.params.H": height, "mesh.params.h": height / 8, "mesh.params.w_c": 0.4 * height,
+        "mesh.params.h_c": h_c, "mesh.params.d_c": 40 * h_c,
+        "tools.0.origin": f"[0,0,{height + R_SPHERE}]",
+        "tools.0.protocol": f"[{{t=0.0,displacement=0.0}},{{t=1.0,displacement={delta}}}]",
+    }
+    if drained:
+        sets["bc"] = '[{group="bottom",displacement={z=0.0}},{group="top",pressure=0.0}]'
+    return [a for k, v in sets.items() for a in ("--set", f"{k}={v}")]
 
 
 def main():
@@ -73,24 +58,23 @@ def main():
     args = ap.parse_args()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for name, sealed, delta, height, h_c in CASES:
-            path = Path(tmp) / f"{name}.toml"
-            path.write_text(scene(sealed, delta, height, h_c))
+        for name, drained, delta, height, h_c in CASES:
             out = Path(tmp) / name
-            cmd = ["mpirun", "-n", str(args.ranks), args.bin, "run", str(path), "-q", "--out", str(out)]
+            cmd = ["mpirun", "-n", str(args.ranks), args.bin, "run", str(SCENE), "-q", "--out", str(out)]
+            cmd += overrides(drained, delta, height, h_c)
             t0 = time.time()
             run = subprocess.run(cmd, capture_output=True, text=True)
             if run.returncode != 0:
                 sys.exit(f"tools_verification.py: {name} failed:\n{run.stderr}")
             wall = time.time() - t0
-            e_star = ir.contact_modulus(G, 0.5 if sealed else NU)
+            e_star = ir.contact_modulus(G, NU if drained else 0.5)
             hist = list(csv.DictReader(open(out / "history.csv")))
             for r in hist[1:]:
                 d = float(r["bead_position"])
                 f = 1e3 * float(r["bead_force_uN"])
                 hertz = ir.hertz_force(d, R_SPHERE, e_star)
                 rows.append({
-                    "case": name, "drained": int(not sealed), "H": height, "h_c": h_c, "delta": d,
+                    "case": name, "drained": int(drained), "H": height, "h_c": h_c, "delta": d,
                     "a_over_R": ir.hertz_contact_radius(d, R_SPHERE) / R_SPHERE,
                     "force_nN": f, "hertz_nN": hertz, "err_hertz": f / hertz - 1,
                     "err_sneddon": f / ir.sneddon_force(d, R_SPHERE, e_star) - 1,

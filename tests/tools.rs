@@ -5,47 +5,28 @@
 use crate::common::{poroplast, run_ok, scratch, History};
 use std::path::Path;
 
-/// A sphere of radius 100 µm indenting a linear block (G = 1 kPa, ν = 0.2; meridian, height and
-/// radius H = 500 µm, the bottom on rollers), ramped to δ over 1 s in steps of 0.25 s. `sealed`:
-/// no face drains and the permeability is tiny (undrained: ν = ½); else the top drains and the
-/// permeability is huge (drained within each step).
-fn hertz_scene(dir: &Path, sealed: bool, delta: f64, h_c: f64) -> String {
-    let (k, drain) = if sealed { ("1e-6", "") } else { ("1e6", "\n[[bc]]\ngroup = \"top\"\npressure = 0.0\n") };
-    let text = format!(
-        r#"name = "hertz"
-[mesh]
-geo = "block_meridian.geo"
-geometry = "axisymmetric"
-params = {{ H = 500.0, h = 60.0, h_c = {h_c}, d_c = {d_c}, w_c = 200.0 }}
-
-[material]
-model = "linear"
-mu = 1.0
-nu = 0.2
-permeability = {k}
-
-[[bc]]
-group = "bottom"
-displacement = {{ z = 0.0 }}
-{drain}
-[[tools]]
-name = "bead"
-kind = "sphere"
-radius = 100.0
-origin = [0.0, 0.0, 600.0]
-axis = [0.0, 0.0, -1.0]
-group = "top"
-protocol = [ {{ t = 0.0, displacement = 0.0 }}, {{ t = 1.0, displacement = {delta} }} ]
-
-[time]
-t_end = 1.0
-dt = 0.25
-"#,
-        d_c = 40.0 * h_c
-    );
-    let path = dir.join("hertz.toml");
-    std::fs::write(&path, text).unwrap();
-    path.display().to_string()
+/// The run of tests/data/hertz_block.toml (a sphere of radius 100 µm indenting a linear block,
+/// G = 1 kPa, ν = 0.2, H = 500 µm, ramped to δ over 1 s in steps of 0.25 s) in `out`: `drained`
+/// with a huge permeability and the top drained (drained within each step), else sealed
+/// (undrained: ν = ½); the mesh size h_c at the contact.
+fn run_hertz(np: usize, out: &Path, drained: bool, delta: f64, h_c: f64) -> History {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/hertz_block.toml");
+    let mut sets = vec![
+        format!("material.permeability={}", if drained { 1e6 } else { 1e-6 }),
+        format!("mesh.params.h_c={h_c}"),
+        format!("mesh.params.d_c={}", 40.0 * h_c),
+        format!("tools.0.protocol=[{{t=0.0,displacement=0.0}},{{t=1.0,displacement={delta}}}]"),
+    ];
+    if drained {
+        sets.push(r#"bc=[{group="bottom",displacement={z=0.0}},{group="top",pressure=0.0}]"#.into());
+    }
+    let mut args = vec!["run".to_string(), scene.display().to_string(), "-q".into(), "--out".into()];
+    args.push(out.display().to_string());
+    for s in &sets {
+        args.extend(["--set".to_string(), s.clone()]);
+    }
+    run_ok(np, &args.iter().map(String::as_str).collect::<Vec<_>>());
+    History::read(out)
 }
 
 /// (δ, a/R, F / F_Hertz − 1, penetration) of every step after the first row, `e_star` in kPa.
@@ -64,11 +45,9 @@ fn against_hertz(h: &History, e_star: f64) -> Vec<(f64, f64, f64, f64)> {
 /// 0.5%; a finite block of H = 50a and Sneddon's sphere, −0.1% at a/R = 0.1, bound the rest), the
 /// contact radius within one cell of √(Rδ), and every node on the sphere at round-off.
 #[test]
-fn a_sphere_indents_a_sealed_block_as_hertz_says() {
+fn a_sphere_indents_a_block_undrained_as_hertz_says() {
     let dir = scratch("tools_hertz_undrained");
-    let scene = hertz_scene(&dir, true, 1.0, 1.0);
-    run_ok(1, &["run", &scene, "-q", "--out", &dir.join("run").display().to_string()]);
-    let h = History::read(&dir.join("run"));
+    let h = run_hertz(1, &dir.join("run"), false, 1.0, 1.0);
     let rows = against_hertz(&h, 4.0);
     assert_eq!(rows.len(), 4, "{rows:?}");
     for &(d, _, err, pen) in &rows {
@@ -90,10 +69,8 @@ fn a_drained_block_tends_to_hertz_as_the_contact_shrinks() {
     let dir = scratch("tools_hertz_drained");
     let mut last = Vec::new();
     for delta in [0.1, 0.025] {
-        let scene = hertz_scene(&dir, false, delta, (100.0 * delta).sqrt() / 10.0);
-        let out = dir.join(format!("run{delta}"));
-        run_ok(1, &["run", &scene, "-q", "--out", &out.display().to_string()]);
-        let rows = against_hertz(&History::read(&out), 2.0 / 0.8);
+        let h = run_hertz(1, &dir.join(format!("run{delta}")), true, delta, (100.0 * delta).sqrt() / 10.0);
+        let rows = against_hertz(&h, 2.0 / 0.8);
         for &(d, _, err, pen) in &rows {
             assert!(err.abs() <= 0.015, "δ = {d}: F / F_Hertz − 1 = {err:.4}");
             assert!(pen.abs() <= 1e-12 * 100.0, "δ = {d}: penetration {pen} µm");
@@ -109,15 +86,7 @@ fn a_drained_block_tends_to_hertz_as_the_contact_shrinks() {
 #[test]
 fn tool_contact_on_two_ranks_is_the_one_rank_run() {
     let dir = scratch("tools_ranks");
-    let scene = hertz_scene(&dir, true, 1.0, 2.0);
-    let h: Vec<History> = [1, 2]
-        .iter()
-        .map(|&np| {
-            let out = dir.join(format!("np{np}"));
-            run_ok(np, &["run", &scene, "-q", "--out", &out.display().to_string()]);
-            History::read(&out)
-        })
-        .collect();
+    let h: Vec<History> = [1, 2].iter().map(|&np| run_hertz(np, &dir.join(format!("np{np}")), false, 1.0, 2.0)).collect();
     for col in ["bead_force_uN", "bead_contact_radius", "bead_contact_nodes"] {
         for (a, b) in h[0].col(col).iter().zip(h[1].col(col)) {
             assert!((a - b).abs() <= 1e-9 * a.abs().max(1e-6), "{col}: {a} on 1 rank, {b} on 2");
@@ -129,7 +98,7 @@ fn tool_contact_on_two_ranks_is_the_one_rank_run() {
 #[test]
 fn a_tool_overlapping_the_body_or_force_controlled_is_refused() {
     let dir = scratch("tools_bad");
-    let scene = hertz_scene(&dir, true, 1.0, 2.0);
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/hertz_block.toml").display().to_string();
     let cases = [
         ("tools.0.origin=[0,0,599.5]", "overlaps the body by 0.5000 µm at t = 0"),
         ("tools.0.protocol=[{t=0.0,force=1.0}]", "force control of a tool is not available yet"),
