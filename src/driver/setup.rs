@@ -34,6 +34,7 @@ use crate::physics::factory::{ellipticity_warning, model_of};
 use crate::physics::problem::{PoroProblem, ProblemParts};
 use crate::physics::surface_tension::{Adhesion, SurfaceTension};
 use crate::physics::tools::{Tool, ToolSet};
+use crate::scene::tools::ToolSpec;
 use crate::reference_cell::Family;
 use crate::scene::LoadedScene;
 use crate::solver;
@@ -187,6 +188,47 @@ fn tools(
     let set = ToolSet::new(world, tools, paths, local, dofs, &faces, s.fem.equal_order(), &constrained, band);
     refuse_overlap(world, &set, dofs, &ctx)?;
     Ok(Some(set))
+}
+
+/// A pipette's rim rounded below the surface's cell size can pass between two surface nodes (the
+/// contact holds at the nodes): a note for each such pipette, with the largest surface edge within
+/// its outer radius of its axis.
+fn coarse_rims(world: &SimpleCommunicator, set: &ToolSet, local: &LocalMesh, specs: &[ToolSpec]) -> Vec<String> {
+    let mut notes = Vec::new();
+    for (tool, spec) in set.tools().iter().zip(specs) {
+        let (Some(rim), Some(inner), Some(wall)) = (spec.rim_radius, spec.inner_radius, spec.wall) else { continue };
+        let reach = inner + wall + rim;
+        let rho = |x: [f64; 3]| {
+            let v: [f64; 3] = std::array::from_fn(|i| x[i] - tool.origin[i]);
+            let z: f64 = (0..3).map(|i| v[i] * tool.axis[i]).sum();
+            (0..3).map(|i| (v[i] - z * tool.axis[i]).powi(2)).sum::<f64>().sqrt()
+        };
+        let mut longest = 0.0f64;
+        for group in std::iter::once(spec.group.as_str()) {
+            let Some((_, faces)) = local.face_groups.iter().find(|(n, _)| n == group) else { continue };
+            for &f in faces {
+                let nodes = &local.face(f as usize)[..local.family.face_vertices()];
+                let x: Vec<[f64; 3]> = nodes.iter().map(|&n| local.coords[n as usize]).collect();
+                if x.iter().all(|&p| rho(p) > reach) {
+                    continue;
+                }
+                for (i, a) in x.iter().enumerate() {
+                    for b in &x[i + 1..] {
+                        longest = longest.max((0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt());
+                    }
+                }
+            }
+        }
+        let longest = crate::parallel::max(world, longest);
+        if longest > rim {
+            notes.push(format!(
+                "tools: \"{}\" has a rim of radius {rim} µm, below the surface cells within its reach ({longest:.3} \
+                 µm): the rim can pass between two surface nodes; refine the surface there to h ≤ {rim} µm",
+                tool.name
+            ));
+        }
+    }
+    notes
 }
 
 /// A tool must not reach into the body at t = 0 (beyond round-off of the body's size): the
@@ -386,6 +428,11 @@ pub(super) fn setup<'w>(
     let (cons, ext, free_modes) = constraints(world, scene, &local, &dofs)?;
     let (plates, plate_faces) = plates(world, scene, &local, model.as_ref())?.unzip();
     let tools = tools(world, scene, &local, &dofs, &cons)?;
+    if let Some(set) = &tools {
+        for note in coarse_rims(world, set, &local, &scene.scene.tools) {
+            solver_line.push_str(&format!("\n{note}"));
+        }
+    }
     let surface = surface_tension(world, scene, &local)?;
     let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
 

@@ -49,6 +49,18 @@ impl Profile {
         }
     }
 
+    /// How deep a point can go into the tool before it is nearer another of its faces (its medial
+    /// axis): the sphere's and the punch's radius, half the pipette's wall, ∞ for the plane. A
+    /// node projected from deeper would come out on the wrong side of the tool.
+    pub(crate) fn thickness(&self) -> f64 {
+        match *self {
+            Profile::Plane => f64::INFINITY,
+            Profile::Sphere { radius } => radius,
+            Profile::Punch { radius, .. } => radius,
+            Profile::Pipette { wall, .. } => 0.5 * wall,
+        }
+    }
+
     /// The distance for ρ ≥ 0.
     fn half_sdf(&self, rho: f64, zeta: f64) -> Sdf2 {
         match *self {

@@ -267,8 +267,9 @@ impl CurvedContact for ToolSet {
         &self.nodes
     }
 
-    fn project(&self, x: &mut Vector) -> Result<()> {
+    fn project(&self, x: &mut Vector) -> Result<f64> {
         let mut xv = x.write()?;
+        let mut deepest = 0.0f64;
         let nc = self.nc;
         for c in self.candidates.iter().filter(|c| c.node < self.n_owned_nodes) {
             let u = &mut xv[nc * c.node..nc * c.node + nc];
@@ -277,8 +278,9 @@ impl CurvedContact for ToolSet {
             for (k, &a) in axes.iter().enumerate() {
                 pos[a] += u[k];
             }
-            let Some((_, g)) = self.nearest_at(pos, &self.position) else { continue };
+            let Some((k, g)) = self.nearest_at(pos, &self.position) else { continue };
             if g.phi < 0.0 {
+                deepest = deepest.max(-g.phi / (0.5 * self.tools[k].profile.thickness()));
                 for (k, &a) in axes.iter().enumerate() {
                     // The closest point in the node's components ((r, z) on the meridian).
                     let target = if nc == 2 { g.closest[k] } else { g.closest[a] };
@@ -286,6 +288,6 @@ impl CurvedContact for ToolSet {
                 }
             }
         }
-        Ok(())
+        Ok(deepest)
     }
 }

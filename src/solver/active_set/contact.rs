@@ -29,7 +29,9 @@ pub(crate) trait CurvedContact {
     fn nodes(&self) -> &[NodeContact];
     /// Moves the owned candidates of `x` that are inside a tool onto its surface (the
     /// projection of an iterate onto the admissible set, as the bounds' clamp for the plates).
-    fn project(&self, x: &mut Vector) -> Result<()>;
+    /// Returns the largest depth found relative to half the tool's thickness: beyond 1 a node
+    /// may have crossed a thin tool (a pipette's wall), and the step is to be shortened.
+    fn project(&self, x: &mut Vector) -> Result<f64>;
 }
 
 /// A candidate node's contact with its nearest curved tool at the current iterate.

@@ -94,8 +94,10 @@ impl CurvedStep {
         Ok(())
     }
 
-    /// Projects `x` onto the tools (the problem's projection; local).
-    pub(super) fn project(&self, x: &mut Vector) -> Result<()> {
-        self.contact.borrow().project(x)
+    /// Projects `x` onto the tools (the problem's projection); whether a node of any rank went
+    /// deeper than half a tool's thickness (collective).
+    pub(super) fn project(&self, world: &SimpleCommunicator, x: &mut Vector) -> Result<bool> {
+        let depth = self.contact.borrow().project(x)?;
+        Ok(crate::parallel::max(world, depth) > 1.0)
     }
 }

@@ -312,7 +312,7 @@ impl ShellSolve for ActiveSetNewton {
         let ksp = snes.ksp()?;
         self.bounds.project(x)?;
         if let Some(c) = &self.curved {
-            c.project(x)?;
+            c.project(&self.world, x)?;
         }
         snes.compute_function(x, &mut self.f)?;
         if let Some(state) = self.pending.take() {
@@ -485,8 +485,15 @@ impl ActiveSetNewton {
             self.trial.copy_from(x)?;
             self.trial.axpy(lambda, &self.step)?;
             self.bounds.project(&mut self.trial)?;
-            if let Some(c) = &self.curved {
-                c.project(&mut self.trial)?;
+            let tunnels = match &self.curved {
+                Some(c) => c.project(&self.world, &mut self.trial)?,
+                None => false,
+            };
+            if tunnels && lambda >= 0.5f64.powi(STEP_HALVINGS) {
+                // A step that takes a node deeper into a tool than half its thickness may cross
+                // it (its projection would land on the far side): halved, as an inadmissible one.
+                lambda *= 0.5;
+                continue;
             }
             snes.compute_function(&self.trial, &mut self.f)?;
             let n = self.split_trial()?;
