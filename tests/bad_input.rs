@@ -383,8 +383,7 @@ fn an_unheld_body_and_a_too_coarse_mesh_are_named() {
     let out = poroplast(1, &["check", no_plates.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        !out.status.success()
-            && err.contains("nothing holds the body along z: the scene has no [plates], no [[bc]]"),
+        !out.status.success() && err.contains("nothing holds the body along z: the scene has no [plates], no [[bc]]"),
         "{err}"
     );
     // Held at the bottom pole, the same body passes the check (without gravity, which a point

@@ -86,7 +86,8 @@ fn a_drained_block_tends_to_hertz_as_the_contact_shrinks() {
 #[test]
 fn tool_contact_on_two_ranks_is_the_one_rank_run() {
     let dir = scratch("tools_ranks");
-    let h: Vec<History> = [1, 2].iter().map(|&np| run_hertz(np, &dir.join(format!("np{np}")), false, 1.0, 2.0)).collect();
+    let h: Vec<History> =
+        [1, 2].iter().map(|&np| run_hertz(np, &dir.join(format!("np{np}")), false, 1.0, 2.0)).collect();
     for col in ["bead_force_uN", "bead_contact_radius", "bead_contact_nodes"] {
         for (a, b) in h[0].col(col).iter().zip(h[1].col(col)) {
             assert!((a - b).abs() <= 1e-9 * a.abs().max(1e-6), "{col}: {a} on 1 rank, {b} on 2");
