@@ -177,3 +177,38 @@ dt = 0.25
     let (fq, fm) = (4.0 * hq.col("bead_force_uN")[4], hm.col("bead_force_uN")[4]);
     assert!((fq / fm - 1.0).abs() <= 0.06, "quarter × 4: {fq} µN, meridian {fm} µN");
 }
+
+/// A sphere pressed by a pipette's rim onto a dish, 10 µm (tests/data/pipette_press.toml): the rim
+/// ring carries the dish's force, no node enters the wall, and the contact lies on the rim
+/// (between the bore, 20 µm, and the wall's outside, 30 µm). With a surface coarser than the rim
+/// the run says so.
+#[test]
+fn a_pipette_presses_on_its_rim_and_says_when_the_surface_is_too_coarse_for_it() {
+    let dir = scratch("tools_pipette");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pipette_press.toml").display().to_string();
+    let out = dir.join("run");
+    run_ok(1, &["run", &scene, "-q", "--out", &out.display().to_string(), "--set", "time.t_end=0.5"]);
+    let h = History::read(&out);
+    let last = h.rows.len() - 1;
+    let (pipette, dish) = (h.col("pipette_force_uN")[last], h.col("dish_force_uN")[last]);
+    assert!(pipette > 0.1 && (pipette - dish).abs() <= 1e-7 * pipette, "pipette {pipette}, dish {dish} µN");
+    for col in ["pipette_penetration", "dish_penetration"] {
+        assert!(h.col(col).iter().all(|p| p.abs() <= 1e-12 * 100.0), "{col}: {:?}", h.col(col));
+    }
+    let r = h.col("pipette_contact_radius")[last];
+    assert!((20.0..=30.0).contains(&r) && h.col("pipette_contact_nodes")[last] >= 3.0, "contact at r = {r}");
+    let coarse = run_ok(
+        1,
+        &[
+            "run",
+            &scene,
+            "--out",
+            &dir.join("coarse").display().to_string(),
+            "--set",
+            "time.t_end=0.1",
+            "--set",
+            "mesh.params.h_pole=2",
+        ],
+    );
+    assert!(coarse.contains("\"pipette\" has a rim of radius 2 µm, below the surface cells"), "{coarse}");
+}
