@@ -8,6 +8,7 @@ pub(crate) mod contact;
 pub(crate) mod factory;
 pub(crate) mod linear;
 pub(crate) mod problem;
+pub(crate) mod surface_geometry;
 pub(crate) mod surface_tension;
 pub(crate) mod tools;
 
