@@ -11,7 +11,7 @@
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::tabulate_tri6;
 use crate::fem::quadrature;
-use crate::fem::surface::{gauss3_line, line3};
+use crate::fem::surface::{gauss3_line, gauss4_line, line3};
 use crate::material::dual::Scalar;
 use crate::mesh::dist::LocalMesh;
 use crate::reference_cell::Family;
@@ -31,17 +31,30 @@ pub(crate) struct Rule {
 
 impl Rule {
     /// tri(4) on the 6-node triangle (exact for degree 4), Gauss-3 on the meridian's edge
-    /// (degree 5).
+    /// (degree 5): the surface tension's rule.
     pub(crate) fn new(family: Family) -> Rule {
+        Rule::of(family, 4, &gauss3_line())
+    }
+
+    /// tri(6) on the 6-node triangle, Gauss-4 on the meridian's edge (degree 7): exact for a
+    /// linear field times a face function times n da on a curved face (3-D: 1·2 + 2 + 2 = 6;
+    /// meridian, with the hoop r: 2 + 2 + 2 + 1 = 7), so a load p(x) N_b n da is the exact
+    /// gradient of ∫_V p dv and its tangent over a closed surface symmetric.
+    pub(crate) fn exact_for_linear_fields(family: Family) -> Rule {
+        Rule::of(family, 6, &gauss4_line())
+    }
+
+    /// The triangle rule of `degree` (3-D) or the line rule `line` (meridian).
+    fn of(family: Family, degree: usize, line: &[(f64, f64)]) -> Rule {
         match family {
             Family::Tet10 => {
-                let tab = tabulate_tri6(&quadrature::tri(4));
+                let tab = tabulate_tri6(&quadrature::tri(degree));
                 let dn = tab.dn.iter().map(|d| std::array::from_fn(|a| [d[a][0], d[a][1]])).collect();
                 Rule { family, w: tab.weights, n: tab.n, dn }
             }
             Family::Tri6 => {
                 let mut r = Rule { family, w: vec![], n: vec![], dn: vec![] };
-                for (s, w) in gauss3_line() {
+                for &(s, w) in line {
                     let (n, dn) = line3(s);
                     r.w.push(w);
                     r.n.push([n[0], n[1], n[2], 0.0, 0.0, 0.0]);

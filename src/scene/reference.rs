@@ -4,6 +4,7 @@
 use super::bc;
 use super::key::{Key, Section, Unset};
 use super::material;
+use super::medium;
 use super::mesh;
 use super::numerics;
 use super::observe;
@@ -29,6 +30,7 @@ pub(crate) fn sections() -> Vec<Section> {
         observe::VERIFICATION_SECTION,
         plates::SECTION,
         surface::SECTION,
+        medium::SECTION,
         numerics::SOLVER_SECTION,
         numerics::FEM_SECTION,
         PETSC_SECTION,

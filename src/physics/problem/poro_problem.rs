@@ -34,6 +34,7 @@ use crate::fem::qp_store::QpStore;
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::{Int, Mat, TsProblem, TsRef, Vector};
 use crate::physics::contact::Plates;
+use crate::physics::medium::Medium;
 use crate::physics::surface_tension::{PlatePlanes, SurfaceTension};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -52,6 +53,8 @@ pub(crate) struct PoroProblem {
     contact: Option<ContactStage>,
     /// Surface tension of the boundary, if the scene has it.
     surface: Option<SurfaceTension>,
+    /// The medium's pressure on the boundary and in the drained pores, if the scene has it.
+    medium: Option<Medium>,
     timers: Timers,
 }
 
@@ -79,6 +82,7 @@ impl PoroProblem {
             constraints,
             loads: mut external,
             surface,
+            medium,
             plates,
             schur,
         } = parts;
@@ -100,6 +104,7 @@ impl PoroProblem {
             insertion: JacobianInsertion::default(),
             contact,
             surface,
+            medium,
             timers: Timers::default(),
         })
     }
@@ -171,6 +176,11 @@ impl PoroProblem {
         &self.disc.constrained
     }
 
+    /// The medium, if the scene has it.
+    pub(crate) fn medium(&self) -> Option<&Medium> {
+        self.medium.as_ref()
+    }
+
     /// The plates, if the scene has them.
     pub(crate) fn plates(&self) -> Option<&Plates> {
         self.contact.as_ref().map(ContactStage::plates)
@@ -207,6 +217,10 @@ impl PoroProblem {
     /// Scales the model's gravity (settling ramps it up).
     pub(crate) fn set_gravity_factor(&mut self, factor: f64) {
         self.disc.model.set_gravity_factor(factor);
+        // The medium's hydrostatic pressure with it: the excess weight is what settles.
+        if let Some(m) = &mut self.medium {
+            m.set_gravity_factor(factor);
+        }
     }
 
     /// Whether the model keeps qp state (remodelling).
@@ -299,6 +313,7 @@ impl PoroProblem {
     fn residual_with(&mut self, t: f64, dt: f64, f: &mut Vector) -> Result<()> {
         let planes = self.plate_planes(t);
         let (disc, surface, contact, external) = (&self.disc, &self.surface, &self.contact, &self.external);
+        let medium = self.medium.as_ref();
         let outcome = self.local.with_zeroed_f(|ul, udl, fl| {
             let res = disc.add_residual(ul, udl, dt, fl);
             // Surface tension: γ ∂A/∂x of the boundary's nodes (with the adhesion to the plates
@@ -306,9 +321,13 @@ impl PoroProblem {
             if let Some(st) = surface {
                 st.add_residual(&disc.mesh, &disc.dofs, ul, planes, fl);
             }
-            // Drainage through the surface off the plates: outflow c(g) p (contact module).
+            // The medium's pressure on the boundary: Σ_q p_m N_b (n da)_q.
+            if let Some(m) = medium {
+                m.add_residual(&disc.mesh, &disc.dofs, ul, fl);
+            }
+            // Drainage through the surface off the plates: outflow c(g) (p − p_m) (contact module).
             if let Some(c) = contact {
-                c.add_drainage(disc, ul, t, fl);
+                c.add_drainage(disc, ul, t, medium, fl);
             }
             for (l, x) in fl.iter_mut().enumerate() {
                 if disc.constrained[l] {
@@ -345,6 +364,7 @@ impl PoroProblem {
         if self.disc.model.is_linear()
             && self.contact.is_none()
             && self.surface.is_none()
+            && self.medium.is_none()
             && self.insertion.assembled_at(shift)
         {
             return Ok(());
@@ -368,20 +388,26 @@ impl PoroProblem {
         let scales = self.rows.scales(self.disc.model.as_ref(), shift);
         let planes = self.plate_planes(t);
         let ul = self.local.u()?;
-        // Surface tension: γ ∂²A/∂x² of each face (with the adhesion to the plates at time t),
-        // constrained rows and columns dropped as the element loop drops them.
+        // The surface's face blocks, constrained rows and columns dropped as the element loop
+        // drops them.
+        let disc = &self.disc;
+        let mut add_face_block = |idx: &[usize], block: &[f64]| {
+            let keep: Vec<usize> = (0..idx.len()).filter(|&k| !disc.constrained[idx[k]]).collect();
+            let rows: Vec<Int> = keep.iter().map(|&k| disc.dofs.l2g[idx[k]]).collect();
+            let vals: Vec<f64> =
+                keep.iter().flat_map(|&a| keep.iter().map(move |&b| block[a * idx.len() + b])).collect();
+            jac.add_values(&rows, &rows, &vals)
+        };
+        // Surface tension: γ ∂²A/∂x² of each face (with the adhesion to the plates at time t).
         if let Some(st) = &self.surface {
-            let (disc, l2g) = (&self.disc, &self.disc.dofs.l2g);
-            st.for_each_block(&disc.mesh, &disc.dofs, &ul, planes, |idx, block| {
-                let keep: Vec<usize> = (0..idx.len()).filter(|&k| !disc.constrained[idx[k]]).collect();
-                let rows: Vec<Int> = keep.iter().map(|&k| l2g[idx[k]]).collect();
-                let vals: Vec<f64> =
-                    keep.iter().flat_map(|&a| keep.iter().map(move |&b| block[a * idx.len() + b])).collect();
-                jac.add_values(&rows, &rows, &vals)
-            })?;
+            st.for_each_block(&disc.mesh, &disc.dofs, &ul, planes, &mut add_face_block)?;
+        }
+        // The medium's load: its exact derivative per face.
+        if let Some(m) = &self.medium {
+            m.for_each_block(&disc.mesh, &disc.dofs, &ul, &mut add_face_block)?;
         }
         if let Some(c) = &self.contact {
-            c.add_drainage_jacobian(&self.disc, &ul, t, jac, &mut self.schur)?;
+            c.add_drainage_jacobian(&self.disc, &ul, t, self.medium.as_ref(), jac, &mut self.schur)?;
         }
         self.rows.add_jacobian_rows(&self.disc.mesh, &self.disc.dofs, scales, jac, &mut self.schur)?;
         jac.assemble()?;
@@ -400,7 +426,7 @@ impl PoroProblem {
         let planes = self.plate_planes(t);
         let with_qp_state = !self.disc.qp_state.is_empty();
         let mut pres_loc = Vector::seq(self.disc.dofs.n_local())?;
-        let (disc, surface, external) = (&self.disc, &self.surface, &self.external);
+        let (disc, surface, medium, external) = (&self.disc, &self.surface, &self.medium, &self.external);
         let outcome = {
             let mut pl = pres_loc.write()?;
             pl.iter_mut().for_each(|x| *x = 0.0);
@@ -422,6 +448,11 @@ impl PoroProblem {
                 if let Some(st) = surface {
                     st.add_residual(&disc.mesh, &disc.dofs, ul, planes, fl);
                     post.adhesion_pull = st.plate_pull(&disc.mesh, &disc.dofs, ul, planes);
+                }
+                // The medium's load on the nodes, on the plates' too: their reactions are the
+                // excess over the medium.
+                if let Some(m) = medium {
+                    m.add_residual(&disc.mesh, &disc.dofs, ul, fl);
                 }
                 for (x, ext) in fl.iter_mut().zip(external) {
                     *x -= ext;
