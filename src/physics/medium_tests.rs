@@ -46,7 +46,11 @@ fn block_matches_central_differences() {
                 let (rp, rm) = (m.face_load(&xp, outward), m.face_load(&xm, outward));
                 for i in 0..n {
                     let fd = (rp[i] - rm[i]) / (2.0 * h);
-                    assert!((block[i][j] - fd).abs() < 1e-8, "{family:?} {outward} ({i}, {j}): {} vs {fd}", block[i][j]);
+                    assert!(
+                        (block[i][j] - fd).abs() < 1e-8,
+                        "{family:?} {outward} ({i}, {j}): {} vs {fd}",
+                        block[i][j]
+                    );
                 }
             }
         }
@@ -64,8 +68,8 @@ fn tetrahedron(a: f64, b: f64, c: f64) -> (Vec<[f64; 3]>, Vec<[usize; 6]>) {
         nodes.push(std::array::from_fn(|k| 0.5 * (v[i][k] + v[j][k])));
     }
     let mid = |i: usize, j: usize| 4 + edges.iter().position(|&e| e == (i, j) || e == (j, i)).unwrap();
-    let faces = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]
-        .map(|[p, q, r]| [p, q, r, mid(p, q), mid(q, r), mid(r, p)]);
+    let faces =
+        [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]].map(|[p, q, r]| [p, q, r, mid(p, q), mid(q, r), mid(r, p)]);
     (nodes, faces.to_vec())
 }
 
@@ -121,8 +125,11 @@ fn closed_surface_tangent_is_symmetric() {
     let m = medium(Family::Tet10, [0.3, -0.7, 1.1]);
     let (nodes, faces) = tetrahedron(1.3, 0.8, 2.1);
     // Curve the faces: move the midpoints (shared by two faces each) off their edges.
-    let nodes: Vec<[f64; 3]> =
-        nodes.iter().enumerate().map(|(k, p)| if k >= 4 { p.map(|v| v * 1.07 + 0.02 * k as f64) } else { *p }).collect();
+    let nodes: Vec<[f64; 3]> = nodes
+        .iter()
+        .enumerate()
+        .map(|(k, p)| if k >= 4 { p.map(|v| v * 1.07 + 0.02 * k as f64) } else { *p })
+        .collect();
     let mut k = vec![[0.0; 30]; 30];
     let mut one_face_asymmetry: f64 = 0.0;
     for f in &faces {

@@ -12,9 +12,7 @@
 use crate::fem::dofmap::DofMap;
 use crate::material::dual::{Dual, Scalar};
 use crate::mesh::dist::LocalMesh;
-use crate::physics::surface_geometry::{
-    face_state, meridian_point, orientation, point_area, tangents, Rule, MAX,
-};
+use crate::physics::surface_geometry::{face_state, meridian_point, orientation, point_area, tangents, Rule, MAX};
 use crate::reference_cell::Family;
 
 /// The face's area from its node coordinates `x` (node-major, [`Rule::layout`]): what the

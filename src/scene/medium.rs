@@ -43,10 +43,12 @@ impl MediumSpec {
             ));
         }
         let Some(m) = mixture else {
-            return Err("[medium] needs a finite-strain mixture (material.model = \"holmes_mow\" or \"neo_hookean\"): \
+            return Err(
+                "[medium] needs a finite-strain mixture (material.model = \"holmes_mow\" or \"neo_hookean\"): \
                         the medium's weight acts with the mixture's densities and gravity, which the linear model \
                         has not; drop [medium]"
-                .into());
+                    .into(),
+            );
         };
         let Some(rho) = self.density else { return Ok(()) };
         DENSITY.check(rho)?;
@@ -61,6 +63,12 @@ impl MediumSpec {
         }
         Ok(())
     }
+}
+
+/// The density the aggregate's weight is of: the mixture's ρ_mix = Φs ρs + (1 − Φs) ρf, less the
+/// medium's ρ_m if it sits in one (its excess weight; Bond numbers and the settling's cause).
+pub(crate) fn weighing_density(mixture: &MixtureSpec, medium: Option<&MediumSpec>) -> f64 {
+    mixture.mixture_density() - medium.map_or(0.0, |md| md.density.unwrap_or(mixture.rho_f))
 }
 
 const DENSITY: Key = Key::new(

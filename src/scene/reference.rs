@@ -177,7 +177,7 @@ mod tests {
                 "[mesh]\ngeo = \"g\"\n[material]\n{material}\n[time]\nt_end = 1.0\ndt = 0.1\n\
                  [plates]\nradius = 1.0\ncompression = 0.1\nt_ramp = 1.0\nt_end = 2.0\n\
                  [[probe]]\nname = \"p\"\nfield = \"p\"\ngroup = \"g\"\n\
-                 [[bc]]\ngroup = \"g\"\nroller = true\n[surface]\ntension = 1.0\n"
+                 [[bc]]\ngroup = \"g\"\nroller = true\n[surface]\ntension = 1.0\n[medium]\n"
             );
             let scene: Scene = toml::from_str(&text).unwrap();
             toml::Table::try_from(&scene).unwrap()
