@@ -10,10 +10,12 @@ use std::path::{Path, PathBuf};
 
 const R: f64 = 100.0;
 
-/// `tst_hold` (in its medium) on a coarse meridian, the plates at rest (or as `sets` say), no
-/// tension.
+/// `tst_hold` in a medium (its density the pores' fluid's) on a coarse meridian, the plates at
+/// rest (or as `sets` say), no tension.
 fn at_rest(name: &str, sets: &[&str], petsc: &[&str]) -> (PathBuf, String) {
-    at_rest_in(&scratch(name), &scene("tst_hold"), sets, petsc)
+    let dir = scratch(name);
+    let in_medium = scene_variant("tst_hold", &dir, &[("[fem]\n", "[medium]\n\n[fem]\n")]);
+    at_rest_in(&dir, &in_medium, sets, petsc)
 }
 
 /// As [`at_rest`] for the scene file `sc`, in `dir`.
@@ -55,7 +57,7 @@ fn shape_change(dir: &Path) -> f64 {
 #[test]
 fn a_neutrally_buoyant_aggregate_does_not_settle() {
     let _cores = cores(1);
-    let (dir, _) = at_rest("medium-neutral", &["medium.density=1000"], &[]);
+    let (dir, _) = at_rest("medium-neutral", &[], &[]);
     let h = History::read(&dir);
     let moved = shape_change(&dir);
     let force = h.col("force_lower_mg");
@@ -66,9 +68,7 @@ fn a_neutrally_buoyant_aggregate_does_not_settle() {
     for f in &force[1..] {
         assert!(f.abs() <= 1e-12 * weight, "the lower plate carries {f} mg");
     }
-    let dir = scratch("medium-neutral-air");
-    let in_air = scene_variant("tst_hold", &dir, &[("[medium]\n", "")]);
-    let (air, _) = at_rest_in(&dir, &in_air, &[], &[]);
+    let (air, _) = at_rest_in(&scratch("medium-neutral-air"), &scene("tst_hold"), &[], &[]);
     assert!(shape_change(&air) > 1e-4 * R, "in air the sphere settles: {}", shape_change(&air));
 }
 
@@ -80,7 +80,7 @@ fn a_neutrally_buoyant_aggregate_does_not_settle() {
 #[test]
 fn the_plate_carries_the_excess_weight() {
     let _cores = cores(1);
-    let (dir, _) = at_rest("medium-excess", &["medium.density=1000", "material.rho_s=1100"], &[]);
+    let (dir, _) = at_rest("medium-excess", &["material.rho_s=1100"], &[]);
     let (still, _) = at_rest("medium-volume", &["material.gravity=[0.0, 0.0, 0.0]"], &[]);
     let v0 = History::read(&still).col("fluid_volume")[0];
     let excess = (1100.0 - 1000.0) * 0.6 * v0 * 1e-12;
@@ -99,7 +99,7 @@ fn the_plate_carries_the_excess_weight() {
 #[test]
 fn medium_jacobian_matches_central_differences() {
     let _cores = cores(1);
-    let sets = ["medium.density=1000", "material.rho_s=1100", "plates.table=[[0.0, 0.0], [1.0, 0.1]]", "time.dt=0.2"];
+    let sets = ["material.rho_s=1100", "plates.table=[[0.0, 0.0], [1.0, 0.1]]", "time.dt=0.2"];
     let (_, stdout) = at_rest("medium-jacobian", &sets, &["-poroplast_check_jacobian", "1e-7"]);
     let e = jacobian_errors(&stdout);
     let u = e.iter().map(|x| x.0).fold(0.0, f64::max);

@@ -314,21 +314,20 @@ mod tests {
             let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
             Tensiometry::of(&LoadedScene::load("tst_two_compressions", &sets).unwrap().scene)
         };
-        // The shipped scene sits in its medium (ρs = ρf = ρ_m): no excess weight.
         let t = load(&[]).unwrap();
-        assert_eq!((t.gamma, t.adhesion, t.bond, t.buoyed), (5.0, 0.0, Some(0.0), true));
-        // In air (the section dropped by reloading without it) the whole weight.
-        let mut air = LoadedScene::load("tst_two_compressions", &[]).unwrap().scene;
-        air.medium = None;
-        let t = Tensiometry::of(&air).unwrap();
+        assert_eq!((t.gamma, t.adhesion, t.buoyed), (5.0, 0.0, false));
         assert!((t.bond.unwrap() - 0.01962).abs() < 1e-12 && (t.relaxation_s.unwrap() - 50.0).abs() < 1e-12, "{t:?}");
         // R/(λp γ) = 100 µm / (0.001 (kPa s)⁻¹ × 5 mN/m) = 20000 s.
         assert!((t.capillary_s.unwrap() - 20_000.0).abs() < 1e-9, "{t:?}");
         let t = load(&["material.gravity=[0, 0, 0]", "material.rho_s=1100"]).unwrap();
         assert_eq!(t.bond, None);
         let t = load(&["material.rho_s=1100", "mesh.params.R=150"]).unwrap();
-        // ρ_mix − ρ_m = 0.6 × 1100 + 0.4 × 1000 − 1000 = 60.
-        assert!((t.bond.unwrap() - 60.0 * 9.81 * 2.25e-8 / 5e-3).abs() < 1e-12, "{t:?}");
+        // ρ = 0.6 × 1100 + 0.4 × 1000 = 1060.
+        assert!((t.bond.unwrap() - 1060.0 * 9.81 * 2.25e-8 / 5e-3).abs() < 1e-12, "{t:?}");
+        // In the medium (ρ_m = ρf = 1000) the excess: 1060 − 1000 = 60; ρs = ρf: none.
+        let t = load(&["material.rho_s=1100", "mesh.params.R=150", "medium.density=1000"]).unwrap();
+        assert!(t.buoyed && (t.bond.unwrap() - 60.0 * 9.81 * 2.25e-8 / 5e-3).abs() < 1e-12, "{t:?}");
+        assert_eq!(load(&["medium.density=1000"]).unwrap().bond, Some(0.0));
         assert!(load(&["surface.tension=0"]).is_none());
     }
 }
