@@ -174,3 +174,58 @@ fn closed_meridian_tangent_is_symmetric() {
         }
     }
 }
+
+/// The level of p_m is irrelevant: a uniform shift c of the medium's pressure with the pore
+/// pressure shifted by c leaves every residual row unchanged (so u is the same and p moves by
+/// c). Shown by translating a small mesh with its whole boundary wetted by d along gravity,
+/// which shifts p_m by c = ρ_m a_g·d (the bulk does not see the position), at a random state:
+/// the element loop plus the medium's load, both families.
+#[test]
+fn a_uniform_shift_of_the_medium_shifts_p_and_leaves_u() {
+    use crate::fem::kernel::Stabilisation;
+    use crate::fem::{quadrature, test_util::discretization_of};
+    use crate::material::test_util::Rng;
+    use crate::mesh::test_util::{structured, with_boundary};
+    use crate::physics::kernel_tests::table1;
+    for family in [Family::Tet10, Family::Tri6] {
+        let q = match family {
+            Family::Tet10 => quadrature::tet(3),
+            Family::Tri6 => quadrature::tri(4),
+        };
+        let model = table1(true);
+        let stab = Stabilisation::new(0.5, None, &model);
+        let mut disc = discretization_of(with_boundary(structured(family, 2)), Box::new(model), stab, &q);
+        // 10 µm, off the axis on the meridian but touching it (the axis' faces carry nothing).
+        disc.mesh.coords.iter_mut().for_each(|x| x.iter_mut().for_each(|c| *c *= 10.0));
+        let faces: Vec<u32> = (0..disc.mesh.faces.len() as u32).collect();
+        let medium = Medium::new(1000.0, [0.0, 0.0, -9.81], &disc.mesh, &faces);
+        let (nd, nu) = (disc.dofs.n_local(), disc.dofs.n_u_local());
+        let mut rng = Rng::new(7);
+        let u: Vec<f64> = (0..nd).map(|i| rng.uniform(-1.0, 1.0) * if i < nu { 0.05 } else { 2.0 }).collect();
+        let udot: Vec<f64> = (0..nd).map(|_| rng.uniform(-0.1, 0.1)).collect();
+        let residual = |disc: &crate::fem::assembly::Discretization, u: &[f64]| {
+            let mut f = vec![0.0; nd];
+            disc.add_residual(u, &udot, 0.5, &mut f).unwrap();
+            medium.add_residual(&disc.mesh, &disc.dofs, u, &mut f);
+            f
+        };
+        let f0 = residual(&disc, &u);
+        let d = 40.0;
+        disc.mesh.coords.iter_mut().for_each(|x| x[2] += d);
+        let c = -1000.0 * 9.81 * crate::physics::biphasic::KG_M3_M_S2_TO_KPA_PER_UM * d;
+        let shifted: Vec<f64> = u.iter().enumerate().map(|(i, &v)| if i < nu { v } else { v + c }).collect();
+        let f1 = residual(&disc, &shifted);
+        let scale = f0.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let worst = f0.iter().zip(&f1).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        // Without the medium the same shift changes the u rows by the uniform pressure's load.
+        let mut bare = vec![0.0; nd];
+        disc.add_residual(&shifted, &udot, 0.5, &mut bare).unwrap();
+        let mut bare0 = vec![0.0; nd];
+        disc.mesh.coords.iter_mut().for_each(|x| x[2] -= d);
+        disc.add_residual(&u, &udot, 0.5, &mut bare0).unwrap();
+        let moved = bare.iter().zip(&bare0).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        println!("{family:?}: shift {c:.3e} kPa, largest row change {worst:.2e} of {scale:.2e}; without the medium {moved:.2e}");
+        assert!(worst <= 1e-12 * scale, "{family:?}: {worst} of {scale}");
+        assert!(moved > 1e-6 * scale, "{family:?}: the shift is seen without the medium: {moved}");
+    }
+}
