@@ -1,8 +1,8 @@
 //! The medium (`[medium]`): its hydrostatic pressure on the boundary and in the drained pores
 //! makes the aggregate's weight its excess over the medium (Archimedes). A neutrally buoyant
-//! aggregate does not settle; the lower plate carries exactly (ρ_mix − ρ_m) g V_h; the
-//! assembled Jacobian with the medium's load and drainage against central differences; bad
-//! input. On the tensiometry scene's meridian, coarse, without the surface tension (which
+//! aggregate does not settle; the lower plate carries exactly (ρ_mix − ρ_m) g V_h; 1 rank ≡ 2
+//! ranks; the assembled Jacobian with the medium's load and drainage against central
+//! differences; bad input. On the tensiometry scene's meridian, coarse, without the surface tension (which
 //! deforms the sphere by itself).
 
 use crate::common::*;
@@ -13,13 +13,18 @@ const R: f64 = 100.0;
 /// `tst_hold` in a medium (its density the pores' fluid's) on a coarse meridian, the plates at
 /// rest (or as `sets` say), no tension.
 fn at_rest(name: &str, sets: &[&str], petsc: &[&str]) -> (PathBuf, String) {
-    let dir = scratch(name);
-    let in_medium = scene_variant("tst_hold", &dir, &[("[fem]\n", "[medium]\n\n[fem]\n")]);
-    at_rest_in(&dir, &in_medium, sets, petsc)
+    at_rest_on(1, name, sets, petsc)
 }
 
-/// As [`at_rest`] for the scene file `sc`, in `dir`.
-fn at_rest_in(dir: &Path, sc: &str, sets: &[&str], petsc: &[&str]) -> (PathBuf, String) {
+/// As [`at_rest`] on `np` ranks.
+fn at_rest_on(np: usize, name: &str, sets: &[&str], petsc: &[&str]) -> (PathBuf, String) {
+    let dir = scratch(name);
+    let in_medium = scene_variant("tst_hold", &dir, &[("[fem]\n", "[medium]\n\n[fem]\n")]);
+    at_rest_in(np, &dir, &in_medium, sets, petsc)
+}
+
+/// As [`at_rest`] for the scene file `sc` on `np` ranks, in `dir`.
+fn at_rest_in(np: usize, dir: &Path, sc: &str, sets: &[&str], petsc: &[&str]) -> (PathBuf, String) {
     let out = dir.join("run");
     let mut args = vec!["run", sc, "--out", out.to_str().unwrap(), "-q"];
     let base = [
@@ -36,7 +41,7 @@ fn at_rest_in(dir: &Path, sc: &str, sets: &[&str], petsc: &[&str]) -> (PathBuf, 
     }
     args.push("--");
     args.extend(petsc);
-    let stdout = run_ok(1, &args);
+    let stdout = run_ok(np, &args);
     (out, stdout)
 }
 
@@ -68,7 +73,7 @@ fn a_neutrally_buoyant_aggregate_does_not_settle() {
     for f in &force[1..] {
         assert!(f.abs() <= 1e-12 * weight, "the lower plate carries {f} mg");
     }
-    let (air, _) = at_rest_in(&scratch("medium-neutral-air"), &scene("tst_hold"), &[], &[]);
+    let (air, _) = at_rest_in(1, &scratch("medium-neutral-air"), &scene("tst_hold"), &[], &[]);
     assert!(shape_change(&air) > 1e-4 * R, "in air the sphere settles: {}", shape_change(&air));
 }
 
@@ -91,6 +96,25 @@ fn the_plate_carries_the_excess_weight() {
     }
     // The shape changes (the excess weight deforms it): the test sees a loaded sphere.
     assert!(shape_change(&dir) > 1e-6 * R);
+}
+
+/// 1 rank and 2 ranks give the same history (the medium's faces split between the ranks), a
+/// heavier-than-medium sphere compressed by 10%.
+#[test]
+fn medium_on_one_rank_equals_two() {
+    let _cores = cores(2);
+    let sets = ["material.rho_s=1100", "plates.table=[[0.0, 0.0], [1.0, 0.1]]", "time.dt=0.2"];
+    let (a, _) = at_rest_on(1, "medium-1rank", &sets, &[]);
+    let (b, _) = at_rest_on(2, "medium-2ranks", &sets, &[]);
+    let (ha, hb) = (History::read(&a), History::read(&b));
+    for col in ["force_total_mg", "force_lower_mg", "height", "width", "fluid_volume", "outflow"] {
+        let (x, y) = (ha.col(col), hb.col(col));
+        assert_eq!(x.len(), y.len());
+        let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let worst = x.iter().zip(&y).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+        println!("{col}: largest difference {worst:.2e} of {scale:.2e}");
+        assert!(worst <= 1e-9 * scale, "{col}: {worst} of {scale}");
+    }
 }
 
 /// The assembled Jacobian with the medium's load (follower and gradient terms) and the drainage
