@@ -24,6 +24,12 @@ From the liquid holds without weight, µR/γ ≥ DOMAIN_MIN, `rule` gives the me
 scripts/tests/test_tensiometry.py checks it against the table).
 
     python3 scripts/tensiometry.py [--out runs/tensiometry] [--hold 3000] [--ranks 2] [--docs]
+    python3 scripts/tensiometry.py --buoyancy [--out runs/tensiometry] [--docs]
+
+The study's cases weigh the aggregate in air (tst_hold as shipped, without [medium]);
+`--buoyancy` instead runs the new-user trial's liquid (γ = 1 mN/m, R = 200 µm, λp = 0.05, 15%
+held 600 s) in air, in the medium (tst_hold with a [medium] section) and without gravity, and writes OUT/tensiometry_medium.csv (σ_app / γ at the hold's end;
+--docs copies it to docs/figures/data/; docs/model.md, "The medium").
 
 Writes OUT/tensiometry.csv (per hold: σ_app / γ at its end and its range in the hold's second
 half, the time from which it stays within 5% of γ, in s and in both time scales, µR/γ, the Bond
@@ -67,6 +73,7 @@ class Case:
     release: bool = True
     dt_max: float = 50.0
     group: str = "hold"
+    medium: bool = False
 
     @property
     def relaxation_time(self):
@@ -78,7 +85,8 @@ class Case:
 
     @property
     def bond(self):
-        return RHO_G * self.r ** 2 / self.gamma if self.gravity and self.gamma > 0 else 0.0
+        # In the medium (ρs = ρf = ρ_m) there is no excess weight.
+        return RHO_G * self.r ** 2 / self.gamma if self.gravity and not self.medium and self.gamma > 0 else 0.0
 
     def table(self):
         """plates.table and the (compression, start, end) of each hold."""
@@ -133,7 +141,55 @@ def cases(hold):
     return out
 
 
-DOMAIN_GAMMAS = (200.0, 50.0, 10.0, 2.0, 0.5)   # mN/m at R = 100 µm, µ = 20 kPa: µR/γ = 10, 40, 200, 1000, 4000
+DOMAIN_GAMMAS = (200.0, 50.0, 10.0, 2.0, 0.5)
+
+# The new-user trial's liquid whose weight in air biased σ_app to 0.19 γ: in air, in the medium,
+# without gravity.
+BUOYANCY = {
+    f"buoyancy_{k}": Case(f"γ = 1, R = 200 µm, λp = 0.05, 15%: {label}", 0.05, 1.0, ((0.15, 600.0),), r=200.0,
+                          gravity=g, release=False, group="buoyancy", medium=m)
+    for k, label, g, m in (("air", "in air", True, False), ("medium", "in the medium", True, True),
+                           ("no_gravity", "without gravity", False, True))
+}
+
+
+def medium_scene(out):
+    """tst_hold in its medium (a [medium] section: density material.rho_f), in `out`."""
+    text = (ROOT / "meshes" / "scenes" / "tst_hold.toml").read_text()
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / "tst_hold_in_medium.toml"
+    path.write_text(text.replace("[fem]\n", "[medium]\n\n[fem]\n", 1))
+    return path
+
+
+def run(cs, out, ranks):
+    """Runs the cases `cs` (name -> Case), each in air or in the medium; name -> run directory."""
+    names = list(cs)
+    scenes = [str(medium_scene(out)) if cs[n].medium else "tst_hold" for n in names]
+    results = store.run_cases(scenes, [overrides(cs[n]) for n in names], [], out, ranks)
+    bad = [n for n, (_, r) in zip(names, results) if r["status"] != "ok"]
+    if bad:
+        raise SystemExit(f"tensiometry.py: cases failed: {', '.join(bad)}")
+    return {n: d for n, (d, _) in zip(names, results)}
+
+
+def buoyancy(out, ranks, docs):
+    """The BUOYANCY cases' readings at the hold's end into OUT/tensiometry_medium.csv."""
+    dirs = run(BUOYANCY, out, ranks)
+    rows = []
+    for name, case in BUOYANCY.items():
+        (c, _, t1), = case.table()[1]
+        s = reading(history(dirs[name]), t1)
+        rows.append({"case": name, "label": case.label, "R": case.r, "gamma": case.gamma, "lambda_p": case.lp,
+                     "compression": c, "time": t1, "gravity": int(case.gravity), "medium": int(case.medium),
+                     "bond": case.bond, "sigma_app": s, "sigma_app_over_gamma": s / case.gamma})
+        print(f"{case.label}: σ_app / γ = {s / case.gamma:.4g} (Bo = {case.bond:.3g})")
+    write_rows(out / "tensiometry_medium.csv", rows)
+    if docs:
+        dst = ROOT / "docs" / "figures" / "data"
+        dst.mkdir(parents=True, exist_ok=True)
+        shutil.copy(out / "tensiometry_medium.csv", dst / "tensiometry_medium.csv")
+        print(f"copied to {dst}")   # mN/m at R = 100 µm, µ = 20 kPa: µR/γ = 10, 40, 200, 1000, 4000
 
 
 def overrides(case):
@@ -304,17 +360,16 @@ def main():
     ap.add_argument("--out", default="runs/tensiometry")
     ap.add_argument("--hold", type=float, default=3000.0, help="the first study's hold (s)")
     ap.add_argument("--docs", action="store_true", help="also copy the figures and table to docs/figures/")
+    ap.add_argument("--buoyancy", action="store_true",
+                    help="only the trial's liquid in air, in the medium and without gravity (tensiometry_medium.csv)")
     store.rank_options(ap)
     a = ap.parse_args()
     store.use_rank_options(a)
     out = Path(a.out)
-    cs = cases(a.hold)
-    names = list(cs)
-    results = store.run_cases("tst_hold", [overrides(cs[n]) for n in names], [], out, a.ranks)
-    bad = [n for n, (_, r) in zip(names, results) if r["status"] != "ok"]
-    if bad:
-        raise SystemExit(f"tensiometry.py: cases failed: {', '.join(bad)}")
-    dirs = {n: d for n, (d, _) in zip(names, results)}
+    if a.buoyancy:
+        buoyancy(out, a.ranks, a.docs)
+        return
+    dirs = run(cases(a.hold), out, a.ranks)
     rows = summarise(dirs, a.hold)
     write_rows(out / "tensiometry.csv", rows)
     print("\n| case | compression | σ_app / γ at the hold's end | within 5% after (s into the hold) | "

@@ -18,6 +18,8 @@ mod lab_input;
 mod laplace;
 #[path = "laplace_drop.rs"]
 mod laplace_drop;
+#[path = "medium.rs"]
+mod medium;
 #[path = "neo_hookean.rs"]
 mod neo_hookean;
 #[path = "plates.rs"]

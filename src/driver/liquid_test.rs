@@ -11,6 +11,7 @@
 
 use super::holds::HoldReading;
 use crate::io::fmt_short as g;
+use crate::scene::medium::weighing_density;
 use crate::scene::{Scene, SolidSpec};
 
 /// The largest relative spread (largest σ_app over smallest, less 1) of a liquid.
@@ -36,8 +37,11 @@ pub(crate) struct Tensiometry {
     pub(crate) gamma: f64,
     /// The plates' work of adhesion w (mN/m; 0: non-adhesive).
     pub(crate) adhesion: f64,
-    /// ρ g R² / γ with the mixture's density ρ = Φs ρs + (1 − Φs) ρf; None without gravity.
+    /// |ρ| g R² / γ with the mixture's density ρ = Φs ρs + (1 − Φs) ρf, less the medium's if it
+    /// has one (the excess weight); None without gravity.
     pub(crate) bond: Option<f64>,
+    /// Whether the aggregate sits in a medium (`[medium]`: the weight is the excess over it).
+    pub(crate) buoyed: bool,
     /// 1/(λp µ) (s): the deviatoric stress's relaxation time; infinite without remodelling (an
     /// elastic solid), None where µ is not given (a solid given by its α's).
     pub(crate) relaxation_s: Option<f64>,
@@ -54,7 +58,7 @@ impl Tensiometry {
         let (bond, relaxation_s, capillary_s) = match scene.material.mixture() {
             None => (None, Some(f64::INFINITY), None),
             Some(m) => {
-                let (g, rho) = (m.gravity_magnitude(), m.mixture_density());
+                let (g, rho) = (m.gravity_magnitude(), weighing_density(m, scene.medium.as_ref()).abs());
                 // kg/m³ · m/s² · (1e-6 m)² / (1e-3 N/m).
                 let bond = (g > 0.0).then(|| rho * g * radius * radius * 1e-9 / gamma);
                 let relaxation = match (&m.remodelling, m.solid()) {
@@ -67,7 +71,7 @@ impl Tensiometry {
                 (bond, relaxation, capillary)
             }
         };
-        Some(Tensiometry { gamma, adhesion, bond, relaxation_s, capillary_s })
+        Some(Tensiometry { gamma, adhesion, bond, relaxation_s, capillary_s, buoyed: scene.medium.is_some() })
     }
 }
 
@@ -108,11 +112,17 @@ impl LiquidTest {
         let (min, max) = read.iter().fold((f64::MAX, f64::MIN), |(a, b), r| (a.min(r.2), b.max(r.2)));
         let spread = max / min - 1.0;
         let mut caveats = Vec::new();
-        if let Some(bo) = setting.bond.filter(|&b| b >= BOND_SMALL) {
+        if let (Some(bo), true) = (setting.bond.filter(|&b| b >= BOND_SMALL), setting.buoyed) {
+            caveats.push(format!(
+                "the aggregate's density differs from the medium's (Bond number |ρ_mix − ρ_m| g R²/γ = {}, not small \
+                 against 1): its excess weight deforms it and biases σ_app",
+                g(bo)
+            ));
+        } else if let Some(bo) = setting.bond.filter(|&b| b >= BOND_SMALL) {
             caveats.push(format!(
                 "gravity is on without buoyancy (Bond number ρ g R²/γ = {}, not small against 1): the aggregate's \
                  weight flattens it and lowers σ_app, more at the smaller compression; a lab's medium buoys it \
-                 (--set 'material.gravity=[0, 0, 0]' removes the bias)",
+                 (add [medium])",
                 g(bo)
             ));
         }
@@ -192,8 +202,14 @@ mod tests {
     }
 
     /// No weight; a relaxation time of 40 s, of which a 1000-s hold lasts 25 (over the 21 needed).
-    const QUIET: Tensiometry =
-        Tensiometry { gamma: 5.0, adhesion: 0.0, bond: None, relaxation_s: Some(40.0), capillary_s: Some(5000.0) };
+    const QUIET: Tensiometry = Tensiometry {
+        gamma: 5.0,
+        adhesion: 0.0,
+        bond: None,
+        relaxation_s: Some(40.0),
+        capillary_s: Some(5000.0),
+        buoyed: false,
+    };
 
     /// docs/studies.md's two compressions at γ = 5 mN/m: the liquid's 0.972 and 1.008 γ (4.86 and
     /// 5.04 mN/m) pass, the yielding aggregate's 3.140 and 2.476 γ (15.70 and 12.38) do not.
@@ -299,7 +315,7 @@ mod tests {
             Tensiometry::of(&LoadedScene::load("tst_two_compressions", &sets).unwrap().scene)
         };
         let t = load(&[]).unwrap();
-        assert_eq!((t.gamma, t.adhesion), (5.0, 0.0));
+        assert_eq!((t.gamma, t.adhesion, t.buoyed), (5.0, 0.0, false));
         assert!((t.bond.unwrap() - 0.01962).abs() < 1e-12 && (t.relaxation_s.unwrap() - 50.0).abs() < 1e-12, "{t:?}");
         // R/(λp γ) = 100 µm / (0.001 (kPa s)⁻¹ × 5 mN/m) = 20000 s.
         assert!((t.capillary_s.unwrap() - 20_000.0).abs() < 1e-9, "{t:?}");
@@ -308,6 +324,10 @@ mod tests {
         let t = load(&["material.rho_s=1100", "mesh.params.R=150"]).unwrap();
         // ρ = 0.6 × 1100 + 0.4 × 1000 = 1060.
         assert!((t.bond.unwrap() - 1060.0 * 9.81 * 2.25e-8 / 5e-3).abs() < 1e-12, "{t:?}");
+        // In the medium (ρ_m = ρf = 1000) the excess: 1060 − 1000 = 60; ρs = ρf: none.
+        let t = load(&["material.rho_s=1100", "mesh.params.R=150", "medium.density=1000"]).unwrap();
+        assert!(t.buoyed && (t.bond.unwrap() - 60.0 * 9.81 * 2.25e-8 / 5e-3).abs() < 1e-12, "{t:?}");
+        assert_eq!(load(&["medium.density=1000"]).unwrap().bond, Some(0.0));
         assert!(load(&["surface.tension=0"]).is_none());
     }
 }

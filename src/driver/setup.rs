@@ -31,6 +31,7 @@ use crate::petsc::{DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
 use crate::physics::contact::{Drainage, PlateLoading, Plates};
 use crate::physics::factory::{ellipticity_warning, model_of};
+use crate::physics::medium::Medium;
 use crate::physics::problem::{PoroProblem, ProblemParts};
 use crate::physics::surface_tension::{Adhesion, SurfaceTension};
 use crate::physics::tools::{Tool, ToolSet};
@@ -399,6 +400,15 @@ fn surface_tension(
     Ok(Some(SurfaceTension::new(sf.tension, adhesion, local, &faces)))
 }
 
+/// The medium on the boundary, if the scene has it (its density resolved, its material a
+/// mixture: the scene checks both).
+fn medium(world: &SimpleCommunicator, scene: &LoadedScene, local: &LocalMesh) -> Result<Option<Medium>> {
+    let (Some(md), Some(mix)) = (scene.scene.medium.as_ref(), scene.scene.material.mixture()) else { return Ok(None) };
+    let ctx = format!("{}: [medium]", scene.source);
+    let faces = agree(world, bc::face_group(local, &md.group, &ctx))?.to_vec();
+    Ok(Some(Medium::new(md.density.unwrap_or(mix.rho_f), mix.gravity, local, &faces)))
+}
+
 /// Sets the run of `scene` up as `args` ask, holding `lock` if the run directory was locked
 /// before (a resume): every part built complete, then the problem from its parts, the time
 /// stepper with its solver, and the run from its pieces.
@@ -434,6 +444,7 @@ pub(super) fn setup<'w>(
         }
     }
     let surface = surface_tension(world, scene, &local)?;
+    let medium = medium(world, scene, &local)?;
     let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
 
     let pre = dofs.preallocation(&local);
@@ -460,6 +471,7 @@ pub(super) fn setup<'w>(
         constraints: cons,
         loads: ext,
         surface,
+        medium,
         plates,
         tools,
         schur,

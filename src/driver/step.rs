@@ -11,6 +11,7 @@ use crate::io::checkpoint::{Counters, FileLayout, RunState};
 use crate::observe::observers::{Observers, Sample};
 use crate::petsc::{SolverState, Stage, Ts};
 use crate::physics::problem::PoroProblem;
+use crate::scene::medium::weighing_density;
 use crate::scene::{Scene, SolidSpec};
 use mpi::topology::SimpleCommunicator;
 use std::time::Instant;
@@ -255,13 +256,14 @@ fn settle_cause(scene: &Scene) -> String {
     };
     let g_drained = m.phi_s * mu;
     // ρ |g| R in Pa (R in µm), in kPa.
-    let weight = m.mixture_density() * m.gravity_magnitude() * r * 1e-6 / 1e3;
+    // The excess over the medium's, if it sits in one.
+    let weight = weighing_density(m, scene.medium.as_ref()).abs() * m.gravity_magnitude() * r * 1e-6 / 1e3;
     let ratio = weight / g_drained;
     if ratio > 0.1 {
         return format!(
             "The weight's stress ρ g R = {weight:.3e} kPa is {ratio:.2} of the drained shear modulus Φs µ = \
-             {g_drained:.3e} kPa: the solid is too soft to carry its weight (raise the modulus; an aggregate in medium \
-             is buoyed: lower material.gravity)"
+             {g_drained:.3e} kPa: the solid is too soft to carry its weight (raise the modulus{})",
+            if scene.medium.is_none() { "; an aggregate in medium is buoyed: add [medium]" } else { "" }
         );
     }
     let sizes: Vec<String> = ["h_pole", "h_surf", "h"]

@@ -497,8 +497,14 @@ mod tests {
         ]);
         let rows = [[0.0, 0.0], [1.0, 0.15], [3.0, 0.15], [4.0, 0.0], [5.0, 0.0], [6.0, 0.2], [8.0, 0.2], [11.0, 0.0]];
         let holds = holds::holds(&rows, 8.0);
-        let setting =
-            Tensiometry { gamma: 2.0, adhesion: 0.0, bond: Some(0.0196), relaxation_s: Some(0.01), capillary_s: None };
+        let setting = Tensiometry {
+            gamma: 2.0,
+            adhesion: 0.0,
+            bond: Some(0.0196),
+            relaxation_s: Some(0.01),
+            capillary_s: None,
+            buoyed: false,
+        };
         let protocol = Protocol { ramp: 6.0, hold: 4.0, release: 1.0 };
         let mut holds = holds;
         holds.push(Hold { start: 12.0, end: 13.0, compression: 0.3 });

@@ -82,6 +82,13 @@ pub(crate) fn gauss3_line() -> [(f64, f64); 3] {
     [(0.5 - a, 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.5 + a, 5.0 / 18.0)]
 }
 
+/// 4-point Gauss–Legendre on [0, 1]: (point, weight), exact to degree 7.
+pub(crate) fn gauss4_line() -> [(f64, f64); 4] {
+    let (a, b) = ((3.0 / 7.0 - 2.0 / 7.0 * (1.2f64).sqrt()).sqrt(), (3.0 / 7.0 + 2.0 / 7.0 * (1.2f64).sqrt()).sqrt());
+    let (wa, wb) = ((18.0 + 30f64.sqrt()) / 36.0, (18.0 - 30f64.sqrt()) / 36.0);
+    [(0.5 - 0.5 * b, 0.5 * wb), (0.5 - 0.5 * a, 0.5 * wa), (0.5 + 0.5 * a, 0.5 * wa), (0.5 + 0.5 * b, 0.5 * wb)]
+}
+
 /// The Line3 functions (vertices a, b, then the mid-node) and their s-derivatives at s ∈ [0, 1].
 pub(crate) fn line3(s: f64) -> ([f64; 3], [f64; 3]) {
     (

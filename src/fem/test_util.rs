@@ -20,14 +20,23 @@ pub(crate) fn discretization(
     stab: Stabilisation,
     q: &quadrature::Quadrature,
 ) -> Discretization {
-    let global = structured(family, n);
+    discretization_of(structured(family, n), model, stab, q)
+}
+
+/// As [`discretization`] on the mesh `global`.
+pub(crate) fn discretization_of(
+    global: crate::mesh::Mesh,
+    model: Box<dyn PointModel>,
+    stab: Stabilisation,
+    q: &quadrature::Quadrature,
+) -> Discretization {
     let local = dist::distribute(&global, &vec![0; global.cells.len()], 1, 0).unwrap();
     let dofs = DofMap::new(&local);
     let n_local = dofs.n_local();
     let len = model.qp_state_len();
     Discretization {
         dofs,
-        tab: tabulate_cell(family, q),
+        tab: tabulate_cell(global.family, q),
         xi: q.points.clone(),
         constrained: vec![false; n_local],
         stab,

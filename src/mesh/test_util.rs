@@ -71,6 +71,33 @@ pub(crate) fn structured(family: Family, n: usize) -> Mesh {
     Mesh { family, coords, cells, is_vertex, ..Mesh::default() }
 }
 
+/// `mesh` with its whole boundary as the face group "surface": every cell face that no other
+/// cell shares, outward (the cells' own face order).
+pub(crate) fn with_boundary(mut mesh: Mesh) -> Mesh {
+    let family = mesh.family;
+    let nv = family.face_vertices();
+    let mut seen: std::collections::HashMap<Vec<u32>, Vec<(u32, u8)>> = Default::default();
+    for (c, cell) in mesh.cells.iter().enumerate() {
+        for (lf, nodes) in family.cell_faces().iter().enumerate() {
+            let mut key: Vec<u32> = nodes[..nv].iter().map(|&k| cell[k]).collect();
+            key.sort_unstable();
+            seen.entry(key).or_default().push((c as u32, lf as u8));
+        }
+    }
+    let mut once: Vec<(u32, u8)> = seen.into_values().filter(|v| v.len() == 1).map(|v| v[0]).collect();
+    once.sort_unstable();
+    for &(c, lf) in &once {
+        let mut face = [u32::MAX; crate::reference_cell::MAX_FACE_NODES];
+        for (k, &n) in family.cell_faces()[lf as usize].iter().enumerate() {
+            face[k] = mesh.cells[c as usize][n];
+        }
+        mesh.faces.push(face);
+        mesh.face_cell.push((c, lf));
+    }
+    mesh.face_groups = vec![("surface".into(), (0..once.len() as u32).collect())];
+    mesh
+}
+
 #[test]
 fn kuhn_tetrahedra_are_positive_and_fill_the_cube() {
     let m = structured(Family::Tet10, 2);

@@ -9,7 +9,7 @@
 //!   every mg ↔ µN conversion);
 //! * contact radii, height and width of the current shape;
 //! * pressure and porosity at the material point X_U = (0.4 R, 0, 1.9 R) (`plates.probe_point`);
-//! * fluid (mixture) volume ∫ J dV and the outflow through the drained surface, Σ c(g) p
+//! * fluid (mixture) volume ∫ J dV and the outflow through the drained surface, Σ c(g) (p − p_m)
 //!   (the drainage term of the mass balance, so the volume change equals the integrated outflow
 //!   exactly at convergence);
 //! * the largest penetration of the quadratic surface into a plate, sampled between nodes;
@@ -25,6 +25,7 @@ use crate::io::recorder::{ColumnDoc, ColumnKind, Declared};
 use crate::mesh::dist::LocalMesh;
 use crate::parallel::{all_gather_vec, max, sum};
 use crate::physics::contact::{Plates, Touch};
+use crate::physics::medium::Medium;
 use crate::physics::problem::Post;
 use mpi::topology::SimpleCommunicator;
 
@@ -244,6 +245,7 @@ impl Experiment {
         dofs: &DofMap,
         post: &Post,
         drainage_gaps: Option<&[f64]>,
+        medium: Option<&Medium>,
         world: &SimpleCommunicator,
     ) -> Observation {
         let local = &post.local;
@@ -296,10 +298,13 @@ impl Experiment {
             zmax = zmax.max(x[2]);
             rmax = rmax.max((x[0] * x[0] + x[1] * x[1]).sqrt());
         }
-        // Outflow through the drained surface: Σ c(g) p over this rank's face shares, with the
-        // gaps the step's residual used (`PoroProblem::drainage_gaps`; else the solution's).
+        // Outflow through the drained surface: Σ c(g) (p − p_m) over this rank's face shares
+        // (p_m the medium's pressure, 0 without), with the gaps the step's residual used
+        // (`PoroProblem::drainage_gaps`; else the solution's).
         let gaps = drainage_gaps.unwrap_or(local);
-        let outflow_local: f64 = plates.drainage(mesh, dofs, gaps, t).iter().map(|d| d.conductance * local[d.p]).sum();
+        let p_m = |n: usize| medium.map_or(0.0, |m| m.at_node(mesh, dofs, n, local));
+        let outflow_local: f64 =
+            plates.drainage(mesh, dofs, gaps, t).iter().map(|d| d.conductance * (local[d.p] - p_m(d.vertex))).sum();
         let sym = self.symmetry;
         let outflow = sym * sum(world, outflow_local);
         self.outflow_total += dt * outflow;

@@ -123,7 +123,7 @@ impl Observers {
         let mut values = Vec::new();
         let obs = match (&mut self.experiment, problem.plates(), post) {
             (Some(ex), Some(pl), Some(post)) => {
-                Some(ex.observe(t, dt, pl, mesh, dofs, post, problem.drainage_gaps(), world))
+                Some(ex.observe(t, dt, pl, mesh, dofs, post, problem.drainage_gaps(), problem.medium(), world))
             }
             _ => None,
         };

@@ -298,6 +298,7 @@ impl Plates {
                 let (s, ds) = smoothstep(g / d.seal_gap);
                 let (c, dc) = conductance(d.beta_plate, d.beta_max, s, ds);
                 Drain {
+                    vertex: sh.vertex,
                     p: dofs.p_local(mesh.vertex_of_node[sh.vertex] as usize),
                     uz: dofs.uz_local(n),
                     conductance: sh.area * c,
@@ -325,6 +326,8 @@ struct Share {
 /// The drainage term of one (face, vertex) share (see [`Plates::drainage`]).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Drain {
+    /// The vertex's local node (its position sets the medium's pressure it drains towards).
+    pub(crate) vertex: usize,
     pub(crate) p: usize,
     pub(crate) uz: usize,
     pub(crate) conductance: f64,

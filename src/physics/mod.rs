@@ -7,7 +7,9 @@ pub(crate) mod biphasic;
 pub(crate) mod contact;
 pub(crate) mod factory;
 pub(crate) mod linear;
+pub(crate) mod medium;
 pub(crate) mod problem;
+pub(crate) mod surface_geometry;
 pub(crate) mod surface_tension;
 pub(crate) mod tools;
 

@@ -10,60 +10,16 @@
 //! is the exact derivative of the residual.
 
 use crate::fem::dofmap::DofMap;
-use crate::fem::element::tabulate_tri6;
-use crate::fem::quadrature;
-use crate::fem::surface::{gauss3_line, line3};
 use crate::material::dual::{Dual, Scalar};
 use crate::mesh::dist::LocalMesh;
+use crate::physics::surface_geometry::{face_state, meridian_point, orientation, point_area, tangents, Rule, MAX};
 use crate::reference_cell::Family;
-
-/// Coordinates of one face's nodes: 18 for a 6-node triangle (x, y, z per node), 6 for a
-/// 3-node edge (r, z per node).
-const MAX: usize = 18;
-
-/// The face rule: per point the weight and the reference derivatives (and values, for the hoop
-/// term on the meridian) of the face functions.
-struct Rule {
-    family: Family,
-    w: Vec<f64>,
-    n: Vec<[f64; 6]>,
-    dn: Vec<[[f64; 2]; 6]>,
-}
-
-impl Rule {
-    fn new(family: Family) -> Rule {
-        match family {
-            Family::Tet10 => {
-                let tab = tabulate_tri6(&quadrature::tri(4));
-                let dn = tab.dn.iter().map(|d| std::array::from_fn(|a| [d[a][0], d[a][1]])).collect();
-                Rule { family, w: tab.weights, n: tab.n, dn }
-            }
-            Family::Tri6 => {
-                let mut r = Rule { family, w: vec![], n: vec![], dn: vec![] };
-                for (s, w) in gauss3_line() {
-                    let (n, dn) = line3(s);
-                    r.w.push(w);
-                    r.n.push([n[0], n[1], n[2], 0.0, 0.0, 0.0]);
-                    r.dn.push([[dn[0], 0.0], [dn[1], 0.0], [dn[2], 0.0], [0.0; 2], [0.0; 2], [0.0; 2]]);
-                }
-                r
-            }
-        }
-    }
-
-    /// Coordinates per node (3, or 2 on the meridian) and nodes per face.
-    fn layout(&self) -> (usize, usize) {
-        match self.family {
-            Family::Tet10 => (3, 6),
-            Family::Tri6 => (2, 3),
-        }
-    }
-}
 
 /// The face's area from its node coordinates `x` (node-major, [`Rule::layout`]): what the
 /// gradient differentiates (the tests check it against this).
 #[cfg(test)]
 fn area<T: Scalar>(rule: &Rule, x: &[T]) -> T {
+    use crate::physics::surface_geometry::{cross, norm};
     let (d, nn) = rule.layout();
     let mut a = T::cst(0.0);
     for q in 0..rule.w.len() {
@@ -92,44 +48,6 @@ fn area_gradient<T: Scalar>(rule: &Rule, x: &[T]) -> [T; MAX] {
         }
     }
     g
-}
-
-/// Point q's share of the face's area, a_q = w_q |x_ξ × x_η| (3-D) or 2π w_q r |x_s| (meridian),
-/// and its gradient ∂a_q/∂x.
-fn point_area<T: Scalar>(rule: &Rule, q: usize, x: &[T]) -> (T, [T; MAX]) {
-    let (d, nn) = rule.layout();
-    let mut g = [T::cst(0.0); MAX];
-    let w = rule.w[q];
-    match rule.family {
-        Family::Tet10 => {
-            // d|m| = n̂ · (dx_ξ × x_η + x_ξ × dx_η): node b along e_i gives
-            // N_b,ξ (x_η × n̂)_i + N_b,η (n̂ × x_ξ)_i.
-            let (t1, t2) = tangents(rule, q, x, d, nn);
-            let m = cross(&t1, &t2);
-            let len = norm(&m);
-            let nh = [m[0] / len, m[1] / len, m[2] / len];
-            let (a, b) = (cross(&t2, &nh), cross(&nh, &t1));
-            for node in 0..nn {
-                let [dx, dy] = rule.dn[q][node];
-                for i in 0..3 {
-                    g[3 * node + i] = (a[i].scale(dx) + b[i].scale(dy)).scale(w);
-                }
-            }
-            (len.scale(w), g)
-        }
-        Family::Tri6 => {
-            // A_q = 2π w r |t|: ∂/∂r_b = 2π w (N_b |t| + r t_r N_b' / |t|), ∂/∂z_b = 2π w r t_z N_b' / |t|.
-            let (r, t) = meridian_point(rule, q, x, nn);
-            let len = (t[0] * t[0] + t[1] * t[1]).sqrt();
-            let c = 2.0 * std::f64::consts::PI * w;
-            for node in 0..nn {
-                let (nb, db) = (rule.n[q][node], rule.dn[q][node][0]);
-                g[2 * node] = (len.scale(nb) + r * t[0] / len * T::cst(db)).scale(c);
-                g[2 * node + 1] = (r * t[1] / len).scale(c * db);
-            }
-            ((r * len).scale(c), g)
-        }
-    }
 }
 
 /// The plates' faces at the residual's time: the lower plate's top at z = `lower`, the upper's
@@ -267,38 +185,6 @@ fn area_hessian(rule: &Rule, x: &[f64]) -> [[f64; MAX]; MAX] {
     std::array::from_fn(|i| g[i].d)
 }
 
-fn tangents<T: Scalar>(rule: &Rule, q: usize, x: &[T], d: usize, nn: usize) -> ([T; 3], [T; 3]) {
-    let (mut t1, mut t2) = ([T::cst(0.0); 3], [T::cst(0.0); 3]);
-    for node in 0..nn {
-        let [a, b] = rule.dn[q][node];
-        for i in 0..3 {
-            t1[i] = t1[i] + x[d * node + i].scale(a);
-            t2[i] = t2[i] + x[d * node + i].scale(b);
-        }
-    }
-    (t1, t2)
-}
-
-/// r and the tangent (dr/ds, dz/ds) at point q of a meridian edge.
-fn meridian_point<T: Scalar>(rule: &Rule, q: usize, x: &[T], nn: usize) -> (T, [T; 2]) {
-    let (mut r, mut t) = (T::cst(0.0), [T::cst(0.0); 2]);
-    for node in 0..nn {
-        r = r + x[2 * node].scale(rule.n[q][node]);
-        let db = rule.dn[q][node][0];
-        t[0] = t[0] + x[2 * node].scale(db);
-        t[1] = t[1] + x[2 * node + 1].scale(db);
-    }
-    (r, t)
-}
-
-fn cross<T: Scalar>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-fn norm<T: Scalar>(a: &[T; 3]) -> T {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
 /// The tension γ on this rank's faces of the boundary group, lowered to γ − w on the plates by
 /// the work of adhesion w.
 pub(crate) struct SurfaceTension {
@@ -322,61 +208,14 @@ impl SurfaceTension {
             rule: Rule::new(mesh.family),
         };
         if st.adhesion.is_some() {
-            st.outward = faces.iter().map(|&f| st.orientation(mesh, f)).collect();
+            st.outward = faces.iter().map(|&f| orientation(&st.rule, mesh, f)).collect();
         }
         st
-    }
-
-    /// ±1: whether face f's node order gives the normal pointing away from its cell (its
-    /// reference normal at the first point against the direction from the cell's centroid).
-    fn orientation(&self, mesh: &LocalMesh, f: u32) -> f64 {
-        let (d, nn) = self.rule.layout();
-        let axes = mesh.family.axes();
-        let x: Vec<f64> = mesh.face(f as usize)[..nn]
-            .iter()
-            .flat_map(|&n| axes.iter().map(move |&a| mesh.coords[n as usize][a]))
-            .collect();
-        let normal: Vec<f64> = match self.rule.family {
-            Family::Tet10 => {
-                let (t1, t2) = tangents(&self.rule, 0, &x, d, nn);
-                cross(&t1, &t2).to_vec()
-            }
-            Family::Tri6 => {
-                let (_, t) = meridian_point(&self.rule, 0, &x, nn);
-                vec![t[1], -t[0]]
-            }
-        };
-        let cell = mesh.cell(mesh.face_cell[f as usize].0 as usize);
-        let centroid = |nodes: &[u32], a: usize| {
-            nodes.iter().map(|&n| mesh.coords[n as usize][a]).sum::<f64>() / nodes.len() as f64
-        };
-        let face = mesh.face(f as usize);
-        let dot: f64 = axes.iter().enumerate().map(|(k, &a)| normal[k] * (centroid(face, a) - centroid(cell, a))).sum();
-        if dot >= 0.0 {
-            1.0
-        } else {
-            -1.0
-        }
     }
 
     /// The adhesion with the plates' planes, if both (without plates nothing adheres).
     fn adhering(&self, planes: Option<PlatePlanes>) -> Option<(Adhesion, PlatePlanes)> {
         self.adhesion.zip(planes)
-    }
-
-    /// A face's displacement dofs (local) and current node coordinates, in the rule's layout
-    /// (the first `n` entries of each).
-    fn face(&self, mesh: &LocalMesh, dofs: &DofMap, f: u32, u: &[f64]) -> ([usize; MAX], [f64; MAX], usize) {
-        let (_, nn) = self.rule.layout();
-        let (mut idx, mut x, mut n) = ([0; MAX], [0.0; MAX], 0);
-        for &node in &mesh.face(f as usize)[..nn] {
-            for (c, &axis) in mesh.family.axes().iter().enumerate() {
-                idx[n] = dofs.u_local(node as usize, c);
-                x[n] = mesh.coords[node as usize][axis] + u[idx[n]];
-                n += 1;
-            }
-        }
-        (idx, x, n)
     }
 
     /// Adds the energy's gradient to the residual `f` (local layout) at the displacement `u`:
@@ -391,7 +230,7 @@ impl SurfaceTension {
     ) {
         let adhering = self.adhering(planes);
         for (i, &face) in self.faces.iter().enumerate() {
-            let (idx, x, n) = self.face(mesh, dofs, face, u);
+            let (idx, x, n) = face_state(&self.rule, mesh, dofs, face, u);
             match adhering {
                 None => {
                     let g = area_gradient(&self.rule, &x[..n]);
@@ -424,7 +263,7 @@ impl SurfaceTension {
         let mut pull = [0.0; 2];
         let Some((ad, pl)) = self.adhering(planes) else { return pull };
         for (i, &face) in self.faces.iter().enumerate() {
-            let (_, x, n) = self.face(mesh, dofs, face, u);
+            let (_, x, n) = face_state(&self.rule, mesh, dofs, face, u);
             for q in 0..self.rule.w.len() {
                 let (gap, _, sigma) = point_gap(&self.rule, q, &x[..n], pl);
                 let (p, _) = point_projection::<f64>(&self.rule, q, &x[..n], sigma, self.outward[i]);
@@ -446,7 +285,7 @@ impl SurfaceTension {
     ) -> crate::error::Result<()> {
         let adhering = self.adhering(planes);
         for (i, &face) in self.faces.iter().enumerate() {
-            let (idx, x, n) = self.face(mesh, dofs, face, u);
+            let (idx, x, n) = face_state(&self.rule, mesh, dofs, face, u);
             let block: Vec<f64> = match adhering {
                 None => {
                     let h = area_hessian(&self.rule, &x[..n]);

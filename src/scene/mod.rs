@@ -21,6 +21,7 @@ pub mod explain;
 pub(crate) mod key;
 mod load;
 pub(crate) mod material;
+pub(crate) mod medium;
 pub(crate) mod mesh;
 pub(crate) mod numerics;
 pub(crate) mod observe;

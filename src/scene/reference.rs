@@ -4,6 +4,7 @@
 use super::bc;
 use super::key::{Key, Section, Unset};
 use super::material;
+use super::medium;
 use super::mesh;
 use super::numerics;
 use super::observe;
@@ -31,6 +32,7 @@ pub(crate) fn sections() -> Vec<Section> {
         plates::SECTION,
         tools::SECTION,
         surface::SECTION,
+        medium::SECTION,
         numerics::SOLVER_SECTION,
         numerics::FEM_SECTION,
         PETSC_SECTION,
@@ -177,7 +179,7 @@ mod tests {
                 "[mesh]\ngeo = \"g\"\n[material]\n{material}\n[time]\nt_end = 1.0\ndt = 0.1\n\
                  [plates]\nradius = 1.0\ncompression = 0.1\nt_ramp = 1.0\nt_end = 2.0\n\
                  [[probe]]\nname = \"p\"\nfield = \"p\"\ngroup = \"g\"\n\
-                 [[bc]]\ngroup = \"g\"\nroller = true\n[surface]\ntension = 1.0\n\
+                 [[bc]]\ngroup = \"g\"\nroller = true\n[surface]\ntension = 1.0\n[medium]\n\
                  [[tools]]\nname = \"t\"\nkind = \"plane\"\norigin = [0.0, 0.0, 0.0]\naxis = [0.0, 0.0, 1.0]\n"
             );
             let scene: Scene = toml::from_str(&text).unwrap();

@@ -19,6 +19,9 @@ pub(super) fn resolve(scene: &mut Scene) -> Result<Vec<String>, String> {
     if let Some(sf) = &mut scene.surface {
         sf.resolve(scene.plates.as_ref().map(|p| p.radius()));
     }
+    if let Some(m) = &mut scene.medium {
+        m.resolve(scene.material.mixture());
+    }
     scene.fem.fill_defaults(matches!(scene.material, Material::Linear { .. }));
     scene.solver.fill_defaults();
     Ok(notes)

@@ -2,6 +2,7 @@
 
 use super::bc::BoundaryCondition;
 use super::material::Material;
+use super::medium::MediumSpec;
 use super::mesh::MeshSpec;
 use super::numerics::{FemSpec, SolverSpec};
 use super::observe::{Probe, Verification};
@@ -41,6 +42,9 @@ pub(crate) struct Scene {
     /// Surface tension of the aggregate's boundary.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(crate) surface: Option<SurfaceSpec>,
+    /// The liquid the aggregate sits in (buoyancy, the drained pores' pressure).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) medium: Option<MediumSpec>,
     #[serde(default)]
     pub(crate) solver: SolverSpec,
     #[serde(default)]

@@ -31,6 +31,9 @@ impl Scene {
         if let Some(sf) = &self.surface {
             sf.validate(self.plates.is_some())?;
         }
+        if let Some(m) = &self.medium {
+            m.validate(self.material.mixture(), &self.bc)?;
+        }
         self.fem.validate(self.mesh.geometry)?;
         plausible::check(self, notes)?;
         self.validate_petsc()

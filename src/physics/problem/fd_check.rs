@@ -1,6 +1,7 @@
 //! The finite-difference check of the assembled Jacobian (`-poroplast_check_jacobian`).
 
-use super::poro_problem::{backward_euler_rate, PoroProblem};
+use super::poro_problem::PoroProblem;
+use super::post::backward_euler_rate;
 use crate::error::Result;
 use crate::petsc::{Mat, Vector};
 

@@ -15,5 +15,5 @@ mod timers;
 mod tool_stage;
 
 pub(crate) use parts::ProblemParts;
-pub(crate) use poro_problem::{backward_euler_rate, ErrorScales, PoroProblem};
-pub(crate) use post::Post;
+pub(crate) use poro_problem::{ErrorScales, PoroProblem};
+pub(crate) use post::{backward_euler_rate, Post};

@@ -1,6 +1,6 @@
 //! What a [`PoroProblem`](super::PoroProblem) is made of, each part built complete before it
 //! (`driver::setup`): the discretisation's parts, the boundary conditions, the surface
-//! tension, the plates and the Schur approximation's matrix.
+//! tension, the medium, the plates and the Schur approximation's matrix.
 
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::Tabulation;
@@ -10,6 +10,7 @@ use crate::mesh::dist::LocalMesh;
 use crate::petsc::Mat;
 use crate::physics::bc::Constraint;
 use crate::physics::contact::Plates;
+use crate::physics::medium::Medium;
 use crate::physics::surface_tension::SurfaceTension;
 use crate::physics::tools::ToolSet;
 use crate::reference_cell::shape::MAX_NODES;
@@ -33,6 +34,8 @@ pub(crate) struct ProblemParts {
     pub(crate) loads: Vec<f64>,
     /// Surface tension of the boundary, if the scene has it.
     pub(crate) surface: Option<SurfaceTension>,
+    /// The medium's pressure on the boundary and in the drained pores, if the scene has it.
+    pub(crate) medium: Option<Medium>,
     /// Rigid plates (contact bounds, drainage out of contact), if the scene has them.
     pub(crate) plates: Option<Plates>,
     /// Rigid tools of revolution (exact frictionless contact in their frames), if any.

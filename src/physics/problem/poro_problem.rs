@@ -21,7 +21,7 @@ use super::contact_stage::ContactStage;
 use super::insertion::JacobianInsertion;
 use super::local::LocalVectors;
 use super::parts::ProblemParts;
-use super::post::Post;
+use super::post::{backward_euler_rate, Post};
 use super::schur::SchurApprox;
 use super::timers::Timers;
 use super::tool_stage::ToolStage;
@@ -35,6 +35,7 @@ use crate::fem::qp_store::QpStore;
 use crate::mesh::dist::LocalMesh;
 use crate::petsc::{Int, Mat, TsProblem, TsRef, Vector};
 use crate::physics::contact::Plates;
+use crate::physics::medium::Medium;
 use crate::physics::surface_tension::{PlatePlanes, SurfaceTension};
 use crate::physics::tools::ToolSet;
 use crate::solver::active_set::CurvedContact;
@@ -58,6 +59,8 @@ pub(crate) struct PoroProblem {
     tools: Option<ToolStage>,
     /// Surface tension of the boundary, if the scene has it.
     surface: Option<SurfaceTension>,
+    /// The medium's pressure on the boundary and in the drained pores, if the scene has it.
+    medium: Option<Medium>,
     timers: Timers,
 }
 
@@ -85,6 +88,7 @@ impl PoroProblem {
             constraints,
             loads: mut external,
             surface,
+            medium,
             plates,
             tools,
             schur,
@@ -109,6 +113,7 @@ impl PoroProblem {
             contact,
             tools,
             surface,
+            medium,
             timers: Timers::default(),
         })
     }
@@ -180,6 +185,11 @@ impl PoroProblem {
         &self.disc.constrained
     }
 
+    /// The medium, if the scene has it.
+    pub(crate) fn medium(&self) -> Option<&Medium> {
+        self.medium.as_ref()
+    }
+
     /// The plates, if the scene has them.
     pub(crate) fn plates(&self) -> Option<&Plates> {
         self.contact.as_ref().map(ContactStage::plates)
@@ -226,6 +236,10 @@ impl PoroProblem {
     /// Scales the model's gravity (settling ramps it up).
     pub(crate) fn set_gravity_factor(&mut self, factor: f64) {
         self.disc.model.set_gravity_factor(factor);
+        // The medium's hydrostatic pressure with it: the excess weight is what settles.
+        if let Some(m) = &mut self.medium {
+            m.set_gravity_factor(factor);
+        }
     }
 
     /// Whether the model keeps qp state (remodelling).
@@ -318,21 +332,23 @@ impl PoroProblem {
     fn residual_with(&mut self, t: f64, dt: f64, f: &mut Vector) -> Result<()> {
         let planes = self.plate_planes(t);
         let (disc, surface, contact, external) = (&self.disc, &self.surface, &self.contact, &self.external);
-        let tools = &self.tools;
+        let (tools, medium) = (&self.tools, self.medium.as_ref());
         let outcome = self.local.with_zeroed_f(|ul, udl, fl| {
             // The tools' contact at this iterate, for the solver's split.
-            if let Some(ts) = tools {
-                ts.update(ul, &disc.dofs);
-            }
+            tools.iter().for_each(|ts| ts.update(ul, &disc.dofs));
             let res = disc.add_residual(ul, udl, dt, fl);
             // Surface tension: γ ∂A/∂x of the boundary's nodes (with the adhesion to the plates
             // where they are at time t).
             if let Some(st) = surface {
                 st.add_residual(&disc.mesh, &disc.dofs, ul, planes, fl);
             }
-            // Drainage through the surface off the plates: outflow c(g) p (contact module).
+            // The medium's pressure on the boundary: Σ_q p_m N_b (n da)_q.
+            if let Some(m) = medium {
+                m.add_residual(&disc.mesh, &disc.dofs, ul, fl);
+            }
+            // Drainage through the surface off the plates: outflow c(g) (p − p_m) (contact module).
             if let Some(c) = contact {
-                c.add_drainage(disc, ul, t, fl);
+                c.add_drainage(disc, ul, t, medium, fl);
             }
             for (l, x) in fl.iter_mut().enumerate() {
                 if disc.constrained[l] {
@@ -367,9 +383,9 @@ impl PoroProblem {
         // drained set, or the surface tension's geometry moves): leaving the matrix untouched
         // lets PETSc keep the preconditioner too.
         if self.disc.model.is_linear()
-            && self.contact.is_none()
-            && self.tools.is_none()
+            && (self.contact.is_none() && self.tools.is_none())
             && self.surface.is_none()
+            && self.medium.is_none()
             && self.insertion.assembled_at(shift)
         {
             return Ok(());
@@ -393,20 +409,26 @@ impl PoroProblem {
         let scales = self.rows.scales(self.disc.model.as_ref(), shift);
         let planes = self.plate_planes(t);
         let ul = self.local.u()?;
-        // Surface tension: γ ∂²A/∂x² of each face (with the adhesion to the plates at time t),
-        // constrained rows and columns dropped as the element loop drops them.
+        // The surface's face blocks, constrained rows and columns dropped as the element loop
+        // drops them.
+        let disc = &self.disc;
+        let mut add_face_block = |idx: &[usize], block: &[f64]| {
+            let keep: Vec<usize> = (0..idx.len()).filter(|&k| !disc.constrained[idx[k]]).collect();
+            let rows: Vec<Int> = keep.iter().map(|&k| disc.dofs.l2g[idx[k]]).collect();
+            let vals: Vec<f64> =
+                keep.iter().flat_map(|&a| keep.iter().map(move |&b| block[a * idx.len() + b])).collect();
+            jac.add_values(&rows, &rows, &vals)
+        };
+        // Surface tension: γ ∂²A/∂x² of each face (with the adhesion to the plates at time t).
         if let Some(st) = &self.surface {
-            let (disc, l2g) = (&self.disc, &self.disc.dofs.l2g);
-            st.for_each_block(&disc.mesh, &disc.dofs, &ul, planes, |idx, block| {
-                let keep: Vec<usize> = (0..idx.len()).filter(|&k| !disc.constrained[idx[k]]).collect();
-                let rows: Vec<Int> = keep.iter().map(|&k| l2g[idx[k]]).collect();
-                let vals: Vec<f64> =
-                    keep.iter().flat_map(|&a| keep.iter().map(move |&b| block[a * idx.len() + b])).collect();
-                jac.add_values(&rows, &rows, &vals)
-            })?;
+            st.for_each_block(&disc.mesh, &disc.dofs, &ul, planes, &mut add_face_block)?;
+        }
+        // The medium's load: its exact derivative per face.
+        if let Some(m) = &self.medium {
+            m.for_each_block(&disc.mesh, &disc.dofs, &ul, &mut add_face_block)?;
         }
         if let Some(c) = &self.contact {
-            c.add_drainage_jacobian(&self.disc, &ul, t, jac, &mut self.schur)?;
+            c.add_drainage_jacobian(&self.disc, &ul, t, self.medium.as_ref(), jac, &mut self.schur)?;
         }
         self.rows.add_jacobian_rows(&self.disc.mesh, &self.disc.dofs, scales, jac, &mut self.schur)?;
         jac.assemble()?;
@@ -425,7 +447,7 @@ impl PoroProblem {
         let planes = self.plate_planes(t);
         let with_qp_state = !self.disc.qp_state.is_empty();
         let mut pres_loc = Vector::seq(self.disc.dofs.n_local())?;
-        let (disc, surface, external) = (&self.disc, &self.surface, &self.external);
+        let (disc, surface, medium, external) = (&self.disc, &self.surface, &self.medium, &self.external);
         let outcome = {
             let mut pl = pres_loc.write()?;
             pl.iter_mut().for_each(|x| *x = 0.0);
@@ -447,6 +469,11 @@ impl PoroProblem {
                 if let Some(st) = surface {
                     st.add_residual(&disc.mesh, &disc.dofs, ul, planes, fl);
                     post.adhesion_pull = st.plate_pull(&disc.mesh, &disc.dofs, ul, planes);
+                }
+                // The medium's load on the nodes, on the plates' too: their reactions are the
+                // excess over the medium.
+                if let Some(m) = medium {
+                    m.add_residual(&disc.mesh, &disc.dofs, ul, fl);
                 }
                 for (x, ext) in fl.iter_mut().zip(external) {
                     *x -= ext;
@@ -537,14 +564,6 @@ impl PoroProblem {
     }
 }
 
-/// The backward-Euler rate (u − prev) / dt of a step.
-pub(crate) fn backward_euler_rate(u: &Vector, prev: &Vector, dt: f64) -> Result<Vector> {
-    let mut r = u.copy()?;
-    r.axpy(-1.0, prev)?;
-    r.scale(1.0 / dt)?;
-    Ok(r)
-}
-
 impl TsProblem for PoroProblem {
     fn residual(&mut self, ts: TsRef, t: f64, u: &Vector, udot: &Vector, f: &mut Vector) -> Result<()> {
         let dt = ts.time_step()?;
@@ -567,9 +586,7 @@ impl TsProblem for PoroProblem {
 
     /// Moves the lower plate's bound to the stage time (also on a retried step).
     fn pre_stage(&mut self, ts: TsRef, t: f64) -> Result<()> {
-        if let Some(tools) = &self.tools {
-            tools.move_to(t);
-        }
+        self.tools.iter().for_each(|tools| tools.move_to(t));
         match &mut self.contact {
             Some(c) => c.move_to(ts.time()?, t, &self.disc.dofs),
             None => Ok(()),

@@ -1,8 +1,10 @@
 //! Post-processing of a converged state ([`Post`], made by `PoroProblem::post_process`): the
 //! reactions (the raw residual with no constraint rows) and their pressure part, the cell
-//! fields and the volume integrals the observers read.
+//! fields and the volume integrals the observers read; the backward-Euler rate they take.
 
+use crate::error::Result;
 use crate::fem::kernel::ElementPost;
+use crate::petsc::Vector;
 
 /// Post-processing of a converged state.
 pub(crate) struct Post {
@@ -78,4 +80,12 @@ impl Post {
             self.cell_norm_ep.push(ep.norm_ep);
         }
     }
+}
+
+/// The backward-Euler rate (u − prev) / dt of a step.
+pub(crate) fn backward_euler_rate(u: &Vector, prev: &Vector, dt: f64) -> Result<Vector> {
+    let mut r = u.copy()?;
+    r.axpy(-1.0, prev)?;
+    r.scale(1.0 / dt)?;
+    Ok(r)
 }
