@@ -8,6 +8,7 @@
 use super::experiment::{self, Experiment};
 use super::pressure_peak::PressurePeak;
 use super::probe::Probe;
+use super::force_control;
 use super::remodelling_summary;
 use super::verification::{exact_columns, Exact};
 use crate::error::Result;
@@ -24,6 +25,8 @@ pub(crate) struct Observers {
     pub(crate) probes: Vec<Probe>,
     /// The plates experiment's observables, if the scene has plates.
     pub(crate) experiment: Option<Experiment>,
+    /// Whether the upper plate has force rows: its position and target are recorded.
+    pub(crate) force_control: bool,
     /// Exact-solution columns of a verification scene.
     pub(crate) exact: Vec<Exact>,
     /// Whether the model keeps qp state (remodelling): its summary is recorded.
@@ -59,6 +62,7 @@ impl Observers {
     pub(crate) fn columns(&self) -> Vec<Column> {
         observed_columns(
             self.experiment.is_some(),
+            self.force_control,
             self.remodelling,
             self.probes.iter().map(|p| p.name.as_str()).chain(self.exact.iter().map(|e| e.doc.name)),
         )
@@ -126,6 +130,9 @@ impl Observers {
         if let Some(o) = &obs {
             values.extend(o.values());
         }
+        if let (true, Some(pl), Some(post)) = (self.force_control, problem.plates(), post) {
+            values.extend(Declared::row(&force_control::COLUMNS, &force_control::observe(pl, t, post.upper_d)));
+        }
         if let (Some(post), true) = (post, self.remodelling) {
             let summary = remodelling_summary::observe(post, world);
             values.extend(Declared::row(&remodelling_summary::COLUMNS, &summary));
@@ -154,12 +161,21 @@ impl Observers {
     }
 }
 
-/// The observed columns, in order: the experiment's (with plates), the remodelling summary's
+/// The observed columns, in order: the experiment's (with plates), the upper plate's (with
+/// force rows), the remodelling summary's
 /// (with qp state), then `named` (the probes', then the exact solutions').
-fn observed_columns<'a>(plates: bool, remodelling: bool, named: impl Iterator<Item = &'a str>) -> Vec<Column> {
+fn observed_columns<'a>(
+    plates: bool,
+    force: bool,
+    remodelling: bool,
+    named: impl Iterator<Item = &'a str>,
+) -> Vec<Column> {
     let mut cols = Vec::new();
     if plates {
         cols.extend(experiment::columns().map(|(doc, kind)| Column::of(doc, kind)));
+    }
+    if force {
+        cols.extend(Declared::header(&force_control::COLUMNS));
     }
     if remodelling {
         cols.extend(Declared::header(&remodelling_summary::COLUMNS));
@@ -176,7 +192,8 @@ pub fn history_column_names(scene: &LoadedScene) -> Result<Vec<String>> {
     let remodelling = s.material.mixture().is_some_and(|m| m.remodelling.is_some());
     let exact = exact_columns(scene)?;
     let named = s.probe.iter().map(|p| p.name.as_str()).chain(exact.iter().map(|e| e.doc.name));
-    let observed = observed_columns(s.plates.is_some(), remodelling, named);
+    let force = s.plates.as_ref().is_some_and(|p| p.upper.iter().flatten().any(|r| r.force.is_some()));
+    let observed = observed_columns(s.plates.is_some(), force, remodelling, named);
     Ok(crate::io::recorder::history_columns(&observed).into_iter().map(|c| c.name).collect())
 }
 

@@ -14,5 +14,5 @@ mod schur;
 mod timers;
 
 pub(crate) use parts::ProblemParts;
-pub(crate) use poro_problem::{backward_euler_rate, ErrorScales, PoroProblem};
+pub(crate) use poro_problem::{backward_euler_rate, untouched, ErrorScales, PoroProblem};
 pub(crate) use post::Post;

@@ -50,6 +50,8 @@ pub(crate) struct PoroProblem {
     insertion: JacobianInsertion,
     /// Rigid plates, if the scene has them.
     contact: Option<ContactStage>,
+    /// The solver's part of force control, until the solver takes it (`take_border`).
+    border: Option<crate::solver::active_set::Border>,
     /// Surface tension of the boundary, if the scene has it.
     surface: Option<SurfaceTension>,
     timers: Timers,
@@ -89,7 +91,15 @@ impl PoroProblem {
         if equal_order {
             equal_order::tie_loads(&mut external, &mesh);
         }
-        let contact = plates.map(|p| ContactStage::new(p, template, &dofs)).transpose()?;
+        let share = match &plates {
+            Some(p) => 1.0 / p.symmetry(mesh.volume(&world)),
+            None => 1.0,
+        };
+        let contact = plates.map(|p| ContactStage::new(p, template, &dofs, share)).transpose()?;
+        let border = match &contact {
+            Some(c) => c.border(&world, template, &dofs)?,
+            None => None,
+        };
         Ok(PoroProblem {
             world,
             disc: Discretization { stab, qp_state, evolve: true, equal_order, mesh, dofs, model, tab, xi, constrained },
@@ -99,6 +109,7 @@ impl PoroProblem {
             schur: SchurApprox::new(schur),
             insertion: JacobianInsertion::default(),
             contact,
+            border,
             surface,
             timers: Timers::default(),
         })
@@ -132,7 +143,10 @@ impl PoroProblem {
     /// Commits the end-of-step qp state of the accepted step from `prev` to `u` (size dt): the
     /// update every evaluation of that step computed, now stored. Nothing without qp state, or
     /// while it is frozen (settling).
-    pub(crate) fn commit(&mut self, prev: &Vector, u: &Vector, dt: f64) -> Result<()> {
+    pub(crate) fn commit(&mut self, prev: &Vector, u: &Vector, dt: f64, keep_rate: bool) -> Result<()> {
+        if let Some(c) = &mut self.contact {
+            c.commit(dt, keep_rate);
+        }
         if self.disc.qp_state.is_empty() || !self.disc.evolve {
             return Ok(());
         }
@@ -169,6 +183,23 @@ impl PoroProblem {
     /// Whether each local dof is constrained.
     pub(crate) fn constrained(&self) -> &[bool] {
         &self.disc.constrained
+    }
+
+    /// The solver's part of the upper plate's force control (None without it, or once taken).
+    pub(crate) fn take_border(&mut self) -> Option<crate::solver::active_set::Border> {
+        self.border.take()
+    }
+
+    /// The upper plate between steps (None without plates), for a checkpoint.
+    pub(crate) fn upper_plate(&self) -> Option<super::contact_stage::Upper> {
+        self.contact.as_ref().map(ContactStage::upper)
+    }
+
+    /// Restores the upper plate of a checkpoint.
+    pub(crate) fn set_upper_plate(&mut self, upper: super::contact_stage::Upper) {
+        if let Some(c) = &mut self.contact {
+            c.set_upper(upper);
+        }
     }
 
     /// The plates, if the scene has them.
@@ -397,6 +428,7 @@ impl PoroProblem {
     pub(crate) fn post_process(&mut self, t: f64, dt: f64, u: &Vector, udot: &Vector) -> Result<Post> {
         self.local.load(u, udot)?;
         let mut post = Post::new(self.local.u()?, self.disc.mesh.cells.len());
+        post.upper_d = self.contact.as_ref().map_or(0.0, |c| c.plates().positions.borrow().d[0]);
         let planes = self.plate_planes(t);
         let with_qp_state = !self.disc.qp_state.is_empty();
         let mut pres_loc = Vector::seq(self.disc.dofs.n_local())?;
@@ -458,6 +490,15 @@ impl PoroProblem {
         // From the start of the step, whatever the integrator put in x (BDF extrapolates).
         let start = ts.solution()?;
         let x0 = contact.extrapolate(&start, &self.disc.dofs, x)?;
+        if let Some(gap) = contact.switch_gap(&x0, &self.disc.dofs) {
+            let gap = -crate::parallel::max(&self.world, -gap);
+            if gap > contact.seal_gap() {
+                return Err(Error::Scene {
+                    path: "plates.upper".into(),
+                    msg: untouched(ts.time()?, gap),
+                });
+            }
+        }
         let (predicted_gap, extrapolating) = (contact.drains_by_predicted_gap(), contact.extrapolating());
         self.retie(x)?;
         // The drainage gaps are the extrapolation's, whatever guess the Newton solve starts from.
@@ -510,6 +551,15 @@ impl PoroProblem {
             }
         })
     }
+}
+
+/// Force control of an upper plate that touches nothing: what to do instead.
+pub(crate) fn untouched(t: f64, gap: f64) -> String {
+    format!(
+        "force control from t = {t} s, but the upper plate is {} µm from the body there: it cannot press on \
+         nothing. Reach the body under displacement control first (a displacement row before the force row)",
+        crate::io::fmt_significant(gap, 4)
+    )
 }
 
 /// The backward-Euler rate (u − prev) / dt of a step.

@@ -18,10 +18,12 @@
 //! it; `bounds` the bounds and the active-set split; `reuse` the decisions to reuse an operator or
 //! preconditioner ([`Lag`]).
 
+mod border;
 mod bounds;
 mod convergence;
 mod newton;
 mod reuse;
 
+pub(crate) use border::{Border, PositionUnknown, Positions, SharedPositions};
 pub(crate) use newton::ActiveSetNewton;
 pub(crate) use reuse::Lag;

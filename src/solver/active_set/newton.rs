@@ -2,6 +2,7 @@
 //! operator, through a low-rank update of it, or a new Jacobian), its Anderson mixing, the line
 //! search, and the solver state a checkpoint keeps.
 
+use super::border::Border;
 use super::bounds::{symmetric_difference, Bounds};
 use super::convergence::{residual_test, stagnates};
 use super::reuse::{Lag, Step};
@@ -63,6 +64,8 @@ pub(crate) struct ActiveSetNewton {
     /// Free rigid modes taken as each Jacobian's null space (None when there are none, or when
     /// they are pinned: [`set_free_modes`](Self::set_free_modes)).
     free_modes: Option<FreeRigidModes>,
+    /// Force-controlled positions (`border`): None without any.
+    border: Option<Border>,
 }
 
 impl ActiveSetNewton {
@@ -99,6 +102,7 @@ impl ActiveSetNewton {
             anderson: Anderson::new(0),
             chord_active: None,
             free_modes: None,
+            border: None,
         })
     }
 
@@ -110,6 +114,32 @@ impl ActiveSetNewton {
             self.bounds.pinned = modes.pins(self.bounds.lower.ownership_start());
         } else {
             self.free_modes = Some(modes);
+        }
+    }
+
+    /// Force-controlled positions as extra unknowns (`border`).
+    pub(crate) fn set_border(&mut self, border: Border) {
+        self.border = Some(border);
+    }
+
+    /// Force control (border): whether a position is force-controlled now.
+    fn bordered(&self) -> bool {
+        self.border.as_ref().is_some_and(Border::active)
+    }
+
+    /// Force control (border): the free residual norm `n` with the positions' equations.
+    fn with_border(&mut self, n: f64) -> Result<f64> {
+        match &mut self.border {
+            Some(b) if b.active() => Ok(n.hypot(b.residual(&self.f)?)),
+            _ => Ok(n),
+        }
+    }
+
+    /// Force control (border): the positions and bounds at the accepted ones plus λΔd.
+    fn move_positions(&mut self, lambda: f64) -> Result<()> {
+        match &mut self.border {
+            Some(b) if b.active() => b.move_to(lambda, (&mut self.bounds.lower, &mut self.bounds.upper)),
+            _ => Ok(()),
         }
     }
 
@@ -133,10 +163,12 @@ impl ActiveSetNewton {
     /// is the one they were set up with on every rank ([`Step::Chord`]) or differs from it in at
     /// most `lag.max_changes` dofs with a kept Jacobian for the update ([`Step::Updated`]).
     fn choose_step(&self, contraction: f64) -> Step {
-        if !self.lag.chord_allowed(contraction) {
+        // Force control (border): chords need the kept columns; no low-rank updates of them.
+        let bordered = self.bordered();
+        if !self.lag.chord_allowed(contraction) || bordered && !self.border.as_ref().is_some_and(Border::ready) {
             return Step::Assemble;
         }
-        self.lag.chord_step(self.changes_since_setup(), self.jac.is_some())
+        self.lag.chord_step(self.changes_since_setup(), self.jac.is_some() && !bordered)
     }
 
     /// A chord step for an active set that differs from the factorised operator's: through the
@@ -192,10 +224,20 @@ impl ActiveSetNewton {
         }
         a.set_local_values(&state.values)?;
         self.jac = Some(a.duplicate_with_values()?);
+        // Force control (border): its columns, recomputed from the saved operator.
+        let columns = match &mut self.border {
+            Some(b) if b.active() => {
+                Some(b.prepare(&a, x, (&self.bounds.lower, &self.bounds.upper), &state.indices, self.diag)?)
+            }
+            _ => None,
+        };
         a.zero_rows_columns(&state.indices, self.diag, None)?;
         ksp.set_reuse_preconditioner(false)?;
         ksp.set_operators(&a, &a)?;
         ksp.set_up()?;
+        if let (Some(b), Some(w)) = (&mut self.border, columns) {
+            b.solve(ksp, w)?;
+        }
         self.pc_active = Some(state.indices);
         self.pc_uses = state.counters[0] as usize;
         self.last_krylov = state.counters[1] as usize;
@@ -256,6 +298,9 @@ impl ShellSolve for ActiveSetNewton {
         self.update = None;
         self.last_krylov = 0;
         self.pending = None;
+        if let Some(b) = &mut self.border {
+            b.forget();
+        }
     }
 
     /// With chord iterations the next solve starts from the kept Jacobian, factorised with the
@@ -286,12 +331,16 @@ impl ShellSolve for ActiveSetNewton {
         let backtrack = snes.line_search_type()? == "bt";
         let ksp = snes.ksp()?;
         self.bounds.project(x)?;
+        if let Some(b) = &mut self.border {
+            b.begin();
+        }
         snes.compute_function(x, &mut self.f)?;
         if let Some(state) = self.pending.take() {
             // Assembled where the residual just was (the uninterrupted run evaluates there too).
             self.set_up_saved(&snes, &ksp, x, state)?;
         }
         let mut fnorm = self.bounds.split(x, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;
+        fnorm = self.with_border(fnorm)?;
         let fnorm0 = fnorm;
         self.chord_active = None;
         let mut it = 0;
@@ -327,8 +376,10 @@ impl ShellSolve for ActiveSetNewton {
                 // assembles at x instead: from the iterate of a bad chord step (a kept operator
                 // whose contact has since changed), Newton may not recover — on the release of
                 // the default scene, and on the mirrored full sphere of tests/plates.rs.
+                self.move_positions(0.0)?;
                 snes.compute_function(x, &mut self.f)?;
                 self.bounds.split(x, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;
+                self.with_border(0.0)?;
                 contraction = f64::INFINITY;
                 continue;
             }
@@ -339,12 +390,16 @@ impl ShellSolve for ActiveSetNewton {
             let dx_norm = lambda * self.step.norm2()?;
             let x_norm = x.norm2()?;
             x.copy_from(&self.trial)?;
+            if let Some(b) = &mut self.border {
+                b.accept();
+            }
             contraction = if lambda == 1.0 { trial_norm / fnorm } else { f64::INFINITY };
             fnorm = trial_norm;
             // Only after a full Newton step: a step shortened by halvings is small for another
             // reason, and a chord step is small while the residual still converges only
             // linearly (the residual tests decide then).
-            if fnorm.is_finite() && lambda == 1.0 && !chord && dx_norm <= stol * x_norm {
+            // (Not with force control: a contact search step moves only the positions.)
+            if fnorm.is_finite() && lambda == 1.0 && !chord && !self.bordered() && dx_norm <= stol * x_norm {
                 snes.set_iteration_number(it)?;
                 break R::SNES_CONVERGED_SNORM_RELATIVE;
             }
@@ -354,6 +409,9 @@ impl ShellSolve for ActiveSetNewton {
             // iterate.
             self.pc_active = None;
             self.update = None;
+            if let Some(b) = &mut self.border {
+                b.forget();
+            }
         }
         snes.set_converged_reason(reason)
     }
@@ -382,6 +440,10 @@ impl ActiveSetNewton {
         if !chord {
             self.assembled_solve(snes, ksp, x)?;
         }
+        if self.bordered() {
+            let Some(b) = &mut self.border else { unreachable!() };
+            b.correct(&mut self.step, x, (&self.bounds.lower, &self.bounds.upper))?;
+        }
         Ok((chord, updated))
     }
 
@@ -394,6 +456,13 @@ impl ActiveSetNewton {
         }
         let same = a.as_raw() == p.as_raw();
         self.keep_jacobian(&a, ksp, same)?;
+        // Force control (border): its columns from the Jacobian before the replacement.
+        let columns = match &mut self.border {
+            Some(b) if b.active() => {
+                Some(b.prepare(&a, x, (&self.bounds.lower, &self.bounds.upper), &self.active, self.diag)?)
+            }
+            _ => None,
+        };
         a.zero_rows_columns(&self.active, self.diag, Some((&self.to_bound, &mut self.rhs)))?;
         if !same {
             p.zero_rows_columns(&self.active, self.diag, None)?;
@@ -416,9 +485,13 @@ impl ActiveSetNewton {
                 self.pc_uses = 0;
             }
             if self.krylov_solve(ksp, reuse)? || !reuse {
-                return Ok(());
+                break;
             }
             reuse = false;
+        }
+        match (&mut self.border, columns) {
+            (Some(b), Some(w)) => b.solve(ksp, w),
+            _ => Ok(()),
         }
     }
 
@@ -445,9 +518,11 @@ impl ActiveSetNewton {
         loop {
             self.trial.copy_from(x)?;
             self.trial.axpy(lambda, &self.step)?;
+            self.move_positions(lambda)?;
             self.bounds.project(&mut self.trial)?;
             snes.compute_function(&self.trial, &mut self.f)?;
             let n = self.bounds.split(&self.trial, &self.f, &mut self.rhs, &mut self.to_bound, &mut self.active)?;
+            let n = self.with_border(n)?;
             let admissible = n.is_finite();
             let good = admissible && (!backtrack || n <= (1.0 - 1e-4 * lambda) * fnorm);
             if good || lambda < 0.5f64.powi(STEP_HALVINGS) {
