@@ -75,18 +75,27 @@ fn terzaghi(t: f64, sigma: f64) -> f64 {
 fn a_column_under_a_force_controlled_plate_creeps_as_terzaghi() {
     let dir = scratch("force_terzaghi");
     let force = PI * 40.0 * 40.0 * 1e-3; // µN
-    let s = column(&dir, &format!("[{{ t = 0.0, force = {force} }}]"), "t_end = 170.0\ndt = 1e-3\ngrowth = 1.25\ndt_max = 2.0");
+    let s = column(
+        &dir,
+        &format!("[{{ t = 0.0, force = {force} }}]"),
+        "t_end = 170.0\ndt = 1e-3\ngrowth = 1.25\ndt_max = 2.0",
+    );
     let out = dir.join("run");
     run_ok(1, &["run", &s, "--out", out.to_str().unwrap(), "-q"]);
     let h = History::read(&out);
     let (t, d, f) = (h.col("time"), h.col("upper_plate_disp"), h.col("force_total_uN"));
     let tau = |t: f64| t * 3.7729 * 32.0 / 1e4;
-    let worst = (1..t.len()).filter(|&i| tau(t[i]) >= 0.01).map(|i| (d[i] - terzaghi(t[i], 1.0)).abs()).fold(0.0, f64::max);
-    println!("largest settlement error {worst:.4} µm, final {} against {}", d[t.len() - 1], terzaghi(t[t.len() - 1], 1.0));
+    let worst =
+        (1..t.len()).filter(|&i| tau(t[i]) >= 0.01).map(|i| (d[i] - terzaghi(t[i], 1.0)).abs()).fold(0.0, f64::max);
+    println!(
+        "largest settlement error {worst:.4} µm, final {} against {}",
+        d[t.len() - 1],
+        terzaghi(t[t.len() - 1], 1.0)
+    );
     assert!(tau(t[t.len() - 1]) > 2.0);
     assert!(worst < 0.045, "settlement error {worst}");
-    for i in 1..t.len() {
-        assert!((f[i] - force).abs() < 1e-9 * force, "step {i}: force {} against {force}", f[i]);
+    for (i, f) in f.iter().enumerate().skip(1) {
+        assert!((f - force).abs() < 1e-9 * force, "step {i}: force {f} against {force}");
     }
 }
 
@@ -124,8 +133,7 @@ fn a_switch_to_force_control_is_consistent_with_displacement_control() {
     let a = History::read(&out_a);
     let (t, d) = (a.col("time"), a.col("upper_plate_disp"));
     assert!(d[t.len() - 1] > 1.5 + 0.05, "the column creeps under the held force: {d:?}");
-    let rows: Vec<String> =
-        t.iter().zip(&d).map(|(t, d)| format!("{{ t = {t}, displacement = {d:.17e} }}")).collect();
+    let rows: Vec<String> = t.iter().zip(&d).map(|(t, d)| format!("{{ t = {t}, displacement = {d:.17e} }}")).collect();
     let b_dir = dir.join("b");
     std::fs::create_dir_all(&b_dir).unwrap();
     let s = column(&b_dir, &format!("[{}]", rows.join(", ")), "t_end = 5.0\ndt = 0.25\ngrowth = 1.0");
@@ -195,7 +203,10 @@ fn bad_force_rows_are_refused() {
             "[{ t = 0.0, displacement = 0.0 }, { t = 2.0, displacement = 1.0 }, { t = 1.0, displacement = 2.0 }]",
             "plates.upper row 3: time 1 s comes before row 2's 2 s",
         ),
-        ("[{ t = 0.0, displacement = 0.0 }, { t = 1.0, force = 1.0 }]", "row 2: the control changes between 0 s and 1 s"),
+        (
+            "[{ t = 0.0, displacement = 0.0 }, { t = 1.0, force = 1.0 }]",
+            "row 2: the control changes between 0 s and 1 s",
+        ),
         ("[{ t = 0.0, force = 5e4 }]", "plates.upper row 1: force = 50000 µN is above the plausible"),
         ("[{ t = 0.0, force = 1e-6 }]", "is below the plausible"),
         ("[{ t = 0.0, displacement = -5.0 }, { t = 0.0, force = 5.0 }]", "the upper plate is 5 µm from the body"),
@@ -237,7 +248,8 @@ fn the_creep_scene_holds_its_force_while_the_plate_advances() {
     }
     run_ok(1, &args);
     let h = History::read(&dir);
-    let (t, d, f, target) = (h.col("time"), h.col("upper_plate_disp"), h.col("force_total_uN"), h.col("force_target_uN"));
+    let (t, d, f, target) =
+        (h.col("time"), h.col("upper_plate_disp"), h.col("force_total_uN"), h.col("force_target_uN"));
     let switch = t.iter().position(|&t| t == 5.0).expect("a step lands on the switch");
     assert_eq!(d[switch], 30.0);
     assert!(target[switch].is_nan());

@@ -30,11 +30,11 @@ use crate::parallel::{agree, broadcast_vec, on_root};
 use crate::petsc::{DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
 use crate::physics::contact::{Drainage, PlateLoading, Plates};
-use crate::physics::problem::untouched;
-use crate::physics::tools::protocol::{Mode, ToolProtocol};
 use crate::physics::factory::{ellipticity_warning, model_of};
+use crate::physics::problem::untouched;
 use crate::physics::problem::{PoroProblem, ProblemParts};
 use crate::physics::surface_tension::{Adhesion, SurfaceTension};
+use crate::physics::tools::protocol::{Mode, ToolProtocol};
 use crate::reference_cell::Family;
 use crate::scene::LoadedScene;
 use crate::solver;
@@ -196,14 +196,17 @@ fn plates(
         gap: ps.drainage_gap,
     };
     let upper = ps.upper.as_deref().map_or_else(ToolProtocol::fixed, ToolProtocol::from_rows);
-    let plates = Plates::new(loading, radius, local, &faces, anchor, drain, scene.scene.fem.equal_order(), upper);
+    let plates = Plates::new((loading, upper), radius, local, &faces, anchor, drain, scene.scene.fem.equal_order());
     // Force control from the start: the upper plate must touch the body at t = 0 (later
     // switches are checked when they are reached, `PoroProblem::predict`).
     if let Mode::Force(_) = plates.upper.at(f64::MIN_POSITIVE, 0.0) {
         let top = plates.nodes.iter().map(|&n| local.coords[n][2]).fold(f64::NEG_INFINITY, f64::max);
         let gap = plates.z_upper() - crate::parallel::max(world, top);
         if gap > plates.drain.seal_gap {
-            return Err(Error::Scene { path: scene.source.clone(), msg: format!("plates.upper: {}", untouched(0.0, gap)) });
+            return Err(Error::Scene {
+                path: scene.source.clone(),
+                msg: format!("plates.upper: {}", untouched(0.0, gap)),
+            });
         }
     }
     Ok(Some((plates, faces)))

@@ -208,8 +208,8 @@ impl RunState {
                 let f = hdf5::File::open(path)?;
                 for (i, name) in
                     ["counters", "state", "velocity", "velocity_dt", "history", "mesh_fingerprint", "tools"]
-                    .iter()
-                    .enumerate()
+                        .iter()
+                        .enumerate()
                 {
                     if let Ok(ds) = f.dataset(name) {
                         buf[i] = ds.read_raw()?;

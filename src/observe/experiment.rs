@@ -340,7 +340,14 @@ impl Experiment {
     /// Largest distance by which the quadratic contact surface enters a plate, sampled at the
     /// nodes and at the interior points of a degree-5 rule on every face (7 on a triangle, 3 on
     /// a meridian line); the plates at time t with the upper one at displacement d.
-    fn max_penetration(&self, plates: &Plates, mesh: &LocalMesh, dofs: &DofMap, local: &[f64], (t, d): (f64, f64)) -> f64 {
+    fn max_penetration(
+        &self,
+        plates: &Plates,
+        mesh: &LocalMesh,
+        dofs: &DofMap,
+        local: &[f64],
+        (t, d): (f64, f64),
+    ) -> f64 {
         let nf = mesh.family.face_nodes();
         let (zl, zu) = (plates.z_lower(t), plates.z_upper_at(d));
         let rule = FaceRule::new(mesh.family);

@@ -6,9 +6,9 @@
 //! turns a sample into the step's [`Observed`] values.
 
 use super::experiment::{self, Experiment};
+use super::force_control;
 use super::pressure_peak::PressurePeak;
 use super::probe::Probe;
-use super::force_control;
 use super::remodelling_summary;
 use super::verification::{exact_columns, Exact};
 use crate::error::Result;

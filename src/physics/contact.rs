@@ -44,8 +44,8 @@ use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
 use crate::physics::tools::protocol::ToolProtocol;
-use crate::solver::active_set::{Positions, SharedPositions};
 pub(crate) use crate::scene::DrainageGap;
+use crate::solver::active_set::{Positions, SharedPositions};
 
 /// Lower-plate displacement u(t): linear between the points (t, u) of the plate's path, from
 /// (0, 0), the last value after it. The compression–release test (53) (ramp to u_max, hold,
@@ -133,7 +133,8 @@ pub(crate) struct Drainage {
 }
 
 impl Plates {
-    /// `faces`: local faces of the contact surface; `anchor`: the local node of the bottom
+    /// `(loading, upper)`: the lower and upper plates' protocols; `faces`: local faces of the
+    /// contact surface; `anchor`: the local node of the bottom
     /// pole, if on this rank; `drain` the surface's drainage (module docs); `on_vertices`:
     /// contact on the faces' vertices only, for equal-order P1–P1, whose mid-edge nodes are
     /// slaves of their edges (`fem::equal_order`): a bound there would contradict the tie row
@@ -147,14 +148,13 @@ impl Plates {
     /// that mode without changing the converged solution as long as its reaction stays
     /// compressive (reported as `force_lower_mg`).
     pub(crate) fn new(
-        loading: PlateLoading,
+        (loading, upper): (PlateLoading, ToolProtocol),
         radius: f64,
         mesh: &LocalMesh,
         faces: &[u32],
         anchor: Option<usize>,
         drain: Drainage,
         on_vertices: bool,
-        upper: ToolProtocol,
     ) -> Plates {
         let per_face = if on_vertices { mesh.family.face_vertices() } else { mesh.family.face_nodes() };
         let mut nodes: Vec<usize> =
@@ -182,7 +182,19 @@ impl Plates {
         }
         let positions = std::rc::Rc::new(std::cell::RefCell::new(Positions { d: vec![0.0], target: vec![None] }));
         let z_top = 2.0 * radius;
-        Plates { loading, z_top, upper, positions, drain_d: Default::default(), nodes, z_ref, drain, shares, anchor, tol: AT_BOUND * radius }
+        Plates {
+            loading,
+            z_top,
+            upper,
+            positions,
+            drain_d: Default::default(),
+            nodes,
+            z_ref,
+            drain,
+            shares,
+            anchor,
+            tol: AT_BOUND * radius,
+        }
     }
 
     /// Height of the lower plate's top face at time t.

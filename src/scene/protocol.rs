@@ -149,7 +149,10 @@ mod tests {
         let cases = [
             ("[{t = 0, force = -1.0}]", "row 1: force = -1 µN: a plate cannot pull"),
             ("[{t = 0, force = 0.0}]", "cannot pull"),
-            ("[{t = 0, displacement = 0.0}, {t = 5, displacement = 1.0}, {t = 3, displacement = 2.0}]", "row 3: time 3 s comes before row 2's 5 s"),
+            (
+                "[{t = 0, displacement = 0.0}, {t = 5, displacement = 1.0}, {t = 3, displacement = 2.0}]",
+                "row 3: time 3 s comes before row 2's 5 s",
+            ),
             ("[{t = 0, displacement = 0.0}, {t = 5, force = 1.0}]", "row 2: the control changes between 0 s and 5 s"),
             ("[{t = 0, displacement = 0.0}, {t = 0, displacement = 1.0}]", "rows 1 and 2: two rows at 0 s"),
             ("[{t = 0, displacement = \"held\"}]", "row 1: displacement = \"held\""),

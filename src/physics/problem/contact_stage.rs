@@ -5,15 +5,15 @@
 //! the drainage out of contact in the residual and the Jacobian.
 
 use super::schur::SchurApprox;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::fem::assembly::Discretization;
 use crate::fem::dofmap::DofMap;
 use crate::petsc::{Int, Mat, Vector};
 use crate::physics::contact::{DrainageGap, Plates};
+use crate::physics::surface_tension::PlatePlanes;
 use crate::physics::tools::protocol::Mode;
 use crate::solver::active_set::{Border, PositionUnknown};
 use mpi::topology::SimpleCommunicator;
-use crate::physics::surface_tension::PlatePlanes;
 
 /// "No bound" for SNESVI (PETSc's PETSC_INFINITY).
 const INFINITY: f64 = f64::MAX / 4.0;
@@ -35,6 +35,16 @@ pub(super) struct ContactStage {
     upper: Upper,
 }
 
+/// Force control of an upper plate that touches nothing (at time t, `gap` µm away): what to do
+/// instead.
+pub(crate) fn untouched(t: f64, gap: f64) -> String {
+    format!(
+        "force control from t = {t} s, but the upper plate is {} µm from the body there: it cannot press on \
+         nothing. Reach the body under displacement control first (a displacement row before the force row)",
+        crate::io::fmt_significant(gap, 4)
+    )
+}
+
 /// The upper plate's committed displacement and its last step's rate, the protocol segment of
 /// the last stage, the position a `"held"` row holds, and the model's share of a full-body
 /// force (1 / the symmetry factor).
@@ -53,12 +63,18 @@ impl ContactStage {
     /// The solver's border for the upper plate's force control (None without force rows): its
     /// bounds move with it (−1 on every contact node's upper bound but the anchor's), its
     /// reaction is −F_z summed over the contact nodes of the upper half.
-    pub(crate) fn border(&self, world: &SimpleCommunicator, template: &Vector, dofs: &DofMap) -> Result<Option<Border>> {
+    pub(crate) fn border(
+        &self,
+        world: &SimpleCommunicator,
+        template: &Vector,
+        dofs: &DofMap,
+    ) -> Result<Option<Border>> {
         let p = &self.plates;
         if !p.upper.has_force() {
             return Ok(None);
         }
-        let (mut lower, mut upper, mut reaction) = (template.duplicate()?, template.duplicate()?, template.duplicate()?);
+        let (mut lower, mut upper, mut reaction) =
+            (template.duplicate()?, template.duplicate()?, template.duplicate()?);
         lower.zero()?;
         upper.zero()?;
         reaction.zero()?;
@@ -182,16 +198,19 @@ impl ContactStage {
         self.plates.positions.borrow_mut().d[0] = upper.d;
     }
 
-    /// At the first stage under force control after a switch: this rank's smallest gap
-    /// between the upper plate and the body at the step's start (owned entries `x0`), else None.
-    pub(crate) fn switch_gap(&self, x0: &[f64], dofs: &DofMap) -> Option<f64> {
+    /// At the first stage under force control after a switch at time t: the upper plate must
+    /// touch the body at the step's start (owned entries `x0`: within the seal gap), else the
+    /// error says what to do (collective).
+    pub(crate) fn check_switch(&self, world: &SimpleCommunicator, x0: &[f64], dofs: &DofMap, t: f64) -> Result<()> {
         let force = self.plates.positions.borrow().target[0].is_some();
-        (force && self.upper.switched).then(|| self.plates.upper_gap(self.upper.d, dofs, x0))
-    }
-
-    /// The seal gap: a force-controlled plate farther than it from the body touches nothing.
-    pub(crate) fn seal_gap(&self) -> f64 {
-        self.plates.drain.seal_gap
+        if !(force && self.upper.switched) {
+            return Ok(());
+        }
+        let gap = -crate::parallel::max(world, -self.plates.upper_gap(self.upper.d, dofs, x0));
+        if gap > self.plates.drain.seal_gap {
+            return Err(Error::Scene { path: "plates.upper".into(), msg: untouched(t, gap) });
+        }
+        Ok(())
     }
 
     /// The predictor in `x`: the step's start `start` extrapolated with the last step's

@@ -13,6 +13,7 @@ mod post;
 mod schur;
 mod timers;
 
+pub(crate) use contact_stage::untouched;
 pub(crate) use parts::ProblemParts;
-pub(crate) use poro_problem::{backward_euler_rate, untouched, ErrorScales, PoroProblem};
+pub(crate) use poro_problem::{backward_euler_rate, ErrorScales, PoroProblem};
 pub(crate) use post::Post;

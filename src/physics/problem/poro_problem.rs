@@ -490,15 +490,7 @@ impl PoroProblem {
         // From the start of the step, whatever the integrator put in x (BDF extrapolates).
         let start = ts.solution()?;
         let x0 = contact.extrapolate(&start, &self.disc.dofs, x)?;
-        if let Some(gap) = contact.switch_gap(&x0, &self.disc.dofs) {
-            let gap = -crate::parallel::max(&self.world, -gap);
-            if gap > contact.seal_gap() {
-                return Err(Error::Scene {
-                    path: "plates.upper".into(),
-                    msg: untouched(ts.time()?, gap),
-                });
-            }
-        }
+        contact.check_switch(&self.world, &x0, &self.disc.dofs, ts.time()?)?;
         let (predicted_gap, extrapolating) = (contact.drains_by_predicted_gap(), contact.extrapolating());
         self.retie(x)?;
         // The drainage gaps are the extrapolation's, whatever guess the Newton solve starts from.
@@ -551,15 +543,6 @@ impl PoroProblem {
             }
         })
     }
-}
-
-/// Force control of an upper plate that touches nothing: what to do instead.
-pub(crate) fn untouched(t: f64, gap: f64) -> String {
-    format!(
-        "force control from t = {t} s, but the upper plate is {} µm from the body there: it cannot press on \
-         nothing. Reach the body under displacement control first (a displacement row before the force row)",
-        crate::io::fmt_significant(gap, 4)
-    )
 }
 
 /// The backward-Euler rate (u − prev) / dt of a step.

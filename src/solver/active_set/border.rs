@@ -148,7 +148,8 @@ impl Border {
             s.zero()?;
             let mut here = false;
             {
-                let (xv, lo, hi, sl, su) = (x.read()?, bounds.0.read()?, bounds.1.read()?, u.lower.read()?, u.upper.read()?);
+                let (xv, lo, hi, sl, su) =
+                    (x.read()?, bounds.0.read()?, bounds.1.read()?, u.lower.read()?, u.upper.read()?);
                 let mut sv = s.write()?;
                 for &g in active {
                     let i = g as usize - first;
@@ -192,7 +193,8 @@ impl Border {
     /// its dofs can be reached.
     pub(super) fn correct(&mut self, step: &mut Vector, x: &Vector, bounds: (&Vector, &Vector)) -> Result<()> {
         let Some(kept) = &self.kept else { return Ok(()) };
-        let on: Vec<(usize, usize)> = kept.on.iter().enumerate().filter(|(j, _)| kept.touching[*j]).map(|(j, &k)| (j, k)).collect();
+        let on: Vec<(usize, usize)> =
+            kept.on.iter().enumerate().filter(|(j, _)| kept.touching[*j]).map(|(j, &k)| (j, k)).collect();
         let n = on.len();
         let mut s = nalgebra::DMatrix::zeros(n, n);
         let mut r = nalgebra::DVector::zeros(n);
