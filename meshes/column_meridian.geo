@@ -58,3 +58,6 @@ Physical Curve("top") = {top()};
 Physical Curve("bottom") = {bottom()};
 Physical Curve("sides") = {sides()};
 Physical Curve("axis") = {axis()};
+// The bottom of the axis, for scenes that need a point group there (plates.anchor of a column
+// under a plate).
+Physical Point("axis_bottom") = {2};

@@ -17,6 +17,12 @@ the time.
     python3 scripts/bench.py --targets [--repeat 3]            # every 3-D plate scene against issue 27's targets
     python3 scripts/bench.py --fit [--repeat 3] [--level coarse]  # a 3-parameter fit of a meridian curve
     python3 scripts/bench.py --tst [--repeat 3]                 # the 1000-s tensiometry hold on 2 ranks
+    python3 scripts/bench.py --creep [--repeat 3]               # a force-controlled hold against a displacement one
+
+`--creep`: the shipped `creep_plates` (meridian, 30 um in 5 s, then 40 uN held to 65 s) and the
+same experiment with the hold displacement-controlled (the plate held at 30 um), alternated
+--repeat times on 1 rank in one invocation: the median wall times (mpirun's), their ratio, and
+the steps and Newton iterations of each. Target (issue 53): force control costs <= 1.5 x.
 
 `--tst`: the shipped `tst_hold` (meridian, 30% held 1000 s, sigma_y = 0, gamma = 5 mN/m) to the
 end of its hold on 2 ranks, --repeat times: the median wall time with the steps, and the plate
@@ -315,6 +321,37 @@ def tst_bench(a, work):
               f"{med('steps'):.0f} steps: target (F(1005 s) within 1%, <= 10 s) " + ("met" if met else "missed"))
 
 
+# --creep: the displacement-controlled twin of creep_plates' force hold, and the target ratio.
+CREEP_DISPLACEMENT = "[{ t = 0.0, displacement = 0.0 }, { t = 5.0, displacement = 30.0 }]"
+CREEP_TARGET = 1.5
+
+
+def creep_bench(a, work):
+    """creep_plates with its force hold and with a displacement hold, alternated --repeat times
+    on 1 rank: median wall times, their ratio, steps and Newton iterations."""
+    cases = {"force": [], "displacement": [("plates.upper", CREEP_DISPLACEMENT)]}
+    rs = {k: [] for k in cases}
+    for k in range(a.repeat):
+        for label, sets in cases.items():
+            d = work / f"creep-{label}-{k}"
+            d.mkdir(parents=True)
+            t0 = time.time()
+            [(run, res)] = run_cases("creep_plates", [[("output.fields", "false"), *sets]], [], d, 1, (), [],
+                                     sweep=True, ranks_per_case=1)
+            if res["status"] != "ok":
+                raise SystemExit(f"bench.py: creep_plates ({label}) failed: {res['error']} (see {d / 'sweep.log'})")
+            tm = timings(run)
+            rs[label].append(dict(wall=time.time() - t0, steps=tm["steps"], newton=tm["newton_its"]))
+    med = {label: {key: statistics.median(r[key] for r in runs) for key in runs[0]} for label, runs in rs.items()}
+    print(f"creep_plates to 65 s on 1 rank, medians of {a.repeat} run(s) alternated in one invocation; work dir {work}")
+    print("\n| hold | wall (s) | steps | Newton iterations |\n|---|---|---|---|")
+    for label, m in med.items():
+        print(f"| {label} | {m['wall']:.2f} | {m['steps']:.0f} | {m['newton']:.0f} |")
+    ratio = med["force"]["wall"] / med["displacement"]["wall"]
+    print(f"\nforce / displacement wall time: {ratio:.2f} (target <= {CREEP_TARGET}: "
+          + ("met" if ratio <= CREEP_TARGET else "missed") + ")")
+
+
 # --fit: the fit's target wall time (s); the noise and data set of the fitted curve.
 FIT_TARGET, FIT_NOISE, FIT_SEED = 60.0, 0.02, 41
 
@@ -402,7 +439,11 @@ def main():
     ap.add_argument("--level", choices=list(syn.LEVELS), default="coarse", help="--fit: the model's mesh and steps")
     ap.add_argument("--tst", action="store_true",
                     help="the tensiometry hold (tst_hold, 1000 s) on 2 ranks against its 1% / 10 s target")
+    ap.add_argument("--creep", action="store_true",
+                    help="creep_plates' force-controlled hold against the displacement-controlled one (<= 1.5x)")
     a = ap.parse_args()
+    if a.creep:
+        return creep_bench(a, Path(tempfile.mkdtemp(prefix="poroplast-bench-creep-")))
     if a.tst:
         a.ranks = (a.ranks or [2])[0]
         return tst_bench(a, Path(tempfile.mkdtemp(prefix="poroplast-bench-tst-")))

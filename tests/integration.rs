@@ -10,6 +10,8 @@ mod axisymmetric;
 #[path = "bad_input.rs"]
 mod bad_input;
 mod common;
+#[path = "force_control.rs"]
+mod force_control;
 #[path = "io_fields.rs"]
 mod io_fields;
 #[path = "lab_input.rs"]

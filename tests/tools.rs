@@ -103,7 +103,10 @@ fn a_tool_overlapping_the_body_or_force_controlled_is_refused() {
     let cases = [
         ("tools.0.origin=[0,0,599.5]", "overlaps the body by 0.5000 µm at t = 0"),
         ("tools.0.protocol=[{t=0.0,force=1.0}]", "force control of a tool is not available yet"),
-        ("tools.0.protocol=[{t=1.0,displacement=1.0},{t=0.5,displacement=0.0}]", "row 2 (t = 0.5) is not after row 1"),
+        (
+            "tools.0.protocol=[{t=1.0,displacement=1.0},{t=0.5,displacement=0.0}]",
+            "row 2: time 0.5 s comes before row 1's 1 s",
+        ),
         ("tools.0.radius=-1.0", "tools.radius"),
     ];
     for (set, want) in cases {

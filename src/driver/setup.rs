@@ -32,8 +32,10 @@ use crate::physics::bc::{self, Constraint};
 use crate::physics::contact::{Drainage, PlateLoading, Plates};
 use crate::physics::factory::{ellipticity_warning, model_of};
 use crate::physics::medium::Medium;
+use crate::physics::problem::untouched;
 use crate::physics::problem::{PoroProblem, ProblemParts};
 use crate::physics::surface_tension::{Adhesion, SurfaceTension};
+use crate::physics::tools::protocol::{Mode, ToolProtocol};
 use crate::physics::tools::{Tool, ToolSet};
 use crate::reference_cell::Family;
 use crate::scene::tools::ToolSpec;
@@ -301,7 +303,20 @@ fn plates(
         })?,
         gap: ps.drainage_gap,
     };
-    let plates = Plates::new(loading, radius, local, &faces, anchor, drain, scene.scene.fem.equal_order());
+    let upper = ps.upper.as_deref().map_or_else(ToolProtocol::fixed, ToolProtocol::from_rows);
+    let plates = Plates::new((loading, upper), radius, local, &faces, anchor, drain, scene.scene.fem.equal_order());
+    // Force control from the start: the upper plate must touch the body at t = 0 (later
+    // switches are checked when they are reached, `PoroProblem::predict`).
+    if let Mode::Force(_) = plates.upper.at(f64::MIN_POSITIVE, 0.0) {
+        let top = plates.nodes.iter().map(|&n| local.coords[n][2]).fold(f64::NEG_INFINITY, f64::max);
+        let gap = plates.z_upper() - crate::parallel::max(world, top);
+        if gap > plates.drain.seal_gap {
+            return Err(Error::Scene {
+                path: scene.source.clone(),
+                msg: format!("plates.upper: {}", untouched(0.0, gap)),
+            });
+        }
+    }
     Ok(Some((plates, faces)))
 }
 
@@ -459,7 +474,11 @@ pub(super) fn setup<'w>(
     let fade = stabilisation_fade(s, &mut solver_line).map(|tau0| Fade { tau0, dt0: s.time.dt, steps });
     let stab = Stabilisation::new(c, fade, model.as_ref());
     let tab = tabulate_cell(local.family, &q);
-    let kinks = plates.iter().flat_map(|p| p.loading.kinks()).chain(tools.iter().flat_map(ToolSet::kinks)).collect();
+    let kinks = plates
+        .iter()
+        .flat_map(|p| p.loading.kinks().into_iter().chain(p.upper.kinks()))
+        .chain(tools.iter().flat_map(ToolSet::kinks))
+        .collect();
     let parts = ProblemParts {
         mesh: local,
         dofs,
@@ -490,8 +509,9 @@ pub(super) fn setup<'w>(
     refuse_other_integrators(&ts)?;
     // The preconditioner is read from the options by the time stepper, which holds the problem:
     // only now is it known whether it uses the Schur approximation.
+    let border = ts.problem_mut().take_border();
     let schur_used =
-        solver::configure(world, &mut ts, &policy, free_modes, &mut solver_line, |p| solver::ProblemView {
+        solver::configure(world, &mut ts, &policy, free_modes, border, &mut solver_line, |p| solver::ProblemView {
             bounds: p.bounds(),
             u_row_scale: p.u_row_scale(),
             schur: p.schur(),
@@ -512,6 +532,7 @@ pub(super) fn setup<'w>(
         probes,
         experiment,
         tools: s.tools.iter().map(|t| t.name.clone()).collect(),
+        force_control: ts.problem().plates().is_some_and(|p| p.upper.has_force()),
         exact: exact_columns(scene)?,
         remodelling: ts.problem().has_qp_state(),
         fields: s.output.fields,

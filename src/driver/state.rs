@@ -36,7 +36,7 @@ impl StepState {
     /// Commits the accepted step of size dt from `prev` to `u`: the problem's qp state and, with
     /// `keep_rate`, the step's rate for the predictor and the error estimate of the next.
     pub(crate) fn commit(&mut self, problem: &mut PoroProblem, dt: f64, keep_rate: bool) -> Result<()> {
-        problem.commit(&self.prev, &self.u, dt)?;
+        problem.commit(&self.prev, &self.u, dt, keep_rate)?;
         self.rate = if keep_rate && dt > 0.0 { Some(StepRate::of(&self.prev, &self.u, dt)?) } else { None };
         problem.set_extrapolation(self.rate.as_ref().map(|r| &r.velocity))
     }
@@ -108,14 +108,19 @@ impl StepState {
             }
             reduce_to_root(world, &mut qp_state);
         }
-        let snapshot = Snapshot { u, velocity, qp_state };
+        let tools = problem.upper_plate().map_or_else(Vec::new, |p| vec![p.d, p.rate, p.segment as f64, p.held]);
+        let snapshot = Snapshot { u, velocity, qp_state, tools };
         Ok(RunState { counters, snapshot, mesh: mesh_fingerprint(world, mesh) })
     }
 
     /// Sets this step state from a run state (U, the rate, the problem's qp state); returns
     /// its counters.
     pub(crate) fn apply(&mut self, problem: &mut PoroProblem, state: RunState) -> Result<Counters> {
-        let Snapshot { u, velocity, qp_state } = state.snapshot;
+        let Snapshot { u, velocity, qp_state, tools } = state.snapshot;
+        if let (Some(mut p), &[d, rate, segment, held]) = (problem.upper_plate(), &tools[..]) {
+            (p.d, p.rate, p.segment, p.held) = (d, rate, segment as usize, held);
+            problem.set_upper_plate(p);
+        }
         let (mesh, dofs) = (problem.mesh(), problem.dofs());
         to_owned(mesh, dofs, &u, &mut self.u)?;
         self.rate = match velocity {

@@ -120,6 +120,10 @@ pub(crate) struct Snapshot {
     pub(crate) velocity: Option<(Vec<f64>, f64)>,
     /// Per original element, its points' committed qp state (empty without; dataset `history`).
     pub(crate) qp_state: Vec<f64>,
+    /// The tools' state between steps (dataset `tools`; the upper plate's displacement, rate,
+    /// protocol segment and held position; empty without plates and in earlier checkpoints,
+    /// whose plates were displacement-controlled: their protocol gives it).
+    pub(crate) tools: Vec<f64>,
 }
 
 /// Everything a restart needs, the content of a checkpoint file: the counters and a snapshot of
@@ -164,6 +168,9 @@ impl RunState {
                 put("velocity_dt", &[*dt]).map_err(h5)?;
             }
             put("history", &self.snapshot.qp_state).map_err(h5)?;
+            if !self.snapshot.tools.is_empty() {
+                put("tools", &self.snapshot.tools).map_err(h5)?;
+            }
             put("mesh_fingerprint", &[self.mesh]).map_err(h5)?;
             f.close().map_err(h5)
         })?;
@@ -193,14 +200,16 @@ impl RunState {
         per_elem: usize,
         fingerprint: f64,
     ) -> Result<Checkpoint> {
-        let mut buf: Vec<Vec<f64>> = vec![vec![]; 6];
+        let mut buf: Vec<Vec<f64>> = vec![vec![]; 7];
         let mut damaged = vec![0u8];
         let r = if world.rank() == 0 {
             let h5 = |e: hdf5::Error| Error::io(path, format!("cannot read checkpoint: {e}"));
             let read = (|| -> hdf5::Result<()> {
                 let f = hdf5::File::open(path)?;
                 for (i, name) in
-                    ["counters", "state", "velocity", "velocity_dt", "history", "mesh_fingerprint"].iter().enumerate()
+                    ["counters", "state", "velocity", "velocity_dt", "history", "mesh_fingerprint", "tools"]
+                        .iter()
+                        .enumerate()
                 {
                     if let Ok(ds) = f.dataset(name) {
                         buf[i] = ds.read_raw()?;
@@ -231,7 +240,12 @@ impl RunState {
             Error::io(path, "checkpoint: the counters received from rank 0 are not in a known format")
         })?;
         let velocity = if buf[2].is_empty() { None } else { Some((std::mem::take(&mut buf[2]), buf[3][0])) };
-        let snapshot = Snapshot { u: std::mem::take(&mut buf[1]), velocity, qp_state: std::mem::take(&mut buf[4]) };
+        let snapshot = Snapshot {
+            u: std::mem::take(&mut buf[1]),
+            velocity,
+            qp_state: std::mem::take(&mut buf[4]),
+            tools: std::mem::take(&mut buf[6]),
+        };
         Ok(Checkpoint::Read(RunState { counters, snapshot, mesh: fingerprint }))
     }
 

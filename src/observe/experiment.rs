@@ -210,8 +210,7 @@ impl Experiment {
         world: &SimpleCommunicator,
         context: &str,
     ) -> Result<Experiment> {
-        let sphere = 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
-        let symmetry = (sphere / volume).round().max(1.0);
+        let symmetry = crate::physics::contact::symmetry(radius, volume);
         let Some(x_u) = probe_point else {
             return Err(Error::Scene { path: context.into(), msg: "plates.probe_point is not resolved".into() });
         };
@@ -249,7 +248,7 @@ impl Experiment {
         world: &SimpleCommunicator,
     ) -> Observation {
         let local = &post.local;
-        let states = plates.states(dofs, local, t);
+        let states = plates.states(dofs, local, t, post.upper_d);
         let axes = mesh.family.axes();
         let pos = |n: usize| -> [f64; 3] {
             let mut x = mesh.coords[n];
@@ -308,7 +307,7 @@ impl Experiment {
         let sym = self.symmetry;
         let outflow = sym * sum(world, outflow_local);
         self.outflow_total += dt * outflow;
-        let pen = self.max_penetration(plates, mesh, dofs, local, t);
+        let pen = self.max_penetration(plates, mesh, dofs, local, (t, post.upper_d));
         let probe_p = self.probe_p.value(mesh, dofs, local, world);
         let probe_por = self.probe_porosity.as_ref().map_or(f64::NAN, |p| p.value(mesh, dofs, local, world));
         // The adhesion pulls the plates towards the aggregate besides the contact reactions.
@@ -318,7 +317,7 @@ impl Experiment {
             .chunks_exact(3)
             .map(|p| Point { r: p[0], z: p[1], side: SIDES[p[2] as usize] })
             .collect();
-        let laplace = laplace::read(&profile, plates.z_lower(t), plates.z_upper, sym * f_up);
+        let laplace = laplace::read(&profile, plates.z_lower(t), plates.z_upper_at(post.upper_d), sym * f_up);
         let mg = [f_up, f_up - fp_up, fp_up, sum(world, f_lo - pull_lo)].map(|f| sym * f * NN_TO_MG);
         Observation {
             plate_disp: plates.z_lower(t),
@@ -345,10 +344,17 @@ impl Experiment {
 
     /// Largest distance by which the quadratic contact surface enters a plate, sampled at the
     /// nodes and at the interior points of a degree-5 rule on every face (7 on a triangle, 3 on
-    /// a meridian line).
-    fn max_penetration(&self, plates: &Plates, mesh: &LocalMesh, dofs: &DofMap, local: &[f64], t: f64) -> f64 {
+    /// a meridian line); the plates at time t with the upper one at displacement d.
+    fn max_penetration(
+        &self,
+        plates: &Plates,
+        mesh: &LocalMesh,
+        dofs: &DofMap,
+        local: &[f64],
+        (t, d): (f64, f64),
+    ) -> f64 {
         let nf = mesh.family.face_nodes();
-        let (zl, zu) = (plates.z_lower(t), plates.z_upper);
+        let (zl, zu) = (plates.z_lower(t), plates.z_upper_at(d));
         let rule = FaceRule::new(mesh.family);
         let mut pen = 0.0f64;
         for &f in &self.faces {

@@ -7,6 +7,7 @@
 pub(crate) mod analytic;
 pub(crate) mod columns;
 pub(crate) mod experiment;
+pub(crate) mod force_control;
 pub(crate) mod laplace;
 pub(crate) mod observers;
 pub(crate) mod pressure_peak;

@@ -6,6 +6,7 @@
 //! turns a sample into the step's [`Observed`] values.
 
 use super::experiment::{self, Experiment};
+use super::force_control;
 use super::pressure_peak::PressurePeak;
 use super::probe::Probe;
 use super::remodelling_summary;
@@ -27,6 +28,8 @@ pub(crate) struct Observers {
     pub(crate) experiment: Option<Experiment>,
     /// The names of the scene's tools (their columns: `observe::tools`).
     pub(crate) tools: Vec<String>,
+    /// Whether the upper plate has force rows: its position and target are recorded.
+    pub(crate) force_control: bool,
     /// Exact-solution columns of a verification scene.
     pub(crate) exact: Vec<Exact>,
     /// Whether the model keeps qp state (remodelling): its summary is recorded.
@@ -62,6 +65,7 @@ impl Observers {
     pub(crate) fn columns(&self) -> Vec<Column> {
         observed_columns(
             self.experiment.is_some(),
+            self.force_control,
             self.tools.iter().map(String::as_str),
             self.remodelling,
             self.probes.iter().map(|p| p.name.as_str()).chain(self.exact.iter().map(|e| e.doc.name)),
@@ -130,6 +134,9 @@ impl Observers {
         if let Some(o) = &obs {
             values.extend(o.values());
         }
+        if let (true, Some(pl), Some(post)) = (self.force_control, problem.plates(), post) {
+            values.extend(Declared::row(&force_control::COLUMNS, &force_control::observe(pl, t, post.upper_d)));
+        }
         if let (Some(post), Some(set)) = (post, problem.tools()) {
             values.extend(tools::read(t, &set, dofs, local, &post.reaction, world));
         }
@@ -161,11 +168,12 @@ impl Observers {
     }
 }
 
-/// The observed columns, in order: the experiment's (with plates), the tools' (five per tool),
-/// the remodelling summary's (with qp state), then `named` (the probes', then the exact
-/// solutions').
+/// The observed columns, in order: the experiment's (with plates), the upper plate's (with
+/// force rows), the tools' (five per tool), the remodelling summary's (with qp state), then
+/// `named` (the probes', then the exact solutions').
 fn observed_columns<'a>(
     plates: bool,
+    force: bool,
     tool_names: impl Iterator<Item = &'a str>,
     remodelling: bool,
     named: impl Iterator<Item = &'a str>,
@@ -173,6 +181,9 @@ fn observed_columns<'a>(
     let mut cols = Vec::new();
     if plates {
         cols.extend(experiment::columns().map(|(doc, kind)| Column::of(doc, kind)));
+    }
+    if force {
+        cols.extend(Declared::header(&force_control::COLUMNS));
     }
     cols.extend(tools::column_names(tool_names).into_iter().map(|name| {
         let kind = if name.ends_with("_contact_nodes") { ColumnKind::Integer } else { ColumnKind::Real };
@@ -193,7 +204,9 @@ pub fn history_column_names(scene: &LoadedScene) -> Result<Vec<String>> {
     let remodelling = s.material.mixture().is_some_and(|m| m.remodelling.is_some());
     let exact = exact_columns(scene)?;
     let named = s.probe.iter().map(|p| p.name.as_str()).chain(exact.iter().map(|e| e.doc.name));
-    let observed = observed_columns(s.plates.is_some(), s.tools.iter().map(|t| t.name.as_str()), remodelling, named);
+    let force = s.plates.as_ref().is_some_and(|p| p.upper.iter().flatten().any(|r| r.force.is_some()));
+    let observed =
+        observed_columns(s.plates.is_some(), force, s.tools.iter().map(|t| t.name.as_str()), remodelling, named);
     Ok(crate::io::recorder::history_columns(&observed).into_iter().map(|c| c.name).collect())
 }
 

@@ -43,7 +43,9 @@
 use crate::fem::dofmap::DofMap;
 use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
+use crate::physics::tools::protocol::ToolProtocol;
 pub(crate) use crate::scene::DrainageGap;
+use crate::solver::active_set::{Positions, SharedPositions};
 
 /// Lower-plate displacement u(t): linear between the points (t, u) of the plate's path, from
 /// (0, 0), the last value after it. The compression–release test (53) (ramp to u_max, hold,
@@ -92,8 +94,16 @@ const AT_BOUND: f64 = 1e-9;
 /// The plates and the aggregate surface that can touch them.
 pub(crate) struct Plates {
     pub(crate) loading: PlateLoading,
-    /// Height of the upper plate's bottom face (2R).
-    pub(crate) z_upper: f64,
+    /// Height of the upper plate's bottom face at its origin (2R).
+    z_top: f64,
+    /// The upper plate's protocol, and its displacement downwards (position 0 of the shared
+    /// positions: an unknown of the solver under force control).
+    pub(crate) upper: ToolProtocol,
+    pub(crate) positions: SharedPositions,
+    /// The upper plate's displacement that the drainage's gaps are taken against, when they are
+    /// the predictor's (`DrainageGap::Predicted`: the predictor's plate too, so that a force-
+    /// controlled plate's Newton moves do not open the drainage); None: its displacement now.
+    pub(crate) drain_d: std::cell::Cell<Option<f64>>,
     /// Local nodes of the contact surface (their vertices only for P1–P1, see `new`) and their
     /// reference heights: the nodes with bounds, the contact nodes of the observables.
     pub(crate) nodes: Vec<usize>,
@@ -123,7 +133,8 @@ pub(crate) struct Drainage {
 }
 
 impl Plates {
-    /// `faces`: local faces of the contact surface; `anchor`: the local node of the bottom
+    /// `(loading, upper)`: the lower and upper plates' protocols; `faces`: local faces of the
+    /// contact surface; `anchor`: the local node of the bottom
     /// pole, if on this rank; `drain` the surface's drainage (module docs); `on_vertices`:
     /// contact on the faces' vertices only, for equal-order P1–P1, whose mid-edge nodes are
     /// slaves of their edges (`fem::equal_order`): a bound there would contradict the tie row
@@ -137,7 +148,7 @@ impl Plates {
     /// that mode without changing the converged solution as long as its reaction stays
     /// compressive (reported as `force_lower_mg`).
     pub(crate) fn new(
-        loading: PlateLoading,
+        (loading, upper): (PlateLoading, ToolProtocol),
         radius: f64,
         mesh: &LocalMesh,
         faces: &[u32],
@@ -169,7 +180,21 @@ impl Plates {
                 shares.push(Share { vertex: fnodes[m] as usize, area, others, n_others: per_face - 1 });
             }
         }
-        Plates { loading, z_upper: 2.0 * radius, nodes, z_ref, drain, shares, anchor, tol: AT_BOUND * radius }
+        let positions = std::rc::Rc::new(std::cell::RefCell::new(Positions { d: vec![0.0], target: vec![None] }));
+        let z_top = 2.0 * radius;
+        Plates {
+            loading,
+            z_top,
+            upper,
+            positions,
+            drain_d: Default::default(),
+            nodes,
+            z_ref,
+            drain,
+            shares,
+            anchor,
+            tol: AT_BOUND * radius,
+        }
     }
 
     /// Height of the lower plate's top face at time t.
@@ -177,13 +202,30 @@ impl Plates {
         self.loading.displacement(t)
     }
 
+    /// How many copies of a body of `volume` (µm³, the meshed part) make the reference sphere:
+    /// 1 for a whole sphere (and on the meridian), 4 for a quarter; the full-body forces are
+    /// this times the model's.
+    pub(crate) fn symmetry(&self, volume: f64) -> f64 {
+        symmetry(0.5 * self.z_top, volume)
+    }
+
+    /// Height of the upper plate's bottom face now (2R less its displacement).
+    pub(crate) fn z_upper(&self) -> f64 {
+        self.z_upper_at(self.positions.borrow().d[0])
+    }
+
+    /// Height of the upper plate's bottom face at displacement d.
+    pub(crate) fn z_upper_at(&self, d: f64) -> f64 {
+        self.z_top - d
+    }
+
     /// Writes the bounds of the owned surface u_z dofs at time t (others stay ±∞).
     pub(crate) fn fill_bounds(&self, t: f64, dofs: &DofMap, lo: &mut [f64], hi: &mut [f64]) {
-        let zl = self.z_lower(t);
+        let (zl, zu) = (self.z_lower(t), self.z_upper());
         for (k, &n) in self.nodes.iter().enumerate() {
             if let Some(i) = dofs.local_to_owned(dofs.uz_local(n)) {
                 lo[i] = zl - self.z_ref[k];
-                hi[i] = if Some(n) == self.anchor { lo[i] } else { self.z_upper - self.z_ref[k] };
+                hi[i] = if Some(n) == self.anchor { lo[i] } else { zu - self.z_ref[k] };
             }
         }
     }
@@ -209,6 +251,46 @@ impl Plates {
         }
     }
 
+    /// The contact nodes whose upper bound is the upper plate's, with their owned u_z dof
+    /// (owned only; all but the anchor, which is held on the lower plate).
+    pub(crate) fn upper_nodes<'a>(&'a self, dofs: &'a DofMap) -> impl Iterator<Item = (usize, usize)> + 'a {
+        self.nodes
+            .iter()
+            .enumerate()
+            .filter(|(_, &n)| Some(n) != self.anchor)
+            .filter_map(|(k, _)| dofs.local_to_owned(dofs.uz_local(self.nodes[k])).map(|i| (k, i)))
+    }
+
+    /// Whether contact node k (index into `nodes`) lies in the upper half (its reaction is the
+    /// upper plate's).
+    pub(crate) fn upper_half(&self, k: usize) -> bool {
+        self.z_ref[k] > 0.5 * self.z_top
+    }
+
+    /// This rank's smallest gap between the upper plate at displacement d and the contact
+    /// nodes of the state `x0` (owned entries; ∞ without any here).
+    pub(crate) fn upper_gap(&self, d: f64, dofs: &DofMap, x0: &[f64]) -> f64 {
+        self.upper_nodes(dofs).map(|(k, i)| self.z_top - d - (self.z_ref[k] + x0[i])).fold(f64::INFINITY, f64::min)
+    }
+
+    /// Force control's predictor: the owned nodes on the upper plate at its displacement d0 (or
+    /// within the seal distance of it) move with it to its displacement now. Nothing when it
+    /// stays (bitwise today's predictor).
+    pub(crate) fn predict_upper(&self, d0: f64, dofs: &DofMap, x0: &[f64], x: &mut [f64]) {
+        let d1 = self.positions.borrow().d[0];
+        if d1 == d0 {
+            return;
+        }
+        let zu0 = self.z_top - d0;
+        for (k, &n) in self.nodes.iter().enumerate() {
+            if let Some(i) = dofs.local_to_owned(dofs.uz_local(n)) {
+                if self.z_ref[k] + x0[i] >= zu0 - self.drain.seal_gap.max(self.tol) {
+                    x[i] = x0[i] - (d1 - d0);
+                }
+            }
+        }
+    }
+
     /// The isochoric affine guess for a step from t0 to t1: the plates' relative motion as a
     /// uniform vertical compression between them, with the lateral expansion that keeps the
     /// volume (J) of every element to first order, on the state `x0` (owned entries, u of the
@@ -224,14 +306,14 @@ impl Plates {
         x0: &[f64],
         x: &mut [f64],
     ) {
-        let (z0, z1) = (self.z_lower(t0), self.z_lower(t1));
+        let (z0, z1, zu) = (self.z_lower(t0), self.z_lower(t1), self.z_upper());
         let nc = axes.len();
         for (n, c) in coords.iter().enumerate() {
             let mut cur = *c;
             for (k, &a) in axes.iter().enumerate() {
                 cur[a] += x0[nc * n + k];
             }
-            let du = isochoric_increment(cur, z0, z1, self.z_upper);
+            let du = isochoric_increment(cur, z0, z1, zu);
             for (k, &a) in axes.iter().enumerate() {
                 x[nc * n + k] = x0[nc * n + k] + du[a];
             }
@@ -239,11 +321,11 @@ impl Plates {
     }
 
     /// Contact state of a surface node at reference height `z_ref` from its u_z.
-    fn touch(&self, z_ref: f64, uz: f64, t: f64) -> Touch {
+    fn touch(&self, z_ref: f64, uz: f64, t: f64, zu: f64) -> Touch {
         let z = z_ref + uz;
         if z <= self.z_lower(t) + self.tol {
             Touch::Lower
-        } else if z >= self.z_upper - self.tol {
+        } else if z >= zu - self.tol {
             Touch::Upper
         } else {
             Touch::Free
@@ -251,8 +333,10 @@ impl Plates {
     }
 
     /// Contact state of every contact-surface node (same order as `nodes`).
-    pub(crate) fn states(&self, dofs: &DofMap, u_local: &[f64], t: f64) -> Vec<Touch> {
-        self.nodes.iter().zip(&self.z_ref).map(|(&n, &z)| self.touch(z, u_local[dofs.uz_local(n)], t)).collect()
+    /// The upper plate at displacement `d_upper`.
+    pub(crate) fn states(&self, dofs: &DofMap, u_local: &[f64], t: f64, d_upper: f64) -> Vec<Touch> {
+        let zu = self.z_upper_at(d_upper);
+        self.nodes.iter().zip(&self.z_ref).map(|(&n, &z)| self.touch(z, u_local[dofs.uz_local(n)], t, zu)).collect()
     }
 
     /// Drainage of every local (face, vertex) share with the gaps of the state `u_local` (local
@@ -274,14 +358,15 @@ impl Plates {
         if !d.on {
             return Vec::new();
         }
+        let zu = self.drain_d.get().map_or_else(|| self.z_upper(), |d| self.z_top - d);
         let zl = self.z_lower(t);
         // Gap to the nearer plate of node n and its derivative with respect to u_z.
         let gap = |n: usize| {
             let z = mesh.coords[n][2] + u_local[dofs.uz_local(n)];
-            if z - zl <= self.z_upper - z {
+            if z - zl <= zu - z {
                 (z - zl, 1.0)
             } else {
-                (self.z_upper - z, -1.0)
+                (zu - z, -1.0)
             }
         };
         self.shares
@@ -307,6 +392,12 @@ impl Plates {
             })
             .collect()
     }
+}
+
+/// How many copies of a body of `volume` make the sphere of `radius` (`Plates::symmetry`).
+pub(crate) fn symmetry(radius: f64, volume: f64) -> f64 {
+    let sphere = 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
+    (sphere / volume).round().max(1.0)
 }
 
 /// Nodes of a contact face besides one vertex: 5 on a Tri6, 2 on the meridian's Line3.

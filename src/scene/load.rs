@@ -40,6 +40,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("reference_axi", include_str!("../../meshes/scenes/reference_axi.toml")),
     ("tst_hold", include_str!("../../meshes/scenes/tst_hold.toml")),
     ("tst_two_compressions", include_str!("../../meshes/scenes/tst_two_compressions.toml")),
+    ("creep_plates", include_str!("../../meshes/scenes/creep_plates.toml")),
 ];
 
 impl LoadedScene {

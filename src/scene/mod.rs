@@ -28,6 +28,7 @@ pub(crate) mod observe;
 pub(crate) mod overrides;
 pub(crate) mod plates;
 mod plausible;
+pub(crate) mod protocol;
 pub mod reference;
 mod resolve;
 #[cfg(test)]

@@ -66,6 +66,10 @@ pub(crate) struct PlatesSpec {
     /// coordinates, µm; default the paper's (0.4 R, 0, 1.9 R), 1.5 µm under the surface).
     #[serde(default)]
     pub(crate) probe_point: Option<[f64; 3]>,
+    /// The upper plate's protocol (`scene::protocol` rows; µm downwards, or µN): absent, it
+    /// stays at z = 2R.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) upper: Option<Vec<super::protocol::ProtocolRow>>,
 }
 
 /// The gap that sets a surface vertex's drainage conductance during a step.
@@ -280,6 +284,9 @@ impl PlatesSpec {
             self.check_phases(t_end, notes)?;
         }
         self.check_drainage()?;
+        if let Some(rows) = &self.upper {
+            super::protocol::check(UPPER.name, rows)?;
+        }
         for x in self.probe_point.iter().flatten() {
             PROBE_POINT.check(*x)?;
         }
@@ -457,6 +464,16 @@ const T_END: Key = Key::new(
     "deprecated: the end of the release (read as hold = t_end − ramp − release)",
 )
 .rule("≥ ramp + release");
+const UPPER: Key = Key::new(
+    "plates.upper",
+    "s, µm | µN",
+    Unset::Absent("fixed at z = 2R"),
+    "the upper plate's protocol: rows { t, displacement = µm (downwards) } or { t, force = µN } (pressing, \
+     full body; its position is then an unknown), linear between rows of one control, held after the last; a \
+     switch is two rows at one time; { t, displacement = \"held\" } holds the position reached",
+)
+.rule("times in order; force > 0; a switch to force only where the plate touches the body")
+.enters("model.md: Force control");
 const DRAINAGE_PENALTY: Key = Key::new(
     "plates.drainage_penalty",
     "",
@@ -525,5 +542,6 @@ pub(super) const SECTION: Section = Section {
         PERMEABILITY,
         THICKNESS,
         PROBE_POINT,
+        UPPER,
     ],
 };

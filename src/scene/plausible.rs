@@ -118,10 +118,37 @@ pub(super) fn check(scene: &Scene, notes: &mut Vec<String>) -> Result<(), String
         }
         values.extend(p.permeability.map(|k| ("plates.permeability", k, &PLATE_PERMEABILITY)));
         values.extend(p.thickness.map(|l| ("plates.thickness", l, &THICKNESS)));
+        check_forces(scene, p)?;
     }
     for (key, v, q) in values {
         if let Some(note) = judge(key, v, q)? {
             notes.push(note);
+        }
+    }
+    Ok(())
+}
+
+/// The upper plate's forces (µN) against the body's scale E R² (E: the first modulus given):
+/// beyond 10³ E R² or below 10⁻⁶ E R² the force is refused as written in another unit.
+fn check_forces(scene: &Scene, p: &super::plates::PlatesSpec) -> Result<(), String> {
+    let modulus = match &scene.material {
+        Material::Linear { mu, .. } => Some(*mu),
+        _ => scene.material.mixture().and_then(|m| m.mu.or(m.drained_shear_modulus).or(m.drained_youngs_modulus)),
+    };
+    let (Some(e), Some(rows)) = (modulus, &p.upper) else { return Ok(()) };
+    // E R² in nN (kPa µm²), as µN.
+    let scale = e * p.radius() * p.radius() * 1e-3;
+    for (i, f) in rows.iter().enumerate().filter_map(|(i, r)| r.force.map(|f| (i + 1, f))) {
+        if f > 1e3 * scale || f < 1e-6 * scale {
+            return Err(format!(
+                "plates.upper row {i}: force = {} µN is {} the plausible {}–{} µN for a body of modulus {e} kPa \
+                 and radius {} µm (10⁻⁶–10³ E R²): forces are in µN (nN? divide by 1000; mN? multiply by 1000)",
+                crate::io::fmt_real(f),
+                if f > scale { "above" } else { "below" },
+                crate::io::fmt_significant(1e-6 * scale, 3),
+                crate::io::fmt_significant(1e3 * scale, 3),
+                p.radius()
+            ));
         }
     }
     Ok(())

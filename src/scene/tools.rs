@@ -5,6 +5,7 @@
 
 use super::key::{Key, Section, Unset};
 use super::mesh::Geometry;
+use super::protocol::{self, Control, ProtocolRow};
 use crate::range::Range;
 use serde::{Deserialize, Serialize};
 
@@ -46,20 +47,6 @@ pub(crate) struct ToolSpec {
 
 fn default_group() -> String {
     "surface".into()
-}
-
-/// One row of a tool's protocol.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct ProtocolRow {
-    /// Time (s).
-    pub(crate) t: f64,
-    /// The displacement along the axis (µm), towards the body positive.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub(crate) displacement: Option<f64>,
-    /// The force on the tool (µN): force control.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub(crate) force: Option<f64>,
 }
 
 /// The shape of a tool's profile.
@@ -162,35 +149,30 @@ impl ToolSpec {
         Ok(())
     }
 
-    /// The protocol: displacement rows (force control of a tool is not available yet), finite,
-    /// at increasing times from t ≥ 0.
+    /// The protocol: the rows' checks (`scene::protocol`), and displacement rows only (force
+    /// control of a tool is not available yet; without it, nothing to hold).
     fn check_protocol(&self, label: &str) -> Result<(), String> {
+        if self.protocol.is_empty() {
+            return Ok(());
+        }
+        protocol::check(&format!("{label}: tools.protocol"), &self.protocol)?;
         for (i, row) in self.protocol.iter().enumerate() {
             let n = i + 1;
-            if row.force.is_some() {
-                return Err(format!(
-                    "{label}: tools.protocol row {n} gives a force: force control of a tool is not available yet \
-                     (plates only, through [plates]); give {{ t = {}, displacement = ... }} (µm)",
-                    row.t
-                ));
-            }
-            let Some(d) = row.displacement else {
-                return Err(format!(
-                    "{label}: tools.protocol row {n} has no displacement: give {{ t = ..., displacement = ... }} (µm)"
-                ));
-            };
-            if !(row.t.is_finite() && row.t >= 0.0 && d.is_finite()) {
-                return Err(format!(
-                    "{label}: tools.protocol row {n} = {{ t = {}, displacement = {d} }}: t ≥ 0 and finite values",
-                    row.t
-                ));
-            }
-            if i > 0 && row.t <= self.protocol[i - 1].t {
-                return Err(format!(
-                    "{label}: tools.protocol row {n} (t = {}) is not after row {i} (t = {}): rows go in increasing time",
-                    row.t,
-                    self.protocol[i - 1].t
-                ));
+            match row.control("tools.protocol", n)? {
+                Control::Displacement(Some(_)) => {}
+                Control::Force(_) => {
+                    return Err(format!(
+                        "{label}: tools.protocol row {n} gives a force: force control of a tool is not available yet \
+                         (the plates' upper plate only, through plates.upper); give {{ t = {}, displacement = ... }} (µm)",
+                        row.t
+                    ))
+                }
+                Control::Displacement(None) => {
+                    return Err(format!(
+                        "{label}: tools.protocol row {n} is \"held\", which follows force control: give the \
+                         displacement (µm)"
+                    ))
+                }
             }
         }
         Ok(())
@@ -199,7 +181,11 @@ impl ToolSpec {
     /// The displacement path as (t, d) points from (0, 0): the rows, with (0, 0) first unless a
     /// row is at t = 0.
     pub(crate) fn path(&self) -> Vec<(f64, f64)> {
-        let mut points: Vec<(f64, f64)> = self.protocol.iter().map(|r| (r.t, r.displacement.unwrap_or(0.0))).collect();
+        let value = |r: &ProtocolRow| match r.displacement {
+            Some(protocol::Displacement::Value(d)) => d,
+            _ => 0.0,
+        };
+        let mut points: Vec<(f64, f64)> = self.protocol.iter().map(|r| (r.t, value(r))).collect();
         if points.first().is_none_or(|p| p.0 > 0.0) {
             points.insert(0, (0.0, 0.0));
         }
@@ -520,7 +506,11 @@ axis = [0.0, 0.0, -1.0]
     fn the_section_declares_every_key_of_a_tool() {
         let mut all = parse(TOOLS).unwrap().remove(2);
         (all.radius, all.edge_radius) = (Some(1.0), Some(1.0));
-        all.protocol = vec![super::ProtocolRow { t: 0.0, displacement: Some(0.0), force: None }];
+        all.protocol = vec![super::ProtocolRow {
+            t: 0.0,
+            displacement: Some(super::protocol::Displacement::Value(0.0)),
+            force: None,
+        }];
         let text = toml::to_string(&all).unwrap();
         // Top-level `key = value` lines, and the protocol's rows as the array of tables they are.
         let top = text.split("\n[[").next().unwrap();
@@ -562,7 +552,10 @@ axis = [0.0, 0.0, -1.0]
         );
         std::fs::write(&path, format!("{text}\n{late}")).unwrap();
         let msg = crate::scene::LoadedScene::load(&path.display().to_string(), &[]).err().unwrap().to_string();
-        assert!(msg.contains("\"bead\"") && msg.contains("row 2 (t = 1) is not after row 1"), "{msg}");
+        assert!(
+            msg.contains("\"bead\"") && msg.contains("rows 1 and 2: two rows at 1 s with the same control"),
+            "{msg}"
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -33,6 +33,7 @@ pub(crate) fn configure<P: TsProblem>(
     ts: &mut Ts<P>,
     policy: &Policy,
     free_modes: Option<FreeRigidModes>,
+    border: Option<super::active_set::Border>,
     solver_line: &mut String,
     view: impl for<'a> Fn(&'a P) -> ProblemView<'a>,
 ) -> Result<bool> {
@@ -40,6 +41,11 @@ pub(crate) fn configure<P: TsProblem>(
     let problem = view(ts.problem());
     if let Some((lo, hi)) = problem.bounds {
         if options::has("snes_type")? {
+            if border.is_some() {
+                return Err(crate::error::Error::Options(
+                    "force control (plates.upper force rows) needs the active-set Newton: drop -snes_type".into(),
+                ));
+            }
             if problem.curved.is_some() {
                 return Err(crate::error::Error::Options(
                     "-snes_type: PETSc's VI solvers take bounds on single unknowns, which cannot hold a curved \
@@ -64,6 +70,9 @@ pub(crate) fn configure<P: TsProblem>(
                 lag.chord = 0.0;
             }
             let mut newton = ActiveSetNewton::new(world, lo, hi, problem.u_row_scale, lag)?;
+            if let Some(b) = border {
+                newton.set_border(b);
+            }
             newton.monitor = options::has("poroplast_newton_monitor")?;
             newton.anderson = anderson::Anderson::new(anderson::anderson_depth()?);
             if let Some(c) = problem.curved.clone() {

@@ -5,13 +5,16 @@
 //! the drainage out of contact in the residual and the Jacobian.
 
 use super::schur::SchurApprox;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::fem::assembly::Discretization;
 use crate::fem::dofmap::DofMap;
 use crate::petsc::{Int, Mat, Vector};
 use crate::physics::contact::{DrainageGap, Plates};
 use crate::physics::medium::Medium;
 use crate::physics::surface_tension::PlatePlanes;
+use crate::physics::tools::protocol::Mode;
+use crate::solver::active_set::{Border, PositionUnknown};
+use mpi::topology::SimpleCommunicator;
 
 /// "No bound" for SNESVI (PETSc's PETSC_INFINITY).
 pub(super) const INFINITY: f64 = f64::MAX / 4.0;
@@ -29,12 +32,74 @@ pub(super) struct ContactStage {
     /// The predictor of the step being solved (local layout), whose gaps set the drainage when
     /// the plates drain by the predicted gap (`DrainageGap::Predicted`).
     predicted: Option<Vec<f64>>,
+    /// The upper plate between steps (force control).
+    upper: Upper,
+}
+
+/// Force control of an upper plate that touches nothing (at time t, `gap` µm away): what to do
+/// instead.
+pub(crate) fn untouched(t: f64, gap: f64) -> String {
+    format!(
+        "force control from t = {t} s, but the upper plate is {} µm from the body there: it cannot press on \
+         nothing. Reach the body under displacement control first (a displacement row before the force row)",
+        crate::io::fmt_significant(gap, 4)
+    )
+}
+
+/// The upper plate's committed displacement and its last step's rate, the protocol segment of
+/// the last stage, the position a `"held"` row holds, and the model's share of a full-body
+/// force (1 / the symmetry factor).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Upper {
+    pub(crate) d: f64,
+    pub(crate) rate: f64,
+    pub(crate) segment: usize,
+    pub(crate) held: f64,
+    pub(crate) share: f64,
+    /// The stage just switched to force control (its first attempt; the gap is checked).
+    pub(crate) switched: bool,
 }
 
 impl ContactStage {
+    /// The solver's border for the upper plate's force control (None without force rows): its
+    /// bounds move with it (−1 on every contact node's upper bound but the anchor's), its
+    /// reaction is −F_z summed over the contact nodes of the upper half.
+    pub(crate) fn border(
+        &self,
+        world: &SimpleCommunicator,
+        template: &Vector,
+        dofs: &DofMap,
+    ) -> Result<Option<Border>> {
+        let p = &self.plates;
+        if !p.upper.has_force() {
+            return Ok(None);
+        }
+        let (mut lower, mut upper, mut reaction) =
+            (template.duplicate()?, template.duplicate()?, template.duplicate()?);
+        lower.zero()?;
+        upper.zero()?;
+        reaction.zero()?;
+        {
+            let (mut s, mut c) = (upper.write()?, reaction.write()?);
+            for (n, i) in p.upper_nodes(dofs) {
+                s[i] = -1.0;
+                if p.upper_half(n) {
+                    c[i] = -1.0;
+                }
+            }
+        }
+        Ok(Some(Border::new(world, p.positions.clone(), vec![PositionUnknown { lower, upper, reaction }])))
+    }
+
     /// The plates with their contact bounds at t = 0 on the surface u_z dofs (vectors like
     /// `template`, ±∞ elsewhere).
-    pub(crate) fn new(plates: Plates, template: &Vector, dofs: &DofMap) -> Result<ContactStage> {
+    pub(crate) fn new(plates: Plates, template: &Vector, dofs: &DofMap, share: f64) -> Result<ContactStage> {
+        let d0 = match plates.upper.at(0.0, 0.0) {
+            Mode::Displacement(d) => d,
+            Mode::Force(_) => 0.0,
+        };
+        plates.positions.borrow_mut().d[0] = d0;
+        let upper = Upper { d: d0, rate: 0.0, segment: 0, held: d0, share, switched: false };
         let (mut lo, mut hi) = (template.duplicate()?, template.duplicate()?);
         lo.set(-INFINITY)?;
         hi.set(INFINITY)?;
@@ -42,7 +107,7 @@ impl ContactStage {
             let (mut l, mut h) = (lo.write()?, hi.write()?);
             plates.fill_bounds(0.0, dofs, &mut l, &mut h);
         }
-        Ok(ContactStage { plates, bounds: (lo, hi), stage: (0.0, 0.0), extrapolation: None, predicted: None })
+        Ok(ContactStage { plates, bounds: (lo, hi), stage: (0.0, 0.0), extrapolation: None, predicted: None, upper })
     }
 
     pub(crate) fn plates(&self) -> &Plates {
@@ -56,7 +121,7 @@ impl ContactStage {
 
     /// The plates' faces at time t, for the surface's adhesion.
     pub(crate) fn planes(&self, t: f64) -> PlatePlanes {
-        PlatePlanes { lower: self.plates.z_lower(t), upper: self.plates.z_upper }
+        PlatePlanes { lower: self.plates.z_lower(t), upper: self.plates.z_upper() }
     }
 
     /// Sets the velocity the predictor of the next steps extrapolates with (copied; None: the
@@ -86,10 +151,66 @@ impl ContactStage {
     /// Moves the lower plate's bound to the stage time t of the step from `start` (also on a
     /// retried step).
     pub(crate) fn move_to(&mut self, start: f64, t: f64, dofs: &DofMap) -> Result<()> {
+        self.move_upper(start, t);
         let (lo, hi) = &mut self.bounds;
         let (mut l, mut h) = (lo.write()?, hi.write()?);
         self.plates.fill_bounds(t, dofs, &mut l, &mut h);
         self.stage = (start, t);
+        Ok(())
+    }
+
+    /// The upper plate at the stage time t of the step from `start`: prescribed, or under force
+    /// control its target and its predicted position (the committed one extrapolated with its
+    /// last rate), from which the solver moves it.
+    fn move_upper(&mut self, start: f64, t: f64) {
+        let u = &mut self.upper;
+        let j = self.plates.upper.segment(t);
+        if j != u.segment && self.plates.upper.holds_at(j) {
+            u.held = u.d;
+        }
+        u.switched = j != u.segment || start == 0.0 && t > 0.0;
+        u.segment = j;
+        let mut p = self.plates.positions.borrow_mut();
+        match self.plates.upper.at(t, u.held) {
+            Mode::Displacement(d) => (p.d[0], p.target[0]) = (d, None),
+            Mode::Force(f) => {
+                let ahead = if self.extrapolation.is_some() { (t - start) * u.rate } else { 0.0 };
+                (p.d[0], p.target[0]) = (u.d + ahead, Some(f * u.share));
+            }
+        }
+    }
+
+    /// Commits the upper plate's position of the accepted step of size dt (its rate kept
+    /// with `keep_rate`).
+    pub(crate) fn commit(&mut self, dt: f64, keep_rate: bool) {
+        let d = self.plates.positions.borrow().d[0];
+        self.upper.rate = if keep_rate && dt > 0.0 { (d - self.upper.d) / dt } else { 0.0 };
+        self.upper.d = d;
+    }
+
+    /// The upper plate between steps (for a checkpoint).
+    pub(crate) fn upper(&self) -> Upper {
+        self.upper
+    }
+
+    /// Restores the upper plate of a checkpoint (at its time: the next stage moves the bounds).
+    pub(crate) fn set_upper(&mut self, upper: Upper) {
+        self.upper = upper;
+        self.plates.positions.borrow_mut().d[0] = upper.d;
+    }
+
+    /// At the first stage under force control after a switch at time t: the upper plate must
+    /// touch the body at the step's start (owned entries `x0`: within the seal gap), else the
+    /// error says what to do (collective).
+    pub(crate) fn check_switch(&self, world: &SimpleCommunicator, x0: &[f64], dofs: &DofMap, t: f64) -> Result<()> {
+        let force = self.plates.positions.borrow().target[0].is_some();
+        if !(force && self.upper.switched) {
+            return Ok(());
+        }
+        let gap = -crate::parallel::max(world, -self.plates.upper_gap(self.upper.d, dofs, x0));
+        if gap > self.plates.drain.seal_gap {
+            return Err(Error::Scene { path: "plates.upper".into(), msg: untouched(t, gap) });
+        }
         Ok(())
     }
 
@@ -104,6 +225,7 @@ impl ContactStage {
             x.axpy(t1 - t0, v)?;
         }
         self.plates.predict(t0, t1, dofs, &x0, &mut x.write()?);
+        self.plates.predict_upper(self.upper.d, dofs, &x0, &mut x.write()?);
         Ok(x0)
     }
 
@@ -115,6 +237,7 @@ impl ContactStage {
     /// Keeps the predictor of the step (local layout) for the drainage's gaps.
     pub(crate) fn keep_predicted(&mut self, local: &[f64]) {
         let predicted = self.predicted.get_or_insert_with(Vec::new);
+        self.plates.drain_d.set(Some(self.plates.positions.borrow().d[0]));
         predicted.clear();
         predicted.extend_from_slice(local);
     }

@@ -14,6 +14,7 @@ mod schur;
 mod timers;
 mod tool_stage;
 
+pub(crate) use contact_stage::untouched;
 pub(crate) use parts::ProblemParts;
 pub(crate) use poro_problem::{ErrorScales, PoroProblem};
 pub(crate) use post::{backward_euler_rate, Post};

@@ -45,6 +45,8 @@ use std::cell::RefCell;
 use std::rc::Rc;
 use std::time::Instant;
 
+mod access;
+
 pub(crate) struct PoroProblem {
     world: SimpleCommunicator,
     disc: Discretization,
@@ -57,6 +59,8 @@ pub(crate) struct PoroProblem {
     /// Rigid plates, if the scene has them.
     contact: Option<ContactStage>,
     tools: Option<ToolStage>,
+    /// The solver's part of force control, until the solver takes it (`take_border`).
+    border: Option<crate::solver::active_set::Border>,
     /// Surface tension of the boundary, if the scene has it.
     surface: Option<SurfaceTension>,
     /// The medium's pressure on the boundary and in the drained pores, if the scene has it.
@@ -101,7 +105,15 @@ impl PoroProblem {
             equal_order::tie_loads(&mut external, &mesh);
         }
         let tools = tools.map(|t| ToolStage::new(t, plates.is_some(), template)).transpose()?;
-        let contact = plates.map(|p| ContactStage::new(p, template, &dofs)).transpose()?;
+        let share = match &plates {
+            Some(p) => 1.0 / p.symmetry(mesh.volume(&world)),
+            None => 1.0,
+        };
+        let contact = plates.map(|p| ContactStage::new(p, template, &dofs, share)).transpose()?;
+        let border = match &contact {
+            Some(c) => c.border(&world, template, &dofs)?,
+            None => None,
+        };
         Ok(PoroProblem {
             world,
             disc: Discretization { stab, qp_state, evolve: true, equal_order, mesh, dofs, model, tab, xi, constrained },
@@ -112,6 +124,7 @@ impl PoroProblem {
             insertion: JacobianInsertion::default(),
             contact,
             tools,
+            border,
             surface,
             medium,
             timers: Timers::default(),
@@ -146,7 +159,10 @@ impl PoroProblem {
     /// Commits the end-of-step qp state of the accepted step from `prev` to `u` (size dt): the
     /// update every evaluation of that step computed, now stored. Nothing without qp state, or
     /// while it is frozen (settling).
-    pub(crate) fn commit(&mut self, prev: &Vector, u: &Vector, dt: f64) -> Result<()> {
+    pub(crate) fn commit(&mut self, prev: &Vector, u: &Vector, dt: f64, keep_rate: bool) -> Result<()> {
+        if let Some(c) = &mut self.contact {
+            c.commit(dt, keep_rate);
+        }
         if self.disc.qp_state.is_empty() || !self.disc.evolve {
             return Ok(());
         }
@@ -157,154 +173,6 @@ impl PoroProblem {
             self.local.with_state(|ul, udl| disc.advanced_qp_state(ul, udl, dt))?.map(|next| disc.qp_state = next);
         self.timers.qp_commit_s += t0.elapsed().as_secs_f64();
         self.collective(outcome)
-    }
-}
-
-/// What the driver, the solver set-up and the output read of the problem, and the committed qp
-/// state the problem holds for its assembly (captured into and applied from a checkpoint
-/// through these).
-impl PoroProblem {
-    pub(crate) fn world(&self) -> &SimpleCommunicator {
-        &self.world
-    }
-
-    pub(crate) fn mesh(&self) -> &LocalMesh {
-        &self.disc.mesh
-    }
-
-    pub(crate) fn dofs(&self) -> &DofMap {
-        &self.disc.dofs
-    }
-
-    pub(crate) fn model(&self) -> &dyn PointModel {
-        self.disc.model.as_ref()
-    }
-
-    /// Whether each local dof is constrained.
-    pub(crate) fn constrained(&self) -> &[bool] {
-        &self.disc.constrained
-    }
-
-    /// The medium, if the scene has it.
-    pub(crate) fn medium(&self) -> Option<&Medium> {
-        self.medium.as_ref()
-    }
-
-    /// The plates, if the scene has them.
-    pub(crate) fn plates(&self) -> Option<&Plates> {
-        self.contact.as_ref().map(ContactStage::plates)
-    }
-
-    /// The contact bounds l ≤ x ≤ u, with plates (SNES keeps them: the problem moves them with
-    /// the plates), or ±∞ with tools alone.
-    pub(crate) fn bounds(&self) -> Option<(&Vector, &Vector)> {
-        self.contact.as_ref().map(ContactStage::bounds).or_else(|| self.tools.as_ref()?.free_bounds())
-    }
-
-    /// The tools' contact as the solver reads it, if the scene has tools.
-    pub(crate) fn curved_contact(&self) -> Option<Rc<RefCell<dyn CurvedContact>>> {
-        self.tools.as_ref().map(ToolStage::contact)
-    }
-
-    /// The tools, if the scene has them.
-    pub(crate) fn tools(&self) -> Option<std::cell::Ref<'_, ToolSet>> {
-        self.tools.as_ref().map(ToolStage::set)
-    }
-
-    /// The fixed-stress Schur approximation, for a Schur fieldsplit.
-    pub(crate) fn schur(&self) -> &Mat {
-        self.schur.mat()
-    }
-
-    /// Whether the preconditioner uses the Schur approximation (else it is not assembled).
-    /// Told once the solver is configured: the preconditioner is read from the options by the
-    /// time stepper, which holds the problem.
-    pub(crate) fn set_schur_used(&mut self, used: bool) {
-        self.schur.set_used(used);
-    }
-
-    /// Wall-clock totals of the residual, the Jacobian and the qp-state commits.
-    pub(crate) fn timers(&self) -> Timers {
-        self.timers
-    }
-
-    /// The pressure stabilisation the assembly uses.
-    pub(crate) fn stabilisation(&self) -> Stabilisation {
-        self.disc.stab
-    }
-
-    /// Scales the model's gravity (settling ramps it up).
-    pub(crate) fn set_gravity_factor(&mut self, factor: f64) {
-        self.disc.model.set_gravity_factor(factor);
-        // The medium's hydrostatic pressure with it: the excess weight is what settles.
-        if let Some(m) = &mut self.medium {
-            m.set_gravity_factor(factor);
-        }
-    }
-
-    /// Whether the model keeps qp state (remodelling).
-    pub(crate) fn has_qp_state(&self) -> bool {
-        !self.disc.qp_state.is_empty()
-    }
-
-    /// Holds the qp state at its committed value in the steps solved (settling before t = 0,
-    /// where B_p(X, 0⁻) = I holds by definition), or lets it evolve.
-    pub(crate) fn freeze_qp_state(&mut self, frozen: bool) {
-        self.disc.evolve = !frozen;
-    }
-
-    /// Values of committed qp state per element (0 without).
-    pub(crate) fn qp_state_per_elem(&self) -> usize {
-        self.disc.qp_state.element(0).len()
-    }
-
-    /// The committed qp state of the local elements, by original element id.
-    pub(crate) fn qp_state_by_original(&self) -> impl Iterator<Item = (u32, &[f64])> {
-        self.disc.qp_state.export(&self.disc.mesh.cell_original)
-    }
-
-    /// Sets the committed qp state from all elements' values by original id
-    /// ([`Self::qp_state_per_elem`] per element).
-    pub(crate) fn set_qp_state_by_original(&mut self, values: &[f64]) -> Result<()> {
-        let per_elem = self.qp_state_per_elem();
-        if per_elem == 0 {
-            return Ok(());
-        }
-        let disc = &mut self.disc;
-        disc.qp_state.import(&disc.mesh.cell_original, |o| {
-            values.get(o as usize * per_elem..(o as usize + 1) * per_elem).map(<[f64]>::to_vec)
-        })
-    }
-
-    /// Scale of a u row of the Jacobian (for rows replaced by the identity).
-    pub(crate) fn u_row_scale(&self) -> f64 {
-        self.rows.scales(self.disc.model.as_ref(), 0.0).0
-    }
-
-    /// Sets the velocity the predictor of the next steps extrapolates with (copied; None: the
-    /// previous state, as after a loading kink). Only the plates' predictor uses it.
-    pub(crate) fn set_extrapolation(&mut self, velocity: Option<&Vector>) -> Result<()> {
-        match &mut self.contact {
-            Some(c) => c.set_extrapolation(velocity),
-            None => Ok(()),
-        }
-    }
-
-    /// The state whose gaps set the last step's drainage (local layout), if not its solution:
-    /// the predictor's, with `DrainageGap::Predicted`.
-    pub(crate) fn drainage_gaps(&self) -> Option<&[f64]> {
-        self.contact.as_ref().and_then(ContactStage::drainage_gaps)
-    }
-
-    /// Local copy (owned + ghost) of a global vector, for post-processing.
-    pub(crate) fn localize(&mut self, u: &Vector) -> Result<Vec<f64>> {
-        self.local.load_u(u)?;
-        self.local.u()
-    }
-
-    /// The plates' faces at time t, for the surface's adhesion (None without plates).
-    fn plate_planes(&self, t: f64) -> Option<PlatePlanes> {
-        self.contact.as_ref().map(|c| c.planes(t))
     }
 }
 
@@ -444,6 +312,7 @@ impl PoroProblem {
     pub(crate) fn post_process(&mut self, t: f64, dt: f64, u: &Vector, udot: &Vector) -> Result<Post> {
         self.local.load(u, udot)?;
         let mut post = Post::new(self.local.u()?, self.disc.mesh.cells.len());
+        post.upper_d = self.contact.as_ref().map_or(0.0, |c| c.plates().positions.borrow().d[0]);
         let planes = self.plate_planes(t);
         let with_qp_state = !self.disc.qp_state.is_empty();
         let mut pres_loc = Vector::seq(self.disc.dofs.n_local())?;
@@ -510,6 +379,7 @@ impl PoroProblem {
         // From the start of the step, whatever the integrator put in x (BDF extrapolates).
         let start = ts.solution()?;
         let x0 = contact.extrapolate(&start, &self.disc.dofs, x)?;
+        contact.check_switch(&self.world, &x0, &self.disc.dofs, ts.time()?)?;
         let (predicted_gap, extrapolating) = (contact.drains_by_predicted_gap(), contact.extrapolating());
         self.retie(x)?;
         // The drainage gaps are the extrapolation's, whatever guess the Newton solve starts from.

@@ -36,6 +36,9 @@ pub(crate) struct Post {
     /// adhesion): a force on the plates besides the contact reactions
     /// (`SurfaceTension::plate_pull`).
     pub(crate) adhesion_pull: [f64; 2],
+    /// The upper plate's displacement at this state (0 without plates): the observers run
+    /// after later solves may have moved it.
+    pub(crate) upper_d: f64,
 }
 
 impl Post {
@@ -58,6 +61,7 @@ impl Post {
             max_norm_ep: 0.0,
             max_det_bp_dev: 0.0,
             adhesion_pull: [0.0; 2],
+            upper_d: 0.0,
         }
     }
 

@@ -13,6 +13,7 @@ mod brute_force;
 mod profile;
 #[cfg(test)]
 mod profile_tests;
+pub(crate) mod protocol;
 mod rounded_strip;
 mod sdf;
 mod set;

@@ -4,6 +4,7 @@
 //! projection of an iterate onto the tools. The problem gives the frames ([`CurvedContact`]);
 //! plane-only scenes never build this.
 
+use super::bounds::Bounds;
 use super::contact::{split_curved, CurvedContact, NodeContact};
 use super::frames::{rotate_matrix, rotate_owned, Frame, FrameIndex};
 use crate::error::Result;
@@ -100,4 +101,25 @@ impl CurvedStep {
         let depth = self.contact.borrow().project(x)?;
         Ok(crate::parallel::max(world, depth) > 1.0)
     }
+}
+
+/// The active-set split of the iterate `x` with residual `f` (`Bounds::split`), then the curved
+/// tools' nodes in their frames; returns the free residual norm. Without curved tools, exactly
+/// the plane split.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn split(
+    bounds: &Bounds,
+    curved: Option<&mut CurvedStep>,
+    world: &SimpleCommunicator,
+    diag: f64,
+    x: &Vector,
+    f: &Vector,
+    rhs: &mut Vector,
+    to_bound: &mut Vector,
+    active: &mut Vec<Int>,
+) -> Result<f64> {
+    let norm = bounds.split(x, f, rhs, to_bound, active)?;
+    let Some(c) = curved else { return Ok(norm) };
+    c.split(world, diag, x.ownership_start(), f, rhs, to_bound, active)?;
+    rhs.norm2()
 }

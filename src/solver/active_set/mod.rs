@@ -19,6 +19,7 @@
 //! preconditioner ([`Lag`]); `frames` the per-node rotated frames of contact on curved tools and
 //! `contact` a node's split and curvature in its frame (issue 53, not yet wired in).
 
+mod border;
 mod bounds;
 mod contact;
 mod convergence;
@@ -29,6 +30,7 @@ mod frames_tests;
 mod newton;
 mod reuse;
 
+pub(crate) use border::{Border, PositionUnknown, Positions, SharedPositions};
 pub(crate) use contact::{CurvedContact, NodeContact};
 pub(crate) use frames::Frame;
 pub(crate) use newton::ActiveSetNewton;

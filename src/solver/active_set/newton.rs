@@ -2,10 +2,11 @@
 //! operator, through a low-rank update of it, or a new Jacobian), its Anderson mixing, the line
 //! search, and the solver state a checkpoint keeps.
 
+use super::border::Border;
 use super::bounds::{symmetric_difference, Bounds};
 use super::contact::CurvedContact;
 use super::convergence::{residual_test, stagnates};
-use super::curved::CurvedStep;
+use super::curved::{split, CurvedStep};
 use super::reuse::{Lag, Step};
 use crate::error::Result;
 use crate::parallel::sum_slice;
@@ -69,6 +70,8 @@ pub(crate) struct ActiveSetNewton {
     free_modes: Option<FreeRigidModes>,
     /// Contact with curved tools, if the scene has them ([`set_curved`](Self::set_curved)).
     curved: Option<CurvedStep>,
+    /// Force-controlled positions (`border`): None without any.
+    border: Option<Border>,
 }
 
 impl ActiveSetNewton {
@@ -106,6 +109,7 @@ impl ActiveSetNewton {
             chord_active: None,
             free_modes: None,
             curved: None,
+            border: None,
         })
     }
 
@@ -137,6 +141,32 @@ impl ActiveSetNewton {
         split(bounds, curved.as_mut(), world, *diag, trial, f, rhs, to_bound, active)
     }
 
+    /// Force-controlled positions as extra unknowns (`border`).
+    pub(crate) fn set_border(&mut self, border: Border) {
+        self.border = Some(border);
+    }
+
+    /// Force control (border): whether a position is force-controlled now.
+    fn bordered(&self) -> bool {
+        self.border.as_ref().is_some_and(Border::active)
+    }
+
+    /// Force control (border): the free residual norm `n` with the positions' equations.
+    fn with_border(&mut self, n: f64) -> Result<f64> {
+        match &mut self.border {
+            Some(b) if b.active() => Ok(n.hypot(b.residual(&self.f)?)),
+            _ => Ok(n),
+        }
+    }
+
+    /// Force control (border): the positions and bounds at the accepted ones plus λΔd.
+    fn move_positions(&mut self, lambda: f64) -> Result<()> {
+        match &mut self.border {
+            Some(b) if b.active() => b.move_to(lambda, (&mut self.bounds.lower, &mut self.bounds.upper)),
+            _ => Ok(()),
+        }
+    }
+
     /// Whether the preconditioner of the last setup may serve the current Jacobian (the same
     /// decision on every rank: the setup is collective).
     fn reuse_pc(&self) -> bool {
@@ -157,10 +187,12 @@ impl ActiveSetNewton {
     /// is the one they were set up with on every rank ([`Step::Chord`]) or differs from it in at
     /// most `lag.max_changes` dofs with a kept Jacobian for the update ([`Step::Updated`]).
     fn choose_step(&self, contraction: f64) -> Step {
-        if !self.lag.chord_allowed(contraction) {
+        // Force control (border): chords need the kept columns; no low-rank updates of them.
+        let bordered = self.bordered();
+        if !self.lag.chord_allowed(contraction) || bordered && !self.border.as_ref().is_some_and(Border::ready) {
             return Step::Assemble;
         }
-        self.lag.chord_step(self.changes_since_setup(), self.jac.is_some())
+        self.lag.chord_step(self.changes_since_setup(), self.jac.is_some() && !bordered)
     }
 
     /// A chord step for an active set that differs from the factorised operator's: through the
@@ -217,10 +249,20 @@ impl ActiveSetNewton {
         }
         a.set_local_values(&state.values)?;
         self.jac = Some(a.duplicate_with_values()?);
+        // Force control (border): its columns, recomputed from the saved operator.
+        let columns = match &mut self.border {
+            Some(b) if b.active() => {
+                Some(b.prepare(&a, x, (&self.bounds.lower, &self.bounds.upper), &state.indices, self.diag)?)
+            }
+            _ => None,
+        };
         a.zero_rows_columns(&state.indices, self.diag, None)?;
         ksp.set_reuse_preconditioner(false)?;
         ksp.set_operators(&a, &a)?;
         ksp.set_up()?;
+        if let (Some(b), Some(w)) = (&mut self.border, columns) {
+            b.solve(ksp, w)?;
+        }
         self.pc_active = Some(state.indices);
         self.pc_uses = state.counters[0] as usize;
         self.last_krylov = state.counters[1] as usize;
@@ -281,6 +323,9 @@ impl ShellSolve for ActiveSetNewton {
         self.update = None;
         self.last_krylov = 0;
         self.pending = None;
+        if let Some(b) = &mut self.border {
+            b.forget();
+        }
     }
 
     /// With chord iterations the next solve starts from the kept Jacobian, factorised with the
@@ -314,12 +359,16 @@ impl ShellSolve for ActiveSetNewton {
         if let Some(c) = &self.curved {
             c.project(&self.world, x)?;
         }
+        if let Some(b) = &mut self.border {
+            b.begin();
+        }
         snes.compute_function(x, &mut self.f)?;
         if let Some(state) = self.pending.take() {
             // Assembled where the residual just was (the uninterrupted run evaluates there too).
             self.set_up_saved(&snes, &ksp, x, state)?;
         }
         let mut fnorm = self.split(x)?;
+        fnorm = self.with_border(fnorm)?;
         let fnorm0 = fnorm;
         self.chord_active = None;
         let mut it = 0;
@@ -355,8 +404,10 @@ impl ShellSolve for ActiveSetNewton {
                 // assembles at x instead: from the iterate of a bad chord step (a kept operator
                 // whose contact has since changed), Newton may not recover — on the release of
                 // the default scene, and on the mirrored full sphere of tests/plates.rs.
+                self.move_positions(0.0)?;
                 snes.compute_function(x, &mut self.f)?;
                 self.split(x)?;
+                self.with_border(0.0)?;
                 contraction = f64::INFINITY;
                 continue;
             }
@@ -367,12 +418,16 @@ impl ShellSolve for ActiveSetNewton {
             let dx_norm = lambda * self.step.norm2()?;
             let x_norm = x.norm2()?;
             x.copy_from(&self.trial)?;
+            if let Some(b) = &mut self.border {
+                b.accept();
+            }
             contraction = if lambda == 1.0 { trial_norm / fnorm } else { f64::INFINITY };
             fnorm = trial_norm;
             // Only after a full Newton step: a step shortened by halvings is small for another
             // reason, and a chord step is small while the residual still converges only
             // linearly (the residual tests decide then).
-            if fnorm.is_finite() && lambda == 1.0 && !chord && dx_norm <= stol * x_norm {
+            // (Not with force control: a contact search step moves only the positions.)
+            if fnorm.is_finite() && lambda == 1.0 && !chord && !self.bordered() && dx_norm <= stol * x_norm {
                 snes.set_iteration_number(it)?;
                 break R::SNES_CONVERGED_SNORM_RELATIVE;
             }
@@ -382,6 +437,9 @@ impl ShellSolve for ActiveSetNewton {
             // iterate.
             self.pc_active = None;
             self.update = None;
+            if let Some(b) = &mut self.border {
+                b.forget();
+            }
         }
         snes.set_converged_reason(reason)
     }
@@ -413,6 +471,10 @@ impl ActiveSetNewton {
         if let Some(c) = &self.curved {
             c.rotate_back(&mut self.step)?;
         }
+        if self.bordered() {
+            let Some(b) = &mut self.border else { unreachable!() };
+            b.correct(&mut self.step, x, (&self.bounds.lower, &self.bounds.upper))?;
+        }
         Ok((chord, updated))
     }
 
@@ -433,6 +495,13 @@ impl ActiveSetNewton {
             }
             c.rotate(&mut a)?;
         }
+        // Force control (border): its columns from the Jacobian before the replacement.
+        let columns = match &mut self.border {
+            Some(b) if b.active() => {
+                Some(b.prepare(&a, x, (&self.bounds.lower, &self.bounds.upper), &self.active, self.diag)?)
+            }
+            _ => None,
+        };
         a.zero_rows_columns(&self.active, self.diag, Some((&self.to_bound, &mut self.rhs)))?;
         if !same {
             p.zero_rows_columns(&self.active, self.diag, None)?;
@@ -455,9 +524,13 @@ impl ActiveSetNewton {
                 self.pc_uses = 0;
             }
             if self.krylov_solve(ksp, reuse)? || !reuse {
-                return Ok(());
+                break;
             }
             reuse = false;
+        }
+        match (&mut self.border, columns) {
+            (Some(b), Some(w)) => b.solve(ksp, w),
+            _ => Ok(()),
         }
     }
 
@@ -484,6 +557,7 @@ impl ActiveSetNewton {
         loop {
             self.trial.copy_from(x)?;
             self.trial.axpy(lambda, &self.step)?;
+            self.move_positions(lambda)?;
             self.bounds.project(&mut self.trial)?;
             let tunnels = match &self.curved {
                 Some(c) => c.project(&self.world, &mut self.trial)?,
@@ -497,6 +571,7 @@ impl ActiveSetNewton {
             }
             snes.compute_function(&self.trial, &mut self.f)?;
             let n = self.split_trial()?;
+            let n = self.with_border(n)?;
             let admissible = n.is_finite();
             let good = admissible && (!backtrack || n <= (1.0 - 1e-4 * lambda) * fnorm);
             if good || lambda < 0.5f64.powi(STEP_HALVINGS) {
@@ -505,25 +580,4 @@ impl ActiveSetNewton {
             lambda *= 0.5;
         }
     }
-}
-
-/// The active-set split of the iterate `x` with residual `f` (`Bounds::split`), then the curved
-/// tools' nodes in their frames; returns the free residual norm. Without curved tools, exactly
-/// the plane split.
-#[allow(clippy::too_many_arguments)]
-fn split(
-    bounds: &Bounds,
-    curved: Option<&mut CurvedStep>,
-    world: &SimpleCommunicator,
-    diag: f64,
-    x: &Vector,
-    f: &Vector,
-    rhs: &mut Vector,
-    to_bound: &mut Vector,
-    active: &mut Vec<Int>,
-) -> Result<f64> {
-    let norm = bounds.split(x, f, rhs, to_bound, active)?;
-    let Some(c) = curved else { return Ok(norm) };
-    c.split(world, diag, x.ownership_start(), f, rhs, to_bound, active)?;
-    rhs.norm2()
 }

@@ -1,0 +1,132 @@
+//! A tool's protocol in time (design of issue 53, §5.4): displacement or force control,
+//! linear between consecutive rows of one control, held after the last; a switch is two rows
+//! at one time. The rows and their checks are the scene's (`scene::protocol`).
+
+use crate::scene::protocol::{Control, ProtocolRow};
+
+/// µN in the solver's force unit (nN).
+const UN_TO_NN: f64 = 1000.0;
+
+/// What a tool does at a time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Mode {
+    /// At this displacement along its axis (µm).
+    Displacement(f64),
+    /// Pressing with this force (nN, full body): its position is an unknown.
+    Force(f64),
+}
+
+/// A tool's protocol: (t, control) rows in the solver's units, checked.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ToolProtocol {
+    rows: Vec<(f64, Control)>,
+}
+
+impl ToolProtocol {
+    /// A tool that stays at its origin.
+    pub(crate) fn fixed() -> ToolProtocol {
+        ToolProtocol { rows: vec![(0.0, Control::Displacement(Some(0.0)))] }
+    }
+
+    /// The protocol of checked scene rows (`scene::protocol::check`).
+    pub(crate) fn from_rows(rows: &[ProtocolRow]) -> ToolProtocol {
+        let rows = rows
+            .iter()
+            .map(|r| {
+                let c = match r.control("", 0).expect("checked when the scene was loaded") {
+                    Control::Force(f) => Control::Force(f * UN_TO_NN),
+                    c => c,
+                };
+                (r.t, c)
+            })
+            .collect();
+        ToolProtocol { rows }
+    }
+
+    /// Whether any row is under force control.
+    pub(crate) fn has_force(&self) -> bool {
+        self.rows.iter().any(|r| matches!(r.1, Control::Force(_)))
+    }
+
+    /// The row that starts the segment (t_j, t_j+1] holding t: the last row before t (the
+    /// first at or before the first row's time). A step ending at a switch is solved under the
+    /// control before it.
+    pub(crate) fn segment(&self, t: f64) -> usize {
+        self.rows.iter().rposition(|r| r.0 < t).unwrap_or(0)
+    }
+
+    /// Whether the segment of `j` starts with `displacement = "held"`.
+    pub(crate) fn holds_at(&self, j: usize) -> bool {
+        matches!(self.rows[j].1, Control::Displacement(None))
+    }
+
+    /// The control at time t; `held` is the position reached at the segment's start (for a
+    /// `"held"` row).
+    pub(crate) fn at(&self, t: f64, held: f64) -> Mode {
+        let j = self.segment(t);
+        let (t0, c0) = self.rows[j];
+        let value = |c: Control| match c {
+            Control::Displacement(d) => d.unwrap_or(held),
+            Control::Force(f) => f,
+        };
+        let v0 = value(c0);
+        let v = match self.rows.get(j + 1) {
+            Some(&(t1, c1)) if std::mem::discriminant(&c0) == std::mem::discriminant(&c1) && t1 > t0 => {
+                let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
+                v0 + (value(c1) - v0) * s
+            }
+            _ => v0,
+        };
+        match c0 {
+            Control::Displacement(_) => Mode::Displacement(v),
+            Control::Force(_) => Mode::Force(v),
+        }
+    }
+
+    /// The row times after 0: steps land on them.
+    pub(crate) fn kinks(&self) -> Vec<f64> {
+        self.rows.iter().map(|r| r.0).filter(|&t| t > 0.0).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::protocol::Displacement;
+
+    fn row(t: f64, d: Option<f64>, f: Option<f64>) -> ProtocolRow {
+        ProtocolRow { t, displacement: d.map(Displacement::Value), force: f }
+    }
+
+    #[test]
+    fn ramp_then_force_hold_then_held() {
+        let mut rows = vec![
+            row(0.0, Some(0.0), None),
+            row(5.0, Some(20.0), None),
+            row(5.0, None, Some(0.5)),
+            row(60.0, None, Some(1.5)),
+        ];
+        rows.push(ProtocolRow {
+            t: 60.0,
+            displacement: Some(Displacement::Held(crate::scene::protocol::HeldWord::Held)),
+            force: None,
+        });
+        rows.push(row(70.0, Some(0.0), None));
+        let p = ToolProtocol::from_rows(&rows);
+        assert!(p.has_force());
+        assert_eq!(p.at(0.0, 0.0), Mode::Displacement(0.0));
+        assert_eq!(p.at(2.5, 0.0), Mode::Displacement(10.0));
+        // The step ending at the switch is displacement-controlled; after it, force.
+        assert_eq!(p.at(5.0, 0.0), Mode::Displacement(20.0));
+        assert_eq!(p.at(5.0 + 1e-9, 0.0), Mode::Force(500.0 + 1000.0 * 1e-9 / 55.0));
+        assert_eq!(p.at(32.5, 0.0), Mode::Force(1000.0));
+        assert_eq!(p.at(60.0, 0.0), Mode::Force(1500.0));
+        // Held where it was at 60 s (here 27 µm), then back to 0 by 70 s.
+        assert!(p.holds_at(p.segment(61.0)));
+        assert_eq!(p.at(65.0, 27.0), Mode::Displacement(13.5));
+        assert_eq!(p.at(100.0, 27.0), Mode::Displacement(0.0));
+        assert_eq!(p.kinks(), [5.0, 5.0, 60.0, 60.0, 70.0]);
+        assert!(!ToolProtocol::fixed().has_force());
+        assert_eq!(ToolProtocol::fixed().at(3.0, 1.0), Mode::Displacement(0.0));
+    }
+}
