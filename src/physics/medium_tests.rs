@@ -13,16 +13,7 @@ fn medium(family: Family, weight: [f64; 3]) -> Medium {
 /// A curved 6-node triangle and a curved meridian edge (the surface tension's test faces).
 fn curved(family: Family) -> Vec<f64> {
     match family {
-        Family::Tet10 => {
-            let v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-            let mid = |a: [f64; 3], b: [f64; 3]| {
-                let m = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
-                let l = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
-                [m[0] / l, m[1] / l, m[2] / l]
-            };
-            let nodes = [v[0], v[1], v[2], mid(v[0], v[1]), mid(v[1], v[2]), mid(v[2], v[0])];
-            nodes.iter().enumerate().flat_map(|(k, p)| p.map(|c| c * (1.0 + 0.03 * k as f64))).collect()
-        }
+        Family::Tet10 => crate::physics::surface_tension::tests::octant(),
         Family::Tri6 => vec![1.0, 0.0, 0.72, 0.71, 0.93, 0.37],
     }
 }

@@ -304,4 +304,4 @@ impl SurfaceTension {
 
 #[cfg(test)]
 #[path = "surface_tension_tests.rs"]
-mod tests;
+pub(super) mod tests;

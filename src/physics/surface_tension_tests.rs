@@ -3,8 +3,9 @@
 
 use super::*;
 
-/// A curved 6-node triangle: nodes of the unit sphere's octant face, perturbed.
-fn octant() -> Vec<f64> {
+/// A curved 6-node triangle: nodes of the unit sphere's octant face, perturbed (the medium's tests
+/// take it too).
+pub(crate) fn octant() -> Vec<f64> {
     let v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let mid = |a: [f64; 3], b: [f64; 3]| {
         let m = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
