@@ -201,24 +201,18 @@ fn coarse_rims(world: &SimpleCommunicator, set: &ToolSet, local: &LocalMesh, spe
     for (tool, spec) in set.tools().iter().zip(specs) {
         let (Some(rim), Some(inner), Some(wall)) = (spec.rim_radius, spec.inner_radius, spec.wall) else { continue };
         let reach = inner + wall + rim;
-        let rho = |x: [f64; 3]| {
-            let v: [f64; 3] = std::array::from_fn(|i| x[i] - tool.origin[i]);
-            let z: f64 = (0..3).map(|i| v[i] * tool.axis[i]).sum();
-            (0..3).map(|i| (v[i] - z * tool.axis[i]).powi(2)).sum::<f64>().sqrt()
-        };
+        let rho = |x: [f64; 3]| tool.radial_distance(x, 0.0);
         let mut longest = 0.0f64;
-        for group in std::iter::once(spec.group.as_str()) {
-            let Some((_, faces)) = local.face_groups.iter().find(|(n, _)| n == group) else { continue };
-            for &f in faces {
-                let nodes = &local.face(f as usize)[..local.family.face_vertices()];
-                let x: Vec<[f64; 3]> = nodes.iter().map(|&n| local.coords[n as usize]).collect();
-                if x.iter().all(|&p| rho(p) > reach) {
-                    continue;
-                }
-                for (i, a) in x.iter().enumerate() {
-                    for b in &x[i + 1..] {
-                        longest = longest.max((0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt());
-                    }
+        let faces = local.face_groups.iter().find(|(n, _)| *n == spec.group).map_or(&[][..], |(_, f)| f);
+        for &f in faces {
+            let nodes = &local.face(f as usize)[..local.family.face_vertices()];
+            let x: Vec<[f64; 3]> = nodes.iter().map(|&n| local.coords[n as usize]).collect();
+            if x.iter().all(|&p| rho(p) > reach) {
+                continue;
+            }
+            for (i, a) in x.iter().enumerate() {
+                for b in &x[i + 1..] {
+                    longest = longest.max((0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt());
                 }
             }
         }

@@ -66,11 +66,7 @@ pub(crate) fn read(
         depth[near.tool] = depth[near.tool].max(-near.phi);
         if near.phi <= IN_CONTACT && along > 0.0 {
             nodes[near.tool] += 1.0;
-            let c = tool.centre(position[near.tool]);
-            let v: [f64; 3] = std::array::from_fn(|i| x[i] - c[i]);
-            let zeta: f64 = (0..3).map(|i| v[i] * a[i]).sum();
-            let rho = (0..3).map(|i| (v[i] - zeta * a[i]).powi(2)).sum::<f64>().sqrt();
-            radius[near.tool] = radius[near.tool].max(rho);
+            radius[near.tool] = radius[near.tool].max(tool.radial_distance(x, position[near.tool]));
         }
     }
     let mut out = Vec::with_capacity(5 * n);

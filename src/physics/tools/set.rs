@@ -159,11 +159,19 @@ impl ToolSet {
     fn position_of(&self, i: usize, u: &[f64]) -> [f64; 3] {
         let c = &self.candidates[i];
         let mut x = c.x_ref;
-        let axes: &[usize] = if self.nc == 2 { &[0, 2] } else { &[0, 1, 2] };
-        for (k, &a) in axes.iter().enumerate() {
+        for (k, &a) in self.axes().iter().enumerate() {
             x[a] += u[self.nc * c.node + k];
         }
         x
+    }
+
+    /// The Cartesian axis of each displacement component ((x, z) on the meridian).
+    fn axes(&self) -> &'static [usize] {
+        if self.nc == 2 {
+            &[0, 2]
+        } else {
+            &[0, 1, 2]
+        }
     }
 
     /// The nearest tool at x, the tools at `position`: (tool, φ, the normal ∇φ, ∇²φ, the closest
@@ -271,20 +279,16 @@ impl CurvedContact for ToolSet {
         let mut xv = x.write()?;
         let mut deepest = 0.0f64;
         let nc = self.nc;
-        for c in self.candidates.iter().filter(|c| c.node < self.n_owned_nodes) {
-            let u = &mut xv[nc * c.node..nc * c.node + nc];
-            let mut pos = c.x_ref;
-            let axes: &[usize] = if nc == 2 { &[0, 2] } else { &[0, 1, 2] };
-            for (k, &a) in axes.iter().enumerate() {
-                pos[a] += u[k];
-            }
-            let Some((k, g)) = self.nearest_at(pos, &self.position) else { continue };
+        // The owned array starts with the owned nodes' u, as the local one does.
+        for i in (0..self.candidates.len()).filter(|&i| self.candidates[i].node < self.n_owned_nodes) {
+            let Some((k, g)) = self.nearest_at(self.position_of(i, &xv), &self.position) else { continue };
             if g.phi < 0.0 {
                 deepest = deepest.max(-g.phi / (0.5 * self.tools[k].profile.thickness()));
-                for (k, &a) in axes.iter().enumerate() {
-                    // The closest point in the node's components ((r, z) on the meridian).
-                    let target = if nc == 2 { g.closest[k] } else { g.closest[a] };
-                    u[k] = target - c.x_ref[a];
+                let c = &self.candidates[i];
+                // The closest point, in the node's components ((r, z) on the meridian).
+                for (j, &a) in self.axes().iter().enumerate() {
+                    let target = if nc == 2 { g.closest[j] } else { g.closest[a] };
+                    xv[nc * c.node + j] = target - c.x_ref[a];
                 }
             }
         }

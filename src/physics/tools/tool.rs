@@ -97,6 +97,14 @@ impl Tool {
         }
     }
 
+    /// The distance ρ of `x` from the tool's axis (the tool at `d`).
+    pub(crate) fn radial_distance(&self, x: [f64; 3], d: f64) -> f64 {
+        let c = self.centre(d);
+        let v: [f64; 3] = std::array::from_fn(|i| x[i] - c[i]);
+        let zeta = dot(v, self.axis);
+        (0..3).map(|i| (v[i] - zeta * self.axis[i]).powi(2)).sum::<f64>().sqrt()
+    }
+
     /// The closest point of the tool's surface to `x` (the tool at `d`): x − φ ∇φ.
     pub(crate) fn project(&self, x: [f64; 3], d: f64) -> [f64; 3] {
         self.gap(x, d).closest

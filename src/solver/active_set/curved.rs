@@ -118,8 +118,8 @@ pub(super) fn split(
     to_bound: &mut Vector,
     active: &mut Vec<Int>,
 ) -> Result<f64> {
-    let norm = bounds.split(x, f, rhs, to_bound, active)?;
-    let Some(c) = curved else { return Ok(norm) };
+    let Some(c) = curved else { return bounds.split(x, f, rhs, to_bound, active) };
+    bounds.split_dofs(x, f, rhs, to_bound, active)?;
     c.split(world, diag, x.ownership_start(), f, rhs, to_bound, active)?;
     rhs.norm2()
 }
