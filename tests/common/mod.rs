@@ -212,6 +212,17 @@ impl History {
     }
 }
 
+/// The run's Jacobian checks (`-poroplast_check_jacobian`): more than 3, each within 1e-7 on the
+/// u and the p rows.
+pub fn assert_jacobian_checks(stdout: &str) {
+    let e = jacobian_errors(stdout);
+    let u = e.iter().map(|x| x.0).fold(0.0, f64::max);
+    let p = e.iter().map(|x| x.1).fold(0.0, f64::max);
+    println!("{} checks: u rows {u:.2e}, p rows {p:.2e}", e.len());
+    assert!(e.len() > 3, "{} checks", e.len());
+    assert!(u < 1e-7 && p < 1e-7, "u rows {u}, p rows {p}");
+}
+
 /// Parses `jacobian check: ... u rows X, p rows Y` lines.
 pub fn jacobian_errors(stdout: &str) -> Vec<(f64, f64)> {
     stdout
