@@ -201,8 +201,9 @@ fn final_active_sets(stdout: &str) -> Vec<f64> {
 /// Measured: peak 18.74 mg, 0.4% below the meridian's 18.81 (Taylor–Hood on this mesh: 4.9%
 /// below); contact nodes at the peak 12 + 12 against Taylor–Hood's 39 + 39; penetration between
 /// nodes 1.5 µm, the reference sagitta h²/8R ≤ 2 µm of the contact faces (the geometry is
-/// curved, the displacement linear).
+/// curved, the displacement linear). Slow tier: P1–P1's Jacobian stays in the default tier.
 #[test]
+#[ignore = "slow tier: the P1-P1 protocol on 2 ranks (about 25 s of the default tier's 2 cores)"]
 fn equal_order_compression_release_protocol() {
     let dir = scratch("plates-p1p1");
     let sc = coarse_scene(&dir, &[P1P1]);

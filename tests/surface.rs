@@ -63,7 +63,9 @@ fn tension_switched_on_loads_a_free_sphere_as_cryer() {
 }
 
 /// With a tension that deforms the sphere (γ = 100 mN/m: P0 = 2 kPa, 6% strain) the assembled
-/// Jacobian, surface blocks included, matches central differences of the residual on 2 ranks.
+/// Jacobian, surface blocks included, matches central differences of the residual on 2 ranks over
+/// the first 0.1 s. Measured: 26 checks, u rows 1.1e-8, p rows 5.9e-10 (the same largest errors
+/// as over 0.5 s, 42 checks, which cost 4× the time).
 #[test]
 fn tension_jacobian_matches_central_differences() {
     let _cores = cores(2);
@@ -71,7 +73,7 @@ fn tension_jacobian_matches_central_differences() {
         2,
         "surface-jacobian",
         100.0,
-        &["time.t_end=0.5", "time.dt_max=0.1"],
+        &["time.t_end=0.1", "time.dt_max=0.1"],
         &["-poroplast_check_jacobian", "1e-7"],
     );
     assert_jacobian_checks(&stdout);
