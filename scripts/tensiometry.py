@@ -26,9 +26,10 @@ scripts/tests/test_tensiometry.py checks it against the table).
     python3 scripts/tensiometry.py [--out runs/tensiometry] [--hold 3000] [--ranks 2] [--docs]
     python3 scripts/tensiometry.py --buoyancy [--out runs/tensiometry] [--docs]
 
-The study's cases weigh the aggregate in air (tst_hold as shipped, without [medium]);
-`--buoyancy` instead runs the new-user trial's liquid (γ = 1 mN/m, R = 200 µm, λp = 0.05, 15%
-held 600 s) in air, in the medium (tst_hold with a [medium] section) and without gravity, and writes OUT/tensiometry_medium.csv (σ_app / γ at the hold's end;
+The study's cases weigh the aggregate in air (tst_hold without its [medium] section: the study
+measures the reading's bias with the weight, docs/studies.md); `--buoyancy` instead runs the
+new-user trial's liquid (γ = 1 mN/m, R = 200 µm, λp = 0.05, 15% held 600 s) in air, in the medium
+(tst_hold as shipped) and without gravity, and writes OUT/tensiometry_medium.csv (σ_app / γ at the hold's end;
 --docs copies it to docs/figures/data/; docs/model.md, "The medium").
 
 Writes OUT/tensiometry.csv (per hold: σ_app / γ at its end and its range in the hold's second
@@ -153,19 +154,21 @@ BUOYANCY = {
 }
 
 
-def medium_scene(out):
-    """tst_hold in its medium (a [medium] section: density material.rho_f), in `out`."""
+def air_scene(out):
+    """tst_hold weighed in air (without its [medium] section), in `out`."""
     text = (ROOT / "meshes" / "scenes" / "tst_hold.toml").read_text()
+    if "\n[medium]\n" not in text:
+        raise SystemExit("tensiometry.py: tst_hold.toml has no [medium] section to take out")
     out.mkdir(parents=True, exist_ok=True)
-    path = out / "tst_hold_in_medium.toml"
-    path.write_text(text.replace("[fem]\n", "[medium]\n\n[fem]\n", 1))
+    path = out / "tst_hold_in_air.toml"
+    path.write_text(text.replace("\n[medium]\n", "\n", 1))
     return path
 
 
 def run(cs, out, ranks):
     """Runs the cases `cs` (name -> Case), each in air or in the medium; name -> run directory."""
     names = list(cs)
-    scenes = [str(medium_scene(out)) if cs[n].medium else "tst_hold" for n in names]
+    scenes = ["tst_hold" if cs[n].medium else str(air_scene(out)) for n in names]
     results = store.run_cases(scenes, [overrides(cs[n]) for n in names], [], out, ranks)
     bad = [n for n, (_, r) in zip(names, results) if r["status"] != "ok"]
     if bad:

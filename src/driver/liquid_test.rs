@@ -19,7 +19,7 @@ pub(crate) const TOLERANCE: f64 = 0.10;
 
 /// A Bond number ρ g R² / γ from which the weight matters. The aggregate's weight acts without
 /// the buoyancy of a lab's medium and flattens it, which lowers σ_app: on `tst_two_compressions`
-/// by 6.0% at 15% and 1.6% at 30% at Bo = 0.0196, by 1.5% and 1.2% (within the reading's own
+/// weighed in air (without its `[medium]`) by 6.0% at 15% and 1.6% at 30% at Bo = 0.0196, by 1.5% and 1.2% (within the reading's own
 /// scatter) at Bo = 0.0098 (docs/reference-run-directory.md, "The liquid test").
 pub(crate) const BOND_SMALL: f64 = 0.01;
 
