@@ -220,4 +220,36 @@ mod tests {
         assert!(!ToolProtocol::fixed().has_force());
         assert_eq!(ToolProtocol::fixed().at(3.0, 1.0), Mode::Displacement(0.0));
     }
+
+    /// Between steps: the prescribed positions, then under force control the committed position
+    /// advanced by the last rate, a `"held"` row holding where force control left it, and the
+    /// checkpoint's four values.
+    #[test]
+    fn progress_follows_the_switches() {
+        let held = ProtocolRow {
+            t: 6.0,
+            displacement: Some(Displacement::Held(crate::scene::protocol::HeldWord::Held)),
+            force: None,
+        };
+        let rows = [row(0.0, Some(0.0), None), row(5.0, Some(20.0), None), row(5.0, None, Some(0.5)), held];
+        let p = ToolProtocol::from_rows(&rows);
+        let mut g = Progress::start(&p);
+        assert_eq!(g.d, 0.0);
+        assert_eq!(g.stage(&p, 0.0, 5.0, true), (20.0, None));
+        assert!(g.switched, "the first stage of a run");
+        g.commit(20.0, 5.0, true);
+        assert_eq!(g.rate, 4.0);
+        // The first stage under force: from the committed 20 µm, advanced by 4 µm/s × 0.5 s.
+        assert_eq!(g.stage(&p, 5.0, 5.5, true), (22.0, Some(500.0)));
+        assert!(g.switched);
+        assert_eq!(g.stage(&p, 5.0, 5.5, false), (20.0, Some(500.0)), "a retried stage, no extrapolation");
+        assert!(!g.switched, "the retry is not a switch");
+        g.commit(21.0, 1.0, true);
+        assert_eq!(g.rate, 1.0);
+        assert_eq!(g.stage(&p, 6.0, 7.0, true), (21.0, None), "held where force control left it");
+        assert_eq!(Progress::from_values(&g.values()), Some(Progress { switched: false, ..g }));
+        assert_eq!(Progress::from_values(&[1.0, 2.0]), None);
+        // A checkpoint without the tool's state: the protocol's position at its time.
+        assert_eq!(Progress::from_table(&p, 2.5).d, 10.0);
+    }
 }

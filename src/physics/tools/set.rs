@@ -55,8 +55,6 @@ pub(crate) struct ToolSet {
     /// The tools' positions at the iterate being solved (and their targets under force
     /// control), shared with the solver, which moves a force-controlled one.
     positions: SharedPositions,
-    /// The model's share of a full-body force (1 / its symmetry factor).
-    share: f64,
     /// Displacement components per node: 2 on the meridian (r, z), else 3.
     nc: usize,
     candidates: Vec<Candidate>,
@@ -132,7 +130,6 @@ impl ToolSet {
             protocols,
             progress,
             positions: std::rc::Rc::new(std::cell::RefCell::new(positions)),
-            share: 1.0,
             nc,
             candidates,
             global_first,
@@ -167,13 +164,13 @@ impl ToolSet {
     /// Moves the tools to the stage time t of the step from `start`: a displacement-controlled
     /// tool where its protocol puts it; a force-controlled one at its committed position (plus
     /// its last rate's advance with `extrapolate`), from which the solver moves it, with its
-    /// target (nN, the model's share of the full-body force).
+    /// target (nN; on a mirrored 3-D mesh the meshed part's, as the tools' force columns).
     pub(crate) fn stage(&mut self, start: f64, t: f64, extrapolate: bool) {
         let mut positions = self.positions.borrow_mut();
         for (k, (progress, protocol)) in self.progress.iter_mut().zip(&self.protocols).enumerate() {
             let (d, force) = progress.stage(protocol, start, t, extrapolate);
             positions.d[k] = d;
-            positions.target[k] = force.map(|f| f * self.share);
+            positions.target[k] = force;
         }
     }
 

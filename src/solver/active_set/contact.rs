@@ -207,6 +207,19 @@ mod tests {
         assert!(active && lambda > 0.0 && d[2] == -2e-13, "upper: active {active}, λ {lambda}, step {}", d[2]);
     }
 
+    /// Force control: the normal's step moves with the tool by n̂·a, and the node's reaction
+    /// along the axis is a·F.
+    #[test]
+    fn a_tools_axis_enters_the_normal_and_the_reaction() {
+        let n = unit([0.3, -0.4, 0.8]);
+        let a = unit([0.0, 0.6, -0.8]);
+        let node = NodeContact { node: 1, axis: a, ..on_sphere(n, 10.0, 0.0) };
+        let along = n[0] * a[0] + n[1] * a[1] + n[2] * a[2];
+        assert!((node.along() - along).abs() < 1e-15, "{} vs {along}", node.along());
+        let f = [9.0, 9.0, 9.0, 1.0, 2.0, 3.0];
+        assert!((node.along_axis(&f) - (a[0] + 2.0 * a[1] + 3.0 * a[2])).abs() < 1e-15);
+    }
+
     #[test]
     fn a_spheres_curvature_softens_both_tangents_by_lambda_over_its_radius() {
         let (r, lambda) = (7.0, 3.0);
