@@ -17,7 +17,7 @@ the time.
     python3 scripts/bench.py --targets [--repeat 3]            # every 3-D plate scene against issue 27's targets
     python3 scripts/bench.py --fit [--repeat 3] [--level coarse]  # a 3-parameter fit of a meridian curve
     python3 scripts/bench.py --tst [--repeat 3]                 # the 1000-s tensiometry hold on 2 ranks
-    python3 scripts/bench.py --creep [tools] [--repeat 3]       # a force-controlled hold against a displacement one
+    python3 scripts/bench.py --creep [tools] [--repeat 3] [--write]  # a force-controlled hold against a displacement one
 
 `--creep`: the shipped `creep_plates` (meridian, 30 um in 5 s, then 40 uN held to 65 s) and the
 same experiment with the hold displacement-controlled (the plate held at 30 um), alternated
@@ -25,7 +25,8 @@ same experiment with the hold displacement-controlled (the plate held at 30 um),
 the steps and Newton iterations of each. Target (issue 53): force control costs <= 1.5 x.
 `--creep tools`: the same for a [[tools]] sphere (tests/data/hertz_block.toml made permeable,
 its top drained): pressed 1 um in 0.25 s, then held to 60 s at the force the ramp reaches or at
-1 um.
+1 um. With --write the medians and the ratio replace the case's rows of
+scripts/data/creep_bench.csv (docs/performance.md, "Force control").
 
 `--tst`: the shipped `tst_hold` (meridian, 30% held 1000 s, sigma_y = 0, gamma = 5 mN/m) to the
 end of its hold on 2 ranks, --repeat times: the median wall time with the steps, and the plate
@@ -66,6 +67,7 @@ into a fresh directory (never skipped: the timings are the point), its observabl
 The large ones (fine, graded, full, cryer100k) take minutes per run on 2 cores.
 """
 import argparse
+import csv
 import json
 import math
 import re
@@ -367,6 +369,26 @@ def creep_bench(a, work):
     ratio = med["force"]["wall"] / med["displacement"]["wall"]
     print(f"\nforce / displacement wall time: {ratio:.2f} (target <= {CREEP_TARGET}: "
           + ("met" if ratio <= CREEP_TARGET else "missed") + ")")
+    if a.write:
+        write_creep(a.creep, med, ratio, a.repeat)
+
+
+CREEP_CSV = ROOT / "scripts" / "data" / "creep_bench.csv"
+
+
+def write_creep(case, med, ratio, repeat):
+    """Replaces `case`'s rows of scripts/data/creep_bench.csv (docs/performance.md binds them):
+    per hold its median wall time, steps and Newton iterations, and the ratio on both rows."""
+    rows = [r for r in (csv.DictReader(open(CREEP_CSV)) if CREEP_CSV.exists() else []) if r["case"] != case]
+    for hold, m in med.items():
+        rows.append(dict(case=case, hold=hold, wall_s=f"{m['wall']:.2f}", steps=f"{m['steps']:.0f}",
+                         newton_its=f"{m['newton']:.0f}", ratio=f"{ratio:.3f}", runs=repeat,
+                         date=time.strftime("%Y-%m-%d", time.gmtime())))
+    with open(CREEP_CSV, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"wrote {CREEP_CSV.relative_to(ROOT)}")
 
 
 # --fit: the fit's target wall time (s); the noise and data set of the fitted curve.
@@ -459,6 +481,8 @@ def main():
     ap.add_argument("--creep", nargs="?", const="plates", choices=list(CREEP_CASES),
                     help="a force-controlled hold against the displacement-controlled one (<= 1.5x): "
                          "creep_plates (plates, the default) or a sphere of [[tools]] (tools)")
+    ap.add_argument("--write", action="store_true",
+                    help="--creep: write the medians and the ratio to scripts/data/creep_bench.csv")
     a = ap.parse_args()
     if a.creep:
         return creep_bench(a, Path(tempfile.mkdtemp(prefix="poroplast-bench-creep-")))
