@@ -17,12 +17,16 @@ the time.
     python3 scripts/bench.py --targets [--repeat 3]            # every 3-D plate scene against issue 27's targets
     python3 scripts/bench.py --fit [--repeat 3] [--level coarse]  # a 3-parameter fit of a meridian curve
     python3 scripts/bench.py --tst [--repeat 3]                 # the 1000-s tensiometry hold on 2 ranks
-    python3 scripts/bench.py --creep [--repeat 3]               # a force-controlled hold against a displacement one
+    python3 scripts/bench.py --creep [tools] [--repeat 3] [--write]  # a force-controlled hold against a displacement one
 
 `--creep`: the shipped `creep_plates` (meridian, 30 um in 5 s, then 40 uN held to 65 s) and the
 same experiment with the hold displacement-controlled (the plate held at 30 um), alternated
 --repeat times on 1 rank in one invocation: the median wall times (mpirun's), their ratio, and
 the steps and Newton iterations of each. Target (issue 53): force control costs <= 1.5 x.
+`--creep tools`: the same for a [[tools]] sphere (tests/data/hertz_block.toml made permeable,
+its top drained): pressed 1 um in 0.25 s, then held to 60 s at the force the ramp reaches or at
+1 um. With --write the medians and the ratio replace the case's rows of
+scripts/data/creep_bench.csv (docs/performance.md, "Force control").
 
 `--tst`: the shipped `tst_hold` (meridian, 30% held 1000 s, sigma_y = 0, gamma = 5 mN/m) to the
 end of its hold on 2 ranks, --repeat times: the median wall time with the steps, and the plate
@@ -63,6 +67,7 @@ into a fresh directory (never skipped: the timings are the point), its observabl
 The large ones (fine, graded, full, cryer100k) take minutes per run on 2 cores.
 """
 import argparse
+import csv
 import json
 import math
 import re
@@ -77,7 +82,7 @@ import numpy as np
 
 from poroplast_tools import synthetic as syn
 from poroplast_tools.measured import write_curve
-from poroplast_tools.cases import run_cases, scene_values
+from poroplast_tools.cases import ROOT, run_cases, scene_values
 from poroplast_tools.coverage import normalised_error
 from poroplast_tools.history import history, timings
 from poroplast_tools.levels import CONVERGED_LEVEL, grid_cases, h_levels, refined_steps
@@ -324,32 +329,66 @@ def tst_bench(a, work):
 # --creep: the displacement-controlled twin of creep_plates' force hold, and the target ratio.
 CREEP_DISPLACEMENT = "[{ t = 0.0, displacement = 0.0 }, { t = 5.0, displacement = 30.0 }]"
 CREEP_TARGET = 1.5
+# --creep tools: a sphere (tests/data/hertz_block.toml, permeable, its top drained) pressed 1 um in
+# 0.25 s, then held to 60 s at the force the ramp reaches (0.0499 uN at h_c = 2 um) or at 1 um.
+TOOL_RAMP = "{ t = 0.0, displacement = 0.0 }, { t = 0.25, displacement = 1.0 }"
+TOOL_SETS = [("material.permeability", "1.0"), ("mesh.params.h_c", "2.0"), ("mesh.params.d_c", "80.0"),
+             ("bc", '[{ group = "bottom", displacement = { z = 0.0 } }, { group = "top", pressure = 0.0 }]'),
+             ("time.t_end", "60.0"), ("time.dt", "0.25"), ("time.growth", "1.3"), ("time.dt_max", "5.0")]
+CREEP_CASES = {
+    "plates": ("creep_plates", "creep_plates to 65 s", [],
+               {"force": [], "displacement": [("plates.upper", CREEP_DISPLACEMENT)]}),
+    "tools": (ROOT / "tests" / "data" / "hertz_block.toml", "a sphere on a block (hertz_block) to 60 s", TOOL_SETS,
+              {"force": [("tools.0.protocol", f"[{TOOL_RAMP}, {{ t = 0.25, force = 0.0499 }}]")],
+               "displacement": [("tools.0.protocol", f"[{TOOL_RAMP}]")]}),
+}
 
 
 def creep_bench(a, work):
-    """creep_plates with its force hold and with a displacement hold, alternated --repeat times
-    on 1 rank: median wall times, their ratio, steps and Newton iterations."""
-    cases = {"force": [], "displacement": [("plates.upper", CREEP_DISPLACEMENT)]}
+    """A force-controlled hold and the same experiment with a displacement hold (`--creep
+    plates`: creep_plates; `--creep tools`: a sphere, a [[tools]] entry), alternated --repeat
+    times on 1 rank: median wall times, their ratio, steps and Newton iterations."""
+    scene, title, common, cases = CREEP_CASES[a.creep]
     rs = {k: [] for k in cases}
     for k in range(a.repeat):
         for label, sets in cases.items():
             d = work / f"creep-{label}-{k}"
             d.mkdir(parents=True)
             t0 = time.time()
-            [(run, res)] = run_cases("creep_plates", [[("output.fields", "false"), *sets]], [], d, 1, (), [],
+            [(run, res)] = run_cases(scene, [[("output.fields", "false"), *common, *sets]], [], d, 1, (), [],
                                      sweep=True, ranks_per_case=1)
             if res["status"] != "ok":
-                raise SystemExit(f"bench.py: creep_plates ({label}) failed: {res['error']} (see {d / 'sweep.log'})")
+                raise SystemExit(f"bench.py: {title} ({label}) failed: {res['error']} (see {d / 'sweep.log'})")
             tm = timings(run)
             rs[label].append(dict(wall=time.time() - t0, steps=tm["steps"], newton=tm["newton_its"]))
     med = {label: {key: statistics.median(r[key] for r in runs) for key in runs[0]} for label, runs in rs.items()}
-    print(f"creep_plates to 65 s on 1 rank, medians of {a.repeat} run(s) alternated in one invocation; work dir {work}")
+    print(f"{title} on 1 rank, medians of {a.repeat} run(s) alternated in one invocation; work dir {work}")
     print("\n| hold | wall (s) | steps | Newton iterations |\n|---|---|---|---|")
     for label, m in med.items():
         print(f"| {label} | {m['wall']:.2f} | {m['steps']:.0f} | {m['newton']:.0f} |")
     ratio = med["force"]["wall"] / med["displacement"]["wall"]
     print(f"\nforce / displacement wall time: {ratio:.2f} (target <= {CREEP_TARGET}: "
           + ("met" if ratio <= CREEP_TARGET else "missed") + ")")
+    if a.write:
+        write_creep(a.creep, med, ratio, a.repeat)
+
+
+CREEP_CSV = ROOT / "scripts" / "data" / "creep_bench.csv"
+
+
+def write_creep(case, med, ratio, repeat):
+    """Replaces `case`'s rows of scripts/data/creep_bench.csv (docs/performance.md binds them):
+    per hold its median wall time, steps and Newton iterations, and the ratio on both rows."""
+    rows = [r for r in (csv.DictReader(open(CREEP_CSV)) if CREEP_CSV.exists() else []) if r["case"] != case]
+    for hold, m in med.items():
+        rows.append(dict(case=case, hold=hold, wall_s=f"{m['wall']:.2f}", steps=f"{m['steps']:.0f}",
+                         newton_its=f"{m['newton']:.0f}", ratio=f"{ratio:.3f}", runs=repeat,
+                         date=time.strftime("%Y-%m-%d", time.gmtime())))
+    with open(CREEP_CSV, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"wrote {CREEP_CSV.relative_to(ROOT)}")
 
 
 # --fit: the fit's target wall time (s); the noise and data set of the fitted curve.
@@ -439,8 +478,11 @@ def main():
     ap.add_argument("--level", choices=list(syn.LEVELS), default="coarse", help="--fit: the model's mesh and steps")
     ap.add_argument("--tst", action="store_true",
                     help="the tensiometry hold (tst_hold, 1000 s) on 2 ranks against its 1% / 10 s target")
-    ap.add_argument("--creep", action="store_true",
-                    help="creep_plates' force-controlled hold against the displacement-controlled one (<= 1.5x)")
+    ap.add_argument("--creep", nargs="?", const="plates", choices=list(CREEP_CASES),
+                    help="a force-controlled hold against the displacement-controlled one (<= 1.5x): "
+                         "creep_plates (plates, the default) or a sphere of [[tools]] (tools)")
+    ap.add_argument("--write", action="store_true",
+                    help="--creep: write the medians and the ratio to scripts/data/creep_bench.csv")
     a = ap.parse_args()
     if a.creep:
         return creep_bench(a, Path(tempfile.mkdtemp(prefix="poroplast-bench-creep-")))

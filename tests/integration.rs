@@ -12,6 +12,8 @@ mod bad_input;
 mod common;
 #[path = "force_control.rs"]
 mod force_control;
+#[path = "force_tools.rs"]
+mod force_tools;
 #[path = "io_fields.rs"]
 mod io_fields;
 #[path = "lab_input.rs"]

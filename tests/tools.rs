@@ -95,14 +95,15 @@ fn tool_contact_on_two_ranks_is_the_one_rank_run() {
     }
 }
 
-/// A tool inside the body at t = 0, and a force row, are refused by name before anything runs.
+/// A tool inside the body at t = 0, a pulling force row and rows out of order are refused by
+/// name before anything runs.
 #[test]
-fn a_tool_overlapping_the_body_or_force_controlled_is_refused() {
+fn a_tool_overlapping_the_body_or_with_bad_rows_is_refused() {
     let dir = scratch("tools_bad");
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/hertz_block.toml").display().to_string();
     let cases = [
         ("tools.0.origin=[0,0,599.5]", "overlaps the body by 0.5000 µm at t = 0"),
-        ("tools.0.protocol=[{t=0.0,force=1.0}]", "force control of a tool is not available yet"),
+        ("tools.0.protocol=[{t=0.0,force=-1.0}]", "row 1: force = -1 µN: a tool cannot pull"),
         (
             "tools.0.protocol=[{t=1.0,displacement=1.0},{t=0.5,displacement=0.0}]",
             "row 2: time 0.5 s comes before row 1's 1 s",

@@ -175,11 +175,11 @@ fn tools(
     }
     let ctx = format!("{}: [[tools]]", scene.source);
     let mut faces: Vec<u32> = Vec::new();
-    let (mut tools, mut paths) = (Vec::new(), Vec::new());
+    let (mut tools, mut protocols) = (Vec::new(), Vec::new());
     for spec in &s.tools {
         faces.extend_from_slice(agree(world, bc::face_group(local, &spec.group, &ctx))?);
         tools.push(Tool::from_spec(spec, &ctx)?);
-        paths.push(PlateLoading::table(spec.path()));
+        protocols.push(ToolProtocol::from_rows(&spec.rows()));
     }
     faces.sort_unstable();
     faces.dedup();
@@ -188,8 +188,14 @@ fn tools(
         constrained[c.local] = true;
     }
     let band = 2.0 * local.mean_size(world);
-    let set = ToolSet::new(world, tools, paths, local, dofs, &faces, s.fem.equal_order(), &constrained, band);
+    let set = ToolSet::new(world, tools, protocols, local, dofs, &faces, s.fem.equal_order(), &constrained, band);
     refuse_overlap(world, &set, dofs, &ctx)?;
+    // Force control from the start: the tool must touch the body at t = 0 (later switches are
+    // checked when they are reached, `PoroProblem::predict`).
+    set.check_start(&vec![0.0; dofs.n_local()]).map_err(|e| match e {
+        Error::Scene { path, msg } => Error::Scene { path: format!("{}: {path}", scene.source), msg },
+        e => e,
+    })?;
     Ok(Some(set))
 }
 
@@ -232,7 +238,7 @@ fn coarse_rims(world: &SimpleCommunicator, set: &ToolSet, local: &LocalMesh, spe
 /// contact would start by pushing the surface out of it in one step.
 fn refuse_overlap(world: &SimpleCommunicator, set: &ToolSet, dofs: &DofMap, ctx: &str) -> Result<()> {
     let zero = vec![0.0; dofs.n_local()];
-    let position = set.positions_at(0.0);
+    let position = set.positions();
     let mut depth = vec![0.0f64; set.tools().len()];
     for (_, _, near) in set.owned_gaps(&zero, &position) {
         depth[near.tool] = depth[near.tool].max(-near.phi);

@@ -12,6 +12,7 @@ use crate::mesh::dist::LocalMesh;
 use crate::parallel::reduce_to_root;
 use crate::petsc::Vector;
 use crate::physics::problem::PoroProblem;
+use crate::physics::tools::protocol::Progress;
 use mpi::topology::SimpleCommunicator;
 
 /// The state between steps, with one owner (the run). Its third part, the committed qp state,
@@ -108,7 +109,9 @@ impl StepState {
             }
             reduce_to_root(world, &mut qp_state);
         }
-        let tools = problem.upper_plate().map_or_else(Vec::new, |p| vec![p.d, p.rate, p.segment as f64, p.held]);
+        // The upper plate's, then each tool's (d, rate, segment, held).
+        let plate = problem.upper_plate().map(|p| p.progress);
+        let tools = plate.into_iter().chain(problem.tool_progress()).flat_map(|p| p.values()).collect();
         let snapshot = Snapshot { u, velocity, qp_state, tools };
         Ok(RunState { counters, snapshot, mesh: mesh_fingerprint(world, mesh) })
     }
@@ -117,10 +120,15 @@ impl StepState {
     /// its counters.
     pub(crate) fn apply(&mut self, problem: &mut PoroProblem, state: RunState) -> Result<Counters> {
         let Snapshot { u, velocity, qp_state, tools } = state.snapshot;
-        if let (Some(mut p), &[d, rate, segment, held]) = (problem.upper_plate(), &tools[..]) {
-            (p.d, p.rate, p.segment, p.held) = (d, rate, segment as usize, held);
-            problem.set_upper_plate(p);
+        let mut saved: Vec<Progress> = tools.chunks_exact(4).filter_map(Progress::from_values).collect();
+        if let Some(mut p) = problem.upper_plate() {
+            if !saved.is_empty() {
+                p.progress = saved.remove(0);
+                problem.set_upper_plate(p);
+            }
         }
+        // A checkpoint written before the tools had a state has none: their protocols give it.
+        problem.set_tool_progress(&saved, state.counters.t);
         let (mesh, dofs) = (problem.mesh(), problem.dofs());
         to_owned(mesh, dofs, &u, &mut self.u)?;
         self.rate = match velocity {

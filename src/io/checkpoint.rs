@@ -120,9 +120,11 @@ pub(crate) struct Snapshot {
     pub(crate) velocity: Option<(Vec<f64>, f64)>,
     /// Per original element, its points' committed qp state (empty without; dataset `history`).
     pub(crate) qp_state: Vec<f64>,
-    /// The tools' state between steps (dataset `tools`; the upper plate's displacement, rate,
-    /// protocol segment and held position; empty without plates and in earlier checkpoints,
-    /// whose plates were displacement-controlled: their protocol gives it).
+    /// The tools' state between steps (dataset `tools`): 4 values (position, rate, protocol
+    /// segment, held position) for the upper plate, then for each `[[tools]]` entry in order.
+    /// Shorter in earlier checkpoints (none for plates before force control, none for the
+    /// tools before theirs), whose missing entries were displacement-controlled: their protocols
+    /// give them.
     pub(crate) tools: Vec<f64>,
 }
 

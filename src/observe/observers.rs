@@ -138,7 +138,7 @@ impl Observers {
             values.extend(Declared::row(&force_control::COLUMNS, &force_control::observe(pl, t, post.upper_d)));
         }
         if let (Some(post), Some(set)) = (post, problem.tools()) {
-            values.extend(tools::read(t, &set, dofs, local, &post.reaction, world));
+            values.extend(tools::read(&set, &post.tool_d, dofs, local, &post.reaction, world));
         }
         if let (Some(post), true) = (post, self.remodelling) {
             let summary = remodelling_summary::observe(post, world);

@@ -14,7 +14,11 @@ const IN_CONTACT: f64 = 1e-8;
 
 /// The columns of each tool, `*tool*` its name.
 pub(crate) const COLUMNS: [ColumnDoc; 5] = [
-    ColumnDoc::pattern("*tool*_position", "µm", "a `[[tools]]` entry's displacement along its axis (its protocol's)"),
+    ColumnDoc::pattern(
+        "*tool*_position",
+        "µm",
+        "a `[[tools]]` entry's displacement along its axis (its protocol's; under force control the position reached)",
+    ),
     ColumnDoc::pattern(
         "*tool*_force_uN",
         "µN",
@@ -40,11 +44,11 @@ pub(crate) fn column_names<'a>(names: impl Iterator<Item = &'a str>) -> Vec<Stri
     names.flat_map(|n| COLUMNS.iter().map(move |c| format!("{n}{}", c.name.trim_start_matches("*tool*")))).collect()
 }
 
-/// The five values of every tool at time t (collective): `local` the local state, `reaction` the
-/// owned residual without the contact (`Post::reaction`).
+/// The five values of every tool at the positions `position` (collective): `local` the local
+/// state, `reaction` the owned residual without the contact (`Post::reaction`).
 pub(crate) fn read(
-    t: f64,
     set: &ToolSet,
+    position: &[f64],
     dofs: &DofMap,
     local: &[f64],
     reaction: &[f64],
@@ -53,10 +57,9 @@ pub(crate) fn read(
     let n = set.tools().len();
     let nc = dofs.nc;
     let (mut force, mut nodes, mut radius, mut depth) = (vec![0.0; n], vec![0.0; n], vec![0.0f64; n], vec![0.0f64; n]);
-    let position = set.positions_at(t);
     // The nodes within the band of a tool: the others are free (no reaction) or held elsewhere
     // (a constraint's reaction is not the tool's).
-    for (node, x, near) in set.owned_gaps(local, &position).filter(|(_, _, n)| n.phi <= set.band()) {
+    for (node, x, near) in set.owned_gaps(local, position).filter(|(_, _, n)| n.phi <= set.band()) {
         let tool = &set.tools()[near.tool];
         let a = tool.axis;
         // The axis in the node's components ((r, z) on the meridian: tools lie on the z axis).

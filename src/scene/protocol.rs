@@ -62,7 +62,7 @@ impl ProtocolRow {
 
 /// The checks on a protocol's rows, errors naming the row (1-based): times finite, from 0 and
 /// in order; a change of control only as two rows at one time (and not two rows at one time
-/// with the same control); no `"held"` first row; no force ≤ 0 (a plate cannot pull).
+/// with the same control); no `"held"` first row; no force ≤ 0 (a plate or a tool cannot pull).
 pub(crate) fn check(key: &str, rows: &[ProtocolRow]) -> Result<(), String> {
     if rows.is_empty() {
         return Err(format!("{key}: no rows; give at least one, as [{{ t = 0, displacement = 0.0 }}]"));
@@ -75,10 +75,11 @@ pub(crate) fn check(key: &str, rows: &[ProtocolRow]) -> Result<(), String> {
         }
         match c {
             Control::Force(f) if !(f.is_finite() && f > 0.0) => {
+                let who = if key.starts_with("plates") { "a plate" } else { "a tool" };
                 return Err(format!(
-                    "{key} row {i}: force = {f} µN: a plate cannot pull (forces are compressive, > 0); use a \
+                    "{key} row {i}: force = {f} µN: {who} cannot pull (forces are compressive, > 0); use a \
                      displacement row to lift it"
-                ))
+                ));
             }
             Control::Displacement(Some(d)) if !d.is_finite() => {
                 return Err(format!("{key} row {i}: displacement = {d} must be finite (µm)"))

@@ -5,7 +5,7 @@
 
 use super::key::{Key, Section, Unset};
 use super::mesh::Geometry;
-use super::protocol::{self, Control, ProtocolRow};
+use super::protocol::{self, ProtocolRow};
 use crate::range::Range;
 use serde::{Deserialize, Serialize};
 
@@ -39,8 +39,9 @@ pub(crate) struct ToolSpec {
     /// The body's surface group that can touch the tool.
     #[serde(default = "default_group")]
     pub(crate) group: String,
-    /// The tool's displacement along its axis against time: rows {t, displacement}, linear
-    /// between them, held after the last (empty: held at 0).
+    /// The tool's protocol along its axis: rows {t, displacement}, {t, force} or
+    /// {t, displacement = "held"}, linear between rows of one control, held after the last
+    /// (empty: held at 0).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub(crate) protocol: Vec<ProtocolRow>,
 }
@@ -149,47 +150,24 @@ impl ToolSpec {
         Ok(())
     }
 
-    /// The protocol: the rows' checks (`scene::protocol`), and displacement rows only (force
-    /// control of a tool is not available yet; without it, nothing to hold).
+    /// The protocol: the rows' checks (`scene::protocol`: displacement, force or `"held"` rows,
+    /// a switch two rows at one time).
     fn check_protocol(&self, label: &str) -> Result<(), String> {
         if self.protocol.is_empty() {
             return Ok(());
         }
-        protocol::check(&format!("{label}: tools.protocol"), &self.protocol)?;
-        for (i, row) in self.protocol.iter().enumerate() {
-            let n = i + 1;
-            match row.control("tools.protocol", n)? {
-                Control::Displacement(Some(_)) => {}
-                Control::Force(_) => {
-                    return Err(format!(
-                        "{label}: tools.protocol row {n} gives a force: force control of a tool is not available yet \
-                         (the plates' upper plate only, through plates.upper); give {{ t = {}, displacement = ... }} (µm)",
-                        row.t
-                    ))
-                }
-                Control::Displacement(None) => {
-                    return Err(format!(
-                        "{label}: tools.protocol row {n} is \"held\", which follows force control: give the \
-                         displacement (µm)"
-                    ))
-                }
-            }
-        }
-        Ok(())
+        protocol::check(&format!("{label}: tools.protocol"), &self.protocol)
     }
 
-    /// The displacement path as (t, d) points from (0, 0): the rows, with (0, 0) first unless a
-    /// row is at t = 0.
-    pub(crate) fn path(&self) -> Vec<(f64, f64)> {
-        let value = |r: &ProtocolRow| match r.displacement {
-            Some(protocol::Displacement::Value(d)) => d,
-            _ => 0.0,
-        };
-        let mut points: Vec<(f64, f64)> = self.protocol.iter().map(|r| (r.t, value(r))).collect();
-        if points.first().is_none_or(|p| p.0 > 0.0) {
-            points.insert(0, (0.0, 0.0));
+    /// The protocol's rows from t = 0: the scene's, after `{ t = 0, displacement = 0 }` unless
+    /// a row is at t = 0 (the tool starts at its origin).
+    pub(crate) fn rows(&self) -> Vec<ProtocolRow> {
+        let mut rows = self.protocol.clone();
+        if rows.first().is_none_or(|r| r.t > 0.0) {
+            let start = protocol::Displacement::Value(0.0);
+            rows.insert(0, ProtocolRow { t: 0.0, displacement: Some(start), force: None });
         }
-        points
+        rows
     }
 
     /// A rounding no larger than the corner it rounds: the punch's edge within its radius, the
@@ -328,12 +306,14 @@ const GROUP: Key =
     Key::new("tools.group", "", Unset::Value("\"surface\""), "the body's surface group that can touch the tool");
 const PROTOCOL: Key = Key::new(
     "tools.protocol",
-    "s, µm",
+    "s, µm, µN",
     Unset::Absent("held at 0"),
-    "the tool's displacement along its axis (towards the body positive): rows `{ t = 0.0, displacement = 0.0 }`, \
-     linear between them, held after the last",
+    "the tool's protocol along its axis (towards the body positive): rows `{ t = 0.0, displacement = 0.0 }` \
+     (µm), `{ t = 5.0, force = 0.5 }` (µN, compressive, full body: its position is then an unknown) or \
+     `{ t = 60.0, displacement = \"held\" }` (where force control left it), linear between rows of one \
+     control, held after the last; a switch is two rows at one time",
 )
-.rule("increasing t ≥ 0; displacement rows only (force control: [plates])");
+.rule("increasing t ≥ 0; force > 0; a force-controlled tool must touch the body when its control starts");
 
 /// The dimension keys, in the order of [`ToolSpec::dimension_values`].
 const DIMENSIONS: [Key; 5] = [RADIUS, EDGE_RADIUS, INNER_RADIUS, WALL, RIM_RADIUS];
@@ -351,6 +331,7 @@ pub(super) const SECTION: Section = Section {
 mod tests {
     use super::{validate, ToolSpec, SECTION};
     use crate::scene::mesh::Geometry;
+    use crate::scene::protocol::Control;
 
     /// The issue's three tools: a dish, a bead, a pipette (the geometry keys of each).
     const TOOLS: &str = r#"
@@ -543,8 +524,10 @@ axis = [0.0, 0.0, -1.0]
         let loaded = crate::scene::LoadedScene::load(&path.display().to_string(), &[]).unwrap();
         let tools = &loaded.scene.tools;
         assert_eq!(tools.iter().map(|t| t.name.as_str()).collect::<Vec<_>>(), ["dish", "bead", "pipette"]);
-        assert_eq!(tools[1].path(), vec![(0.0, 0.0), (1.0, 2.0)], "from (0, 0), then the rows");
-        assert_eq!(tools[0].path(), vec![(0.0, 0.0)], "no protocol: held at 0");
+        let at = |t: &ToolSpec| t.rows().iter().map(|r| (r.t, r.control("", 0).unwrap())).collect::<Vec<_>>();
+        let d = |v: f64| Control::Displacement(Some(v));
+        assert_eq!(at(&tools[1]), vec![(0.0, d(0.0)), (1.0, d(2.0))], "from (0, 0), then the rows");
+        assert_eq!(at(&tools[0]), vec![(0.0, d(0.0))], "no protocol: held at 0");
         assert_eq!(tools[0].group, "surface");
         let late = bead.replace(
             "{ t = 1.0, displacement = 2.0 }",

@@ -43,7 +43,7 @@ pub(crate) fn configure<P: TsProblem>(
         if options::has("snes_type")? {
             if border.is_some() {
                 return Err(crate::error::Error::Options(
-                    "force control (plates.upper force rows) needs the active-set Newton: drop -snes_type".into(),
+                    "force control (force rows of plates.upper or tools.protocol) needs the active-set Newton: drop -snes_type".into(),
                 ));
             }
             if problem.curved.is_some() {
@@ -70,7 +70,10 @@ pub(crate) fn configure<P: TsProblem>(
                 lag.chord = 0.0;
             }
             let mut newton = ActiveSetNewton::new(world, lo, hi, problem.u_row_scale, lag)?;
-            if let Some(b) = border {
+            if let Some(mut b) = border {
+                if let Some(c) = problem.curved.clone() {
+                    b.set_contact(c);
+                }
                 newton.set_border(b);
             }
             newton.monitor = options::has("poroplast_newton_monitor")?;

@@ -12,8 +12,8 @@ use crate::petsc::{Int, Mat, Vector};
 use crate::physics::contact::{DrainageGap, Plates};
 use crate::physics::medium::Medium;
 use crate::physics::surface_tension::PlatePlanes;
-use crate::physics::tools::protocol::Mode;
-use crate::solver::active_set::{Border, PositionUnknown};
+use crate::physics::tools::protocol::Progress;
+use crate::solver::active_set::{Moves, PositionUnknown};
 use mpi::topology::SimpleCommunicator;
 
 /// "No bound" for SNESVI (PETSc's PETSC_INFINITY).
@@ -39,37 +39,22 @@ pub(super) struct ContactStage {
 /// Force control of an upper plate that touches nothing (at time t, `gap` µm away): what to do
 /// instead.
 pub(crate) fn untouched(t: f64, gap: f64) -> String {
-    format!(
-        "force control from t = {t} s, but the upper plate is {} µm from the body there: it cannot press on \
-         nothing. Reach the body under displacement control first (a displacement row before the force row)",
-        crate::io::fmt_significant(gap, 4)
-    )
+    crate::physics::tools::protocol::untouched("the upper plate", t, gap)
 }
 
-/// The upper plate's committed displacement and its last step's rate, the protocol segment of
-/// the last stage, the position a `"held"` row holds, and the model's share of a full-body
-/// force (1 / the symmetry factor).
+/// The upper plate between steps (`Progress`: its committed displacement, rate, segment, held
+/// position), and the model's share of a full-body force (1 / the symmetry factor).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Upper {
-    pub(crate) d: f64,
-    pub(crate) rate: f64,
-    pub(crate) segment: usize,
-    pub(crate) held: f64,
+    pub(crate) progress: Progress,
     pub(crate) share: f64,
-    /// The stage just switched to force control (its first attempt; the gap is checked).
-    pub(crate) switched: bool,
 }
 
 impl ContactStage {
-    /// The solver's border for the upper plate's force control (None without force rows): its
+    /// The upper plate as a position of the solver's border (None without force rows): its
     /// bounds move with it (−1 on every contact node's upper bound but the anchor's), its
     /// reaction is −F_z summed over the contact nodes of the upper half.
-    pub(crate) fn border(
-        &self,
-        world: &SimpleCommunicator,
-        template: &Vector,
-        dofs: &DofMap,
-    ) -> Result<Option<Border>> {
+    pub(crate) fn border(&self, template: &Vector, dofs: &DofMap) -> Result<Option<PositionUnknown>> {
         let p = &self.plates;
         if !p.upper.has_force() {
             return Ok(None);
@@ -88,18 +73,20 @@ impl ContactStage {
                 }
             }
         }
-        Ok(Some(Border::new(world, p.positions.clone(), vec![PositionUnknown { lower, upper, reaction }])))
+        Ok(Some(PositionUnknown {
+            shared: p.positions.clone(),
+            index: 0,
+            name: "the upper plate".into(),
+            moves: Moves::Bounds { lower, upper, reaction },
+        }))
     }
 
     /// The plates with their contact bounds at t = 0 on the surface u_z dofs (vectors like
     /// `template`, ±∞ elsewhere).
     pub(crate) fn new(plates: Plates, template: &Vector, dofs: &DofMap, share: f64) -> Result<ContactStage> {
-        let d0 = match plates.upper.at(0.0, 0.0) {
-            Mode::Displacement(d) => d,
-            Mode::Force(_) => 0.0,
-        };
-        plates.positions.borrow_mut().d[0] = d0;
-        let upper = Upper { d: d0, rate: 0.0, segment: 0, held: d0, share, switched: false };
+        let progress = Progress::start(&plates.upper);
+        plates.positions.borrow_mut().d[0] = progress.d;
+        let upper = Upper { progress, share };
         let (mut lo, mut hi) = (template.duplicate()?, template.duplicate()?);
         lo.set(-INFINITY)?;
         hi.set(INFINITY)?;
@@ -164,28 +151,16 @@ impl ContactStage {
     /// last rate), from which the solver moves it.
     fn move_upper(&mut self, start: f64, t: f64) {
         let u = &mut self.upper;
-        let j = self.plates.upper.segment(t);
-        if j != u.segment && self.plates.upper.holds_at(j) {
-            u.held = u.d;
-        }
-        u.switched = j != u.segment || start == 0.0 && t > 0.0;
-        u.segment = j;
+        let (d, force) = u.progress.stage(&self.plates.upper, start, t, self.extrapolation.is_some());
         let mut p = self.plates.positions.borrow_mut();
-        match self.plates.upper.at(t, u.held) {
-            Mode::Displacement(d) => (p.d[0], p.target[0]) = (d, None),
-            Mode::Force(f) => {
-                let ahead = if self.extrapolation.is_some() { (t - start) * u.rate } else { 0.0 };
-                (p.d[0], p.target[0]) = (u.d + ahead, Some(f * u.share));
-            }
-        }
+        (p.d[0], p.target[0]) = (d, force.map(|f| f * u.share));
     }
 
     /// Commits the upper plate's position of the accepted step of size dt (its rate kept
     /// with `keep_rate`).
     pub(crate) fn commit(&mut self, dt: f64, keep_rate: bool) {
         let d = self.plates.positions.borrow().d[0];
-        self.upper.rate = if keep_rate && dt > 0.0 { (d - self.upper.d) / dt } else { 0.0 };
-        self.upper.d = d;
+        self.upper.progress.commit(d, dt, keep_rate);
     }
 
     /// The upper plate between steps (for a checkpoint).
@@ -196,7 +171,7 @@ impl ContactStage {
     /// Restores the upper plate of a checkpoint (at its time: the next stage moves the bounds).
     pub(crate) fn set_upper(&mut self, upper: Upper) {
         self.upper = upper;
-        self.plates.positions.borrow_mut().d[0] = upper.d;
+        self.plates.positions.borrow_mut().d[0] = upper.progress.d;
     }
 
     /// At the first stage under force control after a switch at time t: the upper plate must
@@ -204,10 +179,10 @@ impl ContactStage {
     /// error says what to do (collective).
     pub(crate) fn check_switch(&self, world: &SimpleCommunicator, x0: &[f64], dofs: &DofMap, t: f64) -> Result<()> {
         let force = self.plates.positions.borrow().target[0].is_some();
-        if !(force && self.upper.switched) {
+        if !(force && self.upper.progress.switched) {
             return Ok(());
         }
-        let gap = -crate::parallel::max(world, -self.plates.upper_gap(self.upper.d, dofs, x0));
+        let gap = -crate::parallel::max(world, -self.plates.upper_gap(self.upper.progress.d, dofs, x0));
         if gap > self.plates.drain.seal_gap {
             return Err(Error::Scene { path: "plates.upper".into(), msg: untouched(t, gap) });
         }
@@ -225,7 +200,7 @@ impl ContactStage {
             x.axpy(t1 - t0, v)?;
         }
         self.plates.predict(t0, t1, dofs, &x0, &mut x.write()?);
-        self.plates.predict_upper(self.upper.d, dofs, &x0, &mut x.write()?);
+        self.plates.predict_upper(self.upper.progress.d, dofs, &x0, &mut x.write()?);
         Ok(x0)
     }
 

@@ -110,10 +110,11 @@ impl PoroProblem {
             None => 1.0,
         };
         let contact = plates.map(|p| ContactStage::new(p, template, &dofs, share)).transpose()?;
-        let border = match &contact {
-            Some(c) => c.border(&world, template, &dofs)?,
-            None => None,
-        };
+        // Force control: the upper plate's and the tools' positions, one bordered solve.
+        let mut unknowns: Vec<_> =
+            contact.as_ref().map(|c| c.border(template, &dofs)).transpose()?.flatten().into_iter().collect();
+        unknowns.extend(tools.iter().flat_map(ToolStage::border_unknowns));
+        let border = (!unknowns.is_empty()).then(|| crate::solver::active_set::Border::new(&world, unknowns));
         Ok(PoroProblem {
             world,
             disc: Discretization { stab, qp_state, evolve: true, equal_order, mesh, dofs, model, tab, xi, constrained },
@@ -162,6 +163,9 @@ impl PoroProblem {
     pub(crate) fn commit(&mut self, prev: &Vector, u: &Vector, dt: f64, keep_rate: bool) -> Result<()> {
         if let Some(c) = &mut self.contact {
             c.commit(dt, keep_rate);
+        }
+        if let Some(ts) = &self.tools {
+            ts.commit(dt, keep_rate);
         }
         if self.disc.qp_state.is_empty() || !self.disc.evolve {
             return Ok(());
@@ -313,6 +317,7 @@ impl PoroProblem {
         self.local.load(u, udot)?;
         let mut post = Post::new(self.local.u()?, self.disc.mesh.cells.len());
         post.upper_d = self.contact.as_ref().map_or(0.0, |c| c.plates().positions.borrow().d[0]);
+        post.tool_d = self.tools.as_ref().map_or_else(Vec::new, |t| t.set().positions());
         let planes = self.plate_planes(t);
         let with_qp_state = !self.disc.qp_state.is_empty();
         let mut pres_loc = Vector::seq(self.disc.dofs.n_local())?;
@@ -375,9 +380,12 @@ impl PoroProblem {
     /// replaces it if that one is admissible. Without this the Newton solve starts from an
     /// inadmissible state and TS has to cut the step by 4 (docs/performance.md).
     fn predict(&mut self, ts: TsRef, x: &mut Vector) -> Result<()> {
-        let Some(contact) = &self.contact else { return Ok(()) };
         // From the start of the step, whatever the integrator put in x (BDF extrapolates).
         let start = ts.solution()?;
+        if let Some(tools) = &self.tools {
+            tools.check_touch(&start.read()?, ts.time()?)?;
+        }
+        let Some(contact) = &self.contact else { return Ok(()) };
         let x0 = contact.extrapolate(&start, &self.disc.dofs, x)?;
         contact.check_switch(&self.world, &x0, &self.disc.dofs, ts.time()?)?;
         let (predicted_gap, extrapolating) = (contact.drains_by_predicted_gap(), contact.extrapolating());
@@ -456,7 +464,8 @@ impl TsProblem for PoroProblem {
 
     /// Moves the lower plate's bound to the stage time (also on a retried step).
     fn pre_stage(&mut self, ts: TsRef, t: f64) -> Result<()> {
-        self.tools.iter().for_each(|tools| tools.move_to(t));
+        let start = ts.time()?;
+        self.tools.iter().for_each(|tools| tools.move_to(start, t));
         match &mut self.contact {
             Some(c) => c.move_to(ts.time()?, t, &self.disc.dofs),
             None => Ok(()),

@@ -39,6 +39,8 @@ pub(crate) struct Post {
     /// The upper plate's displacement at this state (0 without plates): the observers run
     /// after later solves may have moved it.
     pub(crate) upper_d: f64,
+    /// The tools' positions along their axes at the state (empty without tools).
+    pub(crate) tool_d: Vec<f64>,
 }
 
 impl Post {
@@ -62,6 +64,7 @@ impl Post {
             max_det_bp_dev: 0.0,
             adhesion_pull: [0.0; 2],
             upper_d: 0.0,
+            tool_d: Vec::new(),
         }
     }
 

@@ -11,16 +11,23 @@
 //! an active node onto the linearised tool, −σφ along its normal, which is round-off after the
 //! projection.
 
+use super::protocol::{untouched, Mode, Progress, ToolProtocol};
 use super::tool::Tool;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::fem::dofmap::DofMap;
 use crate::mesh::dist::LocalMesh;
 use crate::parallel::all_gather_vec;
 use crate::petsc::{Int, Vector};
-use crate::physics::contact::PlateLoading;
-use crate::solver::active_set::{CurvedContact, Frame, NodeContact};
+use crate::solver::active_set::{
+    CurvedContact, Frame, Moves, NodeContact, PositionUnknown, Positions, SharedPositions,
+};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::Communicator;
+
+/// A force-controlled tool touches the body at a switch if a node is within this fraction of
+/// the frame band (two mean cell sizes) of it; a smaller gap is closed by the solver's contact
+/// search.
+const TOUCH: f64 = 0.01;
 
 /// A candidate node of the contact surface.
 #[derive(Debug, Clone, Copy)]
@@ -38,13 +45,16 @@ pub(crate) struct Nearest {
     pub(crate) phi: f64,
 }
 
-/// The scene's tools, their displacement protocols and the surface that can touch them.
+/// The scene's tools, their protocols and the surface that can touch them.
 pub(crate) struct ToolSet {
     tools: Vec<Tool>,
-    /// Each tool's displacement along its axis against time.
-    paths: Vec<PlateLoading>,
-    /// The tools' positions at the stage time being solved.
-    position: Vec<f64>,
+    /// Each tool's protocol (displacement or force along its axis against time), and where it
+    /// stands between steps.
+    protocols: Vec<ToolProtocol>,
+    progress: Vec<Progress>,
+    /// The tools' positions at the iterate being solved (and their targets under force
+    /// control), shared with the solver, which moves a force-controlled one.
+    positions: SharedPositions,
     /// Displacement components per node: 2 on the meridian (r, z), else 3.
     nc: usize,
     candidates: Vec<Candidate>,
@@ -63,7 +73,7 @@ pub(crate) struct ToolSet {
 }
 
 impl ToolSet {
-    /// The tools with their paths, touching the nodes of the `faces` (this rank's; their vertices
+    /// The tools with their protocols, touching the nodes of the `faces` (this rank's; their vertices
     /// only with `on_vertices`, as for the plates under P1–P1), except nodes with a prescribed
     /// displacement off the meridian's axis (a frame would mix its constraint row with the
     /// others; on the axis the tools' normal is ±e_z, the frame ±I). `band`: the gap within which
@@ -72,7 +82,7 @@ impl ToolSet {
     pub(crate) fn new(
         world: &SimpleCommunicator,
         tools: Vec<Tool>,
-        paths: Vec<PlateLoading>,
+        protocols: Vec<ToolProtocol>,
         mesh: &LocalMesh,
         dofs: &DofMap,
         faces: &[u32],
@@ -112,12 +122,14 @@ impl ToolSet {
             nodes.iter().filter(|&&n| n < dofs.n_owned_nodes).map(|&n| dofs.l2g[dofs.u_local(n, 0)]).collect();
         let mut global_first = all_gather_vec(world, &owned_first);
         global_first.sort_unstable();
-        let position = vec![0.0; tools.len()];
+        let progress: Vec<Progress> = protocols.iter().map(Progress::start).collect();
+        let positions = Positions { d: progress.iter().map(|p| p.d).collect(), target: vec![None; tools.len()] };
         let k = global_first.len();
         ToolSet {
             tools,
-            paths,
-            position,
+            protocols,
+            progress,
+            positions: std::rc::Rc::new(std::cell::RefCell::new(positions)),
             nc,
             candidates,
             global_first,
@@ -138,21 +150,99 @@ impl ToolSet {
         self.band
     }
 
-    /// The tools' positions along their axes at time t.
-    pub(crate) fn positions_at(&self, t: f64) -> Vec<f64> {
-        self.paths.iter().map(|p| p.displacement(t)).collect()
+    /// The tools' positions along their axes now (the last iterate's: the solution's after a
+    /// step).
+    pub(crate) fn positions(&self) -> Vec<f64> {
+        self.positions.borrow().d.clone()
     }
 
-    /// The kinks of the tools' paths (steps land on them).
+    /// The kinks of the tools' protocols (steps land on them).
     pub(crate) fn kinks(&self) -> Vec<f64> {
-        self.paths.iter().flat_map(PlateLoading::kinks).collect()
+        self.protocols.iter().flat_map(ToolProtocol::kinks).collect()
     }
 
-    /// Moves the tools to the stage time t.
-    pub(crate) fn move_to(&mut self, t: f64) {
-        for (d, p) in self.position.iter_mut().zip(&self.paths) {
-            *d = p.displacement(t);
+    /// Moves the tools to the stage time t of the step from `start`: a displacement-controlled
+    /// tool where its protocol puts it; a force-controlled one at its committed position (plus
+    /// its last rate's advance with `extrapolate`), from which the solver moves it, with its
+    /// target (nN; on a mirrored 3-D mesh the meshed part's, as the tools' force columns).
+    pub(crate) fn stage(&mut self, start: f64, t: f64, extrapolate: bool) {
+        let mut positions = self.positions.borrow_mut();
+        for (k, (progress, protocol)) in self.progress.iter_mut().zip(&self.protocols).enumerate() {
+            let (d, force) = progress.stage(protocol, start, t, extrapolate);
+            positions.d[k] = d;
+            positions.target[k] = force;
         }
+    }
+
+    /// Commits the positions of the accepted step of size dt (their rates kept with
+    /// `keep_rate`).
+    pub(crate) fn commit(&mut self, dt: f64, keep_rate: bool) {
+        let positions = self.positions.borrow();
+        for (p, &d) in self.progress.iter_mut().zip(&positions.d) {
+            p.commit(d, dt, keep_rate);
+        }
+    }
+
+    /// The tools between steps (for a checkpoint).
+    pub(crate) fn progress(&self) -> &[Progress] {
+        &self.progress
+    }
+
+    /// Restores the tools of a checkpoint at time t: tool k from `saved[k]`, or where its
+    /// protocol puts it at t if the checkpoint has none (one written before tools had a state).
+    pub(crate) fn set_progress(&mut self, saved: &[Progress], t: f64) {
+        let mut positions = self.positions.borrow_mut();
+        for (k, p) in self.progress.iter_mut().enumerate() {
+            *p = saved.get(k).copied().unwrap_or_else(|| Progress::from_table(&self.protocols[k], t));
+            positions.d[k] = p.d;
+        }
+    }
+
+    /// The force-controlled tools as positions of the solver's border (tools with force rows).
+    pub(crate) fn border_unknowns(&self) -> Vec<PositionUnknown> {
+        (0..self.tools.len())
+            .filter(|&k| self.protocols[k].has_force())
+            .map(|k| PositionUnknown {
+                shared: self.positions.clone(),
+                index: k,
+                name: format!("tool \"{}\"", self.tools[k].name),
+                moves: Moves::Tool(k),
+            })
+            .collect()
+    }
+
+    /// At the first stage after a switch to force control (or the first of a run under it):
+    /// every such tool must touch the body at the step's start `x0` (owned entries; `t` the
+    /// switch's time), else the error says what to do (collective).
+    pub(crate) fn check_touch(&self, x0: &[f64], t: f64) -> Result<()> {
+        let targets = self.positions.borrow().target.clone();
+        self.refuse_untouched(x0, t, |k| targets[k].is_some() && self.progress[k].switched)
+    }
+
+    /// At setup: every tool under force control from t = 0 must touch the body.
+    pub(crate) fn check_start(&self, x0: &[f64]) -> Result<()> {
+        let from_start = |k: usize| matches!(self.protocols[k].at(f64::MIN_POSITIVE, 0.0), Mode::Force(_));
+        self.refuse_untouched(x0, 0.0, from_start)
+    }
+
+    /// The tools `which` must have a node of `x0` (owned entries) within `TOUCH` of them, at
+    /// their committed positions (collective).
+    fn refuse_untouched(&self, x0: &[f64], t: f64, which: impl Fn(usize) -> bool) -> Result<()> {
+        let committed: Vec<f64> = self.progress.iter().map(|p| p.d).collect();
+        let mut far = vec![f64::NEG_INFINITY; self.tools.len()];
+        for (_, _, near) in self.owned_gaps(x0, &committed) {
+            far[near.tool] = far[near.tool].max(-near.phi);
+        }
+        let far = crate::parallel::max_slice(&self.world, &far);
+        for (k, tool) in self.tools.iter().enumerate() {
+            if which(k) && -far[k] > TOUCH * self.band {
+                return Err(Error::Scene {
+                    path: format!("[[tools]] \"{}\": tools.protocol", tool.name),
+                    msg: untouched(&format!("tool \"{}\"", tool.name), t, -far[k]),
+                });
+            }
+        }
+        Ok(())
     }
 
     /// The current position of candidate i in the local state `u` (the meridian's (r, 0, z)).
@@ -203,11 +293,12 @@ impl ToolSet {
     /// owned candidates' frames, computed here and shared with every rank (collective).
     pub(crate) fn update(&mut self, u: &[f64], dofs: &DofMap) {
         self.nodes.clear();
+        let position = self.positions();
         // (first global u dof, n̂) of each owned framed node.
         let mut framed: Vec<f64> = Vec::new();
         for i in (0..self.candidates.len()).filter(|&i| self.candidates[i].node < self.n_owned_nodes) {
             let x = self.position_of(i, u);
-            let Some((_, g)) = self.nearest_at(x, &self.position).filter(|(_, g)| g.phi <= self.band) else {
+            let Some((tool, g)) = self.nearest_at(x, &position).filter(|(_, g)| g.phi <= self.band) else {
                 continue;
             };
             // σ = +1 with n̂ = ∇φ on the meridian; in space n̂ = ±∇φ with n̂_z ≥ 0 (the
@@ -215,7 +306,10 @@ impl ToolSet {
             let sigma = if self.nc == 2 || g.normal[2] >= 0.0 { 1.0 } else { -1.0 };
             let n = g.normal.map(|v| sigma * v);
             let node = self.candidates[i].node;
-            self.nodes.push(NodeContact { node, frame: self.frame(n), sigma, phi: g.phi, hess: g.hess });
+            let a = self.tools[tool].axis;
+            let axis = if self.nc == 2 { [a[0], a[2], 0.0] } else { a };
+            let frame = self.frame(n);
+            self.nodes.push(NodeContact { node, frame, sigma, phi: g.phi, hess: g.hess, tool, axis });
             framed.extend([dofs.l2g[dofs.u_local(node, 0)] as f64, n[0], n[1], n[2]]);
         }
         self.frames.fill(None);
@@ -279,9 +373,10 @@ impl CurvedContact for ToolSet {
         let mut xv = x.write()?;
         let mut deepest = 0.0f64;
         let nc = self.nc;
+        let position = self.positions();
         // The owned array starts with the owned nodes' u, as the local one does.
         for i in (0..self.candidates.len()).filter(|&i| self.candidates[i].node < self.n_owned_nodes) {
-            let Some((k, g)) = self.nearest_at(self.position_of(i, &xv), &self.position) else { continue };
+            let Some((k, g)) = self.nearest_at(self.position_of(i, &xv), &position) else { continue };
             if g.phi < 0.0 {
                 deepest = deepest.max(-g.phi / (0.5 * self.tools[k].profile.thickness()));
                 let c = &self.candidates[i];

@@ -47,9 +47,26 @@ pub(crate) struct NodeContact {
     pub(crate) phi: f64,
     /// ∇²φ at the iterate, Cartesian (nc × nc used).
     pub(crate) hess: [[f64; 3]; 3],
+    /// The nearest tool (its index in the problem's tools) and its axis a in the node's
+    /// components (force control: the tool's position moves the bound along a, and its
+    /// reaction is the nodes' residual along a).
+    pub(crate) tool: usize,
+    pub(crate) axis: [f64; 3],
 }
 
 impl NodeContact {
+    /// s = n̂·a: how the step onto the tool of the normal dof moves with the tool's position.
+    pub(crate) fn along(&self) -> f64 {
+        let nc = self.frame.components();
+        (0..nc).map(|k| self.frame.entry(k, nc - 1) * self.axis[k]).sum()
+    }
+
+    /// a·F_n of the owned array `f` (Cartesian): the node's part of the tool's reaction.
+    pub(crate) fn along_axis(&self, f: &[f64]) -> f64 {
+        let nc = self.frame.components();
+        (0..nc).map(|k| self.axis[k] * f[nc * self.node + k]).sum()
+    }
+
     /// The split of the node's nc dofs from their residual `f` (Cartesian): F̃ = QᵀF, the
     /// normal dof active if F̃ pushes into the tool (λ = σF̃_last > 0) and the node is at it
     /// (φ ≤ AT_BOUND) or would reach it (λ > c φ, `c` the scale of a u row: the free step
@@ -148,7 +165,7 @@ mod tests {
     fn on_sphere(n: [f64; 3], r: f64, phi: f64) -> NodeContact {
         let d = r + phi;
         let hess = std::array::from_fn(|i| std::array::from_fn(|j| ((i == j) as u8 as f64 - n[i] * n[j]) / d));
-        NodeContact { node: 0, frame: Frame::spatial(n), sigma: 1.0, phi, hess }
+        NodeContact { node: 0, frame: Frame::spatial(n), sigma: 1.0, phi, hess, tool: 0, axis: [0.0, 0.0, 1.0] }
     }
 
     fn unit(v: [f64; 3]) -> [f64; 3] {
@@ -190,6 +207,19 @@ mod tests {
         assert!(active && lambda > 0.0 && d[2] == -2e-13, "upper: active {active}, λ {lambda}, step {}", d[2]);
     }
 
+    /// Force control: the normal's step moves with the tool by n̂·a, and the node's reaction
+    /// along the axis is a·F.
+    #[test]
+    fn a_tools_axis_enters_the_normal_and_the_reaction() {
+        let n = unit([0.3, -0.4, 0.8]);
+        let a = unit([0.0, 0.6, -0.8]);
+        let node = NodeContact { node: 1, axis: a, ..on_sphere(n, 10.0, 0.0) };
+        let along = n[0] * a[0] + n[1] * a[1] + n[2] * a[2];
+        assert!((node.along() - along).abs() < 1e-15, "{} vs {along}", node.along());
+        let f = [9.0, 9.0, 9.0, 1.0, 2.0, 3.0];
+        assert!((node.along_axis(&f) - (a[0] + 2.0 * a[1] + 3.0 * a[2])).abs() < 1e-15);
+    }
+
     #[test]
     fn a_spheres_curvature_softens_both_tangents_by_lambda_over_its_radius() {
         let (r, lambda) = (7.0, 3.0);
@@ -209,7 +239,15 @@ mod tests {
             [-m[0] * m[1] / r, (1.0 - m[1] * m[1]) / r, 0.0],
             [0.0; 3],
         ];
-        let node = NodeContact { node: 0, frame: Frame::meridian(m), sigma: 1.0, phi: 0.0, hess };
+        let node = NodeContact {
+            node: 0,
+            frame: Frame::meridian(m),
+            sigma: 1.0,
+            phi: 0.0,
+            hess,
+            tool: 0,
+            axis: [0.0, 1.0, 0.0],
+        };
         let block = node.curvature(lambda);
         assert!((block[0][0] + lambda / r).abs() < 1e-15 && block[0][1] == 0.0 && block[1] == [0.0; 2], "{block:?}");
         // A plane: nothing.

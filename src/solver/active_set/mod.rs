@@ -30,7 +30,7 @@ mod frames_tests;
 mod newton;
 mod reuse;
 
-pub(crate) use border::{Border, PositionUnknown, Positions, SharedPositions};
+pub(crate) use border::{Border, Moves, PositionUnknown, Positions, SharedPositions};
 pub(crate) use contact::{CurvedContact, NodeContact};
 pub(crate) use frames::Frame;
 pub(crate) use newton::ActiveSetNewton;

@@ -487,6 +487,14 @@ impl ActiveSetNewton {
         }
         let same = a.as_raw() == p.as_raw();
         self.keep_jacobian(&a, ksp, same)?;
+        // Force control (border): its columns from the Jacobian before the rotation and the
+        // replacement.
+        let columns = match &mut self.border {
+            Some(b) if b.active() => {
+                Some(b.prepare(&a, x, (&self.bounds.lower, &self.bounds.upper), &self.active, self.diag)?)
+            }
+            _ => None,
+        };
         if let Some(c) = &mut self.curved {
             if !same {
                 return Err(crate::error::Error::Options(
@@ -495,13 +503,6 @@ impl ActiveSetNewton {
             }
             c.rotate(&mut a)?;
         }
-        // Force control (border): its columns from the Jacobian before the replacement.
-        let columns = match &mut self.border {
-            Some(b) if b.active() => {
-                Some(b.prepare(&a, x, (&self.bounds.lower, &self.bounds.upper), &self.active, self.diag)?)
-            }
-            _ => None,
-        };
         a.zero_rows_columns(&self.active, self.diag, Some((&self.to_bound, &mut self.rhs)))?;
         if !same {
             p.zero_rows_columns(&self.active, self.diag, None)?;

@@ -50,6 +50,19 @@ impl PoroProblem {
         }
     }
 
+    /// The tools between steps (empty without tools), for a checkpoint.
+    pub(crate) fn tool_progress(&self) -> Vec<crate::physics::tools::protocol::Progress> {
+        self.tools.as_ref().map_or_else(Vec::new, ToolStage::progress)
+    }
+
+    /// Restores the tools of a checkpoint written at time t (`saved` may be shorter: the rest
+    /// from their protocols).
+    pub(crate) fn set_tool_progress(&mut self, saved: &[crate::physics::tools::protocol::Progress], t: f64) {
+        if let Some(ts) = &self.tools {
+            ts.set_progress(saved, t);
+        }
+    }
+
     /// The plates, if the scene has them.
     pub(crate) fn plates(&self) -> Option<&Plates> {
         self.contact.as_ref().map(ContactStage::plates)
@@ -144,6 +157,9 @@ impl PoroProblem {
     /// Sets the velocity the predictor of the next steps extrapolates with (copied; None: the
     /// previous state, as after a loading kink). Only the plates' predictor uses it.
     pub(crate) fn set_extrapolation(&mut self, velocity: Option<&Vector>) -> Result<()> {
+        if let Some(ts) = &mut self.tools {
+            ts.set_extrapolating(velocity.is_some());
+        }
         match &mut self.contact {
             Some(c) => c.set_extrapolation(velocity),
             None => Ok(()),
