@@ -26,6 +26,8 @@ mod laplace_drop;
 mod medium;
 #[path = "neo_hookean.rs"]
 mod neo_hookean;
+#[path = "plate_paths.rs"]
+mod plate_paths;
 #[path = "plates.rs"]
 mod plates;
 #[path = "plot.rs"]

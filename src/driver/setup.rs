@@ -36,7 +36,7 @@ use crate::physics::problem::untouched;
 use crate::physics::problem::{PoroProblem, ProblemParts};
 use crate::physics::surface_tension::{Adhesion, SurfaceTension};
 use crate::physics::tools::protocol::{Mode, ToolProtocol};
-use crate::physics::tools::{Tool, ToolSet};
+use crate::physics::tools::{Profile, Tool, ToolSet};
 use crate::reference_cell::Family;
 use crate::scene::tools::ToolSpec;
 use crate::scene::LoadedScene;
@@ -161,16 +161,19 @@ fn held(world: &SimpleCommunicator, scene: &LoadedScene, local: &LocalMesh, cons
 }
 
 /// The scene's tools and the surface nodes that can touch them (None without tools): nodes
-/// within two mean cell sizes of a tool get a frame.
+/// within two mean cell sizes of a tool get a frame. With `plates.contact = "tools"` the plates
+/// are two more, plane tools with the plates' paths (their anchor keeps its bounds).
 fn tools(
     world: &SimpleCommunicator,
     scene: &LoadedScene,
     local: &LocalMesh,
     dofs: &DofMap,
     cons: &[Constraint],
+    plates: Option<&mut Plates>,
 ) -> Result<Option<ToolSet>> {
     let s = &scene.scene;
-    if s.tools.is_empty() {
+    let plate_tools = s.plates.as_ref().map_or(&[][..], |p| p.tool_names());
+    if s.tools.is_empty() && plate_tools.is_empty() {
         return Ok(None);
     }
     let ctx = format!("{}: [[tools]]", scene.source);
@@ -181,6 +184,15 @@ fn tools(
         tools.push(Tool::from_spec(spec, &ctx)?);
         protocols.push(ToolProtocol::from_rows(&spec.rows()));
     }
+    let mut pinned = Vec::new();
+    if let (Some(ps), Some(p), [lower, upper]) = (&s.plates, plates, plate_tools) {
+        faces.extend_from_slice(agree(world, bc::face_group(local, &ps.group, &ctx))?);
+        tools.push(Tool::new(lower, Profile::Plane, [0.0; 3], [0.0, 0.0, 1.0]));
+        protocols.push(ToolProtocol::displacements(p.loading.points()));
+        tools.push(Tool::new(upper, Profile::Plane, [0.0, 0.0, p.z_upper_at(0.0)], [0.0, 0.0, -1.0]));
+        protocols.push(p.upper.clone());
+        pinned.extend(p.leave_contact_to_tools());
+    }
     faces.sort_unstable();
     faces.dedup();
     let mut constrained = vec![false; dofs.n_local()];
@@ -188,7 +200,8 @@ fn tools(
         constrained[c.local] = true;
     }
     let band = 2.0 * local.mean_size(world);
-    let set = ToolSet::new(world, tools, protocols, local, dofs, &faces, s.fem.equal_order(), &constrained, band);
+    let set =
+        ToolSet::new(world, tools, protocols, local, dofs, &faces, s.fem.equal_order(), &constrained, &pinned, band);
     refuse_overlap(world, &set, dofs, &ctx)?;
     // Force control from the start: the tool must touch the body at t = 0 (later switches are
     // checked when they are reached, `PoroProblem::predict`).
@@ -451,8 +464,8 @@ pub(super) fn setup<'w>(
         Family::Tri6 => quadrature::tri(degree + 1),
     };
     let (cons, ext, free_modes) = constraints(world, scene, &local, &dofs)?;
-    let (plates, plate_faces) = plates(world, scene, &local, model.as_ref())?.unzip();
-    let tools = tools(world, scene, &local, &dofs, &cons)?;
+    let (mut plates, plate_faces) = plates(world, scene, &local, model.as_ref())?.unzip();
+    let tools = tools(world, scene, &local, &dofs, &cons, plates.as_mut())?;
     if let Some(set) = &tools {
         for note in coarse_rims(world, set, &local, &scene.scene.tools) {
             solver_line.push_str(&format!("\n{note}"));
@@ -531,7 +544,7 @@ pub(super) fn setup<'w>(
     let observers = Observers {
         probes,
         experiment,
-        tools: s.tools.iter().map(|t| t.name.clone()).collect(),
+        tools: s.tool_names().map(str::to_string).collect(),
         force_control: ts.problem().plates().is_some_and(|p| p.upper.has_force()),
         exact: exact_columns(scene)?,
         remodelling: ts.problem().has_qp_state(),

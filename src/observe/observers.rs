@@ -206,7 +206,7 @@ pub fn history_column_names(scene: &LoadedScene) -> Result<Vec<String>> {
     let named = s.probe.iter().map(|p| p.name.as_str()).chain(exact.iter().map(|e| e.doc.name));
     let force = s.plates.as_ref().is_some_and(|p| p.upper.iter().flatten().any(|r| r.force.is_some()));
     let observed =
-        observed_columns(s.plates.is_some(), force, s.tools.iter().map(|t| t.name.as_str()), remodelling, named);
+        observed_columns(s.plates.is_some(), force, s.tool_names(), remodelling, named);
     Ok(crate::io::recorder::history_columns(&observed).into_iter().map(|c| c.name).collect())
 }
 

@@ -73,6 +73,11 @@ impl PlateLoading {
         }
     }
 
+    /// The points (t, u), from (0, 0).
+    pub(crate) fn points(&self) -> &[(f64, f64)] {
+        &self.points
+    }
+
     /// The kinks of u(t), the table's times after 0: steps must land on them.
     pub(crate) fn kinks(&self) -> Vec<f64> {
         self.points.iter().map(|p| p.0).filter(|&t| t > 0.0).collect()
@@ -115,6 +120,9 @@ pub(crate) struct Plates {
     /// Local node (if here) of the bottom pole, which stays on the lower plate (see `new`).
     anchor: Option<usize>,
     tol: f64,
+    /// Whether the contact is bounds on the nodes' u_z (else the plates are plane tools of the
+    /// general path, `plates.contact = "tools"`, and only the anchor has bounds).
+    on_bounds: bool,
 }
 
 /// The drainage of the contact surface (module docs); conductances per area in µm³/(nN s) per µm².
@@ -194,7 +202,15 @@ impl Plates {
             shares,
             anchor,
             tol: AT_BOUND * radius,
+            on_bounds: true,
         }
+    }
+
+    /// Leaves the contact to the plates' two plane tools (`plates.contact = "tools"`): only the
+    /// anchor keeps its bounds. Returns the anchor (local node, if here), which the tools skip.
+    pub(crate) fn leave_contact_to_tools(&mut self) -> Option<usize> {
+        self.on_bounds = false;
+        self.anchor
     }
 
     /// Height of the lower plate's top face at time t.
@@ -223,6 +239,9 @@ impl Plates {
     pub(crate) fn fill_bounds(&self, t: f64, dofs: &DofMap, lo: &mut [f64], hi: &mut [f64]) {
         let (zl, zu) = (self.z_lower(t), self.z_upper());
         for (k, &n) in self.nodes.iter().enumerate() {
+            if !self.on_bounds && Some(n) != self.anchor {
+                continue;
+            }
             if let Some(i) = dofs.local_to_owned(dofs.uz_local(n)) {
                 lo[i] = zl - self.z_ref[k];
                 hi[i] = if Some(n) == self.anchor { lo[i] } else { zu - self.z_ref[k] };

@@ -70,7 +70,25 @@ pub(crate) struct PlatesSpec {
     /// stays at z = 2R.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(crate) upper: Option<Vec<super::protocol::ProtocolRow>>,
+    /// Which contact path holds the body on the plates: bounds on the surface u_z dofs (default),
+    /// or the plates as two plane tools on the general path of `[[tools]]` (a check of it).
+    #[serde(default)]
+    pub(crate) contact: PlateContact,
 }
+
+/// How the plates' contact is solved (issue 53: the plates give the same history either way).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub(crate) enum PlateContact {
+    /// Bounds on the surface nodes' u_z: the active-set Newton's plane split.
+    #[default]
+    Bounds,
+    /// Two plane tools, `plate_lower` and `plate_upper`: frames, the curved split, projection.
+    Tools,
+}
+
+/// The names of the plates' tools under `contact = "tools"` (their history columns too).
+pub(crate) const PLATE_TOOLS: [&str; 2] = ["plate_lower", "plate_upper"];
 
 /// The gap that sets a surface vertex's drainage conductance during a step.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
@@ -156,6 +174,14 @@ impl PlatesSpec {
         match &self.table {
             Some(rows) => rows.iter().map(|r| r[1]).fold(0.0, f64::max),
             None => self.compression.unwrap_or(f64::NAN),
+        }
+    }
+
+    /// The plates' tools under `contact = "tools"` (none on the bounds' path).
+    pub(crate) fn tool_names(&self) -> &'static [&'static str] {
+        match self.contact {
+            PlateContact::Bounds => &[],
+            PlateContact::Tools => &PLATE_TOOLS,
         }
     }
 
@@ -286,6 +312,14 @@ impl PlatesSpec {
         self.check_drainage()?;
         if let Some(rows) = &self.upper {
             super::protocol::check(UPPER.name, rows)?;
+            let displaced = |r: &super::protocol::ProtocolRow| {
+                matches!(r.displacement, Some(super::protocol::Displacement::Value(_)))
+            };
+            if self.contact == PlateContact::Tools && !rows.iter().all(displaced) {
+                return Err("plates.contact = \"tools\": the upper plate's force control (and \"held\") is on the \
+                            bounds' path only; use contact = \"bounds\" (the default) with such rows in plates.upper"
+                    .into());
+            }
         }
         for x in self.probe_point.iter().flatten() {
             PROBE_POINT.check(*x)?;
@@ -543,5 +577,13 @@ pub(super) const SECTION: Section = Section {
         THICKNESS,
         PROBE_POINT,
         UPPER,
+        Key::new(
+            "plates.contact",
+            "",
+            Unset::Value("\"bounds\""),
+            "the contact's path: bounds on the surface u_z, or `tools` (the plates as two plane tools, columns \
+             plate_lower_* and plate_upper_*: the general path, to check that it gives the same history)",
+        )
+        .enters("numerics.md: Contact with curved tools"),
     ],
 };

@@ -56,3 +56,12 @@ pub(crate) struct Scene {
     #[serde(default)]
     pub(crate) petsc: BTreeMap<String, toml::Value>,
 }
+
+impl Scene {
+    /// The names of the tools the contact holds the body with, in the tool set's order: the
+    /// `[[tools]]`, then the plates' under `plates.contact = "tools"` (their history columns).
+    pub(crate) fn tool_names(&self) -> impl Iterator<Item = &str> {
+        let plates = self.plates.as_ref().map_or(&[][..], |p| p.tool_names());
+        self.tools.iter().map(|t| t.name.as_str()).chain(plates.iter().copied())
+    }
+}

@@ -43,6 +43,11 @@ impl ToolProtocol {
         ToolProtocol { rows }
     }
 
+    /// Displacements (t, d) in increasing t, linear between them (the lower plate's path as a tool).
+    pub(crate) fn displacements(points: &[(f64, f64)]) -> ToolProtocol {
+        ToolProtocol { rows: points.iter().map(|&(t, d)| (t, Control::Displacement(Some(d)))).collect() }
+    }
+
     /// Whether any row is under force control.
     pub(crate) fn has_force(&self) -> bool {
         self.rows.iter().any(|r| matches!(r.1, Control::Force(_)))

@@ -76,8 +76,8 @@ impl ToolSet {
     /// The tools with their protocols, touching the nodes of the `faces` (this rank's; their vertices
     /// only with `on_vertices`, as for the plates under P1–P1), except nodes with a prescribed
     /// displacement off the meridian's axis (a frame would mix its constraint row with the
-    /// others; on the axis the tools' normal is ±e_z, the frame ±I). `band`: the gap within which
-    /// a node gets a frame.
+    /// others; on the axis the tools' normal is ±e_z, the frame ±I), and the `pinned` local nodes
+    /// (held by bounds: the plates' anchor). `band`: the gap within which a node gets a frame.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
         world: &SimpleCommunicator,
@@ -88,6 +88,7 @@ impl ToolSet {
         faces: &[u32],
         on_vertices: bool,
         constrained: &[bool],
+        pinned: &[usize],
         band: f64,
     ) -> ToolSet {
         let per_face = if on_vertices { mesh.family.face_vertices() } else { mesh.family.face_nodes() };
@@ -110,7 +111,8 @@ impl ToolSet {
             g
         };
         let on_surface = global(&mut nodes.iter().copied());
-        let excluded = global(&mut nodes.iter().copied().filter(|&n| held(n) && !on_axis(n)));
+        let excluded =
+            global(&mut nodes.iter().copied().filter(|&n| held(n) && !on_axis(n)).chain(pinned.iter().copied()));
         let nodes: Vec<usize> = (0..mesh.coords.len())
             .filter(|&n| {
                 let g = mesh.node_global[n];
