@@ -5,6 +5,7 @@ use super::bc;
 use super::key::{Key, Section, Unset};
 use super::material;
 use super::medium;
+use super::drainage;
 use super::mesh;
 use super::numerics;
 use super::observe;
@@ -33,6 +34,7 @@ pub(crate) fn sections() -> Vec<Section> {
         tools::SECTION,
         surface::SECTION,
         medium::SECTION,
+        drainage::SECTION,
         numerics::SOLVER_SECTION,
         numerics::FEM_SECTION,
         PETSC_SECTION,
