@@ -11,13 +11,15 @@ use crate::physics::drainage::{Drain, SurfaceDrainage};
 use crate::physics::medium::Medium;
 use crate::physics::tools::ToolSet;
 
-/// What seals the surface at a stage: the plates and the tools (either may be absent), and the
-/// state whose gaps set the conductance when it is not the iterate's (the plates' predictor).
+/// What the surface drains against at a stage: the plates and the tools that seal it (either may
+/// be absent), the state whose gaps set the conductance when it is not the iterate's (the plates'
+/// predictor), and the medium it drains into (None: the bath's gauge 0).
 #[derive(Clone, Copy)]
 pub(super) struct Seals<'a> {
     pub(super) plates: Option<&'a Plates>,
     pub(super) tools: Option<&'a ToolSet>,
     pub(super) gaps: Option<&'a [f64]>,
+    pub(super) medium: Option<&'a Medium>,
 }
 
 /// The drained surface.
@@ -51,17 +53,9 @@ impl DrainageStage {
 
     /// The outflow into the local residual `f`: c(g) (p − p_m) at the local state `u`, p_m the
     /// medium's pressure at the vertex's current position (0 without a medium: the bath's gauge).
-    pub(super) fn add_residual(
-        &self,
-        disc: &Discretization,
-        u: &[f64],
-        t: f64,
-        seals: Seals,
-        medium: Option<&Medium>,
-        f: &mut [f64],
-    ) {
+    pub(super) fn add_residual(&self, disc: &Discretization, u: &[f64], t: f64, seals: Seals, f: &mut [f64]) {
         for d in self.drains(disc, u, t, seals) {
-            match medium {
+            match seals.medium {
                 None => f[d.p] += d.conductance * u[d.p],
                 Some(m) => f[d.p] += d.conductance * (u[d.p] - m.at_node(&disc.mesh, &disc.dofs, d.vertex, u)),
             }
@@ -69,15 +63,8 @@ impl DrainageStage {
     }
 
     /// This rank's outflow Σ c(g) (p − p_m) at the local state `u` (the experiment's).
-    pub(super) fn outflow(
-        &self,
-        disc: &Discretization,
-        u: &[f64],
-        t: f64,
-        seals: Seals,
-        medium: Option<&Medium>,
-    ) -> f64 {
-        let p_m = |n: usize| medium.map_or(0.0, |m| m.at_node(&disc.mesh, &disc.dofs, n, u));
+    pub(super) fn outflow(&self, disc: &Discretization, u: &[f64], t: f64, seals: Seals) -> f64 {
+        let p_m = |n: usize| seals.medium.map_or(0.0, |m| m.at_node(&disc.mesh, &disc.dofs, n, u));
         self.drains(disc, u, t, seals).iter().map(|d| d.conductance * (u[d.p] - p_m(d.vertex))).sum()
     }
 
@@ -91,11 +78,11 @@ impl DrainageStage {
         u: &[f64],
         t: f64,
         seals: Seals,
-        medium: Option<&Medium>,
         jac: &mut Mat,
         schur: &mut SchurApprox,
     ) -> Result<()> {
         let (l2g, dofs) = (&disc.dofs.l2g, &disc.dofs);
+        let medium = seals.medium;
         for d in self.drains(disc, u, t, seals) {
             if disc.constrained[d.p] {
                 continue;

@@ -222,7 +222,7 @@ impl PoroProblem {
             // Drainage through the surface off the plates and tools: outflow c(g) (p − p_m).
             if let Some(d) = drainage {
                 let set = tools.as_ref().map(ToolStage::set);
-                d.add_residual(disc, ul, t, seals(contact, set.as_deref()), medium, fl);
+                d.add_residual(disc, ul, t, seals(contact, set.as_deref(), medium), fl);
             }
             for (l, x) in fl.iter_mut().enumerate() {
                 if disc.constrained[l] {
@@ -303,8 +303,8 @@ impl PoroProblem {
         }
         if let Some(d) = &self.drainage {
             let set = self.tools.as_ref().map(ToolStage::set);
-            let seals = seals(&self.contact, set.as_deref());
-            d.add_jacobian(&self.disc, &ul, t, seals, self.medium.as_ref(), jac, &mut self.schur)?;
+            let seals = seals(&self.contact, set.as_deref(), self.medium.as_ref());
+            d.add_jacobian(&self.disc, &ul, t, seals, jac, &mut self.schur)?;
         }
         self.rows.add_jacobian_rows(&self.disc.mesh, &self.disc.dofs, scales, jac, &mut self.schur)?;
         jac.assemble()?;
@@ -313,10 +313,11 @@ impl PoroProblem {
     }
 }
 
-/// What seals the drained surface: the plates (with their predictor's gaps) and the tools.
-fn seals<'a>(contact: &'a Option<ContactStage>, tools: Option<&'a ToolSet>) -> Seals<'a> {
+/// What the drained surface drains against: the plates (with their predictor's gaps), the tools
+/// and the medium.
+fn seals<'a>(contact: &'a Option<ContactStage>, tools: Option<&'a ToolSet>, medium: Option<&'a Medium>) -> Seals<'a> {
     let plates = contact.as_ref().map(ContactStage::plates);
-    Seals { plates, tools, gaps: contact.as_ref().and_then(ContactStage::drainage_gaps) }
+    Seals { plates, tools, gaps: contact.as_ref().and_then(ContactStage::drainage_gaps), medium }
 }
 
 /// Post-processing of a converged state.

@@ -151,7 +151,7 @@ impl PoroProblem {
     pub(crate) fn drainage_outflow(&self, local: &[f64], t: f64) -> f64 {
         let Some(d) = &self.drainage else { return 0.0 };
         let set = self.tools.as_ref().map(ToolStage::set);
-        d.outflow(&self.disc, local, t, seals(&self.contact, set.as_deref()), self.medium.as_ref())
+        d.outflow(&self.disc, local, t, seals(&self.contact, set.as_deref(), self.medium.as_ref()))
     }
 
     /// Local copy (owned + ghost) of a global vector, for post-processing.
