@@ -296,7 +296,7 @@ fn hu_g(tau: f64) -> f64 {
 /// and the paper's drainage conditions were not readable here (docs/verification.md). A wrong
 /// time scale shows: D off by 30% moves g by 0.065 at τ = 0.3.
 #[test]
-#[ignore = "slow: three runs of the graded block, about a minute of CPU"]
+#[ignore = "slow: three runs of the graded block, about 12 s"]
 fn a_held_sphere_relaxes_as_hu_et_al_say() {
     let dir = scratch("tools_relaxation");
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/indent_relaxation.toml");
