@@ -2,7 +2,7 @@
 //! Hertz's closed form, F = (4/3) E* √R δ^{3/2} with E* = 4G undrained (ν = ½) and
 //! 2G / (1 − ν) drained; the largest penetration at round-off; one rank ≡ two; bad input.
 
-use crate::common::{poroplast, run_ok, scratch, History};
+use crate::common::{assert_jacobian_checks, poroplast, run_ok, scratch, History};
 use std::path::Path;
 
 /// The run of tests/data/hertz_block.toml (a sphere of radius 100 µm indenting a linear block,
@@ -215,4 +215,124 @@ fn a_pipette_presses_on_its_rim_and_says_when_the_surface_is_too_coarse_for_it()
         ],
     );
     assert!(coarse.contains("\"pipette\" has a rim of radius 2 µm, below the surface cells"), "{coarse}");
+}
+
+/// tests/data/hertz_block.toml with its top drained by `[drainage]` (k = 1 µm⁴/(nN s), h_c = 2 µm,
+/// the penalty raised as the contact's cells are far below the mean size, two steps to δ = 0.5 µm; `drain` false: without it, sealed as before), probes of p under the
+/// sphere's pole and at r = 30 µm (3a) on the top, `sets` added; with `extra` PETSc options.
+/// Returns the history and stdout.
+fn run_drained_top(dir: &Path, drain: bool, sets: &[&str], extra: &[&str]) -> (History, String) {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/hertz_block.toml");
+    let out = dir.join("run");
+    let mut args: Vec<String> = vec!["run".into(), scene.display().to_string(), "-q".into(), "--out".into()];
+    args.push(out.display().to_string());
+    let base = [
+        "material.permeability=1.0",
+        "mesh.params.h_c=2",
+        "mesh.params.d_c=60",
+        "time.t_end=0.5",
+        r#"probe=[{name="p_pole",field="p",point=[0.0,0.0,500.0]},{name="p_out",field="p",point=[30.0,0.0,500.0]}]"#,
+    ];
+    let drainage: &[&str] =
+        if drain { &["drainage.group=top", "drainage.seal_gap=0.05", "drainage.penalty=1e4"] } else { &[] };
+    for s in base.iter().chain(drainage).chain(sets) {
+        args.extend(["--set".to_string(), s.to_string()]);
+    }
+    if !extra.is_empty() {
+        args.push("--".into());
+        args.extend(extra.iter().map(|s| s.to_string()));
+    }
+    let stdout = run_ok(1, &args.iter().map(String::as_str).collect::<Vec<_>>());
+    (History::read(&out), stdout)
+}
+
+/// The drainage off a sealing tool (fully implicit: the iterate's gap) is differentiated exactly:
+/// the seal distance (0.05 µm) puts the nodes at the contact's edge on the smoothstep's ramp (four
+/// steps to δ = 1 µm, each checked).
+#[test]
+fn drainage_off_a_sealing_tool_matches_central_differences() {
+    let dir = scratch("tools_drainage_jacobian");
+    let (_, stdout) = run_drained_top(&dir, true, &["time.t_end=1.0"], &["-poroplast_check_jacobian", "1e-7"]);
+    assert_jacobian_checks(&stdout);
+}
+
+/// `[drainage]` drains the top where the sphere is not: the pore pressure 3a from the axis is the
+/// bath's (0, within 1% of the pole's), while under the sealing sphere it rises as undrained; a
+/// `free` sphere lets the pole drain too; without `[drainage]` the surface stays sealed as before
+/// (pole pressure and force higher).
+#[test]
+fn a_sealing_tool_keeps_the_surface_under_it_undrained_and_a_free_one_does_not() {
+    let dir = scratch("tools_drainage_seal");
+    let last = |h: &History, c: &str| *h.col(c).last().unwrap();
+    let (sealed, _) = run_drained_top(&dir.join("sealed"), true, &[], &[]);
+    let (free, _) = run_drained_top(&dir.join("free"), true, &[r#"tools.0.drainage="free""#], &[]);
+    let (p_pole, p_out) = (last(&sealed, "p_pole"), last(&sealed, "p_out"));
+    assert!(p_pole > 0.05, "sealed pole: p = {p_pole} kPa");
+    assert!(p_out.abs() <= 0.01 * p_pole, "drained at 3a: p = {p_out} kPa against {p_pole} at the pole");
+    let free_pole = last(&free, "p_pole");
+    assert!(free_pole.abs() <= 0.01 * p_pole, "free sphere: p = {free_pole} kPa at the pole");
+    // Drained under the sphere too, the skeleton takes more of the load sooner: less force.
+    assert!(last(&free, "bead_force_uN") < last(&sealed, "bead_force_uN"));
+    // Without [drainage] the whole surface is sealed, as before: the fluid under the sphere
+    // cannot leave at all, so its pressure and the force stay higher than with the top drained.
+    let (none, _) = run_drained_top(&dir.join("none"), false, &[], &[]);
+    assert!(last(&none, "p_pole") > p_pole, "sealed: p = {} kPa at the pole, {p_pole} drained", last(&none, "p_pole"));
+    assert!(last(&none, "bead_force_uN") > last(&sealed, "bead_force_uN"));
+}
+
+/// Hu, Zhao, Vlassak & Suo's (2010) normalised force after a step indentation by a sphere,
+/// g(τ) = (F − F∞)/(F₀ − F∞), τ = D t / a².
+fn hu_g(tau: f64) -> f64 {
+    0.491 * (-0.908 * tau.sqrt()).exp() + 0.509 * (-1.679 * tau).exp()
+}
+
+/// Poroelastic relaxation under a held sphere (tests/data/indent_relaxation.toml: δ = 0.25 µm,
+/// a = 5 µm, ramp τ_r = 1e-3, held to τ = 10; sealed under the sphere, drained elsewhere on the
+/// top), normalised by the same mesh's undrained and drained forces, follows Hu et al.'s master
+/// curve at τ − 0.6 τ_r (the ramp's first-order shift) from τ = 10 τ_r to 10 within 0.09 of
+/// F₀ − F∞. Measured (scripts/data/tools_relaxation.csv): the largest deviation is 0.048 here, at
+/// τ ≈ 0.4 (the computed curve relaxes faster there and slower after τ ≈ 2); it grows to 0.069
+/// with the contact's cells halved and by 0.008 with shorter steps, so the converged curve sits
+/// about 0.08 from the fit, which bounds the assertion. Why is not known: the fit's own accuracy
+/// and the paper's drainage conditions were not readable here (docs/verification.md). A wrong
+/// time scale shows: D off by 30% moves g by 0.065 at τ = 0.3.
+#[test]
+#[ignore = "slow: three runs of the graded block, about 12 s"]
+fn a_held_sphere_relaxes_as_hu_et_al_say() {
+    let dir = scratch("tools_relaxation");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/indent_relaxation.toml");
+    let (ramp, diffusivity, a2) = (0.009375, 8.0 / 3.0, 25.0);
+    let force = |name: &str, sets: &[&str]| -> History {
+        let out = dir.join(name);
+        let mut args = vec!["run".to_string(), scene.display().to_string(), "-q".into(), "--out".into()];
+        args.push(out.display().to_string());
+        for s in sets {
+            args.extend(["--set".to_string(), s.to_string()]);
+        }
+        run_ok(1, &args.iter().map(String::as_str).collect::<Vec<_>>());
+        History::read(&out)
+    };
+    let end = format!("time.t_end={ramp}");
+    let last = |h: &History| 1e3 * *h.col("bead_force_uN").last().unwrap();
+    let f0 = last(&force("undrained", &["material.permeability=1e-8", &end]));
+    let drained_top = r#"bc=[{group="bottom",displacement={z=0.0}},{group="top",pressure=0.0}]"#;
+    let f_inf = last(&force("drained", &["material.permeability=1e6", drained_top, &end]));
+    // The limits themselves are Hertz's within the block's and the drained contact's known
+    // offsets (a_sphere_indents_a_block_undrained_as_hertz_says and the drained test).
+    assert!((f0 / 6.666_666_7 - 1.0).abs() < 0.01 && (f_inf / 4.166_666_7 - 1.0).abs() < 0.04, "{f0}, {f_inf}");
+    let h = force("relaxation", &[]);
+    let mut worst = (0.0f64, 0.0);
+    for (t, f) in h.col("time").iter().zip(h.col("bead_force_uN")) {
+        let tau = diffusivity * t / a2;
+        if *t < 10.0 * ramp * (1.0 - 1e-9) {
+            continue;
+        }
+        let g = (1e3 * f - f_inf) / (f0 - f_inf);
+        let d = g - hu_g(diffusivity * (t - 0.6 * ramp) / a2);
+        if d.abs() > worst.0.abs() {
+            worst = (d, tau);
+        }
+    }
+    assert!(diffusivity * h.col("time").last().unwrap() / a2 >= 10.0 - 1e-9);
+    assert!(worst.0.abs() <= 0.09, "largest g − g_Hu = {:.4} at τ = {:.3}", worst.0, worst.1);
 }

@@ -29,7 +29,8 @@ use crate::observe::verification::exact_columns;
 use crate::parallel::{agree, broadcast_vec, on_root};
 use crate::petsc::{DmShell, Mat, Stage, Ts, Vector};
 use crate::physics::bc::{self, Constraint};
-use crate::physics::contact::{Drainage, PlateLoading, Plates};
+use crate::physics::contact::{PlateLoading, Plates};
+use crate::physics::drainage::{Drainage, DrainageGap, SurfaceDrainage};
 use crate::physics::factory::{ellipticity_warning, model_of};
 use crate::physics::medium::Medium;
 use crate::physics::problem::untouched;
@@ -333,6 +334,34 @@ fn plates(
     Ok(Some((plates, faces)))
 }
 
+/// The surface's drainage (`physics::drainage`): the plates' (their faces and keys), or without
+/// plates a `[drainage]` section's (its group; the iterate's gaps, as no predictor runs); None:
+/// sealed.
+fn drainage(
+    world: &SimpleCommunicator,
+    scene: &LoadedScene,
+    local: &LocalMesh,
+    model: &dyn PointModel,
+    plates: Option<(&Plates, &[u32])>,
+) -> Result<Option<SurfaceDrainage>> {
+    let equal_order = scene.scene.fem.equal_order();
+    if let Some((p, faces)) = plates {
+        return Ok(Some(SurfaceDrainage::new(p.drain, local, faces, equal_order)));
+    }
+    let Some(spec) = &scene.scene.drainage else { return Ok(None) };
+    let ctx = format!("{}: [drainage]", scene.source);
+    let faces = agree(world, bc::face_group(local, &spec.group, &ctx))?;
+    let params = Drainage {
+        on: true,
+        // A stiff Robin condition γ k0 / h, as for the plates.
+        beta_max: spec.penalty * model.conductivity() / local.mean_size(world),
+        beta_plate: 0.0,
+        seal_gap: spec.seal_gap,
+        gap: DrainageGap::Current,
+    };
+    Ok(Some(SurfaceDrainage::new(params, local, faces, equal_order)))
+}
+
 /// The stabilisation's fade τ₀ of the run: the scene's for Taylor–Hood; none (the constant
 /// weight) for equal-order P1–P1, noted in the log line `solver_line` if the scene asked for one.
 ///
@@ -471,6 +500,7 @@ pub(super) fn setup<'w>(
             solver_line.push_str(&format!("\n{note}"));
         }
     }
+    let drainage = drainage(world, scene, &local, model.as_ref(), plates.as_ref().zip(plate_faces.as_deref()))?;
     let surface = surface_tension(world, scene, &local)?;
     let medium = medium(world, scene, &local)?;
     let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
@@ -506,6 +536,7 @@ pub(super) fn setup<'w>(
         medium,
         plates,
         tools,
+        drainage,
         schur,
     };
     let problem = PoroProblem::new(world.duplicate(), parts, &u)?;

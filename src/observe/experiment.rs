@@ -25,7 +25,6 @@ use crate::io::recorder::{ColumnDoc, ColumnKind, Declared};
 use crate::mesh::dist::LocalMesh;
 use crate::parallel::{all_gather_vec, max, sum};
 use crate::physics::contact::{Plates, Touch};
-use crate::physics::medium::Medium;
 use crate::physics::problem::Post;
 use mpi::topology::SimpleCommunicator;
 
@@ -232,8 +231,8 @@ impl Experiment {
         self.outflow_total = v;
     }
 
-    /// Observables at time t after a step of size dt (collective). `drainage_gaps`: the state
-    /// whose gaps set the step's drainage, if not the solution's (for the outflow).
+    /// Observables at time t after a step of size dt (collective). `outflow_local`: this rank's
+    /// outflow through the drained surface (`PoroProblem::drainage_outflow`).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn observe(
         &mut self,
@@ -243,8 +242,7 @@ impl Experiment {
         mesh: &LocalMesh,
         dofs: &DofMap,
         post: &Post,
-        drainage_gaps: Option<&[f64]>,
-        medium: Option<&Medium>,
+        outflow_local: f64,
         world: &SimpleCommunicator,
     ) -> Observation {
         let local = &post.local;
@@ -297,13 +295,7 @@ impl Experiment {
             zmax = zmax.max(x[2]);
             rmax = rmax.max((x[0] * x[0] + x[1] * x[1]).sqrt());
         }
-        // Outflow through the drained surface: Σ c(g) (p − p_m) over this rank's face shares
-        // (p_m the medium's pressure, 0 without), with the gaps the step's residual used
-        // (`PoroProblem::drainage_gaps`; else the solution's).
-        let gaps = drainage_gaps.unwrap_or(local);
-        let p_m = |n: usize| medium.map_or(0.0, |m| m.at_node(mesh, dofs, n, local));
-        let outflow_local: f64 =
-            plates.drainage(mesh, dofs, gaps, t).iter().map(|d| d.conductance * (local[d.p] - p_m(d.vertex))).sum();
+        // Outflow through the drained surface: Σ c(g) (p − p_m) over this rank's face shares.
         let sym = self.symmetry;
         let outflow = sym * sum(world, outflow_local);
         self.outflow_total += dt * outflow;

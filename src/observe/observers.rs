@@ -107,7 +107,7 @@ impl Observers {
     }
 
     /// The observed values of a sample at time t after a step of size dt, with the fields if
-    /// `fields` (collective). The experiment's outflow uses the drainage gaps of the problem's
+    /// `fields` (collective). The experiment's outflow takes the drainage gaps of the problem's
     /// last step.
     pub(crate) fn observe(
         &mut self,
@@ -127,7 +127,7 @@ impl Observers {
         let mut values = Vec::new();
         let obs = match (&mut self.experiment, problem.plates(), post) {
             (Some(ex), Some(pl), Some(post)) => {
-                Some(ex.observe(t, dt, pl, mesh, dofs, post, problem.drainage_gaps(), problem.medium(), world))
+                Some(ex.observe(t, dt, pl, mesh, dofs, post, problem.drainage_outflow(&post.local, t), world))
             }
             _ => None,
         };

@@ -9,42 +9,12 @@
 //! refreshed at every stage time.
 //!
 //! Fluid: the surface drains into the bath where it is off the plates and is sealed where it
-//! touches them. The outward flux through a surface vertex m is Q·N = Σ_f β(g_fm) p_m A_fm,
-//! lumped on its shares A_fm = ∫_f L_m dA of its faces f, with β(g) = β_c + (β_max − β_c)
-//! S(g / g_s), S the smoothstep from 0 (g ≤ 0, in contact) to 1 (g ≥ g_s, free), and g_fm the
-//! smaller of m's gap to the nearer plate and the largest gap of f's other nodes: a face drains
-//! at m only where it opens towards the bath, so a vertex lifted inside a contact patch stays
-//! sealed (why: `Plates::drainage`). β_c is the plates' own conductance: 0 for impermeable
-//! plates (sealed contact, the default), or k_β / L for the paper's slightly permeable plates
-//! (permeability k_β, thickness L), a Robin outflow through the contact area into plates drained
-//! at their far face — an upper bound on what a closed porous plate can take (the paper's plates
-//! are impermeable on their other faces, so fluid entering them can only move sideways).
-//! β_max = γ k0 / h (γ = 100 by default) makes the free surface a stiff Robin condition,
-//! p ≈ 0 (51a); g_s is the seal distance, default 0.01 R, below the gap of the first vertex
-//! outside the contact edge on the default meshes. Why not the paper's much smaller contact
-//! distance: it gives the same forces but a drainage switch so steep that Newton cycles between
-//! sealed and drained states at the lower contact edge (docs/numerics.md, *Drainage that
-//! follows contact*). Why not switch p = 0 on and off: opening a Dirichlet condition on a
-//! pressurised vertex is a jump in the boundary data; its discrete response (undrained
-//! compaction of the adjacent element) grows as Δt shrinks, so step cuts cannot resolve it,
-//! and at the contact edge a vertex can be bistable (drained it is drawn onto the plate,
-//! sealed it lifts off). A conductance that opens continuously with the gap keeps the residual
-//! differentiable, so Newton converges while the split follows the contact state within the
-//! step; the film's finite conductance is also the physics of a gap opening.
-//!
-//! Whose gap (`DrainageGap`): by default the gap of the step's predictor (the previous velocity
-//! extrapolated, nodes on the lower plate moved with it), fixed during the Newton iteration — a
-//! semi-implicit conductance c(g̃ⁿ⁺¹) pⁿ⁺¹. Why: with the iterate's own gap, a vertex at a
-//! contact edge that is bistable (above) flips between sealed and drained from one Newton
-//! iterate to the next, and the active set cycles with it; the fixed gap costs a small
-//! time-discretisation error at contact events (measured in docs/numerics.md, *Whose gap opens
-//! the drainage*). `Current` keeps the fully implicit form, differentiated exactly.
+//! touches them (`physics::drainage`); the plates give it their gap ([`Plates::drainage_gap`]).
 
 use crate::fem::dofmap::DofMap;
-use crate::fem::surface::FaceRule;
 use crate::mesh::dist::LocalMesh;
+pub(crate) use crate::physics::drainage::{Drainage, DrainageGap};
 use crate::physics::tools::protocol::ToolProtocol;
-pub(crate) use crate::scene::DrainageGap;
 use crate::solver::active_set::{Positions, SharedPositions};
 
 /// Lower-plate displacement u(t): linear between the points (t, u) of the plate's path, from
@@ -113,31 +83,15 @@ pub(crate) struct Plates {
     /// reference heights: the nodes with bounds, the contact nodes of the observables.
     pub(crate) nodes: Vec<usize>,
     z_ref: Vec<f64>,
-    /// How the surface drains (module docs).
+    /// How the surface drains (`physics::drainage`): its seal distance keeps the predictor's
+    /// nodes near a plate on it, and its gap rule says whose gaps the steps drain by.
     pub(crate) drain: Drainage,
-    /// The drainage shares: each (face, vertex) of this rank's contact faces (module docs).
-    shares: Vec<Share>,
     /// Local node (if here) of the bottom pole, which stays on the lower plate (see `new`).
     anchor: Option<usize>,
     tol: f64,
     /// Whether the contact is bounds on the nodes' u_z (else the plates are plane tools of the
     /// general path, `plates.contact = "tools"`, and only the anchor has bounds).
     on_bounds: bool,
-}
-
-/// The drainage of the contact surface (module docs); conductances per area in µm³/(nN s) per µm².
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Drainage {
-    /// Drain the surface at all — off for a sealed aggregate.
-    pub(crate) on: bool,
-    /// β_max, the free surface's conductance.
-    pub(crate) beta_max: f64,
-    /// β_c, the plates' conductance where the surface touches them (0: impermeable).
-    pub(crate) beta_plate: f64,
-    /// Seal distance g_s: the conductance opens fully over this gap.
-    pub(crate) seal_gap: f64,
-    /// Whose gap sets the conductance within a step.
-    pub(crate) gap: DrainageGap,
 }
 
 impl Plates {
@@ -170,24 +124,6 @@ impl Plates {
         nodes.sort_unstable();
         nodes.dedup();
         let z_ref = nodes.iter().map(|&n| mesh.coords[n][2]).collect();
-        // ∫ L_m dA of every vertex of every face (P1 on the curved faces; whole-body areas on
-        // the meridian), with the face's other contact nodes.
-        let rule = FaceRule::with_degree(mesh.family, 2);
-        let nv = mesh.family.face_vertices();
-        let mut shares = Vec::with_capacity(faces.len() * nv);
-        for &f in faces {
-            let fnodes = mesh.face(f as usize);
-            let coords: Vec<[f64; 3]> = fnodes.iter().map(|&n| mesh.coords[n as usize]).collect();
-            let points = rule.points(&coords);
-            for m in 0..nv {
-                let mut others = [usize::MAX; MAX_OTHERS];
-                for (k, &n) in fnodes[..per_face].iter().filter(|&&n| n != fnodes[m]).enumerate() {
-                    others[k] = n as usize;
-                }
-                let area = points.iter().map(|p| p.l[m] * p.w).sum();
-                shares.push(Share { vertex: fnodes[m] as usize, area, others, n_others: per_face - 1 });
-            }
-        }
         let positions = std::rc::Rc::new(std::cell::RefCell::new(Positions { d: vec![0.0], target: vec![None] }));
         let z_top = 2.0 * radius;
         Plates {
@@ -199,7 +135,6 @@ impl Plates {
             nodes,
             z_ref,
             drain,
-            shares,
             anchor,
             tol: AT_BOUND * radius,
             on_bounds: true,
@@ -358,58 +293,31 @@ impl Plates {
         self.nodes.iter().zip(&self.z_ref).map(|(&n, &z)| self.touch(z, u_local[dofs.uz_local(n)], t, zu)).collect()
     }
 
-    /// Drainage of every local (face, vertex) share with the gaps of the state `u_local` (local
-    /// layout) at time t: the vertex's p dof, the u_z dof of the node whose gap sets the share's
-    /// conductance c = β(g) A (outflow c p), and dc/du_z. Empty without drainage.
-    ///
-    /// The gap of a share is the smaller of the vertex's and the largest of its face's other
-    /// nodes': a face drains at a vertex only if it opens towards the bath. Why: a Tri6 face's
-    /// consistent load puts 0 of a uniform pressure on its corners and A(p₁ − (p₂+p₃)/2)/30 of a
-    /// linear one, so a corner inside a contact patch whose pressure dips below its
-    /// neighbours' is pulled off the plate by a fraction of a µm; with its own gap it drained
-    /// into the bath through a pocket sealed all round, its pressure collapsed and it lifted
-    /// further, enough outflow to hold the 3-D forces low at every mesh size (docs/numerics.md,
-    /// *Faces drain only towards the bath*). The meridian's Line3 corners take p/6 and cannot
-    /// lift, so there the rule only seals the half of an edge vertex's share that faces the
-    /// contact.
-    pub(crate) fn drainage(&self, mesh: &LocalMesh, dofs: &DofMap, u_local: &[f64], t: f64) -> Vec<Drain> {
-        let d = &self.drain;
-        if !d.on {
-            return Vec::new();
-        }
+    /// The gap of a surface node to the nearer plate in the local state `u_local` at time t, and
+    /// its derivative with respect to the node's displacement components (only u_z: ±1), for the
+    /// drainage (`physics::drainage`). The upper plate where the drainage's gaps take it
+    /// (`drain_d`).
+    pub(crate) fn drainage_gap<'a>(
+        &self,
+        mesh: &'a LocalMesh,
+        dofs: &'a DofMap,
+        u_local: &'a [f64],
+        t: f64,
+    ) -> impl Fn(usize) -> (f64, [f64; 3]) + 'a {
         let zu = self.drain_d.get().map_or_else(|| self.z_upper(), |d| self.z_top - d);
         let zl = self.z_lower(t);
-        // Gap to the nearer plate of node n and its derivative with respect to u_z.
-        let gap = |n: usize| {
+        let z_axis = dofs.nc - 1;
+        move |n: usize| {
             let z = mesh.coords[n][2] + u_local[dofs.uz_local(n)];
+            let mut dg = [0.0; 3];
             if z - zl <= zu - z {
-                (z - zl, 1.0)
+                dg[z_axis] = 1.0;
+                (z - zl, dg)
             } else {
-                (zu - z, -1.0)
+                dg[z_axis] = -1.0;
+                (zu - z, dg)
             }
-        };
-        self.shares
-            .iter()
-            .map(|sh| {
-                // The widest opening of the face's other nodes, then the smaller of it and m's.
-                let widest =
-                    sh.others[..sh.n_others].iter().map(|&n| (gap(n), n)).max_by(|a, b| a.0 .0.total_cmp(&b.0 .0));
-                let own = (gap(sh.vertex), sh.vertex);
-                let ((g, dg), n) = match widest {
-                    Some(w) if w.0 .0 < own.0 .0 => w,
-                    _ => own,
-                };
-                let (s, ds) = smoothstep(g / d.seal_gap);
-                let (c, dc) = conductance(d.beta_plate, d.beta_max, s, ds);
-                Drain {
-                    vertex: sh.vertex,
-                    p: dofs.p_local(mesh.vertex_of_node[sh.vertex] as usize),
-                    uz: dofs.uz_local(n),
-                    conductance: sh.area * c,
-                    d_conductance: sh.area * dc * dg / d.seal_gap,
-                }
-            })
-            .collect()
+        }
     }
 }
 
@@ -417,48 +325,6 @@ impl Plates {
 pub(crate) fn symmetry(radius: f64, volume: f64) -> f64 {
     let sphere = 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
     (sphere / volume).round().max(1.0)
-}
-
-/// Nodes of a contact face besides one vertex: 5 on a Tri6, 2 on the meridian's Line3.
-const MAX_OTHERS: usize = 5;
-
-/// One vertex's share of one contact face's drainage (see [`Plates::drainage`]).
-#[derive(Debug, Clone, Copy)]
-struct Share {
-    vertex: usize,
-    /// ∫ L_m dA over the face.
-    area: f64,
-    /// The face's other contact nodes (`n_others` of them; its vertices only for P1–P1).
-    others: [usize; MAX_OTHERS],
-    n_others: usize,
-}
-
-/// The drainage term of one (face, vertex) share (see [`Plates::drainage`]).
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Drain {
-    /// The vertex's local node (its position sets the medium's pressure it drains towards).
-    pub(crate) vertex: usize,
-    pub(crate) p: usize,
-    pub(crate) uz: usize,
-    pub(crate) conductance: f64,
-    pub(crate) d_conductance: f64,
-}
-
-/// β = β_c + (β_max − β_c) S and dβ/dx for the smoothstep value S(x) and S'(x): from the plates'
-/// conductance in contact to the free surface's.
-fn conductance(beta_plate: f64, beta_max: f64, s: f64, ds: f64) -> (f64, f64) {
-    (beta_plate + (beta_max - beta_plate) * s, (beta_max - beta_plate) * ds)
-}
-
-/// S(x) = 3x² − 2x³ on [0, 1], 0 below, 1 above, and S'(x).
-fn smoothstep(x: f64) -> (f64, f64) {
-    if x <= 0.0 {
-        (0.0, 0.0)
-    } else if x >= 1.0 {
-        (1.0, 0.0)
-    } else {
-        (x * x * (3.0 - 2.0 * x), 6.0 * x * (1.0 - x))
-    }
 }
 
 /// The displacement increment at the current position `x` of the affine map that moves the
@@ -495,39 +361,6 @@ mod tests {
         let expected = (1.0 + 0.5 * eps).powi(2) * (1.0 - eps);
         assert!((f.determinant() - expected).abs() < 1e-12);
         assert!((f.determinant() - 1.0).abs() < eps * eps);
-    }
-
-    #[test]
-    fn smoothstep_is_c1() {
-        assert_eq!(smoothstep(-0.5), (0.0, 0.0));
-        assert_eq!(smoothstep(1.5), (1.0, 0.0));
-        assert!((smoothstep(0.5).0 - 0.5).abs() < 1e-15);
-        for x in [0.1, 0.3, 0.7, 0.9] {
-            let h = 1e-6;
-            let fd = (smoothstep(x + h).0 - smoothstep(x - h).0) / (2.0 * h);
-            assert!((fd - smoothstep(x).1).abs() < 1e-8);
-        }
-        assert!(smoothstep(1e-9).1 < 1e-8 && smoothstep(1.0 - 1e-9).1 < 1e-8);
-    }
-
-    #[test]
-    fn plate_conductance_in_contact_opens_to_the_free_surfaces() {
-        let (bc, bm) = (3.7729e-6, 18.9);
-        // In contact (S = 0) the plates' conductance, free (S = 1) the surface's; impermeable
-        // plates seal.
-        assert_eq!(conductance(bc, bm, 0.0, 0.0), (bc, 0.0));
-        assert_eq!(conductance(bc, bm, 1.0, 0.0).0, bm);
-        assert_eq!(conductance(0.0, bm, 0.0, 0.0).0, 0.0);
-        // dβ/dx by central differences through the smoothstep.
-        for x in [0.2, 0.5, 0.8] {
-            let h = 1e-6;
-            let at = |x: f64| {
-                let (s, ds) = smoothstep(x);
-                conductance(bc, bm, s, ds)
-            };
-            let fd = (at(x + h).0 - at(x - h).0) / (2.0 * h);
-            assert!((fd - at(x).1).abs() < 1e-6 * bm);
-        }
     }
 
     #[test]

@@ -5,6 +5,7 @@
 pub(crate) mod bc;
 pub(crate) mod biphasic;
 pub(crate) mod contact;
+pub(crate) mod drainage;
 pub(crate) mod factory;
 pub(crate) mod linear;
 pub(crate) mod medium;

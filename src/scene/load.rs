@@ -41,6 +41,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("tst_hold", include_str!("../../meshes/scenes/tst_hold.toml")),
     ("tst_two_compressions", include_str!("../../meshes/scenes/tst_two_compressions.toml")),
     ("creep_plates", include_str!("../../meshes/scenes/creep_plates.toml")),
+    ("indent_sphere", include_str!("../../meshes/scenes/indent_sphere.toml")),
 ];
 
 impl LoadedScene {

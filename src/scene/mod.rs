@@ -17,6 +17,7 @@
 pub(crate) mod auto;
 pub(crate) mod bc;
 mod diagnose;
+pub(crate) mod drainage;
 pub mod explain;
 pub(crate) mod key;
 mod load;

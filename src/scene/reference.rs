@@ -2,6 +2,7 @@
 //! the text of `docs/scene-reference.md` and of `poroplast scenes --keys`.
 
 use super::bc;
+use super::drainage;
 use super::key::{Key, Section, Unset};
 use super::material;
 use super::medium;
@@ -33,6 +34,7 @@ pub(crate) fn sections() -> Vec<Section> {
         tools::SECTION,
         surface::SECTION,
         medium::SECTION,
+        drainage::SECTION,
         numerics::SOLVER_SECTION,
         numerics::FEM_SECTION,
         PETSC_SECTION,
@@ -180,7 +182,8 @@ mod tests {
                  [plates]\nradius = 1.0\ncompression = 0.1\nt_ramp = 1.0\nt_end = 2.0\n\
                  [[probe]]\nname = \"p\"\nfield = \"p\"\ngroup = \"g\"\n\
                  [[bc]]\ngroup = \"g\"\nroller = true\n[surface]\ntension = 1.0\n[medium]\n\
-                 [[tools]]\nname = \"t\"\nkind = \"plane\"\norigin = [0.0, 0.0, 0.0]\naxis = [0.0, 0.0, 1.0]\n"
+                 [[tools]]\nname = \"t\"\nkind = \"plane\"\norigin = [0.0, 0.0, 0.0]\naxis = [0.0, 0.0, 1.0]\n\
+                 [drainage]\nseal_gap = 1.0\n"
             );
             let scene: Scene = toml::from_str(&text).unwrap();
             toml::Table::try_from(&scene).unwrap()

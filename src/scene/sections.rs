@@ -1,6 +1,7 @@
 //! The whole scene: its sections, each the type of its own file (checked in `validate`).
 
 use super::bc::BoundaryCondition;
+use super::drainage::DrainageSpec;
 use super::material::Material;
 use super::medium::MediumSpec;
 use super::mesh::MeshSpec;
@@ -45,6 +46,9 @@ pub(crate) struct Scene {
     /// The liquid the aggregate sits in (buoyancy, the drained pores' pressure).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(crate) medium: Option<MediumSpec>,
+    /// The surface drainage of a scene without plates (sealed where a sealing tool touches it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) drainage: Option<DrainageSpec>,
     #[serde(default)]
     pub(crate) solver: SolverSpec,
     #[serde(default)]

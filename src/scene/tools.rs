@@ -44,10 +44,24 @@ pub(crate) struct ToolSpec {
     /// (empty: held at 0).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub(crate) protocol: Vec<ProtocolRow>,
+    /// Whether the tool seals the surface it touches (the default) or lets it drain.
+    #[serde(default)]
+    pub(crate) drainage: ToolDrainage,
 }
 
 fn default_group() -> String {
     "surface".into()
+}
+
+/// A tool's effect on the drainage of the surface it touches (`physics::drainage`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub(crate) enum ToolDrainage {
+    /// Impermeable: the surface it touches is sealed (glass, steel).
+    #[default]
+    Sealed,
+    /// Permeable, or not in the bath's way: the surface drains as if it were not there.
+    Free,
 }
 
 /// The shape of a tool's profile.
@@ -315,6 +329,16 @@ const PROTOCOL: Key = Key::new(
 )
 .rule("increasing t ≥ 0; force > 0; a force-controlled tool must touch the body when its control starts");
 
+const DRAINAGE: Key = Key::new(
+    "tools.drainage",
+    "",
+    Unset::Value("\"sealed\""),
+    "`sealed`: the tool is impermeable, the surface it touches does not drain; `free`: it drains as if the \
+     tool were not there",
+)
+.rule("drains only with [plates] or [drainage]")
+.enters("numerics.md: Drainage off the tools");
+
 /// The dimension keys, in the order of [`ToolSpec::dimension_values`].
 const DIMENSIONS: [Key; 5] = [RADIUS, EDGE_RADIUS, INNER_RADIUS, WALL, RIM_RADIUS];
 
@@ -324,7 +348,7 @@ pub(super) const SECTION: Section = Section {
     about: "Rigid tools of revolution about their own axis: a plane, a sphere, a flat punch with a rounded edge, \
             a micropipette (a tube with a rounded rim). Each is placed by its origin and its axis, which points \
             from the tool towards the body.",
-    keys: &[NAME, KIND, RADIUS, EDGE_RADIUS, INNER_RADIUS, WALL, RIM_RADIUS, ORIGIN, AXIS, GROUP, PROTOCOL],
+    keys: &[NAME, KIND, RADIUS, EDGE_RADIUS, INNER_RADIUS, WALL, RIM_RADIUS, ORIGIN, AXIS, GROUP, PROTOCOL, DRAINAGE],
 };
 
 #[cfg(test)]
@@ -476,11 +500,17 @@ axis = [0.0, 0.0, -1.0]
 
     #[test]
     fn unknown_keys_and_kinds_are_refused_by_name() {
+        use super::ToolDrainage::{Free, Sealed};
         let msg = edited("kind = \"plane\"", "kind = \"cone\"", Geometry::Solid).unwrap_err();
         assert!(msg.contains("cone") && msg.contains("pipette"), "{msg}");
         // Friction is not a property of these tools: refused by name.
         let msg = edited("radius = 50.0", "radius = 50.0\nfriction = 0.1", Geometry::Solid).unwrap_err();
         assert!(msg.contains("unknown field `friction`"), "{msg}");
+        // A tool seals unless it is free; nothing else.
+        let tools = parse(&TOOLS.replacen("radius = 50.0", "radius = 50.0\ndrainage = \"free\"", 1)).unwrap();
+        assert_eq!(tools.iter().map(|t| t.drainage).collect::<Vec<_>>(), [Sealed, Free, Sealed]);
+        let msg = edited("radius = 50.0", "radius = 50.0\ndrainage = \"porous\"", Geometry::Solid).unwrap_err();
+        assert!(msg.contains("porous") && msg.contains("sealed") && msg.contains("free"), "{msg}");
     }
 
     #[test]

@@ -34,6 +34,9 @@ impl Scene {
         if let Some(m) = &self.medium {
             m.validate(self.material.mixture(), &self.bc)?;
         }
+        if let Some(d) = &self.drainage {
+            d.validate(self.plates.is_some())?;
+        }
         self.fem.validate(self.mesh.geometry)?;
         plausible::check(self, notes)?;
         self.validate_petsc()

@@ -1,16 +1,14 @@
 //! The rigid plates in the steps ([`ContactStage`]): the plates, their SNESVI contact bounds
 //! moved to each stage time, the predictor of a step (the previous state extrapolated with the
 //! last step's velocity, the contact nodes moved with the plate, or the isochoric guess where
-//! that compacts a point to its solid fraction), whose gaps may set the step's drainage, and
-//! the drainage out of contact in the residual and the Jacobian.
+//! that compacts a point to its solid fraction), whose gaps may set the step's drainage
+//! (`drainage_stage`).
 
-use super::schur::SchurApprox;
 use crate::error::{Error, Result};
 use crate::fem::assembly::Discretization;
 use crate::fem::dofmap::DofMap;
-use crate::petsc::{Int, Mat, Vector};
+use crate::petsc::Vector;
 use crate::physics::contact::{DrainageGap, Plates};
-use crate::physics::medium::Medium;
 use crate::physics::surface_tension::PlatePlanes;
 use crate::physics::tools::protocol::Progress;
 use crate::solver::active_set::{Moves, PositionUnknown};
@@ -225,61 +223,6 @@ impl ContactStage {
         let n = disc.dofs.n_owned_nodes;
         self.plates.predict_isochoric(t0, t1, &disc.mesh.coords[..n], disc.family().axes(), x0, &mut x.write()?);
         self.plates.predict(t0, t1, &disc.dofs, x0, &mut x.write()?);
-        Ok(())
-    }
-
-    /// The drainage through the surface off the plates into the local residual `f`: outflow
-    /// c(g) (p − p_m) at the local state `u`, p_m the medium's pressure at the vertex's current
-    /// position (0 without a medium: the bath's gauge).
-    pub(crate) fn add_drainage(
-        &self,
-        disc: &Discretization,
-        u: &[f64],
-        t: f64,
-        medium: Option<&Medium>,
-        f: &mut [f64],
-    ) {
-        for d in self.plates.drainage(&disc.mesh, &disc.dofs, self.predicted.as_deref().unwrap_or(u), t) {
-            match medium {
-                None => f[d.p] += d.conductance * u[d.p],
-                Some(m) => f[d.p] += d.conductance * (u[d.p] - m.at_node(&disc.mesh, &disc.dofs, d.vertex, u)),
-            }
-        }
-    }
-
-    /// The drainage's Jacobian: d(c p)/dp = c on the diagonal, d(c p)/du_z = c' p (not with the
-    /// predicted gap, fixed during the step); and c in the Schur approximation. With a medium,
-    /// c' (p − p_m) instead, and −c ∇p_m on the vertex's u columns (in the pattern: the vertex
-    /// couples with its own u).
-    pub(crate) fn add_drainage_jacobian(
-        &self,
-        disc: &Discretization,
-        u: &[f64],
-        t: f64,
-        medium: Option<&Medium>,
-        jac: &mut Mat,
-        schur: &mut SchurApprox,
-    ) -> Result<()> {
-        let l2g = &disc.dofs.l2g;
-        let gaps = self.predicted.as_deref();
-        for d in self.plates.drainage(&disc.mesh, &disc.dofs, gaps.unwrap_or(u), t) {
-            if disc.constrained[d.p] {
-                continue;
-            }
-            let p_m = medium.map_or(0.0, |m| m.at_node(&disc.mesh, &disc.dofs, d.vertex, u));
-            let dc_du = if gaps.is_some() { 0.0 } else { d.d_conductance * (u[d.p] - p_m) };
-            jac.add_values(&[l2g[d.p]], &[l2g[d.p], l2g[d.uz]], &[d.conductance, dc_du])?;
-            if let Some(m) = medium {
-                for (c, g) in m.gradient().iter().take(disc.dofs.nc).enumerate() {
-                    let col = disc.dofs.u_local(d.vertex, c);
-                    if !disc.constrained[col] {
-                        jac.add_values(&[l2g[d.p]], &[l2g[col]], &[-d.conductance * g])?;
-                    }
-                }
-            }
-            let gv = disc.mesh.vertex_global[d.p - disc.dofs.n_u_local()] as Int;
-            schur.add_diagonal(gv, d.conductance)?;
-        }
         Ok(())
     }
 }

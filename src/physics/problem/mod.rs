@@ -4,6 +4,7 @@
 
 mod constraints;
 mod contact_stage;
+mod drainage_stage;
 mod fd_check;
 mod insertion;
 mod local;

@@ -1,6 +1,6 @@
 //! What a [`PoroProblem`](super::PoroProblem) is made of, each part built complete before it
 //! (`driver::setup`): the discretisation's parts, the boundary conditions, the surface
-//! tension, the medium, the plates and the Schur approximation's matrix.
+//! tension, the medium, the plates, the tools, the drainage and the Schur approximation's matrix.
 
 use crate::fem::dofmap::DofMap;
 use crate::fem::element::Tabulation;
@@ -10,6 +10,7 @@ use crate::mesh::dist::LocalMesh;
 use crate::petsc::Mat;
 use crate::physics::bc::Constraint;
 use crate::physics::contact::Plates;
+use crate::physics::drainage::SurfaceDrainage;
 use crate::physics::medium::Medium;
 use crate::physics::surface_tension::SurfaceTension;
 use crate::physics::tools::ToolSet;
@@ -40,6 +41,8 @@ pub(crate) struct ProblemParts {
     pub(crate) plates: Option<Plates>,
     /// Rigid tools of revolution (exact frictionless contact in their frames), if any.
     pub(crate) tools: Option<ToolSet>,
+    /// The surface's drainage off the plates and the sealing tools, if it drains.
+    pub(crate) drainage: Option<SurfaceDrainage>,
     /// The fixed-stress Schur approximation's matrix on the pressure space (preallocated).
     pub(crate) schur: Mat,
 }

@@ -18,6 +18,7 @@
 
 use super::constraints::ConstraintRows;
 use super::contact_stage::ContactStage;
+use super::drainage_stage::{DrainageStage, Seals};
 use super::insertion::JacobianInsertion;
 use super::local::LocalVectors;
 use super::parts::ProblemParts;
@@ -59,6 +60,8 @@ pub(crate) struct PoroProblem {
     /// Rigid plates, if the scene has them.
     contact: Option<ContactStage>,
     tools: Option<ToolStage>,
+    /// The surface's drainage off the plates and the sealing tools, if it drains.
+    drainage: Option<DrainageStage>,
     /// The solver's part of force control, until the solver takes it (`take_border`).
     border: Option<crate::solver::active_set::Border>,
     /// Surface tension of the boundary, if the scene has it.
@@ -95,6 +98,7 @@ impl PoroProblem {
             medium,
             plates,
             tools,
+            drainage,
             schur,
         } = parts;
         let local = LocalVectors::new(world.as_raw(), &dofs, template)?;
@@ -125,6 +129,7 @@ impl PoroProblem {
             insertion: JacobianInsertion::default(),
             contact,
             tools,
+            drainage: drainage.map(DrainageStage::new),
             border,
             surface,
             medium,
@@ -204,7 +209,7 @@ impl PoroProblem {
     fn residual_with(&mut self, t: f64, dt: f64, f: &mut Vector) -> Result<()> {
         let planes = self.plate_planes(t);
         let (disc, surface, contact, external) = (&self.disc, &self.surface, &self.contact, &self.external);
-        let (tools, medium) = (&self.tools, self.medium.as_ref());
+        let (tools, medium, drainage) = (&self.tools, self.medium.as_ref(), &self.drainage);
         let outcome = self.local.with_zeroed_f(|ul, udl, fl| {
             // The tools' contact at this iterate, for the solver's split.
             tools.iter().for_each(|ts| ts.update(ul, &disc.dofs));
@@ -218,9 +223,10 @@ impl PoroProblem {
             if let Some(m) = medium {
                 m.add_residual(&disc.mesh, &disc.dofs, ul, fl);
             }
-            // Drainage through the surface off the plates: outflow c(g) (p − p_m) (contact module).
-            if let Some(c) = contact {
-                c.add_drainage(disc, ul, t, medium, fl);
+            // Drainage through the surface off the plates and tools: outflow c(g) (p − p_m).
+            if let Some(d) = drainage {
+                let set = tools.as_ref().map(ToolStage::set);
+                d.add_residual(disc, ul, t, seals(contact, set.as_deref(), medium), fl);
             }
             for (l, x) in fl.iter_mut().enumerate() {
                 if disc.constrained[l] {
@@ -299,14 +305,23 @@ impl PoroProblem {
         if let Some(m) = &self.medium {
             m.for_each_block(&disc.mesh, &disc.dofs, &ul, &mut add_face_block)?;
         }
-        if let Some(c) = &self.contact {
-            c.add_drainage_jacobian(&self.disc, &ul, t, self.medium.as_ref(), jac, &mut self.schur)?;
+        if let Some(d) = &self.drainage {
+            let set = self.tools.as_ref().map(ToolStage::set);
+            let seals = seals(&self.contact, set.as_deref(), self.medium.as_ref());
+            d.add_jacobian(&self.disc, &ul, t, seals, jac, &mut self.schur)?;
         }
         self.rows.add_jacobian_rows(&self.disc.mesh, &self.disc.dofs, scales, jac, &mut self.schur)?;
         jac.assemble()?;
         self.schur.assemble()?;
         self.insertion.finish(&self.disc, shift, jac)
     }
+}
+
+/// What the drained surface drains against: the plates (with their predictor's gaps), the tools
+/// and the medium.
+fn seals<'a>(contact: &'a Option<ContactStage>, tools: Option<&'a ToolSet>, medium: Option<&'a Medium>) -> Seals<'a> {
+    let plates = contact.as_ref().map(ContactStage::plates);
+    Seals { plates, tools, gaps: contact.as_ref().and_then(ContactStage::drainage_gaps), medium }
 }
 
 /// Post-processing of a converged state.

@@ -270,25 +270,46 @@ impl ToolSet {
     /// point), in the node's components ((r, z) on the meridian).
     fn nearest_at(&self, x: [f64; 3], position: &[f64]) -> Option<(usize, Local)> {
         let mut best: Option<(usize, Local)> = None;
-        for (k, tool) in self.tools.iter().enumerate() {
-            let g = if self.nc == 2 {
-                let s = tool.meridian([x[0], x[2]], position[k]);
-                let [[a, b], [c, d]] = s.hess;
-                Local {
-                    phi: s.phi,
-                    normal: [s.grad[0], s.grad[1], 0.0],
-                    hess: [[a, b, 0.0], [c, d, 0.0], [0.0; 3]],
-                    closest: [s.closest[0], s.closest[1], 0.0],
-                }
-            } else {
-                let g = tool.gap(x, position[k]);
-                Local { phi: g.phi, normal: g.normal, hess: g.hess, closest: g.closest }
-            };
+        for k in 0..self.tools.len() {
+            let g = self.local_gap(k, x, position[k]);
             if best.as_ref().is_none_or(|(_, b)| g.phi < b.phi) {
                 best = Some((k, g));
             }
         }
         best
+    }
+
+    /// Tool k's distance at x, the tool at `position`, in the node's components.
+    fn local_gap(&self, k: usize, x: [f64; 3], position: f64) -> Local {
+        let tool = &self.tools[k];
+        if self.nc == 2 {
+            let s = tool.meridian([x[0], x[2]], position);
+            let [[a, b], [c, d]] = s.hess;
+            Local {
+                phi: s.phi,
+                normal: [s.grad[0], s.grad[1], 0.0],
+                hess: [[a, b, 0.0], [c, d, 0.0], [0.0; 3]],
+                closest: [s.closest[0], s.closest[1], 0.0],
+            }
+        } else {
+            let g = tool.gap(x, position);
+            Local { phi: g.phi, normal: g.normal, hess: g.hess, closest: g.closest }
+        }
+    }
+
+    /// The drainage's gap of local node `node` (reference position `x_ref`) in the local state
+    /// `u`, the tools where the stage put them: the nearest sealing tool's φ and ∇φ in the node's
+    /// components (None: no tool seals).
+    pub(crate) fn seal_gap(&self, node: usize, x_ref: [f64; 3], u: &[f64]) -> Option<(f64, [f64; 3])> {
+        let mut x = x_ref;
+        for (k, &a) in self.axes().iter().enumerate() {
+            x[a] += u[self.nc * node + k];
+        }
+        (0..self.tools.len())
+            .filter(|&k| self.tools[k].seals)
+            .map(|k| self.local_gap(k, x, self.position[k]))
+            .min_by(|a, b| a.phi.total_cmp(&b.phi))
+            .map(|g| (g.phi, g.normal))
     }
 
     /// The contact data of the local state `u` (owned + ghost, after the ghost exchange): the

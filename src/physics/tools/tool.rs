@@ -6,7 +6,7 @@
 use super::profile::Profile;
 use super::sdf::Sdf2;
 use crate::error::{Error, Result};
-use crate::scene::tools::{ToolKind, ToolSpec};
+use crate::scene::tools::{ToolDrainage, ToolKind, ToolSpec};
 
 /// A rigid tool of revolution.
 #[derive(Debug, Clone, PartialEq)]
@@ -18,6 +18,9 @@ pub(crate) struct Tool {
     pub(crate) origin: [f64; 3],
     /// The unit axis a, from the tool towards the body (the body lies at ζ > 0).
     pub(crate) axis: [f64; 3],
+    /// Whether it seals the surface it touches (impermeable, the default), or lets it drain
+    /// (`tools.drainage = "free"`; `physics::drainage`).
+    pub(crate) seals: bool,
 }
 
 /// The signed distance at a point of space: φ, its gradient ∇φ (the unit normal of the level
@@ -39,7 +42,7 @@ impl Tool {
     pub(crate) fn new(name: &str, profile: Profile, origin: [f64; 3], axis: [f64; 3]) -> Tool {
         let n = dot(axis, axis).sqrt();
         debug_assert!(n > 0.0, "tool {name}: zero axis");
-        Tool { name: name.to_string(), profile, origin, axis: axis.map(|c| c / n) }
+        Tool { name: name.to_string(), profile, origin, axis: axis.map(|c| c / n), seals: true }
     }
 
     /// The tool a scene's `[[tools]]` entry describes; a malformed one is an error naming the
@@ -56,7 +59,8 @@ impl Tool {
                 Profile::Pipette { inner: dim(spec.inner_radius), wall: dim(spec.wall), rim: dim(spec.rim_radius) }
             }
         };
-        Ok(Tool::new(&spec.name, profile, spec.origin, spec.axis))
+        let tool = Tool::new(&spec.name, profile, spec.origin, spec.axis);
+        Ok(Tool { seals: spec.drainage == ToolDrainage::Sealed, ..tool })
     }
 
     /// The frame's origin at the tool's position `d` along its axis: c = origin + d a.

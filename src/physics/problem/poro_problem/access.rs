@@ -28,11 +28,6 @@ impl PoroProblem {
         &self.disc.constrained
     }
 
-    /// The medium, if the scene has it.
-    pub(crate) fn medium(&self) -> Option<&Medium> {
-        self.medium.as_ref()
-    }
-
     /// The solver's part of the upper plate's force control (None without it, or once taken).
     pub(crate) fn take_border(&mut self) -> Option<crate::solver::active_set::Border> {
         self.border.take()
@@ -166,10 +161,13 @@ impl PoroProblem {
         }
     }
 
-    /// The state whose gaps set the last step's drainage (local layout), if not its solution:
-    /// the predictor's, with `DrainageGap::Predicted`.
-    pub(crate) fn drainage_gaps(&self) -> Option<&[f64]> {
-        self.contact.as_ref().and_then(ContactStage::drainage_gaps)
+    /// This rank's outflow through the drained surface at the local state `local` at time t,
+    /// with the gaps the last step's residual used (the predictor's, with
+    /// `DrainageGap::Predicted`; else the state's); 0 without drainage.
+    pub(crate) fn drainage_outflow(&self, local: &[f64], t: f64) -> f64 {
+        let Some(d) = &self.drainage else { return 0.0 };
+        let set = self.tools.as_ref().map(ToolStage::set);
+        d.outflow(&self.disc, local, t, seals(&self.contact, set.as_deref(), self.medium.as_ref()))
     }
 
     /// Local copy (owned + ghost) of a global vector, for post-processing.
