@@ -305,15 +305,19 @@ mod tests {
         assert!(studies.contains(&rule), "docs/studies.md does not state {rule}");
     }
 
-    /// The shipped scene's numbers: γ = 5 mN/m, ρ = 0.6 × 1000 + 0.4 × 1000 kg/m³, g = 9.81 m/s²,
-    /// R = 100 µm: Bo = 1000 × 9.81 × 1e-8 / 5e-3 = 0.01962; 1/(λp µ) = 1/(0.001 × 20) = 50 s.
-    /// Without gravity no Bond number; without surface tension nothing.
+    /// The shipped scene's numbers weighed in air (its `[medium]` taken out): γ = 5 mN/m,
+    /// ρ = 0.6 × 1000 + 0.4 × 1000 kg/m³, g = 9.81 m/s², R = 100 µm: Bo = 1000 × 9.81 × 1e-8 / 5e-3
+    /// = 0.01962; 1/(λp µ) = 1/(0.001 × 20) = 50 s. As shipped, in its medium of the pores' fluid's
+    /// density, Bo = 0. Without gravity no Bond number; without surface tension nothing.
     #[test]
     fn a_scenes_setting() {
-        let load = |sets: &[&str]| {
+        let scene = |sets: &[&str]| {
             let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-            Tensiometry::of(&LoadedScene::load("tst_two_compressions", &sets).unwrap().scene)
+            LoadedScene::load("tst_two_compressions", &sets).unwrap().scene
         };
+        let shipped = Tensiometry::of(&scene(&[])).unwrap();
+        assert_eq!((shipped.buoyed, shipped.bond), (true, Some(0.0)));
+        let load = |sets: &[&str]| Tensiometry::of(&crate::scene::Scene { medium: None, ..scene(sets) });
         let t = load(&[]).unwrap();
         assert_eq!((t.gamma, t.adhesion, t.buoyed), (5.0, 0.0, false));
         assert!((t.bond.unwrap() - 0.01962).abs() < 1e-12 && (t.relaxation_s.unwrap() - 50.0).abs() < 1e-12, "{t:?}");
@@ -325,9 +329,9 @@ mod tests {
         // ρ = 0.6 × 1100 + 0.4 × 1000 = 1060.
         assert!((t.bond.unwrap() - 1060.0 * 9.81 * 2.25e-8 / 5e-3).abs() < 1e-12, "{t:?}");
         // In the medium (ρ_m = ρf = 1000) the excess: 1060 − 1000 = 60; ρs = ρf: none.
-        let t = load(&["material.rho_s=1100", "mesh.params.R=150", "medium.density=1000"]).unwrap();
+        let in_medium = |sets: &[&str]| Tensiometry::of(&scene(sets));
+        let t = in_medium(&["material.rho_s=1100", "mesh.params.R=150", "medium.density=1000"]).unwrap();
         assert!(t.buoyed && (t.bond.unwrap() - 60.0 * 9.81 * 2.25e-8 / 5e-3).abs() < 1e-12, "{t:?}");
-        assert_eq!(load(&["medium.density=1000"]).unwrap().bond, Some(0.0));
         assert!(load(&["surface.tension=0"]).is_none());
     }
 }

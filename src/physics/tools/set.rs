@@ -305,9 +305,10 @@ impl ToolSet {
         for (k, &a) in self.axes().iter().enumerate() {
             x[a] += u[self.nc * node + k];
         }
+        let position = self.positions.borrow();
         (0..self.tools.len())
             .filter(|&k| self.tools[k].seals)
-            .map(|k| self.local_gap(k, x, self.position[k]))
+            .map(|k| self.local_gap(k, x, position.d[k]))
             .min_by(|a, b| a.phi.total_cmp(&b.phi))
             .map(|g| (g.phi, g.normal))
     }
