@@ -5,9 +5,11 @@
 pub(crate) mod bc;
 pub(crate) mod biphasic;
 pub(crate) mod contact;
+pub(crate) mod drag;
 pub(crate) mod factory;
 pub(crate) mod linear;
 pub(crate) mod medium;
+pub(crate) mod suction;
 pub(crate) mod problem;
 pub(crate) mod surface_geometry;
 pub(crate) mod surface_tension;

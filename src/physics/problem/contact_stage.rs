@@ -295,7 +295,7 @@ impl ContactStage {
             let dc_du = if gaps.is_some() { 0.0 } else { d.d_conductance * (u[d.p] - p_m) };
             jac.add_values(&[l2g[d.p]], &[l2g[d.p], l2g[d.uz]], &[d.conductance, dc_du])?;
             if let Some(m) = medium {
-                for (c, g) in m.gradient().iter().take(disc.dofs.nc).enumerate() {
+                for (c, g) in m.gradient_at(&disc.mesh, &disc.dofs, d.vertex, u).iter().take(disc.dofs.nc).enumerate() {
                     let col = disc.dofs.u_local(d.vertex, c);
                     if !disc.constrained[col] {
                         jac.add_values(&[l2g[d.p]], &[l2g[col]], &[-d.conductance * g])?;
