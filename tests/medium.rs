@@ -141,7 +141,7 @@ fn bad_medium_input_is_named() {
             "medium.density = 1030: the pores hold the medium, so its density is material.rho_f",
         ),
         (&["medium.density=-5"], "medium.density = -5: must be finite and >= 0"),
-        (&["medium.viscosity=1e-3"], "unknown field `viscosity`, expected `density` or `group`"),
+        (&["medium.viscous=1e-3"], "unknown field `viscous`"),
         (&["material.rho_f=1030", "medium.density=1000"], "set material.rho_f = 1000"),
     ];
     for (sets, expect) in cases {
