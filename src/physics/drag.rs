@@ -27,7 +27,14 @@ pub(crate) struct Drag {
 impl Drag {
     /// The drag of a medium of viscosity `viscosity` (Pa s) on a body of radius `radius` (µm)
     /// over the local `faces` (the rule's `outward` sign is irrelevant to |n da|).
-    pub(crate) fn new(viscosity: f64, radius: f64, rule: &Rule, mesh: &LocalMesh, dofs: &DofMap, faces: &[u32]) -> Drag {
+    pub(crate) fn new(
+        viscosity: f64,
+        radius: f64,
+        rule: &Rule,
+        mesh: &LocalMesh,
+        dofs: &DofMap,
+        faces: &[u32],
+    ) -> Drag {
         let (d, nn) = rule.layout();
         let zero = vec![0.0; dofs.n_local()];
         let mass = faces
@@ -48,7 +55,6 @@ impl Drag {
             .collect();
         Drag { coefficient: 1.5 * viscosity / radius * PA_TO_KPA, mass, d }
     }
-
 
     /// Face k's drag on its nodes at the rates `udot` (local layout), the face's dofs `idx`: added
     /// to `r` (the face's rows, rule layout).

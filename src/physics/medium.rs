@@ -68,7 +68,13 @@ impl Medium {
     /// With the viscous drag of a medium of viscosity `viscosity` (Pa s, > 0) on the body, its
     /// radius R₀ that of the sphere of the meshed volume (collective; a quarter model's is the
     /// quarter's, which overestimates ζ_d by 4^{1/3}: the pipettes are on the meridian).
-    pub(crate) fn with_drag(mut self, viscosity: f64, mesh: &LocalMesh, dofs: &DofMap, world: &SimpleCommunicator) -> Medium {
+    pub(crate) fn with_drag(
+        mut self,
+        viscosity: f64,
+        mesh: &LocalMesh,
+        dofs: &DofMap,
+        world: &SimpleCommunicator,
+    ) -> Medium {
         let radius = (3.0 * mesh.volume(world) / (4.0 * std::f64::consts::PI)).cbrt();
         self.drag = Some(Drag::new(viscosity, radius, &self.rule, mesh, dofs, &self.faces));
         self

@@ -42,7 +42,15 @@ impl Suction {
             unreachable!("the scene checks that a suction names a pipette")
         };
         let dp = table.first().map_or(0.0, |r| r.1);
-        Suction { tool, tool_index, table: PlateLoading::table(table), rho_cut: inner + 0.5 * wall, ramp: rim, dp, position: 0.0 }
+        Suction {
+            tool,
+            tool_index,
+            table: PlateLoading::table(table),
+            rho_cut: inner + 0.5 * wall,
+            ramp: rim,
+            dp,
+            position: 0.0,
+        }
     }
 
     /// The bore's inner radius Rp (µm).
@@ -100,7 +108,11 @@ mod tests {
 
     fn pipette() -> Suction {
         let profile = Profile::Pipette { inner: 20.0, wall: 10.0, rim: 2.0 };
-        let mut s = Suction::new(Tool::new("p", profile, [0.0, 0.0, 100.0], [0.0, 0.0, -1.0]), 0, vec![(0.0, 0.0), (10.0, 2.0)]);
+        let mut s = Suction::new(
+            Tool::new("p", profile, [0.0, 0.0, 100.0], [0.0, 0.0, -1.0]),
+            0,
+            vec![(0.0, 0.0), (10.0, 2.0)],
+        );
         s.move_to(5.0, 3.0);
         s
     }

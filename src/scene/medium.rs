@@ -157,7 +157,10 @@ impl MediumSpec {
     }
 
     /// Every suction's table as (t, Δp) with its tool's index in `tools` (validated).
-    pub(crate) fn suction_tables<'a>(&'a self, tools: &'a [ToolSpec]) -> impl Iterator<Item = (usize, Vec<(f64, f64)>)> + 'a {
+    pub(crate) fn suction_tables<'a>(
+        &'a self,
+        tools: &'a [ToolSpec],
+    ) -> impl Iterator<Item = (usize, Vec<(f64, f64)>)> + 'a {
         self.suction.iter().filter_map(move |s| {
             let k = tools.iter().position(|t| t.name == s.tool)?;
             Some((k, s.table.iter().map(|r| (r.t, r.dp)).collect()))

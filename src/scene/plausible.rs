@@ -166,7 +166,7 @@ fn modulus(scene: &Scene) -> Option<f64> {
 fn check_suctions(scene: &Scene, m: &super::medium::MediumSpec) -> Result<(), String> {
     let Some(e) = modulus(scene) else { return Ok(()) };
     for (i, s) in m.suction.iter().enumerate() {
-        for (j, row) in s.table.iter().enumerate().filter(|(_, r)| r.dp.abs() > 10.0 * e) {
+        if let Some((j, row)) = s.table.iter().enumerate().find(|(_, r)| r.dp.abs() > 10.0 * e) {
             return Err(format!(
                 "medium.suction #{} table row {}: dp = {} kPa is above 10 E = {} kPa for a body of modulus {e} kPa: \
                  Pa given as kPa? (divide by 1000)",
