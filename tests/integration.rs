@@ -5,6 +5,8 @@
 
 #[path = "accuracy_line.rs"]
 mod accuracy_line;
+#[path = "aspiration.rs"]
+mod aspiration;
 #[path = "axisymmetric.rs"]
 mod axisymmetric;
 #[path = "bad_input.rs"]

@@ -35,6 +35,7 @@ use crate::physics::factory::{ellipticity_warning, model_of};
 use crate::physics::medium::Medium;
 use crate::physics::problem::untouched;
 use crate::physics::problem::{PoroProblem, ProblemParts};
+use crate::physics::suction::Suction;
 use crate::physics::surface_tension::{Adhesion, SurfaceTension};
 use crate::physics::tools::protocol::{Mode, ToolProtocol};
 use crate::physics::tools::{Profile, Tool, ToolSet};
@@ -459,11 +460,17 @@ fn surface_tension(
 
 /// The medium on the boundary, if the scene has it (its density resolved, its material a
 /// mixture: the scene checks both).
-fn medium(world: &SimpleCommunicator, scene: &LoadedScene, local: &LocalMesh) -> Result<Option<Medium>> {
+fn medium(world: &SimpleCommunicator, scene: &LoadedScene, local: &LocalMesh, dofs: &DofMap) -> Result<Option<Medium>> {
     let (Some(md), Some(mix)) = (scene.scene.medium.as_ref(), scene.scene.material.mixture()) else { return Ok(None) };
     let ctx = format!("{}: [medium]", scene.source);
     let faces = agree(world, bc::face_group(local, &md.group, &ctx))?.to_vec();
-    Ok(Some(Medium::new(md.density.unwrap_or(mix.rho_f), mix.gravity, local, &faces)))
+    let tools = &scene.scene.tools;
+    let suctions = md
+        .suction_tables(tools)
+        .map(|(k, table)| Ok(Suction::new(Tool::from_spec(&tools[k], &scene.source)?, k, table)))
+        .collect::<Result<Vec<_>>>()?;
+    let medium = Medium::new(md.density.unwrap_or(mix.rho_f), mix.gravity, local, &faces).with_suctions(suctions);
+    Ok(Some(if md.viscosity > 0.0 { medium.with_drag(md.viscosity, local, dofs, world) } else { medium }))
 }
 
 /// Sets the run of `scene` up as `args` ask, holding `lock` if the run directory was locked
@@ -502,7 +509,7 @@ pub(super) fn setup<'w>(
     }
     let drainage = drainage(world, scene, &local, model.as_ref(), plates.as_ref().zip(plate_faces.as_deref()))?;
     let surface = surface_tension(world, scene, &local)?;
-    let medium = medium(world, scene, &local)?;
+    let medium = medium(world, scene, &local, &dofs)?;
     let probes = s.probe.iter().map(|p| Probe::new(p, &local, world, &scene.source)).collect::<Result<Vec<_>>>()?;
 
     let pre = dofs.preallocation(&local);
@@ -521,6 +528,7 @@ pub(super) fn setup<'w>(
         .iter()
         .flat_map(|p| p.loading.kinks().into_iter().chain(p.upper.kinks()))
         .chain(tools.iter().flat_map(ToolSet::kinks))
+        .chain(medium.iter().flat_map(Medium::kinks))
         .collect();
     let parts = ProblemParts {
         mesh: local,
@@ -577,6 +585,7 @@ pub(super) fn setup<'w>(
         experiment,
         tools: s.tool_names().map(str::to_string).collect(),
         force_control: ts.problem().plates().is_some_and(|p| p.upper.has_force()),
+        medium: crate::observe::aspiration::columns(s.medium.as_ref()),
         exact: exact_columns(scene)?,
         remodelling: ts.problem().has_qp_state(),
         fields: s.output.fields,

@@ -3,17 +3,18 @@
 //! `io::recorder`, the observers' here) — the table of docs/reference-run-directory.md, which
 //! `poroplast columns --table` prints and a test keeps equal.
 
-use super::{experiment, force_control, probe, remodelling_summary, tools, verification};
+use super::{aspiration, experiment, force_control, probe, remodelling_summary, tools, verification};
 use crate::io::recorder::{ColumnDoc, ITERATIONS, STEP};
 
 /// Every column a run can write, in order: the step's, the experiment's (with its Laplace
-/// analysis), the upper plate's under force control, the tools' (patterns), the remodelling summary's, the probes' (a pattern), the exact solutions', and the
+/// analysis), the upper plate's under force control, the tools' (patterns), the medium's, the remodelling summary's, the probes' (a pattern), the exact solutions', and the
 /// step's iterations and wall time. A scene's run writes those that apply, in this order.
 pub(crate) fn reference() -> Vec<ColumnDoc> {
     let mut docs: Vec<ColumnDoc> = STEP.iter().map(|c| c.doc).collect();
     docs.extend(experiment::columns().map(|(doc, _)| *doc));
     docs.extend(force_control::COLUMNS.iter().map(|c| c.doc));
     docs.extend(tools::COLUMNS);
+    docs.extend(aspiration::LENGTH.iter().map(|c| c.doc).chain(aspiration::DRAG.iter().map(|c| c.doc)));
     docs.extend(remodelling_summary::COLUMNS.iter().map(|c| c.doc));
     docs.push(probe::COLUMN);
     docs.extend(verification::COLUMNS.iter().map(|&d| *d));

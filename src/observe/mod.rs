@@ -5,6 +5,7 @@
 //! each declares its `history.csv` columns once (name, unit, meaning, value), and `columns` lists them all for the docs.
 
 pub(crate) mod analytic;
+pub(crate) mod aspiration;
 pub(crate) mod columns;
 pub(crate) mod experiment;
 pub(crate) mod force_control;

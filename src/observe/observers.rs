@@ -5,6 +5,7 @@
 //! observed after it: [`Observers::sample`] post-processes the state, [`Observers::observe`]
 //! turns a sample into the step's [`Observed`] values.
 
+use super::aspiration;
 use super::experiment::{self, Experiment};
 use super::force_control;
 use super::pressure_peak::PressurePeak;
@@ -30,6 +31,8 @@ pub(crate) struct Observers {
     pub(crate) tools: Vec<String>,
     /// Whether the upper plate has force rows: its position and target are recorded.
     pub(crate) force_control: bool,
+    /// Whether the medium's aspirated length and drag are recorded (`aspiration::columns`).
+    pub(crate) medium: (bool, bool),
     /// Exact-solution columns of a verification scene.
     pub(crate) exact: Vec<Exact>,
     /// Whether the model keeps qp state (remodelling): its summary is recorded.
@@ -67,6 +70,7 @@ impl Observers {
             self.experiment.is_some(),
             self.force_control,
             self.tools.iter().map(String::as_str),
+            self.medium,
             self.remodelling,
             self.probes.iter().map(|p| p.name.as_str()).chain(self.exact.iter().map(|e| e.doc.name)),
         )
@@ -97,7 +101,8 @@ impl Observers {
         dt: f64,
         fields: bool,
     ) -> Result<Sample> {
-        if self.experiment.is_some() || !self.tools.is_empty() || (fields && self.fields) || self.remodelling {
+        let drag = self.medium.1;
+        if self.experiment.is_some() || !self.tools.is_empty() || (fields && self.fields) || self.remodelling || drag {
             let dt_eff = if dt > 0.0 { dt } else { 1.0 };
             let udot = backward_euler_rate(u, prev, dt_eff)?;
             Ok(Sample::Post(Box::new(problem.post_process(t, dt_eff, u, &udot)?)))
@@ -140,6 +145,12 @@ impl Observers {
         if let (Some(post), Some(set)) = (post, problem.tools()) {
             values.extend(tools::read(&set, &post.tool_d, dofs, local, &post.reaction, world));
         }
+        if let (true, Some(m)) = (self.medium.0, problem.medium()) {
+            values.extend(Declared::row(&aspiration::LENGTH, &aspiration::aspiration(m, mesh, dofs, local, world)));
+        }
+        if let (true, Some(m), Some(post)) = (self.medium.1, problem.medium(), post) {
+            values.extend(Declared::row(&aspiration::DRAG, &aspiration::drag(post.drag, m.meridian(), world)));
+        }
         if let (Some(post), true) = (post, self.remodelling) {
             let summary = remodelling_summary::observe(post, world);
             values.extend(Declared::row(&remodelling_summary::COLUMNS, &summary));
@@ -169,12 +180,14 @@ impl Observers {
 }
 
 /// The observed columns, in order: the experiment's (with plates), the upper plate's (with
-/// force rows), the tools' (five per tool), the remodelling summary's (with qp state), then
-/// `named` (the probes', then the exact solutions').
+/// force rows), the tools' (five per tool), the medium's (aspirated length, drag: as `medium`
+/// says), the remodelling summary's (with qp state), then `named` (the probes', then the exact
+/// solutions').
 fn observed_columns<'a>(
     plates: bool,
     force: bool,
     tool_names: impl Iterator<Item = &'a str>,
+    medium: (bool, bool),
     remodelling: bool,
     named: impl Iterator<Item = &'a str>,
 ) -> Vec<Column> {
@@ -189,6 +202,12 @@ fn observed_columns<'a>(
         let kind = if name.ends_with("_contact_nodes") { ColumnKind::Integer } else { ColumnKind::Real };
         Column { name, kind }
     }));
+    if medium.0 {
+        cols.extend(Declared::header(&aspiration::LENGTH));
+    }
+    if medium.1 {
+        cols.extend(Declared::header(&aspiration::DRAG));
+    }
     if remodelling {
         cols.extend(Declared::header(&remodelling_summary::COLUMNS));
     }
@@ -205,8 +224,8 @@ pub fn history_column_names(scene: &LoadedScene) -> Result<Vec<String>> {
     let exact = exact_columns(scene)?;
     let named = s.probe.iter().map(|p| p.name.as_str()).chain(exact.iter().map(|e| e.doc.name));
     let force = s.plates.as_ref().is_some_and(|p| p.upper.iter().flatten().any(|r| r.force.is_some()));
-    let observed =
-        observed_columns(s.plates.is_some(), force, s.tool_names(), remodelling, named);
+    let medium = aspiration::columns(s.medium.as_ref());
+    let observed = observed_columns(s.plates.is_some(), force, s.tool_names(), medium, remodelling, named);
     Ok(crate::io::recorder::history_columns(&observed).into_iter().map(|c| c.name).collect())
 }
 

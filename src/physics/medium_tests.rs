@@ -7,7 +7,27 @@ use crate::reference_cell::Family;
 
 /// A medium with pressure gradient `weight` on no mesh (the face functions take coordinates).
 fn medium(family: Family, weight: [f64; 3]) -> Medium {
-    Medium { weight, factor: 1.0, faces: vec![], outward: vec![], rule: Rule::exact_for_linear_fields(family) }
+    Medium {
+        weight,
+        factor: 1.0,
+        faces: vec![],
+        outward: vec![],
+        rule: Rule::exact_for_linear_fields(family),
+        meridian: family == Family::Tri6,
+        suctions: vec![],
+        drag: None,
+    }
+}
+
+/// A pipette (Rp = 1, wall 0.4, rim 0.3) on the z axis, its mouth at z = 1.2 looking down
+/// (a = −e_z), at Δp = 2.5 kPa: its ramp 0 ≤ ζ ≤ 0.3 spans z ∈ [0.9, 1.2].
+fn sucking(family: Family) -> Medium {
+    use crate::physics::suction::Suction;
+    use crate::physics::tools::{Profile, Tool};
+    let tool = Tool::new("p", Profile::Pipette { inner: 1.0, wall: 0.4, rim: 0.3 }, [0.0, 0.0, 1.2], [0.0, 0.0, -1.0]);
+    let mut s = Suction::new(tool, 0, vec![(0.0, 0.0), (1.0, 2.5)]);
+    s.move_to(1.0, 0.0);
+    medium(family, [0.3, -0.7, 1.1]).with_suctions(vec![s])
 }
 
 /// A curved 6-node triangle and a curved meridian edge (the surface tension's test faces).
@@ -25,8 +45,36 @@ fn curved(family: Family) -> Vec<f64> {
 fn block_matches_central_differences() {
     for family in [Family::Tet10, Family::Tri6] {
         let m = medium(family, [0.3, -0.7, 1.1]);
+        block_against_differences(&m, family, &curved(family).iter().map(|v| v + 0.4).collect::<Vec<_>>());
+    }
+}
+
+/// The curved test face halved, its last coordinate (z) shifted by 0.8 and the others by
+/// `radial`: z from 0.8 to ~1.3 across the suction's ramp (0.9–1.2), inside the bore's radius.
+fn on_the_ramp(family: Family, radial: f64) -> Vec<f64> {
+    let d = if family == Family::Tri6 { 2 } else { 3 };
+    curved(family).iter().enumerate().map(|(i, v)| 0.5 * v + if i % d == d - 1 { 0.8 } else { radial }).collect()
+}
+
+/// With a pipette's suction whose ramp the face straddles: the suction's pressure gradient
+/// differentiated exactly, and the face does feel the suction (its load differs from the
+/// hydrostatic one's).
+#[test]
+fn block_with_suction_on_the_ramp_matches_central_differences() {
+    for family in [Family::Tet10, Family::Tri6] {
+        let m = sucking(family);
+        let x = on_the_ramp(family, if family == Family::Tri6 { 0.5 } else { 0.2 });
+        block_against_differences(&m, family, &x);
+        let (with, without) = (m.face_load(&x, 1.0), medium(family, [0.3, -0.7, 1.1]).face_load(&x, 1.0));
+        assert!((0..x.len()).any(|i| (with[i] - without[i]).abs() > 1e-3), "{family:?}: the suction does not act");
+    }
+}
+
+/// `m`'s block at the face `x` against central differences of its load, both orientations.
+fn block_against_differences(m: &Medium, family: Family, x: &[f64]) {
+    {
         for outward in [1.0, -1.0] {
-            let x: Vec<f64> = curved(family).iter().map(|v| v + 0.4).collect();
+            let x = x.to_vec();
             let n = x.len();
             let block = m.face_block(&x, outward);
             let h = 1e-6;
@@ -197,7 +245,7 @@ fn a_uniform_shift_of_the_medium_shifts_p_and_leaves_u() {
         let residual = |disc: &crate::fem::assembly::Discretization, u: &[f64]| {
             let mut f = vec![0.0; nd];
             disc.add_residual(u, &udot, 0.5, &mut f).unwrap();
-            medium.add_residual(&disc.mesh, &disc.dofs, u, &mut f);
+            medium.add_residual(&disc.mesh, &disc.dofs, u, &udot, &mut f);
             f
         };
         let f0 = residual(&disc, &u);

@@ -69,7 +69,7 @@ pub(crate) struct Adhesion {
 /// the residual's ψ' S' term is C¹ and its tangent continuous where a face lies on a plate
 /// (g = 0) and at the range's end (the drainage's C¹ step would put a jump w·6/g_a² into the
 /// tangent of every point exactly on a plate).
-fn smoothstep<T: Scalar>(x: T) -> (T, T) {
+pub(crate) fn smoothstep<T: Scalar>(x: T) -> (T, T) {
     if x.re() <= 0.0 {
         (T::cst(0.0), T::cst(0.0))
     } else if x.re() >= 1.0 {

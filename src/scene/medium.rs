@@ -5,6 +5,7 @@
 use super::bc::BoundaryCondition;
 use super::key::{Key, Section, Unset};
 use super::material::MixtureSpec;
+use super::tools::{ToolKind, ToolSpec};
 use crate::range::Range;
 use serde::{Deserialize, Serialize};
 
@@ -18,10 +19,42 @@ pub(crate) struct MediumSpec {
     /// The boundary group the medium's pressure acts on.
     #[serde(default = "default_group")]
     pub(crate) group: String,
+    /// η_m in Pa s: the viscous drag on the surface (0: none).
+    #[serde(default = "default_viscosity")]
+    pub(crate) viscosity: f64,
+    /// The pipettes' suctions.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(crate) suction: Vec<SuctionSpec>,
+}
+
+/// `[[medium.suction]]`: a pipette's bore held at Δp(t) below the medium.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SuctionSpec {
+    /// The `[[tools]]` pipette's name.
+    pub(crate) tool: String,
+    /// Δp(t) rows, linear between them, held after the last.
+    pub(crate) table: Vec<SuctionRow>,
+}
+
+/// One row of a suction table.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SuctionRow {
+    /// Time, s.
+    pub(crate) t: f64,
+    /// The suction (the medium's pressure less the bore's), kPa.
+    pub(crate) dp: f64,
 }
 
 fn default_group() -> String {
     "surface".into()
+}
+
+/// Water's (the culture medium's, 0.7–1 mPa s at 20–37 °C): what makes a released aggregate's
+/// translation along the pipette well posed, so on unless switched off.
+fn default_viscosity() -> f64 {
+    1e-3
 }
 
 impl MediumSpec {
@@ -34,7 +67,15 @@ impl MediumSpec {
 
     /// `mixture`: the finite-strain material's densities and gravity (None: the linear model);
     /// `bcs`: the scene's boundary conditions (none may prescribe the pressure the medium sets).
-    pub(super) fn validate(&self, mixture: Option<&MixtureSpec>, bcs: &[BoundaryCondition]) -> Result<(), String> {
+    /// `tools`: the scene's `[[tools]]` (a suction names a pipette among them).
+    pub(super) fn validate(
+        &self,
+        mixture: Option<&MixtureSpec>,
+        bcs: &[BoundaryCondition],
+        tools: &[ToolSpec],
+    ) -> Result<(), String> {
+        VISCOSITY.check(self.viscosity)?;
+        self.validate_suctions(tools)?;
         if let Some((i, bc)) = bcs.iter().enumerate().find(|(_, bc)| bc.pressure.is_some() && bc.group == self.group) {
             return Err(format!(
                 "bc #{i} prescribes the pore pressure on group \"{}\", which [medium] wets: the medium sets the \
@@ -65,6 +106,68 @@ impl MediumSpec {
     }
 }
 
+impl MediumSpec {
+    /// Each suction names one pipette of `tools`, at most one per pipette; its table from t = 0,
+    /// in order, Δp finite (errors name the row, 1-based).
+    fn validate_suctions(&self, tools: &[ToolSpec]) -> Result<(), String> {
+        for (i, s) in self.suction.iter().enumerate().map(|(i, s)| (i + 1, s)) {
+            if tools.is_empty() {
+                return Err(format!(
+                    "medium.suction #{i} names tool \"{}\", but the scene has no [[tools]]: a suction needs a \
+                     pipette (add a [[tools]] entry with kind = \"pipette\")",
+                    s.tool
+                ));
+            }
+            let Some(tool) = tools.iter().find(|t| t.name == s.tool) else {
+                let names: Vec<&str> = tools.iter().map(|t| t.name.as_str()).collect();
+                return Err(format!(
+                    "medium.suction #{i}: no tool named \"{}\" (the tools: {})",
+                    s.tool,
+                    names.join(", ")
+                ));
+            };
+            if tool.kind != ToolKind::Pipette {
+                return Err(format!("suction needs a pipette: tools.{} is a {}", tool.name, tool.kind.name()));
+            }
+            if self.suction[..i - 1].iter().any(|o| o.tool == s.tool) {
+                return Err(format!("medium.suction #{i}: a second suction in pipette \"{}\"; give one table", s.tool));
+            }
+            let key = format!("medium.suction #{i} table");
+            if s.table.is_empty() {
+                return Err(format!("{key}: no rows; give at least one, as [{{ t = 0, dp = 0.0 }}]"));
+            }
+            if s.table[0].t != 0.0 {
+                return Err(format!("{key} row 1: t = {} s: the table starts at t = 0", s.table[0].t));
+            }
+            for (j, row) in s.table.iter().enumerate().map(|(j, r)| (j + 1, r)) {
+                if !row.dp.is_finite() {
+                    return Err(format!("{key} row {j}: dp = {} kPa must be finite", row.dp));
+                }
+                if j > 1 && !(row.t.is_finite() && row.t > s.table[j - 2].t) {
+                    return Err(format!(
+                        "{key} row {j}: t = {} s is not after row {}'s {} s: rows in increasing time",
+                        row.t,
+                        j - 1,
+                        s.table[j - 2].t
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Every suction's table as (t, Δp) with its tool's index in `tools` (validated).
+    pub(crate) fn suction_tables<'a>(
+        &'a self,
+        tools: &'a [ToolSpec],
+    ) -> impl Iterator<Item = (usize, Vec<(f64, f64)>)> + 'a {
+        self.suction.iter().filter_map(move |s| {
+            let k = tools.iter().position(|t| t.name == s.tool)?;
+            Some((k, s.table.iter().map(|r| (r.t, r.dp)).collect()))
+        })
+    }
+}
+
 /// The density the aggregate's weight is of: the mixture's ρ_mix = Φs ρs + (1 − Φs) ρf, less the
 /// medium's ρ_m if it sits in one (its excess weight; Bond numbers and the settling's cause).
 pub(crate) fn weighing_density(mixture: &MixtureSpec, medium: Option<&MediumSpec>) -> f64 {
@@ -81,13 +184,39 @@ const DENSITY: Key = Key::new(
 .rule("must equal material.rho_f (the pores hold the medium)")
 .enters("model.md: The medium");
 const GROUP: Key = Key::new("medium.group", "", Unset::Value("\"surface\""), "the boundary group the medium wets");
+const VISCOSITY: Key = Key::new(
+    "medium.viscosity",
+    "Pa s",
+    Unset::Value("1e-3"),
+    "viscosity η_m of the medium: the surface's drag −ζ_d u̇, ζ_d = 3η_m/(2R₀) (Stokes' drag of a sphere of the \
+     body's volume, radius R₀); 0 switches it off (a free body's translation then has no stiffness)",
+)
+.range(Range::NON_NEGATIVE.says("must be finite and >= 0 (Pa s)"))
+.enters("model.md: The medium");
+const SUCTION_TOOL: Key = Key::new(
+    "medium.suction.tool",
+    "",
+    Unset::Absent("no suction"),
+    "`[[medium.suction]]`: the `[[tools]]` pipette whose bore is sucked",
+)
+.rule("names a pipette; one suction per pipette");
+const SUCTION_TABLE: Key = Key::new(
+    "medium.suction.table",
+    "s, kPa",
+    Unset::Required,
+    "rows { t, dp }: the suction Δp(t) (the bore's pressure is p_m − Δp up to the mouth, rising smoothly to \
+     p_m within the rim radius in front of it), linear between rows, held after the last; steps land on the rows' times",
+)
+.rule("from t = 0, times increasing; dp ≤ 10 E (kPa)")
+.enters("model.md: The medium");
 
 pub(super) const SECTION: Section = Section {
     title: "medium",
     enters: "model.md: The medium",
     about: "The liquid the aggregate sits in: its hydrostatic pressure p_m = g_f ρ_m a_g·x (g_f the settling's \
             gravity factor) loads the whole boundary group with −p_m n, on the plates too, so the plates carry the \
-            excess weight (ρ_mix − ρ_m) g V; drained faces drain towards p_m. Optional; without it, the aggregate \
-            is weighed as in air and the drained pores are at 0.",
-    keys: &[DENSITY, GROUP],
+            excess weight (ρ_mix − ρ_m) g V; drained faces drain towards p_m. A `[[medium.suction]]` lowers the \
+            pressure in a pipette's bore by Δp(t); the medium's viscosity drags the moving surface. Optional; \
+            without it, the aggregate is weighed as in air and the drained pores are at 0.",
+    keys: &[DENSITY, GROUP, VISCOSITY, SUCTION_TOOL, SUCTION_TABLE],
 };

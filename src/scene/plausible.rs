@@ -120,6 +120,9 @@ pub(super) fn check(scene: &Scene, notes: &mut Vec<String>) -> Result<(), String
         values.extend(p.thickness.map(|l| ("plates.thickness", l, &THICKNESS)));
         check_forces(scene, p)?;
     }
+    if let Some(m) = &scene.medium {
+        check_suctions(scene, m)?;
+    }
     for (key, v, q) in values {
         if let Some(note) = judge(key, v, q)? {
             notes.push(note);
@@ -131,11 +134,7 @@ pub(super) fn check(scene: &Scene, notes: &mut Vec<String>) -> Result<(), String
 /// The upper plate's forces (µN) against the body's scale E R² (E: the first modulus given):
 /// beyond 10³ E R² or below 10⁻⁶ E R² the force is refused as written in another unit.
 fn check_forces(scene: &Scene, p: &super::plates::PlatesSpec) -> Result<(), String> {
-    let modulus = match &scene.material {
-        Material::Linear { mu, .. } => Some(*mu),
-        _ => scene.material.mixture().and_then(|m| m.mu.or(m.drained_shear_modulus).or(m.drained_youngs_modulus)),
-    };
-    let (Some(e), Some(rows)) = (modulus, &p.upper) else { return Ok(()) };
+    let (Some(e), Some(rows)) = (modulus(scene), &p.upper) else { return Ok(()) };
     // E R² in nN (kPa µm²), as µN.
     let scale = e * p.radius() * p.radius() * 1e-3;
     for (i, f) in rows.iter().enumerate().filter_map(|(i, r)| r.force.map(|f| (i + 1, f))) {
@@ -148,6 +147,33 @@ fn check_forces(scene: &Scene, p: &super::plates::PlatesSpec) -> Result<(), Stri
                 crate::io::fmt_significant(1e-6 * scale, 3),
                 crate::io::fmt_significant(1e3 * scale, 3),
                 p.radius()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The body's modulus for the scale checks: the first modulus given (kPa).
+fn modulus(scene: &Scene) -> Option<f64> {
+    match &scene.material {
+        Material::Linear { mu, .. } => Some(*mu),
+        _ => scene.material.mixture().and_then(|m| m.mu.or(m.drained_shear_modulus).or(m.drained_youngs_modulus)),
+    }
+}
+
+/// The suctions (kPa) against the body's modulus E: above 10 E an aggregate would be swallowed
+/// whole; such a value is a suction in Pa written as kPa.
+fn check_suctions(scene: &Scene, m: &super::medium::MediumSpec) -> Result<(), String> {
+    let Some(e) = modulus(scene) else { return Ok(()) };
+    for (i, s) in m.suction.iter().enumerate() {
+        if let Some((j, row)) = s.table.iter().enumerate().find(|(_, r)| r.dp.abs() > 10.0 * e) {
+            return Err(format!(
+                "medium.suction #{} table row {}: dp = {} kPa is above 10 E = {} kPa for a body of modulus {e} kPa: \
+                 Pa given as kPa? (divide by 1000)",
+                i + 1,
+                j + 1,
+                crate::io::fmt_real(row.dp),
+                crate::io::fmt_real(10.0 * e)
             ));
         }
     }

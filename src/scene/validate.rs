@@ -32,7 +32,7 @@ impl Scene {
             sf.validate(self.plates.is_some())?;
         }
         if let Some(m) = &self.medium {
-            m.validate(self.material.mixture(), &self.bc)?;
+            m.validate(self.material.mixture(), &self.bc, &self.tools)?;
         }
         if let Some(d) = &self.drainage {
             d.validate(self.plates.is_some())?;

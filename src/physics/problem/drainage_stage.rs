@@ -99,7 +99,7 @@ impl DrainageStage {
             }
             jac.add_values(&[l2g[d.p]], &cols, &vals)?;
             if let Some(m) = medium {
-                for (c, g) in m.gradient().iter().take(dofs.nc).enumerate() {
+                for (c, g) in m.gradient_at(&disc.mesh, dofs, d.vertex, u).iter().take(dofs.nc).enumerate() {
                     let col = dofs.u_local(d.vertex, c);
                     if !disc.constrained[col] {
                         jac.add_values(&[l2g[d.p]], &[l2g[col]], &[-d.conductance * g])?;

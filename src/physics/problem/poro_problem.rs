@@ -207,6 +207,7 @@ impl PoroProblem {
     }
 
     fn residual_with(&mut self, t: f64, dt: f64, f: &mut Vector) -> Result<()> {
+        self.move_medium(t);
         let planes = self.plate_planes(t);
         let (disc, surface, contact, external) = (&self.disc, &self.surface, &self.contact, &self.external);
         let (tools, medium, drainage) = (&self.tools, self.medium.as_ref(), &self.drainage);
@@ -221,7 +222,7 @@ impl PoroProblem {
             }
             // The medium's pressure on the boundary: Σ_q p_m N_b (n da)_q.
             if let Some(m) = medium {
-                m.add_residual(&disc.mesh, &disc.dofs, ul, fl);
+                m.add_residual(&disc.mesh, &disc.dofs, ul, udl, fl);
             }
             // Drainage through the surface off the plates and tools: outflow c(g) (p − p_m).
             if let Some(d) = drainage {
@@ -277,6 +278,7 @@ impl PoroProblem {
     }
 
     fn jacobian_with(&mut self, t: f64, dt: f64, shift: f64, jac: &mut Mat) -> Result<()> {
+        self.move_medium(t);
         jac.zero_entries()?;
         self.schur.zero()?;
         let (disc, insertion, schur) = (&self.disc, &mut self.insertion, &mut self.schur);
@@ -303,7 +305,7 @@ impl PoroProblem {
         }
         // The medium's load: its exact derivative per face.
         if let Some(m) = &self.medium {
-            m.for_each_block(&disc.mesh, &disc.dofs, &ul, &mut add_face_block)?;
+            m.for_each_block(&disc.mesh, &disc.dofs, &ul, shift, &mut add_face_block)?;
         }
         if let Some(d) = &self.drainage {
             let set = self.tools.as_ref().map(ToolStage::set);
@@ -330,6 +332,7 @@ impl PoroProblem {
     /// state (U, U̇) at time t after a step of size dt.
     pub(crate) fn post_process(&mut self, t: f64, dt: f64, u: &Vector, udot: &Vector) -> Result<Post> {
         self.local.load(u, udot)?;
+        self.move_medium(t);
         let mut post = Post::new(self.local.u()?, self.disc.mesh.cells.len());
         post.upper_d = self.contact.as_ref().map_or(0.0, |c| c.plates().positions.borrow().d[0]);
         post.tool_d = self.tools.as_ref().map_or_else(Vec::new, |t| t.set().positions());
@@ -362,7 +365,8 @@ impl PoroProblem {
                 // The medium's load on the nodes, on the plates' too: their reactions are the
                 // excess over the medium.
                 if let Some(m) = medium {
-                    m.add_residual(&disc.mesh, &disc.dofs, ul, fl);
+                    m.add_residual(&disc.mesh, &disc.dofs, ul, udl, fl);
+                    post.drag = m.drag_force(&disc.mesh, &disc.dofs, udl);
                 }
                 for (x, ext) in fl.iter_mut().zip(external) {
                     *x -= ext;

@@ -36,6 +36,8 @@ pub(crate) struct Post {
     /// adhesion): a force on the plates besides the contact reactions
     /// (`SurfaceTension::plate_pull`).
     pub(crate) adhesion_pull: [f64; 2],
+    /// The medium's drag on this rank's faces (nN, the rule's coordinates).
+    pub(crate) drag: [f64; 3],
     /// The upper plate's displacement at this state (0 without plates): the observers run
     /// after later solves may have moved it.
     pub(crate) upper_d: f64,
@@ -63,6 +65,7 @@ impl Post {
             max_norm_ep: 0.0,
             max_det_bp_dev: 0.0,
             adhesion_pull: [0.0; 2],
+            drag: [0.0; 3],
             upper_d: 0.0,
             tool_d: Vec::new(),
         }

@@ -28,6 +28,19 @@ impl PoroProblem {
         &self.disc.constrained
     }
 
+    /// The medium, if the scene has it.
+    pub(crate) fn medium(&self) -> Option<&Medium> {
+        self.medium.as_ref()
+    }
+
+    /// Moves the medium's suctions to time t, each pipette where its tool is then.
+    pub(super) fn move_medium(&mut self, t: f64) {
+        let positions = self.tools.as_ref().map(|ts| ts.set().positions()).unwrap_or_default();
+        if let Some(m) = &mut self.medium {
+            m.move_to(t, &positions);
+        }
+    }
+
     /// The solver's part of the upper plate's force control (None without it, or once taken).
     pub(crate) fn take_border(&mut self) -> Option<crate::solver::active_set::Border> {
         self.border.take()
