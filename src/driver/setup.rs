@@ -189,9 +189,11 @@ fn tools(
     let mut pinned = Vec::new();
     if let (Some(ps), Some(p), [lower, upper]) = (&s.plates, plates, plate_tools) {
         faces.extend_from_slice(agree(world, bc::face_group(local, &ps.group, &ctx))?);
-        tools.push(Tool::new(lower, Profile::Plane, [0.0; 3], [0.0, 0.0, 1.0]));
+        // The plates' own gaps seal the surface (the drainage stays the plates').
+        let plane = |name, z, a| Tool { seals: false, ..Tool::new(name, Profile::Plane, [0.0, 0.0, z], [0.0, 0.0, a]) };
+        tools.push(plane(lower, 0.0, 1.0));
         protocols.push(ToolProtocol::displacements(p.loading.points()));
-        tools.push(Tool::new(upper, Profile::Plane, [0.0, 0.0, p.z_upper_at(0.0)], [0.0, 0.0, -1.0]));
+        tools.push(plane(upper, p.z_upper_at(0.0), -1.0));
         protocols.push(p.upper.clone());
         pinned.extend(p.leave_contact_to_tools());
     }
