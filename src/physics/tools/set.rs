@@ -36,6 +36,10 @@ struct Candidate {
     node: usize,
     /// Its reference position in space (the meridian's (r, 0, z)).
     x_ref: [f64; 3],
+    /// Its prescribed components (in the node's components): a symmetry plane's, or the
+    /// meridian's axis. The tool's normal there lies in the plane (a tool of the symmetric
+    /// scene is its own mirror image), so the frame keeps them as their own axes.
+    held: [bool; 3],
 }
 
 /// The nearest tool of a candidate in a state.
@@ -75,8 +79,8 @@ pub(crate) struct ToolSet {
 impl ToolSet {
     /// The tools with their protocols, touching the nodes of the `faces` (this rank's; their vertices
     /// only with `on_vertices`, as for the plates under P1–P1), except nodes with a prescribed
-    /// displacement off the meridian's axis (a frame would mix its constraint row with the
-    /// others; on the axis the tools' normal is ±e_z, the frame ±I), and the `pinned` local nodes
+    /// displacement along z (a frame would mix its constraint row with the others), or in r off
+    /// the meridian's axis, and the `pinned` local nodes
     /// (held by bounds: the plates' anchor). `band`: the gap within which a node gets a frame.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
@@ -98,8 +102,12 @@ impl ToolSet {
         nodes.dedup();
         let nc = dofs.nc;
         let meridian = nc == 2;
-        let held = |n: usize| (0..nc).any(|c| constrained[dofs.u_local(n, c)]);
+        let held_in = |n: usize, c: usize| constrained[dofs.u_local(n, c)];
         let on_axis = |n: usize| meridian && mesh.coords[n][0] == 0.0;
+        // Nodes held in x or y (3-D symmetry planes) or in r on the axis keep a frame: the tools'
+        // normal has no component there, and the rotation taking e_z to a normal with n_c = 0
+        // keeps e_c as an axis exactly (`Frame::spatial`), so their constraint rows stay apart.
+        let held = |n: usize| held_in(n, nc - 1) || (meridian && held_in(n, 0) && !on_axis(n));
         // A node's frame rotates its rows (on its owner) and its columns (on every rank whose rows
         // couple to it): every rank must agree on the candidates, also where it holds a node only
         // through a cell whose surface face it does not hold. So the set is the union over ranks
@@ -119,7 +127,10 @@ impl ToolSet {
                 on_surface.binary_search(&g).is_ok() && excluded.binary_search(&g).is_err()
             })
             .collect();
-        let candidates: Vec<Candidate> = nodes.iter().map(|&n| Candidate { node: n, x_ref: mesh.coords[n] }).collect();
+        let candidates: Vec<Candidate> = nodes
+            .iter()
+            .map(|&n| Candidate { node: n, x_ref: mesh.coords[n], held: std::array::from_fn(|c| c < nc && held_in(n, c)) })
+            .collect();
         let owned_first: Vec<Int> =
             nodes.iter().filter(|&&n| n < dofs.n_owned_nodes).map(|&n| dofs.l2g[dofs.u_local(n, 0)]).collect();
         let mut global_first = all_gather_vec(world, &owned_first);
@@ -322,9 +333,23 @@ impl ToolSet {
         let mut framed: Vec<f64> = Vec::new();
         for i in (0..self.candidates.len()).filter(|&i| self.candidates[i].node < self.n_owned_nodes) {
             let x = self.position_of(i, u);
-            let Some((tool, g)) = self.nearest_at(x, &position).filter(|(_, g)| g.phi <= self.band) else {
+            let Some((tool, mut g)) = self.nearest_at(x, &position).filter(|(_, g)| g.phi <= self.band) else {
                 continue;
             };
+            // A held component: the mirror-symmetric tool's normal and curvature have none there
+            // (round-off taken out, so the frame keeps the component's axis bit for bit).
+            // (On the meridian's axis n_r is 0 by construction and the frame ±I.)
+            let held = self.candidates[i].held;
+            if self.nc == 3 && held.iter().any(|&h| h) {
+                for c in (0..3).filter(|&c| held[c]) {
+                    g.normal[c] = 0.0;
+                    for k in 0..3 {
+                        (g.hess[c][k], g.hess[k][c]) = (0.0, 0.0);
+                    }
+                }
+                let norm = g.normal.iter().map(|v| v * v).sum::<f64>().sqrt();
+                g.normal = g.normal.map(|v| v / norm);
+            }
             // σ = +1 with n̂ = ∇φ on the meridian; in space n̂ = ±∇φ with n̂_z ≥ 0 (the
             // rotation taking e_z to it is then well conditioned).
             let sigma = if self.nc == 2 || g.normal[2] >= 0.0 { 1.0 } else { -1.0 };
@@ -404,8 +429,9 @@ impl CurvedContact for ToolSet {
             if g.phi < 0.0 {
                 deepest = deepest.max(-g.phi / (0.5 * self.tools[k].profile.thickness()));
                 let c = &self.candidates[i];
-                // The closest point, in the node's components ((r, z) on the meridian).
-                for (j, &a) in self.axes().iter().enumerate() {
+                // The closest point, in the node's components ((r, z) on the meridian); a held
+                // component stays (the closest point of a mirror-symmetric tool is in its plane).
+                for (j, &a) in self.axes().iter().enumerate().filter(|&(j, _)| !c.held[j]) {
                     let target = if nc == 2 { g.closest[j] } else { g.closest[a] };
                     xv[nc * c.node + j] = target - c.x_ref[a];
                 }
