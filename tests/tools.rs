@@ -122,9 +122,10 @@ fn a_tool_overlapping_the_body_or_with_bad_rows_is_refused() {
 /// A sealed linear sphere (R = 100 µm) between a dish and a bead (R = 50 µm) pressed 4 µm on the
 /// axis, on the meridian and on the 3-D quarter (two ranks; frames in space): the dish carries the
 /// bead's force (equilibrium, to the Newton tolerance: 1e-7), no node enters a tool, and the two discretisations
-/// agree to within their meshes' difference (measured 4.2% at these sizes; the meridian's own
-/// refinement moves it by 4%, and it approaches Hertz's two contacts in series, 4.03 µm at its
-/// finest force).
+/// agree to within their meshes' difference (measured +1.95% at these sizes, 4.2% while the
+/// quarter's symmetry-plane nodes were left out of the contact; the meridian's own refinement
+/// moves it by 4%, and it approaches Hertz's two contacts in series, 4.03 µm at its finest force).
+/// The bound, 3%, fails with those nodes left out.
 #[test]
 fn a_bead_on_a_dish_in_space_balances_and_matches_the_meridian() {
     let dir = scratch("tools_bead_dish");
@@ -179,7 +180,8 @@ dt = 0.25
     }
     // The quarter's force is a quarter of the body's.
     let (fq, fm) = (4.0 * hq.col("bead_force_uN")[4], hm.col("bead_force_uN")[4]);
-    assert!((fq / fm - 1.0).abs() <= 0.06, "quarter × 4: {fq} µN, meridian {fm} µN");
+    println!("quarter × 4: {fq} µN, meridian {fm} µN ({:+.2}%)", 100.0 * (fq / fm - 1.0));
+    assert!((fq / fm - 1.0).abs() <= 0.03, "quarter × 4: {fq} µN, meridian {fm} µN");
 }
 
 /// A sphere pressed by a pipette's rim onto a dish, 10 µm (tests/data/pipette_press.toml): the rim
