@@ -6,7 +6,7 @@
 //! `"held"` switches back. One rank ≡ two; checkpoints across both switches; a tool that
 //! touches nothing is refused by name.
 
-use crate::common::{poroplast, run_ok, scratch, snapshot, History};
+use crate::common::{poroplast, run_ok, run_with_sets, scratch, snapshot, History};
 use std::path::Path;
 
 /// The sphere of tests/data/hertz_block.toml (R = 100 µm on a linear block, G = 1 kPa,
@@ -28,13 +28,7 @@ fn run_block(np: usize, out: &Path, protocol: &str, t_end: f64, extra: &[&str]) 
         "time.growth=1.0".into(),
     ];
     sets.extend(extra.iter().map(|s| s.to_string()));
-    let mut args = vec!["run".to_string(), scene.display().to_string(), "-q".into(), "--out".into()];
-    args.push(out.display().to_string());
-    for s in &sets {
-        args.extend(["--set".to_string(), s.clone()]);
-    }
-    run_ok(np, &args.iter().map(String::as_str).collect::<Vec<_>>());
-    History::read(out)
+    run_with_sets(np, &scene, out, &sets)
 }
 
 /// Pressed to 1 µm over the first step and held there to 4 s: the force the sphere needs.

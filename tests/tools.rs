@@ -2,7 +2,7 @@
 //! Hertz's closed form, F = (4/3) E* √R δ^{3/2} with E* = 4G undrained (ν = ½) and
 //! 2G / (1 − ν) drained; the largest penetration at round-off; one rank ≡ two; bad input.
 
-use crate::common::{assert_jacobian_checks, poroplast, run_ok, scratch, History};
+use crate::common::{assert_jacobian_checks, poroplast, run_ok, run_with_sets, scratch, History};
 use std::path::Path;
 
 /// The run of tests/data/hertz_block.toml (a sphere of radius 100 µm indenting a linear block,
@@ -20,13 +20,7 @@ fn run_hertz(np: usize, out: &Path, drained: bool, delta: f64, h_c: f64) -> Hist
     if drained {
         sets.push(r#"bc=[{group="bottom",displacement={z=0.0}},{group="top",pressure=0.0}]"#.into());
     }
-    let mut args = vec!["run".to_string(), scene.display().to_string(), "-q".into(), "--out".into()];
-    args.push(out.display().to_string());
-    for s in &sets {
-        args.extend(["--set".to_string(), s.clone()]);
-    }
-    run_ok(np, &args.iter().map(String::as_str).collect::<Vec<_>>());
-    History::read(out)
+    run_with_sets(np, &scene, out, &sets)
 }
 
 /// (δ, a/R, F / F_Hertz − 1, penetration) of every step after the first row, `e_star` in kPa.
@@ -305,14 +299,7 @@ fn a_held_sphere_relaxes_as_hu_et_al_say() {
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/indent_relaxation.toml");
     let (ramp, diffusivity, a2) = (0.009375, 8.0 / 3.0, 25.0);
     let force = |name: &str, sets: &[&str]| -> History {
-        let out = dir.join(name);
-        let mut args = vec!["run".to_string(), scene.display().to_string(), "-q".into(), "--out".into()];
-        args.push(out.display().to_string());
-        for s in sets {
-            args.extend(["--set".to_string(), s.to_string()]);
-        }
-        run_ok(1, &args.iter().map(String::as_str).collect::<Vec<_>>());
-        History::read(&out)
+        run_with_sets(1, &scene, &dir.join(name), &sets.iter().map(|s| s.to_string()).collect::<Vec<_>>())
     };
     let end = format!("time.t_end={ramp}");
     let last = |h: &History| 1e3 * *h.col("bead_force_uN").last().unwrap();

@@ -188,6 +188,18 @@ pub fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
 /// (`restart::nan_columns_are_the_documented_ones`); every other column is a number in every row.
 pub const NAN_COLUMNS: [&str; 5] = ["R1", "R2", "R3", "sigma_app", "probe_porosity"];
 
+/// Runs the scene file `scene` quietly on `np` ranks into `out` with the `--set` overrides `sets`;
+/// its history.
+pub fn run_with_sets(np: usize, scene: &Path, out: &Path, sets: &[String]) -> History {
+    let mut args = vec!["run".to_string(), scene.display().to_string(), "-q".into(), "--out".into()];
+    args.push(out.display().to_string());
+    for s in sets {
+        args.extend(["--set".to_string(), s.clone()]);
+    }
+    run_ok(np, &args.iter().map(String::as_str).collect::<Vec<_>>());
+    History::read(out)
+}
+
 /// history.csv as named columns.
 pub struct History {
     pub names: Vec<String>,
