@@ -7,7 +7,7 @@
 //! (`args`); the run and its time
 //! loop (`run`), built from its pieces by the set-up (`setup`): the steps (`step`: the time
 //! stepper, the state between steps and the schedule), the outputs (`output`), the checkpoints
-//! (`checkpoint`) and what the run prints (`voice`); the `check` command (`check`); where the
+//! (`checkpoint`) and what the run prints (`voice`), the tools at set-up (`tool_setup`); the `check` command (`check`); where the
 //! loop stands (`progress`), the step controller (`schedule`) and the step rate it acts on
 //! (`rate`), the state between steps and the checkpoint files (`state`), what the scene
 //! resolved to and its expected accuracy (`resolved`), the run record `run.toml` (`record`),
@@ -32,6 +32,7 @@ pub mod signals;
 pub(crate) mod state;
 mod step;
 mod summary;
+mod tool_setup;
 mod voice;
 
 pub use args::{Log, RunArgs};

@@ -5,8 +5,8 @@
 pub(crate) mod bc;
 pub(crate) mod biphasic;
 pub(crate) mod contact;
-pub(crate) mod drainage;
 pub(crate) mod drag;
+pub(crate) mod drainage;
 pub(crate) mod factory;
 pub(crate) mod linear;
 pub(crate) mod medium;

@@ -129,7 +129,11 @@ impl ToolSet {
             .collect();
         let candidates: Vec<Candidate> = nodes
             .iter()
-            .map(|&n| Candidate { node: n, x_ref: mesh.coords[n], held: std::array::from_fn(|c| c < nc && held_in(n, c)) })
+            .map(|&n| Candidate {
+                node: n,
+                x_ref: mesh.coords[n],
+                held: std::array::from_fn(|c| c < nc && held_in(n, c)),
+            })
             .collect();
         let owned_first: Vec<Int> =
             nodes.iter().filter(|&&n| n < dofs.n_owned_nodes).map(|&n| dofs.l2g[dofs.u_local(n, 0)]).collect();
