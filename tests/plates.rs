@@ -268,18 +268,26 @@ fn equal_order_compression_release_protocol() {
 
 /// P1–P1's assembled Jacobian (tie rows, the P1 combination of the rows, contact on vertices,
 /// drainage, the constant stabilisation) against central differences, ε = 1e-7, with the
-/// default predicted drainage gap (2 ranks) and the implicit one (1 rank). Measured: u rows 1.3e-9 /
-/// 1.5e-9, p rows 3.9e-10 / 2.0e-5 (the implicit drainage's p rows carry the difference formula's O(ε) at vertices
-/// on a plate, as for Taylor–Hood).
+/// default predicted drainage gap (2 ranks). Measured: u rows 1.3e-9, p rows 3.9e-10.
 #[test]
 fn equal_order_jacobian_matches_central_differences() {
     let (u, p, n) = jacobian_check(2, "plates-p1p1-jacobian", &[P1P1], "1e-7");
-    let (ui, pi, ni) = jacobian_check(1, "plates-p1p1-jacobian-implicit", &[P1P1, IMPLICIT_DRAINAGE], "1e-7");
-    println!("P1-P1: predicted gap u rows {u:.2e}, p rows {p:.2e} ({n} checks); implicit u rows {ui:.2e}, p rows {pi:.2e} ({ni})");
-    assert!(n > 10 && ni > 10, "{n} and {ni} checks");
-    assert!(u < 1e-8 && ui < 1e-8, "u rows: {u}, {ui}");
-    assert!(p < 1e-8, "p rows: {p}");
-    assert!(pi < 1e-4, "p rows (implicit drainage): {pi}");
+    println!("P1-P1: predicted gap u rows {u:.2e}, p rows {p:.2e} ({n} checks)");
+    assert!(n > 10, "{n} checks");
+    assert!(u < 1e-8 && p < 1e-8, "u rows: {u}, p rows: {p}");
+}
+
+/// As above with the implicit drainage (1 rank). Measured: u rows 1.5e-9, p rows 2.0e-5 (the
+/// implicit drainage's p rows carry the difference formula's O(ε) at vertices on a plate, as for
+/// Taylor–Hood, whose implicit drainage the default tier checks).
+#[test]
+#[ignore = "slow tier: P1-P1's implicit-drainage Jacobian check (the default tier checks its predicted gap, and Taylor-Hood's implicit one)"]
+fn equal_order_implicit_drainage_jacobian_matches_central_differences() {
+    let (u, p, n) = jacobian_check(1, "plates-p1p1-jacobian-implicit", &[P1P1, IMPLICIT_DRAINAGE], "1e-7");
+    println!("P1-P1: implicit u rows {u:.2e}, p rows {p:.2e} ({n} checks)");
+    assert!(n > 10, "{n} checks");
+    assert!(u < 1e-8, "u rows: {u}");
+    assert!(p < 1e-4, "p rows (implicit drainage): {p}");
 }
 
 /// Runs the coarse quarter model and a full sphere from `full_edits` on 2 ranks, and asserts that
