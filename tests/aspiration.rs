@@ -68,7 +68,8 @@ fn a_held_pipette_sucks_an_elastic_block_as_theret_says() {
 }
 
 /// Both wall ratios, ℓ = 0.5 and 0.25 µm (h = ℓ within 10 µm of the axis' top): within 1% of
-/// Theret (measured at η = 0.5 with k0 = 0.01, not yet with this scene's k0: 0.995).
+/// Theret. Measured: extrapolated L/L_Theret 0.992 (η = 0.5; 1.069 and 1.031 at the two rims)
+/// and 0.995 (η = 1; 1.060, 1.027).
 #[test]
 #[ignore = "slow: four runs of 20k–40k dofs"]
 fn a_held_pipette_sucks_as_theret_says_for_two_walls_fine() {
