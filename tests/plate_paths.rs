@@ -5,9 +5,6 @@
 
 use crate::common::*;
 
-/// Columns that count the solver's work, not the solution.
-const WORK: [&str; 4] = ["newton_its", "ksp_its", "wall_s", "step"];
-
 /// `reference_axi` (the meridian compression; 1 rank) through its 5-s ramp and 7 s of the hold
 /// on both paths at snes_rtol 1e-10: the same steps, and every column within 1e-9 of its largest
 /// value. Measured: 1.2e-10 (max_penetration); over the whole run 2.5e-10 (probe_porosity, forces
@@ -75,21 +72,10 @@ fn the_quarters_plates_as_tools_give_the_plates_history() {
     assert_same_history(&run("bounds"), &run("tools"), 1e-9);
 }
 
-/// The two paths' histories: the same steps, every column but the solver's work within `rel` of
-/// its largest value (and NaN in the same rows).
+/// The two paths' histories: the same steps, every column of the bounds' path within `rel` of its
+/// largest value on the tools' path (which has the tools' columns besides).
 fn assert_same_history(bounds: &History, tools: &History, rel: f64) {
-    assert_eq!(bounds.col("time"), tools.col("time"), "the paths took different steps");
     assert!(bounds.rows.len() > 20, "{} steps", bounds.rows.len());
-    let mut worst = (0.0, String::new());
-    for name in bounds.names.iter().filter(|n| !WORK.contains(&n.as_str())) {
-        let (a, b) = (bounds.col(name), tools.col(name));
-        let scale = a.iter().filter(|v| v.is_finite()).fold(0.0f64, |m, v| m.max(v.abs()));
-        let d = a.iter().zip(&b).filter(|(x, _)| x.is_finite()).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-        assert!(a.iter().zip(&b).all(|(x, y)| x.is_finite() == y.is_finite()), "{name}: NaN in one path only");
-        if scale > 0.0 && d / scale > worst.0 {
-            worst = (d / scale, name.clone());
-        }
-    }
-    println!("largest relative difference {:.2e} ({})", worst.0, worst.1);
-    assert!(worst.0 <= rel, "{} differs by {:e} of its largest value", worst.1, worst.0);
+    let (worst, name) = assert_history_within(bounds, tools, rel, "bounds against tools");
+    println!("largest relative difference {worst:.2e} ({name})");
 }

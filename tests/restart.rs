@@ -101,28 +101,10 @@ fn signal(child: &Child, sig: &str) {
     assert!(ok, "kill {sig} failed");
 }
 
-/// Same rows (step, time) and every column but the wall time equal to `tol` relative (with a
-/// floor of `tol` times the column's largest magnitude, for columns that pass through zero), or
-/// NaN in both where a column is documented to be NaN ([`NAN_COLUMNS`]); a NaN elsewhere fails.
+/// Same columns, and [`assert_history_within`] at `tol`.
 fn assert_same_history(a: &History, b: &History, tol: f64, what: &str) {
     assert_eq!(a.names, b.names, "{what}: columns");
-    assert_eq!(a.col("step"), b.col("step"), "{what}: steps");
-    assert_eq!(a.col("time"), b.col("time"), "{what}: times");
-    // det_bp_max_dev is round-off (|det B_p − 1| ~ 1e-15): bounded, not compared.
-    for name in ["det_bp_max_dev"].iter().filter(|n| a.names.iter().any(|m| m == *n)) {
-        assert!(a.col(name).iter().chain(&b.col(name)).all(|v| v.abs() < 1e-12), "{what}: {name}");
-    }
-    let skip = ["wall_s", "newton_its", "ksp_its", "det_bp_max_dev"];
-    for name in a.names.iter().filter(|n| !skip.contains(&n.as_str())) {
-        let (x, y) = (a.col(name), b.col(name));
-        let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let may_be_nan = NAN_COLUMNS.contains(&name.as_str());
-        for (i, (u, v)) in x.iter().zip(&y).enumerate() {
-            // NaN: a value that does not apply (the Laplace reading without contact), in both.
-            let same = (u - v).abs() <= tol * u.abs().max(scale) || (may_be_nan && u.is_nan() && v.is_nan());
-            assert!(same, "{what}: {name} at row {i}: {u} vs {v} (tol {tol})");
-        }
-    }
+    assert_history_within(a, b, tol, what);
 }
 
 /// The comparison itself: NaN in both passes in a column documented to be NaN, and fails in any

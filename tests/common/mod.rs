@@ -200,6 +200,36 @@ pub fn run_with_sets(np: usize, scene: &Path, out: &Path, sets: &[String]) -> Hi
     History::read(out)
 }
 
+/// Same rows (step, time) and every column of `a` but the solver's work equal in `b` to `tol`
+/// relative (with a floor of `tol` times the column's largest magnitude, for columns that pass
+/// through zero), or NaN in both where a column is documented to be NaN ([`NAN_COLUMNS`]); a NaN
+/// elsewhere fails. Returns the largest difference over its column's largest magnitude, and the
+/// column.
+pub fn assert_history_within(a: &History, b: &History, tol: f64, what: &str) -> (f64, String) {
+    assert_eq!(a.col("step"), b.col("step"), "{what}: steps");
+    assert_eq!(a.col("time"), b.col("time"), "{what}: times");
+    // det_bp_max_dev is round-off (|det B_p − 1| ~ 1e-15): bounded, not compared.
+    for name in ["det_bp_max_dev"].iter().filter(|n| a.names.iter().any(|m| m == *n)) {
+        assert!(a.col(name).iter().chain(&b.col(name)).all(|v| v.abs() < 1e-12), "{what}: {name}");
+    }
+    let skip = ["wall_s", "newton_its", "ksp_its", "det_bp_max_dev"];
+    let mut worst = (0.0, String::new());
+    for name in a.names.iter().filter(|n| !skip.contains(&n.as_str())) {
+        let (x, y) = (a.col(name), b.col(name));
+        let scale = x.iter().filter(|v| v.is_finite()).fold(0.0f64, |m, v| m.max(v.abs()));
+        let may_be_nan = NAN_COLUMNS.contains(&name.as_str());
+        for (i, (u, v)) in x.iter().zip(&y).enumerate() {
+            // NaN: a value that does not apply (the Laplace reading without contact), in both.
+            let same = (u - v).abs() <= tol * u.abs().max(scale) || (may_be_nan && u.is_nan() && v.is_nan());
+            assert!(same, "{what}: {name} at row {i}: {u} vs {v} (tol {tol})");
+            if scale > 0.0 && (u - v).abs() / scale > worst.0 {
+                worst = ((u - v).abs() / scale, name.clone());
+            }
+        }
+    }
+    worst
+}
+
 /// history.csv as named columns.
 pub struct History {
     pub names: Vec<String>,
