@@ -265,9 +265,15 @@ impl ToolSet {
     /// The current position of candidate i in the local state `u` (the meridian's (r, 0, z)).
     fn position_of(&self, i: usize, u: &[f64]) -> [f64; 3] {
         let c = &self.candidates[i];
-        let mut x = c.x_ref;
+        self.moved(c.node, c.x_ref, u)
+    }
+
+    /// The current position of local node `node` at reference position `x_ref` in the local
+    /// state `u`.
+    fn moved(&self, node: usize, x_ref: [f64; 3], u: &[f64]) -> [f64; 3] {
+        let mut x = x_ref;
         for (k, &a) in self.axes().iter().enumerate() {
-            x[a] += u[self.nc * c.node + k];
+            x[a] += u[self.nc * node + k];
         }
         x
     }
@@ -316,10 +322,7 @@ impl ToolSet {
     /// `u`, the tools where the stage put them: the nearest sealing tool's φ and ∇φ in the node's
     /// components (None: no tool seals).
     pub(crate) fn seal_gap(&self, node: usize, x_ref: [f64; 3], u: &[f64]) -> Option<(f64, [f64; 3])> {
-        let mut x = x_ref;
-        for (k, &a) in self.axes().iter().enumerate() {
-            x[a] += u[self.nc * node + k];
-        }
+        let x = self.moved(node, x_ref, u);
         let position = self.positions.borrow();
         (0..self.tools.len())
             .filter(|&k| self.tools[k].seals)
